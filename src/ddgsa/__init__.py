@@ -1,0 +1,28 @@
+"""ddgsa: global sensitivity analysis workbench for wind-turbine drive-train dynamics.
+
+The public API is what ``__all__`` lists; everything else is internal.
+"""
+
+from __future__ import annotations
+
+from ddgsa.errors import DdgsaError, MethodError, ModelError, SceneError, SpaceError, StudyError
+from ddgsa.gsa import SobolResult, sobol
+from ddgsa.gsa.result import Diagnostic
+from ddgsa.space import Parameter, ParameterSpace
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "DdgsaError",
+    "Diagnostic",
+    "MethodError",
+    "ModelError",
+    "Parameter",
+    "ParameterSpace",
+    "SceneError",
+    "SobolResult",
+    "SpaceError",
+    "StudyError",
+    "__version__",
+    "sobol",
+]

@@ -1,0 +1,170 @@
+"""The result of any GSA method: one tidy table of indices plus what the method checked."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+
+INDEX_COLUMNS = ["output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted"]
+Severity = Literal["info", "warning", "untrusted"]
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    """One finding a method made about its own validity.
+
+    Parameters
+    ----------
+    name : str
+        Stable identifier, e.g. ``"mdrm_sign_change"``; tests and reports key on it.
+    message : str
+        Human-readable explanation with the numbers that triggered it.
+    severity : {"info", "warning", "untrusted"}
+        ``"untrusted"`` marks the affected rows of the table ``trusted = False``.
+    output : str or None
+        The output concerned (None: all outputs).
+    parameter : str or None
+        The parameter concerned (None: all parameters of the output).
+    value : float
+        The number that was tested (NaN if none).
+    """
+
+    name: str
+    message: str
+    severity: Severity = "warning"
+    output: str | None = None
+    parameter: str | None = None
+    value: float = float("nan")
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain-dict form (for JSON provenance)."""
+        return {"name": self.name, "message": self.message, "severity": self.severity,
+                "output": self.output, "parameter": self.parameter,
+                "value": None if not np.isfinite(self.value) else float(self.value)}
+
+
+@dataclass
+class SobolResult:
+    """Sobol indices from one method.
+
+    Attributes
+    ----------
+    indices : pandas.DataFrame
+        One row per (output, parameter): ``output, parameter, S1, S1_conf, ST, ST_conf,
+        trusted``. NaN where the method does not give a quantity (e.g. ``ST`` for
+        RBD-FAST) or where the result was refused (see ``diagnostics``).
+    n_evals : int
+        Model evaluations the method spent.
+    method : str
+        Registry name of the method.
+    options : dict
+        The options it ran with.
+    diagnostics : list of Diagnostic
+        What the method checked about its own validity.
+    extras : dict
+        Method-specific numbers (e.g. M-DRM's ``rho``/``theta``, PCE's LOO error).
+    """
+
+    indices: pd.DataFrame
+    n_evals: int
+    method: str
+    options: dict[str, Any] = field(default_factory=dict)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    extras: dict[str, Any] = field(default_factory=dict)
+
+    @classmethod
+    def from_arrays(cls, *, outputs: Sequence[str], parameters: Sequence[str],
+                    S1: NDArray[np.float64], ST: NDArray[np.float64],
+                    S1_conf: NDArray[np.float64] | None = None,
+                    ST_conf: NDArray[np.float64] | None = None,
+                    n_evals: int, method: str, options: dict[str, Any] | None = None,
+                    diagnostics: list[Diagnostic] | None = None,
+                    extras: dict[str, Any] | None = None) -> "SobolResult":
+        """Build the tidy table from ``(n_outputs, n_params)`` arrays and mark distrust."""
+        shape = (len(outputs), len(parameters))
+        nan = np.full(shape, np.nan)
+
+        def arr(a: NDArray[np.float64] | None) -> NDArray[np.float64]:
+            return nan if a is None else np.asarray(a, dtype=float).reshape(shape)
+
+        cols = {"S1": arr(S1), "S1_conf": arr(S1_conf), "ST": arr(ST), "ST_conf": arr(ST_conf)}
+        table = pd.DataFrame({
+            "output": np.repeat(list(outputs), shape[1]),
+            "parameter": np.tile(list(parameters), shape[0]),
+            **{k: v.ravel() for k, v in cols.items()},
+        })
+        diags = list(diagnostics or [])
+        table["trusted"] = _trusted_mask(table, diags)
+        return cls(indices=table, n_evals=int(n_evals), method=method, options=dict(options or {}),
+                   diagnostics=diags, extras=dict(extras or {}))
+
+    @property
+    def trusted(self) -> bool:
+        """True when no row of the table is marked untrusted."""
+        return bool(self.indices["trusted"].all())
+
+    def diagnostic_names(self) -> set[str]:
+        """Names of the diagnostics that fired."""
+        return {d.name for d in self.diagnostics}
+
+    def pivot(self, quantity: str = "ST") -> pd.DataFrame:
+        """``quantity`` as an (output x parameter) table."""
+        return self.indices.pivot(index="output", columns="parameter", values=quantity)
+
+    def to_frame(self) -> pd.DataFrame:
+        """The tidy table with ``method`` and ``n_evals`` columns added."""
+        out = self.indices.copy()
+        out.insert(0, "method", self.method)
+        out["n_evals"] = self.n_evals
+        return out
+
+    def diagnostics_frame(self) -> pd.DataFrame:
+        """Diagnostics as a table (one row each)."""
+        cols = ["name", "severity", "output", "parameter", "value", "message"]
+        return pd.DataFrame([d.to_dict() for d in self.diagnostics], columns=cols)
+
+    def plot_bars(self, output: str | None = None, ax: "Axes | None" = None) -> "Axes":
+        """Bar chart of S1 and ST (with confidence bars) for one output; untrusted bars hatched."""
+        import matplotlib.pyplot as plt
+
+        out = output if output is not None else str(self.indices["output"].iloc[0])
+        t = self.indices[self.indices["output"] == out]
+        if ax is None:
+            _, ax = plt.subplots(figsize=(max(4.0, 0.6 * len(t) + 2), 3.2))
+        x = np.arange(len(t))
+        w = 0.38
+        for k, (q, color) in enumerate((("S1", "tab:blue"), ("ST", "tab:orange"))):
+            conf = t[f"{q}_conf"].to_numpy()
+            bars = ax.bar(x + (k - 0.5) * w, t[q].to_numpy(), w, label=q, color=color,
+                          yerr=np.where(np.isfinite(conf), conf, 0.0), capsize=2)
+            for bar, ok in zip(bars, t["trusted"].to_numpy()):
+                if not ok:
+                    bar.set_hatch("//")
+        ax.set_xticks(x, t["parameter"].to_list(), rotation=45, ha="right")
+        ax.set_ylabel("Sobol index [-]")
+        ax.set_title(f"{out} ({self.method}, {self.n_evals} evals)")
+        ax.legend()
+        return ax
+
+
+def _trusted_mask(table: pd.DataFrame, diagnostics: list[Diagnostic]) -> NDArray[np.bool_]:
+    """Rows not hit by any ``untrusted`` diagnostic."""
+    ok = np.ones(len(table), dtype=bool)
+    for d in diagnostics:
+        if d.severity != "untrusted":
+            continue
+        hit = np.ones(len(table), dtype=bool)
+        if d.output is not None:
+            hit &= (table["output"] == d.output).to_numpy()
+        if d.parameter is not None:
+            hit &= (table["parameter"] == d.parameter).to_numpy()
+        ok &= ~hit
+    return ok

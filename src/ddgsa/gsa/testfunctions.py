@@ -1,0 +1,182 @@
+"""Analytic reference functions with their exact (or stated semi-analytic) Sobol indices.
+
+Each factory returns a :class:`TestFunction`: the input space, a vectorised function
+``f(x)`` of points ``(n, d)`` and the indices ``S1``/``ST`` to compare with.
+
+>>> tf = ishigami()
+>>> tf.space.names
+('x1', 'x2', 'x3')
+>>> [round(v, 4) for v in tf.S1]
+[0.3139, 0.4424, 0.0]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from itertools import product as cartesian
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.special import factorial
+
+from ddgsa.space import ParameterSpace
+
+Func = Callable[[NDArray[np.float64]], NDArray[np.float64]]
+
+
+@dataclass(frozen=True)
+class TestFunction:
+    """A reference function with known Sobol indices.
+
+    Attributes
+    ----------
+    name : str
+    space : ParameterSpace
+    f : callable
+        ``f(x)`` with ``x`` of shape ``(n, d)`` returning shape ``(n,)``.
+    S1, ST : ndarray (d,)
+        Exact first-order and total indices (semi-analytic where ``note`` says so).
+    note : str
+        How the reference indices were obtained.
+    """
+
+    __test__ = False  # not a pytest class
+
+    name: str
+    space: ParameterSpace
+    f: Func
+    S1: NDArray[np.float64]
+    ST: NDArray[np.float64]
+    note: str = "analytic"
+
+    def __call__(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return self.f(np.atleast_2d(x))
+
+
+def _uniform_space(d: int, low: float, high: float) -> ParameterSpace:
+    return ParameterSpace.from_dict({f"x{i + 1}": {"dist": "uniform", "low": low, "high": high}
+                                     for i in range(d)})
+
+
+def ishigami(a: float = 7.0, b: float = 0.1, shift: float = 0.0) -> TestFunction:
+    """Ishigami function ``sin x1 + a sin^2 x2 + b x3^4 sin x1 + shift``, ``x ~ U(-pi, pi)^3``.
+
+    Indices from Ishigami & Homma (1990); ``shift`` does not change them (it breaks M-DRM).
+    """
+    v1 = 0.5 * (1.0 + b * np.pi ** 4 / 5.0) ** 2
+    v2 = a ** 2 / 8.0
+    v13 = b ** 2 * np.pi ** 8 * 8.0 / 225.0
+    var = v1 + v2 + v13
+
+    def f(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.sin(x[:, 0]) + a * np.sin(x[:, 1]) ** 2 + b * x[:, 2] ** 4 * np.sin(x[:, 0]) + shift
+
+    return TestFunction(f"ishigami(a={a}, b={b}, shift={shift})", _uniform_space(3, -np.pi, np.pi), f,
+                        np.array([v1, v2, 0.0]) / var, np.array([v1 + v13, v2, v13]) / var)
+
+
+def sobol_g(a: Sequence[float]) -> TestFunction:
+    """Sobol' G function ``prod (|4 x_i - 2| + a_i) / (1 + a_i)``, ``x ~ U(0, 1)^d``.
+
+    ``V_i = 1 / (3 (1 + a_i)^2)``; small ``a_i`` means important. ``a_i = 0`` makes
+    ``g_i(0.5) = 0``, a zero at the M-DRM cut point.
+    """
+    av = np.asarray(a, dtype=float)
+    vi = 1.0 / (3.0 * (1.0 + av) ** 2)
+    var = np.prod(1.0 + vi) - 1.0
+
+    def f(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.prod((np.abs(4.0 * x - 2.0) + av) / (1.0 + av), axis=1)
+
+    st = vi * np.prod(1.0 + vi) / (1.0 + vi) / var
+    return TestFunction(f"sobol_g(a={av.tolist()})", _uniform_space(av.size, 0.0, 1.0), f, vi / var, st)
+
+
+def product(space: ParameterSpace, coefficients: Sequence[float]) -> TestFunction:
+    """Product of one-variable linear functions ``prod (1 + c_i z_i)``, ``z_i = (x_i - mu_i)/sigma_i``.
+
+    Works for any input distributions: ``E[g_i] = 1`` and ``Var g_i = c_i^2``, so
+    ``S_i = c_i^2 / (prod(1 + c_k^2) - 1)`` and ``ST_i = c_i^2 prod_{k != i}(1 + c_k^2) / V``.
+    M-DRM with ``points >= 2`` is exact on it (the quadrature integrates ``g_i^2`` exactly).
+    """
+    c = np.asarray(coefficients, dtype=float)
+    if c.size != space.dim:
+        raise ValueError(f"product: {c.size} coefficients for {space.dim} parameters")
+    mu = space.means
+    sd = np.array([p.std for p in space.parameters])
+    var = np.prod(1.0 + c ** 2) - 1.0
+
+    def f(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.prod(1.0 + c * (x - mu) / sd, axis=1)
+
+    return TestFunction(f"product(c={c.tolist()})", space, f, c ** 2 / var,
+                        c ** 2 * np.prod(1.0 + c ** 2) / (1.0 + c ** 2) / var)
+
+
+def linear(space: ParameterSpace, coefficients: Sequence[float], offset: float = 0.0) -> TestFunction:
+    """Linear additive function ``offset + sum b_i x_i``: ``S_i = ST_i = b_i^2 sigma_i^2 / sum``."""
+    b = np.asarray(coefficients, dtype=float)
+    if b.size != space.dim:
+        raise ValueError(f"linear: {b.size} coefficients for {space.dim} parameters")
+    v = b ** 2 * np.array([p.std for p in space.parameters]) ** 2
+
+    def f(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return offset + x @ b
+
+    return TestFunction(f"linear(b={b.tolist()})", space, f, v / v.sum(), v / v.sum())
+
+
+def corner_peak(a: Sequence[float]) -> TestFunction:
+    """Genz corner-peak function ``(1 + sum a_i x_i)^-(M+1)``, ``x ~ U(0, 1)^M``.
+
+    Semi-analytic indices: every conditional moment is an expectation of a function of
+    the weighted sum of uniforms, computed exactly by inclusion-exclusion over the
+    cube's vertices with the k-fold antiderivative from Cauchy's repeated-integration
+    formula (64-point Gauss-Legendre), and 1-D Gauss-Legendre (48 points) over the
+    conditioning variable; agreement with a tensor Gauss grid is ~1e-13 for M = 3.
+    """
+    av = np.asarray(a, dtype=float)
+    m = av.size
+    p = m + 1
+
+    def f(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return (1.0 + x @ av) ** (-p)
+
+    mean = _mean_of_sum_function(lambda s: s ** (-p), av, 1.0)
+    second = _mean_of_sum_function(lambda s: s ** (-2 * p), av, 1.0)
+    var = second - mean ** 2
+    t, w = np.polynomial.legendre.leggauss(48)
+    t, w = 0.5 * (t + 1.0), 0.5 * w
+    s1, st = np.empty(m), np.empty(m)
+    for i in range(m):
+        rest = np.delete(av, i)
+        cond = np.array([_mean_of_sum_function(lambda s: s ** (-p), rest, 1.0 + av[i] * tk) for tk in t])
+        s1[i] = (w @ cond ** 2 - mean ** 2) / var
+        ai = av[i]
+
+        def h_sq(b: NDArray[np.float64], ai: float = ai) -> NDArray[np.float64]:
+            return (((1.0 + b) ** (-m) - (1.0 + b + ai) ** (-m)) / (ai * m)) ** 2
+
+        st[i] = 1.0 - (_mean_of_sum_function(h_sq, rest, 0.0) - mean ** 2) / var
+    return TestFunction(f"corner_peak(a={av.tolist()})", _uniform_space(m, 0.0, 1.0), f, s1, st,
+                        note="semi-analytic (inclusion-exclusion + Gauss-Legendre)")
+
+
+def _mean_of_sum_function(F: Func, a: NDArray[np.float64], offset: float) -> float:
+    """``E[F(offset + sum_j a_j U_j)]`` for independent ``U_j ~ U(0, 1)``, all ``a_j > 0``.
+
+    ``= (1/prod a) sum_S (-1)^(k-|S|) F^(-k)(offset + sum_{j in S} a_j)`` with the k-fold
+    antiderivative ``F^(-k)(t) = int_offset^t (t - s)^(k-1)/(k-1)! F(s) ds``.
+    """
+    k = a.size
+    if k == 0:
+        return float(F(np.array([offset]))[0])
+    signs_subsets = np.array(list(cartesian((0, 1), repeat=k)), dtype=float)    # (2^k, k)
+    tops = offset + signs_subsets @ a
+    signs = (-1.0) ** (k - signs_subsets.sum(axis=1))
+    xi, wq = np.polynomial.legendre.leggauss(64)
+    half = 0.5 * (tops - offset)[:, None]
+    s = offset + half * (1.0 + xi[None, :])
+    anti = (half * wq[None, :] * (tops[:, None] - s) ** (k - 1) * F(s)).sum(axis=1) / factorial(k - 1)
+    return float(signs @ anti / np.prod(a))

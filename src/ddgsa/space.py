@@ -1,0 +1,376 @@
+"""Parameter spaces: named, independent uncertain inputs and their distributions.
+
+A :class:`ParameterSpace` holds :class:`Parameter` objects, each backed by a
+chaospy distribution. All sampling goes through our own uniforms (numpy
+``Generator`` or scipy QMC) mapped by the inverse CDF, so no global random
+state is touched and a seed fully determines a sample.
+
+Distribution specifications (keys of one parameter's mapping):
+
+============  ==========================================  ==========================
+dist          required keys                               shorthand
+============  ==========================================  ==========================
+uniform       ``low``, ``high``                           ``nominal``, ``spread``
+normal        ``mean``, ``std``                           ``nominal``, ``spread``
+lognormal     ``mu``, ``sigma`` (of log X) or ``median``,  --
+              ``sigma``
+truncnormal   ``mean``, ``std``, ``low``, ``high``         ``nominal``, ``spread``,
+                                                          ``low``, ``high``
+triangular    ``low``, ``mode``, ``high``                  ``nominal``, ``spread``
+============  ==========================================  ==========================
+
+``spread`` is a fraction of ``|nominal|``: ``low/high = nominal -/+ spread |nominal|``
+for uniform and triangular (mode at nominal), ``std = spread |nominal|`` for
+normal and truncated normal. ``dist`` defaults to ``uniform``. Optional keys:
+``nominal`` (else the mean), ``unit``, ``description``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any, Literal
+
+import chaospy
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+from scipy.stats import qmc
+
+from ddgsa.errors import SpaceError
+
+DIST_NAMES: tuple[str, ...] = ("uniform", "normal", "lognormal", "truncnormal", "triangular")
+_META_KEYS = {"dist", "nominal", "unit", "description"}
+_DIST_KEYS: dict[str, tuple[set[str], ...]] = {
+    # each entry: alternative sets of keys (besides the meta keys) that define the distribution
+    "uniform": ({"low", "high"}, {"spread"}),
+    "normal": ({"mean", "std"}, {"spread"}),
+    "lognormal": ({"mu", "sigma"}, {"median", "sigma"}),
+    "truncnormal": ({"mean", "std", "low", "high"}, {"spread", "low", "high"}),
+    "triangular": ({"low", "mode", "high"}, {"spread"}),
+}
+#: probabilities are clipped to [_U_EPS, 1 - _U_EPS] before the inverse CDF, so
+#: unbounded distributions never map a quasi-random 0 or 1 to an infinite value
+_U_EPS = 1e-12
+
+SampleRule = Literal["sobol", "random", "lhs", "halton"]
+
+
+def _as_float(name: str, key: str, value: Any) -> float:
+    """Coerce a spec value to float (accepting ``"1e10"`` strings from YAML 1.1 loaders)."""
+    if isinstance(value, bool):
+        raise SpaceError(f"parameter {name!r}: {key!r} must be a number, got {value!r}")
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise SpaceError(f"parameter {name!r}: {key!r} must be a number, got {value!r}") from None
+    if not math.isfinite(out):
+        raise SpaceError(f"parameter {name!r}: {key!r} must be finite, got {value!r}")
+    return out
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One uncertain input.
+
+    Parameters
+    ----------
+    name : str
+        Identifier (a valid Python identifier, e.g. ``k_front_y``).
+    dist : str
+        One of :data:`DIST_NAMES`.
+    args : dict of str to float
+        Canonical distribution arguments: uniform ``low, high``; normal ``mean, std``;
+        lognormal ``mu, sigma`` (of the underlying normal); truncnormal ``mean, std, low,
+        high``; triangular ``low, mode, high``.
+    nominal : float
+        Nominal value [unit]; the distribution mean unless given.
+    unit : str
+        Unit in SI, e.g. ``"N/m"``.
+    description : str
+        One line saying what the parameter is.
+    """
+
+    name: str
+    dist: str
+    args: dict[str, float]
+    nominal: float
+    unit: str = ""
+    description: str = ""
+
+    @classmethod
+    def from_spec(cls, name: str, spec: Mapping[str, Any]) -> "Parameter":
+        """Build a parameter from a specification mapping (see the module docstring).
+
+        Raises
+        ------
+        SpaceError
+            Naming the parameter and the problem: unknown distribution or key,
+            missing key, non-numeric value, ``low >= high``, ``std <= 0`` ...
+        """
+        if not isinstance(name, str) or not name.isidentifier():
+            raise SpaceError(f"parameter name {name!r} must be an identifier (letters, digits, _)")
+        if not isinstance(spec, Mapping):
+            raise SpaceError(f"parameter {name!r}: expected a mapping of dist and its arguments, "
+                             f"got {type(spec).__name__} {spec!r}")
+        dist = spec.get("dist", "uniform")
+        if dist not in _DIST_KEYS:
+            raise SpaceError(f"parameter {name!r}: unknown dist {dist!r}; allowed: {', '.join(DIST_NAMES)}")
+        given = set(spec) - _META_KEYS
+        allowed = set().union(*_DIST_KEYS[dist])
+        unknown = given - allowed
+        if unknown:
+            raise SpaceError(f"parameter {name!r}: unknown key(s) {sorted(unknown)} for dist {dist!r}; "
+                             f"allowed: {sorted(allowed | _META_KEYS)}")
+        forms = _DIST_KEYS[dist]
+        form = next((f for f in forms if f == given), None)
+        if form is None:
+            wanted = " or ".join("{" + ", ".join(sorted(f)) + "}" for f in forms)
+            raise SpaceError(f"parameter {name!r}: dist {dist!r} needs keys {wanted} "
+                             f"(with 'spread', also 'nominal'); got {sorted(given)}")
+        v = {k: _as_float(name, k, spec[k]) for k in given}
+        nominal = _as_float(name, "nominal", spec["nominal"]) if "nominal" in spec else None
+        if "spread" in v:
+            if nominal is None:
+                raise SpaceError(f"parameter {name!r}: 'spread' needs 'nominal'")
+            if v["spread"] <= 0:
+                raise SpaceError(f"parameter {name!r}: spread must be > 0 (a fraction of |nominal|), "
+                                 f"got {v['spread']}")
+            if nominal == 0:
+                raise SpaceError(f"parameter {name!r}: 'spread' is a fraction of |nominal| and nominal is 0; "
+                                 "give the bounds explicitly")
+            half = v.pop("spread") * abs(nominal)
+            if dist in ("uniform", "triangular"):
+                v.update(low=nominal - half, high=nominal + half)
+                if dist == "triangular":
+                    v["mode"] = nominal
+            else:
+                v.update(mean=nominal, std=half)
+        if "median" in v:
+            if v["median"] <= 0:
+                raise SpaceError(f"parameter {name!r}: lognormal median must be > 0, got {v['median']}")
+            v["mu"] = math.log(v.pop("median"))
+        cls._check_args(name, dist, v)
+        param = cls(name=name, dist=dist, args=v, nominal=math.nan,
+                    unit=str(spec.get("unit", "")), description=str(spec.get("description", "")))
+        nominal = param.mean if nominal is None else nominal
+        object.__setattr__(param, "nominal", nominal)
+        lo, hi = param.support
+        if not lo <= nominal <= hi:
+            raise SpaceError(f"parameter {name!r}: nominal {nominal} lies outside the support [{lo}, {hi}]")
+        return param
+
+    @staticmethod
+    def _check_args(name: str, dist: str, v: dict[str, float]) -> None:
+        if "low" in v and v["low"] >= v["high"]:
+            raise SpaceError(f"parameter {name!r}: low ({v['low']}) must be < high ({v['high']})")
+        if v.get("std", 1.0) <= 0:
+            raise SpaceError(f"parameter {name!r}: std must be > 0, got {v['std']}")
+        if v.get("sigma", 1.0) <= 0:
+            raise SpaceError(f"parameter {name!r}: sigma must be > 0, got {v['sigma']}")
+        if dist == "triangular" and not v["low"] <= v["mode"] <= v["high"]:
+            raise SpaceError(f"parameter {name!r}: mode ({v['mode']}) must lie in [low, high] = "
+                             f"[{v['low']}, {v['high']}]")
+
+    @cached_property
+    def distribution(self) -> chaospy.Distribution:
+        """The chaospy distribution of this parameter."""
+        a = self.args
+        if self.dist == "uniform":
+            return chaospy.Uniform(a["low"], a["high"])
+        if self.dist == "normal":
+            return chaospy.Normal(a["mean"], a["std"])
+        if self.dist == "lognormal":
+            return chaospy.LogNormal(a["mu"], a["sigma"])
+        if self.dist == "truncnormal":
+            return chaospy.TruncNormal(a["low"], a["high"], a["mean"], a["std"])
+        return chaospy.Triangle(a["low"], a["mode"], a["high"])
+
+    @property
+    def mean(self) -> float:
+        """Mean of the distribution [unit]."""
+        return float(self.distribution.mom(1))
+
+    @property
+    def std(self) -> float:
+        """Standard deviation of the distribution [unit]."""
+        return float(np.sqrt(self.distribution.mom(2) - self.distribution.mom(1) ** 2))
+
+    @property
+    def support(self) -> tuple[float, float]:
+        """Lower and upper bound of the support (may be infinite) [unit]."""
+        a = self.args
+        if self.dist in ("uniform", "triangular", "truncnormal"):
+            return a["low"], a["high"]
+        if self.dist == "lognormal":
+            return 0.0, math.inf
+        return -math.inf, math.inf
+
+    def ppf(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Inverse CDF: map probabilities ``u`` in (0, 1) to parameter values [unit]."""
+        u = np.clip(np.asarray(u, dtype=float), _U_EPS, 1.0 - _U_EPS)
+        return np.asarray(self.distribution.inv(u), dtype=float).reshape(u.shape)
+
+    def cdf(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Cumulative distribution function at ``x``."""
+        x = np.asarray(x, dtype=float)
+        return np.asarray(self.distribution.fwd(x), dtype=float).reshape(x.shape)
+
+    def to_spec(self) -> dict[str, Any]:
+        """The canonical specification mapping (round-trips through :meth:`from_spec`)."""
+        spec: dict[str, Any] = {"dist": self.dist, **self.args, "nominal": self.nominal}
+        if self.unit:
+            spec["unit"] = self.unit
+        if self.description:
+            spec["description"] = self.description
+        return spec
+
+    def salib_entry(self) -> tuple[str, list[float]]:
+        """SALib ``dists`` name and ``bounds`` entry describing this distribution."""
+        a = self.args
+        if self.dist == "uniform":
+            return "unif", [a["low"], a["high"]]
+        if self.dist == "normal":
+            return "norm", [a["mean"], a["std"]]
+        if self.dist == "lognormal":
+            return "lognorm", [a["mu"], a["sigma"]]
+        if self.dist == "truncnormal":
+            return "truncnorm", [a["low"], a["high"], a["mean"], a["std"]]
+        return "triang", [a["low"], a["high"], (a["mode"] - a["low"]) / (a["high"] - a["low"])]
+
+
+@dataclass(frozen=True)
+class ParameterSpace:
+    """Named, independent uncertain parameters.
+
+    Examples
+    --------
+    >>> space = ParameterSpace.from_dict({
+    ...     "x1": {"dist": "uniform", "low": -3.14159, "high": 3.14159},
+    ...     "k_front": {"dist": "normal", "mean": 1e10, "std": 1e9, "unit": "N/m"},
+    ...     "c_gen": {"nominal": 8.28e5, "spread": 0.1},
+    ... })
+    >>> space.names
+    ('x1', 'k_front', 'c_gen')
+    >>> space.sample(4, seed=0).shape
+    (4, 3)
+    """
+
+    parameters: tuple[Parameter, ...]
+    _index: dict[str, int] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if not self.parameters:
+            raise SpaceError("a parameter space needs at least one parameter")
+        names = [p.name for p in self.parameters]
+        dupes = sorted({n for n in names if names.count(n) > 1})
+        if dupes:
+            raise SpaceError(f"duplicate parameter name(s): {dupes}")
+        object.__setattr__(self, "_index", {n: i for i, n in enumerate(names)})
+
+    @classmethod
+    def from_dict(cls, specs: Mapping[str, Mapping[str, Any]]) -> "ParameterSpace":
+        """Build a space from ``{name: spec}`` (see the module docstring for specs)."""
+        if not isinstance(specs, Mapping):
+            raise SpaceError(f"a parameter space is a mapping of name -> spec, got {type(specs).__name__}")
+        return cls(tuple(Parameter.from_spec(n, s) for n, s in specs.items()))
+
+    @classmethod
+    def from_parameters(cls, parameters: Iterable[Parameter]) -> "ParameterSpace":
+        """Build a space from :class:`Parameter` objects (duplicate names are refused)."""
+        return cls(tuple(parameters))
+
+    def to_dict(self) -> dict[str, dict[str, Any]]:
+        """Canonical ``{name: spec}``; ``ParameterSpace.from_dict(space.to_dict()) == space``."""
+        return {p.name: p.to_spec() for p in self.parameters}
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Parameter names, in order."""
+        return tuple(p.name for p in self.parameters)
+
+    @property
+    def dim(self) -> int:
+        """Number of parameters."""
+        return len(self.parameters)
+
+    def __len__(self) -> int:
+        return self.dim
+
+    def __getitem__(self, name: str) -> Parameter:
+        try:
+            return self.parameters[self._index[name]]
+        except KeyError:
+            raise SpaceError(f"unknown parameter {name!r}; known: {', '.join(self.names)}") from None
+
+    @property
+    def nominal(self) -> dict[str, float]:
+        """Nominal value of every parameter."""
+        return {p.name: p.nominal for p in self.parameters}
+
+    @property
+    def means(self) -> NDArray[np.float64]:
+        """Mean of every parameter, shape ``(dim,)``."""
+        return np.array([p.mean for p in self.parameters])
+
+    @cached_property
+    def joint(self) -> chaospy.Distribution:
+        """The joint (independent) chaospy distribution."""
+        return chaospy.J(*(p.distribution for p in self.parameters))
+
+    def ppf(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Map unit-hypercube points ``u`` (n, dim) to parameter values (n, dim)."""
+        u = np.atleast_2d(np.asarray(u, dtype=float))
+        if u.shape[1] != self.dim:
+            raise SpaceError(f"expected points with {self.dim} columns ({', '.join(self.names)}), "
+                             f"got shape {u.shape}")
+        return np.column_stack([p.ppf(u[:, i]) for i, p in enumerate(self.parameters)])
+
+    def unit_sample(self, n: int, seed: int | np.random.SeedSequence = 0,
+                    rule: SampleRule = "sobol") -> NDArray[np.float64]:
+        """``n`` points in the open unit hypercube, reproducible for a seed.
+
+        Parameters
+        ----------
+        n : int
+            Number of points (a power of two is best for ``rule="sobol"``).
+        seed : int or SeedSequence
+            Seed of the scrambling (QMC) or of the generator (random, lhs).
+        rule : {"sobol", "halton", "lhs", "random"}
+            Scrambled Sobol' or Halton sequence, Latin hypercube, or plain Monte Carlo.
+        """
+        if not isinstance(n, (int, np.integer)) or n < 1:
+            raise SpaceError(f"sample size n must be a positive integer, got {n!r}")
+        rng = np.random.default_rng(seed)
+        if rule == "sobol":
+            u = qmc.Sobol(self.dim, scramble=True, rng=rng).random(n)
+        elif rule == "halton":
+            u = qmc.Halton(self.dim, scramble=True, rng=rng).random(n)
+        elif rule == "lhs":
+            u = qmc.LatinHypercube(self.dim, rng=rng).random(n)
+        elif rule == "random":
+            u = rng.random((n, self.dim))
+        else:
+            raise SpaceError(f"unknown sampling rule {rule!r}; allowed: sobol, halton, lhs, random")
+        return u
+
+    def sample(self, n: int, seed: int | np.random.SeedSequence = 0,
+               rule: SampleRule = "sobol") -> NDArray[np.float64]:
+        """``n`` points drawn from the joint distribution, shape ``(n, dim)``; see :meth:`unit_sample`."""
+        return self.ppf(self.unit_sample(n, seed=seed, rule=rule))
+
+    def frame(self, points: NDArray[np.float64]) -> pd.DataFrame:
+        """Points (n, dim) as a DataFrame with one column per parameter."""
+        return pd.DataFrame(np.atleast_2d(points), columns=list(self.names))
+
+    def to_salib_problem(self) -> dict[str, Any]:
+        """The space as a SALib problem dict (``num_vars``, ``names``, ``bounds``, ``dists``).
+
+        ddgsa's own SALib methods sample the unit hypercube and map it with :meth:`ppf`;
+        this export is for users who want to call SALib directly.
+        """
+        entries = [p.salib_entry() for p in self.parameters]
+        return {"num_vars": self.dim, "names": list(self.names),
+                "dists": [d for d, _ in entries], "bounds": [b for _, b in entries]}
