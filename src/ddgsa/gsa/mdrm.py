@@ -5,7 +5,8 @@ With cut point :math:`c`, M-DRM approximates
 :math:`h_i(x_i) = h(c_1, \\dots, x_i, \\dots, c_n)`. With :math:`\\rho_i = E[h_i]` and
 :math:`\\theta_i = E[h_i^2]` (one-dimensional Gauss quadratures in the measure of
 :math:`X_i`; Gauss-Legendre for uniform, Gauss-Hermite for normal inputs, chaospy's
-Golub-Welsch rules for the others):
+rules for lognormal and truncated normal, an exact Stieltjes rule for triangular:
+see :mod:`ddgsa.quadrature`):
 
 .. math::
 
@@ -56,15 +57,10 @@ from ddgsa.errors import MethodError
 from ddgsa.gsa.base import (Design, GsaMethod, PartialIndices, check_fraction, check_int,
                             register)
 from ddgsa.gsa.result import Diagnostic
-from ddgsa.space import Parameter, ParameterSpace
+from ddgsa.quadrature import gauss_rule
+from ddgsa.space import ParameterSpace
 
 _TAIL_LIMIT = 0.25
-
-
-def gauss_rule(param: Parameter, points: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """``points``-node Gauss rule in the measure of ``param``: nodes [unit] and weights (sum 1)."""
-    nodes, weights = chaospy.generate_quadrature(points - 1, param.distribution, rule="gaussian")
-    return np.asarray(nodes, dtype=float).ravel(), np.asarray(weights, dtype=float).ravel()
 
 
 @register("mdrm")
@@ -214,9 +210,12 @@ def _resolution_diagnostics(space: ParameterSpace, design: Design, h: NDArray[np
         coef = phi @ (weights[:, None] * h[i])                         # (N, k)
         energy = coef[1:] ** 2
         total = energy.sum(axis=0)
+        scale = np.abs(coef[0]) + 1e-300
         with np.errstate(divide="ignore", invalid="ignore"):
             frac = energy[-2:].sum(axis=0) / total
-        for k in np.flatnonzero(frac > opts["resolution_tol"]):
+        # a cut function that is constant to round-off has no spectrum to judge
+        varies = np.sqrt(total) > 1e-10 * scale
+        for k in np.flatnonzero((frac > opts["resolution_tol"]) & varies):
             diags.append(Diagnostic("mdrm_unresolved",
                                     f"output {outputs[k]!r}: the cut function of {p.name!r} is not resolved "
                                     f"by {n_nodes} nodes ({frac[k]:.1%} of its variance in the two highest "

@@ -6,7 +6,7 @@ Each factory returns a :class:`TestFunction`: the input space, a vectorised func
 >>> tf = ishigami()
 >>> tf.space.names
 ('x1', 'x2', 'x3')
->>> [round(v, 4) for v in tf.S1]
+>>> tf.S1.round(4).tolist()
 [0.3139, 0.4424, 0.0]
 """
 
