@@ -5,9 +5,11 @@ The public API is what ``__all__`` lists; everything else is internal.
 
 from __future__ import annotations
 
+from ddgsa import loads
 from ddgsa.errors import DdgsaError, MethodError, ModelError, SceneError, SpaceError, StudyError
 from ddgsa.gsa import SobolResult, sobol
 from ddgsa.gsa.result import Diagnostic
+from ddgsa.loads.scene import Scene
 from ddgsa.space import Parameter, ParameterSpace
 
 __version__ = "0.1.0"
@@ -19,10 +21,12 @@ __all__ = [
     "ModelError",
     "Parameter",
     "ParameterSpace",
+    "Scene",
     "SceneError",
     "SobolResult",
     "SpaceError",
     "StudyError",
     "__version__",
+    "loads",
     "sobol",
 ]

@@ -1,0 +1,163 @@
+"""Hub loads from three rotating blades in a turbulent, sheared, inclined wind field.
+
+Frame (the drive-train frame, fixed to the non-rotating, tilted shaft axis):
+**X** along the shaft from the hub towards the generator (downwind), **Z** perpendicular to it
+in the vertical plane, upwards, **Y = Z x X** (to the left looking downwind). The shaft is
+tilted by ``tilt_deg`` with the hub end up, so the horizontal wind has an in-plane component
+along +Z. The rotor turns positively about +X; blade azimuth 0 points along +Z.
+
+Quasi-steady rotor: each blade carries ``n_stations`` elements (centroids of equal-area
+annuli, a third of the annulus each). An element at radius r sees the axial wind ``U`` and
+the apparent tangential speed ``W = Omega r + U_y cos psi + U_z sin psi`` (in-plane wind
+against the direction of motion), so its local tip-speed ratio is ``W R / (r U)``; its
+thrust is ``0.5 rho C_t(lambda_loc, beta) U^2 dA`` and its torque
+``0.5 rho C_q(lambda_loc, beta) R U^2 dA``, from the rotor's table. In uniform wind the
+elements reproduce the rotor's C_t, C_q exactly; shear, inclination, tilt and turbulence make
+them vary with azimuth, which gives the tilt/yaw moments (mean, 1P per blade, 3P on the hub).
+
+Outputs are the **aerodynamic** loads only: rotor and generator weight and the tilt component
+of gravity are applied by the drive-train model, which carries those masses.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from ddgsa.loads.rotor import Turbine
+
+N_AZIMUTH = 16
+LOAD_COLUMNS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+
+
+def grid_points(turbine: Turbine) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Rotor-plane grid: (y, z) of the hub centre then ``N_AZIMUTH`` points on each station ring [m].
+
+    Returns the points (1 + n_r N_AZIMUTH, 2) and the grid azimuths [rad].
+    """
+    r, _ = turbine.stations
+    az = 2.0 * np.pi * np.arange(N_AZIMUTH) / N_AZIMUTH
+    rr, aa = np.meshgrid(r, az, indexing="ij")
+    pts = np.column_stack([-rr.ravel() * np.sin(aa.ravel()), rr.ravel() * np.cos(aa.ravel())])
+    return np.vstack([[0.0, 0.0], pts]), az
+
+
+def inflow_in_shaft_frame(turbine: Turbine, wind_speed: float, shear_exponent: float,
+                          inclination_deg: float, fluct: NDArray[np.float64],
+                          z_points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Wind velocity at the grid points in the shaft frame, shape (3, n_t, n_pts) [m/s].
+
+    ``fluct`` holds the turbulent u, v, w (3, n_t, n_pts) along, across and normal to the mean
+    (inclined) flow; the mean speed follows the power law ``V (z / z_hub)^alpha``.
+    """
+    chi, tau = np.deg2rad(inclination_deg), np.deg2rad(turbine.tilt_deg)
+    height = np.maximum(turbine.hub_height + z_points, 1.0)
+    mean = wind_speed * (height / turbine.hub_height) ** shear_exponent
+    along = mean[None, :] + fluct[0]
+    # ground frame: mean flow along (cos chi, 0, sin chi); w along (-sin chi, 0, cos chi)
+    gx = along * np.cos(chi) - fluct[2] * np.sin(chi)
+    gz = along * np.sin(chi) + fluct[2] * np.cos(chi)
+    # shaft frame: X = (cos tau, 0, -sin tau), Z = (sin tau, 0, cos tau)
+    return np.stack([gx * np.cos(tau) - gz * np.sin(tau), fluct[1], gx * np.sin(tau) + gz * np.cos(tau)])
+
+
+@njit(cache=True)
+def _simulate(u_rings: NDArray[np.float64], dt: float, radius: NDArray[np.float64],
+              area: NDArray[np.float64], big_r: float, rho: float, inertia: float,
+              tsr: NDArray[np.float64], pitch: NDArray[np.float64], ct: NDArray[np.float64],
+              cq: NDArray[np.float64], torque_law: NDArray[np.float64], omega0: float, beta0: float,
+              rated_speed: float, rated_torque: float, kp: float, ki: float, knee: float,
+              rate: float, beta_max: float) -> NDArray[np.float64]:  # pragma: no cover (compiled)
+    """Time loop: rotor speed, azimuth, pitch PI and element loads. Returns (n_t, 10)."""
+    n_t, _, n_r, n_az = u_rings.shape
+    out = np.empty((n_t, 10))
+    omega, psi, beta = omega0, 0.0, beta0
+    gk0 = 1.0 / (1.0 + beta0 / knee)
+    integ = beta0 / (gk0 * ki) if ki > 0 else 0.0
+    w_tab, q_tab = torque_law[0], torque_law[1]
+    for n in range(n_t):
+        fx = fy = fz = mx = my = mz = 0.0
+        for b in range(3):
+            az = psi + 2.0 * np.pi * b / 3.0
+            pos = (az / (2.0 * np.pi)) % 1.0 * n_az
+            i0 = int(pos) % n_az
+            i1 = (i0 + 1) % n_az
+            t = pos - int(pos)
+            c, s = np.cos(az), np.sin(az)
+            for j in range(n_r):
+                ux = (1 - t) * u_rings[n, 0, j, i0] + t * u_rings[n, 0, j, i1]
+                uy = (1 - t) * u_rings[n, 1, j, i0] + t * u_rings[n, 1, j, i1]
+                uz = (1 - t) * u_rings[n, 2, j, i0] + t * u_rings[n, 2, j, i1]
+                ux = max(ux, 0.1)
+                w_t = omega * radius[j] + uy * c + uz * s
+                lam = w_t * big_r / (radius[j] * ux)
+                q = 0.5 * rho * ux * ux * area[j]
+                dt_ = q * _bilinear(tsr, pitch, ct, lam, beta)
+                dq = q * big_r * _bilinear(tsr, pitch, cq, lam, beta)
+                ft = dq / radius[j]
+                fx += dt_
+                fy -= ft * c
+                fz -= ft * s
+                mx += dq
+                my += radius[j] * dt_ * c
+                mz += radius[j] * dt_ * s
+        # controller: generator torque law, rated torque once pitching; gain-scheduled PI pitch
+        if beta >= 0.0175:
+            q_gen = rated_torque
+        else:
+            q_gen = np.interp(omega, w_tab, q_tab)
+        err = omega - rated_speed
+        gk = 1.0 / (1.0 + beta / knee)
+        integ = min(max(integ + err * dt, 0.0), beta_max / (gk * ki))
+        cmd = min(max(gk * (kp * err + ki * integ), 0.0), beta_max)
+        beta += min(max(cmd - beta, -rate * dt), rate * dt)
+        out[n, 0], out[n, 1], out[n, 2] = fx, fy, fz
+        out[n, 3], out[n, 4], out[n, 5] = mx, my, mz
+        out[n, 6], out[n, 7], out[n, 8], out[n, 9] = omega, beta, q_gen, psi
+        omega += dt * (mx - q_gen) / inertia
+        psi += dt * omega
+    return out
+
+
+@njit(cache=True)
+def _bilinear(x: NDArray[np.float64], y: NDArray[np.float64], table: NDArray[np.float64],
+              xq: float, yq: float) -> float:  # pragma: no cover (compiled)
+    """Scalar bilinear interpolation clamped to the grid (the same rule as ``rotor.bilinear``)."""
+    xq = min(max(xq, x[0]), x[-1])
+    yq = min(max(yq, y[0]), y[-1])
+    i = min(max(np.searchsorted(x, xq) - 1, 0), x.size - 2)
+    j = min(max(np.searchsorted(y, yq) - 1, 0), y.size - 2)
+    tx = (xq - x[i]) / (x[i + 1] - x[i])
+    ty = (yq - y[j]) / (y[j + 1] - y[j])
+    return ((1 - tx) * (1 - ty) * table[i, j] + tx * (1 - ty) * table[i + 1, j]
+            + (1 - tx) * ty * table[i, j + 1] + tx * ty * table[i + 1, j + 1])
+
+
+def simulate_rotor(turbine: Turbine, inflow: NDArray[np.float64], dt: float,
+                   initial: dict[str, float]) -> NDArray[np.float64]:
+    """Run the rotor/controller loop over the inflow on the grid.
+
+    Parameters
+    ----------
+    inflow : ndarray (3, n_t, n_pts)
+        Shaft-frame wind at :func:`grid_points` (hub centre first) [m/s].
+    initial : dict
+        Steady operating point (``rotor_speed`` [rad/s], ``pitch`` [rad]) to start from.
+
+    Returns
+    -------
+    ndarray (n_t, 10)
+        Fx, Fy, Fz [N], Mx, My, Mz [N m], rotor speed [rad/s], pitch [rad], generator torque
+        [N m], azimuth of blade 1 [rad].
+    """
+    r, area = turbine.stations
+    n_t = inflow.shape[1]
+    rings = inflow[:, :, 1:].reshape(3, n_t, r.size, N_AZIMUTH).transpose(1, 0, 2, 3)
+    w_tab = np.linspace(0.0, 1.5 * turbine.rated_speed, 2001)
+    law = np.vstack([w_tab, turbine.generator_torque(w_tab)])
+    tab = turbine.table
+    return _simulate(np.ascontiguousarray(rings), dt, r, area, turbine.rotor_radius, turbine.air_density,
+                     turbine.rotor_inertia, tab.tsr, tab.pitch, tab.ct, np.ascontiguousarray(tab.cq), law,
+                     initial["rotor_speed"], initial["pitch"], turbine.rated_speed, turbine.rated_torque,
+                     turbine.kp, turbine.ki, turbine.gain_knee, turbine.pitch_rate, float(tab.pitch[-1]))

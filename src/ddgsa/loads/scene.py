@@ -1,0 +1,98 @@
+"""A scene: the wind conditions and record length one model evaluation sees."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from ddgsa.errors import SceneError
+
+#: samples per period of the highest rotor harmonic the loads must resolve (3P at rated speed)
+SAMPLES_PER_3P = 8
+_RATED_SPEED_RAD_S = 12.1 * math.pi / 30.0
+
+
+@dataclass(frozen=True)
+class Scene:
+    """Wind conditions of one simulation; a realisation of the loads is a pure function of it.
+
+    Parameters
+    ----------
+    wind_speed : float
+        Mean wind speed at hub height V_hub [m/s], in (0, 50].
+    turbulence_intensity : float
+        IEC reference turbulence intensity I_ref [-] in [0, 1): the standard deviation of the
+        longitudinal wind is ``I_ref (0.75 V_hub + 5.6)``. 0 gives steady wind.
+    inclination_deg : float
+        Upward inclination of the inflow [deg], in [-30, 30].
+    shear_exponent : float
+        Power-law shear exponent alpha [-] in [0, 1] (IEC normal wind profile: 0.2).
+    duration : float
+        Record length [s], > 0.
+    dt : float
+        Time step of the loads [s]; at most ``1 / (8 f_3P)`` at rated rotor speed (0.165 s).
+    seed : int
+        Seed of the turbulence realisation (>= 0); all parameter points of a scene see the
+        same realisation (common random numbers).
+
+    Examples
+    --------
+    >>> Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=60.0).dt
+    0.05
+    """
+
+    wind_speed: float = 11.0
+    turbulence_intensity: float = 0.12
+    inclination_deg: float = 0.0
+    shear_exponent: float = 0.2
+    duration: float = 600.0
+    dt: float = 0.05
+    seed: int = 1
+
+    def __post_init__(self) -> None:
+        for name in ("wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent",
+                     "duration", "dt"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise SceneError(f"scene field {name!r} must be a finite number, got {value!r}")
+            object.__setattr__(self, name, float(value))
+        if not isinstance(self.seed, int) or isinstance(self.seed, bool) or self.seed < 0:
+            raise SceneError(f"scene field 'seed' must be an integer >= 0, got {self.seed!r}")
+        checks = (
+            ("wind_speed", 0.0 < self.wind_speed <= 50.0, "in (0, 50] m/s"),
+            ("turbulence_intensity", 0.0 <= self.turbulence_intensity < 1.0, "in [0, 1)"),
+            ("inclination_deg", -30.0 <= self.inclination_deg <= 30.0, "in [-30, 30] deg"),
+            ("shear_exponent", 0.0 <= self.shear_exponent <= 1.0, "in [0, 1]"),
+            ("duration", self.duration > 0.0, "> 0 s"),
+            ("dt", self.dt > 0.0, "> 0 s"),
+        )
+        for name, ok, allowed in checks:
+            if not ok:
+                raise SceneError(f"scene field {name!r} must be {allowed}, got {getattr(self, name)}")
+        dt_max = max_time_step()
+        if self.dt > dt_max:
+            raise SceneError(f"scene field 'dt' = {self.dt} s is too coarse for the rotor's 3P frequency "
+                             f"({3 * _RATED_SPEED_RAD_S / (2 * math.pi):.3f} Hz at rated speed): need "
+                             f"dt <= {dt_max:.3f} s ({SAMPLES_PER_3P} samples per 3P period)")
+        if self.duration < 10 * self.dt:
+            raise SceneError(f"scene field 'duration' = {self.duration} s holds fewer than 10 steps of "
+                             f"dt = {self.dt} s")
+
+    @property
+    def n_steps(self) -> int:
+        """Number of samples in the record."""
+        return int(round(self.duration / self.dt))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The scene's fields as a plain dict."""
+        return asdict(self)
+
+    def replace(self, **changes: Any) -> "Scene":
+        """A copy with some fields changed (validated again)."""
+        return Scene(**{**self.to_dict(), **changes})
+
+
+def max_time_step() -> float:
+    """Largest allowed load time step [s]: ``SAMPLES_PER_3P`` samples per 3P period at rated speed."""
+    return 2.0 * math.pi / (3.0 * _RATED_SPEED_RAD_S) / SAMPLES_PER_3P
