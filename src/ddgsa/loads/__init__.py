@@ -60,7 +60,7 @@ def _generate(scene: Scene, turbine: Turbine) -> pd.DataFrame:
     df = pd.DataFrame(res[:, :6], index=t, columns=list(LOAD_COLUMNS))
     df.insert(0, "wind_hub", inflow[0, :, 0])
     df["rotor_speed"], df["pitch"], df["gen_torque"], df["azimuth"] = res[:, 6], res[:, 7], res[:, 8], res[:, 9]
-    df["gen_speed_set"] = df["rotor_speed"] + df["gen_torque"] / C_GEN_DEFAULT
+    df["gen_speed_set"] = df["rotor_speed"] - df["gen_torque"] / C_GEN_DEFAULT
     df["power"] = df["gen_torque"] * df["rotor_speed"]
     df.attrs.update(scene=scene.to_dict(), frame="shaft: X hub->generator, Z up, Y = Z x X",
                     turbine="NREL 5-MW rotor, direct drive", units={
@@ -79,7 +79,7 @@ def generate(scene: Scene, turbine: Turbine = NREL5MW) -> pd.DataFrame:
         Indexed by time [s]; columns ``wind_hub`` (axial wind at the hub centre [m/s]),
         ``Fx, Fy, Fz`` [N] and ``Mx, My, Mz`` [N m] (aerodynamic, on the hub, shaft frame),
         ``rotor_speed`` [rad/s], ``pitch`` [rad], ``gen_torque`` (controller demand [N m]),
-        ``azimuth`` [rad], ``gen_speed_set`` (the set-point ``w + T/C_gen`` for the seed's
+        ``azimuth`` [rad], ``gen_speed_set`` (the set-point ``w - T/C_gen`` for the seed's
         ``C_gen`` = 828.26 kN m s/rad [rad/s]) and ``power`` [W]. A copy of a cached frame.
 
     Examples

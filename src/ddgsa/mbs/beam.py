@@ -1,0 +1,193 @@
+"""Finite-element Euler-Bernoulli shaft: eigenmodes used as FFR shape functions (seed 000 §2.5).
+
+A shaft of length L on the x axis, meshed by :func:`mesh`, carrying point masses and
+rotary inertias at its nodes. Three independent fields:
+
+- bending (one transverse plane; the shaft is axisymmetric, so Y and Z share the shapes):
+  Hermite cubic elements, nodal (w, w'), consistent mass, pinned supports (w = 0) at the
+  bearing nodes;
+- axial: linear bar elements, u = 0 at the axial (front) bearing;
+- torsion: linear elements, free-free (the spin is the body's rigid rotation).
+
+Modes are mass-normalised by the solver and then scaled so the largest nodal displacement
+(or twist) is 1, so elastic coordinates carry metres (radians for torsion).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.linalg import eigh
+
+
+@dataclass(frozen=True)
+class BeamSpec:
+    """Geometry, stiffness and attached inertias of a shaft (SI units).
+
+    Attributes
+    ----------
+    nodes : tuple of float
+        Node positions from 0 to the shaft length [m], ascending (bearing and end-inertia
+        positions must be nodes; see :func:`mesh`).
+    mass : float
+        Shaft mass [kg], uniformly distributed.
+    polar_inertia : float
+        Shaft polar mass moment of inertia about its axis [kg m^2].
+    EI, EA, GJ : float
+        Bending [N m^2], axial [N] and torsional [N m^2] stiffness.
+    end_masses : tuple of (x, mass, J_axial, J_diametral)
+        Rigid inertias attached at nodes [m, kg, kg m^2, kg m^2].
+    supports : tuple of float
+        Positions of the bending supports (bearings) [m].
+    axial_support : float
+        Position where the axial field is held (the axial bearing) [m].
+    """
+
+    nodes: tuple[float, ...]
+    mass: float
+    polar_inertia: float
+    EI: float
+    EA: float
+    GJ: float
+    end_masses: tuple[tuple[float, float, float, float], ...]
+    supports: tuple[float, ...]
+    axial_support: float
+
+    @property
+    def x(self) -> NDArray[np.float64]:
+        """Node positions [m]."""
+        return np.asarray(self.nodes)
+
+    @property
+    def length(self) -> float:
+        """Shaft length [m]."""
+        return float(self.nodes[-1])
+
+    @property
+    def n_elements(self) -> int:
+        """Number of elements."""
+        return len(self.nodes) - 1
+
+    def node_index(self, x: float) -> int:
+        """Index of the node at ``x`` (raises if ``x`` is not on a node)."""
+        i = int(np.argmin(np.abs(self.x - x)))
+        if abs(self.x[i] - x) > 1e-9 * max(1.0, self.length):
+            raise ValueError(f"position {x} m is not a node of the shaft mesh")
+        return i
+
+
+def mesh(breakpoints: list[float], max_element: float) -> tuple[float, ...]:
+    """Nodes through all ``breakpoints`` (sorted, from 0 to L) with elements no longer than ``max_element``."""
+    pts = sorted(set(float(b) for b in breakpoints))
+    nodes = [pts[0]]
+    for a, b in zip(pts[:-1], pts[1:]):
+        k = max(1, int(np.ceil((b - a) / max_element - 1e-9)))
+        nodes += list(np.linspace(a, b, k + 1)[1:])
+    return tuple(nodes)
+
+
+def bending_matrices(spec: BeamSpec) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Global bending stiffness and consistent mass (nodal w, w'), end inertias included."""
+    n = spec.n_elements + 1
+    rho_a = spec.mass / spec.length
+    k, m = np.zeros((2 * n, 2 * n)), np.zeros((2 * n, 2 * n))
+    for e, le in enumerate(np.diff(spec.x)):
+        k_e = spec.EI / le ** 3 * np.array([[12, 6 * le, -12, 6 * le], [6 * le, 4 * le ** 2, -6 * le, 2 * le ** 2],
+                                            [-12, -6 * le, 12, -6 * le], [6 * le, 2 * le ** 2, -6 * le, 4 * le ** 2]])
+        m_e = rho_a * le / 420 * np.array([[156, 22 * le, 54, -13 * le],
+                                           [22 * le, 4 * le ** 2, 13 * le, -3 * le ** 2],
+                                           [54, 13 * le, 156, -22 * le],
+                                           [-13 * le, -3 * le ** 2, -22 * le, 4 * le ** 2]])
+        sl = slice(2 * e, 2 * e + 4)
+        k[sl, sl] += k_e
+        m[sl, sl] += m_e
+    for x, mass, _, j_diam in spec.end_masses:
+        i = spec.node_index(x)
+        m[2 * i, 2 * i] += mass
+        m[2 * i + 1, 2 * i + 1] += j_diam
+    return k, m
+
+
+def bar_matrices(spec: BeamSpec, stiffness: float, line_inertia: float,
+                 end_index: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Linear-element stiffness and consistent mass of an axial (end_index 1) or torsion (2) field."""
+    n = spec.n_elements + 1
+    k, m = np.zeros((n, n)), np.zeros((n, n))
+    for e, le in enumerate(np.diff(spec.x)):
+        sl = slice(e, e + 2)
+        k[sl, sl] += stiffness / le * np.array([[1, -1], [-1, 1]])
+        m[sl, sl] += line_inertia * le / 6 * np.array([[2, 1], [1, 2]])
+    for end in spec.end_masses:
+        i = spec.node_index(end[0])
+        m[i, i] += end[end_index]
+    return k, m
+
+
+@dataclass(frozen=True)
+class ShaftModes:
+    """Shape functions at the shaft nodes and their elastic stiffness.
+
+    Attributes
+    ----------
+    x : ndarray (n_nodes,)
+        Node positions [m].
+    axial : ndarray (n_ax, n_nodes)
+        Axial displacement shapes [-].
+    torsion : ndarray (n_to, n_nodes)
+        Twist shapes [rad per unit coordinate].
+    bending, bending_slope : ndarray (n_be, n_nodes)
+        Transverse displacement [-] and slope [1/m] shapes (same in Y and Z).
+    k_axial, k_torsion, k_bending : ndarray
+        Diagonal generalised stiffnesses of each field [N/m, N m/rad, N/m].
+    freq_axial, freq_torsion, freq_bending : ndarray
+        Natural frequencies of the retained modes of the FE model [Hz].
+    """
+
+    x: NDArray[np.float64]
+    axial: NDArray[np.float64]
+    torsion: NDArray[np.float64]
+    bending: NDArray[np.float64]
+    bending_slope: NDArray[np.float64]
+    k_axial: NDArray[np.float64]
+    k_torsion: NDArray[np.float64]
+    k_bending: NDArray[np.float64]
+    freq_axial: NDArray[np.float64]
+    freq_torsion: NDArray[np.float64]
+    freq_bending: NDArray[np.float64]
+
+
+def _modes(k: NDArray[np.float64], m: NDArray[np.float64], free: NDArray[np.intp], count: int,
+           skip_rigid: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Lowest ``count`` eigenpairs on the free DOFs (optionally skipping zero-frequency modes)."""
+    w2, vec = eigh(k[np.ix_(free, free)], m[np.ix_(free, free)])
+    start = int(np.sum(w2 < 1e-6 * w2.max())) if skip_rigid else 0
+    full = np.zeros((k.shape[0], count))
+    full[free] = vec[:, start:start + count]
+    return np.sqrt(np.maximum(w2[start:start + count], 0.0)) / (2 * np.pi), full
+
+
+def shaft_modes(spec: BeamSpec, n_axial: int = 1, n_torsion: int = 1, n_bending: int = 2) -> ShaftModes:
+    """Eigenmodes of the shaft fields, scaled to unit peak, with their generalised stiffness."""
+    n = spec.n_elements + 1
+    kb, mb = bending_matrices(spec)
+    pinned = {2 * spec.node_index(x) for x in spec.supports}
+    free_b = np.array([i for i in range(2 * n) if i not in pinned])
+    fb, vb = _modes(kb, mb, free_b, n_bending)
+    ka, ma = bar_matrices(spec, spec.EA, spec.mass / spec.length, 1)
+    free_a = np.array([i for i in range(n) if i != spec.node_index(spec.axial_support)])
+    fa, va = _modes(ka, ma, free_a, n_axial)
+    kt, mt = bar_matrices(spec, spec.GJ, spec.polar_inertia / spec.length, 2)
+    ft, vt = _modes(kt, mt, np.arange(n), n_torsion, skip_rigid=True)
+
+    def unit(v: NDArray[np.float64], peak_rows: slice) -> NDArray[np.float64]:
+        scale = v[peak_rows][np.argmax(np.abs(v[peak_rows]), axis=0), np.arange(v.shape[1])]
+        return v / scale
+
+    vb = unit(vb, slice(0, None, 2))
+    va, vt = unit(va, slice(None)), unit(vt, slice(None))
+    return ShaftModes(
+        x=spec.x, axial=va.T, torsion=vt.T, bending=vb[0::2].T, bending_slope=vb[1::2].T,
+        k_axial=np.diag(va.T @ ka @ va), k_torsion=np.diag(vt.T @ kt @ vt), k_bending=np.diag(vb.T @ kb @ vb),
+        freq_axial=fa, freq_torsion=ft, freq_bending=fb)
