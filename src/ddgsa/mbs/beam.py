@@ -160,9 +160,9 @@ class ShaftModes:
 
 def _modes(k: NDArray[np.float64], m: NDArray[np.float64], free: NDArray[np.intp], count: int,
            skip_rigid: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Lowest ``count`` eigenpairs on the free DOFs (optionally skipping zero-frequency modes)."""
+    """Lowest ``count`` eigenpairs on the free DOFs (optionally skipping the one rigid-body mode)."""
     w2, vec = eigh(k[np.ix_(free, free)], m[np.ix_(free, free)])
-    start = int(np.sum(w2 < 1e-6 * w2.max())) if skip_rigid else 0
+    start = 1 if skip_rigid else 0
     full = np.zeros((k.shape[0], count))
     full[free] = vec[:, start:start + count]
     return np.sqrt(np.maximum(w2[start:start + count], 0.0)) / (2 * np.pi), full

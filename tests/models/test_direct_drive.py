@@ -1,0 +1,178 @@
+"""Direct-drive model: statics, free rotation, modes against an independent FE model, step size,
+reference integrator, rigid against flexible, seed Table 1."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from scipy.linalg import eigh
+
+import ddgsa.models as models
+from ddgsa import ModelError, Scene
+from ddgsa.mbs.beam import BeamSpec, mesh, shaft_modes
+from ddgsa.mbs.ffr import rotation
+from ddgsa.mbs.system import evaluate_terms, integrate
+from ddgsa.models.direct_drive import PARAMETERS
+
+NOM = {p.name: p.nominal for p in PARAMETERS}
+TURBULENT_60S = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=60.0, seed=1)
+
+
+def test_registry_and_parameters() -> None:
+    m = models.get("direct_drive")
+    assert m.outputs[:4] == ("rms_deflection_hub", "rms_deflection_gen", "damage_front", "damage_rear")
+    assert m.nominal["k_front_y"] == 3e9 and m.nominal["c_gen"] == 828.26e3
+    with pytest.raises(ModelError, match="unknown model 'drect'; known: direct_drive"):
+        models.get("drect")
+    with pytest.raises(ModelError, match="unknown fidelity 'soft'"):
+        models.get("direct_drive", fidelity="soft")
+    with pytest.raises(ModelError, match=r"has no parameter\(s\) \['k_front'\]"):
+        m.resolve({"k_front": 1.0})
+    with pytest.raises(ModelError, match="'k_front_y' = -1.0 is outside its allowed range"):
+        m.resolve({"k_front_y": -1.0})
+
+
+@pytest.mark.parametrize("fidelity", ["flexible", "rigid"])
+def test_static_reactions_balance_gravity_and_hub_loads(fidelity: str) -> None:
+    model = models.get("direct_drive", fidelity=fidelity)
+    asm = model.assemble()
+    s = asm.system
+    force, moment = np.array([6e5, 3e4, -2e4]), np.array([4e6, 2.5e6, -1.2e6])
+    q = model.static(asm, force, moment)
+    _, _, _, _, fs, _ = evaluate_terms(s, q, np.zeros_like(q), force, moment, 0.0, torque0=-moment[0])
+    a = rotation(q[3:6])
+    pts = q[:3] + (s.pu + np.einsum("jak,k->ja", s.ps, q[6:])) @ a.T        # mass points, global
+    weight = s.pm.sum() * s.gravity
+    hub = q[:3] + a @ (s.ld_u0 + s.ld_s @ q[6:])
+    bearings = q[:3] + (s.sp_u0 + np.einsum("jak,k->ja", s.sp_s, q[6:])) @ a.T
+    np.testing.assert_allclose(fs.sum(axis=0), force + weight, rtol=1e-6)
+    generator = -moment[0] * a[:, 0]          # the generator torque acts about the (tilted) shaft axis
+    applied = np.cross(hub, force) + moment + np.cross(pts, s.pm[:, None] * s.gravity).sum(axis=0) + generator
+    reaction = np.cross(bearings, fs).sum(axis=0)
+    # y and z: the spin equation (x) is not solved in statics -- the spin angle is held, so a
+    # small moment about the shaft axis goes to that constraint
+    np.testing.assert_allclose(reaction[1:], applied[1:], rtol=1e-6)
+
+
+def test_free_rotation_conserves_energy_and_spin() -> None:
+    model = models.get("direct_drive")
+    params = {**NOM, "bearing_damping_ratio": 0.0, "shaft_damping_ratio": 0.0}
+    s = dataclasses.replace(model.assemble(params).system, gravity=np.zeros(3))
+    n, spin = s.n_dof, 1.25
+    q0, qd0 = np.zeros(n), np.zeros(n)
+    qd0[3] = spin
+    steps = 10_000
+    zeros = np.zeros((steps + 1, 3))
+    w_set = np.full(steps + 1, spin)
+    pure = integrate(s, q0, qd0, 1e-3, 1, zeros, zeros, w_set, rho_inf=1.0)
+    assert np.abs(pure["qd"][:, 3] - spin).max() < 1e-12
+    # perturbed: lateral and elastic motion, no dissipation (the torque law sees no slip
+    # only to first order, so its constant is made negligible)
+    s = dataclasses.replace(s, c_torque=0.0)
+    q0[6:] = 1e-4
+    qd0[1], qd0[4] = 1e-3, 1e-3
+
+    def energy(q: np.ndarray, qd: np.ndarray) -> float:
+        m, *_ = evaluate_terms(s, q, qd, np.zeros(3), np.zeros(3), 0.0)
+        _, _, _, _, fs, _ = evaluate_terms(s, q, np.zeros_like(qd), np.zeros(3), np.zeros(3), 0.0)
+        k = np.where(s.sp_k > 0, s.sp_k, np.inf)
+        return 0.5 * qd @ m @ qd + 0.5 * q[6:] @ s.kff @ q[6:] + 0.5 * np.sum(fs ** 2 / k)
+
+    res = integrate(s, q0, qd0, 1e-3, 1, zeros, zeros, w_set, rho_inf=1.0)
+    e = np.array([energy(res["q"][i], res["qd"][i]) for i in range(0, steps + 1, 500)])
+    assert np.abs(e - e[0]).max() / e[0] < 1e-6
+
+
+def _fe_plane(k_front: float, k_rear: float, p: dict) -> np.ndarray:
+    """Independent FE model of one bending plane: fine Hermite mesh, end masses and rotary
+    inertias, bearings as translational springs (no FFR, no mode reduction)."""
+    spec = BeamSpec(nodes=mesh([0.0, p["front_bearing_x"], p["rear_bearing_x"], p["shaft_length"]], 0.05),
+                    mass=p["shaft_mass"], polar_inertia=1.0, EI=p["shaft_bending_stiffness"], EA=1.0, GJ=1.0,
+                    end_masses=((0.0, p["hub_mass"], 0.0, p["hub_inertia_yz"]),
+                                (p["shaft_length"], p["generator_mass"], 0.0, p["generator_inertia_yz"])),
+                    supports=(), axial_support=0.0)
+    from ddgsa.mbs.beam import bending_matrices
+
+    k, m = bending_matrices(spec)
+    for x, kb in ((p["front_bearing_x"], k_front), (p["rear_bearing_x"], k_rear)):
+        i = 2 * spec.node_index(x)
+        k[i, i] += kb
+    w2 = eigh(k, m, eigvals_only=True)
+    return np.sqrt(w2[:4]) / (2 * np.pi)
+
+
+def test_modes_agree_with_independent_fe_within_2_percent() -> None:
+    """Lowest two modes per bending plane and the torsion mode within 2 % of a fine FE model."""
+    modes = models.get("direct_drive").modes()
+    for plane, (kf, kr) in (("y", (NOM["k_front_y"], NOM["k_rear_y"])), ("z", (NOM["k_front_z"], NOM["k_rear_z"]))):
+        fe = _fe_plane(kf, kr, NOM)
+        ours = np.sort(modes[modes[f"share_bearing_{plane}"] + modes[f"share_bending_{plane}_1"]
+                             + modes[f"share_bending_{plane}_2"] > 0.5]["frequency_hz"].to_numpy())
+        # the two lowest modes of each plane (rotor rocking 3.25 Hz, second bending 19-21 Hz)
+        np.testing.assert_allclose(ours[:2], fe[:2], rtol=0.02)
+        # the third (bearing mode with a bent shaft) is 23 % (y) high: the seed's pinned-support
+        # shapes cannot bend the shaft at the bearings (seed 000 §2.5 says so) -- a known limit
+        assert ours[2] > fe[2]
+    # torsion: two discs (hub, generator) on the massless shaft the FFR model assumes
+    tor = modes.loc[modes["label"] == "torsion_1", "frequency_hz"].iloc[0]
+    two_disc = np.sqrt(NOM["shaft_torsional_stiffness"] / NOM["shaft_length"]
+                       * (1 / NOM["hub_inertia_x"] + 1 / NOM["generator_inertia_x"])) / (2 * np.pi)
+    assert tor == pytest.approx(two_disc, rel=0.02)
+
+
+def test_fe_frequencies_for_seed_table_1() -> None:
+    """Seed 000 Table 1 lists 6.08 / 29.54 Hz bending, 127.8 Hz axial, 37.8 Hz torsion for its
+    shaft. With Table 2's values (L = 6, bearings at 1 and 5 m, 40 t and 30 t point masses,
+    m_ms = 1 t, EI = 1e9) an Euler-Bernoulli FE model gives 17.4 / 27.4 Hz bending: Table 1's
+    first mode would need rho A = 1481 kg/m (from its own beta_1 = 0.2156 and
+    omega = beta^2 sqrt(EI / rho A)), a 8.9 t shaft, so Table 1 and Table 2 do not describe the
+    same shaft; the second mode (end masses near nodes) agrees within 8 %. The axial and torsion
+    values depend on EA, GJ and inertias Table 2 does not give."""
+    spec = BeamSpec(nodes=mesh([0, 1, 5, 6], 0.25), mass=1000.0, polar_inertia=450.0, EI=1e9, EA=2.24e10,
+                    GJ=7.69e8, end_masses=((0, 40000, 1.96e6, 0.0), (6, 30000, 7.5e3, 0.0)), supports=(1, 5),
+                    axial_support=1)
+    md = shaft_modes(spec)
+    np.testing.assert_allclose(md.freq_bending, [17.44, 27.35], rtol=2e-3)
+    assert md.freq_bending[1] == pytest.approx(29.54, rel=0.08)
+
+
+@pytest.mark.parametrize("fidelity, h", [("flexible", 0.005), ("rigid", 0.01)])
+def test_halving_the_step_changes_objectives_below_half_a_percent(fidelity: str, h: float) -> None:
+    coarse = models.get("direct_drive", fidelity=fidelity, time_step=h).evaluate(None, TURBULENT_60S)
+    fine = models.get("direct_drive", fidelity=fidelity, time_step=h / 2).evaluate(None, TURBULENT_60S)
+    nonzero = fine.columns[(fine.abs() > 0).all()]
+    rel = ((coarse[nonzero] - fine[nonzero]) / fine[nonzero]).abs().max(axis=None)
+    assert rel < 5e-3, rel
+
+
+def test_generalised_alpha_against_solve_ivp_radau() -> None:
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=8.0, seed=1)
+    fast = models.get("direct_drive").evaluate(None, scene)
+    ref = models.get("direct_drive", integrator="Radau").evaluate(None, scene)
+    nonzero = ref.columns[(ref.abs() > 0).all()]
+    rel = ((fast[nonzero] - ref[nonzero]) / ref[nonzero]).abs().max(axis=None)
+    assert rel < 5e-3, rel        # measured 0.34 % (hub deflection) on this scene
+
+
+def test_rigid_and_flexible_damage_indices() -> None:
+    """Measured (60 s, I_ref 0.12): rigid/flexible damage 0.97/0.92 at 6 m/s, 0.90/0.82 at
+    11 m/s, 0.78/0.77 at 18 m/s. Static reactions of two bearings do not depend on shaft
+    flexibility, but the flexible shaft's rotor-rocking mode (3.25 Hz, 1 % damping) adds dynamic
+    bearing load that the rigid model lacks, more so at high wind (seed 000 found near-equal
+    damage). Tolerance: the rigid model is within -30 % / +5 % of the flexible one."""
+    flex = models.get("direct_drive").evaluate(None, TURBULENT_60S)
+    rigid = models.get("direct_drive", fidelity="rigid").evaluate(None, TURBULENT_60S)
+    for col in ("damage_front", "damage_rear"):
+        ratio = rigid[col].iloc[0] / flex[col].iloc[0]
+        assert 0.7 < ratio < 1.05, (col, ratio)
+    # deflection at the shaft ends is shaft bending: the rigid model sees only bearing compliance
+    assert rigid["rms_deflection_hub"].iloc[0] < 0.2 * flex["rms_deflection_hub"].iloc[0]
+
+
+def test_failed_points_are_reported_not_imputed() -> None:
+    model = models.get("direct_drive")
+    out = model.evaluate({"front_bearing_x": 5.5}, Scene(duration=5.0, turbulence_intensity=0.0))
+    assert out.isna().all(axis=None)
+    assert "bearing positions must satisfy" in out.attrs["failures"][0]
