@@ -14,7 +14,7 @@ projection) or ``fit="regression"`` (least squares on a scrambled Sobol' sample 
 Diagnostics:
 
 - ``pce_loo_error`` (untrusted, regression): relative leave-one-out error above ``loo_max``.
-- ``pce_unresolved`` (untrusted): the highest polynomial order holds more than
+- ``pce_unresolved`` (untrusted, order >= 3): the highest polynomial order holds more than
   ``resolution_tol`` of the variance (the expansion has not converged; discontinuity?).
 - ``pce_underdetermined`` (untrusted, regression): fewer points than basis terms.
 """
@@ -132,7 +132,8 @@ class PCE(GsaMethod):
             top = alphas[1:].sum(axis=1) == opts["order"]
             frac = energy[top].sum(axis=0) / var
         extras["top_order_fraction"] = frac
-        for k in np.flatnonzero(~(frac <= opts["resolution_tol"])):
+        # below order 3 a spectrum has no tail to judge decay by; the LOO error guards those
+        for k in (np.flatnonzero(~(frac <= opts["resolution_tol"])) if opts["order"] >= 3 else []):
             diags.append(Diagnostic("pce_unresolved", f"output {outputs[k]!r}: {frac[k]:.1%} of the variance "
                                     f"is in order {opts['order']} terms (not converged; non-smooth output?)",
                                     "untrusted", output=outputs[k], value=float(frac[k])))

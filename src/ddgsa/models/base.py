@@ -76,6 +76,7 @@ class Model(ABC):
     name: ClassVar[str] = ""
     parameters: ClassVar[tuple[ModelParameter, ...]] = ()
     outputs: tuple[str, ...] = ()
+    fidelities: ClassVar[tuple[str, ...]] = ()
     fidelity: str = ""
 
     @property

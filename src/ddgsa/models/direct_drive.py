@@ -248,6 +248,7 @@ class DirectDrive(Model):
 
     parameters = PARAMETERS
     outputs = OUTPUTS
+    fidelities = ("flexible", "rigid")
 
     def __init__(self, fidelity: str = "flexible", axial: bool = True, second_bending: bool = True,
                  time_step: float | None = None, rho_inf: float = 0.8, equivalent_load: str = "iso281",

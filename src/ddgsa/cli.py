@@ -1,0 +1,139 @@
+"""The ``ddgsa`` command: ``run``, ``validate``, ``models``, ``report``.
+
+Exit codes: 0 success, 1 a failure while running, 2 invalid input. Errors print one clear
+message and no traceback (``--verbose`` adds it).
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import shutil
+import sys
+import traceback
+from pathlib import Path
+
+from ddgsa.errors import DdgsaError
+
+EXIT_OK, EXIT_FAILURE, EXIT_INPUT = 0, 1, 2
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="ddgsa", description="Global sensitivity analysis of wind-turbine drive trains.")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar, only errors")
+    p.add_argument("-v", "--verbose", action="store_true", help="tracebacks and debug messages")
+    sub = p.add_subparsers(dest="command", required=True)
+    run = sub.add_parser("run", help="run a study and write its report")
+    run.add_argument("study", type=Path)
+    run.add_argument("--out", type=Path, help="output folder (default results/<study name>)")
+    run.add_argument("--jobs", type=int, help="parallel workers (default from the study, else 1)")
+    run.add_argument("--backend", choices=["loky", "dask"], help="joblib loky (default) or a Dask cluster")
+    run.add_argument("--address", help="Dask scheduler HOST:PORT (default: a LocalCluster)")
+    val = sub.add_parser("validate", help="check a study file; exit 0 or 2")
+    val.add_argument("study", type=Path)
+    sub.add_parser("models", help="list models, fidelities, parameters and outputs")
+    rep = sub.add_parser("report", help="rebuild tables and plots from a run's stored evaluations")
+    rep.add_argument("dir", type=Path)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the console script."""
+    args = _parser().parse_args(argv)
+    logging.basicConfig(level=logging.DEBUG if args.verbose else logging.WARNING, format="%(message)s")
+    try:
+        return _dispatch(args)
+    except DdgsaError as exc:
+        if args.verbose:
+            traceback.print_exc()
+        print(f"ddgsa: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT if isinstance(exc, ValueError) else EXIT_FAILURE
+    except KeyboardInterrupt:
+        print("ddgsa: interrupted; finished batches are stored, rerun to resume", file=sys.stderr)
+        return EXIT_FAILURE
+    except Exception as exc:  # noqa: BLE001 -- the CLI reports, it does not crash
+        if args.verbose:
+            traceback.print_exc()
+        print(f"ddgsa: failed: {type(exc).__name__}: {exc} (rerun with --verbose for the traceback)",
+              file=sys.stderr)
+        return EXIT_FAILURE
+
+
+def _dispatch(args: argparse.Namespace) -> int:
+    from ddgsa.study import load_study
+
+    if args.command == "validate":
+        study = load_study(args.study)
+        print(f"{args.study}: valid ({study.spec.kind} study '{study.name}', model {study.spec.model.name}, "
+              f"{len(study.spec.parameters)} parameters, {len(study.spec.scenes.grid())} scenes x "
+              f"{study.spec.scenes.realisations} realisations)")
+        return EXIT_OK
+    if args.command == "models":
+        _print_models()
+        return EXIT_OK
+    if args.command == "run":
+        study = load_study(args.study)
+        if args.jobs is not None and args.jobs < 1:
+            print("ddgsa: error: --jobs must be >= 1", file=sys.stderr)
+            return EXIT_INPUT
+        return _run(study, args)
+    if args.command == "report":
+        return _report(args.dir, args.quiet)
+    return EXIT_INPUT  # pragma: no cover (argparse requires a command)
+
+
+def _run(study, args: argparse.Namespace) -> int:  # noqa: ANN001
+    from ddgsa.pipeline import default_out, execute
+    from ddgsa.report import write_report
+    from ddgsa.runner import EvaluationStore
+
+    out = args.out or default_out(study)
+    out.mkdir(parents=True, exist_ok=True)
+    if study.path is not None and study.path.resolve() != (out / "study.yaml").resolve():
+        shutil.copyfile(study.path, out / "study.yaml")
+    store = EvaluationStore(out / "evaluations.sqlite")
+    try:
+        result = execute(study, store, jobs=args.jobs, backend=args.backend, address=args.address, quiet=args.quiet)
+    finally:
+        store.close()
+    files = write_report(result, out)
+    ev = result.provenance["evaluations"]
+    if not args.quiet:
+        print(f"{study.name}: {ev['evaluated']} model runs ({ev['cached']} cached, {ev['failed']} failed) in "
+              f"{result.provenance['timings_s']['total']:.1f} s; wrote {len(files)} files to {out}")
+    return EXIT_OK
+
+
+def _report(folder: Path, quiet: bool) -> int:
+    from ddgsa.errors import StudyError
+    from ddgsa.pipeline import execute
+    from ddgsa.report import write_report
+    from ddgsa.runner import EvaluationStore
+    from ddgsa.study import load_study
+
+    if not (folder / "study.yaml").exists() or not (folder / "evaluations.sqlite").exists():
+        raise StudyError(f"{folder}: not a study output folder (needs study.yaml and evaluations.sqlite from ddgsa run)")
+    study = load_study(folder / "study.yaml")
+    store = EvaluationStore(folder / "evaluations.sqlite")
+    try:
+        result = execute(study, store, quiet=True, evaluate=False)
+    finally:
+        store.close()
+    files = write_report(result, folder)
+    if not quiet:
+        print(f"{study.name}: rebuilt {len(files)} files in {folder} from stored evaluations")
+    return EXIT_OK
+
+
+def _print_models() -> None:
+    from ddgsa.models import MODELS, get
+
+    for name in sorted(MODELS):
+        model = get(name)
+        print(f"{name}: fidelities {', '.join(model.fidelities)}")
+        print(model.parameter_table().to_string(index=False, formatters={"nominal": "{:.4g}".format}))
+        print(f"outputs: {', '.join(model.outputs)}\n")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

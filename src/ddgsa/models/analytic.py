@@ -1,0 +1,61 @@
+"""An analytic model with known Sobol indices, for studies that test the workbench itself.
+
+``analytic`` evaluates the Ishigami function (``ddgsa.gsa.testfunctions.ishigami``) scaled by
+``wind_speed / 11`` so that scenes matter, at microseconds a point. Options make it fail on
+purpose (``fail_above``: raise for ``x1`` above a value) or slow (``delay_s`` per point), which
+is how the runner's failure handling and kill/resume are tested.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping
+
+import numpy as np
+import pandas as pd
+
+from ddgsa.errors import ModelError
+from ddgsa.gsa.testfunctions import ishigami
+from ddgsa.loads.scene import Scene
+from ddgsa.models.base import Model, ModelParameter, register_model
+
+
+@register_model("analytic")
+class Analytic(Model):
+    """Ishigami test model: parameters ``x1, x2, x3`` on [-pi, pi]; outputs ``y`` and ``y_positive``.
+
+    ``y_positive`` is ``y + 12`` (never negative: M-DRM's sign diagnostics stay quiet, its
+    check sample does not). Options: ``fidelity`` (only ``exact``), ``fail_above`` [-],
+    ``delay_s`` [s].
+    """
+
+    parameters = tuple(ModelParameter(f"x{i}", 0.0, "-", f"Ishigami input {i}", -math.pi, math.pi)
+                       for i in (1, 2, 3))
+    outputs = ("y", "y_positive")
+    fidelities = ("exact",)
+
+    def __init__(self, fidelity: str = "exact", fail_above: float | None = None, delay_s: float = 0.0) -> None:
+        if fidelity != "exact":
+            raise ModelError(f"model 'analytic': unknown fidelity {fidelity!r}; known: exact")
+        self.fidelity = fidelity
+        self.fail_above = fail_above
+        self.delay_s = float(delay_s)
+        self._f = ishigami().f
+
+    def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
+        if self.delay_s:
+            time.sleep(self.delay_s)
+        if self.fail_above is not None and params["x1"] > self.fail_above:
+            raise RuntimeError(f"x1 = {params['x1']:.3f} above fail_above = {self.fail_above}")
+        y = float(self._f(np.array([[params["x1"], params["x2"], params["x3"]]]))[0]) * scene.wind_speed / 11.0
+        return {"y": y, "y_positive": y + 12.0}
+
+    def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+        """A one-sample 'time series' of the outputs (the model is static)."""
+        p = self.resolve(params).iloc[0].to_dict()
+        return pd.DataFrame([self._evaluate_one(p, scene)], index=pd.Index([0.0], name="time"))
+
+    def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+        """A static model has no modes: an empty table."""
+        return pd.DataFrame(columns=["frequency_hz", "damping_ratio", "label"])

@@ -1,0 +1,283 @@
+"""Plan -> run -> analyse a validated study (DESIGN.md's flow), without writing files.
+
+:func:`execute` pools the designs of all methods per scene, hands the model runs to
+:mod:`ddgsa.runner`, aggregates realisations (a point with any failed realisation is refused,
+never imputed), runs each method's ``analyze`` and returns a :class:`StudyResult` that
+:mod:`ddgsa.report` writes out.
+"""
+
+from __future__ import annotations
+
+import platform
+import sys
+import time
+from dataclasses import dataclass, field
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+import ddgsa
+from ddgsa.errors import StudyError
+from ddgsa.gsa.base import Design, get_method
+from ddgsa.gsa.result import SobolResult
+from ddgsa.runner import EvaluationStore, ModelId, Outcome, Task, run_tasks, task_key
+from ddgsa.space import ParameterSpace
+from ddgsa.study import PlannedScene, Study, plan_scenes
+
+SCENE_FIELDS = ["wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent"]
+
+
+@dataclass
+class StudyResult:
+    """Everything a report needs."""
+
+    study: Study
+    indices: pd.DataFrame
+    diagnostics: pd.DataFrame
+    evaluations: pd.DataFrame
+    provenance: dict[str, Any]
+    results: list[tuple[PlannedScene, SobolResult]] = field(default_factory=list)
+    sweep: pd.DataFrame | None = None
+    fault: pd.DataFrame | None = None
+    fault_samples: pd.DataFrame | None = None
+
+
+def model_id(study: Study) -> ModelId:
+    """The runner's model identity for the study."""
+    spec = study.spec.model
+    return ModelId(spec.name, spec.fidelity, tuple(sorted(spec.options.items())))
+
+
+def _points(study: Study, x: np.ndarray, names: tuple[str, ...]) -> list[dict[str, float]]:
+    fixed = dict(study.spec.fixed)
+    return [{**fixed, **{n: float(v) for n, v in zip(names, row)}} for row in x]
+
+
+class _Plan:
+    """Tasks of a study and how to read values back per scene."""
+
+    def __init__(self, study: Study, mid: ModelId) -> None:
+        self.study, self.mid = study, mid
+        self.scenes = plan_scenes(study)
+        self.tasks: list[Task] = []
+        self.blocks: dict[str, tuple[np.ndarray, tuple[str, ...]]] = {}
+
+    def add_block(self, name: str, x: np.ndarray, names: tuple[str, ...]) -> None:
+        """Points (n, len(names)) to evaluate in every scene and realisation."""
+        self.blocks[name] = (x, names)
+        pts = _points(self.study, x, names)
+        for ps in self.scenes:
+            for scene in ps.scenes:
+                self.tasks += [Task(task_key(self.mid, scene, p, ddgsa.__version__), scene, p) for p in pts]
+
+    def values(self, store: EvaluationStore, block: str, ps: PlannedScene, outputs: list[str],
+               aggregate: str) -> tuple[np.ndarray, list[str]]:
+        """Aggregated values (n_points, n_outputs) of a block in one scene; NaN where any realisation failed."""
+        x, names = self.blocks[block]
+        pts = _points(self.study, x, names)
+        per_real = []
+        reasons: list[str] = []
+        for scene in ps.scenes:
+            keys = [task_key(self.mid, scene, p, ddgsa.__version__) for p in pts]
+            got = store.get(keys)
+            missing = [k for k in keys if k not in got]
+            if missing:
+                raise StudyError(f"{len(missing)} evaluations of scene {ps.fields} are not in the store; "
+                                 "run the study first (ddgsa run)")
+            rows = []
+            for k in keys:
+                o: Outcome = got[k]
+                if o.outputs is None:
+                    reasons.append(o.error or "failed")
+                    rows.append([np.nan] * len(outputs))
+                else:
+                    rows.append([o.outputs[name] for name in outputs])
+            per_real.append(rows)
+        arr = np.asarray(per_real, dtype=float)                    # (n_real, n_points, n_out)
+        agg = {"mean": np.mean, "median": np.median, "max": np.max}[aggregate]
+        return agg(arr, axis=0), reasons
+
+
+def _designs(study: Study) -> list[tuple[str, Design]]:
+    assert study.space is not None
+    return [(m.method, get_method(m.method).design(study.space, **m.options)) for m in study.spec.methods]
+
+
+def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backend: str | None = None,
+            address: str | None = None, quiet: bool = False, evaluate: bool = True) -> StudyResult:
+    """Run (or, with ``evaluate=False``, only read back) all model evaluations and analyse them."""
+    t0 = time.perf_counter()
+    spec = study.spec
+    mid = model_id(study)
+    plan = _Plan(study, mid)
+    outputs = study.outputs
+    designs: list[tuple[str, Design]] = []
+    if spec.kind == "sweep":
+        plan.add_block("nominal", np.zeros((1, 0)), ())
+    else:
+        designs = _designs(study)
+        pooled = np.unique(np.vstack([d.points for _, d in designs]), axis=0)
+        assert study.space is not None
+        plan.add_block("gsa", pooled, study.space.names)
+        if spec.kind == "fault":
+            _add_fault_blocks(study, plan)
+    counts = {"total": len({t.key for t in plan.tasks}), "cached": 0, "evaluated": 0, "failed": 0}
+    if evaluate:
+        run = spec.run
+        counts = run_tasks(mid, plan.tasks, store, jobs=jobs or run.jobs, batch_size=run.batch_size,
+                           backend=backend or run.backend, address=address or run.address, quiet=quiet)
+    t_eval = time.perf_counter() - t0
+    result = StudyResult(study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), {})
+    failures: list[dict[str, Any]] = []
+    if spec.kind == "sweep":
+        result.sweep = _sweep_table(plan, store, outputs)
+    else:
+        _analyse(plan, store, designs, outputs, result, failures)
+        if spec.kind == "fault":
+            result.fault, result.fault_samples = _fault_verdicts(plan, store, outputs, result.indices)
+    result.evaluations = _evaluation_table(store, plan)
+    failures += [{"key": r["key"], "scene": {k: r[k] for k in SCENE_FIELDS + ["seed"]}, "error": r["error"]}
+                 for r in result.evaluations.to_dict("records") if isinstance(r["error"], str)]
+    result.provenance = _provenance(study, mid, counts, t_eval, time.perf_counter() - t0, failures, designs)
+    return result
+
+
+def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Design]], outputs: list[str],
+             result: StudyResult, failures: list[dict[str, Any]]) -> None:
+    study = plan.study
+    assert study.space is not None
+    pooled, _ = plan.blocks["gsa"]
+    rows, diag_rows = [], []
+    for ps in plan.scenes:
+        y, _ = plan.values(store, "gsa", ps, outputs, study.spec.scenes.aggregate)
+        for name, design in designs:
+            idx = _row_index(pooled, design.points)
+            res = get_method(name).analyze(study.space, design, y[idx], outputs=outputs)
+            result.results.append((ps, res))
+            table = res.to_frame()
+            for k, v in ps.fields.items():
+                table.insert(0, k, v)
+            table.insert(0, "scene", ps.index)
+            table.insert(0, "study", study.name)
+            rows.append(table)
+            d = res.diagnostics_frame()
+            if len(d):
+                d.insert(0, "method", name)
+                d.insert(0, "scene", ps.index)
+                diag_rows.append(d)
+    result.indices = pd.concat(rows, ignore_index=True)
+    result.diagnostics = (pd.concat(diag_rows, ignore_index=True) if diag_rows else
+                          pd.DataFrame(columns=["scene", "method", "name", "severity", "output", "parameter",
+                                                "value", "message"]))
+
+
+def _row_index(pooled: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Row of ``pooled`` (sorted unique rows) that equals each row of ``points``."""
+    lookup = {row.tobytes(): i for i, row in enumerate(pooled)}
+    return np.array([lookup[row.tobytes()] for row in np.ascontiguousarray(points)])
+
+
+def _sweep_table(plan: _Plan, store: EvaluationStore, outputs: list[str]) -> pd.DataFrame:
+    rows = []
+    pts = _points(plan.study, np.zeros((1, 0)), ())
+    for ps in plan.scenes:
+        for r, scene in enumerate(ps.scenes):
+            o = store.get([task_key(plan.mid, scene, pts[0], ddgsa.__version__)])
+            if not o:
+                raise StudyError("sweep evaluations are not in the store; run the study first (ddgsa run)")
+            out = next(iter(o.values()))
+            vals = out.outputs or {name: np.nan for name in outputs}
+            rows.append({"scene": ps.index, **ps.fields, "realisation": r, "seed": scene.seed,
+                         **{name: vals[name] for name in outputs}, "error": out.error})
+    return pd.DataFrame(rows)
+
+
+def _fault_space(study: Study) -> tuple[ParameterSpace, str]:
+    assert study.space is not None and study.spec.fault is not None
+    name = study.spec.fault.parameter
+    others = [p for p in study.space.parameters if p.name != name]
+    if not others:
+        raise StudyError("a fault study needs uncertain parameters besides the fault parameter")
+    return ParameterSpace.from_parameters(others), name
+
+
+def _add_fault_blocks(study: Study, plan: _Plan) -> None:
+    fault = study.spec.fault
+    assert fault is not None
+    others, name = _fault_space(study)
+    base = others.sample(fault.samples, seed=12345, rule="sobol")
+    for level in [fault.healthy, *fault.faulty]:
+        x = np.column_stack([base, np.full(len(base), level)])
+        plan.add_block(f"fault:{level!r}", x, (*others.names, name))
+
+
+def _fault_verdicts(plan: _Plan, store: EvaluationStore, outputs: list[str],
+                    indices: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Separation of faulty from healthy outputs over the other uncertainties, per scene and output."""
+    fault = plan.study.spec.fault
+    assert fault is not None
+    rows, samples = [], []
+    for ps in plan.scenes:
+        healthy, _ = plan.values(store, f"fault:{fault.healthy!r}", ps, outputs, plan.study.spec.scenes.aggregate)
+        for level in fault.faulty:
+            faulty, _ = plan.values(store, f"fault:{level!r}", ps, outputs, plan.study.spec.scenes.aggregate)
+            for j, out in enumerate(outputs):
+                h, f = healthy[:, j], faulty[:, j]
+                spread = float(np.nanstd(h, ddof=1))
+                sep = float(abs(np.nanmean(f) - np.nanmean(h)) / spread) if spread > 0 else float("inf")
+                st = indices[(indices["scene"] == ps.index) & (indices["output"] == out)
+                             & (indices["parameter"] == fault.parameter)]
+                rows.append({"scene": ps.index, **ps.fields, "fault": fault.parameter, "healthy": fault.healthy,
+                             "faulty": level, "output": out, "ST_fault": float(st["ST"].iloc[0]),
+                             "ST_method": str(st["method"].iloc[0]), "mean_healthy": float(np.nanmean(h)),
+                             "mean_faulty": float(np.nanmean(f)), "std_healthy": spread, "separation": sep,
+                             "detectable": bool(sep >= fault.threshold), "threshold": fault.threshold})
+                samples += [{"scene": ps.index, "output": out, "level": lev, "value": float(v)}
+                            for lev, arr in (("healthy", h), (f"faulty {level:g}", f)) for v in arr]
+    return pd.DataFrame(rows), pd.DataFrame(samples).drop_duplicates()
+
+
+def _evaluation_table(store: EvaluationStore, plan: _Plan) -> pd.DataFrame:
+    keys = list({t.key: t for t in plan.tasks}.items())
+    got = store.get([k for k, _ in keys])
+    rows = []
+    for key, task in keys:
+        o = got.get(key)
+        if o is None:
+            continue
+        rows.append({"key": key, **task.scene.to_dict(), **task.point, **(o.outputs or {}), "error": o.error,
+                     "seconds": o.seconds})
+    return pd.DataFrame(rows)
+
+
+def _versions() -> dict[str, str]:
+    out = {}
+    for pkg in ("ddgsa", "numpy", "scipy", "pandas", "SALib", "chaospy", "numba", "joblib", "pydantic",
+                "ruamel.yaml", "matplotlib"):
+        try:
+            out[pkg] = version(pkg)
+        except PackageNotFoundError:
+            out[pkg] = "not installed"
+    return out
+
+
+def _provenance(study: Study, mid: ModelId, counts: dict[str, int], t_eval: float, t_total: float,
+                failures: list[dict[str, Any]], designs: list[tuple[str, Design]]) -> dict[str, Any]:
+    sc = study.spec.scenes
+    return {
+        "study": study.name, "study_sha256": study.digest, "study_file": str(study.path) if study.path else None,
+        "kind": study.spec.kind, "model": mid.as_dict(),
+        "versions": _versions(), "python": sys.version.split()[0], "platform": platform.platform(),
+        "seeds": {"scene_seeds": [sc.seed + r for r in range(sc.realisations)],
+                  "methods": {name: d.options.get("seed") for name, d in designs}},
+        "evaluations": counts, "timings_s": {"evaluation": round(t_eval, 3), "total": round(t_total, 3)},
+        "failures": failures,
+    }
+
+
+def default_out(study: Study) -> Path:
+    """Default output folder: ``results/<study name>``."""
+    return Path("results") / study.name

@@ -1,0 +1,240 @@
+"""Write a study's tables, plots, provenance and summary into its output folder."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from ddgsa.pipeline import SCENE_FIELDS, StudyResult  # noqa: E402
+
+
+def write_report(result: StudyResult, out: Path) -> list[Path]:
+    """Write every file of the report; returns their paths."""
+    out.mkdir(parents=True, exist_ok=True)
+    written: list[Path] = []
+
+    def save_csv(df: pd.DataFrame, name: str) -> None:
+        path = out / name
+        df.to_csv(path, index=False, float_format="%.6g")
+        written.append(path)
+
+    def save_fig(fig: Any, name: str) -> None:
+        path = out / name
+        fig.savefig(path, dpi=100, bbox_inches="tight")
+        plt.close(fig)
+        written.append(path)
+
+    save_csv(result.evaluations.drop(columns=["key"], errors="ignore"), "evaluations.csv")
+    if result.sweep is not None:
+        save_csv(result.sweep, "sweep.csv")
+        summary = sweep_summary(result.sweep, result.study.outputs)
+        save_csv(summary, "sweep_summary.csv")
+        for fig, name in plot_sweep(summary, result.study.outputs):
+            save_fig(fig, name)
+    if len(result.indices):
+        save_csv(result.indices, "indices.csv")
+        save_csv(result.diagnostics, "diagnostics.csv")
+        acc = accuracy_table(result.indices)
+        if len(acc):
+            save_csv(acc, "accuracy.csv")
+            save_fig(plot_agreement(result.indices), "mdrm_vs_crosscheck.png")
+        for scene in sorted(result.indices["scene"].unique()):
+            save_fig(plot_scene_bars(result.indices[result.indices["scene"] == scene]), f"bars_scene{scene}.png")
+        if result.indices["scene"].nunique() > 1:
+            for method in result.indices["method"].unique():
+                save_fig(plot_heatmap(result.indices[result.indices["method"] == method]), f"heatmap_ST_{method}.png")
+    if result.fault is not None:
+        save_csv(result.fault, "fault_verdicts.csv")
+        save_fig(plot_fault(result.fault, result.fault_samples), "fault_detectability.png")
+    path = out / "provenance.json"
+    path.write_text(json.dumps(result.provenance, indent=2, default=str))
+    written.append(path)
+    path = out / "summary.md"
+    path.write_text(summary_markdown(result))
+    written.append(path)
+    return written
+
+
+def sweep_summary(sweep: pd.DataFrame, outputs: list[str]) -> pd.DataFrame:
+    """Mean and standard deviation over realisations per scene, plus each mean scaled by its maximum."""
+    keys = ["scene", *SCENE_FIELDS]
+    g = sweep.groupby(keys)[outputs]
+    mean, std = g.mean(), g.std(ddof=1).fillna(0.0)
+    out = mean.add_suffix("_mean").join(std.add_suffix("_std")).reset_index()
+    for o in outputs:
+        out[f"{o}_scaled"] = out[f"{o}_mean"] / out[f"{o}_mean"].max()
+    return out
+
+
+def plot_sweep(summary: pd.DataFrame, outputs: list[str]) -> list[tuple[Any, str]]:
+    """Each output (scaled by its maximum, +- one std) against wind speed, one line per other scene field."""
+    figs = []
+    others = [f for f in SCENE_FIELDS if f != "wind_speed" and summary[f].nunique() > 1]
+    for o in outputs:
+        fig, ax = plt.subplots(figsize=(6, 3.6))
+        groups = summary.groupby(others) if others else [((), summary)]
+        scale = summary[f"{o}_mean"].max()
+        for key, g in groups:
+            g = g.sort_values("wind_speed")
+            label = ", ".join(f"{f}={v:g}" for f, v in zip(others, key if isinstance(key, tuple) else (key,)))
+            ax.errorbar(g["wind_speed"], g[f"{o}_mean"] / scale, yerr=g[f"{o}_std"] / scale, capsize=2,
+                        marker="o", ms=3, label=label or None)
+        ax.set_xlabel("mean wind speed [m/s]")
+        ax.set_ylabel(f"{o} / max [-]")
+        ax.grid(alpha=0.3)
+        if others:
+            ax.legend(fontsize=8)
+        figs.append((fig, f"sweep_{o}.png"))
+    return figs
+
+
+def accuracy_table(indices: pd.DataFrame) -> pd.DataFrame:
+    """M-DRM against each cross-check method per scene and output: max |dS1|, max |dST|, trust."""
+    if "mdrm" not in set(indices["method"]):
+        return pd.DataFrame()
+    key = ["scene", "output", "parameter"]
+    m = indices[indices["method"] == "mdrm"].set_index(key)
+    rows = []
+    for other in sorted(set(indices["method"]) - {"mdrm"}):
+        o = indices[indices["method"] == other].set_index(key)
+        joined = m.join(o, lsuffix="_mdrm", rsuffix="_ref", how="inner")
+        for (scene, output), g in joined.groupby(level=["scene", "output"]):
+            rows.append({"scene": scene, "output": output, "crosscheck": other,
+                         "max_abs_dS1": float(np.nanmax(np.abs(g["S1_mdrm"] - g["S1_ref"])))
+                         if g["S1_ref"].notna().any() else np.nan,
+                         "max_abs_dST": float(np.nanmax(np.abs(g["ST_mdrm"] - g["ST_ref"])))
+                         if g["ST_ref"].notna().any() else np.nan,
+                         "mdrm_trusted": bool(g["trusted_mdrm"].all()), "ref_trusted": bool(g["trusted_ref"].all()),
+                         "evals_mdrm": int(g["n_evals_mdrm"].iloc[0]), "evals_ref": int(g["n_evals_ref"].iloc[0])})
+    return pd.DataFrame(rows)
+
+
+def plot_agreement(indices: pd.DataFrame) -> Any:
+    """Scatter of M-DRM indices against each cross-check (filled: M-DRM trusted, open: untrusted)."""
+    fig, axes = plt.subplots(1, 2, figsize=(8, 4))
+    key = ["scene", "output", "parameter"]
+    m = indices[indices["method"] == "mdrm"].set_index(key)
+    for other in sorted(set(indices["method"]) - {"mdrm"}):
+        j = m.join(indices[indices["method"] == other].set_index(key), lsuffix="_m", rsuffix="_r", how="inner")
+        for ax, q in zip(axes, ("S1", "ST")):
+            ok = j["trusted_m"].to_numpy(bool)
+            pts = ax.scatter(j[f"{q}_r"][ok], j[f"{q}_m"][ok], s=14, label=f"vs {other}")
+            ax.scatter(j[f"{q}_r"][~ok], j[f"{q}_m"][~ok], s=14, facecolors="none", edgecolors=pts.get_facecolor())
+    for ax, q in zip(axes, ("S1", "ST")):
+        ax.plot([0, 1], [0, 1], color="0.5", lw=0.8)
+        ax.set_xlabel(f"{q}, cross-check")
+        ax.set_ylabel(f"{q}, M-DRM")
+        ax.set_xlim(-0.05, 1.05)
+        ax.set_ylim(-0.05, 1.05)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.suptitle("M-DRM against cross-check (open markers: M-DRM untrusted)")
+    fig.tight_layout()
+    return fig
+
+
+def plot_scene_bars(scene_rows: pd.DataFrame) -> Any:
+    """S1/ST bars with confidence bars: one row per output, one column per method."""
+    outputs, methods = list(scene_rows["output"].unique()), list(scene_rows["method"].unique())
+    fig, axes = plt.subplots(len(outputs), len(methods), figsize=(3.8 * len(methods), 2.6 * len(outputs)),
+                             squeeze=False)
+    for i, out in enumerate(outputs):
+        for j, meth in enumerate(methods):
+            t = scene_rows[(scene_rows["output"] == out) & (scene_rows["method"] == meth)]
+            ax = axes[i, j]
+            x = np.arange(len(t))
+            for k, (q, c) in enumerate((("S1", "tab:blue"), ("ST", "tab:orange"))):
+                conf = t[f"{q}_conf"].to_numpy(float)
+                bars = ax.bar(x + (k - 0.5) * 0.38, t[q].to_numpy(float), 0.38, color=c, label=q,
+                              yerr=np.where(np.isfinite(conf), conf, 0.0), capsize=2)
+                for b, ok in zip(bars, t["trusted"].to_numpy(bool)):
+                    if not ok:
+                        b.set_hatch("//")
+            ax.set_xticks(x, t["parameter"].to_list(), rotation=60, ha="right", fontsize=7)
+            ax.set_title(f"{out} - {meth}", fontsize=9)
+            ax.set_ylim(min(-0.05, float(np.nanmin(t[["S1", "ST"]].to_numpy(float), initial=0))), 1.05)
+    axes[0, 0].legend(fontsize=7)
+    fields = {f: scene_rows[f].iloc[0] for f in SCENE_FIELDS}
+    fig.suptitle("Sobol indices, " + ", ".join(f"{k}={v:g}" for k, v in fields.items()) + " (hatched: untrusted)",
+                 fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def plot_heatmap(rows: pd.DataFrame) -> Any:
+    """ST as parameter x scene, one panel per output."""
+    outputs = list(rows["output"].unique())
+    fig, axes = plt.subplots(1, len(outputs), figsize=(3.2 * len(outputs) + 1, 0.35 * rows["parameter"].nunique() + 2),
+                             squeeze=False)
+    for ax, out in zip(axes[0], outputs):
+        t = rows[rows["output"] == out].pivot(index="parameter", columns="scene", values="ST")
+        im = ax.imshow(t.to_numpy(float), vmin=0, vmax=1, cmap="viridis", aspect="auto")
+        labels = [f"{rows[rows['scene'] == s]['wind_speed'].iloc[0]:g} m/s" for s in t.columns]
+        ax.set_xticks(range(t.shape[1]), labels, rotation=45, fontsize=7)
+        ax.set_yticks(range(t.shape[0]), t.index.to_list(), fontsize=7)
+        ax.set_title(out, fontsize=9)
+    fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, label="ST")
+    fig.suptitle(f"total Sobol index per scene ({rows['method'].iloc[0]})", fontsize=9)
+    return fig
+
+
+def plot_fault(verdicts: pd.DataFrame, samples: pd.DataFrame | None) -> Any:
+    """Separation index per output and fault level (bars) with the threshold."""
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    labels = [f"{r.output}\n{r.faulty:g}, s{r.scene}" for r in verdicts.itertuples()]
+    colors = ["tab:green" if d else "tab:red" for d in verdicts["detectable"]]
+    ax.bar(range(len(verdicts)), verdicts["separation"].clip(upper=1e3), color=colors)
+    ax.axhline(verdicts["threshold"].iloc[0], color="k", ls="--", lw=0.8, label="threshold")
+    ax.set_yscale("log")
+    ax.set_xticks(range(len(verdicts)), labels, fontsize=6, rotation=60, ha="right")
+    ax.set_ylabel("|mean faulty - mean healthy| / std healthy")
+    ax.set_title(f"fault detectability: {verdicts['fault'].iloc[0]} (green: detectable)", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def summary_markdown(result: StudyResult) -> str:
+    """A short Markdown summary: what ran, then parameters ranked by ST per scene and output."""
+    p = result.provenance
+    lines = [f"# {result.study.name}", "", result.study.spec.description or "", "",
+             f"- model: `{p['model']['name']}` ({p['model']['fidelity']})",
+             f"- evaluations: {p['evaluations']['total']} ({p['evaluations']['cached']} cached, "
+             f"{p['evaluations']['evaluated']} run, {len(p['failures'])} failed)",
+             f"- time: {p['timings_s']['total']:.1f} s", ""]
+    if len(result.indices):
+        lines += ["## Parameters ranked by total index", ""]
+        for (scene, out), g in result.indices.groupby(["scene", "output"]):
+            fields = ", ".join(f"{f}={g[f].iloc[0]:g}" for f in SCENE_FIELDS)
+            lines.append(f"### scene {scene} ({fields}) - `{out}`")
+            lines.append("")
+            lines.append("| method | trusted | ranking (ST) |")
+            lines.append("|---|---|---|")
+            for meth, gm in g.groupby("method", sort=False):
+                top = gm.sort_values("ST", ascending=False, na_position="last").head(5)
+                rank = ", ".join(f"{r.parameter} {r.ST:.2f}" for r in top.itertuples())
+                lines.append(f"| {meth} | {'yes' if gm['trusted'].all() else '**no**'} | {rank} |")
+            lines.append("")
+        if len(result.diagnostics):
+            lines += ["## Diagnostics", ""]
+            counts = result.diagnostics.groupby(["method", "name", "severity"]).size()
+            lines += [f"- {m} `{n}` ({s}): {c}x" for (m, n, s), c in counts.items()]
+            lines.append("")
+    if result.fault is not None:
+        lines += ["## Fault detectability", "", "| scene | output | faulty | ST fault | separation | detectable |",
+                  "|---|---|---|---|---|---|"]
+        lines += [f"| {r.scene} | {r.output} | {r.faulty:g} | {r.ST_fault:.2f} | {r.separation:.2f} | "
+                  f"{'yes' if r.detectable else 'no'} |" for r in result.fault.itertuples()]
+        lines.append("")
+    if result.sweep is not None:
+        lines += ["## Sweep", "", "See `sweep_summary.csv` and `sweep_*.png` (means over realisations, +- one std).",
+                  ""]
+    return "\n".join(lines)

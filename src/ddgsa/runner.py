@@ -1,0 +1,212 @@
+"""Parallel, cached, resumable evaluation of ``model.evaluate(points, scene)``.
+
+The runner knows nothing of Sobol indices or turbines: it receives tasks (a key, a scene,
+a full parameter dict), skips those already in the store, evaluates the rest in batches
+(one ``model.evaluate`` call per batch of points of one scene) on joblib's loky backend or
+a Dask cluster, and commits every finished batch to SQLite in one transaction, so a killed
+run loses at most the batches in flight. A failed evaluation is stored with its reason.
+Evaluations are deterministic (seeded scenes), so results do not depend on the number of
+workers, the backend or the order batches finish in.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import sqlite3
+import time
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import joblib
+from tqdm import tqdm
+
+from ddgsa.loads.scene import Scene
+
+
+@dataclass(frozen=True)
+class ModelId:
+    """What identifies a model configuration: registry name, fidelity and options."""
+
+    name: str
+    fidelity: str
+    options: tuple[tuple[str, Any], ...] = ()
+
+    def as_dict(self) -> dict[str, Any]:
+        """Plain-dict form (for keys and provenance)."""
+        return {"name": self.name, "fidelity": self.fidelity, "options": dict(self.options)}
+
+
+@dataclass(frozen=True)
+class Task:
+    """One model evaluation: the store key, the scene and the full parameter dict."""
+
+    key: str
+    scene: Scene
+    point: dict[str, float]
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """A stored evaluation: outputs (None when it failed), the failure reason, its cost [s]."""
+
+    outputs: dict[str, float] | None
+    error: str | None
+    seconds: float
+
+
+def task_key(model: ModelId, scene: Scene, point: dict[str, float], version: str) -> str:
+    """Store key: SHA-256 of the model id, the scene, the point (exact float reprs) and the ddgsa version."""
+    blob = json.dumps({"model": model.as_dict(), "scene": scene.to_dict(), "version": version,
+                       "point": {k: repr(float(v)) for k, v in sorted(point.items())}}, sort_keys=True)
+    return hashlib.sha256(blob.encode()).hexdigest()
+
+
+class EvaluationStore:
+    """SQLite table of evaluations keyed by :func:`task_key` (WAL mode; one writer)."""
+
+    def __init__(self, path: Path) -> None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        self.path = path
+        self._db = sqlite3.connect(str(path))
+        self._db.execute("PRAGMA journal_mode=WAL")
+        self._db.execute("CREATE TABLE IF NOT EXISTS evaluations (key TEXT PRIMARY KEY, scene TEXT, point TEXT, "
+                         "outputs TEXT, error TEXT, seconds REAL)")
+        self._db.commit()
+
+    def close(self) -> None:
+        """Close the database."""
+        self._db.close()
+
+    def known(self, keys: Iterable[str]) -> set[str]:
+        """The subset of ``keys`` already stored."""
+        keys = list(keys)
+        found: set[str] = set()
+        for i in range(0, len(keys), 500):
+            chunk = keys[i:i + 500]
+            rows = self._db.execute(f"SELECT key FROM evaluations WHERE key IN ({','.join('?' * len(chunk))})",
+                                    chunk).fetchall()
+            found.update(r[0] for r in rows)
+        return found
+
+    def get(self, keys: Iterable[str]) -> dict[str, Outcome]:
+        """Stored outcomes of ``keys`` (missing keys are absent from the result)."""
+        keys = list(keys)
+        out: dict[str, Outcome] = {}
+        for i in range(0, len(keys), 500):
+            chunk = keys[i:i + 500]
+            rows = self._db.execute("SELECT key, outputs, error, seconds FROM evaluations WHERE key IN "
+                                    f"({','.join('?' * len(chunk))})", chunk).fetchall()
+            for key, outputs, error, seconds in rows:
+                out[key] = Outcome(None if outputs is None else json.loads(outputs), error, seconds)
+        return out
+
+    def put(self, tasks: list[Task], outcomes: list[Outcome]) -> None:
+        """Store a finished batch atomically."""
+        with self._db:
+            self._db.executemany(
+                "INSERT OR REPLACE INTO evaluations VALUES (?, ?, ?, ?, ?, ?)",
+                [(t.key, json.dumps(t.scene.to_dict()), json.dumps(t.point),
+                  None if o.outputs is None else json.dumps(o.outputs), o.error, o.seconds)
+                 for t, o in zip(tasks, outcomes)])
+
+    def count(self) -> int:
+        """Number of stored evaluations."""
+        return int(self._db.execute("SELECT COUNT(*) FROM evaluations").fetchone()[0])
+
+
+@lru_cache(maxsize=8)
+def _model(model: ModelId) -> Any:
+    from ddgsa.models import get
+
+    return get(model.name, fidelity=model.fidelity, **dict(model.options))
+
+
+def evaluate_batch(model: ModelId, scene: Scene, points: list[dict[str, float]]) -> list[Outcome]:
+    """Evaluate one batch in a worker; every failure becomes an :class:`Outcome` with its reason."""
+    import pandas as pd
+
+    t0 = time.perf_counter()
+    try:
+        frame = _model(model).evaluate(pd.DataFrame(points), scene)
+    except Exception as exc:  # noqa: BLE001 -- any failure is data, never a crash of the run
+        return [Outcome(None, f"{type(exc).__name__}: {exc}", 0.0) for _ in points]
+    per_point = (time.perf_counter() - t0) / max(len(points), 1)
+    failures = frame.attrs.get("failures", {})
+    outcomes = []
+    for i, row in enumerate(frame.to_dict("records")):
+        bad = [k for k, v in row.items() if not math.isfinite(v)]
+        if i in failures:
+            outcomes.append(Outcome(None, failures[i], per_point))
+        elif bad:
+            outcomes.append(Outcome(None, f"non-finite output(s) {bad}", per_point))
+        else:
+            outcomes.append(Outcome({k: float(v) for k, v in row.items()}, None, per_point))
+    return outcomes
+
+
+@contextmanager
+def _backend(backend: str, jobs: int, address: str | None) -> Iterator[None]:
+    """joblib's loky backend, or the Dask backend on ``address`` (a LocalCluster when None)."""
+    if backend == "loky":
+        yield
+        return
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise RuntimeError("the dask backend needs 'pip install ddgsa[dask]' (dask[distributed])") from None
+    cluster = None if address else LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
+                                                dashboard_address=None)
+    client = Client(address) if address else Client(cluster)
+    try:
+        with joblib.parallel_config(backend="dask"):
+            yield
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def run_tasks(model: ModelId, tasks: list[Task], store: EvaluationStore, jobs: int = 1, batch_size: int = 4,
+              backend: str = "loky", address: str | None = None, quiet: bool = False) -> dict[str, int]:
+    """Evaluate the tasks missing from ``store``; returns counts (``total``, ``cached``, ``evaluated``, ``failed``)."""
+    unique = list({t.key: t for t in tasks}.values())
+    done = store.known(t.key for t in unique)
+    todo = [t for t in unique if t.key not in done]
+    batches: list[list[Task]] = []
+    by_scene: dict[Scene, list[Task]] = {}
+    for t in todo:
+        by_scene.setdefault(t.scene, []).append(t)
+    for group in by_scene.values():
+        batches += [group[i:i + batch_size] for i in range(0, len(group), batch_size)]
+    failed = 0
+    with tqdm(total=len(todo), disable=quiet or not todo, unit="eval", desc="model runs", smoothing=0.1) as bar:
+        if jobs == 1 and backend == "loky":
+            results: Iterable[tuple[list[Task], list[Outcome]]] = (
+                (b, evaluate_batch(model, b[0].scene, [t.point for t in b])) for b in batches)
+            failed = _consume(results, store, bar)
+        else:
+            with _backend(backend, jobs, address):
+                ret = "generator_unordered" if backend == "loky" else "generator"
+                par = joblib.Parallel(n_jobs=jobs, return_as=ret)
+                results = par(joblib.delayed(_batch_job)(model, b) for b in batches)
+                failed = _consume(results, store, bar)
+    return {"total": len(unique), "cached": len(done), "evaluated": len(todo), "failed": failed}
+
+
+def _batch_job(model: ModelId, batch: list[Task]) -> tuple[list[Task], list[Outcome]]:
+    return batch, evaluate_batch(model, batch[0].scene, [t.point for t in batch])
+
+
+def _consume(results: Iterable[tuple[list[Task], list[Outcome]]], store: EvaluationStore, bar: tqdm) -> int:
+    failed = 0
+    for batch, outcomes in results:
+        store.put(batch, outcomes)
+        failed += sum(o.outputs is None for o in outcomes)
+        bar.update(len(batch))
+    return failed

@@ -1,0 +1,316 @@
+"""Study files: the YAML schema, its validation, and the plan (which model runs a study needs).
+
+A study names a model and fidelity, the uncertain parameters, a grid of scenes with
+realisations, the outputs, the GSA methods and how to run them. Everything is validated
+before anything runs; every error names the file, the field path and what is allowed.
+
+Minimal example::
+
+    name: quickstart
+    model: {name: direct_drive, fidelity: rigid}
+    parameters:
+      k_front_z: {nominal: 1e10, spread: 0.2}
+      c_gen: {dist: normal, mean: 828.26e3, std: 41.4e3}
+    scenes: {wind_speed: [11.0], duration: 60, realisations: 2}
+    outputs: [damage_front, damage_rear]
+    methods:
+      - {method: mdrm, points: 4}
+      - {method: saltelli, n: 64}
+
+Kinds: ``gsa`` (default: Sobol indices per scene), ``sweep`` (no uncertain parameters:
+objective functions over the scene grid and realisations, e.g. seed 000 §4) and ``fault``
+(fault detectability: a ``fault`` block names a parameter, its healthy and faulty values).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from ruamel.yaml import YAML
+from ruamel.yaml.error import YAMLError
+
+from ddgsa.errors import DdgsaError, StudyError
+from ddgsa.gsa.base import METHODS, get_method
+from ddgsa.loads.scene import Scene
+from ddgsa.models import MODELS
+from ddgsa.models import get as get_model
+from ddgsa.space import ParameterSpace
+
+_STRICT = ConfigDict(extra="forbid")
+SceneValue = float | list[float]
+
+
+class ModelSpec(BaseModel):
+    """``model:`` -- registry name, fidelity and model options."""
+
+    model_config = _STRICT
+    name: str
+    fidelity: str = "flexible"
+    options: dict[str, Any] = Field(default_factory=dict)
+
+
+class ScenesSpec(BaseModel):
+    """``scenes:`` -- a grid over the list-valued fields; every grid point has ``realisations`` seeds."""
+
+    model_config = _STRICT
+    wind_speed: SceneValue = 11.0
+    turbulence_intensity: SceneValue = 0.12
+    inclination_deg: SceneValue = 0.0
+    shear_exponent: SceneValue = 0.2
+    duration: float = 600.0
+    dt: float = 0.05
+    realisations: int = Field(1, ge=1, le=1000)
+    seed: int = Field(1, ge=0)
+    aggregate: Literal["mean", "median", "max"] = "mean"
+
+    @field_validator("wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent")
+    @classmethod
+    def _non_empty(cls, v: SceneValue) -> SceneValue:
+        if isinstance(v, list) and not v:
+            raise ValueError("an empty list gives an empty scene grid; give at least one value")
+        return v
+
+    def grid(self) -> list[dict[str, float]]:
+        """The scene grid (without seeds): one dict per combination of the list-valued fields."""
+        axes = {k: (v if isinstance(v, list) else [v]) for k, v in
+                (("wind_speed", self.wind_speed), ("turbulence_intensity", self.turbulence_intensity),
+                 ("inclination_deg", self.inclination_deg), ("shear_exponent", self.shear_exponent))}
+        return [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
+
+    def scene(self, fields: dict[str, float], realisation: int) -> Scene:
+        """The scene of one grid point and realisation (turbulence seed ``seed + realisation``)."""
+        return Scene(**fields, duration=self.duration, dt=self.dt, seed=self.seed + realisation)
+
+
+class MethodSpec(BaseModel):
+    """One entry of ``methods:`` -- ``method`` plus that method's options."""
+
+    model_config = ConfigDict(extra="allow")
+    method: str
+
+    @property
+    def options(self) -> dict[str, Any]:
+        """The method's options (every key but ``method``)."""
+        return dict(self.model_extra or {})
+
+
+class FaultSpec(BaseModel):
+    """``fault:`` -- a fault parameter with its healthy value and faulty values."""
+
+    model_config = _STRICT
+    parameter: str
+    healthy: float
+    faulty: list[float] = Field(min_length=1)
+    threshold: float = Field(2.0, gt=0, description="separation index above which a fault counts as detectable")
+    samples: int = Field(64, ge=8, le=4096, description="points over the other uncertainties per fault level")
+
+
+class RunSpec(BaseModel):
+    """``run:`` -- parallel options (overridden by the CLI's ``--jobs`` / ``--backend``)."""
+
+    model_config = _STRICT
+    jobs: int = Field(1, ge=1, le=512)
+    batch_size: int = Field(4, ge=1, le=10_000)
+    backend: Literal["loky", "dask"] = "loky"
+    address: str | None = None
+
+
+class StudySpec(BaseModel):
+    """A whole study file."""
+
+    model_config = _STRICT
+    name: str = Field(pattern=r"^[A-Za-z0-9_.-]+$")
+    description: str = ""
+    kind: Literal["gsa", "sweep", "fault"] = "gsa"
+    model: ModelSpec
+    parameters: dict[str, dict[str, Any]] = Field(default_factory=dict)
+    fixed: dict[str, float] = Field(default_factory=dict)
+    scenes: ScenesSpec = Field(default_factory=ScenesSpec)
+    outputs: list[str] = Field(default_factory=list)
+    methods: list[MethodSpec] = Field(default_factory=list)
+    fault: FaultSpec | None = None
+    run: RunSpec = Field(default_factory=RunSpec)
+
+    @model_validator(mode="after")
+    def _kind_needs(self) -> "StudySpec":
+        if self.kind in ("gsa", "fault") and not self.parameters:
+            raise ValueError(f"kind '{self.kind}' needs at least one entry under 'parameters'")
+        if self.kind in ("gsa", "fault") and not self.methods:
+            raise ValueError(f"kind '{self.kind}' needs at least one entry under 'methods'")
+        if self.kind == "fault" and self.fault is None:
+            raise ValueError("kind 'fault' needs a 'fault' block (parameter, healthy, faulty)")
+        if self.kind != "fault" and self.fault is not None:
+            raise ValueError("a 'fault' block needs kind: fault")
+        return self
+
+
+@dataclass
+class Study:
+    """A validated study: the spec, its parameter space, the model, and where it came from."""
+
+    spec: StudySpec
+    space: ParameterSpace | None
+    path: Path | None
+    text: str
+
+    @property
+    def name(self) -> str:
+        """The study's name."""
+        return self.spec.name
+
+    @property
+    def digest(self) -> str:
+        """SHA-256 of the validated study (canonical JSON), for provenance."""
+        return hashlib.sha256(json.dumps(self.spec.model_dump(mode="json"), sort_keys=True).encode()).hexdigest()
+
+    def make_model(self) -> Any:
+        """The model instance the study runs."""
+        return get_model(self.spec.model.name, fidelity=self.spec.model.fidelity, **self.spec.model.options)
+
+    @property
+    def outputs(self) -> list[str]:
+        """Outputs to analyse (all of the model's when the study lists none)."""
+        return self.spec.outputs or list(self.make_model().outputs)
+
+
+def _where(path: Path | None) -> str:
+    return str(path) if path is not None else "<study>"
+
+
+def load_yaml(path: Path) -> tuple[Any, str]:
+    """Read a YAML 1.2 file (``1e10`` is a number); errors name the file and line."""
+    try:
+        text = path.read_text()
+    except FileNotFoundError:
+        raise StudyError(f"{path}: no such study file") from None
+    except OSError as exc:
+        raise StudyError(f"{path}: cannot read: {exc.strerror}") from None
+    try:
+        data = YAML(typ="safe", pure=True).load(text)
+    except YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise StudyError(f"{path}: YAML syntax error{where}: {problem}") from None
+    return data, text
+
+
+def load_study(path: str | Path) -> Study:
+    """Read and validate a study file.
+
+    Raises
+    ------
+    StudyError
+        Naming the file, the field path and what is allowed.
+    """
+    p = Path(path)
+    data, text = load_yaml(p)
+    return validate_study(data, p, text)
+
+
+def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study:
+    """Validate a study given as data (see :func:`load_study`)."""
+    where = _where(path)
+    if not isinstance(data, dict):
+        raise StudyError(f"{where}: a study is a mapping of fields (name, model, parameters, ...), "
+                         f"got {type(data).__name__}")
+    try:
+        spec = StudySpec.model_validate(data)
+    except ValidationError as exc:
+        raise StudyError(_pydantic_message(where, exc)) from None
+    # model-aware checks
+    if spec.model.name not in MODELS:
+        raise StudyError(f"{where}: field 'model.name': unknown model {spec.model.name!r}; "
+                         f"known: {', '.join(sorted(MODELS))}")
+    try:
+        model = get_model(spec.model.name, fidelity=spec.model.fidelity, **spec.model.options)
+    except (DdgsaError, TypeError) as exc:
+        raise StudyError(f"{where}: field 'model': {exc}") from None
+    names = [p.name for p in model.parameters]
+    for section in ("parameters", "fixed"):
+        for key in getattr(spec, section):
+            if key not in names:
+                raise StudyError(f"{where}: field '{section}.{key}': not a parameter of model "
+                                 f"{spec.model.name!r}; known: {', '.join(names)}")
+    overlap = set(spec.parameters) & set(spec.fixed)
+    if overlap:
+        raise StudyError(f"{where}: field 'fixed': {sorted(overlap)} are also uncertain 'parameters'")
+    for i, out in enumerate(spec.outputs):
+        if out not in model.outputs:
+            raise StudyError(f"{where}: field 'outputs[{i}]': unknown output {out!r} of model "
+                             f"{spec.model.name!r}; known: {', '.join(model.outputs)}")
+    space = None
+    if spec.parameters:
+        try:
+            space = ParameterSpace.from_dict(spec.parameters)
+        except DdgsaError as exc:
+            raise StudyError(f"{where}: field 'parameters': {exc}") from None
+        for p in space.parameters:
+            decl = model.parameter(p.name)
+            lo, hi = p.support
+            if lo < decl.low or hi > decl.high:
+                raise StudyError(f"{where}: field 'parameters.{p.name}': support [{lo:g}, {hi:g}] leaves the "
+                                 f"allowed range [{decl.low:g}, {decl.high:g}] {decl.unit}")
+    for i, m in enumerate(spec.methods):
+        if m.method not in METHODS:
+            raise StudyError(f"{where}: field 'methods[{i}].method': unknown GSA method {m.method!r}; "
+                             f"known: {', '.join(sorted(METHODS))}")
+        try:
+            get_method(m.method).design(space, **m.options) if space is not None else None
+        except DdgsaError as exc:
+            raise StudyError(f"{where}: field 'methods[{i}]': {exc}") from None
+    for k, fields in enumerate(spec.scenes.grid()):
+        try:
+            spec.scenes.scene(fields, 0)
+        except DdgsaError as exc:
+            raise StudyError(f"{where}: field 'scenes': {exc}") from None
+    if spec.fault is not None:
+        if spec.fault.parameter not in spec.parameters:
+            raise StudyError(f"{where}: field 'fault.parameter': {spec.fault.parameter!r} must also be an "
+                             f"uncertain parameter (under 'parameters')")
+    return Study(spec=spec, space=space, path=path, text=text)
+
+
+def _pydantic_message(where: str, exc: ValidationError) -> str:
+    """One line per problem: file, field path, message and the value given."""
+    lines = []
+    for err in exc.errors():
+        loc = ".".join(f"[{x}]" if isinstance(x, int) else str(x) for x in err["loc"]).replace(".[", "[")
+        msg = err["msg"]
+        if err["type"] == "extra_forbidden":
+            msg = "unknown field (check its spelling)"
+        elif err["type"] == "missing":
+            msg = "required field is missing"
+        given = f" (given: {err['input']!r})" if err["type"] not in ("missing", "extra_forbidden") \
+            and not isinstance(err.get("input"), dict) else ""
+        lines.append(f"{where}: field '{loc or '<top>'}': {msg}{given}")
+    return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class PlannedScene:
+    """One grid point of the scene grid with its realisation seeds."""
+
+    index: int
+    fields: dict[str, float]
+    scenes: tuple[Scene, ...]
+
+
+def plan_scenes(study: Study) -> list[PlannedScene]:
+    """The scene grid with every realisation's :class:`Scene`."""
+    sc = study.spec.scenes
+    return [PlannedScene(i, f, tuple(sc.scene(f, r) for r in range(sc.realisations)))
+            for i, f in enumerate(sc.grid())]
+
+
+def unique_rows(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unique rows of ``points`` and, for each original row, the index of its unique row."""
+    uniq, inverse = np.unique(points, axis=0, return_inverse=True)
+    return uniq, inverse.ravel()
