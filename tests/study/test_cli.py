@@ -1,0 +1,177 @@
+"""The ddgsa CLI end to end: files written, indices equal the Python API, reproducibility across
+workers and backends, kill and resume, failures, malformed studies."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import ddgsa
+from ddgsa.cli import main
+from ddgsa.gsa.testfunctions import ishigami
+from ddgsa.runner import EvaluationStore
+
+REPORT_FILES = {"indices.csv", "diagnostics.csv", "evaluations.csv", "accuracy.csv", "provenance.json",
+                "summary.md", "bars_scene0.png", "bars_scene1.png", "heatmap_ST_mdrm.png", "mdrm_vs_crosscheck.png"}
+
+
+def test_run_writes_report_and_equals_the_python_api(write_study, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    assert main(["-q", "run", str(write_study()), "--out", str(out)]) == 0
+    assert REPORT_FILES <= {p.name for p in out.iterdir()}
+    table = pd.read_csv(out / "indices.csv")
+    assert set(table.columns) >= {"study", "scene", "wind_speed", "output", "method", "parameter", "S1", "S1_conf",
+                                  "ST", "ST_conf", "n_evals", "trusted"}
+    tf = ishigami()
+    for method, opts in (("mdrm", {"points": 5}), ("saltelli", {"n": 64, "seed": 0})):
+        api = ddgsa.sobol(lambda x: tf.f(x) * 8.0 / 11.0, tf.space, method, **opts)
+        got = table[(table["method"] == method) & (table["output"] == "y") & (table["scene"] == 0)]
+        np.testing.assert_allclose(got["ST"].to_numpy(float), api.indices["ST"].to_numpy(float), rtol=1e-5)
+        assert list(got["trusted"]) == list(api.indices["trusted"])
+    # M-DRM flags plain Ishigami; the report says so
+    assert "mdrm_cut_value" in set(pd.read_csv(out / "diagnostics.csv")["name"])
+    # report rebuilds from stored evaluations without model runs
+    assert main(["-q", "report", str(out)]) == 0
+
+
+def test_results_identical_for_jobs_and_backends(write_study, tmp_path: Path) -> None:
+    study = write_study()
+    tables = []
+    for args in (["--jobs", "1"], ["--jobs", "2"], ["--jobs", "2", "--backend", "dask"]):
+        if "dask" in args:
+            pytest.importorskip("dask.distributed")
+        out = tmp_path / "_".join(args).replace("-", "")
+        assert main(["-q", "run", str(study), "--out", str(out), *args]) == 0
+        tables.append((out / "indices.csv").read_text())
+    assert all(t == tables[0] for t in tables[1:])
+
+
+def test_kill_and_resume_evaluates_only_the_missing_points(write_study, tmp_path: Path) -> None:
+    study = write_study("slow", options="{delay_s: 0.01}", n=128, batch=4)
+    out = tmp_path / "killed"
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    proc = subprocess.Popen([sys.executable, "-m", "ddgsa.cli", "-q", "run", str(study), "--out", str(out)],
+                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    store_path = out / "evaluations.sqlite"
+    deadline = time.time() + 60
+    while time.time() < deadline:
+        if store_path.exists():
+            store = EvaluationStore(store_path)
+            n = store.count()
+            store.close()
+            if n >= 200:
+                break
+        time.sleep(0.2)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    store = EvaluationStore(store_path)
+    done = store.count()
+    store.close()
+    assert done > 0
+    assert main(["-q", "run", str(study), "--out", str(out)]) == 0
+    prov = pd.read_json(out / "provenance.json", typ="series")
+    total = prov["evaluations"]["total"]                   # scenes x realisations x pooled unique points
+    assert done < total
+    assert prov["evaluations"]["cached"] == done and prov["evaluations"]["evaluated"] == total - done
+    clean = tmp_path / "clean"
+    assert main(["-q", "run", str(study), "--out", str(clean)]) == 0
+    assert (out / "indices.csv").read_text() == (clean / "indices.csv").read_text()
+
+
+def test_failing_points_are_listed_and_their_indices_untrusted(write_study, tmp_path: Path) -> None:
+    out = tmp_path / "fail"
+    assert main(["-q", "run", str(write_study("failing", options="{fail_above: 2.5}")), "--out", str(out)]) == 0
+    prov = pd.read_json(out / "provenance.json", typ="series")
+    assert len(prov["failures"]) > 0 and "above fail_above" in prov["failures"][0]["error"]
+    table = pd.read_csv(out / "indices.csv")
+    assert not table["trusted"].any()                          # every output saw a failed point
+    assert table["ST"].isna().all()                            # refused, not imputed
+    assert "nonfinite_values" in set(pd.read_csv(out / "diagnostics.csv")["name"])
+
+
+def test_validate_and_models(write_study, capsys) -> None:
+    assert main(["validate", str(write_study())]) == 0
+    assert "valid (gsa study 'demo'" in capsys.readouterr().out
+    assert main(["models"]) == 0
+    text = capsys.readouterr().out
+    assert "direct_drive: fidelities flexible, rigid" in text and "k_front_y" in text
+
+
+def test_yaml_1_2_numbers(write_study, tmp_path: Path) -> None:
+    text = Path(write_study()).read_text().replace("x3: {low: -3.14159, high: 3.14159}", "x3: {low: -1e0, high: 1.0e0}")
+    study = ddgsa.study.load_study(write_study("sci", text=text))
+    assert study.space["x3"].args == {"low": -1.0, "high": 1.0}
+
+
+BASE = Path(__file__).with_name("conftest.py")
+
+
+@pytest.mark.parametrize("edit, message", [
+    (None, "no such study file"),
+    ("model: {name: analytic\n", "YAML syntax error at line"),
+    ("- just\n- a list\n", "a study is a mapping of fields"),
+    ("REPLACE:parameters:|paramters:", "field 'paramters': unknown field"),
+    ("REPLACE:model: {name: analytic, fidelity: exact, options: {}}|", "field 'model': required field is missing"),
+    ("REPLACE:name: analytic|name: analytik", "field 'model.name': unknown model 'analytik'; known: analytic"),
+    ("REPLACE:fidelity: exact|fidelity: rigid", "field 'model': model 'analytic': unknown fidelity 'rigid'"),
+    ("REPLACE:  x3: {|  x4: {", "field 'parameters.x4': not a parameter of model 'analytic'"),
+    ("REPLACE:x1: {low|x1: {dist: gauss, low", "parameter 'x1': unknown dist 'gauss'"),
+    ("REPLACE:x2: {low: -3.14159, high: 3.14159}|x2: {low: 1, high: 0}",
+     r"parameter 'x2': low (1.0) must be < high (0.0)"),
+    ("REPLACE:outputs: [y, y_positive]|outputs: [y, z]", "field 'outputs[1]': unknown output 'z'"),
+    ("REPLACE:method: mdrm|method: mdmr", "field 'methods[0].method': unknown GSA method 'mdmr'"),
+    ("REPLACE:points: 5|points: 1", "field 'methods[0]': method 'mdrm': option 'points' must be in [2, 40]"),
+    ("REPLACE:wind_speed: [8.0, 11.0]|wind_speed: []", "field 'scenes.wind_speed': Value error, an empty list"),
+    ("REPLACE:realisations: 2|realisations: many", "field 'scenes.realisations'"),
+    ("REPLACE:wind_speed: [8.0, 11.0]|wind_speed: [-8.0]", "scene field 'wind_speed' must be in (0, 50]"),
+    ("REPLACE:name: demo|name: my demo", "field 'name': String should match pattern"),
+    ("REPLACE:name: demo|name: demo\nkind: fault", "kind 'fault' needs a 'fault' block"),
+    ("REPLACE:x1: {low: -3.14159, high: 3.14159}|x1: {dist: normal, mean: 0, std: 1}",
+     "field 'parameters.x1': support [-inf, inf] leaves the allowed range"),
+    ("REPLACE:run: {jobs: 1|run: {jobs: 0", "field 'run.jobs': Input should be greater than or equal to 1"),
+])
+def test_malformed_studies_exit_2_naming_the_field(write_study, tmp_path: Path, capsys, edit, message) -> None:
+    if edit is None:
+        path = tmp_path / "missing.yaml"
+    elif edit.startswith("REPLACE:"):
+        old, new = edit[len("REPLACE:"):].split("|")
+        text = Path(write_study()).read_text()
+        assert old in text
+        path = write_study("bad", text=text.replace(old, new))
+    else:
+        path = write_study("bad", text=edit)
+    for command in ("validate", "run"):
+        assert main([command, str(path)]) == 2
+        err = capsys.readouterr().err
+        assert message in err and "Traceback" not in err
+        assert str(path) in err
+
+
+def test_quickstart_study_end_to_end(tmp_path: Path) -> None:
+    """The README's quickstart through the CLI equals the same study through the Python API."""
+    from ddgsa.gsa.base import get_method
+    from ddgsa.study import load_study
+
+    study_file = Path(__file__).parents[2] / "studies" / "quickstart.yaml"
+    out = tmp_path / "qs"
+    assert main(["-q", "run", str(study_file), "--out", str(out)]) == 0
+    assert {"indices.csv", "accuracy.csv", "provenance.json", "summary.md", "bars_scene0.png",
+            "mdrm_vs_crosscheck.png", "evaluations.csv"} <= {p.name for p in out.iterdir()}
+    table = pd.read_csv(out / "indices.csv")
+    study = load_study(study_file)
+    model = study.make_model()
+    scene = study.spec.scenes.scene(study.spec.scenes.grid()[0], 0)
+    mdrm = get_method("mdrm")
+    design = mdrm.design(study.space, **study.spec.methods[0].options)
+    values = model.evaluate(study.space.frame(design.points), scene)[study.outputs]
+    api = mdrm.analyze(study.space, design, values)
+    got = table[table["method"] == "mdrm"]
+    np.testing.assert_allclose(got["ST"].to_numpy(float), api.indices["ST"].to_numpy(float), rtol=1e-5, atol=1e-9)
