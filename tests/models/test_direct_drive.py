@@ -24,7 +24,7 @@ def test_registry_and_parameters() -> None:
     m = models.get("direct_drive")
     assert m.outputs[:4] == ("rms_deflection_hub", "rms_deflection_gen", "damage_front", "damage_rear")
     assert m.nominal["k_front_y"] == 3e9 and m.nominal["c_gen"] == 828.26e3
-    with pytest.raises(ModelError, match="unknown model 'drect'; known: direct_drive"):
+    with pytest.raises(ModelError, match="unknown model 'drect'; known: analytic, direct_drive"):
         models.get("drect")
     with pytest.raises(ModelError, match="unknown fidelity 'soft'"):
         models.get("direct_drive", fidelity="soft")
