@@ -1,4 +1,4 @@
-"""The ``ddgsa`` command: ``run``, ``validate``, ``models``, ``report``.
+"""The ``ddgsa`` command: ``run``, ``validate``, ``models``, ``report``, ``bench``.
 
 Exit codes: 0 success, 1 a failure while running, 2 invalid input. Errors print one clear
 message and no traceback (``--verbose`` adds it).
@@ -34,6 +34,10 @@ def _parser() -> argparse.ArgumentParser:
     sub.add_parser("models", help="list models, fidelities, parameters and outputs")
     rep = sub.add_parser("report", help="rebuild tables and plots from a run's stored evaluations")
     rep.add_argument("dir", type=Path)
+    ben = sub.add_parser("bench", help="speed of each fidelity against the solve_ivp reference")
+    ben.add_argument("--json", type=Path, help="also write the figures to this JSON file")
+    ben.add_argument("--ref-seconds", type=float, default=20.0, help="scene seconds the slow reference integrates")
+    ben.add_argument("--no-quickstart", action="store_true", help="skip timing the quickstart study")
     return p
 
 
@@ -79,6 +83,8 @@ def _dispatch(args: argparse.Namespace) -> int:
         return _run(study, args)
     if args.command == "report":
         return _report(args.dir, args.quiet)
+    if args.command == "bench":
+        return _bench(args)
     return EXIT_INPUT  # pragma: no cover (argparse requires a command)
 
 
@@ -122,6 +128,20 @@ def _report(folder: Path, quiet: bool) -> int:
     files = write_report(result, folder)
     if not quiet:
         print(f"{study.name}: rebuilt {len(files)} files in {folder} from stored evaluations")
+    return EXIT_OK
+
+
+def _bench(args: argparse.Namespace) -> int:
+    import json
+
+    from ddgsa.bench import format_speed, speed
+
+    quick = None if args.no_quickstart else Path(__file__).resolve().parents[2] / "studies" / "quickstart.yaml"
+    res = speed(ref_seconds=args.ref_seconds, quickstart=quick if quick is not None and quick.exists() else None)
+    print(format_speed(res))
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(res, indent=2))
     return EXIT_OK
 
 

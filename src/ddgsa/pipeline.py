@@ -25,6 +25,7 @@ from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.result import SobolResult
 from ddgsa.runner import EvaluationStore, ModelId, Outcome, Task, run_tasks, task_key
 from ddgsa.space import ParameterSpace
+from ddgsa.loads.scene import Scene
 from ddgsa.study import PlannedScene, Study, plan_scenes
 
 SCENE_FIELDS = ["wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent"]
@@ -43,12 +44,68 @@ class StudyResult:
     sweep: pd.DataFrame | None = None
     fault: pd.DataFrame | None = None
     fault_samples: pd.DataFrame | None = None
+    fidelity: pd.DataFrame | None = None
 
 
-def model_id(study: Study) -> ModelId:
-    """The runner's model identity for the study."""
+def model_id(study: Study, fidelity: str | None = None) -> ModelId:
+    """The runner's model identity for the study (at ``fidelity`` when given)."""
     spec = study.spec.model
-    return ModelId(spec.name, spec.fidelity, tuple(sorted(spec.options.items())))
+    return ModelId(spec.name, fidelity or spec.fidelity, tuple(sorted(spec.options.items())))
+
+
+def select_fidelities(study: Study, store: EvaluationStore, evaluate: bool,
+                      run_opts: dict[str, Any]) -> list[dict[str, Any]]:
+    """``fidelity: auto``: per scene, the cheapest fidelity whose pilot outputs stay within tolerance.
+
+    The pilot set is the nominal point plus ``model.auto.pilot`` scrambled-Sobol' points of the
+    space, in the first realisation of each scene, at every fidelity of the model. Errors are
+    the largest relative deviation over pilot points and study outputs from the richest
+    fidelity (the model's first); cost is the mean measured seconds per evaluation.
+    """
+    from ddgsa.models import get as get_model
+
+    auto = study.spec.model.auto
+    fidelities = list(get_model(study.spec.model.name).fidelities)
+    richest = fidelities[0]
+    space = study.space
+    names = space.names if space is not None else ()
+    pilot = np.zeros((1, 0)) if space is None else np.vstack(
+        [[space.nominal[n] for n in names], space.sample(auto.pilot, seed=auto.seed, rule="sobol")])
+    pts = _points(study, pilot, names)
+    outputs = study.outputs
+    tasks, plan = [], []
+    for ps in plan_scenes(study):
+        scene = ps.scenes[0]
+        for fid in fidelities:
+            mid = model_id(study, fid)
+            ts = [Task(task_key(mid, scene, p, ddgsa.__version__), mid, scene, p) for p in pts]
+            tasks += ts
+            plan.append((ps, fid, ts))
+    if evaluate:
+        run_tasks(tasks, store, **run_opts)
+    got = store.get([t.key for t in tasks])
+    if len(got) < len({t.key for t in tasks}):
+        raise StudyError("pilot evaluations for fidelity: auto are not in the store; run the study first")
+    choices = []
+    for ps in plan_scenes(study):
+        table = {fid: [got[t.key] for t in ts] for p_, fid, ts in plan if p_.index == ps.index}
+        ref = np.array([[o.outputs[n] if o.outputs else np.nan for n in outputs] for o in table[richest]])
+        entry: dict[str, Any] = {"scene": ps.index, **ps.fields, "tolerance": auto.tolerance, "errors": {}}
+        cost = {}
+        for fid in fidelities:
+            vals = np.array([[o.outputs[n] if o.outputs else np.nan for n in outputs] for o in table[fid]])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                rel = np.abs(vals - ref) / np.abs(ref)
+            rel = np.where((ref == 0) & (vals == 0), 0.0, rel)
+            err = float(np.max(rel)) if np.all(np.isfinite(rel)) else float("inf")
+            cost[fid] = float(np.mean([o.seconds for o in table[fid]]))
+            entry["errors"][fid] = {n: float(np.max(rel[:, j])) for j, n in enumerate(outputs)}
+            entry[f"max_rel_error_{fid}"] = err
+            entry[f"seconds_per_eval_{fid}"] = cost[fid]
+        ok = [f for f in fidelities if entry[f"max_rel_error_{f}"] <= auto.tolerance]
+        entry["chosen"] = min(ok, key=lambda f: cost[f]) if ok else richest
+        choices.append(entry)
+    return choices
 
 
 def _points(study: Study, x: np.ndarray, names: tuple[str, ...]) -> list[dict[str, float]]:
@@ -57,13 +114,18 @@ def _points(study: Study, x: np.ndarray, names: tuple[str, ...]) -> list[dict[st
 
 
 class _Plan:
-    """Tasks of a study and how to read values back per scene."""
+    """Tasks of a study and how to read values back per scene (each scene may use its own fidelity)."""
 
-    def __init__(self, study: Study, mid: ModelId) -> None:
-        self.study, self.mid = study, mid
+    def __init__(self, study: Study, mids: dict[int, ModelId]) -> None:
+        self.study, self.mids = study, mids
         self.scenes = plan_scenes(study)
         self.tasks: list[Task] = []
         self.blocks: dict[str, tuple[np.ndarray, tuple[str, ...]]] = {}
+
+    def task(self, ps: PlannedScene, scene: Scene, point: dict[str, float]) -> Task:
+        """The task of one point in one realisation of a planned scene."""
+        mid = self.mids[ps.index]
+        return Task(task_key(mid, scene, point, ddgsa.__version__), mid, scene, point)
 
     def add_block(self, name: str, x: np.ndarray, names: tuple[str, ...]) -> None:
         """Points (n, len(names)) to evaluate in every scene and realisation."""
@@ -71,7 +133,7 @@ class _Plan:
         pts = _points(self.study, x, names)
         for ps in self.scenes:
             for scene in ps.scenes:
-                self.tasks += [Task(task_key(self.mid, scene, p, ddgsa.__version__), scene, p) for p in pts]
+                self.tasks += [self.task(ps, scene, p) for p in pts]
 
     def values(self, store: EvaluationStore, block: str, ps: PlannedScene, outputs: list[str],
                aggregate: str) -> tuple[np.ndarray, list[str]]:
@@ -81,7 +143,7 @@ class _Plan:
         per_real = []
         reasons: list[str] = []
         for scene in ps.scenes:
-            keys = [task_key(self.mid, scene, p, ddgsa.__version__) for p in pts]
+            keys = [self.task(ps, scene, p).key for p in pts]
             got = store.get(keys)
             missing = [k for k in keys if k not in got]
             if missing:
@@ -111,8 +173,16 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
     """Run (or, with ``evaluate=False``, only read back) all model evaluations and analyse them."""
     t0 = time.perf_counter()
     spec = study.spec
-    mid = model_id(study)
-    plan = _Plan(study, mid)
+    run = spec.run
+    run_opts = {"jobs": jobs or run.jobs, "batch_size": run.batch_size, "backend": backend or run.backend,
+                "address": address or run.address, "quiet": quiet}
+    fidelity_choice: list[dict[str, Any]] = []
+    if spec.model.fidelity == "auto":
+        fidelity_choice = select_fidelities(study, store, evaluate, run_opts)
+        mids = {c["scene"]: model_id(study, c["chosen"]) for c in fidelity_choice}
+    else:
+        mids = {ps.index: model_id(study) for ps in plan_scenes(study)}
+    plan = _Plan(study, mids)
     outputs = study.outputs
     designs: list[tuple[str, Design]] = []
     if spec.kind == "sweep":
@@ -126,9 +196,7 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
             _add_fault_blocks(study, plan)
     counts = {"total": len({t.key for t in plan.tasks}), "cached": 0, "evaluated": 0, "failed": 0}
     if evaluate:
-        run = spec.run
-        counts = run_tasks(mid, plan.tasks, store, jobs=jobs or run.jobs, batch_size=run.batch_size,
-                           backend=backend or run.backend, address=address or run.address, quiet=quiet)
+        counts = run_tasks(plan.tasks, store, **run_opts)
     t_eval = time.perf_counter() - t0
     result = StudyResult(study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), {})
     failures: list[dict[str, Any]] = []
@@ -141,7 +209,9 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
     result.evaluations = _evaluation_table(store, plan)
     failures += [{"key": r["key"], "scene": {k: r[k] for k in SCENE_FIELDS + ["seed"]}, "error": r["error"]}
                  for r in result.evaluations.to_dict("records") if isinstance(r["error"], str)]
-    result.provenance = _provenance(study, mid, counts, t_eval, time.perf_counter() - t0, failures, designs)
+    result.provenance = _provenance(study, mids, counts, t_eval, time.perf_counter() - t0, failures, designs)
+    result.provenance["fidelity_selection"] = fidelity_choice
+    result.fidelity = pd.DataFrame([{k: v for k, v in c.items() if k != "errors"} for c in fidelity_choice])
     return result
 
 
@@ -185,7 +255,7 @@ def _sweep_table(plan: _Plan, store: EvaluationStore, outputs: list[str]) -> pd.
     pts = _points(plan.study, np.zeros((1, 0)), ())
     for ps in plan.scenes:
         for r, scene in enumerate(ps.scenes):
-            o = store.get([task_key(plan.mid, scene, pts[0], ddgsa.__version__)])
+            o = store.get([plan.task(ps, scene, pts[0]).key])
             if not o:
                 raise StudyError("sweep evaluations are not in the store; run the study first (ddgsa run)")
             out = next(iter(o.values()))
@@ -264,12 +334,13 @@ def _versions() -> dict[str, str]:
     return out
 
 
-def _provenance(study: Study, mid: ModelId, counts: dict[str, int], t_eval: float, t_total: float,
+def _provenance(study: Study, mids: dict[int, ModelId], counts: dict[str, int], t_eval: float, t_total: float,
                 failures: list[dict[str, Any]], designs: list[tuple[str, Design]]) -> dict[str, Any]:
     sc = study.spec.scenes
     return {
         "study": study.name, "study_sha256": study.digest, "study_file": str(study.path) if study.path else None,
-        "kind": study.spec.kind, "model": mid.as_dict(),
+        "kind": study.spec.kind, "model": {**model_id(study).as_dict(),
+                                           "per_scene": {i: m.fidelity for i, m in mids.items()}},
         "versions": _versions(), "python": sys.version.split()[0], "platform": platform.platform(),
         "seeds": {"scene_seeds": [sc.seed + r for r in range(sc.realisations)],
                   "methods": {name: d.options.get("seed") for name, d in designs}},

@@ -51,6 +51,8 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
         if result.indices["scene"].nunique() > 1:
             for method in result.indices["method"].unique():
                 save_fig(plot_heatmap(result.indices[result.indices["method"] == method]), f"heatmap_ST_{method}.png")
+    if result.fidelity is not None and len(result.fidelity):
+        save_csv(result.fidelity, "fidelity_selection.csv")
     if result.fault is not None:
         save_csv(result.fault, "fault_verdicts.csv")
         save_fig(plot_fault(result.fault, result.fault_samples), "fault_detectability.png")
@@ -214,6 +216,16 @@ def summary_markdown(result: StudyResult) -> str:
              f"- evaluations: {p['evaluations']['total']} ({p['evaluations']['cached']} cached, "
              f"{p['evaluations']['evaluated']} run, {len(p['failures'])} failed)",
              f"- time: {p['timings_s']['total']:.1f} s", ""]
+    if result.fidelity is not None and len(result.fidelity):
+        lines += ["## Fidelity chosen per scene (`fidelity: auto`)", "",
+                  "| scene | wind speed | chosen | " + " | ".join(
+                      f"max rel. error {c[len('max_rel_error_'):]}" for c in result.fidelity.columns
+                      if c.startswith("max_rel_error_")) + " |",
+                  "|---|---|---|" + "---|" * sum(c.startswith("max_rel_error_") for c in result.fidelity.columns)]
+        for r in result.fidelity.to_dict("records"):
+            errs = " | ".join(f"{v:.2%}" for k, v in r.items() if k.startswith("max_rel_error_"))
+            lines.append(f"| {r['scene']} | {r['wind_speed']:g} | {r['chosen']} | {errs} |")
+        lines.append("")
     if len(result.indices):
         lines += ["## Parameters ranked by total index", ""]
         for (scene, out), g in result.indices.groupby(["scene", "output"]):

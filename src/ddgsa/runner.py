@@ -44,9 +44,10 @@ class ModelId:
 
 @dataclass(frozen=True)
 class Task:
-    """One model evaluation: the store key, the scene and the full parameter dict."""
+    """One model evaluation: the store key, the model, the scene and the full parameter dict."""
 
     key: str
+    model: ModelId
     scene: Scene
     point: dict[str, float]
 
@@ -172,35 +173,35 @@ def _backend(backend: str, jobs: int, address: str | None) -> Iterator[None]:
             cluster.close()
 
 
-def run_tasks(model: ModelId, tasks: list[Task], store: EvaluationStore, jobs: int = 1, batch_size: int = 4,
+def run_tasks(tasks: list[Task], store: EvaluationStore, jobs: int = 1, batch_size: int = 4,
               backend: str = "loky", address: str | None = None, quiet: bool = False) -> dict[str, int]:
     """Evaluate the tasks missing from ``store``; returns counts (``total``, ``cached``, ``evaluated``, ``failed``)."""
     unique = list({t.key: t for t in tasks}.values())
     done = store.known(t.key for t in unique)
     todo = [t for t in unique if t.key not in done]
     batches: list[list[Task]] = []
-    by_scene: dict[Scene, list[Task]] = {}
+    by_scene: dict[tuple[ModelId, Scene], list[Task]] = {}
     for t in todo:
-        by_scene.setdefault(t.scene, []).append(t)
+        by_scene.setdefault((t.model, t.scene), []).append(t)
     for group in by_scene.values():
         batches += [group[i:i + batch_size] for i in range(0, len(group), batch_size)]
     failed = 0
     with tqdm(total=len(todo), disable=quiet or not todo, unit="eval", desc="model runs", smoothing=0.1) as bar:
         if jobs == 1 and backend == "loky":
             results: Iterable[tuple[list[Task], list[Outcome]]] = (
-                (b, evaluate_batch(model, b[0].scene, [t.point for t in b])) for b in batches)
+                (b, evaluate_batch(b[0].model, b[0].scene, [t.point for t in b])) for b in batches)
             failed = _consume(results, store, bar)
         else:
             with _backend(backend, jobs, address):
                 ret = "generator_unordered" if backend == "loky" else "generator"
                 par = joblib.Parallel(n_jobs=jobs, return_as=ret)
-                results = par(joblib.delayed(_batch_job)(model, b) for b in batches)
+                results = par(joblib.delayed(_batch_job)(b) for b in batches)
                 failed = _consume(results, store, bar)
     return {"total": len(unique), "cached": len(done), "evaluated": len(todo), "failed": failed}
 
 
-def _batch_job(model: ModelId, batch: list[Task]) -> tuple[list[Task], list[Outcome]]:
-    return batch, evaluate_batch(model, batch[0].scene, [t.point for t in batch])
+def _batch_job(batch: list[Task]) -> tuple[list[Task], list[Outcome]]:
+    return batch, evaluate_batch(batch[0].model, batch[0].scene, [t.point for t in batch])
 
 
 def _consume(results: Iterable[tuple[list[Task], list[Outcome]]], store: EvaluationStore, bar: tqdm) -> int:

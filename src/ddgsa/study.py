@@ -47,13 +47,23 @@ _STRICT = ConfigDict(extra="forbid")
 SceneValue = float | list[float]
 
 
+class AutoSpec(BaseModel):
+    """``model.auto:`` -- how ``fidelity: auto`` chooses per scene."""
+
+    model_config = _STRICT
+    tolerance: float = Field(0.02, gt=0, description="largest relative output error allowed vs the richest fidelity")
+    pilot: int = Field(4, ge=1, le=256, description="space-filling pilot points besides the nominal one")
+    seed: int = Field(7, ge=0)
+
+
 class ModelSpec(BaseModel):
-    """``model:`` -- registry name, fidelity and model options."""
+    """``model:`` -- registry name, fidelity (or ``auto``) and model options."""
 
     model_config = _STRICT
     name: str
     fidelity: str = "flexible"
     options: dict[str, Any] = Field(default_factory=dict)
+    auto: AutoSpec = Field(default_factory=AutoSpec)
 
 
 class ScenesSpec(BaseModel):
@@ -171,8 +181,11 @@ class Study:
         return hashlib.sha256(json.dumps(self.spec.model_dump(mode="json"), sort_keys=True).encode()).hexdigest()
 
     def make_model(self) -> Any:
-        """The model instance the study runs."""
-        return get_model(self.spec.model.name, fidelity=self.spec.model.fidelity, **self.spec.model.options)
+        """The model instance the study runs (its richest fidelity under ``auto``)."""
+        fidelity = self.spec.model.fidelity
+        cls = MODELS.lookup(self.spec.model.name)
+        return get_model(self.spec.model.name, fidelity=cls.fidelities[0] if fidelity == "auto" else fidelity,
+                         **self.spec.model.options)
 
     @property
     def outputs(self) -> list[str]:
@@ -230,7 +243,9 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         raise StudyError(f"{where}: field 'model.name': unknown model {spec.model.name!r}; "
                          f"known: {', '.join(sorted(MODELS))}")
     try:
-        model = get_model(spec.model.name, fidelity=spec.model.fidelity, **spec.model.options)
+        fidelities = MODELS.lookup(spec.model.name).fidelities
+        for fid in (fidelities if spec.model.fidelity == "auto" else [spec.model.fidelity]):
+            model = get_model(spec.model.name, fidelity=fid, **spec.model.options)
     except (DdgsaError, TypeError) as exc:
         raise StudyError(f"{where}: field 'model': {exc}") from None
     names = [p.name for p in model.parameters]

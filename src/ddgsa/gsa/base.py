@@ -7,7 +7,7 @@ evaluations on disk and resume; :func:`ddgsa.sobol` simply chains them.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -15,22 +15,13 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from ddgsa.errors import MethodError, unknown_name_message
+from ddgsa.errors import MethodError
+from ddgsa.registry import Registry
 from ddgsa.gsa.result import Diagnostic, SobolResult
 from ddgsa.space import ParameterSpace
 
-METHODS: dict[str, type["GsaMethod"]] = {}
-
-
-def register(name: str) -> Callable[[type["GsaMethod"]], type["GsaMethod"]]:
-    """Class decorator adding a method to the registry under ``name``."""
-
-    def deco(cls: type["GsaMethod"]) -> type["GsaMethod"]:
-        cls.name = name
-        METHODS[name] = cls
-        return cls
-
-    return deco
+METHODS: Registry[type["GsaMethod"]] = Registry("GSA method", MethodError)
+register = METHODS.register
 
 
 def get_method(name: str) -> "GsaMethod":
@@ -41,10 +32,7 @@ def get_method(name: str) -> "GsaMethod":
     MethodError
         If no method of that name exists; the message lists the known ones.
     """
-    try:
-        return METHODS[name]()
-    except KeyError:
-        raise MethodError(unknown_name_message("GSA method", name, list(METHODS))) from None
+    return METHODS.lookup(name)()
 
 
 @dataclass(frozen=True)

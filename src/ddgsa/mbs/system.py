@@ -22,6 +22,7 @@ Integrators:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from numba import njit
@@ -70,9 +71,14 @@ class SystemArrays:
         """Number of generalised coordinates (6 + n_f)."""
         return 6 + self.ps.shape[2]
 
+    @cached_property
+    def invariants(self) -> Invariants:
+        """Inertia invariants of the body (computed once per system)."""
+        return Invariants(self.pm, self.pu, self.ps)
+
     def args(self) -> tuple:
         """The arrays in kernel order (the body enters through its inertia invariants)."""
-        return (*Invariants(self.pm, self.pu, self.ps).args(), self.gravity, self.kff, self.cff, self.sp_u0,
+        return (*self.invariants.args(), self.gravity, self.kff, self.cff, self.sp_u0,
                 self.sp_s, self.sp_k, self.sp_c, self.sp_ground, self.ld_u0, self.ld_s, self.ld_srot, self.gn_srot,
                 self.c_torque)
 

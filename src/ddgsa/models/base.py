@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -13,19 +13,10 @@ import pandas as pd
 
 from ddgsa.errors import ModelError, unknown_name_message
 from ddgsa.loads.scene import Scene
+from ddgsa.registry import Registry
 
-MODELS: dict[str, type["Model"]] = {}
-
-
-def register_model(name: str) -> Callable[[type["Model"]], type["Model"]]:
-    """Class decorator adding a model to the registry under ``name``."""
-
-    def deco(cls: type["Model"]) -> type["Model"]:
-        cls.name = name
-        MODELS[name] = cls
-        return cls
-
-    return deco
+MODELS: Registry[type["Model"]] = Registry("model", ModelError)
+register_model = MODELS.register
 
 
 def get(name: str, **options: Any) -> "Model":
@@ -36,11 +27,7 @@ def get(name: str, **options: Any) -> "Model":
     ModelError
         For an unknown model name (the message lists the known ones) or invalid options.
     """
-    try:
-        cls = MODELS[name]
-    except KeyError:
-        raise ModelError(unknown_name_message("model", name, list(MODELS))) from None
-    return cls(**options)
+    return MODELS.lookup(name)(**options)
 
 
 @dataclass(frozen=True)

@@ -62,6 +62,7 @@ from ddgsa.loads.scene import Scene
 from ddgsa.mbs.beam import BeamSpec, mesh, shaft_modes
 from ddgsa.mbs.ffr import inertia_points
 from ddgsa.mbs.modal import linearise, modal_analysis
+from ddgsa.mbs.linear import linearise_map, linearise_spinning, simulate_lti, spring_outputs, upsample_c1
 from ddgsa.mbs.system import SystemArrays, evaluate_terms, integrate, integrate_reference
 from ddgsa.models.base import Model, ModelParameter, register_model
 
@@ -248,21 +249,22 @@ class DirectDrive(Model):
 
     parameters = PARAMETERS
     outputs = OUTPUTS
-    fidelities = ("flexible", "rigid")
+    fidelities = ("flexible", "rigid", "linear")
 
     def __init__(self, fidelity: str = "flexible", axial: bool = True, second_bending: bool = True,
                  time_step: float | None = None, rho_inf: float = 0.8, equivalent_load: str = "iso281",
                  integrator: str = "gen_alpha") -> None:
-        if fidelity not in ("flexible", "rigid"):
-            raise ModelError(f"model 'direct_drive': unknown fidelity {fidelity!r}; known: flexible, rigid")
+        if fidelity not in self.fidelities:
+            raise ModelError(f"model 'direct_drive': unknown fidelity {fidelity!r}; known: {', '.join(self.fidelities)}")
         if equivalent_load not in ("iso281", "seed"):
             raise ModelError(f"model 'direct_drive': equivalent_load must be 'iso281' or 'seed', got {equivalent_load!r}")
         if time_step is None:
-            time_step = 0.005 if fidelity == "flexible" else 0.01
+            time_step = 0.01 if fidelity == "rigid" else 0.005
         if not (isinstance(time_step, (int, float)) and 0 < time_step <= 0.1):
             raise ModelError(f"model 'direct_drive': time_step must be in (0, 0.1] s, got {time_step!r}")
-        if integrator not in ("gen_alpha", "Radau", "BDF"):
-            raise ModelError(f"model 'direct_drive': integrator must be gen_alpha, Radau or BDF; got {integrator!r}")
+        if integrator not in ("gen_alpha", "Radau", "BDF") or (fidelity == "linear" and integrator != "gen_alpha"):
+            raise ModelError(f"model 'direct_drive': integrator must be gen_alpha, Radau or BDF (the linear "
+                             f"fidelity has its own exact discretisation); got {integrator!r}")
         self.integrator = integrator
         self.fidelity = fidelity
         self.time_step = float(time_step)
@@ -326,7 +328,9 @@ class DirectDrive(Model):
         qd0 = np.zeros_like(q0)
         qd0[3] = loads["rotor_speed"].iloc[0]
         w_set = (loads["rotor_speed"] - loads["gen_torque"] / p["c_gen"]).to_numpy()
-        if self.integrator == "gen_alpha":
+        if self.fidelity == "linear":
+            res = self._linear_response(asm, forces, moments, w_set, scene.dt)
+        elif self.integrator == "gen_alpha":
             res = integrate(asm.system, q0, qd0, scene.dt, n_sub, forces, moments, w_set, rho_inf=self.rho_inf)
         else:
             res = integrate_reference(asm.system, q0, qd0, loads.index.to_numpy(), forces, moments, w_set,
@@ -350,6 +354,34 @@ class DirectDrive(Model):
             static_gen=end_positions(q_st[None, :], asm.gen_s, asm.length)[0],
             max_newton_iterations=res.get("max_iterations", 0), fidelity=self.fidelity, fields=self.fields)
         return out
+
+    def _linear_response(self, asm: Assembly, forces: NDArray[np.float64], moments: NDArray[np.float64],
+                         w_set: NDArray[np.float64], dt: float) -> dict[str, Any]:
+        """The flexible model linearised about the scene's mean operating point, integrated exactly.
+
+        Operating point: static deflection under the mean hub loads, spin at the mean set speed
+        plus the slip of the mean torque; bending in non-rotating coordinates
+        (:mod:`ddgsa.mbs.linear`). Valid while rotations stay small (they are ~1e-4 rad) and the
+        rotor speed stays near its mean (gyroscopic terms are frozen at the mean speed).
+        """
+        u = np.column_stack([forces, moments, w_set])
+        u0 = u.mean(axis=0)
+        q_st = self.static(asm, u0[0:3], u0[3:6])
+        spin = float(u0[6] + u0[3] / asm.system.c_torque)            # torque balance: T = -M_x
+        pairs = [(self.fields.index(f"bending_y_{k}"), self.fields.index(f"bending_z_{k}"))
+                 for k in (1, 2) if f"bending_y_{k}" in self.fields]
+        lin = linearise_spinning(asm.system, np.delete(q_st, 3), spin, u0, pairs)
+        # the same C1 input between load samples as the nonlinear integrators see
+        n_sub = max(1, int(round(dt / self.time_step)))
+        p, v = simulate_lti(lin, upsample_c1(u, n_sub), dt / n_sub)
+        p, v = p[::n_sub], v[::n_sub]
+        y0, dp, dv, du = linearise_map(lambda a, b, c: spring_outputs(asm.system, a, b, c, pairs), lin)
+        fs = y0 + (p - lin.p0) @ dp.T + (v - lin.v0) @ dv.T + (u - u0) @ du.T
+        q = np.insert(p, 3, 0.0, axis=1)                               # axis points do not see the spin angle
+        qd = np.column_stack([v[:, :6], v[:, 6:]])
+        torque = asm.system.c_torque * (w_set - v[:, 3])
+        return {"q": q, "qd": qd, "spring_forces": fs.reshape(len(u), -1, 3), "torque": torque,
+                "max_iterations": 0, "failed_at": -1}
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
         sim = self.simulate(scene, params)

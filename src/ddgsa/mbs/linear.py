@@ -1,0 +1,189 @@
+"""Linearisation of a spinning system about its operating point, and exact discretisation.
+
+The body's bending coordinates live in the rotating body frame, where an axisymmetric shaft
+on anisotropic (but non-rotating) bearings has time-periodic equations. Written in
+**non-rotating** bending coordinates ``xi`` (``q_f = R(-phi) xi`` for each y/z pair of equal
+shapes) the equations are time-invariant; the spin angle is cyclic and only its rate enters.
+:func:`linearise_spinning` builds, by central differences of the full nonlinear residual,
+
+``M dv_dot + C dv + K dp = B du + r0``
+
+with positions ``p = [R, theta, psi, xi]`` (no spin angle), velocities
+``v = [R_dot, phi_dot, theta_dot, psi_dot, xi_dot]`` and inputs ``u = [F (3), M (3), w_set]``:
+gyroscopic and Coriolis terms at the operating spin are in ``C``, centrifugal softening in
+``K``. :func:`simulate_lti` integrates the first-order form exactly for inputs linear between
+samples (first-order hold, one matrix exponential).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from numba import njit
+from scipy.linalg import expm
+
+from ddgsa.mbs.system import SystemArrays, evaluate_terms
+
+
+@dataclass(frozen=True)
+class LinearSystem:
+    """``M dv_dot + C dv + K dp = B du + r0`` about ``(p0, v0, u0)``."""
+
+    m: NDArray[np.float64]
+    c: NDArray[np.float64]
+    k: NDArray[np.float64]
+    b: NDArray[np.float64]
+    r0: NDArray[np.float64]
+    p0: NDArray[np.float64]
+    v0: NDArray[np.float64]
+    u0: NDArray[np.float64]
+
+
+def _rot_pairs(xi: NDArray[np.float64], pairs: list[tuple[int, int]]) -> NDArray[np.float64]:
+    """``J xi``: the 90-degree rotation applied to each (y, z) pair, zero elsewhere."""
+    out = np.zeros_like(xi)
+    for iy, iz in pairs:
+        out[iy], out[iz] = -xi[iz], xi[iy]
+    return out
+
+
+def body_state(p: NDArray[np.float64], v: NDArray[np.float64], a: NDArray[np.float64],
+               pairs: list[tuple[int, int]]) -> tuple[NDArray[np.float64], ...]:
+    """Body coordinates, velocities and accelerations at spin angle 0 from the non-rotating ones."""
+    xi, xid, xidd = p[5:], v[6:], a[6:]
+    w, wd = v[3], a[3]
+    q = np.concatenate([p[:3], [0.0], p[3:5], xi])
+    qd = np.concatenate([v[:6], xid - w * _rot_pairs(xi, pairs)])
+    jxi, jxid = _rot_pairs(xi, pairs), _rot_pairs(xid, pairs)
+    qdd = np.concatenate([a[:6], xidd - 2 * w * jxid - wd * jxi + w * w * _rot_pairs(jxi, pairs)])
+    return q, qd, qdd
+
+
+def residual(sys: SystemArrays, p: NDArray[np.float64], v: NDArray[np.float64], a: NDArray[np.float64],
+             u: NDArray[np.float64], pairs: list[tuple[int, int]]) -> NDArray[np.float64]:
+    """``M q_ddot - Q`` of the nonlinear system in non-rotating coordinates (spin angle 0)."""
+    q, qd, qdd = body_state(p, v, a, pairs)
+    m, f, *_ = evaluate_terms(sys, q, qd, u[0:3], u[3:6], float(u[6]))
+    return m @ qdd - f
+
+
+def linearise_spinning(sys: SystemArrays, p0: NDArray[np.float64], spin: float, u0: NDArray[np.float64],
+                       pairs: list[tuple[int, int]], rel_step: float = 1e-6) -> LinearSystem:
+    """Central-difference linearisation of :func:`residual` about ``(p0, spin, u0)`` (see the module)."""
+    n = p0.size + 1
+    v0 = np.zeros(n)
+    v0[3] = spin
+    a0 = np.zeros(n)
+    r0 = -residual(sys, p0, v0, a0, u0, pairs)
+
+    def jac(which: int, x0: NDArray[np.float64], scale: float) -> NDArray[np.float64]:
+        cols = []
+        for i in range(x0.size):
+            h = rel_step * max(scale, abs(x0[i]))
+            args = [p0, v0, a0, u0]
+            plus, minus = [x.copy() for x in args], [x.copy() for x in args]
+            plus[which][i] += h
+            minus[which][i] -= h
+            cols.append((residual(sys, *plus, pairs) - residual(sys, *minus, pairs)) / (2 * h))
+        return np.column_stack(cols)
+
+    k = jac(0, p0, 1e-3)
+    c = jac(1, v0, 1e-3)
+    m = jac(2, a0, 1.0)
+    b = -jac(3, u0, 1.0)
+    return LinearSystem(m, c, k, b, r0, p0, v0, u0)
+
+
+def discretise(lin: LinearSystem, dt: float) -> tuple[NDArray[np.float64], ...]:
+    """First-order-hold discretisation: ``x[k+1] = Phi x[k] + G0 w[k] + G1 w[k+1]``.
+
+    State ``x = [dp, dv]``; input ``w = [du, 1]`` (the constant carries ``r0``).
+    """
+    nq, npos = lin.k.shape
+    minv = np.linalg.inv(lin.m)
+    # dp_dot = T dv: positions skip the spin angle, velocities include its rate
+    t = np.zeros((npos, nq))
+    t[:3, :3] = np.eye(3)
+    t[3:, 4:] = np.eye(npos - 3)
+    a = np.block([[np.zeros((npos, npos)), t], [-minv @ lin.k, -minv @ lin.c]])
+    bw = np.vstack([np.zeros((npos, lin.b.shape[1] + 1)), minv @ np.column_stack([lin.b, lin.r0])])
+    ns, ni = a.shape[0], bw.shape[1]
+    big = np.zeros((ns + 2 * ni, ns + 2 * ni))
+    big[:ns, :ns] = a * dt
+    big[:ns, ns:ns + ni] = bw * dt
+    big[ns:ns + ni, ns + ni:] = np.eye(ni)
+    e = expm(big)
+    phi, gam1, gam2 = e[:ns, :ns], e[:ns, ns:ns + ni], e[:ns, ns + ni:]
+    return phi, gam1 - gam2, gam2
+
+
+def simulate_lti(lin: LinearSystem, u: NDArray[np.float64], dt: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Positions and velocities (absolute, ``p0 + dp``, ``v0 + dv``) for input samples ``u`` (n_t, 7).
+
+    Starts from the quasi-static state of the first sample (``K dp = B du0 + r0``, ``dv = 0``).
+    """
+    phi, g0, g1 = discretise(lin, dt)
+    npos = lin.k.shape[1]
+    w = np.column_stack([u - lin.u0, np.ones(len(u))])
+    dp0 = np.linalg.lstsq(lin.k, lin.b @ w[0, :-1] + lin.r0, rcond=None)[0]
+    x = np.concatenate([dp0, np.zeros(lin.m.shape[0])])
+    drive = w @ g0.T
+    drive[:-1] += w[1:] @ g1.T
+    out = _recurrence(phi, drive, x)
+    return lin.p0 + out[:, :npos], lin.v0 + out[:, npos:]
+
+
+@njit(cache=True)
+def _recurrence(phi, drive, x0):  # pragma: no cover (compiled)
+    """``x[k+1] = Phi x[k] + drive[k]`` from ``x0``."""
+    n, m = drive.shape
+    out = np.empty((n, m))
+    x = x0.copy()
+    for i in range(n):
+        out[i] = x
+        nxt = drive[i].copy()
+        for r in range(m):
+            acc = 0.0
+            for c in range(m):
+                acc += phi[r, c] * x[c]
+            nxt[r] += acc
+        x = nxt
+    return out
+
+
+def upsample_c1(series: NDArray[np.float64], n_sub: int) -> NDArray[np.float64]:
+    """Samples (n_t, k) refined ``n_sub`` times by the C1 cubic (Catmull-Rom) the integrators use."""
+    n = series.shape[0]
+    idx = np.arange(n - 1)
+    p0, p1 = series[np.maximum(idx - 1, 0)], series[idx]
+    p2, p3 = series[idx + 1], series[np.minimum(idx + 2, n - 1)]
+    t = (np.arange(n_sub) / n_sub)[:, None, None]
+    fine = 0.5 * (2 * p1 + (-p0 + p2) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t ** 2
+                  + (-p0 + 3 * p1 - 3 * p2 + p3) * t ** 3)            # (n_sub, n-1, k)
+    return np.vstack([fine.transpose(1, 0, 2).reshape(-1, series.shape[1]), series[-1:]])
+
+
+def spring_outputs(sys: SystemArrays, p: NDArray[np.float64], v: NDArray[np.float64], u: NDArray[np.float64],
+                   pairs: list[tuple[int, int]]) -> NDArray[np.float64]:
+    """Spring-damper forces (n_s x 3, flattened) of the nonlinear system at a non-rotating state."""
+    q, qd, _ = body_state(p, v, np.zeros_like(v), pairs)
+    return evaluate_terms(sys, q, qd, u[0:3], u[3:6], float(u[6]))[4].ravel()
+
+
+def linearise_map(fun, lin: LinearSystem, rel_step: float = 1e-6) -> tuple[NDArray[np.float64], ...]:  # noqa: ANN001
+    """Value and Jacobians of ``fun(p, v, u)`` at the operating point: ``(y0, dy/dp, dy/dv, dy/du)``."""
+    y0 = fun(lin.p0, lin.v0, lin.u0)
+    jacs = []
+    for which, x0, scale in ((0, lin.p0, 1e-3), (1, lin.v0, 1e-3), (2, lin.u0, 1.0)):
+        cols = []
+        for i in range(x0.size):
+            h = rel_step * max(scale, abs(x0[i]))
+            plus = [lin.p0.copy(), lin.v0.copy(), lin.u0.copy()]
+            minus = [lin.p0.copy(), lin.v0.copy(), lin.u0.copy()]
+            plus[which][i] += h
+            minus[which][i] -= h
+            cols.append((fun(*plus) - fun(*minus)) / (2 * h))
+        jacs.append(np.column_stack(cols))
+    return (y0, *jacs)
