@@ -200,3 +200,17 @@ def test_bench_reports_every_fidelity() -> None:
     assert all(r["speedup_vs_reference"] > 0 for r in res["fidelities"])
     assert res["fidelities"][0]["max_rel_error"] < 0.05          # flexible vs Radau on the same equations
     assert "speed-up" in format_speed(res)
+
+
+def test_excitation_factors_scale_the_hub_loads_and_keep_the_speed() -> None:
+    scene = Scene(wind_speed=14.0, turbulence_intensity=0.05, duration=20.0, seed=2)
+    model = models.get("direct_drive", fidelity="linear")
+    base = model.simulate(scene)
+    scaled = model.simulate(scene, {"thrust_factor": 1.2, "torque_factor": 1.2, "yaw_moment_factor": 0.5})
+    np.testing.assert_allclose(scaled["Fx"], 1.2 * base["Fx"], rtol=1e-12)
+    np.testing.assert_allclose(scaled["Mz"], 0.5 * base["Mz"], rtol=1e-12)
+    # the torque factor scales aerodynamic and generator torque together: the mean speed moves by
+    # 0.3 % (scaling the aerodynamic torque alone would add 0.2 M_x / C_gen = 0.95 rad/s, +75 %)
+    assert abs(scaled["rotor_speed"].mean() / base["rotor_speed"].mean() - 1) < 0.01
+    # and the thrust reaches the front (axial) bearing
+    assert scaled["front_Fx"].mean() == pytest.approx(base["front_Fx"].mean() + 0.2 * base["Fx"].mean(), rel=1e-3)

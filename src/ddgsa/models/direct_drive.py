@@ -327,7 +327,9 @@ class DirectDrive(Model):
         q0 = self.static(asm, forces[0], moments[0])
         qd0 = np.zeros_like(q0)
         qd0[3] = loads["rotor_speed"].iloc[0]
-        w_set = (loads["rotor_speed"] - loads["gen_torque"] / p["c_gen"]).to_numpy()
+        # torque_factor scales the torque through the shaft: aerodynamic and generator alike,
+        # so the rotor keeps its speed (scaling Mx alone would spin the shaft up by dMx / C_gen)
+        w_set = (loads["rotor_speed"] - p["torque_factor"] * loads["gen_torque"] / p["c_gen"]).to_numpy()
         if self.fidelity == "linear":
             res = self._linear_response(asm, forces, moments, w_set, scene.dt)
         elif self.integrator == "gen_alpha":
