@@ -125,6 +125,13 @@ def _report(folder: Path, quiet: bool) -> int:
         result = execute(study, store, quiet=True, evaluate=False)
     finally:
         store.close()
+    old = folder / "provenance.json"
+    if old.exists():                          # keep what the run measured; note the rebuild
+        import json
+
+        ran = json.loads(old.read_text())
+        result.provenance.update({k: ran[k] for k in ("evaluations", "timings_s") if k in ran})
+        result.provenance["report_rebuilt_from_store"] = True
     files = write_report(result, folder)
     if not quiet:
         print(f"{study.name}: rebuilt {len(files)} files in {folder} from stored evaluations")

@@ -70,14 +70,15 @@ class ScenesSpec(BaseModel):
     """``scenes:`` -- a grid over the list-valued fields; every grid point has ``realisations`` seeds."""
 
     model_config = _STRICT
-    wind_speed: SceneValue = 11.0
-    turbulence_intensity: SceneValue = 0.12
-    inclination_deg: SceneValue = 0.0
-    shear_exponent: SceneValue = 0.2
-    duration: float = 600.0
-    dt: float = 0.05
+    # defaults are the Scene's own (one source of truth)
+    wind_speed: SceneValue = Scene.wind_speed
+    turbulence_intensity: SceneValue = Scene.turbulence_intensity
+    inclination_deg: SceneValue = Scene.inclination_deg
+    shear_exponent: SceneValue = Scene.shear_exponent
+    duration: float = Scene.duration
+    dt: float = Scene.dt
     realisations: int = Field(1, ge=1, le=1000)
-    seed: int = Field(1, ge=0)
+    seed: int = Field(Scene.seed, ge=0)
     aggregate: Literal["mean", "median", "max"] = "mean"
 
     @field_validator("wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent")

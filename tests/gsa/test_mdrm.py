@@ -120,3 +120,14 @@ def test_options_are_validated() -> None:
         ddgsa.sobol(tf.f, tf.space, "mdrm", cut={"x9": 0.0})
     with pytest.raises(MethodError, match="unknown GSA method 'sobolz'; known: fast, mdrm, pce"):
         ddgsa.sobol(tf.f, tf.space, "sobolz")
+
+
+def test_non_smooth_output_is_flagged_unresolved() -> None:
+    space = ParameterSpace.from_dict({"x1": {"low": -1.0, "high": 1.0}, "x2": {"low": 1.0, "high": 2.0}})
+    res = ddgsa.sobol(lambda x: (np.abs(x[:, 0]) + 0.05) * x[:, 1], space, "mdrm", points=5, check=0)
+    flagged = {(d.name, d.parameter) for d in res.diagnostics}
+    assert ("mdrm_unresolved", "x1") in flagged            # the kink at 0 is not resolved by 5 nodes
+    assert ("mdrm_unresolved", "x2") not in flagged        # linear: resolved
+    # a negligible, noisy input is not judged (its error cannot move an index)
+    noisy = ddgsa.sobol(lambda x: x[:, 1] * (1 + 1e-9 * np.sign(x[:, 0])), space, "mdrm", points=5, check=0)
+    assert "mdrm_unresolved" not in noisy.diagnostic_names()

@@ -31,7 +31,8 @@ name                           severity  fires when
 ``mdrm_near_zero``             warning   min |h| over the nodes < ``near_zero`` x max |h|
 ``mdrm_unresolved``            untrusted the orthogonal-polynomial spectrum of some h_i does
                                          not decay (top two orders hold more than
-                                         ``resolution_tol`` of its variance; points >= 5)
+                                         ``resolution_tol`` of its variance; points >= 5;
+                                         inputs with >= 1 % of the cut-function variance)
 ``mdrm_quadrature_coverage``   warning   more than 25 % of an input's probability lies
                                          beyond its outermost node (heavy tails)
 ``mdrm_check_r2``              untrusted check sample: R^2 of the multiplicative surrogate
@@ -125,7 +126,7 @@ class MDRM(GsaMethod):
             ST = ((r / (1.0 + r)) / -np.expm1(-total)).T
         diags = _value_diagnostics(space, outputs, h_c, h, rho, opts)
         diags += _coverage_diagnostics(space, design)
-        diags += _resolution_diagnostics(space, design, h, outputs, opts)
+        diags += _resolution_diagnostics(space, design, h, var, outputs, opts)
         extras: dict[str, Any] = {"rho": rho.T, "theta": theta.T, "h_cut": h_c}
         if opts["check"]:
             check_diags, metrics = _check_sample(space, design, y, outputs, opts)
@@ -197,8 +198,15 @@ def _coverage_diagnostics(space: ParameterSpace, design: Design) -> list[Diagnos
 
 
 def _resolution_diagnostics(space: ParameterSpace, design: Design, h: NDArray[np.float64],
-                            outputs: list[str], opts: dict[str, Any]) -> list[Diagnostic]:
-    """Spectral decay of each h_i in its orthonormal polynomials (points >= 5)."""
+                            var: NDArray[np.float64], outputs: list[str], opts: dict[str, Any]) -> list[Diagnostic]:
+    """Spectral decay of each h_i in its orthonormal polynomials (points >= 5).
+
+    Only inputs carrying at least 1 % of the summed cut-function variance are judged: the
+    spectrum of a nearly flat cut function is round-off and model noise, and its error cannot
+    move any index.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        share = var / var.sum(axis=0, keepdims=True)                   # (n, k)
     n_nodes = opts["points"]
     if n_nodes < 5:
         return []
@@ -215,7 +223,7 @@ def _resolution_diagnostics(space: ParameterSpace, design: Design, h: NDArray[np
             frac = energy[-2:].sum(axis=0) / total
         # a cut function that is constant to round-off has no spectrum to judge
         varies = np.sqrt(total) > 1e-10 * scale
-        for k in np.flatnonzero((frac > opts["resolution_tol"]) & varies):
+        for k in np.flatnonzero((frac > opts["resolution_tol"]) & varies & (share[i] >= 0.01)):
             diags.append(Diagnostic("mdrm_unresolved",
                                     f"output {outputs[k]!r}: the cut function of {p.name!r} is not resolved "
                                     f"by {n_nodes} nodes ({frac[k]:.1%} of its variance in the two highest "
