@@ -11,8 +11,8 @@ shapes) the equations are time-invariant; the spin angle is cyclic and only its 
 with positions ``p = [R, theta, psi, xi]`` (no spin angle), velocities
 ``v = [R_dot, phi_dot, theta_dot, psi_dot, xi_dot]`` and inputs ``u = [F (3), M (3), w_set]``:
 gyroscopic and Coriolis terms at the operating spin are in ``C``, centrifugal softening in
-``K``. :func:`simulate_lti` integrates the first-order form exactly for inputs linear between
-samples (first-order hold, one matrix exponential).
+``K``. :func:`simulate_lti` integrates the first-order form exactly for inputs cubic between
+samples (the integrators' C1 interpolation; one matrix exponential).
 """
 
 from __future__ import annotations
@@ -96,11 +96,8 @@ def linearise_spinning(sys: SystemArrays, p0: NDArray[np.float64], spin: float, 
     return LinearSystem(m, c, k, b, r0, p0, v0, u0)
 
 
-def discretise(lin: LinearSystem, dt: float) -> tuple[NDArray[np.float64], ...]:
-    """First-order-hold discretisation: ``x[k+1] = Phi x[k] + G0 w[k] + G1 w[k+1]``.
-
-    State ``x = [dp, dv]``; input ``w = [du, 1]`` (the constant carries ``r0``).
-    """
+def state_matrices(lin: LinearSystem) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """First-order form ``x_dot = A x + B_w w`` with ``x = [dp, dv]`` and ``w = [du, 1]``."""
     nq, npos = lin.k.shape
     minv = np.linalg.inv(lin.m)
     # dp_dot = T dv: positions skip the spin angle, velocities include its rate
@@ -109,29 +106,53 @@ def discretise(lin: LinearSystem, dt: float) -> tuple[NDArray[np.float64], ...]:
     t[3:, 4:] = np.eye(npos - 3)
     a = np.block([[np.zeros((npos, npos)), t], [-minv @ lin.k, -minv @ lin.c]])
     bw = np.vstack([np.zeros((npos, lin.b.shape[1] + 1)), minv @ np.column_stack([lin.b, lin.r0])])
+    return a, bw
+
+
+def discretise_cubic(a: NDArray[np.float64], bw: NDArray[np.float64],
+                     dt: float) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]:
+    """Exact step for inputs cubic in time: ``x[k+1] = Phi x[k] + sum_j G_j c_j`` with
+    ``w(t_k + s dt) = sum_j c_j s^j``, ``G_j = dt int_0^1 e^(A dt (1-s)) B s^j ds``.
+
+    One matrix exponential of the chain ``[[A dt, B dt, 0..], [0, 0, I, ..], ...]``: its block
+    (0, j+1) is ``dt int e^(A dt (1-s)) B s^j / j! ds`` (Van Loan).
+    """
     ns, ni = a.shape[0], bw.shape[1]
-    big = np.zeros((ns + 2 * ni, ns + 2 * ni))
+    size = ns + 4 * ni
+    big = np.zeros((size, size))
     big[:ns, :ns] = a * dt
     big[:ns, ns:ns + ni] = bw * dt
-    big[ns:ns + ni, ns + ni:] = np.eye(ni)
+    for j in range(3):
+        big[ns + j * ni:ns + (j + 1) * ni, ns + (j + 1) * ni:ns + (j + 2) * ni] = np.eye(ni)
     e = expm(big)
-    phi, gam1, gam2 = e[:ns, :ns], e[:ns, ns:ns + ni], e[:ns, ns + ni:]
-    return phi, gam1 - gam2, gam2
+    factorial = (1.0, 1.0, 2.0, 6.0)
+    return e[:ns, :ns], [factorial[j] * e[:ns, ns + j * ni:ns + (j + 1) * ni] for j in range(4)]
+
+
+def catmull_rom_coefficients(w: NDArray[np.float64]) -> list[NDArray[np.float64]]:
+    """Cubic coefficients ``c_0..c_3`` per interval (n_t - 1, k) of the C1 interpolant the integrators use."""
+    n = w.shape[0]
+    idx = np.arange(n - 1)
+    p0, p1 = w[np.maximum(idx - 1, 0)], w[idx]
+    p2, p3 = w[idx + 1], w[np.minimum(idx + 2, n - 1)]
+    return [p1, 0.5 * (p2 - p0), 0.5 * (2 * p0 - 5 * p1 + 4 * p2 - p3), 0.5 * (-p0 + 3 * p1 - 3 * p2 + p3)]
 
 
 def simulate_lti(lin: LinearSystem, u: NDArray[np.float64], dt: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Positions and velocities (absolute, ``p0 + dp``, ``v0 + dv``) for input samples ``u`` (n_t, 7).
 
-    Starts from the quasi-static state of the first sample (``K dp = B du0 + r0``, ``dv = 0``).
+    Inputs between samples follow the same C1 cubic (Catmull-Rom) the nonlinear integrators
+    see, integrated exactly (:func:`discretise_cubic`). Starts from the quasi-static state of
+    the first sample (``K dp = B du0 + r0``, ``dv = 0``).
     """
-    phi, g0, g1 = discretise(lin, dt)
+    a, bw = state_matrices(lin)
+    phi, gains = discretise_cubic(a, bw, dt)
     npos = lin.k.shape[1]
     w = np.column_stack([u - lin.u0, np.ones(len(u))])
     dp0 = np.linalg.lstsq(lin.k, lin.b @ w[0, :-1] + lin.r0, rcond=None)[0]
     x = np.concatenate([dp0, np.zeros(lin.m.shape[0])])
-    drive = w @ g0.T
-    drive[:-1] += w[1:] @ g1.T
-    out = _recurrence(phi, drive, x)
+    drive = sum(c @ g.T for c, g in zip(catmull_rom_coefficients(w), gains))
+    out = _recurrence(phi, np.vstack([drive, np.zeros((1, x.size))]), x)
     return lin.p0 + out[:, :npos], lin.v0 + out[:, npos:]
 
 
@@ -151,18 +172,6 @@ def _recurrence(phi, drive, x0):  # pragma: no cover (compiled)
             nxt[r] += acc
         x = nxt
     return out
-
-
-def upsample_c1(series: NDArray[np.float64], n_sub: int) -> NDArray[np.float64]:
-    """Samples (n_t, k) refined ``n_sub`` times by the C1 cubic (Catmull-Rom) the integrators use."""
-    n = series.shape[0]
-    idx = np.arange(n - 1)
-    p0, p1 = series[np.maximum(idx - 1, 0)], series[idx]
-    p2, p3 = series[idx + 1], series[np.minimum(idx + 2, n - 1)]
-    t = (np.arange(n_sub) / n_sub)[:, None, None]
-    fine = 0.5 * (2 * p1 + (-p0 + p2) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t ** 2
-                  + (-p0 + 3 * p1 - 3 * p2 + p3) * t ** 3)            # (n_sub, n-1, k)
-    return np.vstack([fine.transpose(1, 0, 2).reshape(-1, series.shape[1]), series[-1:]])
 
 
 def spring_outputs(sys: SystemArrays, p: NDArray[np.float64], v: NDArray[np.float64], u: NDArray[np.float64],

@@ -161,6 +161,40 @@ def _global_map(a, g, u, s, out):  # pragma: no cover (compiled)
 
 
 @njit(cache=True)
+def _solve_spd(a, b):  # pragma: no cover (compiled)
+    """Solve ``a x = b`` for the symmetric positive-definite iteration matrix by an in-place
+    Cholesky factorisation (LAPACK's call overhead dominates at n = 12); falls back to a general
+    solve if a pivot is not positive."""
+    n = b.size
+    low = np.zeros((n, n))
+    for j in range(n):
+        d = a[j, j]
+        for k in range(j):
+            d -= low[j, k] * low[j, k]
+        if d <= 0.0:
+            return np.linalg.solve(a, b)
+        low[j, j] = np.sqrt(d)
+        for i in range(j + 1, n):
+            acc = a[i, j]
+            for k in range(j):
+                acc -= low[i, k] * low[j, k]
+            low[i, j] = acc / low[j, j]
+    y = np.empty(n)
+    for i in range(n):
+        acc = b[i]
+        for k in range(i):
+            acc -= low[i, k] * y[k]
+        y[i] = acc / low[i, i]
+    x = np.empty(n)
+    for i in range(n - 1, -1, -1):
+        acc = y[i]
+        for k in range(i + 1, n):
+            acc -= low[k, i] * x[k]
+        x[i] = acc / low[i, i]
+    return x
+
+
+@njit(cache=True)
 def _interp_row(series, k, frac):  # pragma: no cover (compiled)
     """Catmull-Rom (C1 cubic) interpolation between samples k and k+1 at fraction ``frac``.
 
@@ -219,7 +253,7 @@ def _gen_alpha(q0, qd0, dt_load, n_sub, forces, moments, w_set, torque0, bp_disp
                 m, f, kt, ct, fs, tq = terms(q, qd, fo, mo, ws, torque0, bd, bv, *sys)
                 res = mv(m, acc_new) - f
                 it_mat = m + gp * h * ct + bp * h * h * kt
-                delta = np.linalg.solve(it_mat, -res)
+                delta = _solve_spd(it_mat, -res)
                 acc_new += delta
                 q += bp * h * h * delta
                 qd += gp * h * delta
