@@ -324,9 +324,3 @@ def plan_scenes(study: Study) -> list[PlannedScene]:
     sc = study.spec.scenes
     return [PlannedScene(i, f, tuple(sc.scene(f, r) for r in range(sc.realisations)))
             for i, f in enumerate(sc.grid())]
-
-
-def unique_rows(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unique rows of ``points`` and, for each original row, the index of its unique row."""
-    uniq, inverse = np.unique(points, axis=0, return_inverse=True)
-    return uniq, inverse.ravel()

@@ -155,33 +155,6 @@ def body_terms(q: NDArray[np.float64], qd: NDArray[np.float64], pm: NDArray[np.f
     return m, f
 
 
-@njit(cache=True)
-def point_state(q: NDArray[np.float64], qd: NDArray[np.float64], u0: NDArray[np.float64],
-                s: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover
-    """Global position, velocity and velocity map ``L`` (3 x n) of an attached point."""
-    a = rotation(q[3:6])
-    g = g_bar(q[3:6])
-    u = u0 + s @ q[6:]
-    lb = l_bar(a, g, u, s)
-    lg = a @ lb
-    return q[0:3] + a @ u, lg @ qd, lg
-
-
-@njit(cache=True)
-def moment_map(q: NDArray[np.float64], s_rot: NDArray[np.float64]) -> NDArray[np.float64]:  # pragma: no cover
-    """Map (3 x n) from q_dot to the global angular velocity of a section with rotation shapes ``s_rot``.
-
-    Its transpose maps a global moment on the section to generalised forces.
-    """
-    a = rotation(q[3:6])
-    g = g_bar(q[3:6])
-    nf = s_rot.shape[1]
-    out = np.zeros((3, 6 + nf))
-    out[:, 3:6] = a @ g
-    out[:, 6:] = a @ s_rot
-    return out
-
-
 def inertia_points(mass: float, j_axial: float,
                    j_diametral: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Seven mass points reproducing a rigid body's mass and axisymmetric inertia exactly.
