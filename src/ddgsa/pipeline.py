@@ -136,12 +136,11 @@ class _Plan:
                 self.tasks += [self.task(ps, scene, p) for p in pts]
 
     def values(self, store: EvaluationStore, block: str, ps: PlannedScene, outputs: list[str],
-               aggregate: str) -> tuple[np.ndarray, list[str]]:
+               aggregate: str) -> np.ndarray:
         """Aggregated values (n_points, n_outputs) of a block in one scene; NaN where any realisation failed."""
         x, names = self.blocks[block]
         pts = _points(self.study, x, names)
         per_real = []
-        reasons: list[str] = []
         for scene in ps.scenes:
             keys = [self.task(ps, scene, p).key for p in pts]
             got = store.get(keys)
@@ -152,15 +151,14 @@ class _Plan:
             rows = []
             for k in keys:
                 o: Outcome = got[k]
-                if o.outputs is None:
-                    reasons.append(o.error or "failed")
+                if o.outputs is None:              # failures are listed in provenance, never imputed
                     rows.append([np.nan] * len(outputs))
                 else:
                     rows.append([o.outputs[name] for name in outputs])
             per_real.append(rows)
         arr = np.asarray(per_real, dtype=float)                    # (n_real, n_points, n_out)
         agg = {"mean": np.mean, "median": np.median, "max": np.max}[aggregate]
-        return agg(arr, axis=0), reasons
+        return agg(arr, axis=0)
 
 
 def _designs(study: Study) -> list[tuple[str, Design]]:
@@ -222,7 +220,7 @@ def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Desig
     pooled, _ = plan.blocks["gsa"]
     rows, diag_rows = [], []
     for ps in plan.scenes:
-        y, _ = plan.values(store, "gsa", ps, outputs, study.spec.scenes.aggregate)
+        y = plan.values(store, "gsa", ps, outputs, study.spec.scenes.aggregate)
         for name, design in designs:
             idx = _row_index(pooled, design.points)
             res = get_method(name).analyze(study.space, design, y[idx], outputs=outputs)
@@ -291,9 +289,9 @@ def _fault_verdicts(plan: _Plan, store: EvaluationStore, outputs: list[str],
     assert fault is not None
     rows, samples = [], []
     for ps in plan.scenes:
-        healthy, _ = plan.values(store, f"fault:{fault.healthy!r}", ps, outputs, plan.study.spec.scenes.aggregate)
+        healthy = plan.values(store, f"fault:{fault.healthy!r}", ps, outputs, plan.study.spec.scenes.aggregate)
         for level in fault.faulty:
-            faulty, _ = plan.values(store, f"fault:{level!r}", ps, outputs, plan.study.spec.scenes.aggregate)
+            faulty = plan.values(store, f"fault:{level!r}", ps, outputs, plan.study.spec.scenes.aggregate)
             for j, out in enumerate(outputs):
                 h, f = healthy[:, j], faulty[:, j]
                 spread = float(np.nanstd(h, ddof=1))

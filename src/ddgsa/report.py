@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from ddgsa.gsa.result import draw_index_bars  # noqa: E402
 from ddgsa.pipeline import SCENE_FIELDS, StudyResult  # noqa: E402
 
 
@@ -156,15 +157,7 @@ def plot_scene_bars(scene_rows: pd.DataFrame) -> Any:
         for j, meth in enumerate(methods):
             t = scene_rows[(scene_rows["output"] == out) & (scene_rows["method"] == meth)]
             ax = axes[i, j]
-            x = np.arange(len(t))
-            for k, (q, c) in enumerate((("S1", "tab:blue"), ("ST", "tab:orange"))):
-                conf = t[f"{q}_conf"].to_numpy(float)
-                bars = ax.bar(x + (k - 0.5) * 0.38, t[q].to_numpy(float), 0.38, color=c, label=q,
-                              yerr=np.where(np.isfinite(conf), conf, 0.0), capsize=2)
-                for b, ok in zip(bars, t["trusted"].to_numpy(bool)):
-                    if not ok:
-                        b.set_hatch("//")
-            ax.set_xticks(x, t["parameter"].to_list(), rotation=60, ha="right", fontsize=7)
+            draw_index_bars(ax, t, fontsize=7, rotation=60)
             ax.set_title(f"{out} - {meth}", fontsize=9)
             ax.set_ylim(min(-0.05, float(np.nanmin(t[["S1", "ST"]].to_numpy(float), initial=0))), 1.05)
     axes[0, 0].legend(fontsize=7)

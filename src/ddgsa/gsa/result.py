@@ -139,20 +139,25 @@ class SobolResult:
         t = self.indices[self.indices["output"] == out]
         if ax is None:
             _, ax = plt.subplots(figsize=(max(4.0, 0.6 * len(t) + 2), 3.2))
-        x = np.arange(len(t))
-        w = 0.38
-        for k, (q, color) in enumerate((("S1", "tab:blue"), ("ST", "tab:orange"))):
-            conf = t[f"{q}_conf"].to_numpy()
-            bars = ax.bar(x + (k - 0.5) * w, t[q].to_numpy(), w, label=q, color=color,
-                          yerr=np.where(np.isfinite(conf), conf, 0.0), capsize=2)
-            for bar, ok in zip(bars, t["trusted"].to_numpy()):
-                if not ok:
-                    bar.set_hatch("//")
-        ax.set_xticks(x, t["parameter"].to_list(), rotation=45, ha="right")
+        draw_index_bars(ax, t)
         ax.set_ylabel("Sobol index [-]")
         ax.set_title(f"{out} ({self.method}, {self.n_evals} evals)")
         ax.legend()
         return ax
+
+
+def draw_index_bars(ax: "Axes", table: pd.DataFrame, fontsize: float = 10.0, rotation: float = 45.0) -> None:
+    """S1 and ST bars of one output's rows, confidence half-widths as error bars, untrusted hatched."""
+    x = np.arange(len(table))
+    w = 0.38
+    for k, (q, color) in enumerate((("S1", "tab:blue"), ("ST", "tab:orange"))):
+        conf = table[f"{q}_conf"].to_numpy(float)
+        bars = ax.bar(x + (k - 0.5) * w, table[q].to_numpy(float), w, label=q, color=color,
+                      yerr=np.where(np.isfinite(conf), conf, 0.0), capsize=2)
+        for bar, ok in zip(bars, table["trusted"].to_numpy(bool)):
+            if not ok:
+                bar.set_hatch("//")
+    ax.set_xticks(x, table["parameter"].to_list(), rotation=rotation, ha="right", fontsize=fontsize)
 
 
 def _trusted_mask(table: pd.DataFrame, diagnostics: list[Diagnostic]) -> NDArray[np.bool_]:

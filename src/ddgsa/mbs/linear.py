@@ -78,21 +78,15 @@ def linearise_spinning(sys: SystemArrays, p0: NDArray[np.float64], spin: float, 
     a0 = np.zeros(n)
     r0 = -residual(sys, p0, v0, a0, u0, pairs)
 
-    def jac(which: int, x0: NDArray[np.float64], scale: float) -> NDArray[np.float64]:
-        cols = []
-        for i in range(x0.size):
-            h = rel_step * max(scale, abs(x0[i]))
-            args = [p0, v0, a0, u0]
-            plus, minus = [x.copy() for x in args], [x.copy() for x in args]
-            plus[which][i] += h
-            minus[which][i] -= h
-            cols.append((residual(sys, *plus, pairs) - residual(sys, *minus, pairs)) / (2 * h))
-        return np.column_stack(cols)
+    def res(p: NDArray[np.float64], v: NDArray[np.float64], a: NDArray[np.float64],
+            u: NDArray[np.float64]) -> NDArray[np.float64]:
+        return residual(sys, p, v, a, u, pairs)
 
-    k = jac(0, p0, 1e-3)
-    c = jac(1, v0, 1e-3)
-    m = jac(2, a0, 1.0)
-    b = -jac(3, u0, 1.0)
+    args = [p0, v0, a0, u0]
+    k = central_jacobian(res, args, 0, 1e-3, rel_step)
+    c = central_jacobian(res, args, 1, 1e-3, rel_step)
+    m = central_jacobian(res, args, 2, 1.0, rel_step)
+    b = -central_jacobian(res, args, 3, 1.0, rel_step)
     return LinearSystem(m, c, k, b, r0, p0, v0, u0)
 
 
@@ -181,18 +175,24 @@ def spring_outputs(sys: SystemArrays, p: NDArray[np.float64], v: NDArray[np.floa
     return evaluate_terms(sys, q, qd, u[0:3], u[3:6], float(u[6]))[4].ravel()
 
 
+def central_jacobian(fun, args: list[NDArray[np.float64]], which: int, scale: float,  # noqa: ANN001
+                     rel_step: float = 1e-6) -> NDArray[np.float64]:
+    """Central-difference Jacobian of ``fun(*args)`` with respect to ``args[which]``.
+
+    The step of entry ``i`` is ``rel_step * max(scale, |x_i|)``.
+    """
+    x0 = args[which]
+    cols = []
+    for i in range(x0.size):
+        h = rel_step * max(scale, abs(x0[i]))
+        plus, minus = [a.copy() for a in args], [a.copy() for a in args]
+        plus[which][i] += h
+        minus[which][i] -= h
+        cols.append((fun(*plus) - fun(*minus)) / (2 * h))
+    return np.column_stack(cols)
+
+
 def linearise_map(fun, lin: LinearSystem, rel_step: float = 1e-6) -> tuple[NDArray[np.float64], ...]:  # noqa: ANN001
     """Value and Jacobians of ``fun(p, v, u)`` at the operating point: ``(y0, dy/dp, dy/dv, dy/du)``."""
-    y0 = fun(lin.p0, lin.v0, lin.u0)
-    jacs = []
-    for which, x0, scale in ((0, lin.p0, 1e-3), (1, lin.v0, 1e-3), (2, lin.u0, 1.0)):
-        cols = []
-        for i in range(x0.size):
-            h = rel_step * max(scale, abs(x0[i]))
-            plus = [lin.p0.copy(), lin.v0.copy(), lin.u0.copy()]
-            minus = [lin.p0.copy(), lin.v0.copy(), lin.u0.copy()]
-            plus[which][i] += h
-            minus[which][i] -= h
-            cols.append((fun(*plus) - fun(*minus)) / (2 * h))
-        jacs.append(np.column_stack(cols))
-    return (y0, *jacs)
+    args = [lin.p0, lin.v0, lin.u0]
+    return (fun(*args), *(central_jacobian(fun, args, w, s, rel_step) for w, s in ((0, 1e-3), (1, 1e-3), (2, 1.0))))

@@ -325,19 +325,23 @@ class DirectDrive(Model):
         n_sub = max(1, int(round(scene.dt / self.time_step)))
         if abs(n_sub * self.time_step - scene.dt) > 1e-9 * scene.dt:
             raise ModelError(f"time_step {self.time_step} s must divide the scene's dt {scene.dt} s")
-        q0 = self.static(asm, forces[0], moments[0])
-        qd0 = np.zeros_like(q0)
-        qd0[3] = loads["rotor_speed"].iloc[0]
+        # the quasi-static state under the mean loads: the reference of the deflection objectives
+        # and the linear fidelity's operating point
+        q_st = self.static(asm, forces.mean(axis=0), moments.mean(axis=0))
         # torque_factor scales the torque through the shaft: aerodynamic and generator alike,
         # so the rotor keeps its speed (scaling Mx alone would spin the shaft up by dMx / C_gen)
         w_set = (loads["rotor_speed"] - p["torque_factor"] * loads["gen_torque"] / p["c_gen"]).to_numpy()
         if self.fidelity == "linear":
-            res = self._linear_response(asm, forces, moments, w_set, scene.dt)
-        elif self.integrator == "gen_alpha":
-            res = integrate(asm.system, q0, qd0, scene.dt, n_sub, forces, moments, w_set, rho_inf=self.rho_inf)
+            res = self._linear_response(asm, q_st, forces, moments, w_set, scene.dt)
         else:
-            res = integrate_reference(asm.system, q0, qd0, loads.index.to_numpy(), forces, moments, w_set,
-                                      method=self.integrator)
+            q0 = self.static(asm, forces[0], moments[0], q_guess=q_st)      # start at rest under the first loads
+            qd0 = np.zeros_like(q0)
+            qd0[3] = loads["rotor_speed"].iloc[0]
+            if self.integrator == "gen_alpha":
+                res = integrate(asm.system, q0, qd0, scene.dt, n_sub, forces, moments, w_set, rho_inf=self.rho_inf)
+            else:
+                res = integrate_reference(asm.system, q0, qd0, loads.index.to_numpy(), forces, moments, w_set,
+                                          method=self.integrator)
         if res["failed_at"] >= 0:
             raise RuntimeError(f"integrator diverged at t = {res['failed_at'] * scene.dt:.3f} s "
                                f"(step {self.time_step} s)")
@@ -351,25 +355,23 @@ class DirectDrive(Model):
             out[[f"{name}_Fx", f"{name}_Fy", f"{name}_Fz"]] = fs[:, b, :]
         out["gen_torque"] = res["torque"]
         out[["Fx", "Fy", "Fz"]], out[["Mx", "My", "Mz"]] = forces, moments
-        q_st = self.static(asm, forces.mean(axis=0), moments.mean(axis=0), q_guess=q0)
         out.attrs.update(
             static_hub=end_positions(q_st[None, :], asm.hub_s, 0.0)[0],
             static_gen=end_positions(q_st[None, :], asm.gen_s, asm.length)[0],
             max_newton_iterations=res.get("max_iterations", 0), fidelity=self.fidelity, fields=self.fields)
         return out
 
-    def _linear_response(self, asm: Assembly, forces: NDArray[np.float64], moments: NDArray[np.float64],
-                         w_set: NDArray[np.float64], dt: float) -> dict[str, Any]:
+    def _linear_response(self, asm: Assembly, q_st: NDArray[np.float64], forces: NDArray[np.float64],
+                         moments: NDArray[np.float64], w_set: NDArray[np.float64], dt: float) -> dict[str, Any]:
         """The flexible model linearised about the scene's mean operating point, integrated exactly.
 
-        Operating point: static deflection under the mean hub loads, spin at the mean set speed
+        Operating point: ``q_st``, the static state under the mean hub loads; spin at the mean set speed
         plus the slip of the mean torque; bending in non-rotating coordinates
         (:mod:`ddgsa.mbs.linear`). Valid while rotations stay small (they are ~1e-4 rad) and the
         rotor speed stays near its mean (gyroscopic terms are frozen at the mean speed).
         """
         u = np.column_stack([forces, moments, w_set])
         u0 = u.mean(axis=0)
-        q_st = self.static(asm, u0[0:3], u0[3:6])
         spin = float(u0[6] + u0[3] / asm.system.c_torque)            # torque balance: T = -M_x
         pairs = [(self.fields.index(f"bending_y_{k}"), self.fields.index(f"bending_z_{k}"))
                  for k in (1, 2) if f"bending_y_{k}" in self.fields]
