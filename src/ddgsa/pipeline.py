@@ -8,6 +8,7 @@ never imputed), runs each method's ``analyze`` and returns a :class:`StudyResult
 
 from __future__ import annotations
 
+import itertools
 import platform
 import sys
 import time
@@ -169,6 +170,9 @@ def _designs(study: Study) -> list[tuple[str, Design]]:
 def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backend: str | None = None,
             address: str | None = None, quiet: bool = False, evaluate: bool = True) -> StudyResult:
     """Run (or, with ``evaluate=False``, only read back) all model evaluations and analyse them."""
+    if study.spec.model.variants:
+        return _execute_variants(study, store, jobs=jobs, backend=backend, address=address, quiet=quiet,
+                                 evaluate=evaluate)
     t0 = time.perf_counter()
     spec = study.spec
     run = spec.run
@@ -184,7 +188,7 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
     outputs = study.outputs
     designs: list[tuple[str, Design]] = []
     if spec.kind == "sweep":
-        plan.add_block("nominal", np.zeros((1, 0)), ())
+        plan.add_block("nominal", *_grid(study))
     else:
         designs = _designs(study)
         pooled = np.unique(np.vstack([d.points for _, d in designs]), axis=0)
@@ -248,19 +252,45 @@ def _row_index(pooled: np.ndarray, points: np.ndarray) -> np.ndarray:
     return np.array([lookup[row.tobytes()] for row in np.ascontiguousarray(points)])
 
 
+def _grid(study: Study) -> tuple[np.ndarray, tuple[str, ...]]:
+    """The sweep's parameter points: the full factorial of ``grid`` (one empty point without one)."""
+    grid = study.spec.grid
+    if not grid:
+        return np.zeros((1, 0)), ()
+    return np.array(list(itertools.product(*grid.values())), dtype=float), tuple(grid)
+
+
 def _sweep_table(plan: _Plan, store: EvaluationStore, outputs: list[str]) -> pd.DataFrame:
     rows = []
-    pts = _points(plan.study, np.zeros((1, 0)), ())
+    x, names = plan.blocks["nominal"]
     for ps in plan.scenes:
         for r, scene in enumerate(ps.scenes):
-            o = store.get([plan.task(ps, scene, pts[0]).key])
-            if not o:
-                raise StudyError("sweep evaluations are not in the store; run the study first (ddgsa run)")
-            out = next(iter(o.values()))
-            vals = out.outputs or {name: np.nan for name in outputs}
-            rows.append({"scene": ps.index, **ps.fields, "realisation": r, "seed": scene.seed,
-                         **{name: vals[name] for name in outputs}, "error": out.error})
+            for row, point in zip(x, _points(plan.study, x, names)):
+                o = store.get([plan.task(ps, scene, point).key])
+                if not o:
+                    raise StudyError("sweep evaluations are not in the store; run the study first (ddgsa run)")
+                out = next(iter(o.values()))
+                vals = out.outputs or {name: np.nan for name in outputs}
+                rows.append({"scene": ps.index, **ps.fields, **dict(zip(names, row)), "realisation": r,
+                             "seed": scene.seed, **{name: vals[name] for name in outputs}, "error": out.error})
     return pd.DataFrame(rows)
+
+
+def _execute_variants(study: Study, store: EvaluationStore, **kwargs: Any) -> StudyResult:
+    """A sweep once per entry of ``model.variants``; the tables gain a ``variant`` column."""
+    parts = [(label, execute(sub, store, **kwargs)) for label, sub in study.variants()]
+    first = parts[0][1]
+    result = StudyResult(study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), dict(first.provenance))
+    result.sweep = pd.concat([r.sweep.assign(variant=label) for label, r in parts], ignore_index=True)
+    result.evaluations = pd.concat([r.evaluations.assign(variant=label) for label, r in parts], ignore_index=True)
+    prov = result.provenance
+    prov["study_sha256"] = study.digest
+    prov["evaluations"] = {k: sum(r.provenance["evaluations"][k] for _, r in parts) for k in prov["evaluations"]}
+    prov["timings_s"] = {k: round(sum(r.provenance["timings_s"][k] for _, r in parts), 3) for k in prov["timings_s"]}
+    prov["failures"] = [{**f, "variant": label} for label, r in parts for f in r.provenance["failures"]]
+    result.provenance["variants"] = [label for label, _ in parts]
+    result.fidelity = first.fidelity
+    return result
 
 
 def _fault_space(study: Study) -> tuple[ParameterSpace, str]:

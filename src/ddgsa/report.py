@@ -36,9 +36,9 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     save_csv(result.evaluations.drop(columns=["key"], errors="ignore"), "evaluations.csv")
     if result.sweep is not None:
         save_csv(result.sweep, "sweep.csv")
-        summary = sweep_summary(result.sweep, result.study.outputs)
+        summary = sweep_summary(result.sweep, result.study.outputs, list(result.study.spec.grid))
         save_csv(summary, "sweep_summary.csv")
-        for fig, name in plot_sweep(summary, result.study.outputs):
+        for fig, name in plot_sweep(summary, result.study.outputs, list(result.study.spec.grid)):
             save_fig(fig, name)
     if len(result.indices):
         save_csv(result.indices, "indices.csv")
@@ -66,10 +66,15 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     return written
 
 
-def sweep_summary(sweep: pd.DataFrame, outputs: list[str]) -> pd.DataFrame:
-    """Mean and standard deviation over realisations per scene, plus each mean scaled by its maximum."""
-    keys = ["scene", *SCENE_FIELDS]
-    g = sweep.groupby(keys)[outputs]
+def _sweep_keys(sweep: pd.DataFrame, grid: list[str]) -> list[str]:
+    return (["variant"] if "variant" in sweep else []) + ["scene", *SCENE_FIELDS, *grid]
+
+
+def sweep_summary(sweep: pd.DataFrame, outputs: list[str], grid: list[str] | None = None) -> pd.DataFrame:
+    """Mean and standard deviation over realisations per scene (and grid point and variant), plus
+    each mean scaled by its maximum."""
+    keys = _sweep_keys(sweep, grid or [])
+    g = sweep.groupby(keys, sort=False)[outputs]
     mean, std = g.mean(), g.std(ddof=1).fillna(0.0)
     out = mean.add_suffix("_mean").join(std.add_suffix("_std")).reset_index()
     for o in outputs:
@@ -77,21 +82,27 @@ def sweep_summary(sweep: pd.DataFrame, outputs: list[str]) -> pd.DataFrame:
     return out
 
 
-def plot_sweep(summary: pd.DataFrame, outputs: list[str]) -> list[tuple[Any, str]]:
-    """Each output (scaled by its maximum, +- one std) against wind speed, one line per other scene field."""
+def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None = None) -> list[tuple[Any, str]]:
+    """Each output (+- one std) against the first grid parameter, or against wind speed scaled by
+    its maximum; one line per value of every other varying key (variant, scene fields, grid)."""
+    grid = grid or []
+    x = grid[0] if grid else "wind_speed"
+    others = [f for f in _sweep_keys(summary, grid) if f not in (x, "scene") and summary[f].nunique() > 1]
     figs = []
-    others = [f for f in SCENE_FIELDS if f != "wind_speed" and summary[f].nunique() > 1]
     for o in outputs:
         fig, ax = plt.subplots(figsize=(6, 3.6))
-        groups = summary.groupby(others) if others else [((), summary)]
-        scale = summary[f"{o}_mean"].max()
+        groups = summary.groupby(others, sort=False) if others else [((), summary)]
+        scale = 1.0 if grid else summary[f"{o}_mean"].max()
         for key, g in groups:
-            g = g.sort_values("wind_speed")
-            label = ", ".join(f"{f}={v:g}" for f, v in zip(others, key if isinstance(key, tuple) else (key,)))
-            ax.errorbar(g["wind_speed"], g[f"{o}_mean"] / scale, yerr=g[f"{o}_std"] / scale, capsize=2,
+            g = g.sort_values(x)
+            label = ", ".join(f"{f}={v:g}" if isinstance(v, float) else f"{v}"
+                              for f, v in zip(others, key if isinstance(key, tuple) else (key,)))
+            ax.errorbar(g[x], g[f"{o}_mean"] / scale, yerr=g[f"{o}_std"] / scale, capsize=2,
                         marker="o", ms=3, label=label or None)
-        ax.set_xlabel("mean wind speed [m/s]")
-        ax.set_ylabel(f"{o} / max [-]")
+        if grid and summary[x].min() > 0 and summary[x].max() / summary[x].min() > 50:
+            ax.set_xscale("log")
+        ax.set_xlabel(x if grid else "mean wind speed [m/s]")
+        ax.set_ylabel(o if grid else f"{o} / max [-]")
         ax.grid(alpha=0.3)
         if others:
             ax.legend(fontsize=8)
@@ -246,4 +257,13 @@ def summary_markdown(result: StudyResult) -> str:
     if result.sweep is not None:
         lines += ["## Sweep", "", "See `sweep_summary.csv` and `sweep_*.png` (means over realisations, +- one std).",
                   ""]
+        grid = list(result.study.spec.grid)
+        summary = sweep_summary(result.sweep, result.study.outputs, grid)
+        if len(summary) <= 40:
+            keys = [k for k in _sweep_keys(summary, grid) if k == "variant" or k in grid or summary[k].nunique() > 1]
+            cols = keys + [f"{o}_mean" for o in result.study.outputs]
+            lines += ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+            lines += ["| " + " | ".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in row) + " |"
+                      for row in summary[cols].itertuples(index=False)]
+            lines.append("")
     return "\n".join(lines)

@@ -18,7 +18,9 @@ Minimal example::
       - {method: saltelli, n: 64}
 
 Kinds: ``gsa`` (default: Sobol indices per scene), ``sweep`` (no uncertain parameters:
-objective functions over the scene grid and realisations, e.g. seed 000 §4) and ``fault``
+objective functions over the scene grid and realisations, e.g. seed 000 §4; optionally over a
+full-factorial ``grid`` of parameter values and ``model.variants``, lists of option overrides
+run one after the other, e.g. seed 003's frequencies per configuration) and ``fault``
 (fault detectability: a ``fault`` block names a parameter, its healthy and faulty values).
 """
 
@@ -64,6 +66,8 @@ class ModelSpec(BaseModel):
     fidelity: str = "flexible"
     options: dict[str, Any] = Field(default_factory=dict)
     auto: AutoSpec = Field(default_factory=AutoSpec)
+    variants: list[dict[str, Any]] = Field(
+        default_factory=list, description="option overrides, one sweep per entry (kind: sweep only)")
 
 
 class ScenesSpec(BaseModel):
@@ -143,6 +147,8 @@ class StudySpec(BaseModel):
     model: ModelSpec
     parameters: dict[str, dict[str, Any]] = Field(default_factory=dict)
     fixed: dict[str, float] = Field(default_factory=dict)
+    grid: dict[str, list[float]] = Field(
+        default_factory=dict, description="parameter values to sweep, full factorial (kind: sweep only)")
     scenes: ScenesSpec = Field(default_factory=ScenesSpec)
     outputs: list[str] = Field(default_factory=list)
     methods: list[MethodSpec] = Field(default_factory=list)
@@ -159,6 +165,12 @@ class StudySpec(BaseModel):
             raise ValueError("kind 'fault' needs a 'fault' block (parameter, healthy, faulty)")
         if self.kind != "fault" and self.fault is not None:
             raise ValueError("a 'fault' block needs kind: fault")
+        if self.kind != "sweep" and (self.grid or self.model.variants):
+            raise ValueError("'grid' and 'model.variants' need kind: sweep")
+        if any(not values for values in self.grid.values()):
+            raise ValueError("every 'grid' entry needs at least one value")
+        if self.model.variants and self.model.fidelity == "auto":
+            raise ValueError("'model.variants' cannot be combined with fidelity: auto")
         return self
 
 
@@ -187,6 +199,15 @@ class Study:
         cls = MODELS.lookup(self.spec.model.name)
         return get_model(self.spec.model.name, fidelity=cls.fidelities[0] if fidelity == "auto" else fidelity,
                          **self.spec.model.options)
+
+    def variants(self) -> list[tuple[str, "Study"]]:
+        """One ``(label, study)`` per entry of ``model.variants`` (options merged); ``[]`` without variants."""
+        out = []
+        for v in self.spec.model.variants:
+            model = self.spec.model.model_copy(update={"options": {**self.spec.model.options, **v}, "variants": []})
+            label = ", ".join(f"{k}={val}" for k, val in v.items())
+            out.append((label, Study(self.spec.model_copy(update={"model": model}), self.space, self.path, self.text)))
+        return out
 
     @property
     def outputs(self) -> list[str]:
@@ -249,17 +270,36 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             model = get_model(spec.model.name, fidelity=fid, **spec.model.options)
     except (DdgsaError, TypeError) as exc:
         raise StudyError(f"{where}: field 'model': {exc}") from None
+    for i, v in enumerate(spec.model.variants):
+        try:
+            variant = get_model(spec.model.name, fidelity=spec.model.fidelity, **{**spec.model.options, **v})
+        except (DdgsaError, TypeError) as exc:
+            raise StudyError(f"{where}: field 'model.variants[{i}]': {exc}") from None
+        model = variant if i == 0 else model           # names are checked against the first variant
+        for j, out in enumerate(spec.outputs):
+            if out not in variant.outputs:
+                raise StudyError(f"{where}: field 'outputs[{j}]': output {out!r} does not exist in "
+                                 f"model.variants[{i}]; that variant has: {', '.join(variant.outputs)}")
     names = [p.name for p in model.parameters]
     for section in ("parameters", "fixed"):
         for key in getattr(spec, section):
             if key not in names:
                 raise StudyError(f"{where}: field '{section}.{key}': not a parameter of model "
                                  f"{spec.model.name!r}; known: {', '.join(names)}")
-    overlap = set(spec.parameters) & set(spec.fixed)
+    for key, values in spec.grid.items():
+        if key not in names:
+            raise StudyError(f"{where}: field 'grid.{key}': not a parameter of model {spec.model.name!r}; "
+                             f"known: {', '.join(names)}")
+        decl = model.parameter(key)
+        bad = [v for v in values if not decl.low <= v <= decl.high]
+        if bad:
+            raise StudyError(f"{where}: field 'grid.{key}': value {bad[0]:g} leaves the allowed range "
+                             f"[{decl.low:g}, {decl.high:g}] {decl.unit}")
+    overlap = (set(spec.parameters) | set(spec.grid)) & set(spec.fixed)
     if overlap:
-        raise StudyError(f"{where}: field 'fixed': {sorted(overlap)} are also uncertain 'parameters'")
+        raise StudyError(f"{where}: field 'fixed': {sorted(overlap)} are also uncertain 'parameters' or 'grid' entries")
     for i, out in enumerate(spec.outputs):
-        if out not in model.outputs:
+        if out not in model.outputs and not spec.model.variants:
             raise StudyError(f"{where}: field 'outputs[{i}]': unknown output {out!r} of model "
                              f"{spec.model.name!r}; known: {', '.join(model.outputs)}")
     space = None

@@ -137,6 +137,7 @@ BASE = Path(__file__).with_name("conftest.py")
     ("REPLACE:x1: {low: -3.14159, high: 3.14159}|x1: {dist: normal, mean: 0, std: 1}",
      "field 'parameters.x1': support [-inf, inf] leaves the allowed range"),
     ("REPLACE:run: {jobs: 1|run: {jobs: 0", "field 'run.jobs': Input should be greater than or equal to 1"),
+    ("REPLACE:name: demo|name: demo\ngrid: {x1: [0.0]}", "'grid' and 'model.variants' need kind: sweep"),
 ])
 def test_malformed_studies_exit_2_naming_the_field(write_study, tmp_path: Path, capsys, edit, message) -> None:
     if edit is None:
@@ -205,3 +206,45 @@ def test_fault_study_verdicts(write_study, tmp_path: Path) -> None:
     assert v.loc[1.5, "std_healthy"] == pytest.approx(0.72, abs=0.1)
     assert v["ST_fault"].iloc[0] > 0.3
     assert (out / "fault_detectability.png").exists()
+
+
+SEED003_DIR = Path(__file__).parents[2] / "studies"
+
+
+def test_variant_and_grid_sweep_reproduce_seed003_frequencies(tmp_path: Path) -> None:
+    """``model.variants`` x ``grid`` sweeps: seed 003's 34.5 / 38 Hz and the Fig. 14 trend, end to end."""
+    out = tmp_path / "freq"
+    assert main(["-q", "run", str(SEED003_DIR / "seed003_frequencies.yaml"), "--out", str(out)]) == 0
+    table = pd.read_csv(out / "sweep_summary.csv").set_index("variant")["bearing_frequency_hz_mean"]
+    assert round(table["config=one_mass, magnetic=False"], 1) == 34.5
+    assert round(table["config=tower_side_to_side, magnetic=False"]) == 38
+    assert table["config=substructure, magnetic=True"] < table["config=substructure, magnetic=False"]
+    assert "| config=one_mass, magnetic=False | 34.4567" in (out / "summary.md").read_text()
+    out = tmp_path / "sweep"
+    assert main(["-q", "run", str(SEED003_DIR / "seed003_bearing_stiffness_sweep.yaml"), "--out", str(out)]) == 0
+    sweep = pd.read_csv(out / "sweep_summary.csv")
+    assert len(sweep) == 14 and {"sweep_bearing_frequency_hz.png", "sweep_tower_frequency_hz.png"} <= {
+        p.name for p in out.iterdir()}
+    tower = sweep[sweep["variant"] == "config=tower_torsion"].set_index("bearing_stiffness")["tower_frequency_hz_mean"]
+    assert tower[1e10] == pytest.approx(tower[5e10], rel=0.01)
+
+
+@pytest.mark.parametrize("edit, message", [
+    ("grid: {bearing_stiffness: [1e3]}", "field 'grid.bearing_stiffness': value 1000 leaves the allowed range"),
+    ("grid: {stiffness: [1e9]}", "field 'grid.stiffness': not a parameter"),
+    ("REPLACE:{config: one_mass, magnetic: false}|{config: one_mas}", "field 'model.variants[0]'"),
+    ("REPLACE:outputs: [bearing_frequency_hz|outputs: [tower_frequency_hz",
+     "output 'tower_frequency_hz' does not exist in model.variants[0]"),
+])
+def test_malformed_sweeps_name_the_field(write_study, capsys, edit: str, message: str) -> None:
+    text = (SEED003_DIR / "seed003_frequencies.yaml").read_text()
+    if edit.startswith("REPLACE:"):
+        old, new = edit[len("REPLACE:"):].split("|")
+        assert old in text
+        text = text.replace(old, new)
+    else:
+        text += edit + "\n"
+    path = write_study("bad_sweep", text=text)
+    assert main(["validate", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and str(path) in err

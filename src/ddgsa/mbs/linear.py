@@ -18,6 +18,7 @@ samples (the integrators' C1 interpolation; one matrix exponential).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from math import comb
 
 import numpy as np
 from numpy.typing import NDArray
@@ -140,14 +141,29 @@ def simulate_lti(lin: LinearSystem, u: NDArray[np.float64], dt: float) -> tuple[
     the first sample (``K dp = B du0 + r0``, ``dv = 0``).
     """
     a, bw = state_matrices(lin)
-    phi, gains = discretise_cubic(a, bw, dt)
     npos = lin.k.shape[1]
     w = np.column_stack([u - lin.u0, np.ones(len(u))])
     dp0 = np.linalg.lstsq(lin.k, lin.b @ w[0, :-1] + lin.r0, rcond=None)[0]
-    x = np.concatenate([dp0, np.zeros(lin.m.shape[0])])
-    drive = sum(c @ g.T for c, g in zip(catmull_rom_coefficients(w), gains))
-    out = _recurrence(phi, np.vstack([drive, np.zeros((1, x.size))]), x)
+    out = lti_response(a, bw, w, dt, np.concatenate([dp0, np.zeros(lin.m.shape[0])]))
     return lin.p0 + out[:, :npos], lin.v0 + out[:, npos:]
+
+
+def lti_response(a: NDArray[np.float64], bw: NDArray[np.float64], w: NDArray[np.float64], dt: float,
+                 x0: NDArray[np.float64], n_sub: int = 1) -> NDArray[np.float64]:
+    """States of ``x_dot = A x + B_w w(t)`` for samples ``w`` (n_t, k) at spacing ``dt`` [s], exactly.
+
+    ``w`` between samples is the C1 cubic (Catmull-Rom) interpolant; the states come back at
+    ``n_sub`` points per sample interval (``(n_t - 1) n_sub + 1`` rows), each sub-interval's
+    cubic re-expanded exactly, so a fine output grid costs no interpolation error.
+    """
+    phi, gains = discretise_cubic(a, bw, dt / n_sub)
+    coeffs = catmull_rom_coefficients(w)
+    drive = np.empty((len(w) - 1, n_sub, a.shape[0]))
+    for m in range(n_sub):
+        # w(k + (m + s)/n) as a cubic in s: d_i = sum_{j>=i} c_j C(j, i) m^(j-i) / n^j
+        sub = [sum(coeffs[j] * (comb(j, i) * m ** (j - i) / n_sub ** j) for j in range(i, 4)) for i in range(4)]
+        drive[:, m] = sum(d @ g.T for d, g in zip(sub, gains))
+    return _recurrence(phi, np.vstack([drive.reshape(-1, a.shape[0]), np.zeros((1, a.shape[0]))]), x0)
 
 
 @njit(cache=True)

@@ -1,0 +1,344 @@
+"""Radial generator degree of freedom of a direct-drive turbine with magnetic pull (seed 003).
+
+The rotating assembly (rotor assembly + generator rotor, mass ``m_rot``) sits on a rigid shaft
+whose tilt and axial motion are constrained (seed 003 Fig. 5); two main bearings act as radial
+springs ``c_B`` each, and the magnetic pull of the air gap (:mod:`ddgsa.models.electromagnetic`)
+acts in parallel as a negative stiffness on the eccentricity, the rotor's displacement relative
+to the stator. Configurations (``config``):
+
+``one_mass``
+    The seed's §2.1 estimate: one horizontal DOF on a rigid support,
+    ``f = sqrt(2 c_B / m_rot) / 2 pi`` (34.5 Hz for 10 GN/m and 426.7 t).
+``substructure``
+    The drive-train substructure of seed Fig. 4(b): both radial directions (y horizontal,
+    z up), gravity sag, hub forces, the pull acting on the eccentricity vector. Linearised
+    about the sagged state the pull is slightly anisotropic.
+``tower_side_to_side``, ``tower_torsion``
+    The substructure coupled to the tower through the reduced 2-DOF-2-mass model of seed
+    Eq. 2: a tower mass ``m_1`` on a linearised tower spring ``c_i,lin`` (Table 3:
+    3.48e6 N/m side-to-side, 2.55e9 N/m torsion, with ``m_1 + m_2`` = 2 446 t) carries the
+    stator; the rotor's horizontal DOF couples to it through the bearings.
+
+Each configuration runs with or without the magnetic forces (``magnetic``). Damping is not
+given in the seed: a bearing damping ratio (of the one-mass mode) and a tower damping ratio
+are parameters (2 % and 1 %).
+
+Time response: the hub forces ``Fy, Fz`` of the scene act on the rotor (the load generator is
+the NREL 5-MW rotor's, scaled by ``hub_force_factor``; the hub moments are carried by the tilt
+constraint, as in the seed). The system is linearised about the static state under gravity
+and the mean hub forces (solved with the nonlinear pull) and integrated exactly for the C1
+cubic load input (:func:`ddgsa.mbs.linear.lti_response`) on an output grid of at least
+:data:`ddgsa.mbs.sampling.RESOLVED` samples per period of the highest mode. Validity: the pull
+is linearised about the static eccentricity; each evaluation measures the nonlinear pull at
+the peak eccentricity against the linearised one and fails (recorded, not imputed) when they
+differ by more than 1 % of the bearing force.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+
+from ddgsa.errors import ModelError, unknown_name_message
+from ddgsa.loads import generate
+from ddgsa.loads.scene import Scene
+from ddgsa.mbs.linear import lti_response
+from ddgsa.mbs.modal import modal_analysis
+from ddgsa.mbs.sampling import RESOLVED, check_interval
+from ddgsa.models.base import Model, ModelParameter, register_model
+from ddgsa.models.electromagnetic import PMGenerator, pull_jacobian, pull_vector, radial_pull
+
+CONFIGS = ("one_mass", "substructure", "tower_side_to_side", "tower_torsion")
+GRAVITY = 9.81
+"""Gravitational acceleration [m/s^2]."""
+TOTAL_MASS_TABLE3 = 2446e3
+"""``m_1 + m_2`` of seed 003 Table 3 [kg]."""
+TOWER_STIFFNESS = {"tower_side_to_side": 3.48e6, "tower_torsion": 2.55e9}
+"""Linearised tower stiffness ``c_i,lin`` of seed 003 Table 3 [N/m]."""
+LINEARISATION_TOLERANCE = 0.01
+"""Largest allowed pull linearisation error at the peak eccentricity, relative to the bearing force."""
+
+_BASE_PARAMETERS = (
+    ModelParameter("bearing_stiffness", 10e9, "N/m", "radial stiffness of each of the two main bearings", 1e7, 1e13),
+    ModelParameter("rotating_mass", 426.7e3, "kg", "rotor assembly (274.9 t) + generator rotor (151.8 t)", 1e3, 1e8),
+    ModelParameter("air_gap", 0.010, "m", "mechanical air gap at zero eccentricity", 1e-3, 0.1),
+    ModelParameter("magnet_remanence", 1.28, "T", "remanent flux density B_r of the magnets", 0.1, 2.0),
+    ModelParameter("magnet_height", 0.1, "m", "radial magnet height h_m", 1e-3, 0.5),
+    ModelParameter("bearing_damping_ratio", 0.02, "-", "damping ratio of the one-mass bearing mode", 0.0, 1.0),
+    ModelParameter("hub_force_factor", 1.0, "-", "scale on the scene's radial hub forces Fy, Fz", 0.0, 100.0),
+)
+
+
+def _tower_parameters(config: str) -> tuple[ModelParameter, ...]:
+    return (
+        ModelParameter("tower_mass", TOTAL_MASS_TABLE3 - 426.7e3, "kg",
+                       "non-rotating mass of tower and tower top m_1 (seed 003 Table 3: m_1 + m_2 = 2 446 t)",
+                       1e3, 1e9),
+        ModelParameter("tower_stiffness", TOWER_STIFFNESS[config], "N/m",
+                       "linearised tower stiffness c_i,lin at the generator (seed 003 Table 3)", 1e3, 1e13),
+        ModelParameter("tower_damping_ratio", 0.01, "-", "damping ratio of the tower on its own", 0.0, 1.0),
+    )
+
+
+def magnetic_pull(eccentricity: ArrayLike, params: Mapping[str, float] | None = None) -> NDArray[np.float64]:
+    """Net radial magnetic force [N] towards the smallest gap at radial ``eccentricity`` [m].
+
+    ``params`` overrides the generator data by name: the model parameters ``air_gap``,
+    ``magnet_remanence``, ``magnet_height`` and the other :class:`PMGenerator` fields
+    (``pole_arc_ratio``, ``carter_factor``, ``sectors``...). Defaults: IEA 15 MW (seed 003 Table 2).
+
+    Examples
+    --------
+    >>> round(float(magnetic_pull(1e-3)) / 1e3)      # kN at 1 mm
+    283
+    """
+    return radial_pull(eccentricity, PMGenerator().updated(params))
+
+
+@dataclass(frozen=True)
+class Matrices:
+    """Linearised system ``M q'' + C q' + K q = B f`` about the static state, and its maps.
+
+    ``ecc`` maps coordinates to the eccentricity components (one row per direction); ``b`` maps
+    the hub forces (Fy[, Fz]) to the coordinates; ``static_q``/``static_ecc`` hold the static state.
+    """
+
+    m: NDArray[np.float64]
+    c: NDArray[np.float64]
+    k: NDArray[np.float64]
+    b: NDArray[np.float64]
+    ecc: NDArray[np.float64]
+    static_q: NDArray[np.float64]
+    static_ecc: NDArray[np.float64]
+    bearing_damping: float
+
+
+@register_model("generator_radial")
+class GeneratorRadial(Model):
+    """Radial generator DOF with magnetic pull, alone or coupled to a tower mode (see the module).
+
+    Parameters
+    ----------
+    config : str
+        ``one_mass``, ``substructure``, ``tower_side_to_side`` or ``tower_torsion``.
+    magnetic : bool
+        Include the magnetic pull (negative stiffness).
+    fidelity : str
+        Only ``linearised`` (about the static state; see the module for its validity check).
+    output_step : float, optional
+        Output interval [s]; must divide the scene's ``dt``. Default: the largest such interval
+        with at least 10 samples per period of the highest mode. Below 2 samples per period it is
+        refused (the output would alias), below 10 warned (peaks under-resolved).
+    generator : mapping, optional
+        Overrides of further :class:`PMGenerator` fields (``pole_arc_ratio``, ``carter_factor``,
+        ``sectors``, ``air_gap_radius``, ``core_length``, ``relative_permeability``).
+
+    Outputs
+    -------
+    ``bearing_frequency_hz`` (the ``bearing_radial`` mode), ``tower_frequency_hz`` (tower
+    configurations), ``static_eccentricity_m``, ``peak_eccentricity_m`` and
+    ``rms_dynamic_eccentricity_m`` (|e - e_static|) [m], ``peak_bearing_force_n`` (one bearing,
+    dynamic + static) [N].
+    """
+
+    fidelities: ClassVar[tuple[str, ...]] = ("linearised",)
+
+    def __init__(self, config: str = "substructure", magnetic: bool = True, fidelity: str = "linearised",
+                 output_step: float | None = None, generator: Mapping[str, float] | None = None) -> None:
+        if config not in CONFIGS:
+            raise ModelError("model 'generator_radial': " + unknown_name_message("config", config, CONFIGS))
+        if fidelity not in self.fidelities:
+            raise ModelError(f"model 'generator_radial': unknown fidelity {fidelity!r}; known: linearised")
+        if not isinstance(magnetic, bool):
+            raise ModelError(f"model 'generator_radial': magnetic must be true or false, got {magnetic!r}")
+        if output_step is not None and not (isinstance(output_step, (int, float)) and output_step > 0):
+            raise ModelError(f"model 'generator_radial': output_step must be a positive number [s], got {output_step!r}")
+        self.config, self.magnetic, self.fidelity = config, magnetic, fidelity
+        self.output_step = output_step
+        self.generator = PMGenerator().updated(dict(generator or {}))
+        bad = set(generator or {}) - set(PMGenerator.__dataclass_fields__)
+        if bad:
+            raise ModelError(f"model 'generator_radial': unknown generator field(s) {sorted(bad)}; "
+                             f"known: {', '.join(PMGenerator.__dataclass_fields__)}")
+        self.tower = config.startswith("tower_")
+        self.parameters = _BASE_PARAMETERS + (_tower_parameters(config) if self.tower else ())
+        self.coordinates = (("tower_y",) if self.tower else ()) + (("rotor_y",) if config == "one_mass"
+                                                                  else ("rotor_y", "rotor_z"))
+        self.outputs = (("bearing_frequency_hz",) + (("tower_frequency_hz",) if self.tower else ())
+                        + ("static_eccentricity_m", "peak_eccentricity_m", "rms_dynamic_eccentricity_m",
+                           "peak_bearing_force_n"))
+
+    # -- physics -------------------------------------------------------------------------
+    def _gen(self, p: Mapping[str, float]) -> PMGenerator:
+        return self.generator.updated({k: p[k] for k in ("air_gap", "magnet_remanence", "magnet_height")})
+
+    def _pull(self, ecc: NDArray[np.float64], gen: PMGenerator) -> NDArray[np.float64]:
+        """Pull on the rotor in the model's eccentricity directions [N] (zero when ``magnetic`` is off)."""
+        if not self.magnetic:
+            return np.zeros_like(ecc)
+        f = pull_vector(ecc[0], ecc[1] if ecc.size > 1 else 0.0, gen)
+        return f[: ecc.size]
+
+    def _pull_stiffness(self, ecc: NDArray[np.float64], gen: PMGenerator) -> NDArray[np.float64]:
+        if not self.magnetic:
+            return np.zeros((ecc.size, ecc.size))
+        j = pull_jacobian(float(ecc[0]), float(ecc[1]) if ecc.size > 1 else 0.0, gen)
+        return j[: ecc.size, : ecc.size]
+
+    def static_eccentricity(self, p: Mapping[str, float], rotor_force: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Eccentricity [m] where ``2 c_B e - F_mag(e) = rotor_force`` (Newton, nonlinear pull).
+
+        Raises
+        ------
+        RuntimeError
+            When the pull exceeds the bearings (no equilibrium inside the gap: the rotor would
+            close the gap) or Newton does not converge.
+        """
+        gen = self._gen(p)
+        k_b = 2 * p["bearing_stiffness"]
+        e = rotor_force / k_b
+        for _ in range(50):
+            try:
+                res = k_b * e - self._pull(e, gen) - rotor_force
+            except ValueError as exc:
+                raise RuntimeError(f"no static equilibrium inside the air gap ({exc})") from None
+            jac = k_b * np.eye(e.size) - self._pull_stiffness(e, gen)
+            if np.linalg.eigvalsh(jac).min() <= 0:
+                raise RuntimeError("magnetic pull stiffness exceeds the bearings': no stable centred rotor")
+            step = np.linalg.solve(jac, res)
+            e = e - step
+            if np.max(np.abs(step)) < 1e-15 + 1e-12 * np.max(np.abs(e)):
+                return e
+        raise RuntimeError("static eccentricity: Newton did not converge in 50 iterations")
+
+    def matrices(self, params: Mapping[str, float] | None = None,
+                 mean_hub_force: NDArray[np.float64] | None = None) -> Matrices:
+        """The linearised system about the static state under gravity (not in ``one_mass``) and mean hub forces."""
+        p = self.resolve(params).iloc[0].to_dict()
+        n_dir = 1 if self.config == "one_mass" else 2
+        n = len(self.coordinates)
+        rot = slice(n - n_dir, n)                                   # rotor coordinates
+        ecc = np.zeros((n_dir, n))
+        ecc[:, rot] = np.eye(n_dir)
+        if self.tower:
+            ecc[0, 0] = -1.0                                        # horizontal gap closes with the stator
+        b = np.zeros((n, n_dir))
+        b[rot] = np.eye(n_dir)
+        f_hub = np.zeros(n_dir) if mean_hub_force is None else np.asarray(mean_hub_force[:n_dir], dtype=float)
+        rotor_force = f_hub * p["hub_force_factor"]
+        if n_dir == 2:
+            rotor_force = rotor_force + np.array([0.0, -p["rotating_mass"] * GRAVITY])
+        e0 = self.static_eccentricity(p, rotor_force)
+        k_b = 2 * p["bearing_stiffness"]
+        d_b = p["bearing_damping_ratio"] * 2 * math.sqrt(k_b * p["rotating_mass"])
+        k_e = k_b * np.eye(n_dir) - self._pull_stiffness(e0, self._gen(p))
+        m = np.diag(([p["tower_mass"]] if self.tower else []) + [p["rotating_mass"]] * n_dir)
+        k = ecc.T @ k_e @ ecc
+        c = ecc.T @ (d_b * np.eye(n_dir)) @ ecc
+        q0 = np.zeros(n)
+        q0[rot] = e0
+        if self.tower:
+            c_t = p["tower_stiffness"]
+            k[0, 0] += c_t
+            c[0, 0] += p["tower_damping_ratio"] * 2 * math.sqrt(c_t * (p["tower_mass"] + p["rotating_mass"]))
+            q0[0] = rotor_force[0] / c_t                            # the tower carries the horizontal force
+            q0[n - n_dir] += q0[0]
+        return Matrices(m, c, k, b * p["hub_force_factor"], ecc, q0, e0, d_b / 2)
+
+    # -- Model interface -----------------------------------------------------------------
+    def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+        """Natural frequencies [Hz], damping ratios and labels about the static state under gravity.
+
+        Labels: ``bearing_radial`` (horizontal rotor mode; with a tower, the out-of-phase coupled
+        mode), ``bearing_radial_vertical`` and the tower configuration's name for the tower mode.
+        """
+        mats = self.matrices(params)
+        groups = {"tower_y": self.config, "rotor_y": "bearing_radial", "rotor_z": "bearing_radial_vertical"}
+        out = modal_analysis(mats.m, mats.c, mats.k, self.coordinates, {c: groups[c] for c in self.coordinates})
+        if self.tower:      # horizontal pair: the in-phase (lower) mode is the tower's, whatever its energy split
+            horizontal = out.index[out["share_bearing_radial_vertical"] < 0.5]
+            out.loc[horizontal.min(), "label"], out.loc[horizontal.max(), "label"] = self.config, "bearing_radial"
+        return out
+
+    def output_interval(self, scene: Scene, highest_hz: float) -> tuple[float, int]:
+        """Output interval [s] and sub-steps per scene sample; checked by the aliasing guard."""
+        if self.output_step is None:
+            n_sub = max(1, math.ceil(scene.dt * RESOLVED * highest_hz))
+        else:
+            n_sub = max(1, int(round(scene.dt / self.output_step)))
+            if abs(n_sub * self.output_step - scene.dt) > 1e-9 * scene.dt:
+                raise ModelError(f"model 'generator_radial': output_step {self.output_step} s must divide "
+                                 f"the scene's dt {scene.dt} s")
+        h = scene.dt / n_sub
+        check_interval(h, highest_hz, "generator_radial output interval", refuse=True)
+        return h, n_sub
+
+    def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+        """Time series on the output grid: eccentricity ``ecc_y[, ecc_z]`` [m], its magnitude
+        ``eccentricity`` [m], the force on one bearing ``bearing_Fy[, bearing_Fz]`` [N] and
+        ``tower_y`` [m] in tower configurations. ``attrs``: ``static_eccentricity`` [m],
+        ``output_step`` [s], ``linearisation_error`` (pull at the peak, relative to the bearing force).
+        """
+        p = self.resolve(params).iloc[0].to_dict()
+        loads = generate(scene)
+        hub = loads[["Fy", "Fz"]].to_numpy()
+        mats = self.matrices(p, hub.mean(axis=0))
+        n_dir = mats.ecc.shape[0]
+        modes = modal_analysis(mats.m, mats.c, mats.k, self.coordinates, {c: "x" for c in self.coordinates})
+        h, n_sub = self.output_interval(scene, float(modes["frequency_hz"].max()))
+        n = len(self.coordinates)
+        minv = np.linalg.inv(mats.m)
+        a = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ mats.k, -minv @ mats.c]])
+        bw = np.vstack([np.zeros((n, n_dir)), minv @ mats.b])
+        w = hub[:, :n_dir] - hub[:, :n_dir].mean(axis=0)
+        x0 = np.concatenate([np.linalg.solve(mats.k, mats.b @ w[0]), np.zeros(n)])
+        x = lti_response(a, bw, w, scene.dt, x0, n_sub)
+        ecc = mats.static_ecc + x[:, :n] @ mats.ecc.T
+        ecc_rate = x[:, n:] @ mats.ecc.T
+        force = p["bearing_stiffness"] * ecc + mats.bearing_damping * ecc_rate
+        time = loads.index[0] + h * np.arange(len(x))
+        out = pd.DataFrame(ecc, index=pd.Index(time, name="time"), columns=["ecc_y", "ecc_z"][:n_dir])
+        out["eccentricity"] = np.linalg.norm(ecc, axis=1)
+        out[["bearing_Fy", "bearing_Fz"][:n_dir]] = force
+        if self.tower:
+            out["tower_y"] = mats.static_q[0] + x[:, 0]
+        out.attrs.update(static_eccentricity=mats.static_ecc, output_step=h,
+                         linearisation_error=self._linearisation_error(p, mats, ecc))
+        return out
+
+    def _linearisation_error(self, p: Mapping[str, float], mats: Matrices, ecc: NDArray[np.float64]) -> float:
+        """|F_mag(e_peak) - linearised F_mag(e_peak)| over the bearing force there."""
+        if not self.magnetic:
+            return 0.0
+        gen = self._gen(p)
+        i = int(np.argmax(np.linalg.norm(ecc - mats.static_ecc, axis=1)))
+        de = ecc[i] - mats.static_ecc
+        exact = self._pull(ecc[i], gen) - self._pull(mats.static_ecc, gen)
+        lin = self._pull_stiffness(mats.static_ecc, gen) @ de
+        return float(np.linalg.norm(exact - lin) / (2 * p["bearing_stiffness"] * np.linalg.norm(ecc[i])))
+
+    def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
+        sim = self.simulate(scene, params)
+        err = sim.attrs["linearisation_error"]
+        if err > LINEARISATION_TOLERANCE:
+            raise ValueError(f"linearised magnetic pull off by {err:.1%} of the bearing force at the peak "
+                             f"eccentricity (validity band {LINEARISATION_TOLERANCE:.0%})")
+        modes = self.modes(params)
+        freq = dict(zip(modes["label"], modes["frequency_hz"]))
+        ecc = sim[["ecc_y", "ecc_z"][: len(sim.attrs["static_eccentricity"])]].to_numpy()
+        force = sim[[c for c in sim.columns if c.startswith("bearing_F")]].to_numpy()
+        out: dict[str, Any] = {"bearing_frequency_hz": freq["bearing_radial"]}
+        if self.tower:
+            out["tower_frequency_hz"] = freq[self.config]
+        out.update(static_eccentricity_m=float(np.linalg.norm(sim.attrs["static_eccentricity"])),
+                   peak_eccentricity_m=float(sim["eccentricity"].max()),
+                   rms_dynamic_eccentricity_m=float(np.sqrt(np.mean(np.sum(
+                       (ecc - sim.attrs["static_eccentricity"]) ** 2, axis=1)))),
+                   peak_bearing_force_n=float(np.linalg.norm(force, axis=1).max()))
+        return out

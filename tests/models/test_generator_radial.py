@@ -1,0 +1,162 @@
+"""Radial generator model (seed 003): closed-form frequencies, magnetic pull, time response."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from ddgsa import models
+from ddgsa.errors import ModelError
+from ddgsa.loads import generate
+from ddgsa.loads.scene import Scene
+from ddgsa.mbs.linear import catmull_rom_coefficients
+from ddgsa.mbs.sampling import AliasingWarning
+from ddgsa.models.electromagnetic import MU_0, PMGenerator, linear_stiffness, pull_vector
+from ddgsa.models.generator_radial import TOTAL_MASS_TABLE3, magnetic_pull
+
+UNDAMPED = {"bearing_damping_ratio": 0.0}
+TOWER_UNDAMPED = {**UNDAMPED, "tower_damping_ratio": 0.0}
+
+
+def freq(model: models.Model, label: str, params: dict | None = None) -> float:
+    table = model.modes(params)
+    return float(table.loc[table["label"] == label, "frequency_hz"].iloc[0])
+
+
+def two_dof(m1: float, m2: float, k1: float, k2: float) -> tuple[float, float]:
+    """Closed-form natural frequencies [Hz] of seed 003 Eq. 2 (quadratic in omega^2)."""
+    b = m1 * k2 + m2 * (k1 + k2)
+    disc = math.sqrt(b * b - 4 * m1 * m2 * k1 * k2)
+    return tuple(math.sqrt(w2) / (2 * math.pi) for w2 in ((b - disc) / (2 * m1 * m2), (b + disc) / (2 * m1 * m2)))
+
+
+def test_one_mass_estimate_is_the_seeds_34_5_hz() -> None:
+    model = models.get("generator_radial", config="one_mass", magnetic=False)
+    f = freq(model, "bearing_radial", UNDAMPED)
+    assert f == pytest.approx(math.sqrt(2 * 10e9 / 426.7e3) / (2 * math.pi), rel=1e-9)
+    assert round(f, 1) == 34.5
+
+
+@pytest.mark.parametrize("config, tower_hz", [("tower_side_to_side", 0.19), ("tower_torsion", 5.1)])
+def test_two_dof_modes_equal_closed_form_and_the_seed(config: str, tower_hz: float) -> None:
+    model = models.get("generator_radial", config=config, magnetic=False)
+    p = model.nominal
+    assert p["tower_mass"] + p["rotating_mass"] == pytest.approx(TOTAL_MASS_TABLE3)
+    low, high = two_dof(p["tower_mass"], p["rotating_mass"], p["tower_stiffness"], 2 * p["bearing_stiffness"])
+    assert freq(model, config, TOWER_UNDAMPED) == pytest.approx(low, rel=1e-9)
+    assert freq(model, "bearing_radial", TOWER_UNDAMPED) == pytest.approx(high, rel=1e-9)
+    assert round(low, 2 if tower_hz < 1 else 1) == tower_hz
+    assert round(high) == 38
+
+
+def test_bearing_stiffness_moves_only_the_bearing_mode() -> None:
+    """Seed 003 Fig. 14: the tower modes stay put over realistic bearing stiffnesses."""
+    model = models.get("generator_radial", config="tower_side_to_side", magnetic=False)
+    f = {c: (freq(model, "tower_side_to_side", {"bearing_stiffness": c}), freq(model, "bearing_radial",
+             {"bearing_stiffness": c})) for c in (5e9, 2e10)}
+    assert f[2e10][0] == pytest.approx(f[5e9][0], rel=1e-3)
+    assert f[2e10][1] / f[5e9][1] == pytest.approx(2.0, rel=0.01)
+
+
+def test_magnetic_pull_is_zero_when_centred_and_grows_faster_than_linear() -> None:
+    gen = PMGenerator()
+    assert np.all(np.abs(pull_vector(0.0, 0.0, gen)) < 1e-6)           # N = 200: residual ~1e-9 N
+    e = np.linspace(1e-5, 5e-3, 60)
+    f = magnetic_pull(e)
+    assert np.all(np.diff(f) > 0)
+    assert np.all(np.diff(f / e) > 0)                                   # secant stiffness grows
+    slope = (magnetic_pull(1e-7) - magnetic_pull(-1e-7)) / 2e-7
+    assert slope == pytest.approx(linear_stiffness(gen), rel=0.01)
+
+
+def test_linear_pull_stiffness_from_first_principles() -> None:
+    """B0 = B_r h_m / (h_m + mu_r g) and k = pi R L alpha_p B0^2 / (mu_0 (h_m/mu_r + g)), by hand."""
+    b0 = 1.28 * 0.1 / (0.1 + 1.06 * 0.010)
+    k = math.pi * 5.08 * 2.17 * 0.8 * b0 ** 2 / (MU_0 * (0.1 / 1.06 + 0.010))
+    assert linear_stiffness() == pytest.approx(k, rel=1e-12)
+    assert 0.2e9 < k < 0.4e9
+    # a thinner magnet at the same remanence: less flux, but a far smaller magnetic gap
+    assert magnetic_pull(1e-3, {"magnet_height": 0.02}) > magnetic_pull(1e-3)
+    with pytest.raises(ValueError, match="closes"):
+        magnetic_pull(0.011)
+
+
+def test_magnetic_forces_lower_the_bearing_mode_by_the_stiffness_ratio() -> None:
+    off = freq(models.get("generator_radial", config="one_mass", magnetic=False), "bearing_radial", UNDAMPED)
+    on = freq(models.get("generator_radial", config="one_mass", magnetic=True), "bearing_radial", UNDAMPED)
+    assert on < off
+    assert on / off == pytest.approx(math.sqrt(1 - linear_stiffness() / (2 * 10e9)), rel=1e-6)
+
+
+def _reference_eccentricity(model: models.Model, scene: Scene) -> np.ndarray:
+    """solve_ivp (DOP853, rtol 1e-10) of the substructure with the *nonlinear* pull and gravity."""
+    p = model.nominal
+    gen = PMGenerator()
+    loads = generate(scene)
+    hub = loads[["Fy", "Fz"]].to_numpy()
+    coeffs = catmull_rom_coefficients(hub)
+    t0, m, kb = loads.index[0], p["rotating_mass"], 2 * p["bearing_stiffness"]
+    d = p["bearing_damping_ratio"] * 2 * math.sqrt(kb * m)
+
+    def force(t: float) -> np.ndarray:
+        k = min(int((t - t0) / scene.dt), len(hub) - 2)
+        s = (t - t0) / scene.dt - k
+        return sum(c[k] * s ** j for j, c in enumerate(coeffs))
+
+    def rhs(t: float, x: np.ndarray) -> np.ndarray:
+        e, v = x[:2], x[2:]
+        f = force(t) + np.array([0.0, -m * 9.81]) + pull_vector(e[0], e[1], gen) - kb * e - d * v
+        return np.concatenate([v, f / m])
+
+    e0 = model.matrices(None, hub.mean(axis=0)).static_ecc
+    mats = model.matrices(None, hub.mean(axis=0))
+    x0 = np.concatenate([e0 + np.linalg.solve(mats.k, hub[0] - hub.mean(axis=0)), [0.0, 0.0]])
+    sim = model.simulate(scene)
+    sol = solve_ivp(rhs, (t0, sim.index[-1]), x0, method="DOP853", rtol=1e-10, atol=1e-14,
+                    t_eval=sim.index.to_numpy(), max_step=1e-3)
+    return sim[["ecc_y", "ecc_z"]].to_numpy(), sol.y[:2].T
+
+
+def test_time_response_matches_a_nonlinear_second_solver() -> None:
+    model = models.get("generator_radial", config="substructure", magnetic=True)
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=6.0, dt=0.05, seed=3)
+    ours, ref = _reference_eccentricity(model, scene)
+    dyn = ref - ref.mean(axis=0)
+    assert np.max(np.abs(ours - ref)) < 1e-3 * np.max(np.abs(dyn)) + 1e-12
+    assert np.linalg.norm(ref[0]) == pytest.approx(2.1e-4, rel=0.05)     # the seed's 0.2 mm gravity sag
+
+
+def test_output_step_halving_and_outputs() -> None:
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=60.0, seed=2)
+    base = models.get("generator_radial", config="tower_side_to_side").evaluate(None, scene)
+    fine = models.get("generator_radial", config="tower_side_to_side",
+                      output_step=scene.dt / 40).evaluate(None, scene)
+    for col in base.columns:
+        assert fine[col][0] == pytest.approx(base[col][0], rel=2e-3), col
+    assert base["static_eccentricity_m"][0] < base["peak_eccentricity_m"][0] < 1e-3
+
+
+def test_aliasing_guard_refuses_and_warns() -> None:
+    scene = Scene(wind_speed=11.0, duration=10.0, dt=0.05)
+    with pytest.raises(ModelError, match="alias"):
+        models.get("generator_radial", output_step=0.05).simulate(scene)
+    with pytest.warns(AliasingWarning, match="samples per period"):
+        models.get("generator_radial", output_step=0.01).simulate(scene)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AliasingWarning)
+        sim = models.get("generator_radial").simulate(scene)
+    assert sim.attrs["output_step"] * 34.5 * 10 <= 1.0
+
+
+def test_bad_options_and_unstable_designs_are_reported() -> None:
+    with pytest.raises(ModelError, match="config"):
+        models.get("generator_radial", config="two_mass")
+    with pytest.raises(ModelError, match="generator field"):
+        models.get("generator_radial", generator={"magnets": 3})
+    model = models.get("generator_radial", config="one_mass")
+    out = model.evaluate({"bearing_stiffness": 1e8}, Scene(wind_speed=11.0, duration=10.0))
+    assert np.isnan(out.iloc[0, 0]) and "pull" in out.attrs["failures"][0]
