@@ -22,6 +22,7 @@ import pandas as pd
 
 import ddgsa
 from ddgsa.errors import StudyError
+from ddgsa.gsa.auto import AutoSobol
 from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.result import SobolResult
 from ddgsa.runner import EvaluationStore, ModelId, Outcome, Task, run_tasks, task_key
@@ -140,6 +141,11 @@ class _Plan:
                aggregate: str) -> np.ndarray:
         """Aggregated values (n_points, n_outputs) of a block in one scene; NaN where any realisation failed."""
         x, names = self.blocks[block]
+        return self.values_at(store, x, names, ps, outputs, aggregate)
+
+    def values_at(self, store: EvaluationStore, x: np.ndarray, names: tuple[str, ...], ps: PlannedScene,
+                  outputs: list[str], aggregate: str) -> np.ndarray:
+        """Aggregated values (n_points, n_outputs) at points ``x`` in one scene; NaN where any realisation failed."""
         pts = _points(self.study, x, names)
         per_real = []
         for scene in ps.scenes:
@@ -163,8 +169,35 @@ class _Plan:
 
 
 def _designs(study: Study) -> list[tuple[str, Design]]:
+    """The fixed designs of the study's methods (``auto`` chooses its points as it goes)."""
     assert study.space is not None
-    return [(m.method, get_method(m.method).design(study.space, **m.options)) for m in study.spec.methods]
+    return [(m.method, get_method(m.method).design(study.space, **m.options)) for m in study.spec.methods
+            if m.method != "auto"]
+
+
+def _run_auto(plan: _Plan, store: EvaluationStore, outputs: list[str], options: dict[str, Any],
+              evaluate: bool, run_opts: dict[str, Any], counts: dict[str, int]) -> list[SobolResult]:
+    """``method: auto`` in every scene at once: each stage's points of all scenes go to the runner together."""
+    study = plan.study
+    assert study.space is not None
+    names, aggregate = study.space.names, study.spec.scenes.aggregate
+    autos = [AutoSobol(study.space, outputs, **options) for _ in plan.scenes]
+    pending = {i: a.start() for i, a in enumerate(autos)}
+    while pending:
+        tasks = [plan.task(plan.scenes[i], scene, p) for i, x in pending.items()
+                 for scene in plan.scenes[i].scenes for p in _points(study, x, names)]
+        plan.tasks += tasks
+        if evaluate:
+            got = run_tasks(tasks, store, **run_opts)
+            for k in ("total", "cached", "evaluated", "failed"):
+                counts[k] += got[k]
+        nxt = {}
+        for i, x in pending.items():
+            new = autos[i].feed(plan.values_at(store, x, names, plan.scenes[i], outputs, aggregate))
+            if new is not None:
+                nxt[i] = new
+        pending = nxt
+    return [a.result for a in autos if a.result is not None]
 
 
 def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backend: str | None = None,
@@ -191,21 +224,23 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
         plan.add_block("nominal", *_grid(study))
     else:
         designs = _designs(study)
-        pooled = np.unique(np.vstack([d.points for _, d in designs]), axis=0)
         assert study.space is not None
+        pooled = np.unique(np.vstack([d.points for _, d in designs] + [np.zeros((0, study.space.dim))]), axis=0)
         plan.add_block("gsa", pooled, study.space.names)
         if spec.kind == "fault":
             _add_fault_blocks(study, plan)
     counts = {"total": len({t.key for t in plan.tasks}), "cached": 0, "evaluated": 0, "failed": 0}
     if evaluate:
         counts = run_tasks(plan.tasks, store, **run_opts)
+    auto = [_run_auto(plan, store, outputs, m.options, evaluate, run_opts, counts)
+            for m in spec.methods if m.method == "auto"]
     t_eval = time.perf_counter() - t0
     result = StudyResult(study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), {})
     failures: list[dict[str, Any]] = []
     if spec.kind == "sweep":
         result.sweep = _sweep_table(plan, store, outputs)
     else:
-        _analyse(plan, store, designs, outputs, result, failures)
+        _analyse(plan, store, designs, outputs, result, auto)
         if spec.kind == "fault":
             result.fault, result.fault_samples = _fault_verdicts(plan, store, outputs, result.indices)
     result.evaluations = _evaluation_table(store, plan)
@@ -218,26 +253,26 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
 
 
 def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Design]], outputs: list[str],
-             result: StudyResult, failures: list[dict[str, Any]]) -> None:
+             result: StudyResult, auto: list[list[SobolResult]]) -> None:
     study = plan.study
     assert study.space is not None
     pooled, _ = plan.blocks["gsa"]
     rows, diag_rows = [], []
-    for ps in plan.scenes:
+    for k, ps in enumerate(plan.scenes):
         y = plan.values(store, "gsa", ps, outputs, study.spec.scenes.aggregate)
-        for name, design in designs:
-            idx = _row_index(pooled, design.points)
-            res = get_method(name).analyze(study.space, design, y[idx], outputs=outputs)
+        scene_results = [get_method(name).analyze(study.space, design, y[_row_index(pooled, design.points)],
+                                                  outputs=outputs) for name, design in designs]
+        for res in scene_results + [per_scene[k] for per_scene in auto]:
             result.results.append((ps, res))
             table = res.to_frame()
-            for k, v in ps.fields.items():
-                table.insert(0, k, v)
+            for key, v in ps.fields.items():
+                table.insert(0, key, v)
             table.insert(0, "scene", ps.index)
             table.insert(0, "study", study.name)
             rows.append(table)
             d = res.diagnostics_frame()
             if len(d):
-                d.insert(0, "method", name)
+                d.insert(0, "method", res.method)
                 d.insert(0, "scene", ps.index)
                 diag_rows.append(d)
     result.indices = pd.concat(rows, ignore_index=True)

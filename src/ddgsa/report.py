@@ -241,7 +241,14 @@ def summary_markdown(result: StudyResult) -> str:
             for meth, gm in g.groupby("method", sort=False):
                 top = gm.sort_values("ST", ascending=False, na_position="last").head(5)
                 rank = ", ".join(f"{r.parameter} {r.ST:.2f}" for r in top.itertuples())
-                lines.append(f"| {meth} | {'yes' if gm['trusted'].all() else '**no**'} | {rank} |")
+                label = f"{meth} (from {gm['source'].iloc[0]})" if meth == "auto" else meth
+                lines.append(f"| {label} | {'yes' if gm['trusted'].all() else '**no**'} | {rank} |")
+            lines.append("")
+        logs = [(ps, res) for ps, res in result.results if res.method == "auto"]
+        if logs:
+            lines += ["## `method: auto` decisions", ""]
+            for ps, res in logs:
+                lines.append(f"- scene {ps.index}, {res.n_evals} runs: " + "; ".join(res.extras["auto_log"]))
             lines.append("")
         if len(result.diagnostics):
             lines += ["## Diagnostics", ""]

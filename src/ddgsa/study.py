@@ -39,6 +39,7 @@ from ruamel.yaml import YAML
 from ruamel.yaml.error import YAMLError
 
 from ddgsa.errors import DdgsaError, StudyError
+from ddgsa.gsa.auto import resolve_auto_options
 from ddgsa.gsa.base import METHODS, get_method
 from ddgsa.loads.scene import Scene
 from ddgsa.models import MODELS
@@ -315,9 +316,15 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
                 raise StudyError(f"{where}: field 'parameters.{p.name}': support [{lo:g}, {hi:g}] leaves the "
                                  f"allowed range [{decl.low:g}, {decl.high:g}] {decl.unit}")
     for i, m in enumerate(spec.methods):
+        if m.method == "auto":
+            try:
+                resolve_auto_options(space, m.options) if space is not None else None
+            except DdgsaError as exc:
+                raise StudyError(f"{where}: field 'methods[{i}]': {exc}") from None
+            continue
         if m.method not in METHODS:
             raise StudyError(f"{where}: field 'methods[{i}].method': unknown GSA method {m.method!r}; "
-                             f"known: {', '.join(sorted(METHODS))}")
+                             f"known: {', '.join(sorted([*METHODS, 'auto']))}")
         try:
             get_method(m.method).design(space, **m.options) if space is not None else None
         except DdgsaError as exc:

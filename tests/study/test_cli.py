@@ -138,6 +138,7 @@ BASE = Path(__file__).with_name("conftest.py")
      "field 'parameters.x1': support [-inf, inf] leaves the allowed range"),
     ("REPLACE:run: {jobs: 1|run: {jobs: 0", "field 'run.jobs': Input should be greater than or equal to 1"),
     ("REPLACE:name: demo|name: demo\ngrid: {x1: [0.0]}", "'grid' and 'model.variants' need kind: sweep"),
+    ("REPLACE:method: mdrm, points: 5|method: auto, budget: 5", "field 'methods[0]': method 'auto': option 'budget'"),
 ])
 def test_malformed_studies_exit_2_naming_the_field(write_study, tmp_path: Path, capsys, edit, message) -> None:
     if edit is None:
@@ -248,3 +249,25 @@ def test_malformed_sweeps_name_the_field(write_study, capsys, edit: str, message
     assert main(["validate", str(path)]) == 2
     err = capsys.readouterr().err
     assert message in err and str(path) in err
+
+
+def test_method_auto_in_a_study_reports_its_decisions(write_study, tmp_path: Path) -> None:
+    text = Path(write_study()).read_text().replace(
+        "  - {method: mdrm, points: 5}\n  - {method: saltelli, n: 64, seed: 0}\n",
+        "  - {method: auto, budget: 1500}\n")
+    out = tmp_path / "auto"
+    assert main(["-q", "run", str(write_study("auto", text=text)), "--out", str(out)]) == 0
+    table = pd.read_csv(out / "indices.csv")
+    tf = ishigami()
+    for scene, factor in ((0, 8.0 / 11.0), (1, 1.0)):
+        got = table[(table["scene"] == scene) & (table["output"] == "y")]
+        assert set(got["source"]) == {"pce"} and got["trusted"].all()
+        assert np.abs(got["ST"].to_numpy() - tf.ST).max() < 0.02
+    summary = (out / "summary.md").read_text()
+    assert "auto (from pce)" in summary and "## `method: auto` decisions" in summary
+    assert "mdrm (48 runs): untrusted for y" in summary
+    # the report rebuilds from the store without model runs; a rerun evaluates nothing
+    assert main(["-q", "report", str(out)]) == 0
+    assert main(["-q", "run", str(write_study("auto", text=text)), "--out", str(out)]) == 0
+    prov = (out / "provenance.json").read_text()
+    assert '"evaluated": 0' in prov

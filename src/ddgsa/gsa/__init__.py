@@ -15,6 +15,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from ddgsa.gsa import mdrm, pce, salib  # noqa: F401  (register the methods)
+from ddgsa.gsa.auto import run_auto
 from ddgsa.gsa.base import METHODS, Design, GsaMethod, get_method, register
 from ddgsa.gsa.result import Diagnostic, SobolResult
 from ddgsa.space import ParameterSpace
@@ -38,7 +39,9 @@ def sobol(f: Model, space: ParameterSpace, method: str = "mdrm", *,
     space : ParameterSpace
         The uncertain inputs.
     method : str
-        A registered method: ``mdrm``, ``saltelli``, ``fast``, ``rbd_fast``, ``pce``.
+        A registered method: ``mdrm``, ``saltelli``, ``fast``, ``rbd_fast``, ``pce``; or ``auto``
+        (M-DRM, escalating to PCE and Saltelli within ``budget`` runs while diagnostics fire:
+        :mod:`ddgsa.gsa.auto`).
     outputs : sequence of str, optional
         Names of the outputs (default: DataFrame columns, ``y`` or ``y0, y1, ...``).
     **options
@@ -59,6 +62,8 @@ def sobol(f: Model, space: ParameterSpace, method: str = "mdrm", *,
     >>> bool(abs(res.indices["S1"].to_numpy() - g.S1).max() < 0.05)
     True
     """
+    if method == "auto":
+        return run_auto(f, space, list(outputs) if outputs is not None else None, **options)
     m = get_method(method)
     design = m.design(space, **options)
     values = f(design.points)

@@ -34,7 +34,8 @@ name                           severity  fires when
                                          ``resolution_tol`` of its variance; points >= 5;
                                          inputs with >= 1 % of the cut-function variance)
 ``mdrm_quadrature_coverage``   warning   more than 25 % of an input's probability lies
-                                         beyond its outermost node (heavy tails)
+                                         beyond its outermost node (heavy tails);
+                                         untrusted beyond 50 % (a node past the median)
 ``mdrm_check_r2``              untrusted check sample: R^2 of the multiplicative surrogate
                                          < ``check_r2``
 ``mdrm_check_variance``        untrusted check sample: |Var(surrogate) - Var(h)| / Var(h)
@@ -62,6 +63,7 @@ from ddgsa.quadrature import gauss_rule
 from ddgsa.space import ParameterSpace
 
 _TAIL_LIMIT = 0.25
+_TAIL_UNTRUSTED = 0.5
 
 
 @register("mdrm")
@@ -190,10 +192,15 @@ def _coverage_diagnostics(space: ParameterSpace, design: Design) -> list[Diagnos
         lo, hi = p.cdf(np.array([nodes.min(), nodes.max()]))
         tail = max(float(lo), float(1.0 - hi))
         if tail > _TAIL_LIMIT:
+            # beyond half, a node sits past the median: the rule no longer samples the bulk of the
+            # input (lognormal sigma = 1, 5 nodes: 56 % below the smallest node, 0.05 index error
+            # on an additive function, measured, that the 32-point check sample does not see)
+            bulk = tail > _TAIL_UNTRUSTED
             diags.append(Diagnostic("mdrm_quadrature_coverage",
                                     f"{p.name!r}: {tail:.0%} of its probability lies beyond the outermost "
-                                    f"Gauss node ({p.dist}, heavy tail?); the quadrature relies on moments only",
-                                    "warning", parameter=p.name, value=tail))
+                                    f"Gauss node ({p.dist}, heavy tail?); the quadrature relies on moments only"
+                                    + ("; the nodes miss the bulk of the distribution" if bulk else ""),
+                                    "untrusted" if bulk else "warning", parameter=p.name, value=tail))
     return diags
 
 

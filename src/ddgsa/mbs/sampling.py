@@ -6,6 +6,15 @@ mode with fewer than about ten samples per period is underestimated (by up to
 ``1 - cos(pi / n)``: 5 % at ``n`` = 10). Seed 003 found its results sensitive to the
 aerodynamic and controller communication intervals once the generator's 34.5 Hz radial mode
 was added, and had to go from 0.02 s to 0.007 s (controller) and 0.0001 s (aerodynamics).
+
+Where it applies in ddgsa: model *outputs* sampled for peaks (``generator_radial``: refused
+below 2, warned below 10 samples per period) and implicit *integration* steps against the
+lowest natural frequency (``direct_drive``: warned below 2 steps per period -- the mode is then
+damped numerically, not resolved; refining the step further changes its outputs by < 0.2 %,
+measured, because the loads carry nothing above their own Nyquist frequency). The hub loads
+are computed beforehand (one-way coupling) and enter as a C1 cubic between samples, so their
+interval cannot alias a structural mode here; it bounds the excitation instead: modes above
+``1 / (2 dt)`` respond only quasi-statically.
 """
 
 from __future__ import annotations
@@ -29,7 +38,8 @@ def samples_per_period(interval_s: float, frequency_hz: float) -> float:
     return 1.0 / (interval_s * frequency_hz)
 
 
-def check_interval(interval_s: float, frequency_hz: float, what: str, *, refuse: bool) -> str | None:
+def check_interval(interval_s: float, frequency_hz: float, what: str, *, refuse: bool,
+                   warn_below: float = RESOLVED) -> str | None:
     """Check that ``interval_s`` [s] resolves a mode at ``frequency_hz`` [Hz].
 
     Parameters
@@ -39,6 +49,8 @@ def check_interval(interval_s: float, frequency_hz: float, what: str, *, refuse:
     refuse : bool
         Raise below the Nyquist rate (outputs: an aliased output is wrong, not imprecise);
         otherwise warn.
+    warn_below : float
+        Samples per period below which to warn (default :data:`RESOLVED`).
 
     Returns
     -------
@@ -51,7 +63,7 @@ def check_interval(interval_s: float, frequency_hz: float, what: str, *, refuse:
         When ``refuse`` and fewer than 2 samples fall in a period.
     """
     n = samples_per_period(interval_s, frequency_hz)
-    if n >= RESOLVED:
+    if n >= warn_below:
         return None
     msg = (f"{what} {interval_s:.4g} s gives {n:.2g} samples per period of the {frequency_hz:.4g} Hz mode "
            f"(Nyquist needs > {NYQUIST:g}, peaks need >= {RESOLVED:g}: at most {1 / (RESOLVED * frequency_hz):.3g} s)")

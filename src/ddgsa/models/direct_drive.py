@@ -47,6 +47,8 @@ Damage rate (Palmgren-Miner with ``L10 = (C/P)^(10/3)`` million revolutions):
 
 from __future__ import annotations
 
+import functools
+
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -63,6 +65,7 @@ from ddgsa.mbs.beam import BeamSpec, mesh, shaft_modes
 from ddgsa.mbs.ffr import inertia_points
 from ddgsa.mbs.modal import linearise, modal_analysis
 from ddgsa.mbs.linear import linearise_map, linearise_spinning, simulate_lti, spring_outputs
+from ddgsa.mbs.sampling import NYQUIST, check_interval
 from ddgsa.mbs.system import SystemArrays, evaluate_terms, integrate, integrate_reference
 from ddgsa.models.base import Model, ModelParameter, register_model
 
@@ -338,6 +341,7 @@ class DirectDrive(Model):
             qd0 = np.zeros_like(q0)
             qd0[3] = loads["rotor_speed"].iloc[0]
             if self.integrator == "gen_alpha":
+                self._check_step()
                 res = integrate(asm.system, q0, qd0, scene.dt, n_sub, forces, moments, w_set, rho_inf=self.rho_inf)
             else:
                 res = integrate_reference(asm.system, q0, qd0, loads.index.to_numpy(), forces, moments, w_set,
@@ -360,6 +364,16 @@ class DirectDrive(Model):
             static_gen=end_positions(q_st[None, :], asm.gen_s, asm.length)[0],
             max_newton_iterations=res.get("max_iterations", 0), fidelity=self.fidelity, fields=self.fields)
         return out
+
+    @functools.cached_property
+    def lowest_mode_hz(self) -> float:
+        """Lowest natural frequency at the nominal parameters, standstill [Hz]."""
+        return float(self.modes()["frequency_hz"].min())
+
+    def _check_step(self) -> None:
+        """Aliasing guard (:mod:`ddgsa.mbs.sampling`): warn when the step does not resolve the lowest mode."""
+        check_interval(self.time_step, self.lowest_mode_hz, "direct_drive integration step", refuse=False,
+                       warn_below=NYQUIST)
 
     def _linear_response(self, asm: Assembly, q_st: NDArray[np.float64], forces: NDArray[np.float64],
                          moments: NDArray[np.float64], w_set: NDArray[np.float64], dt: float) -> dict[str, Any]:

@@ -1,0 +1,212 @@
+"""``method: auto`` -- trust the cheap answer when it is right, escalate when it is not.
+
+Stages, each run only if the previous one left an output untrusted, all within ``budget``
+model evaluations and reusing every evaluation already made:
+
+1. **M-DRM** (``points`` Gauss points per parameter on the cut lines plus its ``check``-point
+   scrambled-Sobol' check sample: ``n (points) + 1 + check`` runs). Its diagnostics (cut value,
+   sign change, unresolved cut functions, heavy tails, check-sample R^2 and variance) decide.
+2. **PCE** by least-squares regression of total degree 3, 5, 7, ... on *all* points so far
+   (the cut lines and the check sample included) plus more points of the same Sobol'
+   sequence, so each fit has at least twice as many space-filling points as basis terms
+   (rounded up to a power of two, the sequence's balance). An
+   order is accepted when its leave-one-out error and top-order energy pass (``pce_loo_error``,
+   ``pce_unresolved``); the next order is tried while the budget lasts.
+3. **Saltelli** with the largest power-of-two base sample the remaining budget pays for
+   (``N (d + 2)`` runs, at least ``saltelli_min_n``); its points share nothing with the others.
+
+Each output's indices come from the first stage that trusted them (column ``source``); an
+output no stage trusted keeps the last stage's numbers, marked untrusted with
+``auto_budget_exhausted``. Every escalation is an ``auto_escalated`` info diagnostic naming the
+diagnostics that caused it, and ``extras["auto_log"]`` keeps the decisions in words.
+
+The driver is a small state machine so that the caller owns the evaluations (a Python function
+in :func:`ddgsa.sobol`, the parallel runner with its cache in a study)::
+
+    auto = AutoSobol(space, budget=2000)
+    x = auto.start()
+    while x is not None:
+        x = auto.feed(f(x))
+    result = auto.result
+"""
+
+from __future__ import annotations
+
+from math import comb
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from ddgsa.errors import MethodError
+from ddgsa.gsa.base import Design, as_value_matrix, check_int, get_method
+from ddgsa.gsa.result import Diagnostic, SobolResult
+from ddgsa.space import ParameterSpace
+
+DEFAULTS: dict[str, Any] = {"budget": 2000, "points": 5, "check": 32, "seed": 0, "pce_orders": (3, 5, 7, 9),
+                            "saltelli_min_n": 64}
+
+
+def resolve_auto_options(space: ParameterSpace, options: dict[str, Any]) -> dict[str, Any]:
+    """Defaults updated with ``options``, checked (unknown names and bad values raise :class:`MethodError`)."""
+    unknown = set(options) - set(DEFAULTS)
+    if unknown:
+        raise MethodError(f"method 'auto': unknown option(s) {sorted(unknown)}; allowed: {', '.join(sorted(DEFAULTS))}")
+    opts = {**DEFAULTS, **options}
+    check_int("auto", "points", opts["points"], 2, 40)
+    check_int("auto", "check", opts["check"], 1)
+    check_int("auto", "seed", opts["seed"], 0)
+    check_int("auto", "saltelli_min_n", opts["saltelli_min_n"], 4)
+    orders = opts["pce_orders"]
+    if not (isinstance(orders, (list, tuple)) and all(isinstance(q, int) and 1 <= q <= 30 for q in orders)):
+        raise MethodError(f"method 'auto': option 'pce_orders' must be a list of integers in [1, 30], got {orders!r}")
+    first = space.dim * opts["points"] + 1 + opts["check"]
+    check_int("auto", "budget", opts["budget"], first)
+    opts["pce_orders"] = tuple(sorted(orders))
+    return opts
+
+
+class AutoSobol:
+    """The escalation state machine (see the module). ``start()``, then ``feed(values)`` until it returns None."""
+
+    def __init__(self, space: ParameterSpace, outputs: list[str] | None = None, **options: Any) -> None:
+        self.space, self.names = space, outputs
+        self.options = resolve_auto_options(space, options)
+        self.x = np.zeros((0, space.dim))
+        self.y: NDArray[np.float64] | None = None
+        self.stages: list[tuple[SobolResult, str]] = []          # (result, label)
+        self.log: list[str] = []
+        self.result: SobolResult | None = None
+        self._mdrm_design: Design | None = None
+        self._n_sobol = 0                                        # Sobol' points of the seed's sequence in x
+        self._orders = list(self.options["pce_orders"])
+        self._pending: tuple[str, Design | int] | None = None
+
+    # -- driver ---------------------------------------------------------------------------
+    def start(self) -> NDArray[np.float64]:
+        """The first points to evaluate: M-DRM's design with its check sample."""
+        o = self.options
+        self._mdrm_design = get_method("mdrm").design(self.space, points=o["points"], check=o["check"], seed=o["seed"])
+        self._n_sobol = o["check"]
+        self._pending = ("mdrm", self._mdrm_design)
+        return self._mdrm_design.points
+
+    def feed(self, values: NDArray[np.float64] | pd.DataFrame | pd.Series) -> NDArray[np.float64] | None:
+        """Values at the points last returned; the next points, or None when done (see ``result``)."""
+        assert self._pending is not None, "call start() first"
+        kind, what = self._pending
+        new = self._mdrm_design.points if kind == "mdrm" else what.points if kind == "saltelli" else self._pce_new
+        y, names = as_value_matrix(values, new.shape[0], self.names)
+        self.names = names
+        self.x = np.vstack([self.x, new])
+        self.y = y if self.y is None else np.vstack([self.y, y])
+        if kind == "mdrm":
+            res = get_method("mdrm").analyze(self.space, self._mdrm_design, y, outputs=names)
+            self._record(res, f"mdrm ({self._mdrm_design.n_points} runs)")
+        elif kind == "pce":
+            res = get_method("pce").analyze(self.space, self._pce_design(int(what)), self.y, outputs=names)
+            self._record(res, f"pce order {what} ({self.x.shape[0]} runs pooled)")
+        else:
+            res = get_method("saltelli").analyze(self.space, what, y, outputs=names)
+            self._record(res, f"saltelli N={what.options['n']} ({what.n_points} runs)")
+        return self._next()
+
+    # -- stages ---------------------------------------------------------------------------
+    def _untrusted_outputs(self) -> list[str]:
+        trusted = set()
+        for res, _ in self.stages:
+            ok = res.indices.groupby("output")["trusted"].all()
+            trusted |= set(ok[ok].index)
+        return [o for o in self.names or [] if o not in trusted]
+
+    def _record(self, res: SobolResult, label: str) -> None:
+        self.stages.append((res, label))
+        bad = self._untrusted_outputs()
+        fired = sorted({d.name for d in res.diagnostics if d.severity == "untrusted"})
+        self.log.append(f"{label}: " + ("all outputs trusted" if not bad else
+                                        f"untrusted for {', '.join(bad)} ({', '.join(fired)})"))
+
+    def _spent(self) -> int:
+        return self.x.shape[0]
+
+    def _next(self) -> NDArray[np.float64] | None:
+        if not self._untrusted_outputs():
+            return self._finish()
+        left = self.options["budget"] - self._spent()
+        last_kind = self.stages[-1][1].split()[0]
+        if last_kind in ("mdrm", "pce"):
+            while self._orders:
+                q = self._orders.pop(0)
+                # space-filling points for order q: the power of two >= twice the basis size
+                need = 1 << int(np.ceil(np.log2(2 * comb(self.space.dim + q, q))))
+                add = max(0, need - self._n_sobol)
+                if add > left:
+                    self.log.append(f"pce order {q} needs {add} more runs; {left} left in the budget")
+                    self._orders = []
+                    break
+                sobol = self.space.sample(self._n_sobol + add, seed=self.options["seed"], rule="sobol")
+                self._pce_new = sobol[self._n_sobol:]
+                self._n_sobol += add
+                self._pending = ("pce", q)
+                if add == 0:                                     # nothing to run: fit at once
+                    return self.feed(np.zeros((0, len(self.names or []))))
+                return self._pce_new
+            n = 1 << int(np.floor(np.log2(max(1, left // (self.space.dim + 2)))))
+            if n >= self.options["saltelli_min_n"]:
+                design = get_method("saltelli").design(self.space, n=n, seed=self.options["seed"])
+                self._pending = ("saltelli", design)
+                return design.points
+            self.log.append(f"saltelli needs >= {self.options['saltelli_min_n'] * (self.space.dim + 2)} runs; "
+                            f"{left} left in the budget")
+        return self._finish()
+
+    def _pce_design(self, order: int) -> Design:
+        return Design("pce", self.x, {**get_method("pce").defaults, "order": order, "fit": "regression",
+                                      "n": self.x.shape[0], "seed": self.options["seed"]})
+
+    def _finish(self) -> None:
+        """Per output, the first stage that trusted it (else the last stage), with the decisions."""
+        tables, diags = [], []
+        for out in self.names or []:
+            k = next((i for i, (r, _) in enumerate(self.stages)
+                      if r.indices.loc[r.indices["output"] == out, "trusted"].all()), len(self.stages) - 1)
+            res, label = self.stages[k]
+            table = res.indices[res.indices["output"] == out].copy()
+            table["source"] = res.method
+            tables.append(table)
+            diags += [d for d in res.diagnostics if d.output in (None, out)]
+            for r, lab in self.stages[:k]:
+                fired = sorted({d.name for d in r.diagnostics if d.severity == "untrusted" and d.output in (None, out)})
+                diags.append(Diagnostic("auto_escalated", f"output {out!r}: {lab} untrusted ({', '.join(fired)}); "
+                                        "escalated", "info", output=out))
+            if not table["trusted"].all():
+                diags.append(Diagnostic("auto_budget_exhausted", f"output {out!r}: no stage trusted within the "
+                                        f"budget of {self.options['budget']} runs; the numbers are {label}'s",
+                                        "untrusted", output=out))
+        indices = pd.concat(tables, ignore_index=True)
+        self.result = SobolResult(indices, n_evals=self._spent(), method="auto", options=dict(self.options),
+                                  diagnostics=_dedupe(diags),
+                                  extras={"auto_log": list(self.log), "stages": [lab for _, lab in self.stages]})
+        self._pending = None
+        return None
+
+
+def _dedupe(diags: list[Diagnostic]) -> list[Diagnostic]:
+    seen, out = set(), []
+    for d in diags:
+        key = (d.name, d.output, d.parameter, d.message)
+        if key not in seen:
+            seen.add(key)
+            out.append(d)
+    return out
+
+
+def run_auto(f: Any, space: ParameterSpace, outputs: list[str] | None = None, **options: Any) -> SobolResult:
+    """Drive :class:`AutoSobol` with a vectorised function ``f(x)``."""
+    auto = AutoSobol(space, outputs, **options)
+    x = auto.start()
+    while x is not None:
+        x = auto.feed(f(x))
+    assert auto.result is not None
+    return auto.result
