@@ -12,7 +12,7 @@ from ddgsa.gsa.result import Diagnostic
 from ddgsa.loads.scene import Scene
 from ddgsa.space import Parameter, ParameterSpace
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 __all__ = [
     "DdgsaError",

@@ -34,7 +34,14 @@ def _parser() -> argparse.ArgumentParser:
     sub.add_parser("models", help="list models, fidelities, parameters and outputs")
     rep = sub.add_parser("report", help="rebuild tables and plots from a run's stored evaluations")
     rep.add_argument("dir", type=Path)
-    ben = sub.add_parser("bench", help="speed of each fidelity against the solve_ivp reference")
+    ben = sub.add_parser("bench", help="speed of each fidelity (default), or accuracy against cost of each method")
+    ben.add_argument("what", nargs="?", choices=["speed", "accuracy"], default="speed",
+                     help="speed: fidelities against the solve_ivp reference; accuracy: index error against "
+                          "evaluations and wall time, written to --out")
+    ben.add_argument("--out", type=Path, default=Path("results") / "accuracy_cost",
+                     help="folder for the accuracy benchmark's CSVs and charts")
+    ben.add_argument("--quick", action="store_true",
+                     help="accuracy: Saltelli/RBD-FAST up to 2^10 with 2 seeds, no drive-train part (a minute)")
     ben.add_argument("--json", type=Path, help="also write the figures to this JSON file")
     ben.add_argument("--ref-seconds", type=float, default=20.0, help="scene seconds the slow reference integrates")
     ben.add_argument("--no-quickstart", action="store_true", help="skip timing the quickstart study")
@@ -143,6 +150,13 @@ def _bench(args: argparse.Namespace) -> int:
 
     from ddgsa.bench import format_speed, speed
 
+    if args.what == "accuracy":
+        from ddgsa.accuracy_cost import run
+
+        kw = {"max_log2": 10, "seeds": (0, 1), "drive_train": False} if args.quick else {}
+        for path in run(args.out, **kw):
+            print(f"wrote {path}")
+        return EXIT_OK
     quick = None if args.no_quickstart else Path(__file__).resolve().parents[2] / "studies" / "quickstart.yaml"
     res = speed(ref_seconds=args.ref_seconds, quickstart=quick if quick is not None and quick.exists() else None)
     print(format_speed(res))

@@ -115,3 +115,18 @@ def test_integration_step_coarser_than_the_lowest_mode_warns() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error", AliasingWarning)
         models.get("direct_drive", fidelity="rigid").simulate(scene)
+
+
+def test_two_symmetric_nodes_on_a_kink_give_undefined_not_trusted_nan() -> None:
+    g = sobol_g([1.0, 2.0, 5.0])
+    res = ddgsa.sobol(g.f, g.space, "mdrm", points=2, check=0)
+    assert res.indices["S1"].isna().all()
+    assert "mdrm_zero_variance" in res.diagnostic_names() and not res.indices["trusted"].any()
+
+
+def test_auto_keeps_the_richest_stage_when_none_is_trusted() -> None:
+    g = sobol_g([1.0, 2.0, 5.0, 10.0, 20.0, 50.0])
+    res = ddgsa.sobol(g.f, g.space, "auto", budget=2000)
+    assert "auto_budget_exhausted" in res.diagnostic_names()
+    assert set(res.indices["source"]) == {"pce"}                    # the 1 055-point PCE, not a thin Saltelli
+    assert np.abs(res.indices["S1"] - g.S1).max() < 0.03

@@ -13,11 +13,13 @@ model evaluations and reusing every evaluation already made:
    order is accepted when its leave-one-out error and top-order energy pass (``pce_loo_error``,
    ``pce_unresolved``); the next order is tried while the budget lasts.
 3. **Saltelli** with the largest power-of-two base sample the remaining budget pays for
-   (``N (d + 2)`` runs, at least ``saltelli_min_n``); its points share nothing with the others.
+   (``N (d + 2)`` runs, at least ``saltelli_min_n`` = 256: below that its errors, 0.02-0.1 on
+   the benchmark functions, are no better than an untrusted PCE's); its points share nothing
+   with the others.
 
 Each output's indices come from the first stage that trusted them (column ``source``); an
-output no stage trusted keeps the last stage's numbers, marked untrusted with
-``auto_budget_exhausted``. Every escalation is an ``auto_escalated`` info diagnostic naming the
+output no stage trusted keeps the numbers of the stage that used the most evaluations, marked
+untrusted with ``auto_budget_exhausted``. Every escalation is an ``auto_escalated`` info diagnostic naming the
 diagnostics that caused it, and ``extras["auto_log"]`` keeps the decisions in words.
 
 The driver is a small state machine so that the caller owns the evaluations (a Python function
@@ -45,7 +47,7 @@ from ddgsa.gsa.result import Diagnostic, SobolResult
 from ddgsa.space import ParameterSpace
 
 DEFAULTS: dict[str, Any] = {"budget": 2000, "points": 5, "check": 32, "seed": 0, "pce_orders": (3, 5, 7, 9),
-                            "saltelli_min_n": 64}
+                            "saltelli_min_n": 256}
 
 
 def resolve_auto_options(space: ParameterSpace, options: dict[str, Any]) -> dict[str, Any]:
@@ -170,7 +172,9 @@ class AutoSobol:
         tables, diags = [], []
         for out in self.names or []:
             k = next((i for i, (r, _) in enumerate(self.stages)
-                      if r.indices.loc[r.indices["output"] == out, "trusted"].all()), len(self.stages) - 1)
+                      if r.indices.loc[r.indices["output"] == out, "trusted"].all()), None)
+            if k is None:       # nothing trusted: the stage that used the most evaluations
+                k = max(range(len(self.stages)), key=lambda i: (self.stages[i][0].n_evals, i))
             res, label = self.stages[k]
             table = res.indices[res.indices["output"] == out].copy()
             table["source"] = res.method

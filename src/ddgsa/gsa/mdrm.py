@@ -28,6 +28,7 @@ name                           severity  fires when
 ``mdrm_cut_value``             untrusted h(c) is zero or not finite
 ``mdrm_sign_change``           untrusted the output changes sign over the quadrature nodes
 ``mdrm_rho_nonpositive``       untrusted some rho_i <= 0
+``mdrm_zero_variance``         untrusted no cut function varies on its nodes (indices 0/0)
 ``mdrm_near_zero``             warning   min |h| over the nodes < ``near_zero`` x max |h|
 ``mdrm_unresolved``            untrusted the orthogonal-polynomial spectrum of some h_i does
                                          not decay (top two orders hold more than
@@ -127,6 +128,12 @@ class MDRM(GsaMethod):
             S1 = (r / np.expm1(total)).T
             ST = ((r / (1.0 + r)) / -np.expm1(-total)).T
         diags = _value_diagnostics(space, outputs, h_c, h, rho, opts)
+        for k in np.flatnonzero(~(np.abs(total) > 0)):
+            # e.g. 2 nodes symmetric about the kink of |4x - 2| (Sobol G): every cut function is
+            # flat on its nodes, so the indices are 0/0 -- an undefined answer, not a zero one
+            diags.append(Diagnostic("mdrm_zero_variance", f"output {outputs[k]!r}: no cut function varies on "
+                                    "its Gauss nodes; the indices are undefined (raise 'points')", "untrusted",
+                                    output=outputs[k]))
         diags += _coverage_diagnostics(space, design)
         diags += _resolution_diagnostics(space, design, h, var, outputs, opts)
         extras: dict[str, Any] = {"rho": rho.T, "theta": theta.T, "h_cut": h_c}

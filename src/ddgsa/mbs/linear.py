@@ -157,13 +157,17 @@ def lti_response(a: NDArray[np.float64], bw: NDArray[np.float64], w: NDArray[np.
     cubic re-expanded exactly, so a fine output grid costs no interpolation error.
     """
     phi, gains = discretise_cubic(a, bw, dt / n_sub)
-    coeffs = catmull_rom_coefficients(w)
-    drive = np.empty((len(w) - 1, n_sub, a.shape[0]))
+    c = np.hstack(catmull_rom_coefficients(w))                       # (n_t - 1, 4 k)
+    ns = a.shape[0]
+    drive = np.empty((len(w) - 1, n_sub, ns))
     for m in range(n_sub):
-        # w(k + (m + s)/n) as a cubic in s: d_i = sum_{j>=i} c_j C(j, i) m^(j-i) / n^j
-        sub = [sum(coeffs[j] * (comb(j, i) * m ** (j - i) / n_sub ** j) for j in range(i, 4)) for i in range(4)]
-        drive[:, m] = sum(d @ g.T for d, g in zip(sub, gains))
-    return _recurrence(phi, np.vstack([drive.reshape(-1, a.shape[0]), np.zeros((1, a.shape[0]))]), x0)
+        # w(k + (m + s)/n) as a cubic in s has coefficients d_i = sum_{j>=i} c_j C(j, i) m^(j-i) / n^j,
+        # so the drive sum_i G_i d_i is one product with the stacked gains H_m
+        h = np.vstack([sum(comb(j, i) * m ** (j - i) / n_sub ** j * gains[i].T for i in range(j + 1))
+                       for j in range(4)])                            # (4 k, ns)
+        drive[:, m] = c @ h
+    drive = np.vstack([drive.reshape(-1, ns), np.zeros((1, ns))])
+    return _recurrence(phi, drive, x0)
 
 
 @njit(cache=True)

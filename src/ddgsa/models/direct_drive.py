@@ -350,15 +350,16 @@ class DirectDrive(Model):
             raise RuntimeError(f"integrator diverged at t = {res['failed_at'] * scene.dt:.3f} s "
                                f"(step {self.time_step} s)")
         q, qd, fs = res["q"], res["qd"], res["spring_forces"]
-        out = pd.DataFrame(q, index=loads.index, columns=list(self.coordinate_names))
-        out["rotor_speed"] = qd[:, 3]
+        blocks, names = [q, qd[:, 3:4]], [*self.coordinate_names, "rotor_speed"]
         for name, s_mat, x0 in (("hub", asm.hub_s, 0.0), ("gen", asm.gen_s, asm.length)):
-            disp = end_positions(q, s_mat, x0) - np.array([x0, 0.0, 0.0])
-            out[[f"{name}_dx", f"{name}_dy", f"{name}_dz"]] = disp
+            blocks.append(end_positions(q, s_mat, x0) - np.array([x0, 0.0, 0.0]))
+            names += [f"{name}_dx", f"{name}_dy", f"{name}_dz"]
         for b, name in enumerate(("front", "rear")):
-            out[[f"{name}_Fx", f"{name}_Fy", f"{name}_Fz"]] = fs[:, b, :]
-        out["gen_torque"] = res["torque"]
-        out[["Fx", "Fy", "Fz"]], out[["Mx", "My", "Mz"]] = forces, moments
+            blocks.append(fs[:, b, :])
+            names += [f"{name}_Fx", f"{name}_Fy", f"{name}_Fz"]
+        blocks += [res["torque"][:, None], forces, moments]
+        names += ["gen_torque", "Fx", "Fy", "Fz", "Mx", "My", "Mz"]
+        out = pd.DataFrame(np.hstack(blocks), index=loads.index, columns=names)   # one block: no per-column inserts
         out.attrs.update(
             static_hub=end_positions(q_st[None, :], asm.hub_s, 0.0)[0],
             static_gen=end_positions(q_st[None, :], asm.gen_s, asm.length)[0],
