@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 import ddgsa
-from ddgsa.errors import StudyError
+from ddgsa.errors import DdgsaError, StudyError
 from ddgsa.gsa.auto import AutoSobol
 from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.result import SobolResult
@@ -248,6 +248,7 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
                  for r in result.evaluations.to_dict("records") if isinstance(r["error"], str)]
     result.provenance = _provenance(study, mids, counts, t_eval, time.perf_counter() - t0, failures, designs)
     result.provenance["fidelity_selection"] = fidelity_choice
+    result.provenance["sampling"] = _sampling(study)
     result.fidelity = pd.DataFrame([{k: v for k, v in c.items() if k != "errors"} for c in fidelity_choice])
     return result
 
@@ -324,6 +325,7 @@ def _execute_variants(study: Study, store: EvaluationStore, **kwargs: Any) -> St
     prov["timings_s"] = {k: round(sum(r.provenance["timings_s"][k] for _, r in parts), 3) for k in prov["timings_s"]}
     prov["failures"] = [{**f, "variant": label} for label, r in parts for f in r.provenance["failures"]]
     result.provenance["variants"] = [label for label, _ in parts]
+    result.provenance["sampling"] = [{"variant": label, **row} for label, r in parts for row in r.provenance["sampling"]]
     result.fidelity = first.fidelity
     return result
 
@@ -395,6 +397,14 @@ def _versions() -> dict[str, str]:
         except PackageNotFoundError:
             out[pkg] = "not installed"
     return out
+
+
+def _sampling(study: Study) -> list[dict[str, Any]]:
+    """The model's aliasing-guard table for the study's first scene (nominal parameters)."""
+    try:
+        return study.make_model().sampling_checks(plan_scenes(study)[0].scenes[0])
+    except (DdgsaError, ArithmeticError, RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
+        return [{"interval": "-", "verdict": "not checked", "consequence": f"{type(exc).__name__}: {exc}"}]
 
 
 def _provenance(study: Study, mids: dict[int, ModelId], counts: dict[str, int], t_eval: float, t_total: float,

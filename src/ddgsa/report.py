@@ -255,6 +255,16 @@ def summary_markdown(result: StudyResult) -> str:
             counts = result.diagnostics.groupby(["method", "name", "severity"]).size()
             lines += [f"- {m} `{n}` ({s}): {c}x" for (m, n, s), c in counts.items()]
             lines.append("")
+    flagged = [r for r in result.provenance.get("sampling", []) if r.get("verdict") != "ok"]
+    if flagged:
+        lines += ["## Sampling (aliasing guard)", "",
+                  "| variant | interval | [s] | mode | [Hz] | samples/period | verdict | consequence |",
+                  "|---|---|---|---|---|---|---|---|"]
+        lines += [f"| {r.get('variant', '')} | {r['interval']} | {r.get('interval_s', float('nan')):.4g} | "
+                  f"{r.get('mode', '')} | {r.get('frequency_hz', float('nan')):.4g} | "
+                  f"{r.get('samples_per_period', float('nan')):.3g} | {r['verdict']} | {r['consequence']} |"
+                  for r in flagged]
+        lines.append("")
     if result.fault is not None:
         lines += ["## Fault detectability", "", "| scene | output | faulty | ST fault | separation | detectable |",
                   "|---|---|---|---|---|---|"]

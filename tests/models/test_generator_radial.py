@@ -150,6 +150,11 @@ def test_aliasing_guard_refuses_and_warns() -> None:
         warnings.simplefilter("error", AliasingWarning)
         sim = models.get("generator_radial").simulate(scene)
     assert sim.attrs["output_step"] * 34.5 * 10 <= 1.0
+    rows = {r["interval"]: r for r in models.get("generator_radial").sampling_checks(scene)}
+    assert rows["generator_radial output interval"]["verdict"] == "ok"
+    assert rows["load and controller interval (scene dt)"]["verdict"] == "aliased"     # 0.05 s vs 34.2 Hz
+    assert models.get("generator_radial").sampling_checks(Scene(wind_speed=11.0, duration=10.0, dt=0.01))[1][
+        "verdict"] == "coarse"                                                           # 2.9 samples a period
 
 
 def test_bad_options_and_unstable_designs_are_reported() -> None:

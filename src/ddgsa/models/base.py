@@ -142,3 +142,8 @@ class Model(ABC):
     @abstractmethod
     def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         """Natural frequencies [Hz] and labels."""
+
+    def sampling_checks(self, scene: Scene) -> list[dict[str, Any]]:
+        """The aliasing guard's table for ``scene`` at nominal parameters
+        (:func:`ddgsa.mbs.sampling.sampling_row` rows); none for a model without modes."""
+        return []

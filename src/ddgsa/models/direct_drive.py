@@ -65,7 +65,7 @@ from ddgsa.mbs.beam import BeamSpec, mesh, shaft_modes
 from ddgsa.mbs.ffr import inertia_points
 from ddgsa.mbs.modal import linearise, modal_analysis
 from ddgsa.mbs.linear import linearise_map, linearise_spinning, simulate_lti, spring_outputs
-from ddgsa.mbs.sampling import NYQUIST, check_interval
+from ddgsa.mbs.sampling import NYQUIST, check_interval, controller_row, sampling_row
 from ddgsa.mbs.system import SystemArrays, evaluate_terms, integrate, integrate_reference
 from ddgsa.models.base import Model, ModelParameter, register_model
 
@@ -370,6 +370,18 @@ class DirectDrive(Model):
     def lowest_mode_hz(self) -> float:
         """Lowest natural frequency at the nominal parameters, standstill [Hz]."""
         return float(self.modes()["frequency_hz"].min())
+
+    def sampling_checks(self, scene: Scene) -> list[dict[str, Any]]:
+        """Integration step against the lowest mode (generalised-alpha fidelities) and the scene's
+        load/controller interval against the highest."""
+        modes = self.modes()
+        low, top = modes.loc[modes["frequency_hz"].idxmin()], modes.loc[modes["frequency_hz"].idxmax()]
+        rows = []
+        if self.fidelity != "linear":
+            rows.append(sampling_row("integration step", self.time_step, low["frequency_hz"], low["label"],
+                                     "the mode's period and damping are approximated (below 2 steps a period "
+                                     "it is damped out); rigid objectives moved < 0.2 % from 10 to 2.5 ms"))
+        return rows + [controller_row(scene.dt, top["frequency_hz"], top["label"])]
 
     def _check_step(self) -> None:
         """Aliasing guard (:mod:`ddgsa.mbs.sampling`): warn when the step does not resolve the lowest mode."""

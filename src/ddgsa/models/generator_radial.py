@@ -37,6 +37,7 @@ differ by more than 1 % of the bearing force.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -50,7 +51,7 @@ from ddgsa.loads import generate
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs.linear import lti_response
 from ddgsa.mbs.modal import modal_analysis
-from ddgsa.mbs.sampling import RESOLVED, check_interval
+from ddgsa.mbs.sampling import RESOLVED, AliasingWarning, check_interval, controller_row, sampling_row
 from ddgsa.models.base import Model, ModelParameter, register_model
 from ddgsa.models.electromagnetic import PMGenerator, pull_jacobian, pull_vector, radial_pull
 
@@ -278,6 +279,17 @@ class GeneratorRadial(Model):
         h = scene.dt / n_sub
         check_interval(h, highest_hz, "generator_radial output interval", refuse=True)
         return h, n_sub
+
+    def sampling_checks(self, scene: Scene) -> list[dict[str, Any]]:
+        """Output interval and the scene's load/controller interval against the highest mode."""
+        modes = self.modes()
+        top = modes.loc[modes["frequency_hz"].idxmax()]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", AliasingWarning)
+            h, _ = self.output_interval(scene, float(top["frequency_hz"]))
+        return [sampling_row("generator_radial output interval", h, top["frequency_hz"], top["label"],
+                             "sampled peaks under-resolved"),
+                controller_row(scene.dt, top["frequency_hz"], top["label"])]
 
     def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         """Time series on the output grid: eccentricity ``ecc_y[, ecc_z]`` [m], its magnitude
