@@ -64,7 +64,7 @@ class ModelSpec(BaseModel):
 
     model_config = _STRICT
     name: str
-    fidelity: str = "flexible"
+    fidelity: str | None = Field(None, description="a fidelity of the model, or auto (default: its richest)")
     options: dict[str, Any] = Field(default_factory=dict)
     auto: AutoSpec = Field(default_factory=AutoSpec)
     variants: list[dict[str, Any]] = Field(
@@ -265,6 +265,8 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
     if spec.model.name not in MODELS:
         raise StudyError(f"{where}: field 'model.name': unknown model {spec.model.name!r}; "
                          f"known: {', '.join(sorted(MODELS))}")
+    if spec.model.fidelity is None:
+        spec.model.fidelity = MODELS.lookup(spec.model.name).fidelities[0]
     try:
         fidelities = MODELS.lookup(spec.model.name).fidelities
         for fid in (fidelities if spec.model.fidelity == "auto" else [spec.model.fidelity]):

@@ -274,3 +274,11 @@ def test_method_auto_in_a_study_reports_its_decisions(write_study, tmp_path: Pat
     assert main(["-q", "run", str(write_study("auto", text=text)), "--out", str(out)]) == 0
     prov = (out / "provenance.json").read_text()
     assert '"evaluated": 0' in prov
+
+
+def test_fidelity_defaults_to_the_models_richest(write_study) -> None:
+    text = (SEED003_DIR / "seed003_frequencies.yaml").read_text().replace("  fidelity: linearised\n", "")
+    study = ddgsa.study.load_study(write_study("nofid", text=text))
+    assert study.spec.model.fidelity == "linearised"
+    quick = ddgsa.study.load_study(SEED003_DIR / "quickstart.yaml")
+    assert quick.spec.model.fidelity == "rigid"
