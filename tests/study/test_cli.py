@@ -277,6 +277,8 @@ def test_method_auto_in_a_study_reports_its_decisions(write_study, tmp_path: Pat
 
 
 def test_fidelity_defaults_to_the_models_richest(write_study) -> None:
+    import ddgsa.study
+
     text = (SEED003_DIR / "seed003_frequencies.yaml").read_text().replace("  fidelity: linearised\n", "")
     study = ddgsa.study.load_study(write_study("nofid", text=text))
     assert study.spec.model.fidelity == "linearised"
