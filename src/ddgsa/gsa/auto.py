@@ -34,6 +34,7 @@ in :func:`ddgsa.sobol`, the parallel runner with its cache in a study)::
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from math import comb
 from typing import Any
 
@@ -69,6 +70,16 @@ def resolve_auto_options(space: ParameterSpace, options: dict[str, Any]) -> dict
     return opts
 
 
+@dataclass(frozen=True)
+class _Pending:
+    """The stage waiting for values: its kind, the points handed out, and what analyses them."""
+
+    kind: str                      # "mdrm", "pce" or "saltelli"
+    points: NDArray[np.float64]
+    design: Design | None = None   # mdrm and saltelli: their own design; pce: fitted on all points
+    order: int = 0                 # pce
+
+
 class AutoSobol:
     """The escalation state machine (see the module). ``start()``, then ``feed(values)`` until it returns None."""
 
@@ -76,42 +87,42 @@ class AutoSobol:
         self.space, self.names = space, outputs
         self.options = resolve_auto_options(space, options)
         self.x = np.zeros((0, space.dim))
-        self.y: NDArray[np.float64] | None = None
+        self.y = np.zeros((0, 0))
         self.stages: list[tuple[SobolResult, str]] = []          # (result, label)
         self.log: list[str] = []
         self.result: SobolResult | None = None
-        self._mdrm_design: Design | None = None
         self._n_sobol = 0                                        # Sobol' points of the seed's sequence in x
         self._orders = list(self.options["pce_orders"])
-        self._pending: tuple[str, Design | int] | None = None
+        self._pending: _Pending | None = None
 
     # -- driver ---------------------------------------------------------------------------
     def start(self) -> NDArray[np.float64]:
         """The first points to evaluate: M-DRM's design with its check sample."""
         o = self.options
-        self._mdrm_design = get_method("mdrm").design(self.space, points=o["points"], check=o["check"], seed=o["seed"])
+        design = get_method("mdrm").design(self.space, points=o["points"], check=o["check"], seed=o["seed"])
         self._n_sobol = o["check"]
-        self._pending = ("mdrm", self._mdrm_design)
-        return self._mdrm_design.points
+        self._pending = _Pending("mdrm", design.points, design)
+        return design.points
 
     def feed(self, values: NDArray[np.float64] | pd.DataFrame | pd.Series) -> NDArray[np.float64] | None:
         """Values at the points last returned; the next points, or None when done (see ``result``)."""
-        assert self._pending is not None, "call start() first"
-        kind, what = self._pending
-        new = self._mdrm_design.points if kind == "mdrm" else what.points if kind == "saltelli" else self._pce_new
-        y, names = as_value_matrix(values, new.shape[0], self.names)
+        stage = self._pending
+        if stage is None:
+            raise MethodError("method 'auto': feed() without pending points (call start() first)")
+        y, names = as_value_matrix(values, stage.points.shape[0], self.names)
         self.names = names
-        self.x = np.vstack([self.x, new])
-        self.y = y if self.y is None else np.vstack([self.y, y])
-        if kind == "mdrm":
-            res = get_method("mdrm").analyze(self.space, self._mdrm_design, y, outputs=names)
-            self._record(res, f"mdrm ({self._mdrm_design.n_points} runs)")
-        elif kind == "pce":
-            res = get_method("pce").analyze(self.space, self._pce_design(int(what)), self.y, outputs=names)
-            self._record(res, f"pce order {what} ({self.x.shape[0]} runs pooled)")
+        self.x = np.vstack([self.x, stage.points])
+        self.y = y if self.y.size == 0 else np.vstack([self.y, y])
+        if stage.kind == "pce":
+            design = Design("pce", self.x, {**get_method("pce").defaults, "order": stage.order, "fit": "regression",
+                                            "n": self.x.shape[0], "seed": self.options["seed"]})
+            res = get_method("pce").analyze(self.space, design, self.y, outputs=names)
+            self._record(res, f"pce order {stage.order} ({self.x.shape[0]} runs pooled)")
         else:
-            res = get_method("saltelli").analyze(self.space, what, y, outputs=names)
-            self._record(res, f"saltelli N={what.options['n']} ({what.n_points} runs)")
+            assert stage.design is not None
+            res = get_method(stage.kind).analyze(self.space, stage.design, y, outputs=names)
+            size = f"N={stage.design.options['n']} " if stage.kind == "saltelli" else ""
+            self._record(res, f"{stage.kind} ({size}{stage.design.n_points} runs)")
         return self._next()
 
     # -- stages ---------------------------------------------------------------------------
@@ -129,15 +140,12 @@ class AutoSobol:
         self.log.append(f"{label}: " + ("all outputs trusted" if not bad else
                                         f"untrusted for {', '.join(bad)} ({', '.join(fired)})"))
 
-    def _spent(self) -> int:
-        return self.x.shape[0]
-
     def _next(self) -> NDArray[np.float64] | None:
         if not self._untrusted_outputs():
-            return self._finish()
-        left = self.options["budget"] - self._spent()
-        last_kind = self.stages[-1][1].split()[0]
-        if last_kind in ("mdrm", "pce"):
+            self._finish()
+            return None
+        left = self.options["budget"] - self.x.shape[0]
+        if self.stages[-1][0].method in ("mdrm", "pce"):
             while self._orders:
                 q = self._orders.pop(0)
                 # space-filling points for order q: the power of two >= twice the basis size
@@ -148,24 +156,20 @@ class AutoSobol:
                     self._orders = []
                     break
                 sobol = self.space.sample(self._n_sobol + add, seed=self.options["seed"], rule="sobol")
-                self._pce_new = sobol[self._n_sobol:]
+                self._pending = _Pending("pce", sobol[self._n_sobol:], order=q)
                 self._n_sobol += add
-                self._pending = ("pce", q)
                 if add == 0:                                     # nothing to run: fit at once
                     return self.feed(np.zeros((0, len(self.names or []))))
-                return self._pce_new
+                return self._pending.points
             n = 1 << int(np.floor(np.log2(max(1, left // (self.space.dim + 2)))))
             if n >= self.options["saltelli_min_n"]:
                 design = get_method("saltelli").design(self.space, n=n, seed=self.options["seed"])
-                self._pending = ("saltelli", design)
+                self._pending = _Pending("saltelli", design.points, design)
                 return design.points
             self.log.append(f"saltelli needs >= {self.options['saltelli_min_n'] * (self.space.dim + 2)} runs; "
                             f"{left} left in the budget")
-        return self._finish()
-
-    def _pce_design(self, order: int) -> Design:
-        return Design("pce", self.x, {**get_method("pce").defaults, "order": order, "fit": "regression",
-                                      "n": self.x.shape[0], "seed": self.options["seed"]})
+        self._finish()
+        return None
 
     def _finish(self) -> None:
         """Per output, the first stage that trusted it (else the last stage), with the decisions."""
@@ -189,11 +193,10 @@ class AutoSobol:
                                         f"budget of {self.options['budget']} runs; the numbers are {label}'s",
                                         "untrusted", output=out))
         indices = pd.concat(tables, ignore_index=True)
-        self.result = SobolResult(indices, n_evals=self._spent(), method="auto", options=dict(self.options),
+        self.result = SobolResult(indices, n_evals=self.x.shape[0], method="auto", options=dict(self.options),
                                   diagnostics=_dedupe(diags),
                                   extras={"auto_log": list(self.log), "stages": [lab for _, lab in self.stages]})
         self._pending = None
-        return None
 
 
 def _dedupe(diags: list[Diagnostic]) -> list[Diagnostic]:
@@ -209,7 +212,7 @@ def _dedupe(diags: list[Diagnostic]) -> list[Diagnostic]:
 def run_auto(f: Any, space: ParameterSpace, outputs: list[str] | None = None, **options: Any) -> SobolResult:
     """Drive :class:`AutoSobol` with a vectorised function ``f(x)``."""
     auto = AutoSobol(space, outputs, **options)
-    x = auto.start()
+    x: NDArray[np.float64] | None = auto.start()
     while x is not None:
         x = auto.feed(f(x))
     assert auto.result is not None

@@ -61,7 +61,7 @@ class Model(ABC):
     """
 
     name: ClassVar[str] = ""
-    parameters: ClassVar[tuple[ModelParameter, ...]] = ()
+    parameters: tuple[ModelParameter, ...] = ()        # per class, or per instance where options change them
     outputs: tuple[str, ...] = ()
     fidelities: ClassVar[tuple[str, ...]] = ()
     fidelity: str = ""

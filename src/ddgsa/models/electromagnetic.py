@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -92,7 +93,8 @@ class PMGenerator:
         if not values:
             return self
         names = {f.name for f in fields(self)}
-        return replace(self, **{k: v for k, v in values.items() if k in names})
+        changes: dict[str, Any] = {k: v for k, v in values.items() if k in names}
+        return replace(self, **changes)
 
     @property
     def magnetic_gap(self) -> float:
