@@ -89,6 +89,19 @@ def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None
     x = grid[0] if grid else "wind_speed"
     others = [f for f in _sweep_keys(summary, grid) if f not in (x, "scene") and summary[f].nunique() > 1]
     figs = []
+    if summary[x].nunique() == 1 and others:      # nothing to sweep along: one bar per case, real units
+        labels = [", ".join(str(v) if not isinstance(v, float) else f"{f}={v:g}" for f, v in zip(others, row))
+                  for row in summary[others].itertuples(index=False)]
+        for o in outputs:
+            fig, ax = plt.subplots(figsize=(6.5, 0.45 * len(labels) + 1.2))
+            ax.barh(labels, summary[f"{o}_mean"], xerr=summary[f"{o}_std"], color="tab:blue")
+            for k, v in enumerate(summary[f"{o}_mean"]):
+                ax.annotate(f"{v:.4g}", (v, k), xytext=(3, 0), textcoords="offset points", va="center", fontsize=8)
+            ax.invert_yaxis()
+            ax.set_xlabel(o)
+            ax.grid(alpha=0.3, axis="x")
+            figs.append((fig, f"sweep_{o}.png"))
+        return figs
     for o in outputs:
         fig, ax = plt.subplots(figsize=(6, 3.6))
         groups = summary.groupby(others, sort=False) if others else [((), summary)]
