@@ -173,7 +173,8 @@ def _print_models() -> None:
         model = get(name)
         print(f"{name}: fidelities {', '.join(model.fidelities)}")
         print(model.parameter_table().to_string(index=False, formatters={"nominal": "{:.4g}".format}))
-        print(f"outputs: {', '.join(model.outputs)}\n")
+        print(f"outputs: {', '.join(model.outputs)}")
+        print(f"{model.options_note}\n" if model.options_note else "")
 
 
 if __name__ == "__main__":  # pragma: no cover

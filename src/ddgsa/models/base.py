@@ -64,6 +64,7 @@ class Model(ABC):
     parameters: tuple[ModelParameter, ...] = ()        # per class, or per instance where options change them
     outputs: tuple[str, ...] = ()
     fidelities: ClassVar[tuple[str, ...]] = ()
+    options_note: ClassVar[str] = ""                   # how options change parameters/outputs (``ddgsa models``)
     fidelity: str = ""
 
     @property

@@ -149,6 +149,10 @@ class GeneratorRadial(Model):
     """
 
     fidelities: ClassVar[tuple[str, ...]] = ("linearised",)
+    options_note: ClassVar[str] = ("options: config one_mass | substructure (default) | tower_side_to_side | "
+                                   "tower_torsion, magnetic true | false, output_step [s], generator {field: value}; "
+                                   "tower_* configs add tower_mass [kg], tower_stiffness [N/m], "
+                                   "tower_damping_ratio [-] and the output tower_frequency_hz")
 
     def __init__(self, config: str = "substructure", magnetic: bool = True, fidelity: str = "linearised",
                  output_step: float | None = None, generator: Mapping[str, float] | None = None) -> None:
