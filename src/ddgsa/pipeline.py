@@ -25,6 +25,7 @@ from ddgsa.errors import DdgsaError, StudyError
 from ddgsa.gsa.auto import AutoSobol
 from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.result import SobolResult
+from ddgsa.models.auto import choose_fidelity
 from ddgsa.runner import EvaluationStore, ModelId, Outcome, Task, run_tasks, task_key
 from ddgsa.space import ParameterSpace
 from ddgsa.loads.scene import Scene
@@ -68,7 +69,6 @@ def select_fidelities(study: Study, store: EvaluationStore, evaluate: bool,
 
     auto = study.spec.model.auto
     fidelities = list(get_model(study.spec.model.name).fidelities)
-    richest = fidelities[0]
     space = study.space
     names = space.names if space is not None else ()
     pilot = np.zeros((1, 0)) if space is None else np.vstack(
@@ -91,21 +91,10 @@ def select_fidelities(study: Study, store: EvaluationStore, evaluate: bool,
     choices = []
     for ps in plan_scenes(study):
         table = {fid: [got[t.key] for t in ts] for p_, fid, ts in plan if p_.index == ps.index}
-        ref = np.array([[o.outputs[n] if o.outputs else np.nan for n in outputs] for o in table[richest]])
-        entry: dict[str, Any] = {"scene": ps.index, **ps.fields, "tolerance": auto.tolerance, "errors": {}}
-        cost = {}
-        for fid in fidelities:
-            vals = np.array([[o.outputs[n] if o.outputs else np.nan for n in outputs] for o in table[fid]])
-            with np.errstate(divide="ignore", invalid="ignore"):
-                rel = np.abs(vals - ref) / np.abs(ref)
-            rel = np.where((ref == 0) & (vals == 0), 0.0, rel)
-            err = float(np.max(rel)) if np.all(np.isfinite(rel)) else float("inf")
-            cost[fid] = float(np.mean([o.seconds for o in table[fid]]))
-            entry["errors"][fid] = {n: float(np.max(rel[:, j])) for j, n in enumerate(outputs)}
-            entry[f"max_rel_error_{fid}"] = err
-            entry[f"seconds_per_eval_{fid}"] = cost[fid]
-        ok = [f for f in fidelities if entry[f"max_rel_error_{f}"] <= auto.tolerance]
-        entry["chosen"] = min(ok, key=lambda f: cost[f]) if ok else richest
+        values = {fid: np.array([[o.outputs[n] if o.outputs else np.nan for n in outputs] for o in table[fid]])
+                  for fid in fidelities}
+        seconds = {fid: float(np.mean([o.seconds for o in table[fid]])) for fid in fidelities}
+        entry = {"scene": ps.index, **ps.fields, **choose_fidelity(values, seconds, outputs, auto.tolerance)}
         choices.append(entry)
     return choices
 

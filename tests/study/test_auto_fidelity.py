@@ -44,3 +44,24 @@ def test_auto_keeps_flexible_when_shaft_bending_dominates(tmp_path: Path) -> Non
     # hub deflection is shaft bending: the rigid model is off by > 80 %, the linear by ~0.5 %
     assert sel["max_rel_error_rigid"][0] > 0.8
     assert sel["chosen"][0] == "flexible"
+
+
+def test_fidelity_auto_in_the_python_api() -> None:
+    import pandas as pd
+
+    from ddgsa import models
+    from ddgsa.loads.scene import Scene
+
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=10.0, seed=3)
+    points = pd.DataFrame({"k_front_z": [8e9, 1.2e10, 1e10], "hub_mass": [38e3, 42e3, 40e3]})
+    model = models.get("direct_drive", fidelity="auto", tolerance=0.02, pilot=2)
+    out = model.evaluate(points, scene)
+    choice = out.attrs["fidelity"]
+    assert choice["chosen"] == "linear"                         # within 2 % and the cheapest
+    assert choice["max_rel_error_rigid"] > 0.5                  # rigid misses the shaft deflection
+    assert choice["max_rel_error_linear"] <= 0.02 and choice["max_rel_error_flexible"] == 0.0
+    direct = models.get("direct_drive", fidelity="linear").evaluate(points, scene)
+    pd.testing.assert_frame_equal(out, direct, check_like=True)
+    assert model.choices[scene] is choice                        # piloted once per scene
+    strict = models.get("direct_drive", fidelity="auto", tolerance=1e-6, pilot=0)
+    assert strict.evaluate(points.iloc[:1], scene).attrs["fidelity"]["chosen"] == "flexible"

@@ -22,11 +22,20 @@ register_model = MODELS.register
 def get(name: str, **options: Any) -> "Model":
     """An instance of the registered model ``name`` with ``options`` (e.g. ``fidelity="rigid"``).
 
+    ``fidelity="auto"`` (with optional ``tolerance``, default 0.02, and ``pilot``, default 4)
+    returns a :class:`ddgsa.models.auto.AutoFidelity` that picks the cheapest adequate fidelity
+    per scene.
+
     Raises
     ------
     ModelError
         For an unknown model name (the message lists the known ones) or invalid options.
     """
+    if options.get("fidelity") == "auto":
+        from ddgsa.models.auto import AutoFidelity
+
+        rest = {k: v for k, v in options.items() if k != "fidelity"}
+        return AutoFidelity(name, **rest)
     return MODELS.lookup(name)(**options)
 
 

@@ -1,0 +1,110 @@
+"""``fidelity="auto"`` in the Python API: per scene, the cheapest fidelity within a tolerance.
+
+:func:`choose_fidelity` is the rule (shared with studies' ``fidelity: auto``): every fidelity is
+run on a pilot set, errors are the largest relative deviation of any output from the richest
+fidelity (the model's first), and the cheapest fidelity whose error is within ``tolerance`` wins
+(the richest when none is).
+
+:class:`AutoFidelity` applies it inside ``evaluate``: the first time it sees a scene it pilots
+the nominal point plus the first ``pilot`` points it was given at every fidelity, records the
+choice in ``choices`` (and each result's ``attrs["fidelity"]``), and evaluates the points with
+the chosen fidelity. ``ddgsa.models.get("direct_drive", fidelity="auto", tolerance=0.02)``.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from ddgsa.errors import ModelError
+from ddgsa.loads.scene import Scene
+from ddgsa.models.base import Model
+
+
+def choose_fidelity(values: Mapping[str, NDArray[np.float64]], seconds: Mapping[str, float], outputs: list[str],
+                    tolerance: float) -> dict[str, Any]:
+    """The cheapest fidelity whose pilot values stay within ``tolerance`` of the first (richest) one.
+
+    Parameters
+    ----------
+    values : mapping
+        Fidelity -> pilot values (n_points, n_outputs); the first entry is the reference.
+        Failed evaluations are NaN and make that fidelity's error infinite.
+    seconds : mapping
+        Fidelity -> mean seconds per evaluation.
+
+    Returns
+    -------
+    dict
+        ``chosen``, ``tolerance``, ``errors`` ({fidelity: {output: max relative error}}),
+        ``max_rel_error_<fidelity>`` and ``seconds_per_eval_<fidelity>``.
+    """
+    fidelities = list(values)
+    ref = values[fidelities[0]]
+    entry: dict[str, Any] = {"tolerance": tolerance, "errors": {}}
+    for fid in fidelities:
+        vals = values[fid]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rel = np.abs(vals - ref) / np.abs(ref)
+        rel = np.where((ref == 0) & (vals == 0), 0.0, rel)
+        entry["errors"][fid] = {n: float(np.max(rel[:, j])) for j, n in enumerate(outputs)}
+        entry[f"max_rel_error_{fid}"] = float(np.max(rel)) if np.all(np.isfinite(rel)) else float("inf")
+        entry[f"seconds_per_eval_{fid}"] = float(seconds[fid])
+    ok = [f for f in fidelities if entry[f"max_rel_error_{f}"] <= tolerance]
+    entry["chosen"] = min(ok, key=lambda f: seconds[f]) if ok else fidelities[0]
+    return entry
+
+
+class AutoFidelity(Model):
+    """A model that runs each scene at the cheapest adequate fidelity of ``base`` (see the module)."""
+
+    def __init__(self, name: str, tolerance: float = 0.02, pilot: int = 4, **options: Any) -> None:
+        from ddgsa.models.base import MODELS
+
+        cls = MODELS.lookup(name)
+        if not (isinstance(tolerance, (int, float)) and tolerance > 0):
+            raise ModelError(f"model {name!r}: fidelity 'auto' needs a positive tolerance, got {tolerance!r}")
+        if not (isinstance(pilot, int) and pilot >= 0):
+            raise ModelError(f"model {name!r}: fidelity 'auto' needs pilot >= 0 points, got {pilot!r}")
+        self.variants = {fid: cls(fidelity=fid, **options) for fid in cls.fidelities}
+        richest = self.variants[cls.fidelities[0]]
+        self.name, self.fidelity, self.fidelities = name, "auto", cls.fidelities
+        self.parameters, self.outputs = richest.parameters, richest.outputs
+        self.tolerance, self.pilot = float(tolerance), pilot
+        self.choices: dict[Scene, dict[str, Any]] = {}
+
+    def choice(self, scene: Scene, points: pd.DataFrame | Mapping[str, Any] | None = None) -> dict[str, Any]:
+        """The fidelity chosen for ``scene`` (piloted on first use; see the module)."""
+        if scene not in self.choices:
+            params = self.resolve(points)
+            pilot = pd.concat([self.resolve(None), params.iloc[: self.pilot]], ignore_index=True)
+            values, seconds = {}, {}
+            for fid, model in self.variants.items():
+                t0 = time.perf_counter()
+                values[fid] = model.evaluate(pilot, scene).to_numpy(float)
+                seconds[fid] = (time.perf_counter() - t0) / len(pilot)
+            self.choices[scene] = choose_fidelity(values, seconds, list(self.outputs), self.tolerance)
+        return self.choices[scene]
+
+    def evaluate(self, points: pd.DataFrame | Mapping[str, Any] | None, scene: Scene) -> pd.DataFrame:
+        """Outputs at the chosen fidelity; ``attrs["fidelity"]`` holds the choice and its errors."""
+        choice = self.choice(scene, points)
+        out = self.variants[choice["chosen"]].evaluate(points, scene)
+        out.attrs["fidelity"] = choice
+        return out
+
+    def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
+        return self.evaluate(params, scene).iloc[0].to_dict()
+
+    def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+        """The chosen fidelity's time series."""
+        return self.variants[self.choice(scene, params)["chosen"]].simulate(scene, params)
+
+    def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+        """The richest fidelity's modes."""
+        return self.variants[self.fidelities[0]].modes(params)
