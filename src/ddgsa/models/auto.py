@@ -64,16 +64,19 @@ class AutoFidelity(Model):
     """A model that runs each scene at the cheapest adequate fidelity of ``base`` (see the module)."""
 
     def __init__(self, name: str, tolerance: float = 0.02, pilot: int = 4, **options: Any) -> None:
-        from ddgsa.models.base import MODELS
+        from ddgsa.models.base import MODELS, get
 
         cls = MODELS.lookup(name)
         if not (isinstance(tolerance, (int, float)) and tolerance > 0):
             raise ModelError(f"model {name!r}: fidelity 'auto' needs a positive tolerance, got {tolerance!r}")
         if not (isinstance(pilot, int) and pilot >= 0):
             raise ModelError(f"model {name!r}: fidelity 'auto' needs pilot >= 0 points, got {pilot!r}")
-        self.variants = {fid: cls(fidelity=fid, **options) for fid in cls.fidelities}
+        self.variants = {fid: get(name, fidelity=fid, **options) for fid in cls.fidelities}
         richest = self.variants[cls.fidelities[0]]
-        self.name, self.fidelity, self.fidelities = name, "auto", cls.fidelities
+        # the wrapped model's identity, per instance (one wrapper class serves every model)
+        self.name = name  # type: ignore[misc]
+        self.fidelities = cls.fidelities  # type: ignore[misc]
+        self.fidelity = "auto"
         self.parameters, self.outputs = richest.parameters, richest.outputs
         self.tolerance, self.pilot = float(tolerance), pilot
         self.choices: dict[Scene, dict[str, Any]] = {}
