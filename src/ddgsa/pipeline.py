@@ -186,7 +186,9 @@ def _run_auto(plan: _Plan, store: EvaluationStore, outputs: list[str], options: 
             if new is not None:
                 nxt[i] = new
         pending = nxt
-    return [a.result for a in autos if a.result is not None]
+    results = [a.result for a in autos]
+    assert all(r is not None for r in results)             # every state machine finishes with a result
+    return results  # type: ignore[return-value]
 
 
 def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backend: str | None = None,

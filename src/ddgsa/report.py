@@ -82,6 +82,11 @@ def sweep_summary(sweep: pd.DataFrame, outputs: list[str], grid: list[str] | Non
     return out
 
 
+def _case_label(fields: list[str], values: Any) -> str:
+    """``field=value`` for numbers, the value alone for labels such as a variant's."""
+    return ", ".join(f"{f}={v:g}" if isinstance(v, float) else f"{v}" for f, v in zip(fields, values))
+
+
 def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None = None) -> list[tuple[Any, str]]:
     """Each output (+- one std) against the first grid parameter, or against wind speed scaled by
     its maximum; one line per value of every other varying key (variant, scene fields, grid)."""
@@ -90,8 +95,7 @@ def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None
     others = [f for f in _sweep_keys(summary, grid) if f not in (x, "scene") and summary[f].nunique() > 1]
     figs = []
     if summary[x].nunique() == 1 and others:      # nothing to sweep along: one bar per case, real units
-        labels = [", ".join(str(v) if not isinstance(v, float) else f"{f}={v:g}" for f, v in zip(others, row))
-                  for row in summary[others].itertuples(index=False)]
+        labels = [_case_label(others, row) for row in summary[others].itertuples(index=False)]
         for o in outputs:
             fig, ax = plt.subplots(figsize=(6.5, 0.45 * len(labels) + 1.2))
             ax.barh(labels, summary[f"{o}_mean"], xerr=summary[f"{o}_std"], color="tab:blue")
@@ -108,8 +112,7 @@ def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None
         scale = 1.0 if grid else summary[f"{o}_mean"].max()
         for key, g in groups:
             g = g.sort_values(x)
-            label = ", ".join(f"{f}={v:g}" if isinstance(v, float) else f"{v}"
-                              for f, v in zip(others, key if isinstance(key, tuple) else (key,)))
+            label = _case_label(others, key if isinstance(key, tuple) else (key,))
             ax.errorbar(g[x], g[f"{o}_mean"] / scale, yerr=g[f"{o}_std"] / scale, capsize=2,
                         marker="o", ms=3, label=label or None)
         if grid and summary[x].min() > 0 and summary[x].max() / summary[x].min() > 50:

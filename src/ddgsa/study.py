@@ -273,16 +273,17 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             model = get_model(spec.model.name, fidelity=fid, **spec.model.options)
     except (DdgsaError, TypeError) as exc:
         raise StudyError(f"{where}: field 'model': {exc}") from None
+    variants = []
     for i, v in enumerate(spec.model.variants):
         try:
-            variant = get_model(spec.model.name, fidelity=spec.model.fidelity, **{**spec.model.options, **v})
+            variants.append(get_model(spec.model.name, fidelity=spec.model.fidelity, **{**spec.model.options, **v}))
         except (DdgsaError, TypeError) as exc:
             raise StudyError(f"{where}: field 'model.variants[{i}]': {exc}") from None
-        model = variant if i == 0 else model           # names are checked against the first variant
         for j, out in enumerate(spec.outputs):
-            if out not in variant.outputs:
+            if out not in variants[i].outputs:
                 raise StudyError(f"{where}: field 'outputs[{j}]': output {out!r} does not exist in "
-                                 f"model.variants[{i}]; that variant has: {', '.join(variant.outputs)}")
+                                 f"model.variants[{i}]; that variant has: {', '.join(variants[i].outputs)}")
+    model = variants[0] if variants else model          # parameter names: the first variant's
     names = [p.name for p in model.parameters]
     for section in ("parameters", "fixed"):
         for key in getattr(spec, section):

@@ -48,7 +48,6 @@ Damage rate (Palmgren-Miner with ``L10 = (C/P)^(10/3)`` million revolutions):
 from __future__ import annotations
 
 import functools
-
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -367,14 +366,14 @@ class DirectDrive(Model):
         return out
 
     @functools.cached_property
-    def lowest_mode_hz(self) -> float:
-        """Lowest natural frequency at the nominal parameters, standstill [Hz]."""
-        return float(self.modes()["frequency_hz"].min())
+    def nominal_modes(self) -> pd.DataFrame:
+        """:meth:`modes` at the nominal parameters, standstill (computed once per instance)."""
+        return self.modes()
 
     def sampling_checks(self, scene: Scene) -> list[dict[str, Any]]:
         """Integration step against the lowest mode (generalised-alpha fidelities) and the scene's
         load/controller interval against the highest."""
-        modes = self.modes()
+        modes = self.nominal_modes
         low, top = modes.loc[modes["frequency_hz"].idxmin()], modes.loc[modes["frequency_hz"].idxmax()]
         rows = []
         if self.fidelity != "linear":
@@ -385,8 +384,8 @@ class DirectDrive(Model):
 
     def _check_step(self) -> None:
         """Aliasing guard (:mod:`ddgsa.mbs.sampling`): warn when the step does not resolve the lowest mode."""
-        check_interval(self.time_step, self.lowest_mode_hz, "direct_drive integration step", refuse=False,
-                       warn_below=NYQUIST)
+        check_interval(self.time_step, float(self.nominal_modes["frequency_hz"].min()),
+                       "direct_drive integration step", refuse=False, warn_below=NYQUIST)
 
     def _linear_response(self, asm: Assembly, q_st: NDArray[np.float64], forces: NDArray[np.float64],
                          moments: NDArray[np.float64], w_set: NDArray[np.float64], dt: float) -> dict[str, Any]:

@@ -125,12 +125,17 @@ def pull_vector(ecc_y: ArrayLike, ecc_z: ArrayLike, gen: PMGenerator = PMGenerat
     if np.any(np.hypot(ey, ez) >= gen.air_gap):
         raise ValueError(f"eccentricity {float(np.max(np.hypot(ey, ez))):.4g} m closes the "
                          f"{gen.air_gap} m air gap")
+    (ny, nz), area = _sectors(gen)
+    gap = gen.air_gap - (ey[..., None] * ny + ez[..., None] * nz)
+    force = gen.pressure(gap) * area
+    return np.stack([force @ ny, force @ nz], axis=-1)
+
+
+def _sectors(gen: PMGenerator) -> tuple[NDArray[np.float64], float]:
+    """Unit radial vectors (2, N) at the sector centres ``beta/2 + i beta`` and the sector area ``R L beta`` [m^2]."""
     beta = 2 * math.pi / gen.sectors
     theta = beta / 2 + beta * np.arange(gen.sectors)
-    ny, nz = np.cos(theta), np.sin(theta)
-    gap = gen.air_gap - (ey[..., None] * ny + ez[..., None] * nz)
-    force = gen.pressure(gap) * gen.air_gap_radius * gen.core_length * beta
-    return np.stack([force @ ny, force @ nz], axis=-1)
+    return np.stack([np.cos(theta), np.sin(theta)]), gen.air_gap_radius * gen.core_length * beta
 
 
 def radial_pull(eccentricity: ArrayLike, gen: PMGenerator = PMGenerator()) -> NDArray[np.float64]:
@@ -152,12 +157,9 @@ def linear_stiffness(gen: PMGenerator = PMGenerator()) -> float:
 
 def pull_jacobian(ecc_y: float, ecc_z: float, gen: PMGenerator = PMGenerator()) -> NDArray[np.float64]:
     """``d(F_y, F_z)/d(e_y, e_z)`` [N/m] of :func:`pull_vector` at one eccentricity (analytic)."""
-    beta = 2 * math.pi / gen.sectors
-    theta = beta / 2 + beta * np.arange(gen.sectors)
-    n = np.stack([np.cos(theta), np.sin(theta)])
+    n, area = _sectors(gen)
     gap = gen.air_gap - (ecc_y * n[0] + ecc_z * n[1])
     b = gen.flux_density(gap)
     dp_dgap = -gen.pole_arc_ratio * b ** 2 * gen.carter_factor / (
         MU_0 * (gen.magnet_height / gen.relative_permeability + gen.carter_factor * gap))
-    w = -dp_dgap * gen.air_gap_radius * gen.core_length * beta
-    return (n * w) @ n.T
+    return (n * (-dp_dgap * area)) @ n.T
