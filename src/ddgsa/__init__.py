@@ -5,7 +5,7 @@ The public API is what ``__all__`` lists; everything else is internal.
 
 from __future__ import annotations
 
-from ddgsa import loads
+from ddgsa import loads, models
 from ddgsa.errors import DdgsaError, MethodError, ModelError, SceneError, SpaceError, StudyError
 from ddgsa.gsa import SobolResult, sobol
 from ddgsa.gsa.result import Diagnostic
@@ -28,5 +28,6 @@ __all__ = [
     "StudyError",
     "__version__",
     "loads",
+    "models",
     "sobol",
 ]

@@ -7,6 +7,8 @@ Messages name the thing, the offending value and what is allowed.
 
 from __future__ import annotations
 
+import difflib
+
 
 class DdgsaError(Exception):
     """Base class of all ddgsa errors."""
@@ -32,8 +34,17 @@ class StudyError(DdgsaError, ValueError):
     """An invalid study file; the message names the file and the field."""
 
 
-def unknown_name_message(kind: str, name: object, known: "list[str] | tuple[str, ...]") -> str:
-    """Message for an unknown name, listing the known ones.
+class OutputFolderError(DdgsaError, ValueError):
+    """An output folder that belongs to another study or another live run."""
+
+
+LIST_AT_MOST = 12
+"""Known names listed in full in an unknown-name message; longer lists give only close matches."""
+
+
+def unknown_name_message(kind: str, name: object, known: "list[str] | tuple[str, ...]", where: str = "") -> str:
+    """Message for an unknown name: the close matches ("did you mean"), and the known names
+    when there are at most :data:`LIST_AT_MOST` of them (or no close match).
 
     Parameters
     ----------
@@ -43,5 +54,18 @@ def unknown_name_message(kind: str, name: object, known: "list[str] | tuple[str,
         The name that was given.
     known : sequence of str
         The names that exist.
+    where : str
+        Where the full list can be read (e.g. ``"ddgsa models"``), quoted for long lists.
+
+    Examples
+    --------
+    >>> unknown_name_message("model", "drect", ["analytic", "direct_drive"])
+    "unknown model 'drect'; known: analytic, direct_drive; did you mean 'direct_drive'?"
     """
-    return f"unknown {kind} {name!r}; known: {', '.join(sorted(known))}"
+    names = sorted(known)
+    close = difflib.get_close_matches(str(name), names, n=3, cutoff=0.5)
+    hint = f"did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+    if len(names) <= LIST_AT_MOST or not close:
+        return f"unknown {kind} {name!r}; known: {', '.join(names)}" + (f"; {hint}" if hint else "")
+    see = f"`{where}` lists all {len(names)}" if where else f"{len(names)} known"
+    return f"unknown {kind} {name!r}; {hint} ({see})"

@@ -38,7 +38,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from ruamel.yaml import YAML
 from ruamel.yaml.error import YAMLError
 
-from ddgsa.errors import DdgsaError, StudyError
+from ddgsa.errors import DdgsaError, StudyError, unknown_name_message
 from ddgsa.gsa.auto import resolve_auto_options
 from ddgsa.gsa.base import METHODS, get_method
 from ddgsa.loads.scene import Scene
@@ -263,8 +263,7 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         raise StudyError(_pydantic_message(where, exc)) from None
     # model-aware checks
     if spec.model.name not in MODELS:
-        raise StudyError(f"{where}: field 'model.name': unknown model {spec.model.name!r}; "
-                         f"known: {', '.join(sorted(MODELS))}")
+        raise StudyError(f"{where}: field 'model.name': {unknown_name_message('model', spec.model.name, list(MODELS))}")
     if spec.model.fidelity is None:
         spec.model.fidelity = MODELS.lookup(spec.model.name).fidelities[0]
     try:
@@ -289,11 +288,11 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         for key in getattr(spec, section):
             if key not in names:
                 raise StudyError(f"{where}: field '{section}.{key}': not a parameter of model "
-                                 f"{spec.model.name!r}; known: {', '.join(names)}")
+                                 f"{spec.model.name!r}: {_unknown_parameter(key, names)}")
     for key, values in spec.grid.items():
         if key not in names:
-            raise StudyError(f"{where}: field 'grid.{key}': not a parameter of model {spec.model.name!r}; "
-                             f"known: {', '.join(names)}")
+            raise StudyError(f"{where}: field 'grid.{key}': not a parameter of model {spec.model.name!r}: "
+                             f"{_unknown_parameter(key, names)}")
         decl = model.parameter(key)
         bad = [v for v in values if not decl.low <= v <= decl.high]
         if bad:
@@ -342,6 +341,10 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             raise StudyError(f"{where}: field 'fault.parameter': {spec.fault.parameter!r} must also be an "
                              f"uncertain parameter (under 'parameters')")
     return Study(spec=spec, space=space, path=path, text=text)
+
+
+def _unknown_parameter(name: str, known: list[str]) -> str:
+    return unknown_name_message("parameter", name, known, where="ddgsa models")
 
 
 def _pydantic_message(where: str, exc: ValidationError) -> str:

@@ -23,10 +23,11 @@ from ddgsa.space import ParameterSpace
 __all__ = ["METHODS", "Design", "Diagnostic", "GsaMethod", "SobolResult", "get_method", "register",
            "sobol"]
 
-Model = Callable[[NDArray[np.float64]], "NDArray[np.float64] | pd.DataFrame | pd.Series"]
+VectorisedFunction = Callable[[NDArray[np.float64]], "NDArray[np.float64] | pd.DataFrame | pd.Series"]
+"""A function of points (n_points, n_params) returning (n_points,), (n_points, n_outputs) or a DataFrame."""
 
 
-def sobol(f: Model, space: ParameterSpace, method: str = "mdrm", *,
+def sobol(f: VectorisedFunction, space: ParameterSpace, method: str = "mdrm", *,
           outputs: Sequence[str] | None = None, **options: Any) -> SobolResult:
     """Sobol indices of a vectorised function.
 

@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.special import factorial
 
+from ddgsa.closed_forms import ishigami as ishigami_function
 from ddgsa.space import ParameterSpace
 
 Func = Callable[[NDArray[np.float64]], NDArray[np.float64]]
@@ -70,7 +71,7 @@ def ishigami(a: float = 7.0, b: float = 0.1, shift: float = 0.0) -> TestFunction
     var = v1 + v2 + v13
 
     def f(x: NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.sin(x[:, 0]) + a * np.sin(x[:, 1]) ** 2 + b * x[:, 2] ** 4 * np.sin(x[:, 0]) + shift
+        return ishigami_function(x, a, b) + shift
 
     return TestFunction(f"ishigami(a={a}, b={b}, shift={shift})", _uniform_space(3, -np.pi, np.pi), f,
                         np.array([v1, v2, 0.0]) / var, np.array([v1 + v13, v2, v13]) / var)

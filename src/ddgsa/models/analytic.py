@@ -1,6 +1,6 @@
 """An analytic model with known Sobol indices, for studies that test the workbench itself.
 
-``analytic`` evaluates the Ishigami function (``ddgsa.gsa.testfunctions.ishigami``) scaled by
+``analytic`` evaluates the Ishigami function (:func:`ddgsa.closed_forms.ishigami`) scaled by
 ``wind_speed / 11`` so that scenes matter, at microseconds a point. Options make it fail on
 purpose (``fail_above``: raise for ``x1`` above a value) or slow (``delay_s`` per point), which
 is how the runner's failure handling and kill/resume are tested.
@@ -16,7 +16,7 @@ import numpy as np
 import pandas as pd
 
 from ddgsa.errors import ModelError
-from ddgsa.gsa.testfunctions import ishigami
+from ddgsa.closed_forms import ishigami
 from ddgsa.loads.scene import Scene
 from ddgsa.models.base import Model, ModelParameter, register_model
 
@@ -41,14 +41,13 @@ class Analytic(Model):
         self.fidelity = fidelity
         self.fail_above = fail_above
         self.delay_s = float(delay_s)
-        self._f = ishigami().f
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
         if self.delay_s:
             time.sleep(self.delay_s)
         if self.fail_above is not None and params["x1"] > self.fail_above:
             raise RuntimeError(f"x1 = {params['x1']:.3f} above fail_above = {self.fail_above}")
-        y = float(self._f(np.array([[params["x1"], params["x2"], params["x3"]]]))[0]) * scene.wind_speed / 11.0
+        y = float(ishigami(np.array([[params["x1"], params["x2"], params["x3"]]]))[0]) * scene.wind_speed / 11.0
         return {"y": y, "y_positive": y + 12.0}
 
     def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:

@@ -87,7 +87,7 @@ class Model(ABC):
             if p.name == name:
                 return p
         raise ModelError(unknown_name_message(f"parameter of model {self.name!r}", name,
-                                              [p.name for p in self.parameters]))
+                                              [p.name for p in self.parameters], where="ddgsa models"))
 
     def parameter_table(self) -> pd.DataFrame:
         """Declared parameters as a table (name, nominal, unit, low, high, description)."""
