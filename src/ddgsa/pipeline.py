@@ -10,8 +10,10 @@ from __future__ import annotations
 
 import itertools
 import platform
+import subprocess
 import sys
 import time
+from datetime import datetime, timezone
 from dataclasses import dataclass, field
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -25,8 +27,9 @@ from ddgsa.errors import DdgsaError, StudyError
 from ddgsa.gsa.auto import AutoSobol
 from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.result import SobolResult
+from ddgsa.models import get as get_model
 from ddgsa.models.auto import choose_fidelity
-from ddgsa.runner import EvaluationStore, ModelId, Outcome, Task, run_tasks, task_key
+from ddgsa.runner import EvaluationStore, Evaluator, ModelId, Outcome, Task, run_tasks, task_key
 from ddgsa.space import ParameterSpace
 from ddgsa.loads.scene import Scene
 from ddgsa.study import PlannedScene, Study, plan_scenes
@@ -56,19 +59,93 @@ def model_id(study: Study, fidelity: str | None = None) -> ModelId:
     return ModelId(spec.name, fidelity or spec.fidelity, tuple(sorted(spec.options.items())))
 
 
-def select_fidelities(study: Study, store: EvaluationStore, evaluate: bool,
-                      run_opts: dict[str, Any]) -> list[dict[str, Any]]:
+def model_evaluator(mid: ModelId) -> Evaluator:
+    """The runner's model factory: the registered model's ``evaluate``, scenes given as dicts."""
+    model = get_model(mid.name, fidelity=mid.fidelity, **dict(mid.options))
+
+    def evaluate(points: pd.DataFrame, scene: dict[str, Any]) -> pd.DataFrame:
+        return model.evaluate(points, Scene(**scene))
+
+    return evaluate
+
+
+def make_task(mid: ModelId, scene: Scene, point: dict[str, float]) -> Task:
+    """The runner's task for one point of one scene realisation."""
+    fields = scene.to_dict()
+    return Task(task_key(mid, fields, point, ddgsa.__version__), mid, fields, point)
+
+
+class Runs:
+    """Every model evaluation a study asks for, counted once per unique evaluation.
+
+    Each call hands tasks to the runner (when ``evaluate``); :meth:`counts` gives the figures
+    the CLI line, ``summary.md`` and ``provenance.json`` all print: ``total`` unique
+    evaluations, ``evaluated`` (run now), ``cached`` (found in the store), ``failed`` (of all,
+    with stored reasons) and ``failed_now``.
+    """
+
+    def __init__(self, store: EvaluationStore, evaluate: bool, run_opts: dict[str, Any]) -> None:
+        self.store, self.evaluate, self.run_opts = store, evaluate, run_opts
+        self.tasks: dict[str, Task] = {}
+        self.evaluated = self.failed_now = 0
+        self._warm: set[ModelId] = set()
+
+    def __call__(self, tasks: list[Task]) -> None:
+        """Evaluate what the store lacks of ``tasks``."""
+        self.tasks.update((t.key, t) for t in tasks)
+        if not self.evaluate:
+            return
+        self._warm_up(tasks)
+        self._run(tasks, self.run_opts)
+
+    def _run(self, tasks: list[Task], opts: dict[str, Any]) -> None:
+        got = run_tasks(tasks, self.store, model_evaluator, **opts)
+        self.evaluated += got["evaluated"]
+        self.failed_now += got["failed"]
+
+    def _warm_up(self, tasks: list[Task]) -> None:
+        """One evaluation per model in this process before the parallel workers start, with a
+        message saying why it may take long: the model's compiled kernels are built on a first
+        run after an install (and cached on disk for the workers), loaded from the cache after."""
+        missing = {t.key for t in tasks} - self.store.known(t.key for t in tasks)
+        first: dict[ModelId, Task] = {}
+        for t in tasks:
+            if t.key in missing and t.model not in self._warm:
+                first.setdefault(t.model, t)
+        quiet = self.run_opts.get("quiet", False)
+        for mid, task in first.items():
+            self._warm.add(mid)
+            if not quiet:
+                print(f"{mid.name} ({mid.fidelity}): first evaluation, compiling the model's kernels on a first "
+                      "run after installing (once; later runs load them from the cache)...", file=sys.stderr,
+                      flush=True)
+            t0 = time.perf_counter()
+            self._run([task], {**self.run_opts, "jobs": 1, "backend": "loky", "quiet": True})
+            if not quiet:
+                print(f"{mid.name} ({mid.fidelity}): ready after {time.perf_counter() - t0:.1f} s", file=sys.stderr,
+                      flush=True)
+
+    def counts(self) -> dict[str, int]:
+        """Unique evaluations asked for, run now, found in the store, failed (all and now)."""
+        got = self.store.get(self.tasks)
+        total = len(self.tasks)
+        return {"total": total, "evaluated": self.evaluated, "cached": total - self.evaluated,
+                "failed": sum(o.outputs is None for o in got.values()), "failed_now": self.failed_now}
+
+
+def select_fidelities(study: Study, runs: Runs) -> list[dict[str, Any]]:
     """``fidelity: auto``: per scene, the cheapest fidelity whose pilot outputs stay within tolerance.
 
     The pilot set is the nominal point plus ``model.auto.pilot`` scrambled-Sobol' points of the
     space, in the first realisation of each scene, at every fidelity of the model. Errors are
     the largest relative deviation over pilot points and study outputs from the richest
-    fidelity (the model's first); cost is the mean measured seconds per evaluation.
+    fidelity (the model's first); cost is the model's deterministic cost model
+    (:meth:`ddgsa.models.Model.fidelity_cost`), never measured time, so the choice is the same on
+    any machine and load. Measured seconds are recorded beside it for information.
     """
-    from ddgsa.models import get as get_model
-
     auto = study.spec.model.auto
-    fidelities = list(get_model(study.spec.model.name).fidelities)
+    model = get_model(study.spec.model.name)
+    fidelities = list(model.fidelities)
     space = study.space
     names = space.names if space is not None else ()
     pilot = np.zeros((1, 0)) if space is None else np.vstack(
@@ -80,12 +157,11 @@ def select_fidelities(study: Study, store: EvaluationStore, evaluate: bool,
         scene = ps.scenes[0]
         for fid in fidelities:
             mid = model_id(study, fid)
-            ts = [Task(task_key(mid, scene, p, ddgsa.__version__), mid, scene, p) for p in pts]
+            ts = [make_task(mid, scene, p) for p in pts]
             tasks += ts
             plan.append((ps, fid, ts))
-    if evaluate:
-        run_tasks(tasks, store, **run_opts)
-    got = store.get([t.key for t in tasks])
+    runs(tasks)
+    got = runs.store.get([t.key for t in tasks])
     if len(got) < len({t.key for t in tasks}):
         raise StudyError("pilot evaluations for fidelity: auto are not in the store; run the study first")
     choices = []
@@ -93,8 +169,10 @@ def select_fidelities(study: Study, store: EvaluationStore, evaluate: bool,
         table = {fid: [got[t.key] for t in ts] for p_, fid, ts in plan if p_.index == ps.index}
         values = {fid: np.array([[o.outputs[n] if o.outputs else np.nan for n in outputs] for o in table[fid]])
                   for fid in fidelities}
-        seconds = {fid: float(np.mean([o.seconds for o in table[fid]])) for fid in fidelities}
-        entry = {"scene": ps.index, **ps.fields, **choose_fidelity(values, seconds, outputs, auto.tolerance)}
+        costs = {fid: model.fidelity_cost(fid) for fid in fidelities}
+        entry = {"scene": ps.index, **ps.fields, **choose_fidelity(values, costs, outputs, auto.tolerance)}
+        entry.update({f"measured_s_per_eval_{fid}": round(float(np.mean([o.seconds for o in table[fid]])), 4)
+                      for fid in fidelities})
         choices.append(entry)
     return choices
 
@@ -115,8 +193,7 @@ class _Plan:
 
     def task(self, ps: PlannedScene, scene: Scene, point: dict[str, float]) -> Task:
         """The task of one point in one realisation of a planned scene."""
-        mid = self.mids[ps.index]
-        return Task(task_key(mid, scene, point, ddgsa.__version__), mid, scene, point)
+        return make_task(self.mids[ps.index], scene, point)
 
     def add_block(self, name: str, x: np.ndarray, names: tuple[str, ...]) -> None:
         """Points (n, len(names)) to evaluate in every scene and realisation."""
@@ -164,8 +241,7 @@ def _designs(study: Study) -> list[tuple[str, Design]]:
             if m.method != "auto"]
 
 
-def _run_auto(plan: _Plan, store: EvaluationStore, outputs: list[str], options: dict[str, Any],
-              evaluate: bool, run_opts: dict[str, Any], counts: dict[str, int]) -> list[SobolResult]:
+def _run_auto(plan: _Plan, runs: Runs, outputs: list[str], options: dict[str, Any]) -> list[SobolResult]:
     """``method: auto`` in every scene at once: each stage's points of all scenes go to the runner together."""
     study = plan.study
     assert study.space is not None
@@ -176,13 +252,10 @@ def _run_auto(plan: _Plan, store: EvaluationStore, outputs: list[str], options: 
         tasks = [plan.task(plan.scenes[i], scene, p) for i, x in pending.items()
                  for scene in plan.scenes[i].scenes for p in _points(study, x, names)]
         plan.tasks += tasks
-        if evaluate:
-            got = run_tasks(tasks, store, **run_opts)
-            for k in ("total", "cached", "evaluated", "failed"):
-                counts[k] += got[k]
+        runs(tasks)
         nxt = {}
         for i, x in pending.items():
-            new = autos[i].feed(plan.values_at(store, x, names, plan.scenes[i], outputs, aggregate))
+            new = autos[i].feed(plan.values_at(runs.store, x, names, plan.scenes[i], outputs, aggregate))
             if new is not None:
                 nxt[i] = new
         pending = nxt
@@ -202,9 +275,10 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
     run = spec.run
     run_opts = {"jobs": jobs or run.jobs, "batch_size": run.batch_size, "backend": backend or run.backend,
                 "address": address or run.address, "quiet": quiet}
+    runs = Runs(store, evaluate, run_opts)
     fidelity_choice: list[dict[str, Any]] = []
     if spec.model.fidelity == "auto":
-        fidelity_choice = select_fidelities(study, store, evaluate, run_opts)
+        fidelity_choice = select_fidelities(study, runs)
         mids = {c["scene"]: model_id(study, c["chosen"]) for c in fidelity_choice}
     else:
         mids = {ps.index: model_id(study) for ps in plan_scenes(study)}
@@ -220,11 +294,8 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
         plan.add_block("gsa", pooled, study.space.names)
         if spec.kind == "fault":
             _add_fault_blocks(study, plan)
-    counts = {"total": len({t.key for t in plan.tasks}), "cached": 0, "evaluated": 0, "failed": 0}
-    if evaluate:
-        counts = run_tasks(plan.tasks, store, **run_opts)
-    auto = [_run_auto(plan, store, outputs, m.options, evaluate, run_opts, counts)
-            for m in spec.methods if m.method == "auto"]
+    runs(plan.tasks)
+    auto = [_run_auto(plan, runs, outputs, m.options) for m in spec.methods if m.method == "auto"]
     t_eval = time.perf_counter() - t0
     result = StudyResult(study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), {})
     failures: list[dict[str, Any]] = []
@@ -234,10 +305,10 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
         _analyse(plan, store, designs, outputs, result, auto)
         if spec.kind == "fault":
             result.fault, result.fault_samples = _fault_verdicts(plan, store, outputs, result.indices)
-    result.evaluations = _evaluation_table(store, plan)
-    failures += [{"key": r["key"], "scene": {k: r[k] for k in SCENE_FIELDS + ["seed"]}, "error": r["error"]}
-                 for r in result.evaluations.to_dict("records") if isinstance(r["error"], str)]
-    result.provenance = _provenance(study, mids, counts, t_eval, time.perf_counter() - t0, failures, designs)
+    result.evaluations = _evaluation_table(store, list(runs.tasks.values()))
+    failures += [{"key": r["key"], "fidelity": r["fidelity"], "scene": {k: r[k] for k in SCENE_FIELDS + ["seed"]},
+                  "error": r["error"]} for r in result.evaluations.to_dict("records") if isinstance(r["error"], str)]
+    result.provenance = _provenance(study, mids, runs.counts(), t_eval, time.perf_counter() - t0, failures, designs)
     result.provenance["fidelity_selection"] = fidelity_choice
     result.provenance["sampling"] = _sampling(study)
     result.fidelity = pd.DataFrame([{k: v for k, v in c.items() if k != "errors"} for c in fidelity_choice])
@@ -366,16 +437,16 @@ def _fault_verdicts(plan: _Plan, store: EvaluationStore, outputs: list[str],
     return pd.DataFrame(rows), pd.DataFrame(samples).drop_duplicates()
 
 
-def _evaluation_table(store: EvaluationStore, plan: _Plan) -> pd.DataFrame:
-    keys = list({t.key: t for t in plan.tasks}.items())
-    got = store.get([k for k, _ in keys])
+def _evaluation_table(store: EvaluationStore, tasks: list[Task]) -> pd.DataFrame:
+    """One row per stored evaluation of ``tasks``: fidelity, scene, point, outputs, failure reason."""
+    got = store.get([t.key for t in tasks])
     rows = []
-    for key, task in keys:
-        o = got.get(key)
+    for task in tasks:
+        o = got.get(task.key)
         if o is None:
             continue
-        rows.append({"key": key, **task.scene.to_dict(), **task.point, **(o.outputs or {}), "error": o.error,
-                     "seconds": o.seconds})
+        rows.append({"key": task.key, "fidelity": task.model.fidelity, **task.scene, **task.point,
+                     **(o.outputs or {}), "error": o.error, "seconds": o.seconds})
     return pd.DataFrame(rows)
 
 
@@ -398,11 +469,27 @@ def _sampling(study: Study) -> list[dict[str, Any]]:
         return [{"interval": "-", "verdict": "not checked", "consequence": f"{type(exc).__name__}: {exc}"}]
 
 
+def code_version() -> dict[str, Any]:
+    """The ddgsa version and, in a git checkout, its commit and whether files differ from it."""
+    here = Path(__file__).resolve().parent
+    out: dict[str, Any] = {"ddgsa": ddgsa.__version__, "commit": None, "modified": None}
+    try:
+        commit = subprocess.run(["git", "-C", str(here), "rev-parse", "HEAD"], capture_output=True, text=True,
+                                timeout=10, check=True).stdout.strip()
+        status = subprocess.run(["git", "-C", str(here), "status", "--porcelain", "--untracked-files=no", "--",
+                                 str(here)], capture_output=True, text=True, timeout=10, check=True).stdout
+    except (OSError, subprocess.SubprocessError):
+        return out                                   # an installed copy, no git: the version says it all
+    out.update(commit=commit, modified=bool(status.strip()))
+    return out
+
+
 def _provenance(study: Study, mids: dict[int, ModelId], counts: dict[str, int], t_eval: float, t_total: float,
                 failures: list[dict[str, Any]], designs: list[tuple[str, Design]]) -> dict[str, Any]:
     sc = study.spec.scenes
     return {
-        "study": study.name, "study_sha256": study.digest, "study_file": str(study.path) if study.path else None,
+        "study": study.name, "study_sha256": study.digest, "study_file": study.path.name if study.path else None,
+        "created_utc": datetime.now(timezone.utc).isoformat(timespec="seconds"), "code": code_version(),
         "kind": study.spec.kind, "model": {**model_id(study).as_dict(),
                                            "per_scene": {i: m.fidelity for i, m in mids.items()}},
         "versions": _versions(), "python": sys.version.split()[0], "platform": platform.platform(),

@@ -1,12 +1,14 @@
-"""Parallel, cached, resumable evaluation of ``model.evaluate(points, scene)``.
+"""Parallel, cached, resumable evaluation of ``model(points, scene)``.
 
-The runner knows nothing of Sobol indices or turbines: it receives tasks (a key, a scene,
-a full parameter dict), skips those already in the store, evaluates the rest in batches
-(one ``model.evaluate`` call per batch of points of one scene) on joblib's loky backend or
-a Dask cluster, and commits every finished batch to SQLite in one transaction, so a killed
-run loses at most the batches in flight. A failed evaluation is stored with its reason.
-Evaluations are deterministic (seeded scenes), so results do not depend on the number of
-workers, the backend or the order batches finish in.
+The runner knows nothing of Sobol indices or turbines: it receives tasks (a key, a model
+identity, an opaque scene dict, a full parameter dict) and a *model factory* (a picklable
+callable turning a :class:`ModelId` into an evaluator ``f(points: DataFrame, scene: dict) ->
+DataFrame``), skips the tasks already in the store, evaluates the rest in batches (one
+evaluator call per batch of points of one scene) on joblib's loky backend or a Dask cluster,
+and commits every finished batch to SQLite in one transaction, so a killed run loses at most
+the batches in flight. A failed evaluation is stored with its reason. Evaluations are
+deterministic (seeded scenes), so results do not depend on the number of workers, the
+backend or the order batches finish in.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ import json
 import math
 import sqlite3
 import time
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import lru_cache
@@ -24,9 +26,13 @@ from pathlib import Path
 from typing import Any
 
 import joblib
+import pandas as pd
 from tqdm import tqdm
 
-from ddgsa.loads.scene import Scene
+Evaluator = Callable[[pd.DataFrame, Mapping[str, Any]], pd.DataFrame]
+"""``f(points, scene)``: one row of outputs per point; failed rows NaN with reasons in ``attrs["failures"]``."""
+ModelFactory = Callable[["ModelId"], Evaluator]
+"""Builds the evaluator of a model identity (must be picklable: a module-level function)."""
 
 
 @dataclass(frozen=True)
@@ -44,11 +50,12 @@ class ModelId:
 
 @dataclass(frozen=True)
 class Task:
-    """One model evaluation: the store key, the model, the scene and the full parameter dict."""
+    """One model evaluation: the store key, the model, the scene (a JSON-able dict the runner
+    does not read) and the full parameter dict."""
 
     key: str
     model: ModelId
-    scene: Scene
+    scene: dict[str, Any]
     point: dict[str, float]
 
 
@@ -61,9 +68,9 @@ class Outcome:
     seconds: float
 
 
-def task_key(model: ModelId, scene: Scene, point: dict[str, float], version: str) -> str:
-    """Store key: SHA-256 of the model id, the scene, the point (exact float reprs) and the ddgsa version."""
-    blob = json.dumps({"model": model.as_dict(), "scene": scene.to_dict(), "version": version,
+def task_key(model: ModelId, scene: Mapping[str, Any], point: dict[str, float], version: str) -> str:
+    """Store key: SHA-256 of the model id, the scene, the point (exact float reprs) and the code version."""
+    blob = json.dumps({"model": model.as_dict(), "scene": dict(scene), "version": version,
                        "point": {k: repr(float(v)) for k, v in sorted(point.items())}}, sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()
 
@@ -112,7 +119,7 @@ class EvaluationStore:
         with self._db:
             self._db.executemany(
                 "INSERT OR REPLACE INTO evaluations VALUES (?, ?, ?, ?, ?, ?)",
-                [(t.key, json.dumps(t.scene.to_dict()), json.dumps(t.point),
+                [(t.key, json.dumps(t.scene), json.dumps(t.point),
                   None if o.outputs is None else json.dumps(o.outputs), o.error, o.seconds)
                  for t, o in zip(tasks, outcomes)])
 
@@ -122,19 +129,17 @@ class EvaluationStore:
 
 
 @lru_cache(maxsize=8)
-def _model(model: ModelId) -> Any:
-    from ddgsa.models import get
+def _evaluator(factory: ModelFactory, model: ModelId) -> Evaluator:
+    """One evaluator per model identity and process (models are built once per worker)."""
+    return factory(model)
 
-    return get(model.name, fidelity=model.fidelity, **dict(model.options))
 
-
-def evaluate_batch(model: ModelId, scene: Scene, points: list[dict[str, float]]) -> list[Outcome]:
+def evaluate_batch(factory: ModelFactory, model: ModelId, scene: Mapping[str, Any],
+                   points: list[dict[str, float]]) -> list[Outcome]:
     """Evaluate one batch in a worker; every failure becomes an :class:`Outcome` with its reason."""
-    import pandas as pd
-
     t0 = time.perf_counter()
     try:
-        frame = _model(model).evaluate(pd.DataFrame(points), scene)
+        frame = _evaluator(factory, model)(pd.DataFrame(points), scene)
     except Exception as exc:  # noqa: BLE001 -- any failure is data, never a crash of the run
         return [Outcome(None, f"{type(exc).__name__}: {exc}", 0.0) for _ in points]
     per_point = (time.perf_counter() - t0) / max(len(points), 1)
@@ -173,35 +178,42 @@ def _backend(backend: str, jobs: int, address: str | None) -> Iterator[None]:
             cluster.close()
 
 
-def run_tasks(tasks: list[Task], store: EvaluationStore, jobs: int = 1, batch_size: int = 4,
-              backend: str = "loky", address: str | None = None, quiet: bool = False) -> dict[str, int]:
-    """Evaluate the tasks missing from ``store``; returns counts (``total``, ``cached``, ``evaluated``, ``failed``)."""
+def run_tasks(tasks: list[Task], store: EvaluationStore, factory: ModelFactory, jobs: int = 1,
+              batch_size: int = 4, backend: str = "loky", address: str | None = None,
+              quiet: bool = False) -> dict[str, int]:
+    """Evaluate the tasks missing from ``store`` with the evaluators ``factory`` builds.
+
+    Returns
+    -------
+    dict
+        ``total`` (unique tasks), ``cached`` (already stored), ``evaluated`` (run now) and
+        ``failed`` (of those run now).
+    """
     unique = list({t.key: t for t in tasks}.values())
     done = store.known(t.key for t in unique)
     todo = [t for t in unique if t.key not in done]
     batches: list[list[Task]] = []
-    by_scene: dict[tuple[ModelId, Scene], list[Task]] = {}
+    by_scene: dict[tuple[ModelId, str], list[Task]] = {}
     for t in todo:
-        by_scene.setdefault((t.model, t.scene), []).append(t)
+        by_scene.setdefault((t.model, json.dumps(t.scene, sort_keys=True)), []).append(t)
     for group in by_scene.values():
         batches += [group[i:i + batch_size] for i in range(0, len(group), batch_size)]
     failed = 0
     with tqdm(total=len(todo), disable=quiet or not todo, unit="eval", desc="model runs", smoothing=0.1) as bar:
         if jobs == 1 and backend == "loky":
-            results: Iterable[tuple[list[Task], list[Outcome]]] = (
-                (b, evaluate_batch(b[0].model, b[0].scene, [t.point for t in b])) for b in batches)
+            results: Iterable[tuple[list[Task], list[Outcome]]] = (_batch_job(factory, b) for b in batches)
             failed = _consume(results, store, bar)
         else:
             with _backend(backend, jobs, address):
                 ret = "generator_unordered" if backend == "loky" else "generator"
                 par = joblib.Parallel(n_jobs=jobs, return_as=ret)
-                results = par(joblib.delayed(_batch_job)(b) for b in batches)
+                results = par(joblib.delayed(_batch_job)(factory, b) for b in batches)
                 failed = _consume(results, store, bar)
     return {"total": len(unique), "cached": len(done), "evaluated": len(todo), "failed": failed}
 
 
-def _batch_job(batch: list[Task]) -> tuple[list[Task], list[Outcome]]:
-    return batch, evaluate_batch(batch[0].model, batch[0].scene, [t.point for t in batch])
+def _batch_job(factory: ModelFactory, batch: list[Task]) -> tuple[list[Task], list[Outcome]]:
+    return batch, evaluate_batch(factory, batch[0].model, batch[0].scene, [t.point for t in batch])
 
 
 def _consume(results: Iterable[tuple[list[Task], list[Outcome]]], store: EvaluationStore, bar: tqdm) -> int:

@@ -75,20 +75,9 @@ def check_interval(interval_s: float, frequency_hz: float, what: str, *, refuse:
 
 def sampling_row(what: str, interval_s: float, frequency_hz: float, mode: str, consequence: str) -> dict[str, object]:
     """One line of a model's sampling table: ``samples_per_period`` and a verdict
-    (``ok`` >= 10, ``coarse`` >= 2, ``aliased`` below) with what it means for that interval."""
+    (``ok`` >= 10, ``coarse`` >= 2, ``aliased`` below); ``consequence`` is the caller's text on what
+    a coarse interval means for it (kept only when the verdict is not ``ok``)."""
     n = samples_per_period(interval_s, frequency_hz)
     verdict = "ok" if n >= RESOLVED else "coarse" if n >= NYQUIST else "aliased"
     return {"interval": what, "interval_s": float(interval_s), "mode": mode, "frequency_hz": float(frequency_hz),
             "samples_per_period": float(n), "verdict": verdict, "consequence": "" if verdict == "ok" else consequence}
-
-
-def controller_row(dt: float, frequency_hz: float, mode: str) -> dict[str, object]:
-    """The scene's load and controller interval against the model's highest mode.
-
-    ddgsa computes loads and control beforehand (one-way coupling) and feeds them as a C1 cubic,
-    so this interval cannot alias the structure here; it ends the excitation band at ``1/(2 dt)``,
-    and the same interval in a two-way co-simulation would alias the mode (seed 003 §3.2).
-    """
-    return sampling_row("load and controller interval (scene dt)", dt, frequency_hz, mode,
-                        f"no load content above {1 / (2 * dt):.3g} Hz: the mode responds quasi-statically "
-                        "only; a two-way co-simulation at this interval would alias it (seed 003 §3.2)")

@@ -18,7 +18,7 @@ import pandas as pd
 from ddgsa.errors import ModelError
 from ddgsa.closed_forms import ishigami
 from ddgsa.loads.scene import Scene
-from ddgsa.models.base import Model, ModelParameter, register_model
+from ddgsa.models.base import Model, ModelOutput, ModelParameter, register_model
 
 
 @register_model("analytic")
@@ -32,7 +32,8 @@ class Analytic(Model):
 
     parameters = tuple(ModelParameter(f"x{i}", 0.0, "-", f"Ishigami input {i}", -math.pi, math.pi)
                        for i in (1, 2, 3))
-    outputs = ("y", "y_positive")
+    outputs = (ModelOutput("y", "-", "Ishigami function times wind_speed / 11", -100.0, 100.0),
+               ModelOutput("y_positive", "-", "y + 12 (positive for wind speeds up to 11 m/s)", -88.0, 112.0))
     fidelities = ("exact",)
 
     def __init__(self, fidelity: str = "exact", fail_above: float | None = None, delay_s: float = 0.0) -> None:

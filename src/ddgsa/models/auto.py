@@ -3,7 +3,9 @@
 :func:`choose_fidelity` is the rule (shared with studies' ``fidelity: auto``): every fidelity is
 run on a pilot set, errors are the largest relative deviation of any output from the richest
 fidelity (the model's first), and the cheapest fidelity whose error is within ``tolerance`` wins
-(the richest when none is).
+(the richest when none is). "Cheapest" is the model's deterministic cost model
+(:meth:`ddgsa.models.Model.fidelity_cost`), never measured wall time: the same study gives the
+same choice on a loaded machine, a fast one, or on rerun.
 
 :class:`AutoFidelity` applies it inside ``evaluate``: the first time it sees a scene it pilots
 the nominal point plus the first ``pilot`` points it was given at every fidelity, records the
@@ -13,7 +15,6 @@ the chosen fidelity. ``ddgsa.models.get("direct_drive", fidelity="auto", toleran
 
 from __future__ import annotations
 
-import time
 from collections.abc import Mapping
 from typing import Any
 
@@ -26,7 +27,7 @@ from ddgsa.loads.scene import Scene
 from ddgsa.models.base import Model
 
 
-def choose_fidelity(values: Mapping[str, NDArray[np.float64]], seconds: Mapping[str, float], outputs: list[str],
+def choose_fidelity(values: Mapping[str, NDArray[np.float64]], costs: Mapping[str, float], outputs: list[str],
                     tolerance: float) -> dict[str, Any]:
     """The cheapest fidelity whose pilot values stay within ``tolerance`` of the first (richest) one.
 
@@ -35,14 +36,25 @@ def choose_fidelity(values: Mapping[str, NDArray[np.float64]], seconds: Mapping[
     values : mapping
         Fidelity -> pilot values (n_points, n_outputs); the first entry is the reference.
         Failed evaluations are NaN and make that fidelity's error infinite.
-    seconds : mapping
-        Fidelity -> mean seconds per evaluation.
+    costs : mapping
+        Fidelity -> relative cost of an evaluation [-] (deterministic: a cost model, not a timing).
+    outputs : list of str
+        Output names, the columns of ``values``.
+    tolerance : float
+        Largest relative error allowed [-].
 
     Returns
     -------
     dict
         ``chosen``, ``tolerance``, ``errors`` ({fidelity: {output: max relative error}}),
-        ``max_rel_error_<fidelity>`` and ``seconds_per_eval_<fidelity>``.
+        ``max_rel_error_<fidelity>`` and ``relative_cost_<fidelity>``.
+
+    Examples
+    --------
+    >>> ref = np.array([[1.0, 2.0]])
+    >>> choose_fidelity({"fine": ref, "coarse": ref * 1.01}, {"fine": 2.0, "coarse": 1.0}, ["a", "b"], 0.02)["chosen"]
+    'coarse'
+    
     """
     fidelities = list(values)
     ref = values[fidelities[0]]
@@ -54,9 +66,9 @@ def choose_fidelity(values: Mapping[str, NDArray[np.float64]], seconds: Mapping[
         rel = np.where((ref == 0) & (vals == 0), 0.0, rel)
         entry["errors"][fid] = {n: float(np.max(rel[:, j])) for j, n in enumerate(outputs)}
         entry[f"max_rel_error_{fid}"] = float(np.max(rel)) if np.all(np.isfinite(rel)) else float("inf")
-        entry[f"seconds_per_eval_{fid}"] = float(seconds[fid])
+        entry[f"relative_cost_{fid}"] = float(costs[fid])
     ok = [f for f in fidelities if entry[f"max_rel_error_{f}"] <= tolerance]
-    entry["chosen"] = min(ok, key=lambda f: seconds[f]) if ok else fidelities[0]
+    entry["chosen"] = min(ok, key=lambda f: (costs[f], fidelities.index(f))) if ok else fidelities[0]
     return entry
 
 
@@ -86,12 +98,9 @@ class AutoFidelity(Model):
         if scene not in self.choices:
             params = self.resolve(points)
             pilot = pd.concat([self.resolve(None), params.iloc[: self.pilot]], ignore_index=True)
-            values, seconds = {}, {}
-            for fid, model in self.variants.items():
-                t0 = time.perf_counter()
-                values[fid] = model.evaluate(pilot, scene).to_numpy(float)
-                seconds[fid] = (time.perf_counter() - t0) / len(pilot)
-            self.choices[scene] = choose_fidelity(values, seconds, list(self.outputs), self.tolerance)
+            values = {fid: model.evaluate(pilot, scene).to_numpy(float) for fid, model in self.variants.items()}
+            costs = {fid: model.fidelity_cost(fid) for fid, model in self.variants.items()}
+            self.choices[scene] = choose_fidelity(values, costs, list(self.outputs), self.tolerance)
         return self.choices[scene]
 
     def evaluate(self, points: pd.DataFrame | Mapping[str, Any] | None, scene: Scene) -> pd.DataFrame:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -10,9 +11,11 @@ from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
+from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError, unknown_name_message
 from ddgsa.loads.scene import Scene
+from ddgsa.mbs.sampling import sampling_row
 from ddgsa.registry import Registry
 
 MODELS: Registry[type["Model"]] = Registry("model", ModelError)
@@ -62,6 +65,68 @@ class ModelParameter:
     high: float = math.inf
 
 
+class ModelOutput(str):
+    """A declared model output: its name (it *is* that string, so ``model.outputs`` stays a tuple
+    of names) with unit, meaning and plausible range.
+
+    Parameters
+    ----------
+    name : str
+    unit : str
+        SI unit, e.g. ``"m"``, ``"1/s"``, ``"Hz"``, ``"-"``.
+    description : str
+        What the number is, in one line (of what, over what, per what).
+    low, high : float
+        Plausible range [unit]: values outside are possible but suggest an input or model
+        problem; :meth:`Model.evaluate` warns (:class:`ImplausibleOutputWarning`) and reports flag them.
+
+    Examples
+    --------
+    >>> out = ModelOutput("rms_deflection_hub", "m", "RMS radial deflection at the hub", 0.0, 0.05)
+    >>> out == "rms_deflection_hub", out.unit, out.label
+    (True, 'm', 'rms_deflection_hub [m]')
+    """
+
+    unit: str
+    description: str
+    low: float
+    high: float
+
+    def __new__(cls, name: str, unit: str = "", description: str = "", low: float = -math.inf,
+                high: float = math.inf) -> "ModelOutput":
+        self = super().__new__(cls, name)
+        self.unit, self.description, self.low, self.high = unit, description, float(low), float(high)
+        return self
+
+    def __getnewargs__(self) -> tuple[str, str, str, float, float]:  # type: ignore[override]
+        return str(self), self.unit, self.description, self.low, self.high
+
+    @property
+    def name(self) -> str:
+        """The output's name as a plain string."""
+        return str(self)
+
+    @property
+    def label(self) -> str:
+        """``name [unit]`` for table headers and axis labels."""
+        return f"{self} [{self.unit}]" if self.unit else str(self)
+
+    def plausible(self, values: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Which finite ``values`` lie in the plausible range (non-finite ones count as plausible:
+        they are failures, reported as such)."""
+        v = np.asarray(values, dtype=float)
+        return ~np.isfinite(v) | ((v >= self.low) & (v <= self.high))
+
+
+class ImplausibleOutputWarning(UserWarning):
+    """An output left its declared plausible range (an input or a model problem, most likely)."""
+
+
+def declared(output: str) -> ModelOutput:
+    """``output`` as a :class:`ModelOutput` (an undeclared name gets no unit and no range)."""
+    return output if isinstance(output, ModelOutput) else ModelOutput(output)
+
+
 class Model(ABC):
     """Base class: parameters declared once, evaluated many points at a time.
 
@@ -71,10 +136,22 @@ class Model(ABC):
 
     name: ClassVar[str] = ""
     parameters: tuple[ModelParameter, ...] = ()        # per class, or per instance where options change them
-    outputs: tuple[str, ...] = ()
+    outputs: tuple[str, ...] = ()                     # names; ModelOutput declarations carry unit and range
     fidelities: ClassVar[tuple[str, ...]] = ()
     options_note: ClassVar[str] = ""                   # how options change parameters/outputs (``ddgsa models``)
     fidelity: str = ""
+
+    def fidelity_cost(self, fidelity: str) -> float:
+        """Relative cost of one evaluation at ``fidelity`` [-], the deterministic cost model that
+        ``fidelity: auto`` ranks by (never measured time, so a choice does not depend on the
+        machine or its load).
+
+        The default is the declared order: ``fidelities`` lists the richest and costliest first,
+        so the k-th of n costs ``n - k``. A model whose costs are known better overrides this.
+        """
+        if fidelity not in self.fidelities:
+            raise ModelError(unknown_name_message(f"fidelity of model {self.name!r}", fidelity, list(self.fidelities)))
+        return float(len(self.fidelities) - self.fidelities.index(fidelity))
 
     @property
     def nominal(self) -> dict[str, float]:
@@ -93,6 +170,33 @@ class Model(ABC):
         """Declared parameters as a table (name, nominal, unit, low, high, description)."""
         return pd.DataFrame([{"name": p.name, "nominal": p.nominal, "unit": p.unit, "low": p.low,
                               "high": p.high, "description": p.description} for p in self.parameters])
+
+    def output(self, name: str) -> ModelOutput:
+        """The declaration of output ``name`` (unit, description, plausible range)."""
+        for o in self.outputs:
+            if o == name:
+                return declared(o)
+        raise ModelError(unknown_name_message(f"output of model {self.name!r}", name, list(self.outputs)))
+
+    def output_table(self) -> pd.DataFrame:
+        """Declared outputs as a table (name, unit, plausible low and high, description)."""
+        return pd.DataFrame([{"name": str(o), "unit": o.unit, "plausible_low": o.low, "plausible_high": o.high,
+                              "description": o.description} for o in map(declared, self.outputs)])
+
+    def implausible(self, frame: pd.DataFrame) -> list[str]:
+        """One message per output column of ``frame`` with values outside its plausible range."""
+        msgs = []
+        for col in frame.columns:
+            if col not in self.outputs:
+                continue
+            o = self.output(col)
+            v = frame[col].to_numpy(float)
+            bad = ~o.plausible(v)
+            if bad.any():
+                worst = v[bad][np.argmax(np.abs(v[bad]))]
+                msgs.append(f"model {self.name!r}: {bad.sum()} of {len(v)} values of {o.label} outside the "
+                            f"plausible range [{o.low:g}, {o.high:g}] (e.g. {worst:.4g}); check the inputs")
+        return msgs
 
     def resolve(self, points: pd.DataFrame | Mapping[str, Any] | None) -> pd.DataFrame:
         """Full parameter table: given columns, nominal values for the missing ones.
@@ -137,8 +241,10 @@ class Model(ABC):
             except (ArithmeticError, RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
                 failures[i] = f"{type(exc).__name__}: {exc}"
                 rows.append({o: np.nan for o in self.outputs})
-        out = pd.DataFrame(rows, columns=list(self.outputs))
+        out = pd.DataFrame(rows, columns=[str(o) for o in self.outputs])
         out.attrs["failures"] = failures
+        for msg in self.implausible(out):
+            warnings.warn(msg, ImplausibleOutputWarning, stacklevel=2)
         return out
 
     @abstractmethod
@@ -157,3 +263,16 @@ class Model(ABC):
         """The aliasing guard's table for ``scene`` at nominal parameters
         (:func:`ddgsa.mbs.sampling.sampling_row` rows); none for a model without modes."""
         return []
+
+
+def controller_row(dt: float, frequency_hz: float, mode: str) -> dict[str, object]:
+    """The sampling-table row of a scene's load and controller interval ``dt`` [s] against a
+    model's highest mode ``frequency_hz`` [Hz] (``mode``: its label).
+
+    ddgsa computes loads and control beforehand (one-way coupling) and feeds them as a C1 cubic,
+    so this interval cannot alias the structure here; it ends the excitation band at ``1/(2 dt)``,
+    and the same interval in a two-way co-simulation would alias the mode (seed 003 §3.2).
+    """
+    return sampling_row("load and controller interval (scene dt)", dt, frequency_hz, mode,
+                        f"no load content above {1 / (2 * dt):.3g} Hz: the mode responds quasi-statically "
+                        "only; a two-way co-simulation at this interval would alias it (seed 003 §3.2)")

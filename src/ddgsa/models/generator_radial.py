@@ -51,8 +51,8 @@ from ddgsa.loads import generate
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs.linear import lti_response
 from ddgsa.mbs.modal import modal_analysis
-from ddgsa.mbs.sampling import RESOLVED, AliasingWarning, check_interval, controller_row, sampling_row
-from ddgsa.models.base import Model, ModelParameter, register_model
+from ddgsa.mbs.sampling import RESOLVED, AliasingWarning, check_interval, sampling_row
+from ddgsa.models.base import Model, ModelOutput, ModelParameter, controller_row, register_model
 from ddgsa.models.electromagnetic import PMGenerator, pull_jacobian, pull_vector, radial_pull
 
 CONFIGS = ("one_mass", "substructure", "tower_side_to_side", "tower_torsion")
@@ -120,6 +120,20 @@ class Matrices:
     bearing_damping: float
 
 
+OUTPUTS = (
+    ModelOutput("bearing_frequency_hz", "Hz", "natural frequency of the bearing radial mode (bearing_radial)",
+                1.0, 200.0),
+    ModelOutput("tower_frequency_hz", "Hz", "natural frequency of the tower mode (tower configurations only)",
+                0.05, 20.0),
+    ModelOutput("static_eccentricity_m", "m", "static radial eccentricity of the generator rotor in the air gap",
+                0.0, 0.02),
+    ModelOutput("peak_eccentricity_m", "m", "largest radial eccentricity of the generator rotor over the scene",
+                0.0, 0.02),
+    ModelOutput("rms_dynamic_eccentricity_m", "m", "RMS of the eccentricity about its static value", 0.0, 0.02),
+    ModelOutput("peak_bearing_force_n", "N", "largest radial force on one bearing, static plus dynamic", 0.0, 1e8),
+)
+
+
 @register_model("generator_radial")
 class GeneratorRadial(Model):
     """Radial generator DOF with magnetic pull, alone or coupled to a tower mode (see the module).
@@ -175,9 +189,7 @@ class GeneratorRadial(Model):
         self.parameters = _BASE_PARAMETERS + (_tower_parameters(config) if self.tower else ())
         self.coordinates = (("tower_y",) if self.tower else ()) + (("rotor_y",) if config == "one_mass"
                                                                   else ("rotor_y", "rotor_z"))
-        self.outputs = (("bearing_frequency_hz",) + (("tower_frequency_hz",) if self.tower else ())
-                        + ("static_eccentricity_m", "peak_eccentricity_m", "rms_dynamic_eccentricity_m",
-                           "peak_bearing_force_n"))
+        self.outputs = tuple(o for o in OUTPUTS if self.tower or o != "tower_frequency_hz")
 
     # -- physics -------------------------------------------------------------------------
     def _gen(self, p: Mapping[str, float]) -> PMGenerator:
