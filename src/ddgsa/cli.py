@@ -1,7 +1,11 @@
 """The ``ddgsa`` command: ``run``, ``validate``, ``models``, ``report``, ``bench``.
 
-Exit codes: 0 success, 1 a failure while running, 2 invalid input. Errors print one clear
-message and no traceback (``--verbose`` adds it).
+Exit codes: 0 success; 1 a failure while running (also: the output folder is busy with
+another run); 2 invalid input (study file, options, an output folder of another study);
+3 the run finished but a requested output's indices are refused or untrusted by every method
+(or sweep evaluations failed) -- the report is written and says why; ``--allow-untrusted``
+turns this into 0; 130 interrupted (Ctrl-C). Errors print one clear message and no traceback
+(``--verbose`` adds it). ``-q``/``-v`` go before or after the subcommand.
 """
 
 from __future__ import annotations
@@ -11,30 +15,50 @@ import logging
 import shutil
 import sys
 import traceback
+import warnings
 from pathlib import Path
 
 from ddgsa.errors import DdgsaError
 
-EXIT_OK, EXIT_FAILURE, EXIT_INPUT = 0, 1, 2
+EXIT_OK, EXIT_FAILURE, EXIT_INPUT, EXIT_UNTRUSTED, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+
+
+def _common() -> argparse.ArgumentParser:
+    """``-q`` and ``-v``, accepted before and after the subcommand."""
+    c = argparse.ArgumentParser(add_help=False)
+    c.add_argument("-q", "--quiet", action="store_true", default=argparse.SUPPRESS,
+                   help="no progress bar or notes, only warnings and errors")
+    c.add_argument("-v", "--verbose", action="store_true", default=argparse.SUPPRESS,
+                   help="tracebacks and debug messages")
+    return c
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="ddgsa", description="Global sensitivity analysis of wind-turbine drive trains.")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar, only errors")
-    p.add_argument("-v", "--verbose", action="store_true", help="tracebacks and debug messages")
+    common = _common()
+    p = argparse.ArgumentParser(prog="ddgsa", description="Global sensitivity analysis of wind-turbine drive trains.",
+                                parents=[common],
+                                epilog="exit codes: 0 ok, 1 failure while running or output folder busy, 2 invalid "
+                                       "input, 3 refused or untrusted results (see --allow-untrusted), 130 interrupted")
     sub = p.add_subparsers(dest="command", required=True)
-    run = sub.add_parser("run", help="run a study and write its report")
+    run = sub.add_parser("run", help="run a study and write its report", parents=[common])
     run.add_argument("study", type=Path)
-    run.add_argument("--out", type=Path, help="output folder (default results/<study name>)")
+    run.add_argument("--out", type=Path, help="output folder (default runs/<study name>)")
+    run.add_argument("--force", action="store_true",
+                     help="write into a folder that holds another study's results (its stale files are removed)")
+    run.add_argument("--allow-untrusted", action="store_true",
+                     help="exit 0 even when an output's indices are refused or untrusted (default: exit 3)")
     run.add_argument("--jobs", type=int, help="parallel workers (default from the study, else 1)")
     run.add_argument("--backend", choices=["loky", "dask"], help="joblib loky (default) or a Dask cluster")
     run.add_argument("--address", help="Dask scheduler HOST:PORT (default: a LocalCluster)")
-    val = sub.add_parser("validate", help="check a study file; exit 0 or 2")
+    val = sub.add_parser("validate", help="check a study file; exit 0 or 2", parents=[common])
     val.add_argument("study", type=Path)
-    sub.add_parser("models", help="list models, fidelities, parameters and outputs")
-    rep = sub.add_parser("report", help="rebuild tables and plots from a run's stored evaluations")
+    sub.add_parser("models", help="list models, fidelities, parameters and outputs (units, meanings)",
+                   parents=[common])
+    rep = sub.add_parser("report", help="rebuild tables and plots from a run's stored evaluations", parents=[common])
     rep.add_argument("dir", type=Path)
-    ben = sub.add_parser("bench", help="speed of each fidelity (default), or accuracy against cost of each method")
+    rep.add_argument("--allow-untrusted", action="store_true", help="exit 0 even with untrusted results")
+    ben = sub.add_parser("bench", help="speed of each fidelity (default), or accuracy against cost of each method",
+                         parents=[common])
     ben.add_argument("what", nargs="?", choices=["speed", "accuracy"], default="speed",
                      help="speed: fidelities against the solve_ivp reference; accuracy: index error against "
                           "evaluations and wall time, written to --out")
@@ -51,6 +75,7 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the console script."""
     args = _parser().parse_args(argv)
+    args.quiet, args.verbose = getattr(args, "quiet", False), getattr(args, "verbose", False)
     logging.basicConfig(level=logging.DEBUG if args.verbose else logging.WARNING, format="%(message)s")
     try:
         return _dispatch(args)
@@ -61,7 +86,7 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_INPUT if isinstance(exc, ValueError) else EXIT_FAILURE
     except KeyboardInterrupt:
         print("ddgsa: interrupted; finished batches are stored, rerun to resume", file=sys.stderr)
-        return EXIT_FAILURE
+        return EXIT_INTERRUPTED
     except Exception as exc:  # noqa: BLE001 -- the CLI reports, it does not crash
         if args.verbose:
             traceback.print_exc()
@@ -74,10 +99,15 @@ def _dispatch(args: argparse.Namespace) -> int:
     from ddgsa.study import load_study
 
     if args.command == "validate":
-        study = load_study(args.study)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            study = load_study(args.study)
+        sc = study.spec.scenes
         print(f"{args.study}: valid ({study.spec.kind} study '{study.name}', model {study.spec.model.name}, "
-              f"{len(study.spec.parameters)} parameters, {len(study.spec.scenes.grid())} scenes x "
-              f"{study.spec.scenes.realisations} realisations)")
+              f"{plural(len(study.spec.parameters), 'parameter')}, {plural(len(sc.grid()), 'scene')} x "
+              f"{plural(sc.realisations, 'realisation')})")
+        for w in caught:
+            print(f"ddgsa: warning: {w.message}", file=sys.stderr)
         return EXIT_OK
     if args.command == "models":
         _print_models()
@@ -89,60 +119,79 @@ def _dispatch(args: argparse.Namespace) -> int:
             return EXIT_INPUT
         return _run(study, args)
     if args.command == "report":
-        return _report(args.dir, args.quiet)
+        return _report(args)
     if args.command == "bench":
         return _bench(args)
     return EXIT_INPUT  # pragma: no cover (argparse requires a command)
 
 
+def plural(n: int, noun: str) -> str:
+    """``1 scene``, ``2 scenes``."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
 def _run(study, args: argparse.Namespace) -> int:  # noqa: ANN001
+    from ddgsa.outdir import claim
     from ddgsa.pipeline import default_out, execute
-    from ddgsa.report import write_report
     from ddgsa.runner import EvaluationStore
 
     out = args.out or default_out(study)
-    out.mkdir(parents=True, exist_ok=True)
-    if study.path is not None and study.path.resolve() != (out / "study.yaml").resolve():
-        shutil.copyfile(study.path, out / "study.yaml")
-    store = EvaluationStore(out / "evaluations.sqlite")
-    try:
-        result = execute(study, store, jobs=args.jobs, backend=args.backend, address=args.address, quiet=args.quiet)
-    finally:
-        store.close()
+    with claim(out, study.name, force=args.force):
+        if study.path is not None and study.path.resolve() != (out / "study.yaml").resolve():
+            shutil.copyfile(study.path, out / "study.yaml")
+        store = EvaluationStore(out / "evaluations.sqlite")
+        try:
+            result = execute(study, store, jobs=args.jobs, backend=args.backend, address=args.address,
+                             quiet=args.quiet)
+        finally:
+            store.close()
+        return _finish(result, out, args, "wrote")
+
+
+def _finish(result, out: Path, args: argparse.Namespace, verb: str) -> int:  # noqa: ANN001
+    """Write the report, print the run's line and its problems, choose the exit code."""
+    from ddgsa.report import evaluation_line, problems, write_report
+
     files = write_report(result, out)
-    ev = result.provenance["evaluations"]
+    bad = problems(result)
+    for msg in result.provenance.get("implausible", []):
+        print(f"ddgsa: warning: {msg}", file=sys.stderr)
     if not args.quiet:
-        print(f"{study.name}: {ev['evaluated']} model runs ({ev['cached']} cached, {ev['failed']} failed) in "
-              f"{result.provenance['timings_s']['total']:.1f} s; wrote {len(files)} files to {out}")
+        print(f"{result.study.name}: {evaluation_line(result.provenance)}; {verb} {plural(len(files), 'file')} "
+              f"to {out}")
+    if bad:
+        allowed = getattr(args, "allow_untrusted", False)
+        print(f"ddgsa: {'warning' if allowed else 'error'}: " + "; ".join(bad)
+              + ("" if allowed else f" (see {out / 'summary.md'}; --allow-untrusted exits 0)"), file=sys.stderr)
+        return EXIT_OK if allowed else EXIT_UNTRUSTED
     return EXIT_OK
 
 
-def _report(folder: Path, quiet: bool) -> int:
+def _report(args: argparse.Namespace) -> int:
+    import json
+
     from ddgsa.errors import StudyError
+    from ddgsa.outdir import claim
     from ddgsa.pipeline import execute
-    from ddgsa.report import write_report
     from ddgsa.runner import EvaluationStore
     from ddgsa.study import load_study
 
+    folder = args.dir
     if not (folder / "study.yaml").exists() or not (folder / "evaluations.sqlite").exists():
         raise StudyError(f"{folder}: not a study output folder (needs study.yaml and evaluations.sqlite from ddgsa run)")
     study = load_study(folder / "study.yaml")
-    store = EvaluationStore(folder / "evaluations.sqlite")
-    try:
-        result = execute(study, store, quiet=True, evaluate=False)
-    finally:
-        store.close()
-    old = folder / "provenance.json"
-    if old.exists():                          # keep what the run measured; note the rebuild
-        import json
-
-        ran = json.loads(old.read_text())
-        result.provenance.update({k: ran[k] for k in ("evaluations", "timings_s") if k in ran})
-        result.provenance["report_rebuilt_from_store"] = True
-    files = write_report(result, folder)
-    if not quiet:
-        print(f"{study.name}: rebuilt {len(files)} files in {folder} from stored evaluations")
-    return EXIT_OK
+    with claim(folder, study.name):
+        store = EvaluationStore(folder / "evaluations.sqlite")
+        try:
+            result = execute(study, store, quiet=True, evaluate=False)
+        finally:
+            store.close()
+        old = folder / "provenance.json"
+        if old.exists():                          # keep what the run measured; note the rebuild
+            ran = json.loads(old.read_text())
+            result.provenance.update({k: ran[k] for k in ("evaluations", "timings_s") if k in ran})
+            result.provenance["report_rebuilt_from_store"] = True
+        return _finish(result, folder, args, "rebuilt")
 
 
 def _bench(args: argparse.Namespace) -> int:
@@ -172,8 +221,11 @@ def _print_models() -> None:
     for name in sorted(MODELS):
         model = get(name)
         print(f"{name}: fidelities {', '.join(model.fidelities)}")
+        print("parameters:")
         print(model.parameter_table().to_string(index=False, formatters={"nominal": "{:.4g}".format}))
-        print(f"outputs: {', '.join(model.outputs)}")
+        print("outputs (a value outside the plausible range is warned about):")
+        print(model.output_table().to_string(index=False, formatters={"plausible_low": "{:.3g}".format,
+                                                                      "plausible_high": "{:.3g}".format}))
         print(f"{model.options_note}\n" if model.options_note else "")
 
 

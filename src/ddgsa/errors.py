@@ -35,7 +35,11 @@ class StudyError(DdgsaError, ValueError):
 
 
 class OutputFolderError(DdgsaError, ValueError):
-    """An output folder that belongs to another study or another live run."""
+    """An output folder that holds another study's results or files ddgsa did not write."""
+
+
+class FolderBusyError(DdgsaError, RuntimeError):
+    """An output folder that another live ddgsa process is writing to."""
 
 
 LIST_AT_MOST = 12

@@ -51,6 +51,42 @@ class StudyResult:
     fault: pd.DataFrame | None = None
     fault_samples: pd.DataFrame | None = None
     fidelity: pd.DataFrame | None = None
+    moments: pd.DataFrame | None = None
+    """Per scene and output: ``mean``, ``std``, ``cv`` (std / |mean|) and their ``source``."""
+
+
+SAMPLE_DESIGNS = ("saltelli", "fast", "rbd_fast", "pce")
+"""Methods whose every design point is a draw from the input distribution (pce unless fitted by quadrature)."""
+
+
+def moments(space: ParameterSpace, name: str, design: Design, y: np.ndarray, res: SobolResult,
+            outputs: list[str]) -> list[dict[str, Any]] | None:
+    """Mean and coefficient of variation of each output from one method's evaluations, or None.
+
+    A sampling design (Saltelli, FAST, RBD-FAST, PCE regression) gives the sample moments of all
+    its points; M-DRM those of its quasi-random check sample, or without one its own surrogate's
+    moments (``h_c^(1-n) prod rho_i``, ``h_c^(2(1-n)) prod theta_i``; exact for products).
+    """
+    finite = np.isfinite(y).all(axis=1)
+    if name in SAMPLE_DESIGNS and design.options.get("fit") != "quadrature":
+        sample, source = y[finite], f"{name} sample ({int(finite.sum())} points)"
+    elif name == "mdrm" and design.options.get("check"):
+        check = y[-design.options["check"]:]
+        sample, source = check[np.isfinite(check).all(axis=1)], f"M-DRM check sample ({len(check)} points)"
+    elif name == "mdrm" and "rho" in res.extras:
+        n = space.dim
+        h_c, rho, theta = res.extras["h_cut"], res.extras["rho"], res.extras["theta"]     # (k,), (k, n), (k, n)
+        with np.errstate(all="ignore"):
+            mean = h_c ** (1 - n) * np.prod(rho, axis=1)
+            var = h_c ** (2 * (1 - n)) * np.prod(theta, axis=1) - mean ** 2
+        return [{"output": o, "mean": float(mean[j]), "std": float(np.sqrt(max(var[j], 0.0))),
+                 "source": "M-DRM surrogate"} for j, o in enumerate(outputs)]
+    else:
+        return None
+    if len(sample) < 2:
+        return None
+    return [{"output": o, "mean": float(sample[:, j].mean()), "std": float(sample[:, j].std(ddof=1)),
+             "source": source} for j, o in enumerate(outputs)]
 
 
 def model_id(study: Study, fidelity: str | None = None) -> ModelId:
@@ -311,6 +347,7 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
     result.provenance = _provenance(study, mids, runs.counts(), t_eval, time.perf_counter() - t0, failures, designs)
     result.provenance["fidelity_selection"] = fidelity_choice
     result.provenance["sampling"] = _sampling(study)
+    result.provenance["implausible"] = study.make_model().implausible(result.evaluations)
     result.fidelity = pd.DataFrame([{k: v for k, v in c.items() if k != "errors"} for c in fidelity_choice])
     return result
 
@@ -320,11 +357,17 @@ def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Desig
     study = plan.study
     assert study.space is not None
     pooled, _ = plan.blocks["gsa"]
-    rows, diag_rows = [], []
+    rows, diag_rows, moment_rows = [], [], []
     for k, ps in enumerate(plan.scenes):
         y = plan.values(store, "gsa", ps, outputs, study.spec.scenes.aggregate)
-        scene_results = [get_method(name).analyze(study.space, design, y[_row_index(pooled, design.points)],
-                                                  outputs=outputs) for name, design in designs]
+        ys = [y[_row_index(pooled, design.points)] for _, design in designs]
+        scene_results = [get_method(name).analyze(study.space, design, yd, outputs=outputs)
+                         for (name, design), yd in zip(designs, ys)]
+        found = (moments(study.space, name, design, yd, res, outputs)
+                 for (name, design), yd, res in zip(designs, ys, scene_results))
+        for m in next((m for m in found if m is not None), []):
+            m["cv"] = m["std"] / abs(m["mean"]) if m["mean"] else float("inf")
+            moment_rows.append({"scene": ps.index, **m})
         for res in scene_results + [per_scene[k] for per_scene in auto]:
             result.results.append((ps, res))
             table = res.to_frame()
@@ -339,6 +382,7 @@ def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Desig
                 d.insert(0, "scene", ps.index)
                 diag_rows.append(d)
     result.indices = pd.concat(rows, ignore_index=True)
+    result.moments = pd.DataFrame(moment_rows, columns=["scene", "output", "mean", "std", "cv", "source"])
     result.diagnostics = (pd.concat(diag_rows, ignore_index=True) if diag_rows else
                           pd.DataFrame(columns=["scene", "method", "name", "severity", "output", "parameter",
                                                 "value", "message"]))
@@ -388,6 +432,7 @@ def _execute_variants(study: Study, store: EvaluationStore, **kwargs: Any) -> St
     prov["failures"] = [{**f, "variant": label} for label, r in parts for f in r.provenance["failures"]]
     result.provenance["variants"] = [label for label, _ in parts]
     result.provenance["sampling"] = [{"variant": label, **row} for label, r in parts for row in r.provenance["sampling"]]
+    result.provenance["implausible"] = [f"{label}: {m}" for label, r in parts for m in r.provenance["implausible"]]
     result.fidelity = first.fidelity
     return result
 
@@ -501,5 +546,6 @@ def _provenance(study: Study, mids: dict[int, ModelId], counts: dict[str, int], 
 
 
 def default_out(study: Study) -> Path:
-    """Default output folder: ``results/<study name>``."""
-    return Path("results") / study.name
+    """Default output folder: ``runs/<study name>`` (ignored by git; ``results/`` holds the curated,
+    committed outputs and is written only when asked for with ``--out``)."""
+    return Path("runs") / study.name

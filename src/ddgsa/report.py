@@ -1,4 +1,11 @@
-"""Write a study's tables, plots, provenance and summary into its output folder."""
+"""Write a study's tables, plots, provenance and summary into its output folder.
+
+Outputs are labelled with their declared unit (``rms_deflection_hub [m]``); ``summary.md``
+opens with what each output is, its mean and coefficient of variation, then ranks parameters
+by S1 and ST with a sentence per output naming what dominates, and lists every problem (refused
+or untrusted outputs, failure reasons, implausible values). Files an earlier report wrote that
+this one does not are removed (:mod:`ddgsa.outdir`). PNGs carry no software/date metadata.
+"""
 
 from __future__ import annotations
 
@@ -14,13 +21,27 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from ddgsa.gsa.result import draw_index_bars  # noqa: E402
+from ddgsa.models.base import ModelOutput, declared  # noqa: E402
+from ddgsa.outdir import previous_files, remove_stale  # noqa: E402
 from ddgsa.pipeline import SCENE_FIELDS, StudyResult  # noqa: E402
+
+PNG_METADATA = {"Software": None}
+"""No matplotlib version in the PNGs: a rerun on the same machine writes the same bytes."""
+
+
+def output_info(result: StudyResult) -> dict[str, ModelOutput]:
+    """The declared outputs of the study's model (undeclared names get no unit)."""
+    model = result.study.make_model()
+    return {o: model.output(o) if o in model.outputs else declared(o) for o in result.study.outputs}
 
 
 def write_report(result: StudyResult, out: Path) -> list[Path]:
-    """Write every file of the report; returns their paths."""
+    """Write every file of the report and remove the earlier report's files it did not write;
+    returns the paths written."""
     out.mkdir(parents=True, exist_ok=True)
+    before = previous_files(out)
     written: list[Path] = []
+    info = output_info(result)
 
     def save_csv(df: pd.DataFrame, name: str) -> None:
         path = out / name
@@ -29,7 +50,7 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
 
     def save_fig(fig: Any, name: str) -> None:
         path = out / name
-        fig.savefig(path, dpi=100, bbox_inches="tight")
+        fig.savefig(path, dpi=100, bbox_inches="tight", metadata=PNG_METADATA)
         plt.close(fig)
         written.append(path)
 
@@ -38,32 +59,71 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
         save_csv(result.sweep, "sweep.csv")
         summary = sweep_summary(result.sweep, result.study.outputs, list(result.study.spec.grid))
         save_csv(summary, "sweep_summary.csv")
-        for fig, name in plot_sweep(summary, result.study.outputs, list(result.study.spec.grid)):
+        for fig, name in plot_sweep(summary, result.study.outputs, list(result.study.spec.grid), info):
             save_fig(fig, name)
     if len(result.indices):
         save_csv(result.indices, "indices.csv")
         save_csv(result.diagnostics, "diagnostics.csv")
+        if result.moments is not None and len(result.moments):
+            save_csv(result.moments.assign(unit=result.moments["output"].map(lambda o: info[o].unit)),
+                     "output_moments.csv")
         acc = accuracy_table(result.indices)
         if len(acc):
             save_csv(acc, "accuracy.csv")
             save_fig(plot_agreement(result.indices), "mdrm_vs_crosscheck.png")
         for scene in sorted(result.indices["scene"].unique()):
-            save_fig(plot_scene_bars(result.indices[result.indices["scene"] == scene]), f"bars_scene{scene}.png")
+            save_fig(plot_scene_bars(result.indices[result.indices["scene"] == scene], info), f"bars_scene{scene}.png")
         if result.indices["scene"].nunique() > 1:
             for method in result.indices["method"].unique():
-                save_fig(plot_heatmap(result.indices[result.indices["method"] == method]), f"heatmap_ST_{method}.png")
+                save_fig(plot_heatmap(result.indices[result.indices["method"] == method], info),
+                         f"heatmap_ST_{method}.png")
     if result.fidelity is not None and len(result.fidelity):
         save_csv(result.fidelity, "fidelity_selection.csv")
     if result.fault is not None:
         save_csv(result.fault, "fault_verdicts.csv")
         save_fig(plot_fault(result.fault, result.fault_samples), "fault_detectability.png")
+    path = out / "summary.md"
+    path.write_text(summary_markdown(result, info))
+    written.append(path)
     path = out / "provenance.json"
+    names = sorted({p.name for p in written} | {path.name})
+    result.provenance["files"] = names
     path.write_text(json.dumps(result.provenance, indent=2, default=str))
     written.append(path)
-    path = out / "summary.md"
-    path.write_text(summary_markdown(result))
-    written.append(path)
+    remove_stale(out, before, names)
     return written
+
+
+def evaluation_line(provenance: dict[str, Any]) -> str:
+    """The run's counts in one sentence (the CLI prints it, ``summary.md`` repeats it)."""
+    ev, t = provenance["evaluations"], provenance["timings_s"]["total"]
+    now = f" ({ev['failed_now']} of them now)" if ev.get("failed_now", ev["failed"]) != ev["failed"] else ""
+    return (f"{ev['total']} model evaluations ({ev['evaluated']} run now, {ev['cached']} from the store), "
+            f"{ev['failed']} failed{now}, {t:.1f} s")
+
+
+def problems(result: StudyResult) -> list[str]:
+    """What makes the run's answer incomplete: an output with no trusted method in some scene
+    (its indices refused or untrusted), failed sweep evaluations. Empty when all is well."""
+    out = []
+    if len(result.indices):
+        ok = result.indices.groupby(["output", "scene", "method"], sort=False)["trusted"].all()
+        any_ok = ok.groupby(level=["output", "scene"], sort=False).any()
+        for output, g in any_ok[~any_ok].groupby(level="output", sort=False):
+            scenes = [int(s) for _, s in g.index]
+            d = result.diagnostics
+            names = sorted(set(d[(d["output"].isin([output, None]) | d["output"].isna())
+                                 & (d["severity"] == "untrusted") & d["scene"].isin(scenes)]["name"])) if len(d) else []
+            out.append(f"output {output!r}: no method's indices are trusted in {_scenes(scenes)}"
+                       + (f" ({', '.join(names)})" if names else ""))
+    if result.sweep is not None and result.sweep["error"].notna().any():
+        n = int(result.sweep["error"].notna().sum())
+        out.append(f"{n} of {len(result.sweep)} sweep evaluations failed (their values are refused)")
+    return out
+
+
+def _scenes(scenes: list[int]) -> str:
+    return f"scene {scenes[0]}" if len(scenes) == 1 else f"scenes {', '.join(map(str, scenes))}"
 
 
 def _sweep_keys(sweep: pd.DataFrame, grid: list[str]) -> list[str]:
@@ -87,10 +147,13 @@ def _case_label(fields: list[str], values: Any) -> str:
     return ", ".join(f"{f}={v:g}" if isinstance(v, float) else f"{v}" for f, v in zip(fields, values))
 
 
-def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None = None) -> list[tuple[Any, str]]:
+def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None = None,
+               info: dict[str, ModelOutput] | None = None) -> list[tuple[Any, str]]:
     """Each output (+- one std) against the first grid parameter, or against wind speed scaled by
-    its maximum; one line per value of every other varying key (variant, scene fields, grid)."""
+    its maximum; one line per value of every other varying key (variant, scene fields, grid).
+    Axis labels carry the outputs' units from ``info``."""
     grid = grid or []
+    label_of = {o: (info or {}).get(o, declared(o)).label for o in outputs}
     x = grid[0] if grid else "wind_speed"
     others = [f for f in _sweep_keys(summary, grid) if f not in (x, "scene") and summary[f].nunique() > 1]
     figs = []
@@ -102,7 +165,7 @@ def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None
             for k, v in enumerate(summary[f"{o}_mean"]):
                 ax.annotate(f"{v:.4g}", (v, k), xytext=(3, 0), textcoords="offset points", va="center", fontsize=8)
             ax.invert_yaxis()
-            ax.set_xlabel(o)
+            ax.set_xlabel(label_of[o])
             ax.grid(alpha=0.3, axis="x")
             figs.append((fig, f"sweep_{o}.png"))
         return figs
@@ -118,7 +181,7 @@ def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None
         if grid and summary[x].min() > 0 and summary[x].max() / summary[x].min() > 50:
             ax.set_xscale("log")
         ax.set_xlabel(x if grid else "mean wind speed [m/s]")
-        ax.set_ylabel(o if grid else f"{o} / max [-]")
+        ax.set_ylabel(label_of[o] if grid else f"{o} / max [-]")
         ax.grid(alpha=0.3)
         if others:
             ax.legend(fontsize=8)
@@ -126,15 +189,25 @@ def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None
     return figs
 
 
+def _crosschecks(indices: pd.DataFrame) -> pd.DataFrame:
+    """Rows of methods other than M-DRM that are independent of it: ``auto`` rows whose numbers
+    come from its own M-DRM stage (``source == "mdrm"``) would compare M-DRM with itself."""
+    other = indices[indices["method"] != "mdrm"]
+    if "source" in other:
+        other = other[~((other["method"] == "auto") & (other["source"] == "mdrm"))]
+    return other
+
+
 def accuracy_table(indices: pd.DataFrame) -> pd.DataFrame:
-    """M-DRM against each cross-check method per scene and output: max |dS1|, max |dST|, trust."""
+    """M-DRM against each independent cross-check per scene and output: max |dS1|, max |dST|, trust."""
     if "mdrm" not in set(indices["method"]):
         return pd.DataFrame()
     key = ["scene", "output", "parameter"]
     m = indices[indices["method"] == "mdrm"]
+    refs = _crosschecks(indices)
     rows = []
-    for other in sorted(set(indices["method"]) - {"mdrm"}):
-        joined = m.merge(indices[indices["method"] == other], on=key, suffixes=("_mdrm", "_ref"))
+    for other in sorted(set(refs["method"])):
+        joined = m.merge(refs[refs["method"] == other], on=key, suffixes=("_mdrm", "_ref"))
         for (scene, output), g in joined.groupby(["scene", "output"]):
             rows.append({"scene": scene, "output": output, "crosscheck": other,
                          "max_abs_dS1": _max_abs(g["S1_mdrm"] - g["S1_ref"]),
@@ -156,8 +229,9 @@ def plot_agreement(indices: pd.DataFrame) -> Any:
     fig, axes = plt.subplots(1, 2, figsize=(8, 4))
     key = ["scene", "output", "parameter"]
     m = indices[indices["method"] == "mdrm"]
-    for other in sorted(set(indices["method"]) - {"mdrm"}):
-        j = m.merge(indices[indices["method"] == other], on=key, suffixes=("_m", "_r"))
+    refs = _crosschecks(indices)
+    for other in sorted(set(refs["method"])):
+        j = m.merge(refs[refs["method"] == other], on=key, suffixes=("_m", "_r"))
         for ax, q in zip(axes, ("S1", "ST")):
             ok = j["trusted_m"].to_numpy(bool)
             pts = ax.scatter(j[f"{q}_r"][ok], j[f"{q}_m"][ok], s=14, label=f"vs {other}")
@@ -175,8 +249,12 @@ def plot_agreement(indices: pd.DataFrame) -> Any:
     return fig
 
 
-def plot_scene_bars(scene_rows: pd.DataFrame) -> Any:
-    """S1/ST bars with confidence bars: one row per output, one column per method."""
+def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None) -> Any:
+    """S1/ST bars with confidence bars where a method gives an interval: one row per output
+    (titled with its unit), one column per method; hatched bars are untrusted (said in the
+    legend only when some are)."""
+    from matplotlib.patches import Patch
+
     outputs, methods = list(scene_rows["output"].unique()), list(scene_rows["method"].unique())
     fig, axes = plt.subplots(len(outputs), len(methods), figsize=(3.8 * len(methods), 2.6 * len(outputs)),
                              squeeze=False)
@@ -185,29 +263,35 @@ def plot_scene_bars(scene_rows: pd.DataFrame) -> Any:
             t = scene_rows[(scene_rows["output"] == out) & (scene_rows["method"] == meth)]
             ax = axes[i, j]
             draw_index_bars(ax, t, fontsize=7, rotation=60)
-            ax.set_title(f"{out} - {meth}", fontsize=9)
+            ax.set_title(f"{(info or {}).get(out, declared(out)).label} - {meth}", fontsize=9)
             ax.set_ylim(min(-0.05, float(np.nanmin(t[["S1", "ST"]].to_numpy(float), initial=0))), 1.05)
-    axes[0, 0].legend(fontsize=7)
+    handles, _ = axes[0, 0].get_legend_handles_labels()
+    if not scene_rows["trusted"].astype(bool).all():
+        handles.append(Patch(facecolor="white", edgecolor="0.3", hatch="//", label="untrusted"))
+    axes[0, 0].legend(handles=handles, fontsize=7)
     fields = {f: scene_rows[f].iloc[0] for f in SCENE_FIELDS}
-    fig.suptitle("Sobol indices, " + ", ".join(f"{k}={v:g}" for k, v in fields.items()) + " (hatched: untrusted)",
-                 fontsize=9)
+    fig.suptitle("Sobol indices, " + ", ".join(f"{k}={v:g}" for k, v in fields.items()), fontsize=9)
     fig.tight_layout()
     return fig
 
 
-def plot_heatmap(rows: pd.DataFrame) -> Any:
-    """ST as parameter x scene, one panel per output."""
+def plot_heatmap(rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None) -> Any:
+    """ST as parameter x scene, one panel per output; the panels share the parameter axis, so
+    its labels are drawn once, left of the first panel, and never over a neighbour."""
     outputs = list(rows["output"].unique())
-    fig, axes = plt.subplots(1, len(outputs), figsize=(3.2 * len(outputs) + 1, 0.35 * rows["parameter"].nunique() + 2),
-                             squeeze=False)
+    params = sorted(rows["parameter"].unique())
+    fig, axes = plt.subplots(1, len(outputs), figsize=(2.4 * len(outputs) + 3.0, 0.3 * len(params) + 2.2),
+                             squeeze=False, sharey=True, layout="constrained")
     for ax, out in zip(axes[0], outputs):
-        t = rows[rows["output"] == out].pivot(index="parameter", columns="scene", values="ST")
+        t = rows[rows["output"] == out].pivot(index="parameter", columns="scene", values="ST").reindex(params)
         im = ax.imshow(t.to_numpy(float), vmin=0, vmax=1, cmap="viridis", aspect="auto")
         labels = [f"{rows[rows['scene'] == s]['wind_speed'].iloc[0]:g} m/s" for s in t.columns]
-        ax.set_xticks(range(t.shape[1]), labels, rotation=45, fontsize=7)
-        ax.set_yticks(range(t.shape[0]), t.index.to_list(), fontsize=7)
-        ax.set_title(out, fontsize=9)
-    fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, label="ST")
+        ax.set_xticks(range(t.shape[1]), labels, rotation=45, ha="right", fontsize=7)
+        ax.set_yticks(range(len(params)), params, fontsize=7)
+        ax.tick_params(axis="y", labelleft=ax is axes[0, 0])
+        o = (info or {}).get(out, declared(out))
+        ax.set_title(f"{o}\n[{o.unit}]" if o.unit else str(o), fontsize=8)
+    fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, label="ST [-]")
     fig.suptitle(f"total Sobol index per scene ({rows['method'].iloc[0]})", fontsize=9)
     return fig
 
@@ -228,14 +312,65 @@ def plot_fault(verdicts: pd.DataFrame, samples: pd.DataFrame | None) -> Any:
     return fig
 
 
-def summary_markdown(result: StudyResult) -> str:
-    """A short Markdown summary: what ran, then parameters ranked by ST per scene and output."""
+def _failure_reasons(failures: list[dict[str, Any]]) -> list[str]:
+    """Failure reasons with how often each occurred, most frequent first."""
+    counts = pd.Series([f["error"] for f in failures], dtype=object).value_counts()
+    return [f"- {n}x: {reason}" for reason, n in counts.items()]
+
+
+def _outputs_section(result: StudyResult, info: dict[str, ModelOutput]) -> list[str]:
+    """What each output is, its unit, and how much it varies (mean, CV) per scene."""
+    lines = ["## Outputs", "", "| output | unit | what it is | scene | mean | CV | from |", "|---|---|---|---|---|---|---|"]
+    mom = result.moments if result.moments is not None else pd.DataFrame(columns=["scene", "output"])
+    for name, o in info.items():
+        rows = mom[mom["output"] == name].to_dict("records") or [{}]
+        for r in rows:
+            stats = (f"{r['scene']} | {r['mean']:.4g} | {r['cv']:.2%} | {r['source']}" if r else "- | - | - | -")
+            lines.append(f"| `{name}` | {o.unit or '?'} | {o.description} | {stats} |")
+    return lines + [""]
+
+
+def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None) -> str:
+    """One sentence on what drives ``output`` in one scene, from its first trusted method."""
+    trusted = [(m, gm) for m, gm in g.groupby("method", sort=False) if gm["trusted"].all()]
+    if not trusted:
+        return f"`{output}`: no method's indices are trusted here; do not rank its parameters (see Problems)."
+    meth, gm = trusted[0]
+    top = gm.sort_values("ST", ascending=False)
+    first = top.iloc[0]
+    quiet = f" It hardly varies (CV {moment['cv']:.2%}), so this ranks small differences." \
+        if moment is not None and moment["cv"] < 1e-3 else ""
+    share = top[top["ST"] >= 0.1]
+    if first["ST"] >= 0.5 and (len(top) < 2 or top.iloc[1]["ST"] < 0.5 * first["ST"]):
+        what = f"`{first['parameter']}` dominates (ST {first['ST']:.2f}, S1 {first['S1']:.2f})"
+    elif len(share):
+        what = "shared by " + ", ".join(f"`{r.parameter}` (ST {r.ST:.2f}, S1 {r.S1:.2f})" for r in share.head(3).itertuples())
+    else:
+        what = f"no parameter reaches ST 0.1 (largest: `{first['parameter']}`, {first['ST']:.2f})"
+    inter = " ST - S1 shows interactions." if (top["ST"] - top["S1"]).max() > 0.1 else ""
+    return f"`{output}`: {what}, by {meth}.{inter}{quiet}"
+
+
+def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = None) -> str:
+    """A short Markdown summary: what ran, the outputs (unit, meaning, mean, CV), problems, then
+    per scene and output a sentence on what dominates and parameters ranked by ST with S1."""
     p = result.provenance
+    info = info if info is not None else output_info(result)
+    code = p.get("code", {})
     lines = [f"# {result.study.name}", "", result.study.spec.description or "", "",
              f"- model: `{p['model']['name']}` ({p['model']['fidelity']})",
-             f"- evaluations: {p['evaluations']['total']} ({p['evaluations']['cached']} cached, "
-             f"{p['evaluations']['evaluated']} run, {len(p['failures'])} failed)",
-             f"- time: {p['timings_s']['total']:.1f} s", ""]
+             f"- evaluations: {evaluation_line(p)}",
+             f"- ddgsa {code.get('ddgsa', '?')}" + (f", commit {code['commit'][:12]}"
+                                                   + (" (modified)" if code.get("modified") else "")
+                                                   if code.get("commit") else ""), ""]
+    lines += _outputs_section(result, info)
+    bad = problems(result)
+    if bad or p["failures"] or p.get("implausible"):
+        lines += ["## Problems", ""] + [f"- {b}" for b in bad] + [f"- implausible: {m}" for m in p.get("implausible", [])]
+        if p["failures"]:
+            lines += ["", f"Failed evaluations ({len(p['failures'])}; their indices are refused, never imputed; "
+                          "details in `provenance.json`):", ""] + _failure_reasons(p["failures"])
+        lines.append("")
     if result.fidelity is not None and len(result.fidelity):
         lines += ["## Fidelity chosen per scene (`fidelity: auto`)", "",
                   "| scene | wind speed | chosen | " + " | ".join(
@@ -247,16 +382,20 @@ def summary_markdown(result: StudyResult) -> str:
             lines.append(f"| {r['scene']} | {r['wind_speed']:g} | {r['chosen']} | {errs} |")
         lines.append("")
     if len(result.indices):
-        lines += ["## Parameters ranked by total index", ""]
+        mom = {(r["scene"], r["output"]): r for r in (result.moments.to_dict("records")
+                                                      if result.moments is not None else [])}
+        lines += ["## Parameters ranked by total index (ST, with S1)", ""]
         for (scene, out), g in result.indices.groupby(["scene", "output"]):
             fields = ", ".join(f"{f}={g[f].iloc[0]:g}" for f in SCENE_FIELDS)
-            lines.append(f"### scene {scene} ({fields}) - `{out}`")
+            lines.append(f"### scene {scene} ({fields}) - `{out}` [{info.get(out, declared(out)).unit or '?'}]")
             lines.append("")
-            lines.append("| method | trusted | ranking (ST) |")
+            lines.append(_dominance(g, out, mom.get((scene, out))))
+            lines.append("")
+            lines.append("| method | trusted | ranking: parameter ST (S1) |")
             lines.append("|---|---|---|")
             for meth, gm in g.groupby("method", sort=False):
                 top = gm.sort_values("ST", ascending=False, na_position="last").head(5)
-                rank = ", ".join(f"{r.parameter} {r.ST:.2f}" for r in top.itertuples())
+                rank = ", ".join(f"{r.parameter} {r.ST:.2f} ({r.S1:.2f})" for r in top.itertuples())
                 label = f"{meth} (from {gm['source'].iloc[0]})" if meth == "auto" else meth
                 lines.append(f"| {label} | {'yes' if gm['trusted'].all() else '**no**'} | {rank} |")
             lines.append("")

@@ -25,7 +25,8 @@ REPORT_FILES = {"indices.csv", "diagnostics.csv", "evaluations.csv", "accuracy.c
 
 def test_run_writes_report_and_equals_the_python_api(write_study, tmp_path: Path) -> None:
     out = tmp_path / "out"
-    assert main(["-q", "run", str(write_study()), "--out", str(out)]) == 0
+    assert main(["-q", "run", str(write_study()), "--out", str(out)]) == 3   # plain Ishigami: untrusted
+    assert main(["-q", "run", str(write_study()), "--out", str(out), "--allow-untrusted"]) == 0
     assert REPORT_FILES <= {p.name for p in out.iterdir()}
     table = pd.read_csv(out / "indices.csv")
     assert set(table.columns) >= {"study", "scene", "wind_speed", "output", "method", "parameter", "S1", "S1_conf",
@@ -39,7 +40,7 @@ def test_run_writes_report_and_equals_the_python_api(write_study, tmp_path: Path
     # M-DRM flags plain Ishigami; the report says so
     assert "mdrm_cut_value" in set(pd.read_csv(out / "diagnostics.csv")["name"])
     # report rebuilds from stored evaluations without model runs
-    assert main(["-q", "report", str(out)]) == 0
+    assert main(["-q", "report", str(out), "--allow-untrusted"]) == 0
 
 
 def test_results_identical_for_jobs_and_backends(write_study, tmp_path: Path) -> None:
@@ -49,7 +50,7 @@ def test_results_identical_for_jobs_and_backends(write_study, tmp_path: Path) ->
         if "dask" in args:
             pytest.importorskip("dask.distributed")
         out = tmp_path / "_".join(args).replace("-", "")
-        assert main(["-q", "run", str(study), "--out", str(out), *args]) == 0
+        assert main(["-q", "run", str(study), "--out", str(out), "--allow-untrusted", *args]) == 0
         tables.append((out / "indices.csv").read_text())
     assert all(t == tables[0] for t in tables[1:])
 
@@ -76,19 +77,19 @@ def test_kill_and_resume_evaluates_only_the_missing_points(write_study, tmp_path
     done = store.count()
     store.close()
     assert done > 0
-    assert main(["-q", "run", str(study), "--out", str(out)]) == 0
+    assert main(["-q", "run", str(study), "--out", str(out), "--allow-untrusted"]) == 0
     prov = pd.read_json(out / "provenance.json", typ="series")
     total = prov["evaluations"]["total"]                   # scenes x realisations x pooled unique points
     assert done < total
     assert prov["evaluations"]["cached"] == done and prov["evaluations"]["evaluated"] == total - done
     clean = tmp_path / "clean"
-    assert main(["-q", "run", str(study), "--out", str(clean)]) == 0
+    assert main(["-q", "run", str(study), "--out", str(clean), "--allow-untrusted"]) == 0
     assert (out / "indices.csv").read_text() == (clean / "indices.csv").read_text()
 
 
 def test_failing_points_are_listed_and_their_indices_untrusted(write_study, tmp_path: Path) -> None:
     out = tmp_path / "fail"
-    assert main(["-q", "run", str(write_study("failing", options="{fail_above: 2.5}")), "--out", str(out)]) == 0
+    assert main(["-q", "run", str(write_study("failing", options="{fail_above: 2.5}")), "--out", str(out)]) == 3
     prov = pd.read_json(out / "provenance.json", typ="series")
     assert len(prov["failures"]) > 0 and "above fail_above" in prov["failures"][0]["error"]
     table = pd.read_csv(out / "indices.csv")

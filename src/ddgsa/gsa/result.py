@@ -147,17 +147,22 @@ class SobolResult:
 
 
 def draw_index_bars(ax: "Axes", table: pd.DataFrame, fontsize: float = 10.0, rotation: float = 45.0) -> None:
-    """S1 and ST bars of one output's rows, confidence half-widths as error bars, untrusted hatched."""
+    """S1 and ST bars of one output's rows, confidence half-widths as error bars (none where the
+    method gives no interval), untrusted hatched."""
     x = np.arange(len(table))
     w = 0.38
     for k, (q, color) in enumerate((("S1", "tab:blue"), ("ST", "tab:orange"))):
         conf = table[f"{q}_conf"].to_numpy(float)
-        bars = ax.bar(x + (k - 0.5) * w, table[q].to_numpy(float), w, label=q, color=color,
-                      yerr=np.where(np.isfinite(conf), conf, 0.0), capsize=2)
+        has = np.isfinite(conf)
+        bars = ax.bar(x + (k - 0.5) * w, table[q].to_numpy(float), w, label=q, color=color)
+        if has.any():
+            ax.errorbar((x + (k - 0.5) * w)[has], table[q].to_numpy(float)[has], yerr=conf[has], fmt="none",
+                        ecolor="0.2", elinewidth=0.8, capsize=2)
         for bar, ok in zip(bars, table["trusted"].to_numpy(bool)):
             if not ok:
                 bar.set_hatch("//")
     ax.set_xticks(x, table["parameter"].to_list(), rotation=rotation, ha="right", fontsize=fontsize)
+    ax.set_ylabel("Sobol index [-]", fontsize=fontsize)
 
 
 def _trusted_mask(table: pd.DataFrame, diagnostics: list[Diagnostic]) -> NDArray[np.bool_]:

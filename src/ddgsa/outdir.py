@@ -1,0 +1,125 @@
+"""An output folder's guard: one live run at a time, one study per folder, no stale artefacts.
+
+:func:`claim` locks the folder for the duration of a run or a report rebuild (an OS lock on
+``.ddgsa.lock``, released by the OS even when the process is killed), refuses a folder that
+holds another study's results or files ddgsa did not write (unless ``force``), and
+:func:`remove_stale` deletes the artefacts an earlier report wrote that the new one did not
+(a study with fewer scenes leaves no old ``bars_scene2.png`` beside its new summary).
+The list of written files is the ``files`` entry of ``provenance.json``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import IO
+
+from ruamel.yaml import YAML
+from ruamel.yaml.error import YAMLError
+
+from ddgsa.errors import FolderBusyError, OutputFolderError
+
+LOCK_NAME = ".ddgsa.lock"
+STORE_NAME = "evaluations.sqlite"
+KEPT = {LOCK_NAME, "study.yaml", STORE_NAME, f"{STORE_NAME}-wal", f"{STORE_NAME}-shm", f"{STORE_NAME}-journal"}
+"""Files of a ddgsa folder that are not report artefacts."""
+REPORT_SUFFIXES = (".png", ".csv", ".md", ".json")
+"""What a report writes (used for folders written before the ``files`` list existed)."""
+
+
+def owner(folder: Path) -> str | None:
+    """The study whose results ``folder`` holds (from ``provenance.json``, else ``study.yaml``), or None."""
+    prov = folder / "provenance.json"
+    try:
+        name = json.loads(prov.read_text()).get("study")
+        if isinstance(name, str):
+            return name
+    except (OSError, ValueError, AttributeError):
+        pass
+    try:
+        data = YAML(typ="safe", pure=True).load((folder / "study.yaml").read_text())
+    except (OSError, YAMLError):
+        return None
+    return data.get("name") if isinstance(data, dict) and isinstance(data.get("name"), str) else None
+
+
+def previous_files(folder: Path) -> set[str]:
+    """Names of the report artefacts in ``folder`` from its last report."""
+    try:
+        files = json.loads((folder / "provenance.json").read_text()).get("files")
+    except (OSError, ValueError, AttributeError):
+        files = None
+    if isinstance(files, list):
+        return {f for f in files if isinstance(f, str) and "/" not in f and f not in KEPT}
+    if owner(folder) is None:                       # not a ddgsa folder: nothing of ours to remove
+        return set()
+    return {p.name for p in folder.iterdir() if p.is_file() and p.suffix in REPORT_SUFFIXES and p.name not in KEPT}
+
+
+def remove_stale(folder: Path, before: Iterable[str], written: Iterable[str]) -> list[str]:
+    """Delete the files of ``before`` that are not in ``written``; returns their names."""
+    stale = sorted(set(before) - set(written))
+    for name in stale:
+        (folder / name).unlink(missing_ok=True)
+    return stale
+
+
+@contextmanager
+def _locked(folder: Path) -> Iterator[None]:
+    """An exclusive, non-blocking OS lock on ``folder/.ddgsa.lock`` (released when the process ends)."""
+    path = folder / LOCK_NAME
+    handle: IO[str] = open(path, "a+")              # noqa: SIM115 -- held for the whole run
+    try:
+        try:
+            _lock_file(handle)
+        except OSError:
+            handle.seek(0)
+            holder = handle.read().strip() or "unknown"
+            raise FolderBusyError(f"{folder}: another ddgsa run (pid {holder}) is writing to this folder; "
+                                  "wait for it to finish or choose another --out") from None
+        handle.seek(0)
+        handle.truncate()
+        handle.write(str(os.getpid()))
+        handle.flush()
+        yield
+    finally:
+        handle.close()                               # closing the file releases the lock
+
+
+def _lock_file(handle: IO[str]) -> None:
+    try:
+        import fcntl
+    except ImportError:                              # Windows
+        import msvcrt
+
+        msvcrt.locking(handle.fileno(), msvcrt.LK_NBLCK, 1)
+        return
+    fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+
+
+@contextmanager
+def claim(folder: Path, study: str, force: bool = False) -> Iterator[Path]:
+    """Hold ``folder`` for study ``study`` while the block runs.
+
+    Raises
+    ------
+    FolderBusyError
+        When another live ddgsa process holds the folder.
+    OutputFolderError
+        When the folder holds another study's results, or files that ddgsa did not write,
+        and ``force`` is false.
+    """
+    folder.mkdir(parents=True, exist_ok=True)
+    with _locked(folder):
+        held = owner(folder)
+        if not force and held is not None and held != study:
+            raise OutputFolderError(f"{folder}: holds the results of study {held!r}, not {study!r}; choose "
+                                    "another --out, or pass --force to replace them (its stale files are removed)")
+        foreign = sorted(p.name for p in folder.iterdir() if p.name not in KEPT)
+        if not force and held is None and foreign:
+            raise OutputFolderError(f"{folder}: is not empty and is not a ddgsa output folder ({', '.join(foreign[:3])}"
+                                    f"{', ...' if len(foreign) > 3 else ''}); choose another --out, or pass --force")
+        yield folder
