@@ -200,7 +200,7 @@ def test_fault_study_verdicts(write_study, tmp_path: Path) -> None:
     healthy spread is std(sin x1 (1 + 0.1 x3^4)) ~ 0.72; x2 = 1.5 shifts the mean by
     7 sin^2 1.5 = 6.95 (detectable), x2 = 0.3 by 0.61 (not, at threshold 2)."""
     out = tmp_path / "fault"
-    assert main(["-q", "run", str(write_study("fault_demo", text=FAULT)), "--out", str(out)]) == 0
+    assert main(["-q", "run", str(write_study("fault_demo", text=FAULT)), "--out", str(out), "--allow-untrusted"]) == 0
     v = pd.read_csv(out / "fault_verdicts.csv").set_index("faulty")
     assert v.loc[1.5, "mean_faulty"] - v.loc[1.5, "mean_healthy"] == pytest.approx(7 * np.sin(1.5) ** 2, abs=1e-4)
     assert v.loc[0.3, "mean_faulty"] - v.loc[0.3, "mean_healthy"] == pytest.approx(7 * np.sin(0.3) ** 2, abs=1e-4)

@@ -1,0 +1,131 @@
+"""The CLI as a newcomer meets it: exit codes, flag placement, Ctrl-C, typos, plurals, the API import."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from ddgsa.cli import EXIT_INTERRUPTED, EXIT_UNTRUSTED, main
+from ddgsa.outdir import claim
+from ddgsa.runner import EvaluationStore
+
+SRC = str(Path(__file__).parents[2] / "src")
+TRUSTED = """\
+name: {name}
+model: {{name: analytic, fidelity: exact}}
+parameters:
+  x1: {{low: -3.14159, high: 3.14159}}
+  x2: {{low: -3.14159, high: 3.14159}}
+  x3: {{low: -3.14159, high: 3.14159}}
+scenes: {{wind_speed: [8.0], turbulence_intensity: 0.0, duration: 1.0, dt: 0.05}}
+outputs: [y_positive]
+methods: [{{method: pce, order: 8, n: 512, seed: 0}}]
+"""
+
+
+def _env() -> dict[str, str]:
+    return {**os.environ, "PYTHONPATH": SRC, "PYTHONUNBUFFERED": "1"}
+
+
+def test_exit_codes_trusted_untrusted_and_allowed(write_study, tmp_path: Path, capsys) -> None:
+    """PCE order 8 on Ishigami + 12 (512 points) is trusted: exit 0. Plain Ishigami with M-DRM and
+    Saltelli n = 64 is trusted by no method: exit 3 naming the outputs, 0 with --allow-untrusted."""
+    assert main(["run", str(write_study("ok", text=TRUSTED.format(name="ok"))), "--out", str(tmp_path / "ok")]) == 0
+    capsys.readouterr()
+    bad = write_study("bad")
+    assert main(["run", str(bad), "--out", str(tmp_path / "bad")]) == EXIT_UNTRUSTED == 3
+    err = capsys.readouterr().err
+    assert "output 'y': no method's indices are trusted in scenes 0, 1" in err and "--allow-untrusted" in err
+    assert "## Problems" in (tmp_path / "bad" / "summary.md").read_text()
+    assert main(["run", str(bad), "--out", str(tmp_path / "bad"), "--allow-untrusted"]) == 0
+    assert "ddgsa: warning: output 'y'" in capsys.readouterr().err
+    assert main(["report", str(tmp_path / "bad")]) == 3                 # a rebuilt report says the same
+
+
+def test_quiet_and_verbose_before_or_after_the_subcommand(write_study, tmp_path: Path, capsys) -> None:
+    study = write_study("ok", text=TRUSTED.format(name="ok"))
+    assert main(["run", str(study), "--out", str(tmp_path / "a"), "-q"]) == 0
+    assert capsys.readouterr().out == ""
+    assert main(["-q", "run", str(study), "--out", str(tmp_path / "a")]) == 0
+    assert capsys.readouterr().out == ""
+    assert main(["validate", str(study), "-v"]) == 0
+    assert main(["models", "-q"]) == 0
+
+
+def test_validate_says_one_scene_one_realisation(write_study, capsys) -> None:
+    assert main(["validate", str(write_study("ok", text=TRUSTED.format(name="ok")))]) == 0
+    assert "3 parameters, 1 scene x 1 realisation)" in capsys.readouterr().out
+
+
+def test_parameter_typo_suggests_the_name_instead_of_listing_all(write_study, capsys) -> None:
+    text = """\
+name: typo
+model: {name: direct_drive, fidelity: rigid}
+parameters:
+  k_fornt_y: {nominal: 3e9, spread: 0.3}
+methods: [{method: mdrm}]
+"""
+    assert main(["validate", str(write_study("typo", text=text))]) == 2
+    err = capsys.readouterr().err
+    assert "field 'parameters.k_fornt_y': not a parameter of model 'direct_drive'" in err
+    assert "did you mean 'k_front_y' or" in err and "`ddgsa models` lists all" in err
+    assert "shaft_mass" not in err                                      # not the whole list of 31
+
+
+def test_models_shows_output_units_and_meanings(capsys) -> None:
+    assert main(["models"]) == 0
+    text = capsys.readouterr().out
+    assert "rms_deflection_hub" in text and "damage_front" in text
+    line = next(ln for ln in text.splitlines() if ln.strip().startswith("damage_front"))
+    assert "1/s" in line and "L10 rating life used per second" in line
+
+
+def test_import_ddgsa_then_models_get_in_a_fresh_interpreter() -> None:
+    code = "import ddgsa; m = ddgsa.models.get('analytic'); print(m.output('y').label)"
+    run = subprocess.run([sys.executable, "-c", code], env=_env(), capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "y [-]"
+
+
+def _start_slow_run(study: Path, out: Path) -> subprocess.Popen[bytes]:
+    proc = subprocess.Popen([sys.executable, "-m", "ddgsa.cli", "-q", "run", str(study), "--out", str(out),
+                             "--allow-untrusted"], env=_env(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    store = out / "evaluations.sqlite"
+    deadline = time.time() + 90
+    while not store.exists() and time.time() < deadline:          # the store exists once the lock is held
+        time.sleep(0.1)
+    assert store.exists() and proc.poll() is None
+    return proc
+
+
+def test_a_second_live_run_is_refused_and_ctrl_c_exits_130(write_study, tmp_path: Path, capsys) -> None:
+    """A slow run (10 ms a point, ~15 s) holds its folder: a second run into it exits 1 with a
+    message naming the holder; SIGINT (Ctrl-C) ends the first with 130, its finished batches
+    stored, and the folder is free again."""
+    study = write_study("slow", options="{delay_s: 0.01}", n=64, batch=4)
+    out = tmp_path / "shared"
+    proc = _start_slow_run(study, out)
+    try:
+        assert main(["-q", "run", str(study), "--out", str(out)]) == 1
+        err = capsys.readouterr().err
+        assert f"another ddgsa run (pid {proc.pid}) is writing to this folder" in err
+        store = EvaluationStore(out / "evaluations.sqlite")
+        deadline = time.time() + 60
+        while store.count() == 0 and time.time() < deadline:
+            time.sleep(0.1)
+        store.close()
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(timeout=60) == EXIT_INTERRUPTED == 130
+        assert b"interrupted; finished batches are stored" in proc.stderr.read()  # type: ignore[union-attr]
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    store = EvaluationStore(out / "evaluations.sqlite")
+    assert store.count() > 0
+    store.close()
+    with claim(out, "slow"):                                            # released by the interrupted run
+        pass

@@ -1,0 +1,149 @@
+"""The report a decision is made from: counts that agree, failure reasons, S1 and ST, mean and CV,
+units, no self-comparison, readable plots."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pandas as pd
+import pytest
+from matplotlib.container import ErrorbarContainer
+
+from ddgsa.cli import main
+from ddgsa.models import get
+from ddgsa.report import accuracy_table, plot_heatmap, plot_scene_bars
+
+matplotlib.use("Agg")
+
+PCE_STUDY = """\
+name: {name}
+model: {{name: analytic, fidelity: exact}}
+parameters:
+  x1: {{low: -3.14159265, high: 3.14159265}}
+  x2: {{low: -3.14159265, high: 3.14159265}}
+  x3: {{low: -3.14159265, high: 3.14159265}}
+scenes: {{wind_speed: [8.0], turbulence_intensity: 0.0, duration: 1.0, dt: 0.05}}
+outputs: [y_positive]
+methods: {methods}
+"""
+
+
+def _evaluation_line(summary: str) -> str:
+    return re.search(r"^- evaluations: (.*)$", summary, re.M).group(1)  # type: ignore[union-attr]
+
+
+def test_summary_mean_cv_ranking_and_sentence_against_closed_forms(write_study, tmp_path: Path, capsys) -> None:
+    """y_positive = 12 + (8/11) Ishigami(a=7, b=0.1). Closed forms: E = 12 + 3.5 (8/11) = 14.545,
+    Var[Ishigami] = a^2/8 + b pi^4/5 + b^2 pi^8/18 + 1/2 = 13.845, CV = sqrt(13.845)(8/11)/14.545
+    = 0.186; ST = (0.558, 0.442, 0.244), S1 = (0.314, 0.442, 0). Sample moments of the 512 PCE
+    points: mean within 0.05, CV within 0.005."""
+    out = tmp_path / "pce"
+    study = write_study("pce", text=PCE_STUDY.format(name="pce", methods="[{method: pce, order: 8, n: 512, seed: 0}]"))
+    assert main(["run", str(study), "--out", str(out)]) == 0
+    cli_line = capsys.readouterr().out
+    summary = (out / "summary.md").read_text()
+    assert _evaluation_line(summary) in cli_line                        # the same counts, word for word
+    assert _evaluation_line(summary).startswith("512 model evaluations (512 run now, 0 from the store), 0 failed")
+    mom = pd.read_csv(out / "output_moments.csv").iloc[0]
+    var = 7 ** 2 / 8 + 0.1 * np.pi ** 4 / 5 + 0.01 * np.pi ** 8 / 18 + 0.5
+    assert mom["mean"] == pytest.approx(12 + 3.5 * 8 / 11, abs=0.05)
+    assert mom["cv"] == pytest.approx(np.sqrt(var) * 8 / 11 / (12 + 3.5 * 8 / 11), abs=0.005)
+    assert mom["unit"] == "-" and mom["source"] == "pce sample (512 points)"
+    assert "| `y_positive` | - | y + 12" in summary
+    assert "`y_positive`: shared by `x1` (ST 0.56, S1 0.31), `x2` (ST 0.44, S1 0.44), `x3` (ST 0.24, S1 0.00), " \
+           "by pce. ST - S1 shows interactions." in summary
+    assert "| pce | yes | x1 0.56 (0.31), x2 0.44 (0.44), x3 0.24 (0.00) |" in summary
+    prov = json.loads((out / "provenance.json").read_text())
+    assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\+00:00", prov["created_utc"])
+    assert prov["code"]["ddgsa"] and "commit" in prov["code"] and prov["study_file"] == "pce.yaml"
+
+
+def test_counts_agree_in_a_fresh_folder_when_methods_share_points(write_study, tmp_path: Path, capsys) -> None:
+    """M-DRM and auto's M-DRM stage ask for the same 48 points: counted once, none 'cached' in a
+    fresh folder; a rerun runs nothing and says so in the same words as the summary."""
+    study = write_study("both", text=PCE_STUDY.format(name="both", methods="[{method: mdrm}, {method: auto}]"))
+    out = tmp_path / "both"
+    main(["run", str(study), "--out", str(out), "--allow-untrusted"])
+    first = json.loads((out / "provenance.json").read_text())["evaluations"]
+    assert first["cached"] == 0 and first["evaluated"] == first["total"] > 48
+    assert _evaluation_line((out / "summary.md").read_text()) in capsys.readouterr().out
+    main(["run", str(study), "--out", str(out), "--allow-untrusted"])
+    again = json.loads((out / "provenance.json").read_text())["evaluations"]
+    assert again["evaluated"] == 0 and again["cached"] == again["total"] == first["total"]
+    acc = pd.read_csv(out / "accuracy.csv")
+    assert "auto" not in set(acc["crosscheck"]) or set(
+        pd.read_csv(out / "indices.csv").query("method == 'auto'")["source"]) != {"mdrm"}
+
+
+def test_summary_lists_failure_reasons(write_study, tmp_path: Path) -> None:
+    out = tmp_path / "fail"
+    assert main(["-q", "run", str(write_study("failing", options="{fail_above: 2.5}")), "--out", str(out)]) == 3
+    summary = (out / "summary.md").read_text()
+    prov = json.loads((out / "provenance.json").read_text())
+    n = len(prov["failures"])
+    assert n == prov["evaluations"]["failed"] > 0
+    assert f"Failed evaluations ({n};" in summary and "RuntimeError: x1 = " in summary
+    assert f", {n} failed" in _evaluation_line(summary)
+
+
+def _rows(methods: dict[str, float], trusted: bool = True, source: str | None = None) -> pd.DataFrame:
+    rows = []
+    for meth, conf in methods.items():
+        for j, par in enumerate(["a", "b"]):
+            rows.append({"scene": 0, "wind_speed": 11.0, "turbulence_intensity": 0.1, "inclination_deg": 0.0,
+                         "shear_exponent": 0.2, "output": "y", "method": meth, "parameter": par,
+                         "S1": 0.5 - 0.1 * j, "S1_conf": conf, "ST": 0.6 - 0.1 * j, "ST_conf": conf,
+                         "trusted": trusted, "n_evals": 10, "source": source or meth})
+    return pd.DataFrame(rows)
+
+
+def test_accuracy_never_compares_mdrm_with_autos_own_mdrm_stage() -> None:
+    idx = pd.concat([_rows({"mdrm": np.nan, "pce": np.nan}), _rows({"auto": np.nan}, source="mdrm")])
+    assert set(accuracy_table(idx)["crosscheck"]) == {"pce"}
+    idx = pd.concat([_rows({"mdrm": np.nan}), _rows({"auto": np.nan}, source="pce")])
+    assert set(accuracy_table(idx)["crosscheck"]) == {"auto"}             # auto's PCE is independent
+
+
+def test_bars_have_a_y_label_and_error_bars_only_where_there_is_an_interval() -> None:
+    info = {"y": get("analytic").output("y")}
+    fig = plot_scene_bars(_rows({"pce": np.nan, "saltelli": 0.05}), info)
+    no_interval, interval = fig.axes[0], fig.axes[1]
+    assert no_interval.get_ylabel() == "Sobol index [-]"
+    assert not [c for c in no_interval.containers if isinstance(c, ErrorbarContainer)]
+    assert len([c for c in interval.containers if isinstance(c, ErrorbarContainer)]) == 2     # S1 and ST
+    assert no_interval.get_title() == "y [-] - pce"
+    legend = [t.get_text() for t in no_interval.get_legend().get_texts()]
+    assert legend == ["S1", "ST"] and "untrusted" not in fig._suptitle.get_text()
+    fig = plot_scene_bars(pd.concat([_rows({"pce": np.nan}), _rows({"mdrm": np.nan}, trusted=False)]), info)
+    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == ["S1", "ST", "untrusted"]
+
+
+def test_heatmap_tick_labels_overlap_no_neighbouring_panel() -> None:
+    """Four outputs x ten long parameter names x three scenes: every tick label's and title's
+    bounding box (pixels, after drawing) is disjoint from every other panel's labels and image."""
+    params = [f"shaft_bending_stiffness_{i}" for i in range(10)]
+    outputs = ["rms_deflection_hub", "rms_deflection_gen", "damage_front", "damage_rear"]
+    rows = pd.DataFrame([{"scene": s, "wind_speed": w, "output": o, "method": "mdrm", "parameter": p,
+                          "ST": 0.1 * (i % 10)} for s, w in enumerate((6.0, 11.0, 18.0))
+                         for o in outputs for i, p in enumerate(params)])
+    model = get("direct_drive", fidelity="rigid")
+    fig = plot_heatmap(rows, {o: model.output(o) for o in outputs})
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"][:len(outputs)]
+    boxes = []
+    for k, ax in enumerate(panels):
+        texts = [t for t in ax.get_xticklabels() + ax.get_yticklabels() + [ax.title] if t.get_visible() and t.get_text()]
+        boxes.append(([t.get_window_extent(renderer) for t in texts], ax.get_window_extent(renderer)))
+    assert len(boxes[0][0]) > len(boxes[1][0])                        # parameter names only on the first panel
+    for i, (labels_i, _) in enumerate(boxes):
+        for j, (labels_j, area_j) in enumerate(boxes):
+            if i == j:
+                continue
+            for b in labels_i:
+                assert not b.overlaps(area_j), f"a label of panel {i} lies over panel {j}"
+                assert not any(b.overlaps(c) for c in labels_j), f"labels of panels {i} and {j} overlap"
