@@ -13,6 +13,7 @@ import platform
 import subprocess
 import sys
 import time
+import warnings
 from datetime import datetime, timezone
 from dataclasses import dataclass, field
 from importlib.metadata import PackageNotFoundError, version
@@ -27,6 +28,7 @@ from ddgsa.errors import DdgsaError, StudyError
 from ddgsa.gsa.auto import AutoSobol
 from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.result import SobolResult
+from ddgsa.models import ImplausibleOutputWarning
 from ddgsa.models import get as get_model
 from ddgsa.models.auto import choose_fidelity
 from ddgsa.runner import EvaluationStore, Evaluator, ModelId, Outcome, Task, run_tasks, task_key
@@ -96,11 +98,14 @@ def model_id(study: Study, fidelity: str | None = None) -> ModelId:
 
 
 def model_evaluator(mid: ModelId) -> Evaluator:
-    """The runner's model factory: the registered model's ``evaluate``, scenes given as dicts."""
+    """The runner's model factory: the registered model's ``evaluate``, scenes given as dicts.
+    Implausible outputs are not warned per batch: the study reports them once, over all evaluations."""
     model = get_model(mid.name, fidelity=mid.fidelity, **dict(mid.options))
 
     def evaluate(points: pd.DataFrame, scene: dict[str, Any]) -> pd.DataFrame:
-        return model.evaluate(points, Scene(**scene))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ImplausibleOutputWarning)
+            return model.evaluate(points, Scene(**scene))
 
     return evaluate
 

@@ -1,0 +1,74 @@
+"""DESIGN's boundaries, checked on the imports: each layer can be used and tested alone."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pandas as pd
+
+import ddgsa.mbs.sampling as sampling
+from ddgsa.runner import EvaluationStore, ModelId, Task, run_tasks, task_key
+
+SRC = Path(__file__).parents[1] / "src" / "ddgsa"
+
+
+def _imports(path: Path) -> set[str]:
+    """Every module a file imports (``from a.b import c`` gives ``a.b`` and ``a.b.c``)."""
+    out: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            out |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            out |= {node.module} | {f"{node.module}.{a.name}" for a in node.names}
+    return out
+
+
+def _uses(path: Path, package: str) -> bool:
+    return any(m == package or m.startswith(package + ".") for m in _imports(path))
+
+
+def test_runner_imports_neither_models_nor_scenes_nor_gsa() -> None:
+    for package in ("ddgsa.models", "ddgsa.loads", "ddgsa.gsa", "ddgsa.study"):
+        assert not _uses(SRC / "runner.py", package), package
+
+
+def test_models_do_not_import_the_gsa_layer_and_the_kernel_imports_no_model() -> None:
+    for path in (SRC / "models").glob("*.py"):
+        assert not _uses(path, "ddgsa.gsa"), path.name
+    for path in (SRC / "mbs").rglob("*.py"):
+        assert not _uses(path, "ddgsa.models") and not _uses(path, "ddgsa.loads"), path.name
+    for path in (SRC / "gsa").glob("*.py"):
+        assert not _uses(path, "ddgsa.models") and not _uses(path, "ddgsa.loads"), path.name
+
+
+def test_the_kernels_sampling_table_carries_only_the_callers_words() -> None:
+    assert not hasattr(sampling, "controller_row")
+    ok = sampling.sampling_row("step", 0.001, 10.0, "m1", "caller's text")
+    coarse = sampling.sampling_row("step", 0.02, 10.0, "m1", "caller's text")
+    assert (ok["verdict"], ok["consequence"]) == ("ok", "")
+    assert (coarse["verdict"], coarse["samples_per_period"], coarse["consequence"]) == ("coarse", 5.0, "caller's text")
+
+
+def double_it(model: ModelId) -> object:
+    """A model factory that knows no ddgsa model: y = factor * x * scene['gain'] (factor from the options)."""
+    factor = dict(model.options)["factor"]
+
+    def evaluate(points: pd.DataFrame, scene: dict[str, float]) -> pd.DataFrame:
+        return pd.DataFrame({"y": factor * points["x"] * scene["gain"]})
+
+    return evaluate
+
+
+def test_the_runner_evaluates_any_factory_with_plain_scene_dicts(tmp_path: Path) -> None:
+    mid = ModelId("double", "exact", (("factor", 2.0),))
+    scenes = [{"gain": 1.0}, {"gain": 10.0}]
+    tasks = [Task(task_key(mid, s, {"x": x}, "test"), mid, s, {"x": x}) for s in scenes for x in (1.0, 2.0, 3.0)]
+    for jobs in (1, 2):
+        store = EvaluationStore(tmp_path / f"store{jobs}.sqlite")
+        counts = run_tasks(tasks + tasks[:2], store, double_it, jobs=jobs, batch_size=2, quiet=True)
+        assert counts == {"total": 6, "cached": 0, "evaluated": 6, "failed": 0}
+        got = store.get([t.key for t in tasks])
+        assert [got[t.key].outputs["y"] for t in tasks] == [2.0, 4.0, 6.0, 20.0, 40.0, 60.0]  # type: ignore[index]
+        assert run_tasks(tasks, store, double_it, quiet=True)["cached"] == 6
+        store.close()
