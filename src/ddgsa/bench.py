@@ -67,7 +67,7 @@ def speed(ref_seconds: float = 20.0, quickstart: Path | None = None) -> dict[str
             store = EvaluationStore(Path(tmp) / "evaluations.sqlite")
             wall, res = _best(lambda: execute(study, store, quiet=True))
             store.close()
-        out["quickstart"] = {"study": str(quickstart), "wall_s": round(wall, 2),
+        out["quickstart"] = {"study": quickstart.name, "wall_s": round(wall, 2),
                              "evaluations": res.provenance["evaluations"]["evaluated"],
                              "jobs": study.spec.run.jobs}
     return out

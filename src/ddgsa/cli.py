@@ -96,24 +96,18 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _dispatch(args: argparse.Namespace) -> int:
-    from ddgsa.study import load_study
-
     if args.command == "validate":
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            study = load_study(args.study)
+        study = _load(args.study)
         sc = study.spec.scenes
         print(f"{args.study}: valid ({study.spec.kind} study '{study.name}', model {study.spec.model.name}, "
               f"{plural(len(study.spec.parameters), 'parameter')}, {plural(len(sc.grid()), 'scene')} x "
               f"{plural(sc.realisations, 'realisation')})")
-        for w in caught:
-            print(f"ddgsa: warning: {w.message}", file=sys.stderr)
         return EXIT_OK
     if args.command == "models":
         _print_models()
         return EXIT_OK
     if args.command == "run":
-        study = load_study(args.study)
+        study = _load(args.study)
         if args.jobs is not None and args.jobs < 1:
             print("ddgsa: error: --jobs must be >= 1", file=sys.stderr)
             return EXIT_INPUT
@@ -123,6 +117,19 @@ def _dispatch(args: argparse.Namespace) -> int:
     if args.command == "bench":
         return _bench(args)
     return EXIT_INPUT  # pragma: no cover (argparse requires a command)
+
+
+def _load(path: Path):  # noqa: ANN202 -- a Study
+    """Load and validate a study; its warnings (e.g. a nominal point outside the model's valid
+    region) are printed as ``ddgsa: warning: ...``."""
+    from ddgsa.study import StudyWarning, load_study
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", StudyWarning)
+        study = load_study(path)
+    for w in caught:
+        print(f"ddgsa: warning: {w.message}", file=sys.stderr)
+    return study
 
 
 def plural(n: int, noun: str) -> str:

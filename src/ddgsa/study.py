@@ -29,6 +29,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
@@ -47,6 +48,10 @@ from ddgsa.models import get as get_model
 from ddgsa.space import ParameterSpace
 
 _STRICT = ConfigDict(extra="forbid")
+
+
+class StudyWarning(UserWarning):
+    """A valid study that will probably not give what its author wants."""
 SceneValue = float | list[float]
 
 
@@ -317,6 +322,10 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             if lo < decl.low or hi > decl.high:
                 raise StudyError(f"{where}: field 'parameters.{p.name}': support [{lo:g}, {hi:g}] leaves the "
                                  f"allowed range [{decl.low:g}, {decl.high:g}] {decl.unit}")
+    nominal = {**dict(spec.fixed), **(space.nominal if space is not None else {})}
+    for problem in model.point_problems(nominal):
+        warnings.warn(f"{where}: the study's nominal point is outside model {spec.model.name!r}'s valid region: "
+                      f"{problem}; every evaluation near it will fail", StudyWarning, stacklevel=2)
     for i, m in enumerate(spec.methods):
         if m.method == "auto":
             try:

@@ -198,6 +198,11 @@ class Model(ABC):
                             f"plausible range [{o.low:g}, {o.high:g}] (e.g. {worst:.4g}); check the inputs")
         return msgs
 
+    def point_problems(self, params: Mapping[str, float]) -> list[str]:
+        """Why a parameter point (missing names nominal) lies outside the model's valid region,
+        beyond each parameter's own range (e.g. bearings that cross); empty when valid."""
+        return []
+
     def resolve(self, points: pd.DataFrame | Mapping[str, Any] | None) -> pd.DataFrame:
         """Full parameter table: given columns, nominal values for the missing ones.
 

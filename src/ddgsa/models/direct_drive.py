@@ -142,12 +142,21 @@ def _skew(d: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.array([[0.0, -d[2], d[1]], [d[2], 0.0, -d[0]], [-d[1], d[0], 0.0]])
 
 
+def bearing_order_problem(p: Mapping[str, float]) -> str:
+    """Why the bearing positions of ``p`` are invalid ("" when 0 < front < rear < shaft length)."""
+    length, l1, l2 = p["shaft_length"], p["front_bearing_x"], p["rear_bearing_x"]
+    if 0.0 < l1 < l2 < length:
+        return ""
+    return (f"bearing positions must satisfy 0 < front_bearing_x ({l1:g}) < rear_bearing_x ({l2:g}) "
+            f"< shaft_length ({length:g}) [m]")
+
+
 def assemble(p: Mapping[str, float], fields: tuple[str, ...]) -> Assembly:
     """Build the system arrays for one parameter set and the retained elastic fields."""
     length, l1, l2 = p["shaft_length"], p["front_bearing_x"], p["rear_bearing_x"]
-    if not 0.0 < l1 < l2 < length:
-        raise ModelError(f"bearing positions must satisfy 0 < front_bearing_x ({l1}) < rear_bearing_x ({l2}) "
-                         f"< shaft_length ({length})")
+    problem = bearing_order_problem(p)
+    if problem:
+        raise ModelError(problem)
     r_o = p["shaft_radius"]
     spec = BeamSpec(nodes=mesh([0.0, l1, l2, length], _MAX_ELEMENT), mass=p["shaft_mass"],
                     polar_inertia=p["shaft_mass"] * (r_o ** 2 + min(_BORE, 0.8 * r_o) ** 2) / 2.0,
@@ -265,6 +274,11 @@ class DirectDrive(Model):
     parameters = PARAMETERS
     outputs = OUTPUTS
     fidelities = ("flexible", "rigid", "linear")
+
+    def point_problems(self, params: Mapping[str, float]) -> list[str]:
+        """Why ``params`` (missing ones nominal) lie outside the valid region: crossing bearings."""
+        problem = bearing_order_problem({**self.nominal, **params})
+        return [problem] if problem else []
 
     def __init__(self, fidelity: str = "flexible", axial: bool = True, second_bending: bool = True,
                  time_step: float | None = None, rho_inf: float = 0.8, equivalent_load: str = "iso281",
