@@ -63,7 +63,8 @@ SAMPLE_DESIGNS = ("saltelli", "fast", "rbd_fast", "pce")
 
 def moments(space: ParameterSpace, name: str, design: Design, y: np.ndarray, res: SobolResult,
             outputs: list[str]) -> list[dict[str, Any]] | None:
-    """Mean and coefficient of variation of each output from one method's evaluations, or None.
+    """Mean and standard deviation of each output from one method's evaluations (``n``: the sample
+    size, 0 for a surrogate's moments), or None. The study reports those of the largest sample.
 
     A sampling design (Saltelli, FAST, RBD-FAST, PCE regression) gives the sample moments of all
     its points; M-DRM those of its quasi-random check sample, or without one its own surrogate's
@@ -82,13 +83,13 @@ def moments(space: ParameterSpace, name: str, design: Design, y: np.ndarray, res
             mean = h_c ** (1 - n) * np.prod(rho, axis=1)
             var = h_c ** (2 * (1 - n)) * np.prod(theta, axis=1) - mean ** 2
         return [{"output": o, "mean": float(mean[j]), "std": float(np.sqrt(max(var[j], 0.0))),
-                 "source": "M-DRM surrogate"} for j, o in enumerate(outputs)]
+                 "source": "M-DRM surrogate", "n": 0} for j, o in enumerate(outputs)]
     else:
         return None
     if len(sample) < 2:
         return None
     return [{"output": o, "mean": float(sample[:, j].mean()), "std": float(sample[:, j].std(ddof=1)),
-             "source": source} for j, o in enumerate(outputs)]
+             "source": source, "n": len(sample)} for j, o in enumerate(outputs)]
 
 
 def model_id(study: Study, fidelity: str | None = None) -> ModelId:
@@ -368,9 +369,9 @@ def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Desig
         ys = [y[_row_index(pooled, design.points)] for _, design in designs]
         scene_results = [get_method(name).analyze(study.space, design, yd, outputs=outputs)
                          for (name, design), yd in zip(designs, ys)]
-        found = (moments(study.space, name, design, yd, res, outputs)
-                 for (name, design), yd, res in zip(designs, ys, scene_results))
-        for m in next((m for m in found if m is not None), []):
+        found = [m for m in (moments(study.space, name, design, yd, res, outputs)
+                             for (name, design), yd, res in zip(designs, ys, scene_results)) if m]
+        for m in max(found, key=lambda ms: ms[0]["n"], default=[]):          # the largest sample
             m["cv"] = m["std"] / abs(m["mean"]) if m["mean"] else float("inf")
             moment_rows.append({"scene": ps.index, **m})
         for res in scene_results + [per_scene[k] for per_scene in auto]:
@@ -387,7 +388,7 @@ def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Desig
                 d.insert(0, "scene", ps.index)
                 diag_rows.append(d)
     result.indices = pd.concat(rows, ignore_index=True)
-    result.moments = pd.DataFrame(moment_rows, columns=["scene", "output", "mean", "std", "cv", "source"])
+    result.moments = pd.DataFrame(moment_rows, columns=["scene", "output", "mean", "std", "cv", "source", "n"])
     result.diagnostics = (pd.concat(diag_rows, ignore_index=True) if diag_rows else
                           pd.DataFrame(columns=["scene", "method", "name", "severity", "output", "parameter",
                                                 "value", "message"]))
