@@ -12,6 +12,7 @@ import itertools
 import platform
 import subprocess
 import sys
+import threading
 import time
 import warnings
 from datetime import datetime, timezone
@@ -72,10 +73,11 @@ def moments(space: ParameterSpace, name: str, design: Design, y: np.ndarray, res
     """
     finite = np.isfinite(y).all(axis=1)
     if name in SAMPLE_DESIGNS and design.options.get("fit") != "quadrature":
-        sample, source = y[finite], f"{name} sample ({int(finite.sum())} points)"
+        sample, source = y[finite], f"{name} sample ({_count(finite)})"
     elif name == "mdrm" and design.options.get("check"):
         check = y[-design.options["check"]:]
-        sample, source = check[np.isfinite(check).all(axis=1)], f"M-DRM check sample ({len(check)} points)"
+        ok = np.isfinite(check).all(axis=1)
+        sample, source = check[ok], f"M-DRM check sample ({_count(ok)})"
     elif name == "mdrm" and "rho" in res.extras:
         n = space.dim
         h_c, rho, theta = res.extras["h_cut"], res.extras["rho"], res.extras["theta"]     # (k,), (k, n), (k, n)
@@ -90,6 +92,12 @@ def moments(space: ParameterSpace, name: str, design: Design, y: np.ndarray, res
         return None
     return [{"output": o, "mean": float(sample[:, j].mean()), "std": float(sample[:, j].std(ddof=1)),
              "source": source, "n": len(sample)} for j, o in enumerate(outputs)]
+
+
+def _count(finite: np.ndarray) -> str:
+    """``64 points``, or ``50 of 64 points (failed ones left out)``."""
+    n, ok = len(finite), int(finite.sum())
+    return f"{n} points" if ok == n else f"{ok} of {n} points, failed ones left out"
 
 
 def model_id(study: Study, fidelity: str | None = None) -> ModelId:
@@ -115,6 +123,10 @@ def make_task(mid: ModelId, scene: Scene, point: dict[str, float]) -> Task:
     """The runner's task for one point of one scene realisation."""
     fields = scene.to_dict()
     return Task(task_key(mid, fields, point, ddgsa.__version__), mid, fields, point)
+
+
+SLOW_FIRST_S = 3.0
+"""A first evaluation longer than this [s] is explained on screen (kernel compilation)."""
 
 
 class Runs:
@@ -146,9 +158,10 @@ class Runs:
         self.failed_now += got["failed"]
 
     def _warm_up(self, tasks: list[Task]) -> None:
-        """One evaluation per model in this process before the parallel workers start, with a
-        message saying why it may take long: the model's compiled kernels are built on a first
-        run after an install (and cached on disk for the workers), loaded from the cache after."""
+        """One evaluation per model in this process before the parallel workers start. A first
+        run after installing compiles the model's numba kernels here (cached on disk, so the
+        workers load them instead of each compiling them again); when that takes longer than
+        :data:`SLOW_FIRST_S`, the user is told what is happening and then how long it took."""
         missing = {t.key for t in tasks} - self.store.known(t.key for t in tasks)
         first: dict[ModelId, Task] = {}
         for t in tasks:
@@ -157,15 +170,20 @@ class Runs:
         quiet = self.run_opts.get("quiet", False)
         for mid, task in first.items():
             self._warm.add(mid)
+            note = threading.Timer(SLOW_FIRST_S, print, args=(
+                f"{mid.name} ({mid.fidelity}): first evaluation, compiling the model's kernels (a first run after "
+                "installing only: about a minute; later runs load them from the cache)...",),
+                kwargs={"file": sys.stderr, "flush": True})
             if not quiet:
-                print(f"{mid.name} ({mid.fidelity}): first evaluation, compiling the model's kernels on a first "
-                      "run after installing (once; later runs load them from the cache)...", file=sys.stderr,
-                      flush=True)
+                note.start()
             t0 = time.perf_counter()
-            self._run([task], {**self.run_opts, "jobs": 1, "backend": "loky", "quiet": True})
-            if not quiet:
-                print(f"{mid.name} ({mid.fidelity}): ready after {time.perf_counter() - t0:.1f} s", file=sys.stderr,
-                      flush=True)
+            try:
+                self._run([task], {**self.run_opts, "jobs": 1, "backend": "loky", "quiet": True})
+            finally:
+                note.cancel()
+            if not quiet and time.perf_counter() - t0 > SLOW_FIRST_S:
+                print(f"{mid.name} ({mid.fidelity}): kernels ready after {time.perf_counter() - t0:.0f} s",
+                      file=sys.stderr, flush=True)
 
     def counts(self) -> dict[str, int]:
         """Unique evaluations asked for, run now, found in the store, failed (all and now)."""

@@ -312,10 +312,13 @@ def plot_fault(verdicts: pd.DataFrame, samples: pd.DataFrame | None) -> Any:
     return fig
 
 
-def _failure_reasons(failures: list[dict[str, Any]]) -> list[str]:
-    """Failure reasons with how often each occurred, most frequent first."""
+def _failure_reasons(failures: list[dict[str, Any]], most: int = 10) -> list[str]:
+    """Failure reasons with how often each occurred, most frequent first (the first ``most``)."""
     counts = pd.Series([f["error"] for f in failures], dtype=object).value_counts()
-    return [f"- {n}x: {reason}" for reason, n in counts.items()]
+    lines = [f"- {n}x: {reason}" for reason, n in counts.head(most).items()]
+    if len(counts) > most:
+        lines.append(f"- ... and {int(counts.iloc[most:].sum())} more with {len(counts) - most} other reasons")
+    return lines
 
 
 def _outputs_section(result: StudyResult, info: dict[str, ModelOutput]) -> list[str]:

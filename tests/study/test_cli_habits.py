@@ -147,3 +147,20 @@ methods: [{method: mdrm}]
     assert "0 < front_bearing_x (6) < rear_bearing_x (5) < shaft_length" in err
     assert main(["validate", str(write_study("fine", text=text.replace("fixed: {front_bearing_x: 6.0}\n", "")))]) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+def test_a_slow_first_evaluation_is_explained(write_study, tmp_path: Path, monkeypatch, capsys) -> None:
+    """The first evaluation runs alone; past SLOW_FIRST_S (here 0.05 s; a 0.2 s point) the user
+    reads that kernels are compiling (first run only) and then how long it took; -q silences it."""
+    import ddgsa.pipeline
+
+    monkeypatch.setattr(ddgsa.pipeline, "SLOW_FIRST_S", 0.05)
+    text = TRUSTED.format(name="slow").replace("fidelity: exact}", "fidelity: exact, options: {delay_s: 0.2}}")
+    text = text.replace("order: 8, n: 512", "order: 1, n: 4")
+    study = write_study("slow", text=text)
+    main(["run", str(study), "--out", str(tmp_path / "a"), "--allow-untrusted"])
+    err = capsys.readouterr().err
+    assert "analytic (exact): first evaluation, compiling the model's kernels (a first run after installing" in err
+    assert "analytic (exact): kernels ready after" in err
+    main(["run", str(study), "--out", str(tmp_path / "b"), "--allow-untrusted", "-q"])
+    assert "first evaluation" not in capsys.readouterr().err
