@@ -17,8 +17,13 @@ import sys
 import traceback
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ddgsa.errors import DdgsaError
+
+if TYPE_CHECKING:                      # the CLI imports the heavy modules only when a command needs them
+    from ddgsa.pipeline import StudyResult
+    from ddgsa.study import Study
 
 EXIT_OK, EXIT_FAILURE, EXIT_INPUT, EXIT_UNTRUSTED, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 
@@ -119,7 +124,7 @@ def _dispatch(args: argparse.Namespace) -> int:
     return EXIT_INPUT  # pragma: no cover (argparse requires a command)
 
 
-def _load(path: Path):  # noqa: ANN202 -- a Study
+def _load(path: Path) -> "Study":
     """Load and validate a study; its warnings (e.g. a nominal point outside the model's valid
     region) are printed as ``ddgsa: warning: ...``."""
     from ddgsa.study import StudyWarning, load_study
@@ -137,7 +142,7 @@ def plural(n: int, noun: str) -> str:
     return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
-def _run(study, args: argparse.Namespace) -> int:  # noqa: ANN001
+def _run(study: "Study", args: argparse.Namespace) -> int:
     from ddgsa.outdir import claim
     from ddgsa.pipeline import default_out, execute
     from ddgsa.runner import EvaluationStore
@@ -155,7 +160,7 @@ def _run(study, args: argparse.Namespace) -> int:  # noqa: ANN001
         return _finish(result, out, args, "wrote")
 
 
-def _finish(result, out: Path, args: argparse.Namespace, verb: str) -> int:  # noqa: ANN001
+def _finish(result: "StudyResult", out: Path, args: argparse.Namespace, verb: str) -> int:
     """Write the report, print the run's line and its problems, choose the exit code."""
     from ddgsa.report import evaluation_line, problems, write_report
 

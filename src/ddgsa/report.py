@@ -62,7 +62,8 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
         for fig, name in plot_sweep(summary, result.study.outputs, list(result.study.spec.grid), info):
             save_fig(fig, name)
     if len(result.indices):
-        save_csv(result.indices, "indices.csv")
+        save_csv(result.indices.assign(output_unit=result.indices["output"].map(lambda o: info[o].unit)),
+                 "indices.csv")
         save_csv(result.diagnostics, "diagnostics.csv")
         if result.moments is not None and len(result.moments):
             save_csv(result.moments.assign(unit=result.moments["output"].map(lambda o: info[o].unit)),
@@ -244,7 +245,8 @@ def plot_agreement(indices: pd.DataFrame) -> Any:
         ax.set_ylim(-0.05, 1.05)
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8)
-    fig.suptitle("M-DRM against cross-check (open markers: M-DRM untrusted)")
+    untrusted = not m["trusted"].astype(bool).all()
+    fig.suptitle("M-DRM against cross-check" + (" (open markers: M-DRM untrusted)" if untrusted else ""))
     fig.tight_layout()
     return fig
 

@@ -53,6 +53,7 @@ def test_summary_mean_cv_ranking_and_sentence_against_closed_forms(write_study, 
     assert mom["mean"] == pytest.approx(12 + 3.5 * 8 / 11, abs=0.05)
     assert mom["cv"] == pytest.approx(np.sqrt(var) * 8 / 11 / (12 + 3.5 * 8 / 11), abs=0.005)
     assert mom["unit"] == "-" and mom["source"] == "pce sample (512 points)"
+    assert set(pd.read_csv(out / "indices.csv")["output_unit"]) == {"-"}
     assert "| `y_positive` | - | y + 12" in summary
     assert "`y_positive`: shared by `x1` (ST 0.56, S1 0.31), `x2` (ST 0.44, S1 0.44), `x3` (ST 0.24, S1 0.00), " \
            "by pce. ST - S1 shows interactions." in summary
@@ -65,7 +66,7 @@ def test_summary_mean_cv_ranking_and_sentence_against_closed_forms(write_study, 
 def test_counts_agree_in_a_fresh_folder_when_methods_share_points(write_study, tmp_path: Path, capsys) -> None:
     """M-DRM and auto's M-DRM stage ask for the same 48 points: counted once, none 'cached' in a
     fresh folder; a rerun runs nothing and says so in the same words as the summary."""
-    study = write_study("both", text=PCE_STUDY.format(name="both", methods="[{method: mdrm}, {method: auto}]"))
+    study = write_study("both", text=PCE_STUDY.format(name="both", methods="[{method: mdrm}, {method: auto, budget: 200}]"))
     out = tmp_path / "both"
     main(["run", str(study), "--out", str(out), "--allow-untrusted"])
     first = json.loads((out / "provenance.json").read_text())["evaluations"]
