@@ -172,7 +172,7 @@ class Runs:
             self._warm.add(mid)
             note = threading.Timer(SLOW_FIRST_S, print, args=(
                 f"{mid.name} ({mid.fidelity}): first evaluation, compiling the model's kernels (a first run after "
-                "installing only: about a minute; later runs load them from the cache)...",),
+                "installing only: one to two minutes on 2 cores; later runs load them from the cache)...",),
                 kwargs={"file": sys.stderr, "flush": True})
             if not quiet:
                 note.start()
