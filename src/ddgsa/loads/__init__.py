@@ -19,7 +19,7 @@ from ddgsa.loads.scene import Scene, max_time_step
 from ddgsa.loads.turbulence import IecTurbulence, generate_field
 
 __all__ = ["C_GEN_DEFAULT", "EXCITATION_FACTORS", "LOAD_COLUMNS", "NREL5MW", "PerformanceTable", "Scene",
-           "Turbine", "apply_excitation", "generate", "max_time_step", "wind_field"]
+           "Turbine", "apply_excitation", "generate", "generate_columns", "max_time_step", "wind_field"]
 
 #: seed 000 eq. (25): generator torque constant C_gen [N m s/rad]
 C_GEN_DEFAULT = 828.26e3
@@ -89,6 +89,12 @@ def generate(scene: Scene, turbine: Turbine = NREL5MW) -> pd.DataFrame:
     0.95
     """
     return _generate(scene, turbine).copy()
+
+
+def generate_columns(scene: Scene, columns: list[str], turbine: Turbine = NREL5MW) -> np.ndarray:
+    """Columns of :func:`generate` as a new (n_t, k) float array, without copying the whole frame
+    (the models' per-point path: 0.1 ms where ``generate`` and a frame copy take ~1 ms)."""
+    return _generate(scene, turbine)[columns].to_numpy(dtype=float, copy=True)
 
 
 def apply_excitation(loads: pd.DataFrame, factors: dict[str, float]) -> pd.DataFrame:
