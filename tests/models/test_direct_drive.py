@@ -4,8 +4,11 @@ reference integrator, rigid against flexible, seed Table 1."""
 from __future__ import annotations
 
 import dataclasses
+import json
+from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 from scipy.linalg import eigh
 
@@ -214,3 +217,36 @@ def test_excitation_factors_scale_the_hub_loads_and_keep_the_speed() -> None:
     assert abs(scaled["rotor_speed"].mean() / base["rotor_speed"].mean() - 1) < 0.01
     # and the thrust reaches the front (axial) bearing
     assert scaled["front_Fx"].mean() == pytest.approx(base["front_Fx"].mean() + 0.2 * base["Fx"].mean(), rel=1e-3)
+
+
+REGRESSION = Path(__file__).parents[2] / "benchmarks" / "results" / "regression_600s.json"
+
+
+def _regression(fidelity: str) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Recorded and recomputed objectives of ``fidelity`` on the 600 s bench scene."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("regression", REGRESSION.parents[1] / "regression.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    recorded = pd.DataFrame(json.loads(REGRESSION.read_text())["objectives"][fidelity])
+    return recorded, module.compute(fidelity)
+
+
+def test_linear_fidelity_keeps_its_recorded_600s_objectives() -> None:
+    """Regression guard for ports of the model (recorded by ``benchmarks/regression.py``; the
+    recorded linear figures are within 3e-8 of the dense-recurrence implementation they replaced,
+    the difference being its linearised end displacements). Tolerance 1e-6 relative: round-off of
+    a reordered computation passes, a change of physics or discretisation does not."""
+    recorded, now = _regression("linear")
+    np.testing.assert_allclose(now[recorded.columns].to_numpy(), recorded.to_numpy(), rtol=1e-6, atol=0.0)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("fidelity", ["flexible", "rigid"])
+def test_integrated_fidelities_keep_their_recorded_600s_objectives(fidelity: str) -> None:
+    """As above for the generalised-alpha fidelities (tolerance 1e-5: the Newton loop stops at a
+    1e-6 m correction, so a reordered computation may converge to a neighbouring iterate; the
+    extrapolating predictor moved the recorded figures by <= 8e-6 (flexible), 5e-7 (rigid))."""
+    recorded, now = _regression(fidelity)
+    np.testing.assert_allclose(now[recorded.columns].to_numpy(), recorded.to_numpy(), rtol=1e-5, atol=0.0)
