@@ -53,9 +53,8 @@ def wind_field(scene: Scene, turbine: Turbine = NREL5MW) -> np.ndarray:
 def _generate(scene: Scene, turbine: Turbine) -> pd.DataFrame:
     inflow = wind_field(scene, turbine)
     n = inflow.shape[1]
-    spin = min(int(round(SPINUP_S / scene.dt)), n)
-    wrapped = np.concatenate([inflow[:, n - spin:], inflow], axis=1)
-    res = simulate_rotor(turbine, wrapped, scene.dt, turbine.steady_state(scene.wind_speed))[spin:]
+    res = simulate_rotor(turbine, inflow, scene.dt, turbine.steady_state(scene.wind_speed),
+                         spinup=int(round(SPINUP_S / scene.dt)))
     t = pd.Index(np.arange(n) * scene.dt, name="time")
     df = pd.DataFrame(res[:, :6], index=t, columns=list(LOAD_COLUMNS))
     df.insert(0, "wind_hub", inflow[0, :, 0])
