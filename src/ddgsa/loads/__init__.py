@@ -90,10 +90,17 @@ def generate(scene: Scene, turbine: Turbine = NREL5MW) -> pd.DataFrame:
     return _generate(scene, turbine).copy()
 
 
+@lru_cache(maxsize=32)
+def _as_array(scene: Scene, turbine: Turbine) -> tuple[dict[str, int], np.ndarray]:
+    frame = _generate(scene, turbine)
+    return {c: i for i, c in enumerate(frame.columns)}, frame.to_numpy(dtype=float)
+
+
 def generate_columns(scene: Scene, columns: list[str], turbine: Turbine = NREL5MW) -> np.ndarray:
-    """Columns of :func:`generate` as a new (n_t, k) float array, without copying the whole frame
-    (the models' per-point path: 0.1 ms where ``generate`` and a frame copy take ~1 ms)."""
-    return _generate(scene, turbine)[columns].to_numpy(dtype=float, copy=True)
+    """Columns of :func:`generate` as a new (n_t, k) float array, without a frame copy or a pandas
+    column lookup (the models' per-point path: ~0.05 ms where ``generate`` takes ~1 ms)."""
+    index, values = _as_array(scene, turbine)
+    return values[:, [index[c] for c in columns]]
 
 
 def apply_excitation(loads: pd.DataFrame, factors: dict[str, float]) -> pd.DataFrame:
