@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.bodies import Marker, MarkerState, rotation_vector
+from ddgsa.mbs.bodies import Marker, MarkerState, cross, rotation_vector
 from ddgsa.mbs.linear import catmull_rom_coefficients
 
 Array = NDArray[np.float64]
@@ -120,7 +120,7 @@ class _Connector(Element):
         dw = sj.w - si.w
         if self.free_spin:
             axis = si.a[:, 0]
-            dth = np.cross(axis, (sj.a @ self.rest_a.T)[:, 0])
+            dth = cross(axis, (sj.a @ self.rest_a.T)[:, 0])
             dw = dw - axis * (axis @ dw)
         else:
             dth = rotation_vector(sj.a @ self.rest_a.T @ si.a.T)
@@ -141,7 +141,7 @@ class _Connector(Element):
         w = np.zeros((2, 6))
         w[0] = f
         w[1, :3] = -f[:3]
-        w[1, 3:] = -f[3:] + np.cross(arm, f[:3])
+        w[1, 3:] = -f[3:] + cross(arm, f[:3])
         return w, _pair(k), _pair(c)
 
     def potential_energy(self, states: list[MarkerState]) -> float:
