@@ -103,7 +103,10 @@ class _Connector(Element):
         if frame not in ("global", "i"):
             raise ModelError(f"element {name!r}: frame {frame!r} not allowed; use 'global' or 'i'")
         self.markers = (marker_i, marker_j)
-        self.k6, self.c6 = np.asarray(k6, dtype=float), np.asarray(c6, dtype=float)
+        self.k6, self.c6 = np.array(k6, dtype=float), np.array(c6, dtype=float)
+        if free_spin:                      # no stiffness or damping about the free spin axis
+            for mat in (self.k6, self.c6):
+                mat[3, :] = mat[:, 3] = 0.0
         self.frame, self.free_spin, self.name = frame, free_spin, name
         self.rest_r: Array = np.zeros(3)
         self.rest_a: Array = np.eye(3)
