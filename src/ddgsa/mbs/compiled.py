@@ -30,7 +30,7 @@ from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody, PrescribedBody
 from ddgsa.mbs.constraints import GearContact, PrescribedSpeed, Spherical, TransverseBearing
 from ddgsa.mbs.elements import AppliedLoad, Series, TorqueLaw, _Connector
-from ddgsa.mbs.ffr import body_terms_inv, g_bar, rotation
+from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rotation
 
 Array = NDArray[np.float64]
 
@@ -256,7 +256,7 @@ def _rodrigues(v):  # pragma: no cover (compiled)
     k = np.zeros((3, 3))
     k[0, 1], k[0, 2], k[1, 2] = -v[2], v[1], -v[0]
     k[1, 0], k[2, 0], k[2, 1] = v[2], -v[1], v[0]
-    kk = k @ k
+    kk = mm(k, k)
     if angle < 1e-8:
         return np.eye(3) + k + 0.5 * kk
     return np.eye(3) + math.sin(angle) / angle * k + (1.0 - math.cos(angle)) / angle ** 2 * kk
@@ -296,7 +296,7 @@ def _markers(q, qd, t, P):  # pragma: no cover (compiled)
                 a = np.eye(3)
             else:
                 r0, v0, a = pb_r0[p].copy(), np.zeros(3), pb_a0[p].copy()
-            arm = a @ u0
+            arm = mv(a, u0)
             mr[m] = r0 + arm
             ma[m] = a
             mvel[m] = v0
@@ -304,7 +304,7 @@ def _markers(q, qd, t, P):  # pragma: no cover (compiled)
         lo, nf = b_off[b], b_nf[b]
         ang = q[lo + 3:lo + 6]
         a = rotation(ang)
-        ag = a @ g_bar(ang)
+        ag = mm(a, g_bar(ang))
         so = mk_so[m]
         s = mk_s[so:so + 3 * nf].reshape(3, nf) if nf > 0 else np.zeros((3, 0))
         sr = mk_sr[so:so + 3 * nf].reshape(3, nf) if nf > 0 else np.zeros((3, 0))
@@ -313,7 +313,7 @@ def _markers(q, qd, t, P):  # pragma: no cover (compiled)
         for i in range(3):
             for k in range(nf):
                 ub[i] += s[i, k] * qf[k]
-        u = a @ ub
+        u = mv(a, ub)
         hi = lo + 6 + nf
         lohi[m, 0], lohi[m, 1] = lo, hi
         for i in range(3):
@@ -325,8 +325,8 @@ def _markers(q, qd, t, P):  # pragma: no cover (compiled)
                 mj[m, i, lo + 3 + k] = c[i]
                 mj[m, 3 + i, lo + 3 + k] = ag[i, k]
         if nf > 0:
-            as_ = a @ s
-            asr = a @ sr
+            as_ = mm(a, s)
+            asr = mm(a, sr)
             for i in range(3):
                 for k in range(nf):
                     mj[m, i, lo + 6 + k] = as_[i, k]
@@ -335,7 +335,7 @@ def _markers(q, qd, t, P):  # pragma: no cover (compiled)
             for i in range(3):
                 for k in range(nf):
                     th[i] += sr[i, k] * qf[k]
-            ma[m] = a @ _rodrigues(th)
+            ma[m] = mm(a, _rodrigues(th))
         else:
             ma[m] = a
         mr[m] = q[lo:lo + 3] + u
@@ -407,11 +407,11 @@ def _connector_tangent(k, rest, arm, force):  # pragma: no cover (compiled)
         dmat[3 + r, 9 + r] = 1.0
         for c in range(3):
             dmat[r, 3 + c] = sr[r, c]
-    g = k @ dmat
+    g = mm(k, dmat)
     dw = np.zeros((12, 12))
     dw[0:6] = g
     dw[6:9] = -g[:3]
-    dw[9:12] = -g[3:] + _skew(arm) @ g[:3]
+    dw[9:12] = -g[3:] + mm(_skew(arm), g[:3])
     sf = _skew(force)
     dw[9:12, 0:3] += sf
     dw[9:12, 6:9] -= sf
@@ -452,7 +452,7 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
         if nf > 0:
             kb = kff[a2:a2 + nf * nf].reshape(nf, nf)
             cb = cff[a2:a2 + nf * nf].reshape(nf, nf)
-            f[lo + 6:hi] -= kb @ q[lo + 6:hi] + cb @ qd[lo + 6:hi]
+            f[lo + 6:hi] -= mv(kb, q[lo + 6:hi]) + mv(cb, qd[lo + 6:hi])
             kt[lo + 6:hi, lo + 6:hi] += kb
             ct[lo + 6:hi, lo + 6:hi] += cb
     mr, ma, mvel, mw, mj, lohi = _markers(q, qd, t, P)
@@ -464,7 +464,7 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
             i, j = cn_m[idx, 0], cn_m[idx, 1]
             frame_i, free = cn_flags[idx, 0] == 1, cn_flags[idx, 1] == 1
             ai, aj = ma[i], ma[j]
-            rest = ai @ cn_rest_r[idx] if frame_i else cn_rest_r[idx]
+            rest = mv(ai, cn_rest_r[idx]) if frame_i else cn_rest_r[idx].copy()
             d = np.zeros(6)
             dd = np.zeros(6)
             wxr = _cross(mw[i], rest) if frame_i else np.zeros(3)
@@ -474,11 +474,11 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
             dw = mw[j] - mw[i]
             if free:
                 axis = ai[:, 0].copy()
-                th = _cross(axis, (aj @ cn_rest_a[idx].T)[:, 0].copy())
+                th = _cross(axis, mm(aj, cn_rest_a[idx].T)[:, 0].copy())
                 proj = axis[0] * dw[0] + axis[1] * dw[1] + axis[2] * dw[2]
                 dw = dw - axis * proj
             else:
-                th = _rotvec(aj @ cn_rest_a[idx].T @ ai.T)
+                th = _rotvec(mm(mm(aj, cn_rest_a[idx].T), ai.T))
             for k in range(3):
                 d[3 + k] = th[k]
                 dd[3 + k] = dw[k]
@@ -487,9 +487,9 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
                 big = np.zeros((6, 6))
                 big[:3, :3] = ai
                 big[3:, 3:] = ai
-                kg = big @ kg @ big.T
-                cg = big @ cg @ big.T
-            fv = kg @ d + cg @ dd
+                kg = mm(mm(big, kg), big.T)
+                cg = mm(mm(big, cg), big.T)
+            fv = mv(kg, d) + mv(cg, dd)
             arm = mr[j] - mr[i]
             wj = np.empty(6)
             mom = _cross(arm, fv[:3].copy())
@@ -570,8 +570,8 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
                     for x in range(3):
                         jac[row + r, col] += -nv[x] * mj[j, x, col] + nxd[x] * mj[j, 3 + x, col]
         elif k == 2:
-            p = mr[h] + ma[h] @ cs_par[c, :3]
-            tan = ma[h] @ cs_par[c, 3:6]
+            p = mr[h] + mv(ma[h], cs_par[c, :3])
+            tan = mv(ma[h], cs_par[c, 3:6])
             ci = _cross(p - mr[i], tan)
             cj = _cross(p - mr[j], tan)
             v = 0.0
@@ -663,10 +663,10 @@ def _gen_alpha(q0, qd0, t0, dt, n_steps, output_every, am, af, gamma, beta, tol,
         it = 0
         for it in range(max_iter):
             m_mat, f, kt, ct, out, ch, jac, vel = _assemble(q, qd, t, P)
-            res = m_mat @ acc_new - f
+            res = mv(m_mat, acc_new) - f
             cmax = 0.0
             if nc > 0:
-                res += jac.T @ lam
+                res += mv(jac.T, lam)
                 for r in range(nh):
                     rhs[n + r] = -ch[r] / (bp * h * h)
                     cmax = max(cmax, abs(ch[r]))
@@ -717,3 +717,28 @@ def gen_alpha(packed: Packed, q0: Array, qd0: Array, t0: float, dt: float, n_ste
     return _gen_alpha(np.asarray(q0, dtype=float), np.asarray(qd0, dtype=float), float(t0), float(dt), int(n_steps),
                       int(output_every), am, af, gamma, beta, float(tol), int(max_iter), packed.arrays,
                       packed.n_holonomic)
+
+
+@njit(cache=True)
+def _along(q, qd, times, P, nh):  # pragma: no cover (compiled)
+    """Generalised forces, element outputs and constraint drift at each row of ``q, qd`` (times ``times``)."""
+    n_t, n = q.shape
+    m0, f0, k0, c0, out0, ch0, jac0, vel0 = _assemble(q[0], qd[0], times[0], P)
+    forces = np.zeros((n_t, n))
+    outs = np.zeros((n_t, out0.shape[0], 6))
+    pdrift, vdrift = np.zeros(n_t), np.zeros(n_t)
+    for i in range(n_t):
+        m_mat, f, kt, ct, out, ch, jac, vel = _assemble(q[i], qd[i], times[i], P)
+        forces[i] = f
+        outs[i] = out
+        if nh > 0:
+            pdrift[i] = np.max(np.abs(ch))
+        if vel.size > 0:
+            vdrift[i] = np.max(np.abs(vel))
+    return forces, outs, pdrift, vdrift
+
+
+def along(packed: Packed, q: Array, qd: Array, times: Array) -> tuple[Array, Array, Array, Array]:
+    """``(Q (n_t, n), outputs (n_t, n_el, 6), position drift, velocity drift)`` along a trajectory."""
+    return _along(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float),
+                  np.asarray(times, dtype=float), packed.arrays, packed.n_holonomic)
