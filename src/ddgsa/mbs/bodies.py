@@ -255,6 +255,8 @@ class FlexibleBody(Body):
         if len(field_names) != nf:
             raise ModelError(f"body {name!r}: {len(field_names)} field names for {nf} elastic coordinates")
         self.fields = tuple(field_names)
+        #: the lumped mass points ``(masses, positions, shapes)`` the body was built from
+        self.points = (pm, pu, ps)
         self.invariants = invariants if invariants is not None else Invariants(pm, pu, ps)
         self._inv_args = self.invariants.args()
         self.mass = self.invariants.mass
