@@ -138,3 +138,21 @@ def test_bad_inputs_name_the_part() -> None:
         System([RigidBody("a", 1.0, (1, 1, 1))], [SpringDamper3(other.marker(), Ground().marker(), (1, 1, 1))])
     with pytest.raises(ModelError, match="unknown coordinate"):
         System([other]).index("other.spin")
+
+
+def test_kernel_imports_neither_loads_nor_models() -> None:
+    """Layering: no module of ddgsa.mbs imports ddgsa.loads or ddgsa.models (the package's own
+    ``__init__`` imports ``loads``, so this reads the import statements)."""
+    import ast
+    from pathlib import Path
+
+    import ddgsa.mbs
+
+    root = Path(ddgsa.mbs.__file__).parent
+    found = []
+    for path in root.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import)
+                     else [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+            found += [f"{path.name}: {n}" for n in names if n.startswith(("ddgsa.loads", "ddgsa.models"))]
+    assert len(list(root.rglob("*.py"))) > 10 and found == []
