@@ -34,14 +34,17 @@ def _parser() -> argparse.ArgumentParser:
     sub.add_parser("models", help="list models, fidelities, parameters and outputs")
     rep = sub.add_parser("report", help="rebuild tables and plots from a run's stored evaluations")
     rep.add_argument("dir", type=Path)
-    ben = sub.add_parser("bench", help="speed of each fidelity (default), or accuracy against cost of each method")
-    ben.add_argument("what", nargs="?", choices=["speed", "accuracy"], default="speed",
+    ben = sub.add_parser("bench", help="speed of each fidelity (default), accuracy against cost of each method, "
+                                       "or the calibration of every method's trusted flag")
+    ben.add_argument("what", nargs="?", choices=["speed", "accuracy", "trust"], default="speed",
                      help="speed: fidelities against the solve_ivp reference; accuracy: index error against "
-                          "evaluations and wall time, written to --out")
-    ben.add_argument("--out", type=Path, default=Path("results") / "accuracy_cost",
-                     help="folder for the accuracy benchmark's CSVs and charts")
+                          "evaluations and wall time; trust: false-trust and false-alarm rates of every method "
+                          "on 15 reference functions x 20 seeds; both written to --out")
+    ben.add_argument("--out", type=Path, default=None,
+                     help="folder for the CSVs and charts (default results/accuracy_cost or results/trust_calibration)")
     ben.add_argument("--quick", action="store_true",
-                     help="accuracy: Saltelli/RBD-FAST up to 2^10 with 2 seeds, no drive-train part (a minute)")
+                     help="accuracy: Saltelli/RBD-FAST up to 2^10 with 2 seeds, no drive-train part (a minute); "
+                          "trust: 7 functions x 3 seeds (under 2 minutes)")
     ben.add_argument("--json", type=Path, help="also write the figures to this JSON file")
     ben.add_argument("--ref-seconds", type=float, default=20.0, help="scene seconds the slow reference integrates")
     ben.add_argument("--no-quickstart", action="store_true", help="skip timing the quickstart study")
@@ -150,11 +153,17 @@ def _bench(args: argparse.Namespace) -> int:
 
     from ddgsa.bench import format_speed, speed
 
+    if args.what == "trust":
+        from ddgsa.gsa.calibration import OUT, bench
+
+        head = bench(args.out or OUT, quick=args.quick)
+        print(json.dumps(head, indent=2))
+        return EXIT_OK
     if args.what == "accuracy":
-        from ddgsa.accuracy_cost import run
+        from ddgsa.accuracy_cost import OUT as ACC_OUT, run
 
         kw = {"max_log2": 10, "seeds": (0, 1), "drive_train": False} if args.quick else {}
-        for path in run(args.out, **kw):
+        for path in run(args.out or ACC_OUT, **kw):
             print(f"wrote {path}")
         return EXIT_OK
     quick = None if args.no_quickstart else Path(__file__).resolve().parents[2] / "studies" / "quickstart.yaml"
