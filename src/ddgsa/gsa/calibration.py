@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 from ddgsa.errors import MethodError
 from ddgsa.gsa.testfunctions import (bratley_k, ishigami, linear, oakley_ohagan, product, sobol_g,
                                      tensor_indices)
+from ddgsa.gsa.result import trusted_mask
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.space import ParameterSpace
 
@@ -170,8 +171,17 @@ def score(case: Case, res: Any, tolerance: float) -> pd.DataFrame:
         err = np.fmax(np.abs(s1 - case.S1), np.abs(st - case.ST))     # ST NaN (RBD-FAST): S1 alone
     err = np.where(np.isfinite(err), err, np.inf)
     trusted = t["trusted"].to_numpy(bool).reshape(k, d)
+    if "S1_error" in res.extras:                                       # SALib: bootstrap + half sample
+        est = np.fmax(res.extras["S1_error"], res.extras["ST_error"])
+    elif res.method in ("mdrm", "pce"):                                # surrogate bound
+        est = np.fmax(t["S1_conf"].to_numpy(float), t["ST_conf"].to_numpy(float)).reshape(k, d)
+    else:
+        est = np.full((k, d), np.nan)
+    other = [g for g in res.diagnostics if not g.name.endswith("index_error")]
+    passes_others = trusted_mask(t, other).reshape(k, d)
     return pd.DataFrame({"output": np.repeat(np.arange(k), d), "parameter": np.tile(case.space.names, k),
-                         "error": err.ravel(), "trusted": trusted.ravel(),
+                         "error": err.ravel(), "trusted": trusted.ravel(), "estimate": np.ravel(est),
+                         "passes_other_rules": passes_others.ravel(),
                          "false_trust": (trusted & (err > tolerance)).ravel(),
                          "false_alarm": (~trusted & (err <= tolerance)).ravel()})
 
@@ -244,6 +254,19 @@ def summarize(rows: pd.DataFrame, by: list[str], tolerance: float) -> pd.DataFra
     return out
 
 
+def factor_table(rows: pd.DataFrame, tolerance: float) -> pd.DataFrame:
+    """Per method and split: the smallest estimate scale ``c_min`` that keeps false trust at zero."""
+    out = []
+    for (method, split), t in rows[rows["estimate"].notna()].groupby(["method", "split"], sort=False):
+        eligible = t[t["passes_other_rules"].astype(bool)]
+        bad = eligible[eligible["error"] > tolerance]
+        with np.errstate(divide="ignore"):
+            c_min = float((tolerance / bad["estimate"]).max()) if len(bad) else 0.0
+        out.append({"method": method, "split": split, "rows": len(t), "c_min": c_min,
+                    "false_alarm": float(t["false_alarm"].mean())})
+    return pd.DataFrame(out)
+
+
 def write(rows: pd.DataFrame, out: Path, tolerance: float) -> dict[str, Any]:
     """CSV, markdown tables and the chart; returns the headline figures."""
     out.mkdir(parents=True, exist_ok=True)
@@ -273,6 +296,8 @@ def write(rows: pd.DataFrame, out: Path, tolerance: float) -> dict[str, Any]:
         lines += ["| " + " | ".join(r) + " |" for r in df.itertuples(index=False)]
         return "\n".join(lines)
 
+    slack = factor_table(ran, tolerance)
+    slack.to_csv(out / "calibration_factors.csv", index=False, float_format="%.4g")
     text = [f"# Trust calibration (tolerance {tolerance:g})", "",
             "`trusted` = every index of the row within ±tolerance of the exact value. Rates are shares of "
             "all rows (false trust: trusted but off by more; false alarm: untrusted but within). "
@@ -283,6 +308,12 @@ def write(rows: pd.DataFrame, out: Path, tolerance: float) -> dict[str, Any]:
             f"{head['held_out_false_trust_rate']:.3%}.", "",
             "## By method and setting", "", md(by_setting), "",
             "## Training (seeds 0-9 of the training functions) against held out", "", md(by_split), "",
+            "## How much room the error estimates leave", "",
+            "A row is trusted when its error estimate is within the tolerance (and no other rule fires). "
+            "Scaling every estimate by c < 1 would trust more rows; `c_min` is the smallest scale above which "
+            "no row of the split would be falsely trusted (1 = the rules as shipped are just safe; below 1 = "
+            "they hold that much in reserve), with the false-alarm rate the shipped rules (c = 1) give.", "",
+            md(slack), "",
             "## By function, method and setting", "", md(per), ""]
     (out / "summary.md").write_text("\n".join(text))
     _chart(by_setting, out / "trust_calibration.png", tolerance)
