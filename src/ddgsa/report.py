@@ -247,18 +247,24 @@ def summary_markdown(result: StudyResult) -> str:
             lines.append(f"| {r['scene']} | {r['wind_speed']:g} | {r['chosen']} | {errs} |")
         lines.append("")
     if len(result.indices):
-        lines += ["## Parameters ranked by total index", ""]
+        tols = {res.method: res.options.get("tolerance") for _, res in result.results}
+        lines += ["## Parameters ranked by total index", "",
+                  "trusted = every index of the row (S1 and ST) within ±tolerance (absolute) of the truth, "
+                  "by the method's own error estimate (README: \"When M-DRM is not to be trusted\"); "
+                  "a method is `yes` when all its rows are.", ""]
         for (scene, out), g in result.indices.groupby(["scene", "output"]):
             fields = ", ".join(f"{f}={g[f].iloc[0]:g}" for f in SCENE_FIELDS)
             lines.append(f"### scene {scene} ({fields}) - `{out}`")
             lines.append("")
-            lines.append("| method | trusted | ranking (ST) |")
-            lines.append("|---|---|---|")
+            lines.append("| method | tolerance | trusted | ranking (ST) |")
+            lines.append("|---|---|---|---|")
             for meth, gm in g.groupby("method", sort=False):
                 top = gm.sort_values("ST", ascending=False, na_position="last").head(5)
                 rank = ", ".join(f"{r.parameter} {r.ST:.2f}" for r in top.itertuples())
                 label = f"{meth} (from {gm['source'].iloc[0]})" if meth == "auto" else meth
-                lines.append(f"| {label} | {'yes' if gm['trusted'].all() else '**no**'} | {rank} |")
+                tol = tols.get(meth)
+                lines.append(f"| {label} | {'' if tol is None else f'±{tol:g}'} | "
+                             f"{'yes' if gm['trusted'].all() else '**no**'} | {rank} |")
             lines.append("")
         logs = [(ps, res) for ps, res in result.results if res.method == "auto"]
         if logs:

@@ -186,7 +186,8 @@ def score(case: Case, res: Any, tolerance: float) -> pd.DataFrame:
                          "false_alarm": (~trusted & (err <= tolerance)).ravel()})
 
 
-def _run_one(name: str, seed: int, tolerance: float) -> list[pd.DataFrame]:
+def _run_one(name: str, seed: int, tolerance: float,
+             settings: list[tuple[str, dict[str, Any]]]) -> list[pd.DataFrame]:
     """Every setting on one function for one seed (BLAS on one thread: the workers are the parallelism)."""
     import ddgsa
     from threadpoolctl import threadpool_limits
@@ -194,7 +195,7 @@ def _run_one(name: str, seed: int, tolerance: float) -> list[pd.DataFrame]:
     case = _cached_cases()[name]
     frames = []
     with threadpool_limits(1):
-        for method, opts in SETTINGS:
+        for method, opts in settings:
             label = setting_label(method, opts)
             head = {"function": name, "kind": case.kind, "method": method, "setting": label, "seed": seed}
             t0 = time.perf_counter()
@@ -219,13 +220,18 @@ def _cached_cases() -> dict[str, Case]:
 
 
 def run(seeds: int = 20, functions: list[str] | None = None, tolerance: float = DEFAULT_TOLERANCE,
-        jobs: int = 2, progress: Callable[[str], None] = print) -> pd.DataFrame:
-    """Every setting on every function for ``seeds`` seeds: the scored rows (same for any ``jobs``)."""
+        jobs: int = 2, settings: list[tuple[str, dict[str, Any]]] | None = None,
+        progress: Callable[[str], None] = print) -> pd.DataFrame:
+    """Every setting (default :data:`SETTINGS`) on every function for ``seeds`` seeds: the scored rows.
+
+    The rows are the same for any ``jobs`` (every run is seeded by its own seed).
+    """
+    settings = SETTINGS if settings is None else settings
     from joblib import Parallel, delayed
 
     names = [n for n in cases() if functions is None or n in functions]
-    progress(f"trust: {len(names)} functions x {len(SETTINGS)} settings x {seeds} seeds on {jobs} workers")
-    parts = Parallel(n_jobs=jobs)(delayed(_run_one)(n, s, tolerance) for n in names for s in range(seeds))
+    progress(f"trust: {len(names)} functions x {len(settings)} settings x {seeds} seeds on {jobs} workers")
+    parts = Parallel(n_jobs=jobs)(delayed(_run_one)(n, s, tolerance, settings) for n in names for s in range(seeds))
     out = pd.concat([f for part in parts for f in part], ignore_index=True)
     out["refused"] = out["refused"].fillna("")
     train = ~out["function"].isin(HELD_OUT) & out["seed"].isin(TRAIN_SEEDS)

@@ -59,7 +59,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import chaospy
 import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import BarycentricInterpolator
@@ -155,8 +154,8 @@ class MDRM(GsaMethod):
         err_s1 = err_st = np.full_like(S1, np.nan)
         if opts["check"] >= _MIN_CHECK:
             eps, r2 = _check_sample(space, design, y, rho, var)
-            err_s1 = surrogate_index_error(S1, eps[:, None])
-            err_st = surrogate_index_error(ST, eps[:, None])
+            err_s1 = surrogate_index_error(S1, eps[:, None], orthogonal=True)
+            err_st = surrogate_index_error(ST, eps[:, None], orthogonal=True)
             diags += error_diagnostics("mdrm_index_error", f"check sample of {opts['check']} points",
                                        outputs, space.names, err_s1, err_st, opts["tolerance"])
             extras.update({"check_r2": r2, "surrogate_eps": eps})
@@ -250,8 +249,7 @@ def _resolution_diagnostics(space: ParameterSpace, design: Design, h: NDArray[np
     diags = []
     for i, p in enumerate(space.parameters):
         nodes, weights = design.meta["nodes"][i], design.meta["weights"][i]
-        basis = chaospy.generate_expansion(n_nodes - 1, p.distribution, normed=True)
-        phi = np.asarray(basis(nodes), dtype=float)                    # (N, N) orders x nodes
+        phi = _orthonormal_at_nodes(nodes, weights)                    # (N, N) orders x nodes
         coef = phi @ (weights[:, None] * h[i])                         # (N, k)
         energy = coef[1:] ** 2
         total = energy.sum(axis=0)
@@ -267,6 +265,26 @@ def _resolution_diagnostics(space: ParameterSpace, design: Design, h: NDArray[np
                                     "polynomial orders; non-smooth output?); raise 'points'",
                                     "untrusted", output=outputs[k], parameter=p.name, value=float(frac[k])))
     return diags
+
+
+def _orthonormal_at_nodes(nodes: NDArray[np.float64], weights: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Orthonormal polynomials of degree 0..N-1 of the input's measure at its N Gauss nodes, (N, N).
+
+    The Gauss rule is exact up to degree 2N - 1, so the polynomials orthonormal for the discrete
+    measure (nodes, weights) are the measure's own; the discrete Stieltjes recurrence builds them
+    on the (standardised) nodes directly.
+    """
+    t = (nodes - weights @ nodes) / max(np.sqrt(weights @ (nodes - weights @ nodes) ** 2), 1e-300)
+    n = len(nodes)
+    phi = np.zeros((n, n))
+    phi[0] = 1.0
+    prev, b = np.zeros(n), 0.0
+    for k in range(n - 1):
+        a = weights @ (t * phi[k] ** 2)
+        q = (t - a) * phi[k] - b * prev
+        b = np.sqrt(weights @ q ** 2)
+        prev, phi[k + 1] = phi[k], q / b
+    return phi
 
 
 def surrogate(space: ParameterSpace, design: Design, y: NDArray[np.float64],

@@ -31,6 +31,7 @@ Size guard: a regression matrix of more than ``_MAX_MATRIX_ENTRIES`` entries (``
 
 from __future__ import annotations
 
+from functools import lru_cache
 from itertools import combinations_with_replacement
 from math import comb
 from typing import Any
@@ -89,12 +90,20 @@ def total_degree_indices(dim: int, order: int) -> NDArray[np.int64]:
     return np.array(rows)
 
 
+@lru_cache(maxsize=256)
+def _orthonormal(dist: str, args: tuple[tuple[str, float], ...], order: int) -> Any:
+    """chaospy's orthonormal polynomials up to ``order`` for one input (cached: building them is slow)."""
+    from ddgsa.space import Parameter
+
+    return chaospy.generate_expansion(order, Parameter("p", dist, dict(args), 0.0).distribution, normed=True)
+
+
 def basis_matrix(space: ParameterSpace, alphas: NDArray[np.int64], x: NDArray[np.float64]) -> NDArray[np.float64]:
     """Orthonormal product polynomials of multi-indices ``alphas`` at points ``x``: shape (n, P)."""
     order = int(alphas.max()) if alphas.size else 0
     psi = np.ones((x.shape[0], alphas.shape[0]))
     for i, p in enumerate(space.parameters):
-        polys = chaospy.generate_expansion(order, p.distribution, normed=True)
+        polys = _orthonormal(p.dist, tuple(sorted(p.args.items())), order)
         phi = np.asarray(polys(x[:, i]), dtype=float).reshape(order + 1, -1)   # (order+1, n)
         psi *= phi[alphas[:, i]].T
     return psi

@@ -40,8 +40,8 @@ def check_tolerance(method: str, value: Any) -> float:
     return float(value)
 
 
-def surrogate_index_bounds(index: NDArray[np.float64], eps: NDArray[np.float64] | float
-                           ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def surrogate_index_bounds(index: NDArray[np.float64], eps: NDArray[np.float64] | float,
+                           orthogonal: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Interval that holds the true index when the surrogate's index is ``index``.
 
     Parameters
@@ -51,6 +51,9 @@ def surrogate_index_bounds(index: NDArray[np.float64], eps: NDArray[np.float64] 
     eps : array or float
         ``delta / sd(g)``: the L2 distance between the output and the best affine map of the
         surrogate, relative to the surrogate's standard deviation [-]; broadcast against ``index``.
+    orthogonal : bool
+        True when the difference is orthogonal to the surrogate (a least-squares projection, as
+        M-DRM's check-sample fit): the vector then turns by ``atan(eps)`` at most, else ``asin(eps)``.
 
     Returns
     -------
@@ -58,9 +61,11 @@ def surrogate_index_bounds(index: NDArray[np.float64], eps: NDArray[np.float64] 
         Split the centred output into the part the index measures (the main effect of
         ``x_i``, or every ANOVA term involving it) and the orthogonal rest: ``S = sin^2 theta``
         with ``theta`` the angle of the vector (rest, part). A perturbation of L2 norm
-        ``delta`` turns that vector by at most ``asin(eps)``, so the true index lies in
-        ``[sin^2(theta - asin eps), sin^2(theta + asin eps)]`` (clipped to [0, pi/2]); for
-        ``eps >= 1`` anything in [0, 1] is possible.
+        ``delta`` turns that vector by at most ``phi = asin(eps)`` (``atan(eps)`` if orthogonal),
+        so the true index lies in ``[sin^2(theta - phi), sin^2(theta + phi)]`` (clipped to
+        [0, pi/2]); for ``eps >= 1``, not orthogonal, anything in [0, 1] is possible. The
+        orthogonal bound is attained: ``g = x1 + x2``, ``h = (1 + c) x1 + (1 - c) x2`` (same
+        input variances) has ``eps = c`` and ``S_1 = sin^2(pi/4 + atan c)``.
 
     Examples
     --------
@@ -70,16 +75,20 @@ def surrogate_index_bounds(index: NDArray[np.float64], eps: NDArray[np.float64] 
     """
     theta = np.arcsin(np.sqrt(np.clip(np.asarray(index, dtype=float), 0.0, 1.0)))
     e = np.broadcast_to(np.asarray(eps, dtype=float), theta.shape)
-    phi = np.where(e < 1.0, np.arcsin(np.clip(e, 0.0, 1.0)), np.pi / 2)
+    if orthogonal:
+        phi = np.arctan(np.clip(e, 0.0, None))
+    else:
+        phi = np.where(e < 1.0, np.arcsin(np.clip(e, 0.0, 1.0)), np.pi / 2)
     low = np.sin(np.clip(theta - phi, 0.0, np.pi / 2)) ** 2
     high = np.sin(np.clip(theta + phi, 0.0, np.pi / 2)) ** 2
     return low, high
 
 
-def surrogate_index_error(index: NDArray[np.float64], eps: NDArray[np.float64] | float) -> NDArray[np.float64]:
+def surrogate_index_error(index: NDArray[np.float64], eps: NDArray[np.float64] | float,
+                          orthogonal: bool = False) -> NDArray[np.float64]:
     """Largest absolute error of ``index`` allowed by :func:`surrogate_index_bounds` (NaN stays NaN)."""
     idx = np.asarray(index, dtype=float)
-    low, high = surrogate_index_bounds(idx, eps)
+    low, high = surrogate_index_bounds(idx, eps, orthogonal)
     s = np.clip(idx, 0.0, 1.0)
     err = np.maximum(high - s, s - low) + np.abs(idx - s)     # an index outside [0, 1] is off by that much
     return np.where(np.isfinite(idx), err, np.nan)
