@@ -184,7 +184,8 @@ class AutoSobol:
                 return self._pending.points
             n = 1 << int(np.floor(np.log2(max(1, left // (self.space.dim + 2)))))
             if n >= self.options["saltelli_min_n"]:
-                design = get_method("saltelli").design(self.space, n=n, seed=self.options["seed"],
+                # seed + 1: with the same seed SALib's scrambling repeats the Sobol' stream's first point
+                design = get_method("saltelli").design(self.space, n=n, seed=self.options["seed"] + 1,
                                                        tolerance=self.options["tolerance"])
                 self._pending = _Pending("saltelli", design.points, design)
                 return design.points
