@@ -62,17 +62,21 @@ def _parser() -> argparse.ArgumentParser:
     rep = sub.add_parser("report", help="rebuild tables and plots from a run's stored evaluations", parents=[common])
     rep.add_argument("dir", type=Path)
     rep.add_argument("--allow-untrusted", action="store_true", help="exit 0 even with untrusted results")
-    ben = sub.add_parser("bench", help="speed of each fidelity (default), or accuracy against cost of each method",
+    ben = sub.add_parser("bench", help="speed of each fidelity (default), accuracy against cost of each method, "
+                                       "the calibration of every method's trusted flag, or scaling",
                          parents=[common])
-    ben.add_argument("what", nargs="?", choices=["speed", "accuracy", "scaling"], default="speed",
+    ben.add_argument("what", nargs="?", choices=["speed", "accuracy", "trust", "scaling"], default="speed",
                      help="speed: every speed target with its measured value and verdict; accuracy: index error "
-                          "against evaluations and wall time; scaling: wall time against runs, parameters and "
-                          "workers (both written to --out)")
-    ben.add_argument("--out", type=Path, help="folder for the charts (default results/accuracy_cost or "
-                     "results/scaling)")
+                          "against evaluations and wall time; trust: false-trust and false-alarm rates of every "
+                          "method on 15 reference functions x 20 seeds; scaling: wall time against runs, "
+                          "parameters and workers (all but speed written to --out)")
+    ben.add_argument("--out", type=Path, default=None,
+                     help="folder for the CSVs and charts (default results/accuracy_cost, results/trust_calibration "
+                          "or results/scaling)")
     ben.add_argument("--quick", action="store_true",
                      help="small problems: checks the bench itself (accuracy: Saltelli/RBD-FAST up to 2^10, "
-                          "2 seeds, no drive train; speed: 60 s scene, shortened study; scaling: small sizes)")
+                          "2 seeds, no drive train; trust: 7 functions x 3 seeds; speed: 60 s scene, shortened "
+                          "study; scaling: small sizes)")
     ben.add_argument("--json", type=Path, help="also write the figures to this JSON file")
     ben.add_argument("--ref-seconds", type=float, default=20.0, help="scene seconds the slow reference integrates")
     ben.add_argument("--no-study", action="store_true", help="speed: skip the paper_c_structural study rows")
@@ -275,11 +279,17 @@ def _bench(args: argparse.Namespace) -> int:
 
     from ddgsa.bench import format_speed, speed
 
+    if args.what == "trust":
+        from ddgsa.gsa.calibration import OUT, bench
+
+        head = bench(args.out or OUT, quick=args.quick)
+        print(json.dumps(head, indent=2))
+        return EXIT_OK
     if args.what == "accuracy":
-        from ddgsa.accuracy_cost import run
+        from ddgsa.accuracy_cost import OUT as ACC_OUT, run
 
         kw = {"max_log2": 10, "seeds": (0, 1), "drive_train": False} if args.quick else {}
-        for path in run(args.out or Path("results") / "accuracy_cost", **kw):
+        for path in run(args.out or ACC_OUT, **kw):
             print(f"wrote {path}")
         return EXIT_OK
     if args.what == "scaling":

@@ -389,20 +389,25 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
     if len(result.indices):
         mom = {(r["scene"], r["output"]): r for r in (result.moments.to_dict("records")
                                                       if result.moments is not None else [])}
-        lines += ["## Parameters ranked by total index (ST, with S1)", ""]
+        tols = {res.method: res.options.get("tolerance") for _, res in result.results}
+        lines += ["## Parameters ranked by total index (ST, with S1)", "",
+                  "trusted = every index of the row (S1 and ST) within ±tolerance (absolute) of the truth, "
+                  "by the method's own error estimate (README: \"When M-DRM is not to be trusted\"); "
+                  "a method is `yes` when all its rows are.", ""]
         for (scene, out), g in result.indices.groupby(["scene", "output"]):
             fields = ", ".join(f"{f}={g[f].iloc[0]:g}" for f in SCENE_FIELDS)
             lines.append(f"### scene {scene} ({fields}) - `{out}` [{info.get(out, declared(out)).unit or '?'}]")
             lines.append("")
             lines.append(_dominance(g, out, mom.get((scene, out))))
-            lines.append("")
-            lines.append("| method | trusted | ranking: parameter ST (S1) |")
-            lines.append("|---|---|---|")
+            lines.append("| method | tolerance | trusted | ranking: parameter ST (S1) |")
+            lines.append("|---|---|---|---|")
             for meth, gm in g.groupby("method", sort=False):
                 top = gm.sort_values("ST", ascending=False, na_position="last").head(5)
                 rank = ", ".join(f"{r.parameter} {r.ST:.2f} ({r.S1:.2f})" for r in top.itertuples())
                 label = f"{meth} (from {gm['source'].iloc[0]})" if meth == "auto" else meth
-                lines.append(f"| {label} | {'yes' if gm['trusted'].all() else '**no**'} | {rank} |")
+                tol = tols.get(meth)
+                lines.append(f"| {label} | {'' if tol is None else f'±{tol:g}'} | "
+                             f"{'yes' if gm['trusted'].all() else '**no**'} | {rank} |")
             lines.append("")
         logs = [(ps, res) for ps, res in result.results if res.method == "auto"]
         if logs:

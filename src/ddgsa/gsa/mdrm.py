@@ -27,7 +27,9 @@ name                           severity  fires when
 =============================  ========  =====================================================
 ``mdrm_cut_value``             untrusted h(c) is zero or not finite
 ``mdrm_sign_change``           untrusted the output changes sign over the quadrature nodes
-``mdrm_rho_nonpositive``       untrusted some rho_i <= 0
+``mdrm_rho_sign``              untrusted some rho_i = E[h_i] is zero or of the other sign than
+                                         h(c) (a sign-consistent output, all negative
+                                         included, is as good as a positive one)
 ``mdrm_zero_variance``         untrusted no cut function varies on its nodes (indices 0/0)
 ``mdrm_near_zero``             warning   min |h| over the nodes < ``near_zero`` x max |h|
 ``mdrm_unresolved``            untrusted the orthogonal-polynomial spectrum of some h_i does
@@ -37,34 +39,44 @@ name                           severity  fires when
 ``mdrm_quadrature_coverage``   warning   more than 25 % of an input's probability lies
                                          beyond its outermost node (heavy tails);
                                          untrusted beyond 50 % (a node past the median)
-``mdrm_check_r2``              untrusted check sample: R^2 of the multiplicative surrogate
-                                         < ``check_r2``
-``mdrm_check_variance``        untrusted check sample: |Var(surrogate) - Var(h)| / Var(h)
-                                         > ``check_variance``
+``mdrm_index_error``           untrusted the check sample's estimate of the index error of a row
+                                         exceeds ``tolerance`` (see below)
+``mdrm_unchecked``             untrusted ``check`` < 8: no estimate of the index error exists
 =============================  ========  =====================================================
 
-The check sample (``check`` scrambled-Sobol' points, default 32) is the only test that
-sees interactions (e.g. Ishigami shifted to be positive); set ``check=0`` to skip it.
+**The index-error estimate.** The M-DRM indices are exactly the Sobol indices of the surrogate
+:math:`g(x) = h(c)^{1-n} \\prod_i p_i(x_i)`, :math:`p_i` the polynomial interpolating
+:math:`h_i` on its Gauss nodes (the N-node rule integrates :math:`p_i^2`, degree 2N - 2,
+exactly). On the check sample (``check`` scrambled-Sobol' points, default 32) the output is
+regressed on :math:`a g + b`; the residual variance, raised to its one-sided
+``_CHECK_CONFIDENCE`` chi-square bound, gives :math:`\\delta`, and
+:func:`ddgsa.gsa.trust.surrogate_index_error` turns :math:`\\delta / \\mathrm{sd}(a g)` into a
+bound on every index. The check sample is the only test that sees interactions (Ishigami
+shifted to be positive, Bratley's K function + 20); without it (``check < 8``) no row is trusted.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-import chaospy
 import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import BarycentricInterpolator
+from scipy.stats import chi2
 
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import (Design, GsaMethod, PartialIndices, check_fraction, check_int,
                             register)
 from ddgsa.gsa.result import Diagnostic
+from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance, error_diagnostics, surrogate_index_error
 from ddgsa.quadrature import gauss_rule
 from ddgsa.space import ParameterSpace
 
 _TAIL_LIMIT = 0.25
 _TAIL_UNTRUSTED = 0.5
+_MIN_CHECK = 8
+# one-sided confidence of the residual-variance bound (calibrated by ``ddgsa bench trust``)
+_CHECK_CONFIDENCE = 0.95
 
 
 @register("mdrm")
@@ -81,19 +93,21 @@ class MDRM(GsaMethod):
         Size of the quasi-random check sample, default 32 (0 to skip).
     seed : int
         Seed of the check sample.
-    check_r2, check_variance, near_zero, resolution_tol : float
-        Diagnostic thresholds (0.9, 0.2, 0.01, 0.01).
+    tolerance : float
+        Absolute error allowed on every index of a trusted row, default 0.02.
+    near_zero, resolution_tol : float
+        Diagnostic thresholds (0.01, 0.01).
     """
 
-    defaults = {"points": 5, "cut": None, "check": 32, "seed": 0, "check_r2": 0.9,
-                "check_variance": 0.2, "near_zero": 0.01, "resolution_tol": 0.01}
+    defaults = {"points": 5, "cut": None, "check": 32, "seed": 0, "tolerance": DEFAULT_TOLERANCE,
+                "near_zero": 0.01, "resolution_tol": 0.01}
 
     def check_options(self, space: ParameterSpace, opts: dict[str, Any]) -> None:
         check_int(self.name, "points", opts["points"], 2, 40)
         check_int(self.name, "check", opts["check"], 0)
         check_int(self.name, "seed", opts["seed"], 0)
-        check_fraction(self.name, "check_r2", opts["check_r2"], -1e9, 1.0)
-        for key in ("check_variance", "near_zero", "resolution_tol"):
+        check_tolerance(self.name, opts["tolerance"])
+        for key in ("near_zero", "resolution_tol"):
             check_fraction(self.name, key, opts[key], 0.0, 1e9)
         opts["cut"] = _resolve_cut(space, opts["cut"])
 
@@ -137,11 +151,19 @@ class MDRM(GsaMethod):
         diags += _coverage_diagnostics(space, design)
         diags += _resolution_diagnostics(space, design, h, var, outputs, opts)
         extras: dict[str, Any] = {"rho": rho.T, "theta": theta.T, "h_cut": h_c}
-        if opts["check"]:
-            check_diags, metrics = _check_sample(space, design, y, outputs, opts)
-            diags += check_diags
-            extras.update(metrics)
-        return PartialIndices(S1=S1, ST=ST, diagnostics=diags, extras=extras)
+        err_s1 = err_st = np.full_like(S1, np.nan)
+        if opts["check"] >= _MIN_CHECK:
+            eps, r2 = _check_sample(space, design, y, rho, var)
+            err_s1 = surrogate_index_error(S1, eps[:, None], orthogonal=True)
+            err_st = surrogate_index_error(ST, eps[:, None], orthogonal=True)
+            diags += error_diagnostics("mdrm_index_error", f"check sample of {opts['check']} points",
+                                       outputs, space.names, err_s1, err_st, opts["tolerance"])
+            extras.update({"check_r2": r2, "surrogate_eps": eps})
+        else:
+            diags.append(Diagnostic("mdrm_unchecked", f"check sample of {opts['check']} points (< {_MIN_CHECK}): "
+                                    "the index error cannot be estimated, no row is trusted; set check >= 32",
+                                    "untrusted"))
+        return PartialIndices(S1=S1, ST=ST, S1_conf=err_s1, ST_conf=err_st, diagnostics=diags, extras=extras)
 
 
 def _resolve_cut(space: ParameterSpace, cut: Any) -> list[float]:
@@ -184,10 +206,10 @@ def _value_diagnostics(space: ParameterSpace, outputs: list[str], h_c: NDArray[n
                                     f"(min|h|/max|h| = {np.min(np.abs(vals)) / scale:.2g}); indices are "
                                     "sensitive to the cut point", "warning", output=out,
                                     value=float(np.min(np.abs(vals)) / scale)))
-        for i in np.flatnonzero(~(rho[:, k] > 0)):
-            diags.append(Diagnostic("mdrm_rho_nonpositive",
-                                    f"output {out!r}: rho = E[h_i] = {rho[i, k]:.3g} <= 0 for "
-                                    f"{space.names[i]!r}", "untrusted", output=out,
+        for i in np.flatnonzero(~(rho[:, k] * np.sign(h_c[k]) > 0)):
+            diags.append(Diagnostic("mdrm_rho_sign",
+                                    f"output {out!r}: rho = E[h_i] = {rho[i, k]:.3g} for {space.names[i]!r} "
+                                    f"is zero or of the other sign than h(c) = {h_c[k]:.3g}", "untrusted", output=out,
                                     parameter=space.names[i], value=float(rho[i, k])))
     return diags
 
@@ -227,8 +249,7 @@ def _resolution_diagnostics(space: ParameterSpace, design: Design, h: NDArray[np
     diags = []
     for i, p in enumerate(space.parameters):
         nodes, weights = design.meta["nodes"][i], design.meta["weights"][i]
-        basis = chaospy.generate_expansion(n_nodes - 1, p.distribution, normed=True)
-        phi = np.asarray(basis(nodes), dtype=float)                    # (N, N) orders x nodes
+        phi = _orthonormal_at_nodes(nodes, weights)                    # (N, N) orders x nodes
         coef = phi @ (weights[:, None] * h[i])                         # (N, k)
         energy = coef[1:] ** 2
         total = energy.sum(axis=0)
@@ -246,52 +267,69 @@ def _resolution_diagnostics(space: ParameterSpace, design: Design, h: NDArray[np
     return diags
 
 
+def _orthonormal_at_nodes(nodes: NDArray[np.float64], weights: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Orthonormal polynomials of degree 0..N-1 of the input's measure at its N Gauss nodes, (N, N).
+
+    The Gauss rule is exact up to degree 2N - 1, so the polynomials orthonormal for the discrete
+    measure (nodes, weights) are the measure's own; the discrete Stieltjes recurrence builds them
+    on the (standardised) nodes directly.
+    """
+    t = (nodes - weights @ nodes) / max(np.sqrt(weights @ (nodes - weights @ nodes) ** 2), 1e-300)
+    n = len(nodes)
+    phi = np.zeros((n, n))
+    phi[0] = 1.0
+    prev, b = np.zeros(n), 0.0
+    for k in range(n - 1):
+        a = weights @ (t * phi[k] ** 2)
+        q = (t - a) * phi[k] - b * prev
+        b = np.sqrt(weights @ q ** 2)
+        prev, phi[k + 1] = phi[k], q / b
+    return phi
+
+
 def surrogate(space: ParameterSpace, design: Design, y: NDArray[np.float64],
               x: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The multiplicative surrogate h(c)^(1-n) prod h_i(x_i) at points ``x`` (m, n).
+    """The multiplicative surrogate h(c)^(1-n) prod p_i(x_i) at points ``x`` (m, n).
 
-    Each cut function is the polynomial interpolating its Gauss nodes and the cut point.
+    ``p_i`` is the polynomial interpolating the cut function ``h_i`` on its Gauss nodes, so
+    the M-DRM indices are exactly this surrogate's Sobol indices.
     """
     n, n_nodes = space.dim, design.options["points"]
-    cut = design.meta["cut"]
     h_c = y[0]
     log_abs = (1 - n) * np.log(np.abs(h_c))[None, :]
     sign = np.sign(h_c) ** (1 - n) * np.ones((x.shape[0], 1))
     for i in range(n):
         nodes = design.meta["nodes"][i]
         vals = y[1 + i * n_nodes:1 + (i + 1) * n_nodes]
-        if np.min(np.abs(nodes - cut[i])) > 1e-12 * max(1.0, abs(cut[i])):
-            nodes = np.append(nodes, cut[i])
-            vals = np.vstack([vals, h_c[None, :]])
         hi = np.asarray(BarycentricInterpolator(nodes, vals)(x[:, i]), dtype=float).reshape(len(x), -1)
         log_abs = log_abs + np.log(np.abs(hi))
         sign = sign * np.sign(hi)
     return sign * np.exp(log_abs)
 
 
-def _check_sample(space: ParameterSpace, design: Design, y: NDArray[np.float64], outputs: list[str],
-                  opts: dict[str, Any]) -> tuple[list[Diagnostic], dict[str, Any]]:
-    """Compare the surrogate with the true outputs on the check sample."""
-    m = opts["check"]
+def _check_sample(space: ParameterSpace, design: Design, y: NDArray[np.float64], rho: NDArray[np.float64],
+                  var: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Relative distance ``eps = delta / sd(a g)`` of the output from the surrogate, and the check R^2.
+
+    ``delta`` is the residual standard deviation of the least-squares fit ``h ~ a g + b`` on the
+    check sample, raised to the one-sided ``_CHECK_CONFIDENCE`` chi-square bound with ``m - 2``
+    degrees of freedom; ``sd(g)`` is exact from the quadrature (``E g`` and ``Var g`` of a product).
+    """
+    m = design.options["check"]
+    n = space.dim
     x_chk, y_chk = design.points[-m:], y[-m:]
+    h_c = y[0]
     with np.errstate(all="ignore"):
-        pred = surrogate(space, design, y, x_chk)
-        sst = ((y_chk - y_chk.mean(axis=0)) ** 2).sum(axis=0)
-        r2 = 1.0 - ((y_chk - pred) ** 2).sum(axis=0) / sst
-        var_err = np.abs(pred.var(axis=0) - y_chk.var(axis=0)) / y_chk.var(axis=0)
-    diags = []
-    for k, out in enumerate(outputs):
-        if sst[k] == 0.0:
-            continue
-        if not r2[k] >= opts["check_r2"]:
-            diags.append(Diagnostic("mdrm_check_r2",
-                                    f"output {out!r}: the multiplicative surrogate explains R^2 = {r2[k]:.3f} "
-                                    f"of the check sample ({m} points; need >= {opts['check_r2']}); the "
-                                    "output is not a product of one-variable functions (interactions?)",
-                                    "untrusted", output=out, value=float(r2[k])))
-        if not var_err[k] <= opts["check_variance"]:
-            diags.append(Diagnostic("mdrm_check_variance",
-                                    f"output {out!r}: surrogate variance is off by {var_err[k]:.1%} on the "
-                                    f"check sample (allowed {opts['check_variance']:.0%})",
-                                    "untrusted", output=out, value=float(var_err[k])))
-    return diags, {"check_r2": r2, "check_variance_error": var_err}
+        g = surrogate(space, design, y, x_chk)
+        g_c = g - g.mean(axis=0)
+        y_c = y_chk - y_chk.mean(axis=0)
+        slope = (g_c * y_c).sum(axis=0) / (g_c ** 2).sum(axis=0)
+        ssr = ((y_c - slope * g_c) ** 2).sum(axis=0)
+        r2 = 1.0 - ssr / (y_c ** 2).sum(axis=0)
+        delta = np.sqrt(ssr / chi2.ppf(1.0 - _CHECK_CONFIDENCE, m - 2))
+        # sd(g) = |E g| sqrt(prod(theta/rho^2) - 1), E g = h(c)^(1-n) prod rho_i, in logs
+        log_mean = (1 - n) * np.log(np.abs(h_c)) + np.log(np.abs(rho)).sum(axis=0)
+        rel_var = np.expm1(np.log1p(var / rho ** 2).sum(axis=0))
+        sd_g = np.abs(slope) * np.exp(log_mean) * np.sqrt(rel_var)
+        eps = np.where(ssr == 0.0, 0.0, delta / sd_g)
+    return np.where(np.isfinite(eps), eps, np.inf), r2

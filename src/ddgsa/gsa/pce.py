@@ -8,20 +8,32 @@ involve input *i* only and :math:`S_{T,i}` over those that involve it at all
 (Sudret 2008, *Reliab. Eng. Syst. Saf.* 93).
 
 Coefficients by ``fit="quadrature"`` (tensor Gauss rule, ``(order+1)^d`` points, spectral
-projection) or ``fit="regression"`` (least squares on a scrambled Sobol' sample of
-``n`` points, default the power of two at or above twice the number of terms).
+projection), ``fit="regression"`` (least squares on a scrambled Sobol' sample of ``n`` points,
+default the power of two at or above twice the number of terms) or ``fit="sparse"`` (least-angle
+regression, scikit-learn's ``lars_path``, then least squares on each prefix of the active set;
+the prefix with the smallest corrected leave-one-out error wins -- Blatman & Sudret 2011,
+*J. Comput. Phys.* 230; default ``n`` the power of two at or above half the number of terms).
 
-Diagnostics:
+Trust (:mod:`ddgsa.gsa.trust`): the indices are exactly the expansion's, so the leave-one-out
+error (the expansion's error on points it was not fitted to; for ``sparse`` with Chapelle's
+correction ``n/(n - p) (1 + tr(C^-1)/n)`` for the selection) times ``_LOO_FACTOR`` is taken as
+the squared L2 distance between output and expansion, and
+:func:`~ddgsa.gsa.trust.surrogate_index_error` bounds every index by it. Quadrature has no
+leave-one-out error; the variance in the top order (the truncation, if the spectrum decays
+no faster than geometrically) stands in for it.
 
-- ``pce_loo_error`` (untrusted, regression): relative leave-one-out error above ``loo_max``.
-- ``pce_unresolved`` (untrusted, order >= 3): the highest polynomial order holds more than
-  ``resolution_tol`` of the variance (the expansion has not converged; discontinuity?).
-- ``pce_underdetermined`` (untrusted, regression): fewer points than basis terms.
+Diagnostics: ``pce_index_error`` (untrusted, per row: the bound exceeds ``tolerance``),
+``pce_underdetermined`` (untrusted, regression: fewer points than basis terms).
+
+Size guard: a regression matrix of more than ``_MAX_MATRIX_ENTRIES`` entries (``n`` x terms;
+160 MB) is refused before any point is run, with the order that fits and the sparse option.
 """
 
 from __future__ import annotations
 
+from functools import lru_cache
 from itertools import combinations_with_replacement
+from math import comb
 from typing import Any
 
 import chaospy
@@ -29,12 +41,42 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ddgsa.errors import MethodError
-from ddgsa.gsa.base import (Design, GsaMethod, PartialIndices, check_choice, check_fraction,
-                            check_int, register)
+from ddgsa.gsa.base import Design, GsaMethod, PartialIndices, check_choice, check_int, register
 from ddgsa.gsa.result import Diagnostic
+from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance, error_diagnostics, surrogate_index_error
 from ddgsa.space import ParameterSpace
 
 _MAX_TENSOR_POINTS = 200_000
+_MAX_MATRIX_ENTRIES = 20_000_000
+# leave-one-out error -> squared L2 error of the expansion (calibrated by ``ddgsa bench trust``)
+_LOO_FACTOR = 2.0
+
+
+def n_terms(dim: int, order: int) -> int:
+    """Number of total-degree basis terms, ``C(dim + order, order)``."""
+    return comb(dim + order, order)
+
+
+def default_n(dim: int, order: int, fit: str = "regression") -> int:
+    """Default regression sample: the power of two (Sobol' balance) >= 2 P (sparse: >= P / 2, >= 64)."""
+    target = 2 * n_terms(dim, order) if fit == "regression" else max(64, n_terms(dim, order) // 2)
+    return 1 << int(np.ceil(np.log2(target)))
+
+
+def check_size(dim: int, order: int, n: int, fit: str = "regression") -> None:
+    """Refuse a regression whose matrix (``n`` x terms) exceeds ``_MAX_MATRIX_ENTRIES``; name cheaper options."""
+    p = n_terms(dim, order)
+    if n * p <= _MAX_MATRIX_ENTRIES:
+        return
+    fits = [q for q in range(order - 1, 0, -1)
+            if default_n(dim, q) * n_terms(dim, q) <= _MAX_MATRIX_ENTRIES]
+    lower = (f"order {fits[0]} ({n_terms(dim, fits[0])} terms, {default_n(dim, fits[0])} points)"
+             if fits else "no full order")
+    n_sparse = _MAX_MATRIX_ENTRIES // p
+    raise MethodError(f"method 'pce': fit {fit!r} of order {order} on {dim} inputs has {p} basis terms; with "
+                      f"n = {n} points its matrix holds {n * p:.3g} entries ({8 * n * p / 1e9:.3g} GB), over "
+                      f"the limit of {_MAX_MATRIX_ENTRIES:.3g} ({8 * _MAX_MATRIX_ENTRIES / 1e6:.0f} MB); use "
+                      f"{lower}" + (f", or fit 'sparse' with n <= {n_sparse}" if n_sparse >= 2 * dim else ""))
 
 
 def total_degree_indices(dim: int, order: int) -> NDArray[np.int64]:
@@ -48,12 +90,20 @@ def total_degree_indices(dim: int, order: int) -> NDArray[np.int64]:
     return np.array(rows)
 
 
+@lru_cache(maxsize=256)
+def _orthonormal(dist: str, args: tuple[tuple[str, float], ...], order: int) -> Any:
+    """chaospy's orthonormal polynomials up to ``order`` for one input (cached: building them is slow)."""
+    from ddgsa.space import Parameter
+
+    return chaospy.generate_expansion(order, Parameter("p", dist, dict(args), 0.0).distribution, normed=True)
+
+
 def basis_matrix(space: ParameterSpace, alphas: NDArray[np.int64], x: NDArray[np.float64]) -> NDArray[np.float64]:
     """Orthonormal product polynomials of multi-indices ``alphas`` at points ``x``: shape (n, P)."""
     order = int(alphas.max()) if alphas.size else 0
     psi = np.ones((x.shape[0], alphas.shape[0]))
     for i, p in enumerate(space.parameters):
-        polys = chaospy.generate_expansion(order, p.distribution, normed=True)
+        polys = _orthonormal(p.dist, tuple(sorted(p.args.items())), order)
         phi = np.asarray(polys(x[:, i]), dtype=float).reshape(order + 1, -1)   # (order+1, n)
         psi *= phi[alphas[:, i]].T
     return psi
@@ -63,20 +113,18 @@ def basis_matrix(space: ParameterSpace, alphas: NDArray[np.int64], x: NDArray[np
 class PCE(GsaMethod):
     """Sobol indices from a polynomial chaos expansion (see the module docstring).
 
-    Options: ``order`` (total degree, default 4), ``fit`` (``regression`` or ``quadrature``),
-    ``n`` (regression sample size, default the power of two >= ``2 P``), ``seed``, ``loo_max`` (0.05),
-    ``resolution_tol`` (0.01).
+    Options: ``order`` (total degree, default 4), ``fit`` (``regression``, ``sparse`` or
+    ``quadrature``), ``n`` (regression sample size, default :func:`default_n`), ``seed``,
+    ``tolerance`` (0.02).
     """
 
-    defaults = {"order": 4, "fit": "regression", "n": None, "seed": 0, "loo_max": 0.05,
-                "resolution_tol": 0.01}
+    defaults = {"order": 4, "fit": "regression", "n": None, "seed": 0, "tolerance": DEFAULT_TOLERANCE}
 
     def check_options(self, space: ParameterSpace, opts: dict[str, Any]) -> None:
         order = check_int(self.name, "order", opts["order"], 1, 30)
-        check_choice(self.name, "fit", opts["fit"], ("regression", "quadrature"))
+        fit = check_choice(self.name, "fit", opts["fit"], ("regression", "sparse", "quadrature"))
         check_int(self.name, "seed", opts["seed"], 0)
-        check_fraction(self.name, "loo_max", opts["loo_max"], 0.0, 1e9)
-        check_fraction(self.name, "resolution_tol", opts["resolution_tol"], 0.0, 1e9)
+        check_tolerance(self.name, opts["tolerance"])
         if opts["fit"] == "quadrature":
             if opts["n"] is not None:
                 raise MethodError("method 'pce': option 'n' applies to fit 'regression' only "
@@ -85,8 +133,9 @@ class PCE(GsaMethod):
                 raise MethodError(f"method 'pce': a tensor Gauss grid of order {order} in {space.dim} "
                                   f"dimensions needs {(order + 1) ** space.dim:.3g} points (limit "
                                   f"{_MAX_TENSOR_POINTS}); use fit 'regression'")
-        elif opts["n"] is not None:
-            check_int(self.name, "n", opts["n"], 2)
+        else:
+            n = check_int(self.name, "n", opts["n"], 2) if opts["n"] is not None else default_n(space.dim, order, fit)
+            check_size(space.dim, order, n, fit)
 
     def _design(self, space: ParameterSpace, opts: dict[str, Any]) -> Design:
         alphas = total_degree_indices(space.dim, opts["order"])
@@ -95,8 +144,7 @@ class PCE(GsaMethod):
             x = np.asarray(nodes, dtype=float).reshape(space.dim, -1).T
             meta: dict[str, Any] = {"weights": np.asarray(weights, dtype=float)}
         else:
-            # default: the power of two (Sobol' balance) at or above twice the number of terms
-            n = opts["n"] if opts["n"] is not None else 1 << int(np.ceil(np.log2(2 * len(alphas))))
+            n = opts["n"] if opts["n"] is not None else default_n(space.dim, opts["order"], opts["fit"])
             opts = {**opts, "n": int(n)}
             x = space.sample(int(n), seed=opts["seed"], rule="sobol")
             meta = {}
@@ -109,19 +157,19 @@ class PCE(GsaMethod):
         psi = basis_matrix(space, alphas, design.points)
         diags: list[Diagnostic] = []
         extras: dict[str, Any] = {"n_terms": len(alphas)}
+        n_pts = psi.shape[0]
         if opts["fit"] == "quadrature":
             coef = psi.T @ (design.meta["weights"][:, None] * y)              # (P, k)
-        else:
-            coef, *_ = np.linalg.lstsq(psi, y, rcond=None)
-            loo = _relative_loo_error(psi, y, coef)
+        elif opts["fit"] == "sparse":
+            coef, loo = _sparse_fit(psi, y)
             extras["loo_error"] = loo
-            if psi.shape[0] < psi.shape[1]:
-                diags.append(Diagnostic("pce_underdetermined", f"{psi.shape[0]} points for {psi.shape[1]} "
+            extras["n_active"] = (coef != 0).sum(axis=0)
+        else:
+            coef, loo = _least_squares(psi, y)
+            extras["loo_error"] = loo
+            if n_pts < psi.shape[1]:
+                diags.append(Diagnostic("pce_underdetermined", f"{n_pts} points for {psi.shape[1]} "
                                         "basis terms; raise 'n'", "untrusted"))
-            for k in np.flatnonzero(~(loo <= opts["loo_max"])):
-                diags.append(Diagnostic("pce_loo_error", f"output {outputs[k]!r}: relative leave-one-out "
-                                        f"error {loo[k]:.3g} > {opts['loo_max']}; the expansion does not "
-                                        "represent the output", "untrusted", output=outputs[k], value=float(loo[k])))
         energy = coef[1:] ** 2                                                 # (P-1, k)
         var = energy.sum(axis=0)
         involved = alphas[1:] > 0                                              # (P-1, d)
@@ -131,13 +179,73 @@ class PCE(GsaMethod):
             ST = (involved.T.astype(float) @ energy / var).T
             top = alphas[1:].sum(axis=1) == opts["order"]
             frac = energy[top].sum(axis=0) / var
+            if opts["fit"] == "quadrature":
+                rel_err2, why = frac, f"variance in the top order {opts['order']}"
+            else:
+                rel_err2 = _LOO_FACTOR * loo / np.clip(1.0 - _LOO_FACTOR * loo, 0.0, None)
+                why = f"leave-one-out error on {n_pts} points"
+            eps = np.where(np.isfinite(rel_err2) & (rel_err2 >= 0), np.sqrt(rel_err2), np.inf)
         extras["top_order_fraction"] = frac
-        # below order 3 a spectrum has no tail to judge decay by; the LOO error guards those
-        for k in (np.flatnonzero(~(frac <= opts["resolution_tol"])) if opts["order"] >= 3 else []):
-            diags.append(Diagnostic("pce_unresolved", f"output {outputs[k]!r}: {frac[k]:.1%} of the variance "
-                                    f"is in order {opts['order']} terms (not converged; non-smooth output?)",
-                                    "untrusted", output=outputs[k], value=float(frac[k])))
-        return PartialIndices(S1=S1, ST=ST, diagnostics=diags, extras=extras)
+        err_s1 = surrogate_index_error(S1, eps[:, None])
+        err_st = surrogate_index_error(ST, eps[:, None])
+        diags += error_diagnostics("pce_index_error", why, outputs, space.names, err_s1, err_st,
+                                   opts["tolerance"])
+        return PartialIndices(S1=S1, ST=ST, S1_conf=err_s1, ST_conf=err_st, diagnostics=diags, extras=extras)
+
+
+def _sparse_fit(psi: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Hybrid least-angle regression per output: coefficients (P, k) and corrected relative LOO errors (k,).
+
+    The least-angle path orders the terms; one QR of the constant plus the terms in that order
+    gives, for every prefix of the path, the least-squares fit, its leverages and
+    ``tr(C^-1) = n ||R_m^-1||_F^2`` by cumulative sums, so all prefixes cost one factorisation.
+    """
+    from scipy.linalg import solve_triangular
+    from sklearn.linear_model import lars_path
+
+    n, p = psi.shape
+    coef = np.zeros((p, y.shape[1]))
+    loo = np.full(y.shape[1], np.inf)
+    x = psi[:, 1:] - psi[:, 1:].mean(axis=0)
+    for k in range(y.shape[1]):
+        yk = y[:, k]
+        if np.var(yk) == 0.0:
+            coef[0, k], loo[k] = yk.mean(), 0.0
+            continue
+        _, active, _ = lars_path(x, yk - yk.mean(), method="lar", max_iter=min(p - 1, n // 3))
+        cols = np.concatenate([[0], np.asarray(active, dtype=int) + 1])
+        q, r = np.linalg.qr(psi[:, cols])
+        proj = q.T @ yk                                                        # (m,)
+        fitted = np.cumsum(q * proj, axis=1)                                   # (n, m): prefix fits
+        lev = np.clip(np.cumsum(q ** 2, axis=1), 0.0, 1.0 - 1e-12)
+        press = np.mean(((yk[:, None] - fitted) / (1.0 - lev)) ** 2, axis=0) / np.var(yk)
+        rinv = solve_triangular(r, np.eye(len(cols)))
+        # ||R_m^-1||_F^2 of each leading block (R^-1 is upper triangular: whole columns)
+        tr = np.cumsum((rinv ** 2).sum(axis=0))
+        m_terms = np.arange(1, len(cols) + 1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            corrected = press * n / np.clip(n - m_terms, 1, None) * (1.0 + tr)   # Chapelle: 1 + tr(C^-1)/n
+        best = int(np.nanargmin(np.where(m_terms < n, corrected, np.inf)))
+        loo[k] = corrected[best]
+        c = solve_triangular(r[:best + 1, :best + 1], proj[:best + 1])
+        coef[cols[:best + 1], k] = c
+    return coef, loo
+
+def _least_squares(psi: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Least-squares coefficients (P, k) and relative leave-one-out errors (k,) from one QR factorisation."""
+    from scipy.linalg import solve_triangular
+
+    if psi.shape[0] > psi.shape[1]:
+        q, r = np.linalg.qr(psi)
+        diag = np.abs(np.diag(r))
+        if diag.min() > 1e-10 * diag.max():
+            coef = solve_triangular(r, q.T @ y)
+            lev = np.clip((q ** 2).sum(axis=1), 0.0, 1.0 - 1e-12)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                loo = np.mean(((y - psi @ coef) / (1.0 - lev)[:, None]) ** 2, axis=0) / np.var(y, axis=0)
+            return coef, loo
+    coef, *_ = np.linalg.lstsq(psi, y, rcond=None)                  # rank-deficient or underdetermined
+    return coef, _relative_loo_error(psi, y, coef)
 
 
 def _relative_loo_error(psi: NDArray[np.float64], y: NDArray[np.float64],

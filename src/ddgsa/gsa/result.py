@@ -102,7 +102,7 @@ class SobolResult:
             **{k: v.ravel() for k, v in cols.items()},
         })
         diags = list(diagnostics or [])
-        table["trusted"] = _trusted_mask(table, diags)
+        table["trusted"] = trusted_mask(table, diags)
         return cls(indices=table, n_evals=int(n_evals), method=method, options=dict(options or {}),
                    diagnostics=diags, extras=dict(extras or {}))
 
@@ -165,7 +165,7 @@ def draw_index_bars(ax: "Axes", table: pd.DataFrame, fontsize: float = 10.0, rot
     ax.set_ylabel("Sobol index [-]", fontsize=fontsize)
 
 
-def _trusted_mask(table: pd.DataFrame, diagnostics: list[Diagnostic]) -> NDArray[np.bool_]:
+def trusted_mask(table: pd.DataFrame, diagnostics: list[Diagnostic]) -> NDArray[np.bool_]:
     """Rows not hit by any ``untrusted`` diagnostic."""
     ok = np.ones(len(table), dtype=bool)
     for d in diagnostics:

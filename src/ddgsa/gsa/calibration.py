@@ -1,0 +1,362 @@
+"""Trust calibration: does ``trusted`` hold its promise? (``ddgsa bench trust``)
+
+Every method at two settings (the first is its default) runs on 15 reference functions with
+known indices, 20 seeds each. Each row of each result is scored against the truth:
+
+* **false trust** -- the row is ``trusted`` but an index in it is off by more than the tolerance;
+* **false alarm** -- the row is untrusted although every index in it is within the tolerance.
+
+Seeds 0-9 of the *training* functions are where the rules' constants (``_CHECK_CONFIDENCE`` of
+M-DRM, ``_CONVERGENCE_FACTOR`` of SALib, ``_LOO_FACTOR`` of PCE) were chosen; seeds 10-19 and the
+*held-out* functions (``HELD_OUT``) were not looked at when choosing them, and the table reports
+them apart (column ``split``). Besides the rates the table gives ``margin``: the largest ratio of
+a trusted row's true error to the tolerance (below 1 when no trusted row is wrong).
+
+Outputs in ``results/trust_calibration/``: ``rows.csv`` (one line per run and row),
+``summary.csv`` (per function x method x setting), ``summary.md`` (tables) and
+``trust_calibration.png`` (false-trust rate, false-alarm rate and cost per method and setting).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from ddgsa.errors import MethodError
+from ddgsa.gsa.testfunctions import (bratley_k, ishigami, linear, oakley_ohagan, product, sobol_g,
+                                     tensor_indices)
+from ddgsa.gsa.result import trusted_mask
+from ddgsa.gsa.trust import DEFAULT_TOLERANCE
+from ddgsa.space import ParameterSpace
+
+OUT = Path("results") / "trust_calibration"
+HELD_OUT = ("borehole", "bearing_life", "several_outputs")
+TRAIN_SEEDS = tuple(range(10))
+
+Func = Callable[[NDArray[np.float64]], NDArray[np.float64]]
+
+
+@dataclass(frozen=True)
+class Case:
+    """A reference function: space, ``f`` (n, k) and exact indices (k, d)."""
+
+    name: str
+    kind: str
+    space: ParameterSpace
+    f: Func
+    S1: NDArray[np.float64]
+    ST: NDArray[np.float64]
+
+
+def _unit(d: int) -> ParameterSpace:
+    return ParameterSpace.from_dict({f"x{i + 1}": {"low": 0.0, "high": 1.0} for i in range(d)})
+
+
+def _from_tf(name: str, kind: str, tf: Any) -> Case:
+    return Case(name, kind, tf.space, tf.f, np.atleast_2d(tf.S1), np.atleast_2d(tf.ST))
+
+
+def _tensor_case(name: str, kind: str, space: ParameterSpace, f: Func, points: int) -> Case:
+    s1, st = tensor_indices(f, space, points)
+    return Case(name, kind, space, f, s1, st)
+
+
+def cases() -> dict[str, Case]:
+    """The 15 reference functions (kind in the second field)."""
+    lognormal = ParameterSpace.from_dict({f"x{i + 1}": {"dist": "lognormal", "mu": 0.0, "sigma": s}
+                                          for i, s in enumerate((0.5, 0.4, 0.3, 0.2, 0.1))})
+    heavy = ParameterSpace.from_dict({f"x{i + 1}": {"dist": "lognormal", "mu": 0.0, "sigma": s}
+                                      for i, s in enumerate((1.0, 0.5, 0.3))})
+    normal = ParameterSpace.from_dict({f"x{i + 1}": {"dist": "normal", "mean": 0.0, "std": 1.0} for i in range(4)})
+    readme = ParameterSpace.from_dict({"x1": {"low": -3.14159, "high": 3.14159},
+                                       "k_front": {"dist": "normal", "mean": 1e10, "std": 1e9},
+                                       "c_gen": {"nominal": 8.28e5, "spread": 0.1}})
+    out = [
+        _from_tf("product", "product", product(_unit(4), [0.5, 0.4, 0.3, 0.1])),
+        _from_tf("product_normal", "product", product(normal, [0.3, 0.2, 0.1, 0.05])),
+        _from_tf("product_lognormal", "heavy-tailed product", product(lognormal, [0.6, 0.5, 0.3, 0.2, 0.1])),
+        _from_tf("additive_offset", "additive + offset", linear(_unit(4), [1.0, 0.8, 0.5, 0.2], offset=0.5)),
+        _from_tf("additive_heavy", "heavy-tailed additive", linear(heavy, [1.0, 1.0, 1.0], offset=1.0)),
+        _from_tf("ishigami_shift", "interacting, shifted", ishigami(shift=10.0)),
+        _from_tf("bratley_k_shift", "interacting, shifted", bratley_k(6, shift=20.0)),
+        _from_tf("sobol_g", "kinks", sobol_g([1.0, 2.0, 5.0, 10.0, 20.0, 50.0])),
+        _from_tf("sobol_g_a0", "kinks, zero at the cut", sobol_g([0.0] * 8)),
+        Case("steps", "steps", _unit(3), lambda x: 1.0 + 2.0 * (x[:, 0] > 0.3) + x[:, 1] + 0.5 * (x[:, 2] > 0.7),
+             *_steps_indices()),
+        _from_tf("oakley_ohagan", "15 inputs", oakley_ohagan()),
+        _tensor_case("readme_example", "README example", readme,
+                     lambda x: x[:, 0] ** 2 + 1e-10 * x[:, 1] * x[:, 2] / 8e5, 4),
+        _tensor_case("several_outputs", "several outputs", _unit(3),
+                     lambda x: np.column_stack([(1 + x[:, 0]) * (2 + x[:, 1]) * (3 + x[:, 2]),
+                                                5.0 + x[:, 0] + 2.0 * x[:, 1] ** 2 + x[:, 0] * x[:, 2],
+                                                np.exp(x[:, 0] * x[:, 1]) + x[:, 2]]), 10),
+        _bearing_life(),
+        _borehole(),
+    ]
+    return {c.name: c for c in out}
+
+
+def _steps_indices() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``2 [x1 > 0.3] + x2 + 0.5 [x3 > 0.7]``, additive: V_i = 4 (0.7)(0.3), 1/12, 0.25 (0.3)(0.7)."""
+    v = np.array([4 * 0.21, 1 / 12, 0.25 * 0.21])
+    s = (v / v.sum())[None, :]
+    return s, s.copy()
+
+
+def _bearing_life() -> Case:
+    """Rolling-bearing basic life ``L10 = (C / P)^(10/3)``, ``P = 2.5 Fr + 3.7 Fa`` [revolutions / 1e6]."""
+    space = ParameterSpace.from_dict({
+        "C": {"dist": "normal", "mean": 1.2e6, "std": 6e4},            # dynamic load rating [N]
+        "Fr": {"low": 8e4, "high": 1.6e5},                            # radial load [N]
+        "Fa": {"low": 1e4, "high": 6e4},                              # axial load [N]
+    })
+
+    def f(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return (x[:, 0] / (2.5 * x[:, 1] + 3.7 * x[:, 2])) ** (10.0 / 3.0)
+
+    return _tensor_case("bearing_life", "physical formula", space, f, 24)
+
+
+def _borehole() -> Case:
+    """Water flow through a borehole [m^3/yr] (Harper & Gupta 1983; Morris et al. 1993), 8 inputs."""
+    space = ParameterSpace.from_dict({
+        "rw": {"dist": "normal", "mean": 0.10, "std": 0.0161812},      # borehole radius [m]
+        "r": {"dist": "lognormal", "mu": 7.71, "sigma": 1.0056},       # radius of influence [m]
+        "Tu": {"low": 63070.0, "high": 115600.0},                     # transmissivity, upper aquifer [m^2/yr]
+        "Hu": {"low": 990.0, "high": 1110.0},                         # potentiometric head, upper [m]
+        "Tl": {"low": 63.1, "high": 116.0},                           # transmissivity, lower [m^2/yr]
+        "Hl": {"low": 700.0, "high": 820.0},                          # potentiometric head, lower [m]
+        "L": {"low": 1120.0, "high": 1680.0},                         # borehole length [m]
+        "Kw": {"low": 9855.0, "high": 12045.0},                       # hydraulic conductivity [m/yr]
+    })
+
+    def f(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        rw, r, tu, hu, tl, hl, length, kw = x.T
+        log_ratio = np.log(r / rw)
+        return 2 * np.pi * tu * (hu - hl) / (log_ratio * (1 + 2 * length * tu / (log_ratio * rw ** 2 * kw) + tu / tl))
+
+    return _tensor_case("borehole", "physical formula", space, f, 6)
+
+
+SETTINGS: list[tuple[str, dict[str, Any]]] = [
+    ("mdrm", {}), ("mdrm", {"points": 7, "check": 64}),
+    ("saltelli", {}), ("saltelli", {"n": 4096}),
+    ("fast", {}), ("fast", {"n": 2048}),
+    ("rbd_fast", {}), ("rbd_fast", {"n": 4096}),
+    ("pce", {}), ("pce", {"order": 6}),
+    ("auto", {}), ("auto", {"budget": 500}),
+]
+
+
+def setting_label(method: str, opts: dict[str, Any]) -> str:
+    """``method`` plus its non-default options (``default`` when none)."""
+    return f"{method} " + (", ".join(f"{k}={v}" for k, v in opts.items()) if opts else "default")
+
+
+def score(case: Case, res: Any, tolerance: float) -> pd.DataFrame:
+    """One line per (output, parameter): true error of the row and whether it was trusted."""
+    t = res.indices
+    k, d = case.S1.shape
+    s1 = t["S1"].to_numpy(float).reshape(k, d)
+    st = t["ST"].to_numpy(float).reshape(k, d)
+    with np.errstate(invalid="ignore"):
+        err = np.fmax(np.abs(s1 - case.S1), np.abs(st - case.ST))     # ST NaN (RBD-FAST): S1 alone
+    err = np.where(np.isfinite(err), err, np.inf)
+    trusted = t["trusted"].to_numpy(bool).reshape(k, d)
+    if "S1_error" in res.extras:                                       # SALib: bootstrap + half sample
+        est = np.fmax(res.extras["S1_error"], res.extras["ST_error"])
+    elif res.method in ("mdrm", "pce"):                                # surrogate bound
+        est = np.fmax(t["S1_conf"].to_numpy(float), t["ST_conf"].to_numpy(float)).reshape(k, d)
+    else:
+        est = np.full((k, d), np.nan)
+    other = [g for g in res.diagnostics if not g.name.endswith("index_error")]
+    passes_others = trusted_mask(t, other).reshape(k, d)
+    return pd.DataFrame({"output": np.repeat(np.arange(k), d), "parameter": np.tile(case.space.names, k),
+                         "error": err.ravel(), "trusted": trusted.ravel(), "estimate": np.ravel(est),
+                         "passes_other_rules": passes_others.ravel(),
+                         "false_trust": (trusted & (err > tolerance)).ravel(),
+                         "false_alarm": (~trusted & (err <= tolerance)).ravel()})
+
+
+def _run_one(name: str, seed: int, tolerance: float,
+             settings: list[tuple[str, dict[str, Any]]]) -> list[pd.DataFrame]:
+    """Every setting on one function for one seed (BLAS on one thread: the workers are the parallelism)."""
+    import ddgsa
+    from threadpoolctl import threadpool_limits
+
+    case = _cached_cases()[name]
+    frames = []
+    with threadpool_limits(1):
+        for method, opts in settings:
+            label = setting_label(method, opts)
+            head = {"function": name, "kind": case.kind, "method": method, "setting": label, "seed": seed}
+            t0 = time.perf_counter()
+            try:
+                res = ddgsa.sobol(case.f, case.space, method, seed=seed, tolerance=tolerance, **opts)
+            except MethodError as exc:          # e.g. the PCE size guard: refused before running
+                frames.append(pd.DataFrame([{**head, "refused": str(exc)}]))
+                continue
+            rows = score(case, res, tolerance)
+            for k, (key, value) in enumerate(head.items()):
+                rows.insert(k, key, value)
+            rows["n_evals"] = res.n_evals
+            rows["wall_s"] = time.perf_counter() - t0
+            rows["refused"] = ""
+            frames.append(rows)
+    return frames
+
+
+@lru_cache(maxsize=1)
+def _cached_cases() -> dict[str, Case]:
+    return cases()
+
+
+def run(seeds: int = 20, functions: list[str] | None = None, tolerance: float = DEFAULT_TOLERANCE,
+        jobs: int = 2, settings: list[tuple[str, dict[str, Any]]] | None = None,
+        progress: Callable[[str], None] = print) -> pd.DataFrame:
+    """Every setting (default :data:`SETTINGS`) on every function for ``seeds`` seeds: the scored rows.
+
+    The rows are the same for any ``jobs`` (every run is seeded by its own seed).
+    """
+    settings = SETTINGS if settings is None else settings
+    from joblib import Parallel, delayed
+
+    names = [n for n in cases() if functions is None or n in functions]
+    progress(f"trust: {len(names)} functions x {len(settings)} settings x {seeds} seeds on {jobs} workers")
+    parts = Parallel(n_jobs=jobs)(delayed(_run_one)(n, s, tolerance, settings) for n in names for s in range(seeds))
+    out = pd.concat([f for part in parts for f in part], ignore_index=True)
+    out["refused"] = out["refused"].fillna("")
+    train = ~out["function"].isin(HELD_OUT) & out["seed"].isin(TRAIN_SEEDS)
+    out["split"] = np.where(train, "train", "held-out")
+    return out
+
+
+def summarize(rows: pd.DataFrame, by: list[str], tolerance: float) -> pd.DataFrame:
+    """False-trust and false-alarm rates (over all rows), margin and cost, grouped by ``by``."""
+    ran = rows[rows["refused"] == ""]
+    g = ran.groupby(by, sort=False)
+    out = pd.DataFrame({
+        "rows": g.size(),
+        "trusted": g["trusted"].mean(),
+        "false_trust": g["false_trust"].mean(),
+        "false_trust_n": g["false_trust"].sum(),
+        "false_alarm": g["false_alarm"].mean(),
+        "margin": g.apply(lambda t: float(t.loc[t["trusted"], "error"].max() / tolerance)
+                          if t["trusted"].any() else np.nan, include_groups=False),
+        "median_evals": g["n_evals"].median(),
+        "median_wall_s": g["wall_s"].median(),
+    }).reset_index()
+    refused = rows[rows["refused"] != ""].groupby(by, sort=False).size()
+    if len(refused):
+        out = out.merge(refused.rename("refused").reset_index(), on=by, how="outer")
+    return out
+
+
+def factor_table(rows: pd.DataFrame, tolerance: float) -> pd.DataFrame:
+    """Per method and split: the smallest estimate scale ``c_min`` that keeps false trust at zero."""
+    out = []
+    for (method, split), t in rows[rows["estimate"].notna()].groupby(["method", "split"], sort=False):
+        eligible = t[t["passes_other_rules"].astype(bool)]
+        bad = eligible[eligible["error"] > tolerance]
+        with np.errstate(divide="ignore"):
+            c_min = float((tolerance / bad["estimate"]).max()) if len(bad) else 0.0
+        out.append({"method": method, "split": split, "rows": len(t), "c_min": c_min,
+                    "false_alarm": float(t["false_alarm"].mean())})
+    return pd.DataFrame(out)
+
+
+def write(rows: pd.DataFrame, out: Path, tolerance: float) -> dict[str, Any]:
+    """CSV, markdown tables and the chart; returns the headline figures."""
+    out.mkdir(parents=True, exist_ok=True)
+    rows.to_csv(out / "rows.csv.gz", index=False, float_format="%.4g")
+    per = summarize(rows, ["function", "method", "setting"], tolerance)
+    per.to_csv(out / "summary.csv", index=False, float_format="%.4g")
+    by_setting = summarize(rows, ["method", "setting"], tolerance)
+    by_split = summarize(rows, ["split", "method"], tolerance)
+    ran = rows[rows["refused"] == ""]
+    default = ran[ran["setting"].str.endswith("default")]
+    worst_default = default.groupby("function")["false_trust"].sum()
+    head = {"tolerance": tolerance, "rows": int(len(ran)), "false_trust_rate": float(ran["false_trust"].mean()),
+            "false_alarm_rate": float(ran["false_alarm"].mean()),
+            "false_trust_rows_at_default_settings": int(worst_default.sum()),
+            "functions_with_false_trust_at_default": sorted(worst_default[worst_default > 0].index.tolist()),
+            "held_out_false_trust_rate": float(ran.loc[ran["split"] == "held-out", "false_trust"].mean())}
+    fmt = {"trusted": "{:.1%}", "false_trust": "{:.2%}", "false_alarm": "{:.1%}", "margin": "{:.2f}",
+           "median_evals": "{:.0f}", "median_wall_s": "{:.3f}"}
+
+    def md(df: pd.DataFrame) -> str:
+        df = df.copy()
+        for c, f in fmt.items():
+            if c in df:
+                df[c] = df[c].map(lambda v, f=f: "" if pd.isna(v) else f.format(v))
+        df = df.fillna("").astype(str)
+        lines = ["| " + " | ".join(df.columns) + " |", "|" + "---|" * len(df.columns)]
+        lines += ["| " + " | ".join(r) + " |" for r in df.itertuples(index=False)]
+        return "\n".join(lines)
+
+    slack = factor_table(ran, tolerance)
+    slack.to_csv(out / "calibration_factors.csv", index=False, float_format="%.4g")
+    text = [f"# Trust calibration (tolerance {tolerance:g})", "",
+            "`trusted` = every index of the row within ±tolerance of the exact value. Rates are shares of "
+            "all rows (false trust: trusted but off by more; false alarm: untrusted but within). "
+            "`margin` = largest true error of a trusted row / tolerance.", "",
+            f"All rows: {head['rows']}, false trust {head['false_trust_rate']:.3%}, false alarm "
+            f"{head['false_alarm_rate']:.1%}; false-trust rows at default settings: "
+            f"{head['false_trust_rows_at_default_settings']}; held-out false trust "
+            f"{head['held_out_false_trust_rate']:.3%}.", "",
+            "## By method and setting", "", md(by_setting), "",
+            "## Training (seeds 0-9 of the training functions) against held out", "", md(by_split), "",
+            "## How much room the error estimates leave", "",
+            "A row is trusted when its error estimate is within the tolerance (and no other rule fires). "
+            "Scaling every estimate by c < 1 would trust more rows; `c_min` is the smallest scale above which "
+            "no row of the split would be falsely trusted (1 = the rules as shipped are just safe; below 1 = "
+            "they hold that much in reserve), with the false-alarm rate the shipped rules (c = 1) give.", "",
+            md(slack), "",
+            "## By function, method and setting", "", md(per), ""]
+    (out / "summary.md").write_text("\n".join(text))
+    _chart(by_setting, out / "trust_calibration.png", tolerance)
+    return head
+
+
+def _chart(by_setting: pd.DataFrame, path: Path, tolerance: float) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    labels = by_setting["setting"].tolist()
+    x = np.arange(len(labels))
+    fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
+    axes[0].bar(x, 100 * by_setting["false_trust"], color="tab:red")
+    axes[0].axhline(1.0, color="k", ls="--", lw=0.8)
+    axes[0].set_ylabel("false trust [% rows]")
+    axes[0].set_title(f"trusted = every index within ±{tolerance:g}; dashed: 1 % target")
+    axes[1].bar(x, 100 * by_setting["false_alarm"], color="tab:orange")
+    axes[1].set_ylabel("false alarm [% rows]")
+    axes[2].bar(x, by_setting["median_evals"], color="tab:blue")
+    axes[2].set_yscale("log")
+    axes[2].set_ylabel("median model runs")
+    axes[2].set_xticks(x, labels, rotation=40, ha="right", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+QUICK_FUNCTIONS = ["product", "additive_offset", "ishigami_shift", "bratley_k_shift", "steps", "readme_example",
+                   "several_outputs"]
+
+
+def bench(out: Path = OUT, quick: bool = False, progress: Callable[[str], None] = print) -> dict[str, Any]:
+    """``ddgsa bench trust``: run, write, return the headline figures (``quick``: 3 seeds, 7 functions)."""
+    rows = run(seeds=3, functions=QUICK_FUNCTIONS, progress=progress) if quick else run(progress=progress)
+    head = write(rows, out, DEFAULT_TOLERANCE)
+    head["quick"] = quick
+    return head

@@ -1,0 +1,112 @@
+"""What ``trusted`` means, and the error bounds every method's trust rule is built from.
+
+A row of an indices table is **trusted** when every index in it (``S1`` and ``ST``) is within
+``tolerance`` (absolute, default :data:`DEFAULT_TOLERANCE`) of the truth, with the confidence
+the method states. Each method turns what it can observe into an *estimate of the index error*
+per row and distrusts the rows whose estimate exceeds the tolerance:
+
+* surrogate methods (M-DRM, PCE) -- the indices they report are *exactly* the Sobol indices of
+  a surrogate ``g`` (M-DRM: the product of the cut functions' Gauss-node interpolants; PCE: the
+  expansion). If ``||h - (a g + b)|| <= delta`` in L2 for some affine map (Sobol indices do not
+  change under one), every index of ``h`` lies within an angle ``asin(delta / sd g)`` of the
+  surrogate's: :func:`surrogate_index_bounds`. ``delta`` comes
+  from a check sample (M-DRM) or from the leave-one-out error (PCE).
+* sampling methods (SALib) -- the bootstrap half-width and, where the design nests, the
+  difference between the estimates from half and all of the sample.
+
+The constants that turn an observation into a bound with a stated confidence are calibrated by
+``ddgsa bench trust`` (:mod:`ddgsa.gsa.calibration`, results in ``results/trust_calibration/``).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ddgsa.errors import MethodError
+from ddgsa.gsa.result import Diagnostic
+
+DEFAULT_TOLERANCE = 0.02
+
+
+def check_tolerance(method: str, value: Any) -> float:
+    """The ``tolerance`` option, a number in (0, 1), or a :class:`MethodError` naming it."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
+            or not 0.0 < float(value) < 1.0:
+        raise MethodError(f"method {method!r}: option 'tolerance' must be a number in (0, 1) "
+                          f"(absolute error allowed on every Sobol index), got {value!r}")
+    return float(value)
+
+
+def surrogate_index_bounds(index: NDArray[np.float64], eps: NDArray[np.float64] | float,
+                           orthogonal: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Interval that holds the true index when the surrogate's index is ``index``.
+
+    Parameters
+    ----------
+    index : array
+        Sobol index of the surrogate ``g`` (first-order or total) [-].
+    eps : array or float
+        ``delta / sd(g)``: the L2 distance between the output and the best affine map of the
+        surrogate, relative to the surrogate's standard deviation [-]; broadcast against ``index``.
+    orthogonal : bool
+        True when the difference is orthogonal to the surrogate (a least-squares projection, as
+        M-DRM's check-sample fit): the vector then turns by ``atan(eps)`` at most, else ``asin(eps)``.
+
+    Returns
+    -------
+    low, high : arrays
+        Split the centred output into the part the index measures (the main effect of
+        ``x_i``, or every ANOVA term involving it) and the orthogonal rest: ``S = sin^2 theta``
+        with ``theta`` the angle of the vector (rest, part). A perturbation of L2 norm
+        ``delta`` turns that vector by at most ``phi = asin(eps)`` (``atan(eps)`` if orthogonal),
+        so the true index lies in ``[sin^2(theta - phi), sin^2(theta + phi)]`` (clipped to
+        [0, pi/2]); for ``eps >= 1``, not orthogonal, anything in [0, 1] is possible. The
+        orthogonal bound is attained: ``g = x1 + x2``, ``h = (1 + c) x1 + (1 - c) x2`` (same
+        input variances) has ``eps = c`` and ``S_1 = sin^2(pi/4 + atan c)``.
+
+    Examples
+    --------
+    >>> low, high = surrogate_index_bounds(np.array([0.0, 0.5, 1.0]), 0.01)
+    >>> np.round(high - np.array([0.0, 0.5, 1.0]), 5).tolist(), np.round(low, 5).tolist()
+    ([0.0001, 0.01, 0.0], [0.0, 0.49, 0.9999])
+    """
+    theta = np.arcsin(np.sqrt(np.clip(np.asarray(index, dtype=float), 0.0, 1.0)))
+    e = np.broadcast_to(np.asarray(eps, dtype=float), theta.shape)
+    if orthogonal:
+        phi = np.arctan(np.clip(e, 0.0, None))
+    else:
+        phi = np.where(e < 1.0, np.arcsin(np.clip(e, 0.0, 1.0)), np.pi / 2)
+    low = np.sin(np.clip(theta - phi, 0.0, np.pi / 2)) ** 2
+    high = np.sin(np.clip(theta + phi, 0.0, np.pi / 2)) ** 2
+    return low, high
+
+
+def surrogate_index_error(index: NDArray[np.float64], eps: NDArray[np.float64] | float,
+                          orthogonal: bool = False) -> NDArray[np.float64]:
+    """Largest absolute error of ``index`` allowed by :func:`surrogate_index_bounds` (NaN stays NaN)."""
+    idx = np.asarray(index, dtype=float)
+    low, high = surrogate_index_bounds(idx, eps, orthogonal)
+    s = np.clip(idx, 0.0, 1.0)
+    err = np.maximum(high - s, s - low) + np.abs(idx - s)     # an index outside [0, 1] is off by that much
+    return np.where(np.isfinite(idx), err, np.nan)
+
+
+def error_diagnostics(name: str, why: str, outputs: list[str], parameters: tuple[str, ...] | list[str],
+                      err_s1: NDArray[np.float64], err_st: NDArray[np.float64],
+                      tolerance: float) -> list[Diagnostic]:
+    """One ``untrusted`` diagnostic per row whose estimated S1 or ST error exceeds ``tolerance``.
+
+    ``err_s1`` and ``err_st`` are (n_outputs, n_params) error estimates [-]; NaN estimates (an
+    index the method does not give) are ignored, a row with no estimate at all is not judged here.
+    """
+    diags = []
+    with np.errstate(invalid="ignore"):
+        worst = np.fmax(err_s1, err_st)
+    for j, i in zip(*np.nonzero(worst > tolerance)):
+        diags.append(Diagnostic(name, f"output {outputs[j]!r}: {parameters[i]}: estimated index error "
+                                f"{worst[j, i]:.3g} > tolerance {tolerance:g} ({why})", "untrusted",
+                                output=outputs[j], parameter=parameters[i], value=float(worst[j, i])))
+    return diags
