@@ -257,9 +257,9 @@ def detect(healthy: ArrayLike, faulty: ArrayLike, output: str = "y",
     moments = {"mean_healthy": mh, "mean_faulty": mf, "std_healthy": sd}
     if sd == 0.0 or np.ptp(h) == 0.0:
         if np.ptp(f) == 0.0 and f[0] == h[0]:
-            return _replace(base, **moments, std_healthy=0.0, effect_size=0.0, detectable=False,
+            return _replace(base, **{**moments, "std_healthy": 0.0}, effect_size=0.0, detectable=False,
                             reason="output constant and unchanged by the fault")
-        return _refused(_replace(base, **moments, std_healthy=0.0),
+        return _refused(_replace(base, **{**moments, "std_healthy": 0.0}),
                         "zero spread in the healthy population: no false-alarm threshold can be set "
                         "(state measurement noise for this output)")
     auc_raw = _auc(h, f)
