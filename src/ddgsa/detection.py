@@ -491,6 +491,11 @@ class FaultDetectability:
         return ax
 
 
+def _varies(x: NDArray[np.float64]) -> bool:
+    """True unless every value is finite and equal."""
+    return not np.isfinite(x).all() or bool(np.ptp(x) > 0)
+
+
 def _first_crossing(levels: NDArray[np.float64], pod: NDArray[np.float64], target: float) -> float:
     """Level where ``pod`` first reaches ``target`` along ``levels`` (linear interpolation; NaN if never)."""
     hit = np.flatnonzero(pod >= target)
@@ -532,8 +537,8 @@ def assess(healthy: pd.DataFrame, faulty: Mapping[float, pd.DataFrame], healthy_
     """
     s = settings or DetectionSettings()
     outputs = list(healthy.columns)
-    if combine is None:      # a sensor without healthy spread cannot be standardised (it is refused alone)
-        combine = [o for o in outputs if np.nanmax(healthy[o].to_numpy(float)) > np.nanmin(healthy[o].to_numpy(float))]
+    if combine is None:      # a finite sensor without healthy spread cannot be standardised (refused alone);
+        combine = [o for o in outputs if _varies(healthy[o].to_numpy(float))]     # failures stay in and refuse
     combine = list(combine)
     ss = _seq(seed)
     rows, scores = [], {}

@@ -442,8 +442,8 @@ def _fault_indices(plan: _Plan, store: EvaluationStore, outputs: list[str]) -> p
                 rows.append(t)
     table = pd.concat(rows, ignore_index=True)
     key = ["scene", "method", "output", "parameter"]
-    ref = table[table["level"] == fault.healthy].set_index(key)[["S1", "ST"]]
-    joined = table.join(ref, on=key, rsuffix="_healthy")
+    ref = table[table["level"] == fault.healthy][[*key, "S1", "ST"]]
+    joined = table.merge(ref, on=key, how="left", suffixes=("", "_healthy"))
     joined["dS1"] = joined["S1"] - joined["S1_healthy"]
     joined["dST"] = joined["ST"] - joined["ST_healthy"]
     return joined.drop(columns=["S1_healthy", "ST_healthy"])

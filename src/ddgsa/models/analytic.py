@@ -73,7 +73,8 @@ class AnalyticShift(Model):
     """
 
     parameters = (ModelParameter("fault", 0.0, "-", "fault size (shift)", -1e3, 1e3),
-                  *(ModelParameter(f"x{i}", 0.0, "-", f"spread of sensor {i}", -1e3, 1e3) for i in (1, 2)))
+                  *(ModelParameter(f"x{i}", 0.0, "-", f"spread of sensor {i}", -math.inf, math.inf)
+                    for i in (1, 2)))
     outputs = ("full", "half_1", "half_2")
     fidelities = ("exact",)
 
