@@ -483,8 +483,9 @@ class FaultDetectability:
             ax.axvline(row["threshold"], color="k", ls="--", lw=0.9,
                        label=f"threshold (false alarms {row['false_alarm']:.3f})")
         verdict = {True: "detectable", False: "not detectable"}.get(row["detectable"], "refused")
-        ax.set_title(f"{out}: POD {row['pod']:.2f} [{row['pod_low']:.2f}, {row['pod_high']:.2f}], "
-                     f"AUC {row['auc']:.2f} ({verdict})", fontsize=8)
+        ax.set_title(f"level {level:g}: {verdict}\nPOD {row['pod']:.2f} [{row['pod_low']:.2f}, {row['pod_high']:.2f}], "
+                     f"AUC {row['auc']:.2f}", fontsize=8)
+        ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 4), useOffset=False)
         ax.set_xlabel("Fisher score [-]" if out == COMBINED else str(out))
         ax.set_ylabel("density")
         ax.legend(fontsize=7)

@@ -236,9 +236,13 @@ def plot_fault_histograms(det: Any, title: str) -> Any:
     """Healthy/faulty histograms of the deciding output, one panel per faulty level."""
     levels = sorted(det.faulty, key=lambda v: abs(v - det.healthy_level))
     out = det.deciding_output()
-    fig, axes = plt.subplots(1, len(levels), figsize=(3.6 * len(levels), 3.2), squeeze=False)
-    for ax, level in zip(axes[0], levels):
+    ncols = min(3, len(levels))
+    nrows = -(-len(levels) // ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(4.2 * ncols, 3.3 * nrows), squeeze=False)
+    for ax, level in zip(axes.flat, levels):
         det.plot_histograms(level, output=out, ax=ax)
+    for ax in axes.flat[len(levels):]:
+        ax.set_visible(False)
     fig.suptitle(f"deciding output {out}, {title}", fontsize=9)
     fig.tight_layout()
     return fig
