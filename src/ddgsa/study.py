@@ -156,9 +156,17 @@ class FaultSpec(BaseModel):
     seed: int | None = Field(None, ge=0, description="seed of the fault samples, noise and bootstrap "
                                                      "(default: scenes.seed)")
 
-    @field_validator("faulty")
+    @field_validator("faulty", mode="before")
     @classmethod
-    def _levels_given(cls, v: list[float] | FaultRange) -> list[float] | FaultRange:
+    def _levels_given(cls, v: Any) -> Any:
+        if isinstance(v, dict):          # one clear message instead of one per union member
+            try:
+                return FaultRange.model_validate(v)
+            except ValidationError as exc:
+                problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'range'}: "
+                                     f"{'unknown field' if e['type'] == 'extra_forbidden' else e['msg']}"
+                                     for e in exc.errors())
+                raise ValueError(f"a range of levels is {{start, stop, num >= 2}} ({problems})") from None
         if isinstance(v, list) and not v:
             raise ValueError("give at least one faulty level")
         return v
