@@ -35,9 +35,10 @@ def _gauss_qmc(n: int, shift: float, sigma: float, seed: int, k: int = 1) -> tup
 
 @pytest.mark.parametrize("shift", [0.5, 1.5, 2.5, -1.5])
 def test_gaussian_shift_reproduces_analytic_pod_and_auc(shift: float) -> None:
-    """N(0, 2^2) against N(2 shift, 2^2), 2048 each (quasi-random): POD = Phi(|Delta|/sigma - z_0.95) and
-    AUC = Phi(|Delta|/(sigma sqrt 2)) lie inside their 95 % intervals, which are narrow
-    (POD interval < 0.12 wide: the threshold estimate dominates; AUC < 0.05); a downward fault alarms below the threshold."""
+    """N(0, 2^2) against N(2 shift, 2^2), 2048 each (quasi-random): POD = Phi(|Delta|/sigma - z_0.95)
+    and AUC = Phi(|Delta|/(sigma sqrt 2)) lie inside their 95 % intervals, which are narrow (POD
+    interval < 0.12 wide: the threshold estimate dominates; AUC < 0.05); a downward fault alarms
+    below the threshold."""
     sigma = 2.0
     h, f = _gauss_qmc(2048, shift * sigma, sigma, seed=int(10 * abs(shift)) + (shift < 0))
     d = detect(h, f, settings=FAST, seed=1)

@@ -280,7 +280,8 @@ def _fault_markdown(result: StudyResult) -> list[str]:
     n = fault.samples * result.study.spec.scenes.realisations
     noise = ", ".join(f"{o}: {v.absolute:g} abs, {v.relative:g} rel" for o, v in fault.noise.items()) or "none"
     lines = ["## Fault detectability", "",
-             f"Fault `{fault.parameter}`: healthy {fault.healthy:g}, faulty {', '.join(f'{v:g}' for v in fault.levels)}. "
+             f"Fault `{fault.parameter}`: healthy {fault.healthy:g}, "
+             f"faulty {', '.join(f'{v:g}' for v in fault.levels)}. "
              f"Each population: {fault.samples} points of the other parameters x "
              f"{result.study.spec.scenes.realisations} realisations = {n} measurements (not averaged); "
              f"measurement noise (std): {noise}. Alarm threshold at false-alarm rate {fault.false_alarm:g}; "

@@ -412,7 +412,8 @@ def _validate_fault(where: str, spec: StudySpec, model: Any) -> None:
                              f"known: {', '.join(outputs)}")
     n = fault.samples * spec.scenes.realisations
     if n * fault.false_alarm < 1:
-        raise StudyError(f"{where}: field 'fault.samples': {fault.samples} samples x {spec.scenes.realisations} realisations "
+        raise StudyError(f"{where}: field 'fault.samples': {fault.samples} samples x "
+                         f"{spec.scenes.realisations} realisations "
                          f"= {n} measurements per level cannot resolve false_alarm = {fault.false_alarm:g}; "
                          f"need >= {int(np.ceil(1 / fault.false_alarm))}")
 
