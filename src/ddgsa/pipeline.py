@@ -248,6 +248,8 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
     failures += [{"key": r["key"], "scene": {k: r[k] for k in SCENE_FIELDS + ["seed"]}, "error": r["error"]}
                  for r in result.evaluations.to_dict("records") if isinstance(r["error"], str)]
     result.provenance = _provenance(study, mids, counts, t_eval, time.perf_counter() - t0, failures, designs)
+    if spec.kind == "fault":
+        result.provenance["seeds"]["fault"] = fault_seed(study)
     result.provenance["fidelity_selection"] = fidelity_choice
     result.provenance["sampling"] = _sampling(study)
     result.fidelity = pd.DataFrame([{k: v for k, v in c.items() if k != "errors"} for c in fidelity_choice])

@@ -3,6 +3,7 @@ spread, known noise), refusals when evaluations fail, seeds, the schema of the `
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -110,8 +111,11 @@ def test_seed_drives_every_sample(write_study, tmp_path: Path) -> None:
     other noise, other numbers."""
     a = (_run(write_study, tmp_path, "a") / "fault_verdicts.csv").read_text()
     b = (_run(write_study, tmp_path, "b", args=("--jobs", "2")) / "fault_verdicts.csv").read_text()
-    c = (_run(write_study, tmp_path, "c", extra="seed: 5") / "fault_verdicts.csv").read_text()
+    c_out = _run(write_study, tmp_path, "c", extra="seed: 5")
+    c = (c_out / "fault_verdicts.csv").read_text()
     assert a == b and a != c
+    assert json.loads((c_out / "provenance.json").read_text())["seeds"]["fault"] == 5
+    assert json.loads((tmp_path / "a" / "provenance.json").read_text())["seeds"]["fault"] == 1   # scenes.seed
 
 
 FAILING = """\
