@@ -168,8 +168,12 @@ def threshold_at(healthy: NDArray[np.float64], false_alarm: float, direction: in
     The ``ceil((1 - alpha) n)``-th smallest of ``direction * healthy`` (times ``direction``).
     """
     s = np.sort(direction * np.asarray(healthy, dtype=float))
-    k = math.ceil((1.0 - false_alarm) * len(s) - 1e-9)
-    return float(direction * s[max(k, 1) - 1])
+    return float(direction * s[_order(len(s), false_alarm)])
+
+
+def _order(n: int, false_alarm: float) -> int:
+    """Index (0-based) of the threshold among ``n`` sorted healthy measurements."""
+    return max(math.ceil((1.0 - false_alarm) * n - 1e-9), 1) - 1
 
 
 def _auc(h: NDArray[np.float64], f: NDArray[np.float64]) -> float:
@@ -193,19 +197,22 @@ def clopper_pearson(k: int, n: int, confidence: float) -> tuple[float, float]:
     return lo, hi
 
 
-def _members(groups: ArrayLike | None, n: int) -> list[NDArray[np.intp]]:
+def _members(groups: ArrayLike | None, n: int) -> NDArray[np.intp] | list[NDArray[np.intp]]:
+    """Indices of each group: a 2-D array when the groups have equal sizes (one row each), else a list."""
     if groups is None:
-        return [np.array([i]) for i in range(n)]
+        return np.arange(n)[:, None]
     g = np.asarray(groups)
     if g.shape != (n,):
         raise DetectionError(f"groups must give one label per measurement ({n}), got shape {g.shape}")
-    return [np.flatnonzero(g == u) for u in np.unique(g)]
+    members = [np.flatnonzero(g == u) for u in np.unique(g)]
+    return np.vstack(members) if len({len(m) for m in members}) == 1 else members
 
 
-def _resample(members: list[NDArray[np.intp]], rng: np.random.Generator) -> NDArray[np.intp]:
+def _resample(members: NDArray[np.intp] | list[NDArray[np.intp]], rng: np.random.Generator) -> NDArray[np.intp]:
+    """A bootstrap re-draw of whole groups (with replacement), as measurement indices."""
     pick = rng.integers(0, len(members), len(members))
-    if all(len(m) == 1 for m in members):
-        return np.array([members[i][0] for i in pick])
+    if isinstance(members, np.ndarray):
+        return members[pick].ravel()
     return np.concatenate([members[i] for i in pick])
 
 
@@ -272,17 +279,42 @@ def detect(healthy: ArrayLike, faulty: ArrayLike, output: str = "y",
     pod = k / len(f)
     cp = clopper_pearson(k, len(f), s.confidence)
     mem_h, mem_f = _members(groups_healthy, len(h)), _members(groups_faulty, len(f))
-    rng = _rng(seed)
-    boot = np.empty((s.bootstrap, 2))
-    for b in range(s.bootstrap):
-        hb, fb = ho[_resample(mem_h, rng)], fo[_resample(mem_f, rng)]
-        boot[b] = _pod(hb, fb, s.false_alarm), _auc(hb, fb)
+    boot = _bootstrap(ho, fo, mem_h, mem_f, s.false_alarm, s.bootstrap, _rng(seed))
     a = (1.0 - s.confidence) / 2
     (pb_lo, ab_lo), (pb_hi, ab_hi) = np.quantile(boot, [a, 1 - a], axis=0)
     pod_low, pod_high = min(cp[0], float(pb_lo)), max(cp[1], float(pb_hi))
     return Detection(output, len(h), len(f), mh, mf, sd, abs(mf - mh) / sd, d, d * t, float(np.mean(ho > t)),
                      pod, pod_low, pod_high, _auc(ho, fo), float(ab_lo), float(ab_hi),
                      bool(pod_low >= s.target), "")
+
+
+def _bootstrap(ho: NDArray[np.float64], fo: NDArray[np.float64], mem_h: NDArray[np.intp] | list[NDArray[np.intp]],
+               mem_f: NDArray[np.intp] | list[NDArray[np.intp]], false_alarm: float, n_boot: int,
+               rng: np.random.Generator, chunk: int = 100) -> NDArray[np.float64]:
+    """POD and AUC (columns) of ``n_boot`` re-draws of both populations (oriented: alarm above)."""
+    out = np.empty((n_boot, 2))
+    if isinstance(mem_h, list) or isinstance(mem_f, list):        # unequal groups: one re-draw at a time
+        for b in range(n_boot):
+            hb, fb = ho[_resample(mem_h, rng)], fo[_resample(mem_f, rng)]
+            out[b] = _pod(hb, fb, false_alarm), _auc(hb, fb)
+        return out
+    # every re-draw takes values from the same pool: count with dense integer codes of the pooled
+    # values, one histogram per re-draw, instead of sorting each re-draw
+    _, codes = np.unique(np.r_[ho, fo], return_inverse=True)
+    code_h, code_f, n_codes = codes[:len(ho)], codes[len(ho):], int(codes.max()) + 1
+    k = _order(mem_h.size, false_alarm)
+    for start in range(0, n_boot, chunk):                           # vectorised, ``chunk`` re-draws at once
+        m = min(chunk, n_boot - start)
+        ch = code_h[mem_h[rng.integers(0, len(mem_h), (m, len(mem_h)))].reshape(m, -1)]
+        cf = code_f[mem_f[rng.integers(0, len(mem_f), (m, len(mem_f)))].reshape(m, -1)]
+        rows = np.arange(m)[:, None]
+        hist = np.bincount((ch + n_codes * rows).ravel(), minlength=m * n_codes).reshape(m, n_codes)
+        upto = np.cumsum(hist, axis=1)                              # healthy values <= each code
+        t = np.argmax(upto > k, axis=1)                             # code of the (k+1)-th smallest
+        out[start:start + m, 0] = np.mean(cf > t[:, None], axis=1)
+        below = (upto - hist)[rows, cf]
+        out[start:start + m, 1] = np.mean(below + 0.5 * hist[rows, cf], axis=1) / ch.shape[1]
+    return out
 
 
 def _replace(d: Detection, **kw: Any) -> Detection:

@@ -41,9 +41,11 @@ run: {{batch_size: 512}}
 """
 
 
-def _run(write_study, tmp_path: Path, name: str, extra: str = "", args: tuple[str, ...] = ()) -> Path:
+def _run_small(write_study, tmp_path: Path, name: str, extra: str = "", args: tuple[str, ...] = ()) -> Path:
+    """The shift study with 64 samples and two faulty levels."""
+    text = SHIFT.format(extra=extra).replace("samples: 1024", "samples: 64").replace("num: 5", "num: 2")
     out = tmp_path / name
-    assert main(["-q", "run", str(write_study(name, text=SHIFT.format(extra=extra))), "--out", str(out), *args]) == 0
+    assert main(["-q", "run", str(write_study(name, text=text)), "--out", str(out), *args]) == 0
     return out
 
 
@@ -109,9 +111,9 @@ def test_indices_with_and_without_the_fault(shift_run: Path) -> None:
 def test_seed_drives_every_sample(write_study, tmp_path: Path) -> None:
     """Same study, same seed: identical tables (also with two workers); another ``fault.seed``:
     other noise, other numbers."""
-    a = (_run(write_study, tmp_path, "a") / "fault_verdicts.csv").read_text()
-    b = (_run(write_study, tmp_path, "b", args=("--jobs", "2")) / "fault_verdicts.csv").read_text()
-    c_out = _run(write_study, tmp_path, "c", extra="seed: 5")
+    a = (_run_small(write_study, tmp_path, "a") / "fault_verdicts.csv").read_text()
+    b = (_run_small(write_study, tmp_path, "b", args=("--jobs", "2")) / "fault_verdicts.csv").read_text()
+    c_out = _run_small(write_study, tmp_path, "c", extra="seed: 5")
     c = (c_out / "fault_verdicts.csv").read_text()
     assert a == b and a != c
     assert json.loads((c_out / "provenance.json").read_text())["seeds"]["fault"] == 5
@@ -158,7 +160,8 @@ def test_failures_refuse_the_verdict(write_study, tmp_path: Path, fail_above: fl
     ("{parameter: fault, healthy: 0, faulty: [1], confidence: 0.3}", r"field 'fault.confidence'"),
     ("{parameter: fault, healthy: 0, faulty: [0, 1]}", r"field 'fault.faulty': contains the healthy value 0"),
     ("{parameter: fault, healthy: 0, faulty: [2000]}", r"level 2000 of 'fault' leaves the allowed range"),
-    ("{parameter: fault, healthy: 0, faulty: {start: 1, stop: 2}}", r"field 'fault.faulty.*num'"),
+    ("{parameter: fault, healthy: 0, faulty: {start: 1, stop: 2}}",
+     r"field 'fault.faulty': .*a range of levels is \{start, stop, num >= 2\} \(num: Field required\)"),
     ("{parameter: fault, healthy: 0, faulty: [1], samples: 8}",
      r"8 samples x 1 realisations = 8 measurements per level cannot resolve false_alarm = 0.05; need >= 20"),
 ])
