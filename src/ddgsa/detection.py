@@ -262,7 +262,7 @@ def detect(healthy: ArrayLike, faulty: ArrayLike, output: str = "y",
                               ">= 2 faulty)")
     mh, mf, sd = float(np.mean(h)), float(np.mean(f)), float(np.std(h, ddof=1))
     moments = {"mean_healthy": mh, "mean_faulty": mf, "std_healthy": sd}
-    if sd == 0.0 or np.ptp(h) == 0.0:
+    if np.ptp(h) == 0.0:
         if np.ptp(f) == 0.0 and f[0] == h[0]:
             return _replace(base, **{**moments, "std_healthy": 0.0}, effect_size=0.0, detectable=False,
                             reason="output constant and unchanged by the fault")

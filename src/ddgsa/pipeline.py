@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 import ddgsa
-from ddgsa.detection import FaultDetectability, DetectionSettings, add_noise, assess
+from ddgsa.detection import DetectionSettings, FaultDetectability, add_noise, assess
 from ddgsa.errors import DdgsaError, StudyError
 from ddgsa.gsa.auto import AutoSobol
 from ddgsa.gsa.base import Design, get_method
