@@ -245,9 +245,9 @@ def detect(healthy: ArrayLike, faulty: ArrayLike, output: str = "y",
     Examples
     --------
     >>> rng = np.random.default_rng(0)
-    >>> d = detect(rng.normal(0, 1, 400), rng.normal(3, 1, 400), seed=1)
-    >>> bool(d.detectable), round(d.auc, 2)
-    (True, 0.98)
+    >>> d = detect(rng.normal(0, 1, 400), rng.normal(4, 1, 400), seed=1)   # POD = Phi(4 - 1.645) = 0.991
+    >>> bool(d.detectable), round(d.pod, 3), round(d.auc, 3)
+    (True, 0.988, 0.997)
     """
     s = settings or DetectionSettings()
     h, f = np.asarray(healthy, dtype=float).ravel(), np.asarray(faulty, dtype=float).ravel()

@@ -21,7 +21,7 @@ Z95 = stats.norm.ppf(0.95)
 SHIFT = """\
 name: shift
 kind: fault
-model: {{name: analytic_shift}}
+model: {{name: fault_shift}}
 parameters:
   fault: {{low: 0.0, high: 5.0}}
   x1: {{dist: normal, mean: 10.0, std: 1.0}}     # mean 10: M-DRM's cut value is not zero

@@ -1,9 +1,10 @@
-"""An analytic model with known Sobol indices, for studies that test the workbench itself.
+"""Analytic models with known answers, for studies that test the workbench itself.
 
 ``analytic`` evaluates the Ishigami function (``ddgsa.gsa.testfunctions.ishigami``) scaled by
 ``wind_speed / 11`` so that scenes matter, at microseconds a point. Options make it fail on
 purpose (``fail_above``: raise for ``x1`` above a value) or slow (``delay_s`` per point), which
-is how the runner's failure handling and kill/resume are tested.
+is how the runner's failure handling and kill/resume are tested. ``fault_shift`` adds a known
+shift to known spread, the oracle of the fault-detection statistics.
 """
 
 from __future__ import annotations
@@ -61,8 +62,8 @@ class Analytic(Model):
         return pd.DataFrame(columns=["frequency_hz", "damping_ratio", "label"])
 
 
-@register_model("analytic_shift")
-class AnalyticShift(Model):
+@register_model("fault_shift")
+class FaultShift(Model):
     """Fault test model: a known shift on known spread, for detection statistics.
 
     Parameters ``fault`` (the shift ``Delta`` [-]) and ``x1``, ``x2`` [-] (give them a
@@ -80,7 +81,7 @@ class AnalyticShift(Model):
 
     def __init__(self, fidelity: str = "exact") -> None:
         if fidelity != "exact":
-            raise ModelError(f"model 'analytic_shift': unknown fidelity {fidelity!r}; known: exact")
+            raise ModelError(f"model 'fault_shift': unknown fidelity {fidelity!r}; known: exact")
         self.fidelity = fidelity
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
