@@ -403,7 +403,8 @@ def _fault_verdicts(plan: _Plan, store: EvaluationStore, outputs: list[str], res
     rows, smallest = [], []
     for ps in plan.scenes:
         pops = {lev: _fault_measurements(plan, store, ps, lev, k, outputs) for k, lev in enumerate(levels)}
-        det = assess(pops.pop(fault.healthy), pops, fault.healthy, settings, _fault_stream(study, 2, ps.index), groups)
+        det = assess(pops.pop(fault.healthy), pops, fault.healthy, settings, _fault_stream(study, 2, ps.index), groups,
+                     fault.combine)
         result.fault_detection.append((ps, det))
         table = det.to_frame().rename(columns={"level": "faulty"})
         st = indices[(indices["scene"] == ps.index) & (indices["parameter"] == fault.parameter)]

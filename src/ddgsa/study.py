@@ -149,6 +149,8 @@ class FaultSpec(BaseModel):
     faulty: list[float] | FaultRange = Field(description="faulty levels: a list, or {start, stop, num}")
     samples: int = Field(64, ge=8, le=4096, description="points over the other uncertainties per fault level")
     noise: dict[str, NoiseSpec] = Field(default_factory=dict, description="measurement noise per output")
+    combine: list[str] | None = Field(None, min_length=2, description="outputs of the combined detector "
+                                                                      "(default: every output with healthy spread)")
     false_alarm: float = Field(0.05, gt=0, lt=0.5, description="stated false-alarm rate")
     pod_target: float = Field(0.9, gt=0, le=1, description="probability of detection the lower bound must reach")
     confidence: float = Field(0.95, gt=0.5, lt=1, description="two-sided confidence level of the intervals")
@@ -409,6 +411,10 @@ def _validate_fault(where: str, spec: StudySpec, model: Any) -> None:
     for key in fault.noise:
         if key not in outputs:
             raise StudyError(f"{where}: field 'fault.noise.{key}': not an output of the study; "
+                             f"known: {', '.join(outputs)}")
+    for i, key in enumerate(fault.combine or []):
+        if key not in outputs:
+            raise StudyError(f"{where}: field 'fault.combine[{i}]': not an output of the study; "
                              f"known: {', '.join(outputs)}")
     n = fault.samples * spec.scenes.realisations
     if n * fault.false_alarm < 1:

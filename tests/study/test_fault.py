@@ -109,16 +109,17 @@ def test_indices_with_and_without_the_fault(shift_run: Path) -> None:
 
 
 def test_seed_drives_every_sample(write_study, tmp_path: Path) -> None:
-    """Same study, same seed: identical tables (also with two workers); another ``fault.seed``:
-    other noise, other numbers."""
+    """Same study, same seed: identical tables (also with two workers, and rebuilt from the store);
+    another ``fault.seed``: other noise, other numbers (that run also names its combined sensors)."""
     a = (_run_small(write_study, tmp_path, "a") / "fault_verdicts.csv").read_text()
     b = (_run_small(write_study, tmp_path, "b", args=("--jobs", "2")) / "fault_verdicts.csv").read_text()
-    c_out = _run_small(write_study, tmp_path, "c", extra="seed: 5")
+    c_out = _run_small(write_study, tmp_path, "c", extra="seed: 5\n  combine: [half_1, half_2]")
     c = (c_out / "fault_verdicts.csv").read_text()
     assert a == b and a != c
     assert main(["-q", "report", str(tmp_path / "a")]) == 0            # rebuilt from the store: the same
     assert (tmp_path / "a" / "fault_verdicts.csv").read_text() == a
     assert json.loads((c_out / "provenance.json").read_text())["seeds"]["fault"] == 5
+    assert set(pd.read_csv(c_out / "fault_verdicts.csv")["reason"].dropna()) == {"sensors: half_1, half_2"}
     assert json.loads((tmp_path / "a" / "provenance.json").read_text())["seeds"]["fault"] == 1   # scenes.seed
 
 
@@ -157,6 +158,9 @@ def test_failures_refuse_the_verdict(write_study, tmp_path: Path, fail_above: fl
     ("{parameter: fault, healthy: 0, faulty: [1], noise: {nope: {absolute: 1}}}",
      r"field 'fault.noise.nope': not an output of the study; known: full, half_1, half_2"),
     ("{parameter: fault, healthy: 0, faulty: [1], noise: {full: {sigma: 1}}}", r"field 'fault.noise.full.sigma'"),
+    ("{parameter: fault, healthy: 0, faulty: [1], combine: [full, nope]}",
+     r"field 'fault.combine\[1\]': not an output of the study; known: full, half_1, half_2"),
+    ("{parameter: fault, healthy: 0, faulty: [1], combine: [full]}", r"field 'fault.combine'.*at least 2"),
     ("{parameter: fault, healthy: 0, faulty: [1], false_alarm: 0.7}", r"field 'fault.false_alarm'.*less than 0.5"),
     ("{parameter: fault, healthy: 0, faulty: [1], pod_target: 1.5}", r"field 'fault.pod_target'"),
     ("{parameter: fault, healthy: 0, faulty: [1], confidence: 0.3}", r"field 'fault.confidence'"),
