@@ -36,7 +36,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -44,6 +44,9 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import stats
 
 from ddgsa.errors import DdgsaError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
 
 COMBINED = "combined"
 """Name of the multi-sensor detector in the tables."""
@@ -464,7 +467,7 @@ class FaultDetectability:
             rows.append(row)
         return pd.DataFrame(rows)
 
-    def plot_curve(self, ax: Any = None) -> Any:
+    def plot_curve(self, ax: "Axes | None" = None) -> "Axes":
         """The detectability curve: POD (with its interval) against fault level per sensor."""
         import matplotlib.pyplot as plt
 
@@ -491,7 +494,7 @@ class FaultDetectability:
         ax.legend(fontsize=7)
         return ax
 
-    def plot_histograms(self, level: float, output: str | None = None, ax: Any = None) -> Any:
+    def plot_histograms(self, level: float, output: str | None = None, ax: "Axes | None" = None) -> "Axes":
         """Healthy and faulty measurements of one sensor (default: the best at ``level``) with the threshold."""
         import matplotlib.pyplot as plt
 

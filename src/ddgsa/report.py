@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.result import draw_index_bars  # noqa: E402
 from ddgsa.pipeline import SCENE_FIELDS, StudyResult  # noqa: E402
 
@@ -232,7 +233,7 @@ def _write_fault(result: StudyResult, save_csv: Any, save_fig: Any) -> None:
                                     title), f"fault_indices_scene{ps.index}.png")
 
 
-def plot_fault_histograms(det: Any, title: str) -> Any:
+def plot_fault_histograms(det: FaultDetectability, title: str) -> Any:
     """Healthy/faulty histograms of the deciding output, one panel per faulty level."""
     levels = sorted(det.faulty, key=lambda v: abs(v - det.healthy_level))
     out = det.deciding_output()
@@ -292,7 +293,8 @@ def _fault_markdown(result: StudyResult) -> list[str]:
              "|---|---|---|---|---|---|---|---|"]
     for r in result.fault.itertuples():
         verdict = {True: "yes", False: "no"}.get(r.detectable, f"refused: {r.reason}")
-        lines.append(f"| {r.scene} | {r.output} | {r.faulty:g} | {r.ST_fault:.2f} | {r.effect_size:.2f} | "
+        st = "-" if pd.isna(r.ST_fault) else f"{r.ST_fault:.2f}"
+        lines.append(f"| {r.scene} | {r.output} | {r.faulty:g} | {st} | {r.effect_size:.2f} | "
                      f"{r.auc:.2f} [{r.auc_low:.2f}, {r.auc_high:.2f}] | {r.pod:.2f} [{r.pod_low:.2f}, "
                      f"{r.pod_high:.2f}] | {verdict} |")
     lines += ["", f"### Smallest detectable fault (POD {fault.pod_target:g} at false-alarm rate "
