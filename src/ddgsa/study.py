@@ -158,6 +158,15 @@ class FaultSpec(BaseModel):
     seed: int | None = Field(None, ge=0, description="seed of the fault samples, noise and bootstrap "
                                                      "(default: scenes.seed)")
 
+    @model_validator(mode="before")
+    @classmethod
+    def _no_threshold(cls, data: Any) -> Any:
+        if isinstance(data, dict) and "threshold" in data:
+            raise ValueError("'threshold' (an effect-size verdict) is gone: detection is judged by the probability "
+                             "of detection at a false-alarm rate; use false_alarm (default 0.05) and pod_target "
+                             "(default 0.9)")
+        return data
+
     @field_validator("faulty", mode="before")
     @classmethod
     def _levels_given(cls, v: Any) -> Any:

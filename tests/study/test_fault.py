@@ -155,6 +155,7 @@ def test_failures_refuse_the_verdict(write_study, tmp_path: Path, fail_above: fl
 
 @pytest.mark.parametrize("fault, message", [
     ("{parameter: fault, healthy: 0, faulty: [1], treshold: 2}", r"field 'fault.treshold': unknown field"),
+    ("{parameter: fault, healthy: 0, faulty: [1], threshold: 2}", r"field 'fault': .*'threshold'.*use false_alarm"),
     ("{parameter: fault, healthy: 0, faulty: [1], noise: {nope: {absolute: 1}}}",
      r"field 'fault.noise.nope': not an output of the study; known: full, half_1, half_2"),
     ("{parameter: fault, healthy: 0, faulty: [1], noise: {full: {sigma: 1}}}", r"field 'fault.noise.full.sigma'"),
