@@ -26,6 +26,7 @@ import numpy as np
 import pandas as pd
 
 import ddgsa
+from ddgsa.detection import DetectionSettings, FaultDetectability, add_noise, assess
 from ddgsa.errors import DdgsaError, StudyError
 from ddgsa.gsa.auto import AutoSobol
 from ddgsa.gsa.base import Design, get_method
@@ -54,7 +55,9 @@ class StudyResult:
     results: list[tuple[PlannedScene, SobolResult]] = field(default_factory=list)
     sweep: pd.DataFrame | None = None
     fault: pd.DataFrame | None = None
-    fault_samples: pd.DataFrame | None = None
+    fault_smallest: pd.DataFrame | None = None
+    fault_indices: pd.DataFrame | None = None
+    fault_detection: list[tuple[PlannedScene, FaultDetectability]] = field(default_factory=list)
     fidelity: pd.DataFrame | None = None
     moments: pd.DataFrame | None = None
     """Per scene and output: ``mean``, ``std``, ``cv`` (std / |mean|) and their ``source``."""
@@ -274,6 +277,13 @@ class _Plan:
     def values_at(self, store: EvaluationStore, x: np.ndarray, names: tuple[str, ...], ps: PlannedScene,
                   outputs: list[str], aggregate: str) -> np.ndarray:
         """Aggregated values (n_points, n_outputs) at points ``x`` in one scene; NaN where any realisation failed."""
+        arr = self.realisations_at(store, x, names, ps, outputs)
+        agg = {"mean": np.mean, "median": np.median, "max": np.max}[aggregate]
+        return agg(arr, axis=0)
+
+    def realisations_at(self, store: EvaluationStore, x: np.ndarray, names: tuple[str, ...], ps: PlannedScene,
+                        outputs: list[str]) -> np.ndarray:
+        """Values (n_realisations, n_points, n_outputs) at points ``x`` in one scene; NaN where one failed."""
         pts = _points(self.study, x, names)
         per_real = []
         for scene in ps.scenes:
@@ -291,15 +301,15 @@ class _Plan:
                 else:
                     rows.append([o.outputs[name] for name in outputs])
             per_real.append(rows)
-        arr = np.asarray(per_real, dtype=float)                    # (n_real, n_points, n_out)
-        agg = {"mean": np.mean, "median": np.median, "max": np.max}[aggregate]
-        return agg(arr, axis=0)
+        return np.asarray(per_real, dtype=float)                   # (n_real, n_points, n_out)
 
 
-def _designs(study: Study) -> list[tuple[str, Design]]:
-    """The fixed designs of the study's methods (``auto`` chooses its points as it goes)."""
-    assert study.space is not None
-    return [(m.method, get_method(m.method).design(study.space, **m.options)) for m in study.spec.methods
+def _designs(study: Study, space: ParameterSpace | None = None) -> list[tuple[str, Design]]:
+    """The fixed designs of the study's methods over ``space`` (default: the study's; ``auto`` chooses
+    its points as it goes)."""
+    space = space or study.space
+    assert space is not None
+    return [(m.method, get_method(m.method).design(space, **m.options)) for m in study.spec.methods
             if m.method != "auto"]
 
 
@@ -376,11 +386,13 @@ def _execute(study: Study, store: EvaluationStore, jobs: int | None, backend: st
     else:
         _analyse(plan, store, designs, outputs, result, auto)
         if spec.kind == "fault":
-            result.fault, result.fault_samples = _fault_verdicts(plan, store, outputs, result.indices)
+            _fault_verdicts(plan, store, outputs, result)
     result.evaluations = _evaluation_table(store, list(runs.tasks.values()))
     failures += [{"key": r["key"], "fidelity": r["fidelity"], "scene": {k: r[k] for k in SCENE_FIELDS + ["seed"]},
                   "error": r["error"]} for r in result.evaluations.to_dict("records") if isinstance(r["error"], str)]
     result.provenance = _provenance(study, mids, runs.counts(), t_eval, time.perf_counter() - t0, failures, designs)
+    if spec.kind == "fault":
+        result.provenance["seeds"]["fault"] = fault_seed(study)
     result.provenance["fidelity_selection"] = fidelity_choice
     result.provenance["sampling"] = _sampling(study)
     result.provenance["implausible"] = study.make_model().implausible(result.evaluations)
@@ -482,40 +494,114 @@ def _fault_space(study: Study) -> tuple[ParameterSpace, str]:
     return ParameterSpace.from_parameters(others), name
 
 
+def fault_seed(study: Study) -> int:
+    """Root seed of a fault study's samples, noise and bootstrap (``fault.seed``, else ``scenes.seed``)."""
+    fault = study.spec.fault
+    assert fault is not None
+    return study.spec.scenes.seed if fault.seed is None else fault.seed
+
+
+def _fault_stream(study: Study, *key: int) -> np.random.SeedSequence:
+    """The seed stream of one use: 0 the sample, 1 noise (scene, level, output), 2 bootstrap (scene)."""
+    return np.random.SeedSequence(fault_seed(study), spawn_key=key)
+
+
+def _fault_levels(study: Study) -> list[float]:
+    fault = study.spec.fault
+    assert fault is not None
+    return [fault.healthy, *fault.levels]
+
+
 def _add_fault_blocks(study: Study, plan: _Plan) -> None:
+    """Per fault level: the detection sample over the other parameters, and each method's design over them."""
     fault = study.spec.fault
     assert fault is not None
     others, name = _fault_space(study)
-    base = others.sample(fault.samples, seed=12345, rule="sobol")
-    for level in [fault.healthy, *fault.faulty]:
-        x = np.column_stack([base, np.full(len(base), level)])
-        plan.add_block(f"fault:{level!r}", x, (*others.names, name))
+    base = others.sample(fault.samples, seed=_fault_stream(study, 0), rule="sobol")
+    designs = _designs(study, others)
+    for level in _fault_levels(study):
+        plan.add_block(f"fault:{level!r}", np.column_stack([base, np.full(len(base), level)]), (*others.names, name))
+        for method, design in designs:
+            x = np.column_stack([design.points, np.full(len(design.points), level)])
+            plan.add_block(f"fault:{method}:{level!r}", x, (*others.names, name))
 
 
-def _fault_verdicts(plan: _Plan, store: EvaluationStore, outputs: list[str],
-                    indices: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Separation of faulty from healthy outputs over the other uncertainties, per scene and output."""
+def _fault_measurements(plan: _Plan, store: EvaluationStore, ps: PlannedScene, level: float, k: int,
+                        outputs: list[str]) -> pd.DataFrame:
+    """One row per (point, realisation) -- each realisation one measurement -- with measurement noise."""
     fault = plan.study.spec.fault
     assert fault is not None
-    rows, samples = [], []
+    x, names = plan.blocks[f"fault:{level!r}"]
+    arr = plan.realisations_at(store, x, names, ps, outputs)            # (n_real, n_points, n_out)
+    y = arr.transpose(1, 0, 2).reshape(-1, len(outputs))              # point-major rows
+    for j, out in enumerate(outputs):
+        noise = fault.noise.get(out)
+        if noise is not None:
+            y[:, j] = add_noise(y[:, j], noise.absolute, noise.relative, _fault_stream(plan.study, 1, ps.index, k, j))
+    return pd.DataFrame(y, columns=outputs)
+
+
+def _fault_verdicts(plan: _Plan, store: EvaluationStore, outputs: list[str], result: StudyResult) -> None:
+    """Detection statistics per scene, fault level and output (and combined), the smallest detectable
+    fault, and paper A's view: Sobol indices of the other parameters per fault level."""
+    study = plan.study
+    fault = study.spec.fault
+    assert fault is not None
+    settings = DetectionSettings(fault.false_alarm, fault.pod_target, fault.confidence, fault.bootstrap)
+    levels = _fault_levels(study)
+    n_points, n_real = fault.samples, study.spec.scenes.realisations
+    groups = np.repeat(np.arange(n_points), n_real)
+    indices = result.indices
+    rows, smallest = [], []
     for ps in plan.scenes:
-        healthy = plan.values(store, f"fault:{fault.healthy!r}", ps, outputs, plan.study.spec.scenes.aggregate)
-        for level in fault.faulty:
-            faulty = plan.values(store, f"fault:{level!r}", ps, outputs, plan.study.spec.scenes.aggregate)
-            for j, out in enumerate(outputs):
-                h, f = healthy[:, j], faulty[:, j]
-                spread = float(np.nanstd(h, ddof=1))
-                sep = float(abs(np.nanmean(f) - np.nanmean(h)) / spread) if spread > 0 else float("inf")
-                st = indices[(indices["scene"] == ps.index) & (indices["output"] == out)
-                             & (indices["parameter"] == fault.parameter)]
-                rows.append({"scene": ps.index, **ps.fields, "fault": fault.parameter, "healthy": fault.healthy,
-                             "faulty": level, "output": out, "ST_fault": float(st["ST"].iloc[0]),
-                             "ST_method": str(st["method"].iloc[0]), "mean_healthy": float(np.nanmean(h)),
-                             "mean_faulty": float(np.nanmean(f)), "std_healthy": spread, "separation": sep,
-                             "detectable": bool(sep >= fault.threshold), "threshold": fault.threshold})
-                samples += [{"scene": ps.index, "output": out, "level": lev, "value": float(v)}
-                            for lev, arr in (("healthy", h), (f"faulty {level:g}", f)) for v in arr]
-    return pd.DataFrame(rows), pd.DataFrame(samples).drop_duplicates()
+        pops = {lev: _fault_measurements(plan, store, ps, lev, k, outputs) for k, lev in enumerate(levels)}
+        det = assess(pops.pop(fault.healthy), pops, fault.healthy, settings, _fault_stream(study, 2, ps.index), groups,
+                     fault.combine)
+        result.fault_detection.append((ps, det))
+        table = det.to_frame().rename(columns={"level": "faulty"})
+        st = indices[(indices["scene"] == ps.index) & (indices["parameter"] == fault.parameter)]
+        first = st.drop_duplicates("output").set_index("output")
+        table.insert(0, "healthy", fault.healthy)
+        table.insert(0, "fault", fault.parameter)
+        for key, v in reversed(ps.fields.items()):
+            table.insert(0, key, v)
+        table.insert(0, "scene", ps.index)
+        table["ST_fault"] = table["output"].map(first["ST"]).astype(float)
+        table["ST_method"] = table["output"].map(first["method"])
+        table["noise_absolute"] = [fault.noise[o].absolute if o in fault.noise else 0.0 for o in table["output"]]
+        table["noise_relative"] = [fault.noise[o].relative if o in fault.noise else 0.0 for o in table["output"]]
+        rows.append(table)
+        sm = det.smallest_detectable()
+        sm.insert(0, "scene", ps.index)
+        smallest.append(sm)
+    result.fault = pd.concat(rows, ignore_index=True)
+    result.fault_smallest = pd.concat(smallest, ignore_index=True)
+    result.fault_indices = _fault_indices(plan, store, outputs)
+
+
+def _fault_indices(plan: _Plan, store: EvaluationStore, outputs: list[str]) -> pd.DataFrame:
+    """Sobol indices of the other parameters in each population (healthy and every faulty level), per
+    scene and method, with their change from the healthy population (``dS1``, ``dST``)."""
+    study = plan.study
+    fault = study.spec.fault
+    assert fault is not None
+    others, _ = _fault_space(study)
+    rows = []
+    for ps in plan.scenes:
+        for method, design in _designs(study, others):
+            for level in _fault_levels(study):
+                y = plan.values(store, f"fault:{method}:{level!r}", ps, outputs, study.spec.scenes.aggregate)
+                t = get_method(method).analyze(others, design, y, outputs=outputs).to_frame()
+                t.insert(0, "level", level)
+                t.insert(0, "scene", ps.index)
+                rows.append(t)
+    table = pd.concat(rows, ignore_index=True)
+    key = ["scene", "method", "output", "parameter"]
+    ref = table[table["level"] == fault.healthy][[*key, "S1", "ST"]]
+    joined = table.merge(ref, on=key, how="left", suffixes=("", "_healthy"))
+    joined["dS1"] = joined["S1"] - joined["S1_healthy"]
+    joined["dST"] = joined["ST"] - joined["ST_healthy"]
+    return joined.drop(columns=["S1_healthy", "ST_healthy"])
 
 
 def _evaluation_table(store: EvaluationStore, tasks: list[Task]) -> pd.DataFrame:

@@ -20,6 +20,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.result import draw_index_bars  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.outdir import previous_files, remove_stale  # noqa: E402
@@ -81,8 +82,7 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     if result.fidelity is not None and len(result.fidelity):
         save_csv(result.fidelity, "fidelity_selection.csv")
     if result.fault is not None:
-        save_csv(result.fault, "fault_verdicts.csv")
-        save_fig(plot_fault(result.fault, result.fault_samples), "fault_detectability.png")
+        _write_fault(result, save_csv, save_fig)
     path = out / "summary.md"
     path.write_text(summary_markdown(result, info))
     written.append(path)
@@ -298,18 +298,39 @@ def plot_heatmap(rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None)
     return fig
 
 
-def plot_fault(verdicts: pd.DataFrame, samples: pd.DataFrame | None) -> Any:
-    """Separation index per output and fault level (bars) with the threshold."""
-    fig, ax = plt.subplots(figsize=(7, 3.5))
-    labels = [f"{r.output}\n{r.faulty:g}, s{r.scene}" for r in verdicts.itertuples()]
-    colors = ["tab:green" if d else "tab:red" for d in verdicts["detectable"]]
-    ax.bar(range(len(verdicts)), verdicts["separation"].clip(upper=1e3), color=colors)
-    ax.axhline(verdicts["threshold"].iloc[0], color="k", ls="--", lw=0.8, label="threshold")
-    ax.set_yscale("log")
-    ax.set_xticks(range(len(verdicts)), labels, fontsize=6, rotation=60, ha="right")
-    ax.set_ylabel("|mean faulty - mean healthy| / std healthy")
-    ax.set_title(f"fault detectability: {verdicts['fault'].iloc[0]} (green: detectable)", fontsize=9)
-    ax.legend(fontsize=8)
+def _write_fault(result: StudyResult, save_csv: Any, save_fig: Any) -> None:
+    """The fault study's tables and figures (see :mod:`ddgsa.detection`)."""
+    assert result.fault is not None and result.fault_smallest is not None and result.fault_indices is not None
+    save_csv(result.fault, "fault_verdicts.csv")
+    save_csv(result.fault_smallest, "fault_smallest.csv")
+    save_csv(result.fault_indices, "fault_indices.csv")
+    fault = result.study.spec.fault
+    assert fault is not None
+    for ps, det in result.fault_detection:
+        title = ", ".join(f"{k}={v:g}" for k, v in ps.fields.items())
+        fig, ax = plt.subplots(figsize=(7, 4.2))
+        det.plot_curve(ax=ax)
+        ax.set_xlabel(f"{fault.parameter} (healthy {fault.healthy:g}: grey line)")
+        ax.set_title(f"detectability curve, {title}\nshaded: POD interval at confidence {fault.confidence:g}",
+                     fontsize=9)
+        save_fig(fig, f"fault_detectability_scene{ps.index}.png")
+        save_fig(plot_fault_histograms(det, title), f"fault_histograms_scene{ps.index}.png")
+        save_fig(plot_fault_indices(result.fault_indices[result.fault_indices["scene"] == ps.index], fault.parameter,
+                                    title), f"fault_indices_scene{ps.index}.png")
+
+
+def plot_fault_histograms(det: FaultDetectability, title: str) -> Any:
+    """Healthy/faulty histograms of the deciding output, one panel per faulty level."""
+    levels = sorted(det.faulty, key=lambda v: abs(v - det.healthy_level))
+    out = det.deciding_output()
+    ncols = min(3, len(levels))
+    nrows = -(-len(levels) // ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(4.2 * ncols, 3.3 * nrows), squeeze=False)
+    for ax, level in zip(axes.flat, levels):
+        det.plot_histograms(level, output=out, ax=ax)
+    for ax in axes.flat[len(levels):]:
+        ax.set_visible(False)
+    fig.suptitle(f"deciding output {out}, {title}", fontsize=9)
     fig.tight_layout()
     return fig
 
@@ -354,6 +375,72 @@ def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None) -> s
         what = f"no parameter reaches ST 0.1 (largest: `{first['parameter']}`, {first['ST']:.2f})"
     inter = " ST - S1 shows interactions." if (top["ST"] - top["S1"]).max() > 0.1 else ""
     return f"`{output}`: {what}, by {meth}.{inter}{quiet}"
+
+
+def plot_fault_indices(rows: pd.DataFrame, fault: str, title: str) -> Any:
+    """Paper A's view: total index of each other parameter per output, healthy and at each faulty level."""
+    method = rows["method"].iloc[0]
+    rows = rows[rows["method"] == method]
+    outputs, levels = list(rows["output"].unique()), list(rows["level"].unique())
+    params = list(rows["parameter"].unique())
+    fig, axes = plt.subplots(1, len(outputs), figsize=(3.2 * len(outputs) + 0.5, 3.4), squeeze=False, sharey=True)
+    width = 0.8 / len(levels)
+    for ax, out in zip(axes[0], outputs):
+        t = rows[rows["output"] == out]
+        for k, level in enumerate(levels):
+            st = t[t["level"] == level].set_index("parameter").reindex(params)["ST"]
+            ax.bar(np.arange(len(params)) + (k - (len(levels) - 1) / 2) * width, st, width,
+                   label=f"{fault} = {level:g}" + (" (healthy)" if k == 0 else ""))
+        ax.set_xticks(range(len(params)), params, rotation=60, fontsize=7, ha="right")
+        ax.set_title(out, fontsize=8)
+        ax.grid(alpha=0.3, axis="y")
+    axes[0, 0].set_ylabel(f"ST ({method}) [-]")
+    axes[0, 0].legend(fontsize=6)
+    fig.suptitle(f"indices of the other parameters with and without the fault, {title}", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def _fault_markdown(result: StudyResult) -> list[str]:
+    """The fault section of ``summary.md``: verdicts, smallest detectable fault, index shifts."""
+    assert result.fault is not None and result.fault_smallest is not None and result.fault_indices is not None
+    fault = result.study.spec.fault
+    assert fault is not None
+    n = fault.samples * result.study.spec.scenes.realisations
+    noise = ", ".join(f"{o}: {v.absolute:g} abs, {v.relative:g} rel" for o, v in fault.noise.items()) or "none"
+    lines = ["## Fault detectability", "",
+             f"Fault `{fault.parameter}`: healthy {fault.healthy:g}, "
+             f"faulty {', '.join(f'{v:g}' for v in fault.levels)}. "
+             f"Each population: {fault.samples} points of the other parameters x "
+             f"{result.study.spec.scenes.realisations} realisations = {n} measurements (not averaged); "
+             f"measurement noise (std): {noise}. Alarm threshold at false-alarm rate {fault.false_alarm:g}; "
+             f"detectable when the lower end of the POD interval (Clopper-Pearson union bootstrap, confidence "
+             f"{fault.confidence:g}) reaches {fault.pod_target:g}. `combined`: Fisher discriminant of the outputs, "
+             "trained on one half and scored on the other.", "",
+             "| scene | output | faulty | ST fault | effect size | AUC [interval] | POD [interval] | detectable |",
+             "|---|---|---|---|---|---|---|---|"]
+    for r in result.fault.itertuples():
+        verdict = {True: "yes", False: "no"}.get(r.detectable, f"refused: {r.reason}")
+        st = "-" if pd.isna(r.ST_fault) else f"{r.ST_fault:.2f}"
+        lines.append(f"| {r.scene} | {r.output} | {r.faulty:g} | {st} | {r.effect_size:.2f} | "
+                     f"{r.auc:.2f} [{r.auc_low:.2f}, {r.auc_high:.2f}] | {r.pod:.2f} [{r.pod_low:.2f}, "
+                     f"{r.pod_high:.2f}] | {verdict} |")
+    lines += ["", f"### Smallest detectable fault (POD {fault.pod_target:g} at false-alarm rate "
+                  f"{fault.false_alarm:g}, interpolated)", "",
+              "| scene | output | level (POD) | level (POD lower bound) | note |", "|---|---|---|---|---|"]
+    lines += [f"| {r.scene} | {r.output} | {r.level_at_target:.4g} | {r.level_at_target_lower:.4g} | {r.reason} |"
+              for r in result.fault_smallest.itertuples()]
+    fi = result.fault_indices
+    lines += ["", "### Sensitivity indices with and without the fault (other parameters, paper A)", "",
+              "| scene | method | output | parameter | ST healthy | " +
+              " | ".join(f"dST at {v:g}" for v in fault.levels) + " |",
+              "|---|---|---|---|---|" + "---|" * len(fault.levels)]
+    for (scene, method, out, par), g in fi.groupby(["scene", "method", "output", "parameter"], sort=False):
+        g = g.set_index("level")
+        shifts = " | ".join(f"{g.loc[v, 'dST']:+.2f}" for v in fault.levels)
+        lines.append(f"| {scene} | {method} | {out} | {par} | {g.loc[fault.healthy, 'ST']:.2f} | {shifts} |")
+    lines.append("")
+    return lines
 
 
 def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = None) -> str:
@@ -431,11 +518,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                   for r in flagged]
         lines.append("")
     if result.fault is not None:
-        lines += ["## Fault detectability", "", "| scene | output | faulty | ST fault | separation | detectable |",
-                  "|---|---|---|---|---|---|"]
-        lines += [f"| {r.scene} | {r.output} | {r.faulty:g} | {r.ST_fault:.2f} | {r.separation:.2f} | "
-                  f"{'yes' if r.detectable else 'no'} |" for r in result.fault.itertuples()]
-        lines.append("")
+        lines += _fault_markdown(result)
     if result.sweep is not None:
         lines += ["## Sweep", "", "See `sweep_summary.csv` and `sweep_*.png` (means over realisations, +- one std).",
                   ""]

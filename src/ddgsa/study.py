@@ -21,7 +21,9 @@ Kinds: ``gsa`` (default: Sobol indices per scene), ``sweep`` (no uncertain param
 objective functions over the scene grid and realisations, e.g. seed 000 §4; optionally over a
 full-factorial ``grid`` of parameter values and ``model.variants``, lists of option overrides
 run one after the other, e.g. seed 003's frequencies per configuration) and ``fault``
-(fault detectability: a ``fault`` block names a parameter, its healthy and faulty values).
+(fault detectability: a ``fault`` block names a parameter, its healthy value and faulty levels,
+measurement noise per output, the false-alarm rate, POD target and confidence level; see
+:mod:`ddgsa.detection`).
 """
 
 from __future__ import annotations
@@ -121,15 +123,73 @@ class MethodSpec(BaseModel):
         return dict(self.model_extra or {})
 
 
+class FaultRange(BaseModel):
+    """``fault.faulty: {start, stop, num}`` -- evenly spaced fault levels, both ends included."""
+
+    model_config = _STRICT
+    start: float
+    stop: float
+    num: int = Field(ge=2, le=100)
+
+    def levels(self) -> list[float]:
+        """The levels, from ``start`` to ``stop``."""
+        return [float(v) for v in np.linspace(self.start, self.stop, self.num)]
+
+
+class NoiseSpec(BaseModel):
+    """``fault.noise.<output>:`` -- measurement noise, standard deviation ``sqrt(absolute^2 + (relative y)^2)``."""
+
+    model_config = _STRICT
+    absolute: float = Field(0.0, ge=0, description="additive noise standard deviation [output unit]")
+    relative: float = Field(0.0, ge=0, description="noise standard deviation as a fraction of the value [-]")
+
+
 class FaultSpec(BaseModel):
-    """``fault:`` -- a fault parameter with its healthy value and faulty values."""
+    """``fault:`` -- a fault parameter, its healthy value and faulty levels, and how detection is judged."""
 
     model_config = _STRICT
     parameter: str
     healthy: float
-    faulty: list[float] = Field(min_length=1)
-    threshold: float = Field(2.0, gt=0, description="separation index above which a fault counts as detectable")
+    faulty: list[float] | FaultRange = Field(description="faulty levels: a list, or {start, stop, num}")
     samples: int = Field(64, ge=8, le=4096, description="points over the other uncertainties per fault level")
+    noise: dict[str, NoiseSpec] = Field(default_factory=dict, description="measurement noise per output")
+    combine: list[str] | None = Field(None, min_length=2, description="outputs of the combined detector "
+                                                                      "(default: every output with healthy spread)")
+    false_alarm: float = Field(0.05, gt=0, lt=0.5, description="stated false-alarm rate")
+    pod_target: float = Field(0.9, gt=0, le=1, description="probability of detection the lower bound must reach")
+    confidence: float = Field(0.95, gt=0.5, lt=1, description="two-sided confidence level of the intervals")
+    bootstrap: int = Field(1000, ge=100, le=100_000, description="bootstrap replicates")
+    seed: int | None = Field(None, ge=0, description="seed of the fault samples, noise and bootstrap "
+                                                     "(default: scenes.seed)")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _no_threshold(cls, data: Any) -> Any:
+        if isinstance(data, dict) and "threshold" in data:
+            raise ValueError("'threshold' (an effect-size verdict) is gone: detection is judged by the probability "
+                             "of detection at a false-alarm rate; use false_alarm (default 0.05) and pod_target "
+                             "(default 0.9)")
+        return data
+
+    @field_validator("faulty", mode="before")
+    @classmethod
+    def _levels_given(cls, v: Any) -> Any:
+        if isinstance(v, dict):          # one clear message instead of one per union member
+            try:
+                return FaultRange.model_validate(v)
+            except ValidationError as exc:
+                problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'range'}: "
+                                     f"{'unknown field' if e['type'] == 'extra_forbidden' else e['msg']}"
+                                     for e in exc.errors())
+                raise ValueError(f"a range of levels is {{start, stop, num >= 2}} ({problems})") from None
+        if isinstance(v, list) and not v:
+            raise ValueError("give at least one faulty level")
+        return v
+
+    @property
+    def levels(self) -> list[float]:
+        """The faulty levels."""
+        return self.faulty.levels() if isinstance(self.faulty, FaultRange) else list(self.faulty)
 
 
 class RunSpec(BaseModel):
@@ -345,14 +405,43 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         except DdgsaError as exc:
             raise StudyError(f"{where}: field 'scenes': {exc}") from None
     if spec.fault is not None:
-        if spec.fault.parameter not in spec.parameters:
-            raise StudyError(f"{where}: field 'fault.parameter': {spec.fault.parameter!r} must also be an "
-                             f"uncertain parameter (under 'parameters')")
+        _validate_fault(where, spec, model)
     return Study(spec=spec, space=space, path=path, text=text)
 
 
 def _unknown_parameter(name: str, known: list[str]) -> str:
     return unknown_name_message("parameter", name, known, where="ddgsa models")
+
+
+def _validate_fault(where: str, spec: StudySpec, model: Any) -> None:
+    """Model-aware checks of the ``fault`` block."""
+    fault = spec.fault
+    assert fault is not None
+    if fault.parameter not in spec.parameters:
+        raise StudyError(f"{where}: field 'fault.parameter': {fault.parameter!r} must also be an "
+                         f"uncertain parameter (under 'parameters')")
+    decl = model.parameter(fault.parameter)
+    for value in [fault.healthy, *fault.levels]:
+        if not decl.low <= value <= decl.high:
+            raise StudyError(f"{where}: field 'fault': level {value:g} of {fault.parameter!r} leaves the allowed "
+                             f"range [{decl.low:g}, {decl.high:g}] {decl.unit}")
+    if fault.healthy in fault.levels:
+        raise StudyError(f"{where}: field 'fault.faulty': contains the healthy value {fault.healthy:g}")
+    outputs = spec.outputs or list(model.outputs)
+    for key in fault.noise:
+        if key not in outputs:
+            raise StudyError(f"{where}: field 'fault.noise.{key}': not an output of the study; "
+                             f"known: {', '.join(outputs)}")
+    for i, key in enumerate(fault.combine or []):
+        if key not in outputs:
+            raise StudyError(f"{where}: field 'fault.combine[{i}]': not an output of the study; "
+                             f"known: {', '.join(outputs)}")
+    n = fault.samples * spec.scenes.realisations
+    if n * fault.false_alarm < 1:
+        raise StudyError(f"{where}: field 'fault.samples': {fault.samples} samples x "
+                         f"{spec.scenes.realisations} realisations "
+                         f"= {n} measurements per level cannot resolve false_alarm = {fault.false_alarm:g}; "
+                         f"need >= {int(np.ceil(1 / fault.false_alarm))}")
 
 
 def _pydantic_message(where: str, exc: ValidationError) -> str:

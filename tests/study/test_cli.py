@@ -180,36 +180,6 @@ def test_quickstart_study_end_to_end(tmp_path: Path) -> None:
     np.testing.assert_allclose(got["ST"].to_numpy(float), api.indices["ST"].to_numpy(float), rtol=1e-5, atol=1e-9)
 
 
-FAULT = """\
-name: fault_demo
-kind: fault
-model: {name: analytic, fidelity: exact}
-parameters:
-  x1: {low: -3.14159, high: 3.14159}
-  x2: {low: -3.14159, high: 3.14159}
-  x3: {low: -1.0, high: 1.0}
-fault: {parameter: x2, healthy: 0.0, faulty: [0.3, 1.5], threshold: 2.0, samples: 64}
-scenes: {wind_speed: [11.0], turbulence_intensity: 0.0, duration: 1.0}
-outputs: [y_positive]
-methods: [{method: saltelli, n: 256, seed: 1}]
-"""
-
-
-def test_fault_study_verdicts(write_study, tmp_path: Path) -> None:
-    """Ishigami with x2 as the fault (tables hold 6 significant digits): y = sin x1 + 7 sin^2 x2 + 0.1 x3^4 sin x1. Over x1, x3 the
-    healthy spread is std(sin x1 (1 + 0.1 x3^4)) ~ 0.72; x2 = 1.5 shifts the mean by
-    7 sin^2 1.5 = 6.95 (detectable), x2 = 0.3 by 0.61 (not, at threshold 2)."""
-    out = tmp_path / "fault"
-    assert main(["-q", "run", str(write_study("fault_demo", text=FAULT)), "--out", str(out), "--allow-untrusted"]) == 0
-    v = pd.read_csv(out / "fault_verdicts.csv").set_index("faulty")
-    assert v.loc[1.5, "mean_faulty"] - v.loc[1.5, "mean_healthy"] == pytest.approx(7 * np.sin(1.5) ** 2, abs=1e-4)
-    assert v.loc[0.3, "mean_faulty"] - v.loc[0.3, "mean_healthy"] == pytest.approx(7 * np.sin(0.3) ** 2, abs=1e-4)
-    assert bool(v.loc[1.5, "detectable"]) and not bool(v.loc[0.3, "detectable"])
-    assert v.loc[1.5, "std_healthy"] == pytest.approx(0.72, abs=0.1)
-    assert v["ST_fault"].iloc[0] > 0.3
-    assert (out / "fault_detectability.png").exists()
-
-
 SEED003_DIR = Path(__file__).parents[2] / "studies"
 
 

@@ -1,9 +1,10 @@
-"""An analytic model with known Sobol indices, for studies that test the workbench itself.
+"""Analytic models with known answers, for studies that test the workbench itself.
 
 ``analytic`` evaluates the Ishigami function (:func:`ddgsa.closed_forms.ishigami`) scaled by
 ``wind_speed / 11`` so that scenes matter, at microseconds a point. Options make it fail on
 purpose (``fail_above``: raise for ``x1`` above a value) or slow (``delay_s`` per point), which
-is how the runner's failure handling and kill/resume are tested.
+is how the runner's failure handling and kill/resume are tested. ``fault_shift`` adds a known
+shift to known spread, the oracle of the fault-detection statistics.
 """
 
 from __future__ import annotations
@@ -50,6 +51,42 @@ class Analytic(Model):
             raise RuntimeError(f"x1 = {params['x1']:.3f} above fail_above = {self.fail_above}")
         y = float(ishigami(np.array([[params["x1"], params["x2"], params["x3"]]]))[0]) * scene.wind_speed / 11.0
         return {"y": y, "y_positive": y + 12.0}
+
+    def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+        """A one-sample 'time series' of the outputs (the model is static)."""
+        p = self.resolve(params).iloc[0].to_dict()
+        return pd.DataFrame([self._evaluate_one(p, scene)], index=pd.Index([0.0], name="time"))
+
+    def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+        """A static model has no modes: an empty table."""
+        return pd.DataFrame(columns=["frequency_hz", "damping_ratio", "label"])
+
+
+@register_model("fault_shift")
+class FaultShift(Model):
+    """Fault test model: a known shift on known spread, for detection statistics.
+
+    Parameters ``fault`` (the shift ``Delta`` [-]) and ``x1``, ``x2`` [-] (give them a
+    distribution in the study); outputs ``full = x1 + Delta``, ``half_1 = x1 + Delta / 2`` and
+    ``half_2 = x2 + Delta / 2`` (two sensors that each see half the fault). With ``x1, x2`` iid
+    ``N(0, sigma^2)``: ``POD(full) = Phi(Delta / sigma - z_(1-alpha))``; the two halves together
+    reach ``Phi(Delta / (sigma sqrt 2) - z_(1-alpha))``. Static: the scene is ignored.
+    """
+
+    parameters = (ModelParameter("fault", 0.0, "-", "fault size (shift)", -1e3, 1e3),
+                  *(ModelParameter(f"x{i}", 0.0, "-", f"spread of sensor {i}", -math.inf, math.inf)
+                    for i in (1, 2)))
+    outputs = ("full", "half_1", "half_2")
+    fidelities = ("exact",)
+
+    def __init__(self, fidelity: str = "exact") -> None:
+        if fidelity != "exact":
+            raise ModelError(f"model 'fault_shift': unknown fidelity {fidelity!r}; known: exact")
+        self.fidelity = fidelity
+
+    def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
+        d = params["fault"]
+        return {"full": params["x1"] + d, "half_1": params["x1"] + d / 2, "half_2": params["x2"] + d / 2}
 
     def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         """A one-sample 'time series' of the outputs (the model is static)."""
