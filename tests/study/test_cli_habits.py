@@ -23,7 +23,7 @@ parameters:
   x3: {{low: -3.14159, high: 3.14159}}
 scenes: {{wind_speed: [8.0], turbulence_intensity: 0.0, duration: 1.0, dt: 0.05}}
 outputs: [y_positive]
-methods: [{{method: pce, order: 8, n: 512, seed: 0}}]
+methods: [{{method: pce, order: 10, n: 1024, seed: 0}}]
 """
 
 
@@ -154,7 +154,7 @@ def test_a_slow_first_evaluation_is_explained(write_study, tmp_path: Path, monke
 
     monkeypatch.setattr(ddgsa.pipeline, "SLOW_FIRST_S", 0.05)
     text = TRUSTED.format(name="slow").replace("fidelity: exact}", "fidelity: exact, options: {delay_s: 0.2}}")
-    text = text.replace("order: 8, n: 512", "order: 1, n: 4")
+    text = text.replace("order: 10, n: 1024", "order: 1, n: 4")
     study = write_study("slow", text=text)
     main(["run", str(study), "--out", str(tmp_path / "a"), "--allow-untrusted"])
     err = capsys.readouterr().err

@@ -144,7 +144,7 @@ def test_failures_refuse_the_verdict(write_study, tmp_path: Path, fail_above: fl
     on the rest nor 'infinitely separated' (the old defect: 21 of 21 failed -> detectable)."""
     out = tmp_path / "fail"
     assert main(["-q", "run", str(write_study("failing", text=FAILING.format(fail_above=fail_above))),
-                 "--out", str(out)]) == 0
+                 "--out", str(out)]) == 3                   # refused indices: the documented exit code
     v = pd.read_csv(out / "fault_verdicts.csv")
     assert v["detectable"].isna().all() and v["pod"].isna().all()
     assert v["reason"].str.contains(failed).all()

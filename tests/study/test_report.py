@@ -42,7 +42,7 @@ def test_summary_mean_cv_ranking_and_sentence_against_closed_forms(write_study, 
     = 0.186; ST = (0.558, 0.442, 0.244), S1 = (0.314, 0.442, 0). Sample moments of the 512 PCE
     points: mean within 0.05, CV within 0.005."""
     out = tmp_path / "pce"
-    study = write_study("pce", text=PCE_STUDY.format(name="pce", methods="[{method: pce, order: 8, n: 512, seed: 0}]"))
+    study = write_study("pce", text=PCE_STUDY.format(name="pce", methods="[{method: pce, order: 10, n: 1024, seed: 0}]"))
     assert main(["run", str(study), "--out", str(out)]) == 0
     cli_line = capsys.readouterr().out
     summary = (out / "summary.md").read_text()
