@@ -39,7 +39,7 @@ def _evaluation_line(summary: str) -> str:
 def test_summary_mean_cv_ranking_and_sentence_against_closed_forms(write_study, tmp_path: Path, capsys) -> None:
     """y_positive = 12 + (8/11) Ishigami(a=7, b=0.1). Closed forms: E = 12 + 3.5 (8/11) = 14.545,
     Var[Ishigami] = a^2/8 + b pi^4/5 + b^2 pi^8/18 + 1/2 = 13.845, CV = sqrt(13.845)(8/11)/14.545
-    = 0.186; ST = (0.558, 0.442, 0.244), S1 = (0.314, 0.442, 0). Sample moments of the 512 PCE
+    = 0.186; ST = (0.558, 0.442, 0.244), S1 = (0.314, 0.442, 0). Sample moments of the 1024 PCE
     points: mean within 0.05, CV within 0.005."""
     out = tmp_path / "pce"
     study = write_study("pce", text=PCE_STUDY.format(name="pce", methods="[{method: pce, order: 10, n: 1024, seed: 0}]"))
@@ -47,12 +47,12 @@ def test_summary_mean_cv_ranking_and_sentence_against_closed_forms(write_study, 
     cli_line = capsys.readouterr().out
     summary = (out / "summary.md").read_text()
     assert _evaluation_line(summary) in cli_line                        # the same counts, word for word
-    assert _evaluation_line(summary).startswith("512 model evaluations (512 run now, 0 from the store), 0 failed")
+    assert _evaluation_line(summary).startswith("1024 model evaluations (1024 run now, 0 from the store), 0 failed")
     mom = pd.read_csv(out / "output_moments.csv").iloc[0]
     var = 7 ** 2 / 8 + 0.1 * np.pi ** 4 / 5 + 0.01 * np.pi ** 8 / 18 + 0.5
     assert mom["mean"] == pytest.approx(12 + 3.5 * 8 / 11, abs=0.05)
     assert mom["cv"] == pytest.approx(np.sqrt(var) * 8 / 11 / (12 + 3.5 * 8 / 11), abs=0.005)
-    assert mom["unit"] == "-" and mom["source"] == "pce sample (512 points)"
+    assert mom["unit"] == "-" and mom["source"] == "pce sample (1024 points)"
     assert set(pd.read_csv(out / "indices.csv")["output_unit"]) == {"-"}
     assert "| `y_positive` | - | y + 12" in summary
     assert "`y_positive`: shared by `x1` (ST 0.56, S1 0.31), `x2` (ST 0.44, S1 0.44), `x3` (ST 0.24, S1 0.00), " \
