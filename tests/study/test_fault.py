@@ -117,7 +117,7 @@ def test_seed_drives_every_sample(write_study, tmp_path: Path) -> None:
     c_out = _run_small(write_study, tmp_path, "c", extra="seed: 5\n  combine: [half_1, half_2]")
     c = (c_out / "fault_verdicts.csv").read_text()
     assert a == b and a != c
-    assert main(["-q", "report", str(tmp_path / "a")]) == 0            # rebuilt from the store: the same
+    assert main(["-q", "report", str(tmp_path / "a"), "--allow-untrusted"]) == 0  # rebuilt from the store: the same
     assert (tmp_path / "a" / "fault_verdicts.csv").read_text() == a
     assert json.loads((c_out / "provenance.json").read_text())["seeds"]["fault"] == 5
     assert set(pd.read_csv(c_out / "fault_verdicts.csv")["reason"].dropna()) == {"sensors: half_1, half_2"}
