@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ddgsa.models import analytic, direct_drive, generator_radial  # noqa: F401  (register the models)
+from ddgsa.models.hss_rig import model as _hss_rig  # noqa: F401  (registers hss_rig)
 from ddgsa.models.base import MODELS, Model, ModelParameter, get, register_model
 
 __all__ = ["MODELS", "Model", "ModelParameter", "available", "get", "register_model"]

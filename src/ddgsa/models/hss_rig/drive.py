@@ -170,4 +170,7 @@ def steady_speed(drive: Drive, load_torque: float, load_exponent: float, rated_s
 
     if balance(1e-9 * ws) <= 0:
         raise ModelError(f"the motor cannot start against the load: {load_torque} N m at standstill")
-    return float(brentq(balance, 1e-9 * ws, ws * (1 - 1e-12), xtol=1e-12))
+    top = ws * (1 - 1e-12)
+    if balance(top) >= 0.0:                     # no load: the rotor runs at the synchronous speed
+        return top
+    return float(brentq(balance, 1e-9 * ws, top, xtol=1e-12))

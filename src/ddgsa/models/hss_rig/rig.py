@@ -48,6 +48,8 @@ GRAVITY = (0.0, 0.0, -9.81)
 """Gravity [m/s^2], global frame (z up)."""
 HOUSING_ROTATIONAL_STIFFNESS = 1e5
 """Rotational stiffness of each housing support [N m/rad] (assumption: the bearings put no moment on it)."""
+HOUSING_ROTATIONAL_DAMPING = 3.0
+"""Rotational damping of each housing support [N m s/rad] (about 5 % of critical for its 500 Hz rocking)."""
 MOTOR_BEARING_SPAN = 0.1
 """Distance between the motor's two bearings [m] (frame 100L; assumption)."""
 SHAFT_DAMPING_RATIO = 0.002
@@ -94,7 +96,8 @@ def load_law(p: Mapping[str, float]) -> Callable[[float, float], float]:
 MotorParts = Callable[[Marker], tuple[list[Body], list[Element]]]
 
 
-def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0) -> Rig:
+def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0,
+          extra: Callable[[dict[str, Marker]], list[Element]] | None = None, gravity: bool = True) -> Rig:
     """Assemble the rig for parameters ``p`` (all declared parameters, SI).
 
     Parameters
@@ -105,6 +108,10 @@ def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0) ->
     spin : float
         Initial spin speed of every rotating body [rad/s] (the steady operating speed for
         steady scenes, 0 for a start-up).
+    extra : callable, optional
+        ``extra(markers) -> elements``: further elements on the rig's markers (fault loads).
+    gravity : bool
+        Include gravity (:data:`GRAVITY`).
     """
     steel_e, steel_g, rho = p["shaft_youngs_modulus"], p["shaft_shear_modulus"], p["shaft_density"]
     d, span, over = p["hss_diameter"], p["hss_span"], p["hss_overhang"]
@@ -165,7 +172,7 @@ def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0) ->
     for i, x in ((1, x1), (2, x2)):
         kz = ks * (1.0 - p["housing_looseness"]) if i == 2 else ks
         elements.append(Bushing6(mk[f"housing_{i}"], ground.marker((x, 0.0, 0.0)), np.diag([ks, ks, kz, kr, kr, kr]),
-                                 np.diag([cs, cs, cs, 0.0, 0.0, 0.0]), name=f"support_{i}"))
+                                 np.diag([cs, cs, cs] + [HOUSING_ROTATIONAL_DAMPING] * 3), name=f"support_{i}"))
     cd = p["disk_damping"]
     elements.append(SpringDamper3(mk["disk"], ground.marker((xd, 0.0, 0.0)), (0.0, 0.0, 0.0), (0.0, cd, cd),
                                   name="disk_damper"))
@@ -174,5 +181,7 @@ def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0) ->
     extra_bodies, motor_elements = motor_parts(mk["motor"])
     bodies += extra_bodies
     elements += motor_elements
-    system = System(bodies, elements, gravity=GRAVITY)
+    if extra is not None:
+        elements += extra(mk)
+    system = System(bodies, elements, gravity=GRAVITY if gravity else (0.0, 0.0, 0.0))
     return Rig(system, mk, {"bearing_1": x1, "disk": xd, "bearing_2": x2})

@@ -88,7 +88,8 @@ class RigScene:
             ("speed_rpm", 0.0 < self.speed_rpm <= 6000.0, "in (0, 6000] rpm"),
             ("duration", self.duration > 0.0, "> 0 s"),
             ("sample_rate", self.sample_rate > 0.0, "> 0 Hz"),
-            ("settle", 0.0 <= self.settle < self.duration, f"in [0, duration = {self.duration:g}) s"),
+            ("settle", 0.0 <= self.settle and (self.kind != "steady" or self.settle < self.duration),
+             f"in [0, duration = {self.duration:g}) s"),
             ("ramp_time", 0.0 <= self.ramp_time < self.duration, f"in [0, duration = {self.duration:g}) s"),
         )
         for name, ok, allowed in checks:

@@ -1,0 +1,113 @@
+"""The hss_rig model on the kernel against closed forms: torsion chain, Jeffcott rotor, unbalance, faults."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import ddgsa.models as models
+from ddgsa.errors import ModelError, SceneError
+from ddgsa.models.hss_rig.closed_form import (chain_frequencies, jeffcott_critical_speed, jeffcott_stiffness,
+                                              jeffcott_unbalance_response, series)
+from ddgsa.models.hss_rig.drive import drive_for
+from ddgsa.models.hss_rig.motor import steady_torque
+from ddgsa.models.hss_rig.scenes import RigScene
+
+# a short steady record: the linear path starts in the periodic steady state, so little settling is needed
+STEADY = RigScene("steady", speed_rpm=1500.0, duration=0.6, sample_rate=2000.0, settle=0.1)
+# the Jeffcott rotor inside the rig: massless shafts, no coupling stiffness, a negligible hub
+JEFFCOTT = {"shaft_density": 1e-3, "coupling_radial_stiffness": 0.0, "coupling_angular_stiffness": 0.0,
+            "coupling_hub_mass": 1e-3, "coupling_hub_inertia": 1e-6}
+
+
+@pytest.fixture(scope="module")
+def linear():
+    return models.get("hss_rig", fidelity="linear")
+
+
+def test_torsional_frequencies_equal_the_disc_chain(linear):
+    """Massless shafts: motor rotor -- motor shaft -- hub -- coupling -- hub -- shaft -- disk (1e-3)."""
+    p = {**linear.nominal, "shaft_density": 1e-3, "coupling_torsional_damping": 0.0, "load_torque": 0.0}
+    md = linear.modes({k: p[k] for k in ("shaft_density", "coupling_torsional_damping", "load_torque")})
+    torsional = md[md["label"].str.contains("spin|torsion") & ~md["label"].str.startswith("housing")]
+    g = p["shaft_shear_modulus"]
+    x_disk = p["hss_overhang"] + p["disk_position"] * p["hss_span"]
+    chain = chain_frequencies(
+        [p["motor_inertia"], p["coupling_hub_inertia"], p["coupling_hub_inertia"], p["disk_polar_inertia"]],
+        [g * math.pi * p["motor_shaft_diameter"] ** 4 / 32 / p["motor_shaft_length"],
+         p["coupling_torsional_stiffness"], g * math.pi * p["hss_diameter"] ** 4 / 32 / x_disk])
+    np.testing.assert_allclose(np.sort(torsional["frequency_hz"].to_numpy())[:3], chain, rtol=1e-3)
+
+
+def test_first_lateral_mode_is_the_jeffcott_critical_speed(linear):
+    """Disk on a massless shaft, bearings in series with the housing supports (1e-3; the issue asks 2 %)."""
+    md = linear.modes({**JEFFCOTT, "disk_damping": 0.0, "coupling_asymmetry": 0.0})
+    p = linear.nominal
+    k = _jeffcott_k(p)
+    lateral = md[md["label"].str.contains("bending|lateral")]["frequency_hz"].min()
+    assert lateral == pytest.approx(jeffcott_critical_speed(k, p["disk_mass"]) / (2 * math.pi), rel=1e-3)
+
+
+def _jeffcott_k(p):
+    ei = p["shaft_youngs_modulus"] * math.pi * p["hss_diameter"] ** 4 / 64
+    ks = series(p["bearing_stiffness"], p["support_stiffness"])
+    return jeffcott_stiffness(ei, p["hss_span"], p["disk_position"] * p["hss_span"], ks, ks)
+
+
+@pytest.mark.parametrize("speed_rpm", [900.0, 1500.0])
+def test_unbalance_response_amplitude_and_phase_match_jeffcott(linear, speed_rpm):
+    """1x whirl at the disk below and above the critical speed at the ``linear`` fidelity: amplitude
+    within the issue's 2 % and lag within 0.02 rad (measured: 1.5 % / 0.013 rad at 900 rpm, 0.4 % /
+    0.007 rad at 1500 rpm; near the critical, 1100 rpm, 4 % -- the kernel's exact path freezes the
+    coupling of the shaft's turning elastic coordinates to its rigid translation, see docs/hss_rig.md).
+    With rigid supports the same run agrees to 1e-3."""
+    scene = RigScene("steady", speed_rpm=speed_rpm, duration=0.8, sample_rate=2000.0, settle=0.1)
+    point = {**JEFFCOTT, "coupling_asymmetry": 0.0, "eccentric_mass": 0.02}
+    s = linear.simulate(scene, point)
+    s = s[s.index >= scene.settle]
+    w = float(s["speed"].mean())
+    p = {**linear.nominal, **point}
+    amp, lag = jeffcott_unbalance_response(w, _jeffcott_k(p), p["disk_mass"], p["disk_damping"],
+                                           p["eccentric_mass"] * p["eccentric_radius"])
+    ang = s["angle"].to_numpy()
+    y = s["disk_y"].to_numpy() - s["disk_y"].mean()
+    cc, cs = np.linalg.lstsq(np.column_stack([np.cos(ang), np.sin(ang)]), y, rcond=None)[0]
+    assert math.hypot(cc, cs) == pytest.approx(float(amp), rel=0.02)
+    assert math.atan2(cs, cc) == pytest.approx(float(lag), abs=0.02)
+
+
+def test_unbalance_response_scales_with_the_eccentric_mass(linear):
+    """Doubling m_u doubles the 1x amplitude at the disk and the housings (1e-3)."""
+    one = linear.evaluate({"eccentric_mass": 0.01}, STEADY)
+    two = linear.evaluate({"eccentric_mass": 0.02}, STEADY)
+    for out in ("order1x_disk_y", "order1x_disk_z", "order1x_housing_1_y", "order1x_housing_2_z"):
+        assert two[out][0] == pytest.approx(2 * one[out][0], rel=1e-3), out
+
+
+def test_faults_show_in_their_indicators(linear):
+    """Each fault moves its own indicator well above the healthy rig's (factors stated per fault)."""
+    healthy = linear.evaluate(None, STEADY).iloc[0]
+    defect = linear.evaluate({"defect_amplitude": 200.0}, STEADY).iloc[0]
+    assert defect["bpfo_housing_2_z"] > 1e6 * healthy["bpfo_housing_2_z"]
+    loose = linear.evaluate({"housing_looseness": 0.9}, STEADY).iloc[0]
+    assert loose["order1x_housing_2_z"] > 3 * healthy["order1x_housing_2_z"]
+    supply = linear.evaluate({"supply_unbalance": 0.02}, STEADY).iloc[0]
+    drive = drive_for({**linear.nominal, "supply_unbalance": 0.02}, STEADY)
+    ripple = steady_torque(drive.motor, 2 * math.pi * supply["mean_speed_rpm"] / 60).ripple
+    assert supply["torque_2f"] == pytest.approx(ripple, rel=1e-3)
+    assert healthy["torque_2f"] < 1e-6 * ripple
+
+
+def test_wrong_scenes_are_refused(linear):
+    with pytest.raises(ModelError, match="fidelity 'linear' serves steady scenes only"):
+        linear.simulate(RigScene("startup", duration=0.5))
+    with pytest.raises(SceneError, match="needs a rig scene"):
+        linear.simulate(3.0)
+    with pytest.raises(ModelError, match="would alias"):
+        linear.evaluate(None, RigScene("steady", duration=1.0, sample_rate=400.0))
+    with pytest.raises(ModelError, match="'linear' cannot carry a coupling misalignment"):
+        linear.simulate(STEADY, {"misalignment_parallel": 1e-4})
+    with pytest.raises(ModelError, match="unknown fidelity 'fast'"):
+        models.get("hss_rig", fidelity="fast")
