@@ -160,9 +160,24 @@ class HssRig(Model):
             if every < 1 or abs(every * self.time_step - h) > 1e-9 * h:
                 raise ModelError(f"model 'hss_rig': the sensor interval 1/sample_rate = {h:.6g} s must be a multiple "
                                  f"of time_step = {self.time_step:g} s")
-            run = genalpha.simulate(rig.system, sc.duration, self.time_step, output_every=every)
+            q0, qd0 = self.initial_state(rig, p)
+            run = genalpha.simulate(rig.system, sc.duration, self.time_step, q0=q0, qd0=qd0, output_every=every)
             t, q, qd = run.t, run.q, run.qd
         return self._sensors(rig, drive, sc, t, q, qd)
+
+    @staticmethod
+    def initial_state(rig: Rig, p: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
+        """The rig's initial state with the static gravity sag (from the rig at rest, motor and load off).
+
+        Spin rates and flux states are the rig's own (:meth:`assemble`); the sag is solved on the
+        linearised rig standing still, so a run starts without a gravity transient.
+        """
+        still = build(p, lambda marker: ([], []), spin=0.0)
+        lin = linearise_system(still.system)
+        sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
+        q0 = rig.system.q0.copy()
+        q0[: still.system.n] += sag
+        return q0, rig.system.qd0.copy()
 
     def _linear_run(self, rig: Rig, sc: RigScene, spin: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         system = rig.system
