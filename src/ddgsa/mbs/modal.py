@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -61,12 +61,15 @@ def damped_eigen(m: NDArray[np.float64], c: NDArray[np.float64],
                  k: NDArray[np.float64]) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """Oscillating eigenpairs of ``M q'' + C q' + K q = 0``, ascending ``|lambda|``.
 
-    Returns the eigenvalues with positive imaginary part and their displacement shapes (n, n_modes).
+    Returns the eigenvalues with positive imaginary part and their displacement shapes (n, n_modes);
+    rigid-body eigenvalues (``|lambda|`` below 1e-7 of the largest, finite-difference noise on a
+    zero eigenvalue) are left out.
     """
     n = m.shape[0]
     a = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(m, k), -np.linalg.solve(m, c)]])
     lam, vec = eig(a)
-    sel = lam.imag > 1e-6 * max(1.0, np.abs(lam).max()) * 1e-3
+    top = max(1.0, np.abs(lam).max())
+    sel = (lam.imag > 1e-9 * top) & (np.abs(lam) > 1e-7 * top)
     lam, vec = lam[sel], vec[:n, sel]
     order = np.argsort(np.abs(lam))
     return lam[order], vec[:, order]
@@ -189,3 +192,18 @@ def modes(system: "System", q0: NDArray[np.float64] | None = None, qd0: NDArray[
     """
     lin = linearise_system(system, q0, qd0, t0)
     return modal_analysis(lin.m, lin.c, lin.k, system.coord_names, system.groups(), lin.basis, lin.m_full)
+
+
+def plot_modes(table: pd.DataFrame, ax: Any = None) -> Any:
+    """Horizontal bars of the natural frequencies [Hz] of a mode table, labelled; returns the ``Axes``."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 0.35 * max(len(table), 4) + 1.0))
+    y = np.arange(len(table))
+    ax.barh(y, table["frequency_hz"], color="tab:blue")
+    ax.set_yticks(y, [f"{lab} ({f:.3g} Hz)" for lab, f in zip(table["label"], table["frequency_hz"])], fontsize=8)
+    ax.invert_yaxis()
+    ax.set_xscale("log")
+    ax.set_xlabel("natural frequency [Hz]")
+    return ax
