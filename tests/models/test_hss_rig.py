@@ -58,13 +58,10 @@ def _jeffcott_k(p):
     return jeffcott_stiffness(ei, p["hss_span"], p["disk_position"] * p["hss_span"], ks, ks)
 
 
-@pytest.mark.parametrize("speed_rpm", [900.0, 1500.0])
+@pytest.mark.parametrize("speed_rpm", [900.0, 1100.0, 1500.0])
 def test_unbalance_response_amplitude_and_phase_match_jeffcott(linear, speed_rpm):
-    """1x whirl at the disk below and above the critical speed at the ``linear`` fidelity: amplitude
-    within the issue's 2 % and lag within 0.02 rad (measured: 1.5 % / 0.013 rad at 900 rpm, 0.4 % /
-    0.007 rad at 1500 rpm; near the critical, 1100 rpm, 4 % -- the kernel's exact path freezes the
-    coupling of the shaft's turning elastic coordinates to its rigid translation, see docs/hss_rig.md).
-    With rigid supports the same run agrees to 1e-3."""
+    """1x whirl at the disk below, near (critical 1080 rpm) and above the critical speed at the
+    ``linear`` fidelity: amplitude within 1e-3 (the issue asks 2 %) and lag within 0.01 rad."""
     scene = RigScene("steady", speed_rpm=speed_rpm, duration=0.8, sample_rate=2000.0, settle=0.1)
     point = {**JEFFCOTT, "coupling_asymmetry": 0.0, "eccentric_mass": 0.02}
     s = linear.simulate(scene, point)
@@ -76,14 +73,17 @@ def test_unbalance_response_amplitude_and_phase_match_jeffcott(linear, speed_rpm
     ang = s["angle"].to_numpy()
     y = s["disk_y"].to_numpy() - s["disk_y"].mean()
     cc, cs = np.linalg.lstsq(np.column_stack([np.cos(ang), np.sin(ang)]), y, rcond=None)[0]
-    assert math.hypot(cc, cs) == pytest.approx(float(amp), rel=0.02)
-    assert math.atan2(cs, cc) == pytest.approx(float(lag), abs=0.02)
+    assert math.hypot(cc, cs) == pytest.approx(float(amp), rel=1e-3)
+    assert math.atan2(cs, cc) == pytest.approx(float(lag), abs=0.01)
 
 
 def test_unbalance_response_scales_with_the_eccentric_mass(linear):
-    """Doubling m_u doubles the 1x amplitude at the disk and the housings (1e-3)."""
+    """Doubling m_u doubles the 1x amplitude at the disk and the housings (1e-3); without it the
+    gravity sag of the turning shaft makes no 1x at all (< 1e-3 of the 10 g response)."""
+    zero = linear.evaluate({"eccentric_mass": 0.0}, STEADY)
     one = linear.evaluate({"eccentric_mass": 0.01}, STEADY)
     two = linear.evaluate({"eccentric_mass": 0.02}, STEADY)
+    assert zero["order1x_disk_z"][0] < 1e-3 * one["order1x_disk_z"][0]
     for out in ("order1x_disk_y", "order1x_disk_z", "order1x_housing_1_y", "order1x_housing_2_z"):
         assert two[out][0] == pytest.approx(2 * one[out][0], rel=1e-3), out
 

@@ -8,19 +8,12 @@ Fidelities (the motor's, "model no more than a scene needs"):
 ``kloss``
     Steady equivalent-circuit torque at the instantaneous speed and supply; generalised-alpha.
 ``linear``
-    ``kloss`` motor, the rig linearised about its steady operating point (spinning, gravity
-    sag, load torque) and integrated exactly from the periodic steady state
-    (:mod:`ddgsa.mbs.exact_inputs`); steady scenes only. Its time-varying inputs are the
-    eccentric mass, the misaligned coupling, the motor's torque ripple and the defect impacts;
-    the remaining elements are invariant along the spinning trajectory. Gravity is left out:
-    the kernel's exact path holds the coupling of the shaft's turning elastic coordinates to its
-    rigid motion at its initial angle, which turns the static sag into a false 1x whirl (16 um
-    at nominal, measured); without gravity the sag is only a static offset, which the outputs
-    remove anyway. The same frozen coupling shifts the forced response near the critical speed
-    (disk 1x amplitude against the Jeffcott closed form: 1.5 % at 900 rpm, 4 % at 1100 rpm,
-    0.4 % at 1500 rpm; 1e-3 with rigid supports) -- see docs/hss_rig.md. For the same reason the
-    coupling's stiffness anisotropy is averaged out (``coupling_asymmetry`` has no effect) and a
-    misalignment is refused: a stiffness turning against a fixed offset is a periodic system.
+    ``kloss`` motor, the rig linearised about its steady operating point (spinning, gravity sag)
+    in non-rotating bending coordinates (:mod:`ddgsa.mbs.nonrotating`) and integrated exactly from
+    the periodic steady state of one revolution; steady scenes only. Its time-varying inputs are
+    the eccentric mass, the motor's torque ripple and the defect impacts. The coupling's turning
+    stiffness anisotropy would make the rig periodic rather than time-invariant: the linear
+    fidelity averages it out (``coupling_asymmetry`` has no effect) and refuses a misalignment.
 
 Scenes are :class:`~ddgsa.models.hss_rig.scenes.RigScene` (start-up, steady, coast-down).
 
@@ -56,7 +49,7 @@ import numpy as np
 import pandas as pd
 
 from ddgsa.errors import ModelError, SceneError
-from ddgsa.mbs import AppliedLoad, exact_inputs, genalpha, linearise_system, modes as kernel_modes
+from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, modes as kernel_modes, nonrotating
 from ddgsa.mbs.sampling import AliasingWarning
 from ddgsa.models.base import Model, register_model
 from ddgsa.models.hss_rig.bearing import defect_impulses
@@ -141,7 +134,7 @@ class HssRig(Model):
                                  f"got misalignment_parallel = {p['misalignment_parallel']} m, misalignment_angular = "
                                  f"{p['misalignment_angular']} rad; use 'kloss' or 'dq'")
             p = {**p, "coupling_asymmetry": 0.0}
-        return build(p, parts, spin=spin, extra=extra, gravity=self.fidelity != "linear"), drive, spin
+        return build(p, parts, spin=spin, extra=extra), drive, spin
 
     # -- time integration ----------------------------------------------------------------------
     def simulate(self, scene: Any, params: Mapping[str, float] | None = None) -> pd.DataFrame:
@@ -154,7 +147,7 @@ class HssRig(Model):
             if sc.kind != "steady":
                 raise ModelError(f"model 'hss_rig': fidelity 'linear' serves steady scenes only, not {sc.kind!r}; "
                                  "use 'kloss' or 'dq'")
-            t, q, qd = self._linear_run(rig, sc, spin)
+            t, q, qd = self._linear_run(rig, p, sc, spin)
         else:
             every = int(round(h / self.time_step))
             if every < 1 or abs(every * self.time_step - h) > 1e-9 * h:
@@ -179,13 +172,13 @@ class HssRig(Model):
         q0[: still.system.n] += sag
         return q0, rig.system.qd0.copy()
 
-    def _linear_run(self, rig: Rig, sc: RigScene, spin: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _linear_run(self, rig: Rig, p: Mapping[str, float], sc: RigScene,
+                    spin: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         system = rig.system
-        varying = [e for e in system.elements if e.name in ("unbalance", "coupling", "motor", "defect_housing",
-                                                             "defect_shaft")]
-        period = 2 * math.pi / spin
-        lin = linearise_system(system)
-        return exact_inputs.simulate(system, lin, sc.duration, 1.0 / sc.sample_rate, varying, start=period)
+        varying = [e for e in system.elements if e.name in ("unbalance", "motor", "defect_housing", "defect_shaft")]
+        q0, qd0 = self.initial_state(rig, p)
+        lin = nonrotating.linearise(system, q0, qd0)
+        return nonrotating.simulate(system, lin, sc.duration, 1.0 / sc.sample_rate, varying, 2 * math.pi / spin)
 
     def _sensors(self, rig: Rig, drive: Drive, sc: RigScene, t: np.ndarray, q: np.ndarray,
                  qd: np.ndarray) -> pd.DataFrame:
