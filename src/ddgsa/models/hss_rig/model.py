@@ -49,7 +49,8 @@ import numpy as np
 import pandas as pd
 
 from ddgsa.errors import ModelError, SceneError
-from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, modes as kernel_modes, nonrotating
+from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
+from ddgsa.mbs.modal import modal_analysis
 from ddgsa.mbs.sampling import AliasingWarning
 from ddgsa.models.base import Model, register_model
 from ddgsa.models.hss_rig.bearing import defect_impulses
@@ -224,12 +225,21 @@ class HssRig(Model):
             self.sampling_checks(sc)                         # refuses an aliased record before running
         return super().evaluate(points, sc)
 
-    def modes(self, params: Mapping[str, float] | None = None, speed_rpm: float = 0.0) -> pd.DataFrame:
-        """Damped modes of the rig at a spin speed [rpm] (0: standing still; motor at ``kloss``)."""
+    def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
+        """Damped modes of the rig spinning at ``rotor_speed`` [rad/s] (0: standing still), labelled.
+
+        Linearised about the static sag in non-rotating bending coordinates
+        (:mod:`ddgsa.mbs.nonrotating`), so the frequencies are those seen from the frame (a
+        Campbell diagram: ``ddgsa modes hss_rig --campbell``); the motor at ``kloss`` with its
+        supply at the synchronous frequency of ``rotor_speed`` (its slope damps the torsion).
+        """
         p = self.resolve(params).iloc[0].to_dict()
-        drive = drive_for(p, RigScene("steady", speed_rpm=max(speed_rpm, 60.0), duration=10.0), POLE_PAIRS)
-        rig = build(p, kloss_parts(drive), spin=2 * math.pi * speed_rpm / 60.0)
-        return kernel_modes(rig.system)
+        rpm = max(abs(rotor_speed) * 30.0 / math.pi, 60.0)
+        drive = drive_for(p, RigScene("steady", speed_rpm=rpm, duration=10.0), POLE_PAIRS)
+        rig = build(p, kloss_parts(drive), spin=rotor_speed)
+        q0, qd0 = self.initial_state(rig, p)
+        lin = nonrotating.linearise(rig.system, q0, qd0)
+        return modal_analysis(lin.m, lin.c, lin.k, rig.system.coord_names, rig.system.groups())
 
     def sampling_checks(self, scene: Any) -> list[dict[str, Any]]:
         """The sensor sample interval against the frequencies the outputs read (at the synchronous speed)."""
