@@ -110,7 +110,8 @@ class DqMachine(Element):
         self.markers = (rotor, flux)
         self.drive, self.name = drive, name
 
-    def _rates(self, t: float, psi: Array, speed: float) -> tuple[Array, float]:
+    def rates(self, t: float, psi: Array, speed: float) -> tuple[Array, float]:
+        """Flux rates [Wb/s] and air-gap torque [N m] at ``t`` for fluxes ``psi`` and rotor ``speed`` (0 V once cut)."""
         motor = self.drive.motor
         if self.drive.cut and t > 0.0:
             motor = motor.updated({"supply_voltage": 1e-300, "supply_unbalance": 0.0})
@@ -121,7 +122,7 @@ class DqMachine(Element):
         axis = rot.a[:, 0]
         speed = float(axis @ rot.w)
         psi = np.concatenate([fx.v, fx.w[:1]])
-        d, torque = self._rates(t, psi, speed)
+        d, torque = self.rates(t, psi, speed)
         w = np.zeros((2, 6))
         w[0, 3:] = torque * axis
         w[1, :3], w[1, 3] = d[:3], d[3]
@@ -131,13 +132,13 @@ class DqMachine(Element):
         for col, which in cols:
             h = 1e-6 * max(1.0, abs(speed)) if col == 3 else 1e-7 * max(1e-3, float(np.max(np.abs(psi))))
             if col == 3:
-                dp, tp = self._rates(t, psi, speed + h)
-                dm, tm = self._rates(t, psi, speed - h)
+                dp, tp = self.rates(t, psi, speed + h)
+                dm, tm = self.rates(t, psi, speed - h)
             else:
                 e = np.zeros(4)
                 e[which] = h
-                dp, tp = self._rates(t, psi + e, speed)
-                dm, tm = self._rates(t, psi - e, speed)
+                dp, tp = self.rates(t, psi + e, speed)
+                dm, tm = self.rates(t, psi - e, speed)
             deriv = (np.concatenate([dp, [tp]]) - np.concatenate([dm, [tm]])) / (2 * h)
             vec = np.zeros(12)
             vec[3:6] = deriv[4] * axis                       # torque on the rotor

@@ -41,7 +41,6 @@ fits and mean little (use ``peak_*``, the peak through resonance, and the order 
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Mapping
 from typing import Any, ClassVar
 
@@ -51,7 +50,6 @@ import pandas as pd
 from ddgsa.errors import ModelError, SceneError
 from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
 from ddgsa.mbs.modal import modal_analysis
-from ddgsa.mbs.sampling import AliasingWarning
 from ddgsa.models.base import Model, register_model
 from ddgsa.models.hss_rig.bearing import defect_impulses
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
@@ -197,7 +195,7 @@ class HssRig(Model):
             el = next(e for e in system.elements if e.name == "motor")
             torque, current = [], []
             for ti, psi, w in zip(t, flux, motor_speed):
-                torque.append(el._rates(ti, psi, w)[1])
+                torque.append(el.rates(ti, psi, w)[1])
                 current.append(el.phase_current(ti, psi))
             out["motor_torque"], out["motor_current"] = np.array(torque), np.array(current)
         else:
@@ -220,9 +218,7 @@ class HssRig(Model):
     def evaluate(self, points: Any, scene: Any) -> pd.DataFrame:
         """Objective functions at each point for a rig scene (see :meth:`Model.evaluate`)."""
         sc = self._scene(scene)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", AliasingWarning)
-            self.sampling_checks(sc)                         # refuses an aliased record before running
+        self.sampling_checks(sc)                             # refuses an aliased record before running
         return super().evaluate(points, sc)
 
     def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
