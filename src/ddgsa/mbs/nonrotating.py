@@ -1,0 +1,191 @@
+"""Linearisation of a spinning, unconstrained system in non-rotating bending coordinates, and its exact run.
+
+An FFR shaft's elastic coordinates turn with it. The kernel's constrained linearisation
+(:func:`ddgsa.mbs.modal.linearise_system`) holds them at one spin angle, which is exact for the
+shaft alone but freezes the inertia coupling between its turning bending coordinates and its
+non-turning rigid translation: on flexible supports the forced response is off by a few per cent
+near a critical speed, and a static sag becomes a false once-per-revolution whirl. Here each
+pair of bending coordinates with equal shapes (``bending_y_k``, ``bending_z_k``) is written in
+non-rotating coordinates ``xi``: ``q_pair = R(-phi) xi`` with the body's spin angle ``phi`` (the
+same transformation :mod:`ddgsa.mbs.linear` uses for the direct drive), so an axisymmetric shaft
+on non-rotating supports gives time-invariant equations
+``M z'' + C z' + K z = T(t)^T dQ(t) + r0`` (gyroscopic and Coriolis terms in ``C``, centrifugal in
+``K``), built by central differences of the system's nonlinear residual through the map
+``q(z, t)``. Inputs (the listed time-varying elements) are projected with ``T(t)`` at every
+sample; the run is exact for their C1 cubic interpolant (:func:`ddgsa.mbs.linear.lti_response`),
+from the periodic steady state of one revolution (the cyclic spin angles excluded: nothing depends
+on them, they drift with any residual torque). Systems with constraints are refused.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.linalg import expm, null_space
+
+from ddgsa.errors import ModelError
+from ddgsa.mbs.assembly import System
+from ddgsa.mbs.bodies import FlexibleBody
+from ddgsa.mbs.elements import Element
+from ddgsa.mbs.linear import central_jacobian, lti_response
+
+Array = NDArray[np.float64]
+RIGID_RCOND = 1e-12
+"""Relative singular value below which a direction of the stiffness matrix counts as rigid."""
+
+
+@dataclass(frozen=True)
+class SpinLinearisation:
+    """``M z'' + C z' + K z = T(t)^T dQ + r0`` about a steadily spinning state (see the module).
+
+    Attributes
+    ----------
+    m, c, k : (n, n); ``r0`` : (n,)
+    q0, qd0 : the operating state at ``t0`` (coordinates and rates)
+    pairs : list of ``(i_y, i_z, i_spin)`` system indices of each bending pair and its body's spin
+    xi0 : (n_pairs, 2) the pairs' operating values in non-rotating coordinates
+    """
+
+    m: Array
+    c: Array
+    k: Array
+    r0: Array
+    q0: Array
+    qd0: Array
+    t0: float
+    pairs: list[tuple[int, int, int]]
+    xi0: Array
+
+    def _rot(self, phi: float) -> Array:
+        c, s = np.cos(phi), np.sin(phi)
+        return np.array([[c, s], [-s, c]])                 # R(-phi)
+
+    def state(self, z: Array, zd: Array, zdd: Array, t: float) -> tuple[Array, Array, Array]:
+        """``(q, qd, qdd)`` of the system for non-rotating perturbations ``z`` at time ``t``."""
+        dt = t - self.t0
+        q = self.q0 + self.qd0 * dt + z
+        qd = self.qd0 + zd
+        qdd = zdd.copy()
+        jm = np.array([[0.0, -1.0], [1.0, 0.0]])
+        for k, (iy, iz, isp) in enumerate(self.pairs):
+            phi, w, wd = q[isp], qd[isp], qdd[isp]
+            r = self._rot(phi)
+            xi = self.xi0[k] + z[[iy, iz]]
+            xid, xidd = zd[[iy, iz]], zdd[[iy, iz]]
+            # d/dt R(-phi) = -w J R(-phi)
+            q[[iy, iz]] = r @ xi
+            qd[[iy, iz]] = r @ xid - w * jm @ r @ xi
+            qdd[[iy, iz]] = r @ xidd - 2 * w * jm @ r @ xid - wd * jm @ r @ xi + w * w * jm @ jm @ r @ xi
+        return q, qd, qdd
+
+    def projection(self, t: float) -> Array:
+        """``T(t) = dq/dz`` (n, n) along the operating trajectory."""
+        tmat = np.eye(self.q0.size)
+        for k, (iy, iz, isp) in enumerate(self.pairs):
+            phi = self.q0[isp] + self.qd0[isp] * (t - self.t0)
+            r = self._rot(phi)
+            tmat[np.ix_([iy, iz], [iy, iz])] = r
+            tmat[[iy, iz], isp] = -np.array([[0.0, -1.0], [1.0, 0.0]]) @ r @ self.xi0[k]
+        return tmat
+
+
+def generalised_force(system: System, q: Array, qd: Array, t: float, elements: Sequence[Element]) -> Array:
+    """Generalised force (n,) of the listed elements alone at ``(q, qd, t)``."""
+    f = np.zeros(system.n)
+    for el in elements:
+        states = [system.marker_state(mk, q, qd, t) for mk in el.markers]
+        w = el.wrench(t, states)[0]
+        for s, wi in zip(states, w):
+            f += s.jac.T @ wi
+    return f
+
+
+def bending_pairs(system: System) -> list[tuple[int, int, int]]:
+    """``(i_y, i_z, i_spin)`` for every (bending_y_k, bending_z_k) pair of the system's flexible bodies."""
+    out = []
+    for b in system.bodies:
+        if isinstance(b, FlexibleBody) and b.n_elastic:
+            for k in (1, 2, 3):
+                fy, fz = f"bending_y_{k}", f"bending_z_{k}"
+                if fy in b.fields and fz in b.fields:
+                    out.append((system.index(f"{b.name}.{fy}"), system.index(f"{b.name}.{fz}"),
+                                system.index(f"{b.name}.rx")))
+    return out
+
+
+def _residual(system: System, lin: SpinLinearisation, z: Array, zd: Array, zdd: Array) -> Array:
+    q, qd, qdd = lin.state(z, zd, zdd, lin.t0)
+    tm = system.terms(q, qd, lin.t0)
+    return lin.projection(lin.t0).T @ (tm.m @ qdd - tm.q)
+
+
+def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: float = 1e-6) -> SpinLinearisation:
+    """Linearise ``system`` about ``(q0, qd0)`` (steady spin) in non-rotating bending coordinates."""
+    if system.n_constraints:
+        raise ModelError("the non-rotating linearisation takes unconstrained systems only "
+                         f"({system.n_constraints} constraint equations given)")
+    pairs = bending_pairs(system)
+    xi0 = np.zeros((len(pairs), 2))
+    for k, (iy, iz, isp) in enumerate(pairs):
+        c, s = np.cos(q0[isp]), np.sin(q0[isp])
+        xi0[k] = np.array([[c, -s], [s, c]]) @ q0[[iy, iz]]     # R(phi) q_pair
+    n = system.n
+    base = SpinLinearisation(np.eye(n), np.zeros((n, n)), np.zeros((n, n)), np.zeros(n), np.asarray(q0, float),
+                             np.asarray(qd0, float), t0, pairs, xi0)
+    zero = np.zeros(n)
+
+    def res(z: Array, zd: Array, zdd: Array) -> Array:
+        return _residual(system, base, z, zd, zdd)
+
+    args = [zero, zero, zero]
+    k = central_jacobian(res, args, 0, 1e-3, rel_step)
+    c = central_jacobian(res, args, 1, 1e-3, rel_step)
+    m = central_jacobian(res, args, 2, 1.0, rel_step)
+    return SpinLinearisation(m, c, k, -res(zero, zero, zero), base.q0, base.qd0, t0, pairs, xi0)
+
+
+def _inputs(system: System, lin: SpinLinearisation, times: Array, elements: Sequence[Element]) -> Array:
+    """``T(t)^T (Q_sel(t) - Q_sel(t0))`` of the listed elements along the operating trajectory (n_t, n)."""
+    zero = np.zeros(lin.q0.size)
+
+    def force(t: float) -> Array:
+        q, qd, _ = lin.state(zero, zero, zero, t)
+        return lin.projection(t).T @ generalised_force(system, q, qd, t, elements)
+
+    ref = force(lin.t0)
+    return np.array([force(t) - ref for t in times])
+
+
+def simulate(system: System, lin: SpinLinearisation, t_end: float, dt: float, elements: Sequence[Element],
+             period: float) -> tuple[Array, Array, Array]:
+    """Exact response to the listed elements from the periodic state of one ``period`` [s]; every ``dt`` [s].
+
+    Returns ``(t, q, qd)`` of the full system.
+    """
+    n = lin.m.shape[0]
+    minv = np.linalg.inv(lin.m)
+    a = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ lin.k, -minv @ lin.c]])
+    bw = np.vstack([np.zeros((n, n + 1)), minv @ np.column_stack([np.eye(n), lin.r0])])
+    k = max(8, int(np.ceil(period / dt)))
+    h = period / k
+    tp = lin.t0 + h * np.arange(k + 1)
+    xt = lti_response(a, bw, np.column_stack([_inputs(system, lin, tp, elements), np.ones(k + 1)]), h,
+                      np.zeros(2 * n))[-1]
+    # rigid directions of the positions (null space of K: the common spin angle) drift freely; the
+    # rest of the state repeats after one period
+    rigid = null_space(lin.k, rcond=RIGID_RCOND)
+    w = null_space(rigid.T) if rigid.size else np.eye(n)
+    e = np.block([[w, np.zeros((n, n))], [np.zeros((n, w.shape[1])), np.eye(n)]])
+    y = np.linalg.lstsq(e.T @ (np.eye(2 * n) - expm(a * period)) @ e, e.T @ xt, rcond=None)[0]
+    x0 = e @ y
+    n_out = int(round((t_end - lin.t0) / dt)) + 1
+    times = lin.t0 + dt * np.arange(n_out)
+    x = lti_response(a, bw, np.column_stack([_inputs(system, lin, times, elements), np.ones(n_out)]), dt, x0)
+    q, qd = np.empty((n_out, n)), np.empty((n_out, n))
+    zero = np.zeros(n)
+    for i, t in enumerate(times):
+        q[i], qd[i], _ = lin.state(x[i, :n], x[i, n:], zero, t)
+    return times, q, qd

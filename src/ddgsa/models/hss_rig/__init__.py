@@ -1,0 +1,1 @@
+"""High-speed-shaft drive-train test rig (thesis paper A, seed 001)."""

@@ -1,0 +1,177 @@
+"""The motor as kernel parts, at the two fidelities, and the supply a scene gives it.
+
+``kloss``
+    A :class:`ddgsa.mbs.TorqueLaw` with the steady torque of the equivalent circuit at the
+    instantaneous supply frequency, voltage and rotor speed
+    (:func:`~ddgsa.models.hss_rig.motor.steady_torque`: mean plus the twice-line-frequency
+    ripple of a supply unbalance). No flux dynamics.
+``dq``
+    :class:`DqMachine`: the fifth-order machine, its four fluxes carried by a
+    :class:`ddgsa.mbs.first_order.FirstOrderStates` body and the rotor speed by the motor body.
+
+The converter holds V/f constant: a scene at synchronous speed ``n`` [rpm] supplies
+``f = p n / 60`` at ``V_rated f / 50``; a coast-down cuts the supply at ``t = 0``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import brentq
+
+from ddgsa.errors import ModelError
+from ddgsa.mbs import Marker, TorqueLaw
+from ddgsa.mbs.bodies import Body, MarkerState
+from ddgsa.mbs.elements import Element
+from ddgsa.mbs.first_order import FirstOrderStates
+from ddgsa.models.hss_rig.motor import (InductionMotor, Supply, dq_derivatives, phase_current, sequence_phasors,
+                                        steady_torque)
+from ddgsa.models.hss_rig.scenes import RigScene
+
+Array = NDArray[np.float64]
+RATED_FREQUENCY = 50.0
+"""Rated supply frequency of the motor data [Hz]."""
+FLUX_STATES = ("psi_sd", "psi_sq", "psi_rd", "psi_rq")
+
+
+@dataclass(frozen=True)
+class Drive:
+    """The motor and its supply for one scene.
+
+    Attributes
+    ----------
+    motor : InductionMotor
+        Equivalent circuit with the scene's supply frequency and voltage (constant V/f).
+    supply : Supply
+        Direct-on-line or ramp.
+    cut : bool
+        Supply off for ``t > 0`` (coast-down).
+    """
+
+    motor: InductionMotor
+    supply: Supply
+    cut: bool = False
+
+    def state(self, t: float) -> tuple[float, float, float]:
+        """``(theta_e, omega_e, v_peak)`` of the supply at ``t`` [s] (voltage 0 once cut)."""
+        theta, w, v = self.supply.state(self.motor, t)
+        return theta, w, 0.0 if (self.cut and t > 0.0) else v
+
+
+def drive_for(p: Mapping[str, float], scene: RigScene, pole_pairs: int = 2) -> Drive:
+    """The motor of parameter set ``p`` supplied as ``scene`` asks (see the module)."""
+    f = pole_pairs * scene.speed_rpm / 60.0
+    motor = InductionMotor(
+        stator_resistance=p["stator_resistance"], rotor_resistance=p["rotor_resistance"],
+        stator_leakage_inductance=p["stator_leakage_inductance"], rotor_leakage_inductance=p["rotor_leakage_inductance"],
+        magnetising_inductance=p["magnetising_inductance"], pole_pairs=pole_pairs,
+        supply_voltage=p["supply_voltage"] * f / RATED_FREQUENCY, supply_frequency=f,
+        supply_unbalance=p["supply_unbalance"])
+    supply = Supply(ramp_time=scene.ramp_time) if scene.kind == "startup" else Supply()
+    return Drive(motor, supply, cut=scene.kind == "coastdown")
+
+
+def kloss_torque_at(drive: Drive, t: float, speed: float) -> float:
+    """Air-gap torque [N m] of the steady equivalent circuit at time ``t`` and rotor ``speed`` [rad/s]."""
+    theta, w, v = drive.state(t)
+    if v == 0.0 or w <= 0.0:
+        return 0.0
+    st = steady_torque(drive.motor, speed, w / (2 * math.pi), v * math.sqrt(1.5))
+    return st.mean + st.ripple * math.cos(2 * theta + st.phase)
+
+
+def kloss_parts(drive: Drive):
+    """``motor_parts`` for :func:`ddgsa.models.hss_rig.rig.build`: one torque law on the motor rotor."""
+    def parts(marker: Marker) -> tuple[list[Body], list[Element]]:
+        return [], [TorqueLaw(marker, lambda t, w: kloss_torque_at(drive, t, w), name="motor")]
+    return parts
+
+
+def steady_flux(drive: Drive, speed: float) -> Array:
+    """Fluxes ``(psi_sd, psi_sq, psi_rd, psi_rq)`` [Wb] of the balanced steady state at ``speed`` [rad/s], t = 0."""
+    _, w, v = drive.state(0.0)
+    _, _, psi_s, psi_r = sequence_phasors(drive.motor, w, speed, v)
+    return np.array([psi_s.real, psi_s.imag, psi_r.real, psi_r.imag])
+
+
+class DqMachine(Element):
+    """The dq machine between the motor rotor (marker 0) and its flux states (marker 1).
+
+    The torque acts about the rotor marker's x axis (reaction on the ground); the flux rates
+    are applied to the :class:`FirstOrderStates` body. Tangents by central differences over the
+    four fluxes and the rotor speed.
+    """
+
+    def __init__(self, rotor: Marker, flux: Marker, drive: Drive, name: str = "motor") -> None:
+        self.markers = (rotor, flux)
+        self.drive, self.name = drive, name
+
+    def rates(self, t: float, psi: Array, speed: float) -> tuple[Array, float]:
+        """Flux rates [Wb/s] and air-gap torque [N m] at ``t`` for fluxes ``psi`` and rotor ``speed`` (0 V once cut)."""
+        motor = self.drive.motor
+        if self.drive.cut and t > 0.0:
+            motor = motor.updated({"supply_voltage": 1e-300, "supply_unbalance": 0.0})
+        return dq_derivatives(motor, self.drive.supply, t, psi, speed)
+
+    def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, None, Array]:
+        rot, fx = states
+        axis = rot.a[:, 0]
+        speed = float(axis @ rot.w)
+        psi = np.concatenate([fx.v, fx.w[:1]])
+        d, torque = self.rates(t, psi, speed)
+        w = np.zeros((2, 6))
+        w[0, 3:] = torque * axis
+        w[1, :3], w[1, 3] = d[:3], d[3]
+        # C = -d wrench / d (marker velocities): columns for the rotor spin and the four fluxes
+        c = np.zeros((12, 12))
+        cols = [(3, 3), (6, 0), (7, 1), (8, 2), (9, 3)]      # (marker-motion index, which input)
+        for col, which in cols:
+            h = 1e-6 * max(1.0, abs(speed)) if col == 3 else 1e-7 * max(1e-3, float(np.max(np.abs(psi))))
+            if col == 3:
+                dp, tp = self.rates(t, psi, speed + h)
+                dm, tm = self.rates(t, psi, speed - h)
+            else:
+                e = np.zeros(4)
+                e[which] = h
+                dp, tp = self.rates(t, psi + e, speed)
+                dm, tm = self.rates(t, psi - e, speed)
+            deriv = (np.concatenate([dp, [tp]]) - np.concatenate([dm, [tm]])) / (2 * h)
+            vec = np.zeros(12)
+            vec[3:6] = deriv[4] * axis                       # torque on the rotor
+            vec[6:10] = deriv[:4]                            # flux rates
+            if col == 3:
+                c[:, 3:6] = -np.outer(vec, axis)
+            else:
+                c[:, col] = -vec
+        return w, None, c
+
+    def phase_current(self, t: float, psi: Array) -> float:
+        """Phase-a stator current [A] at time ``t`` from the fluxes ``psi`` [Wb]."""
+        return phase_current(self.drive.motor, self.drive.supply, t, psi)
+
+
+def dq_parts(drive: Drive, initial_flux: Array | None = None):
+    """``motor_parts`` for :func:`ddgsa.models.hss_rig.rig.build`: the flux-state body and the dq machine."""
+    def parts(marker: Marker) -> tuple[list[Body], list[Element]]:
+        flux = FirstOrderStates("flux", FLUX_STATES, initial_flux)
+        return [flux], [DqMachine(marker, flux.marker(), drive)]
+    return parts
+
+
+def steady_speed(drive: Drive, load_torque: float, load_exponent: float, rated_speed: float) -> float:
+    """Rotor speed [rad/s] where the mean circuit torque meets the load law (the steady operating point)."""
+    ws = 2 * math.pi * drive.motor.supply_frequency / drive.motor.pole_pairs
+
+    def balance(w: float) -> float:
+        return steady_torque(drive.motor, w).mean - load_torque * (w / rated_speed) ** load_exponent
+
+    if balance(1e-9 * ws) <= 0:
+        raise ModelError(f"the motor cannot start against the load: {load_torque} N m at standstill")
+    top = ws * (1 - 1e-12)
+    if balance(top) >= 0.0:                     # no load: the rotor runs at the synchronous speed
+        return top
+    return float(brentq(balance, 1e-9 * ws, top, xtol=1e-12))

@@ -1,0 +1,318 @@
+"""The ``hss_rig`` model: the test rig of seed 001 paper A on the multibody kernel, with sensors and faults.
+
+Fidelities (the motor's, "model no more than a scene needs"):
+
+``dq``
+    Fifth-order dq motor (flux transients, direct-on-line inrush, supply-unbalance ripple from
+    the fluxes); the rig integrated by the kernel's generalised-alpha (nonlinear, any scene).
+``kloss``
+    Steady equivalent-circuit torque at the instantaneous speed and supply; generalised-alpha.
+``linear``
+    ``kloss`` motor, the rig linearised about its steady operating point (spinning, gravity sag)
+    in non-rotating bending coordinates (:mod:`ddgsa.mbs.nonrotating`) and integrated exactly from
+    the periodic steady state of one revolution; steady scenes only. Its time-varying inputs are
+    the eccentric mass, the motor's torque ripple and the defect impacts. The coupling's turning
+    stiffness anisotropy would make the rig periodic rather than time-invariant: the linear
+    fidelity averages it out (``coupling_asymmetry`` has no effect) and refuses a misalignment.
+
+Scenes are :class:`~ddgsa.models.hss_rig.scenes.RigScene` (start-up, steady, coast-down).
+
+Sensors (``simulate`` columns): housing accelerometers ``housing_{1,2}_{y,z}`` [m/s^2],
+proximity probes at the disk ``disk_{y,z}`` [m] (shaft centre against the frame), the motor's
+air-gap torque ``motor_torque`` [N m] and phase-a current ``motor_current`` [A], and the shaft
+speed ``speed`` [rad/s] and angle ``angle`` [rad] (the once-per-revolution key). With
+``noise=True`` seeded white measurement noise is added (``NOISE``; the scene's seed, so every
+parameter point sees the same noise).
+
+Outputs (on the analysed record: after ``settle`` for steady scenes, the whole record
+otherwise): for every sensor ``rms_<s>`` and ``peak_<s>`` (about the record's mean),
+``order1x_<s>`` and ``order2x_<s>`` (order tracking, :func:`ddgsa.signals.order_amplitudes`);
+for the accelerometers ``bpfo_<s>`` and ``bpfi_<s>`` (mean square in +-0.25 orders around the
+first three multiples of the ball-pass orders of the 6205, in the order domain so a run-up is
+covered too); ``torque_2f`` (motor torque at twice the supply frequency: supply unbalance),
+``current_line`` (current at the supply frequency), ``current_sideband_1x`` (mean of the current
+at ``f -+ f_r``: mechanical 1x load modulation), ``current_sideband_2s`` (mean at
+``f (1 -+ 2 s)``: the broken-bar band; no broken bars are modelled, it measures leakage) and
+``mean_speed_rpm``. Steady records are stationary, so the frequency-domain outputs read exact
+frequencies; for start-up and coast-down the time-domain ones are whole-record least-squares
+fits and mean little (use ``peak_*``, the peak through resonance, and the order outputs).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any, ClassVar
+
+import numpy as np
+import pandas as pd
+
+from ddgsa.errors import ModelError, SceneError
+from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
+from ddgsa.mbs.modal import modal_analysis
+from ddgsa.models.base import Model, register_model
+from ddgsa.models.hss_rig.bearing import defect_impulses
+from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
+                                        steady_flux, steady_speed)
+from ddgsa.models.hss_rig.motor import sequence_phasors
+from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
+from ddgsa.models.hss_rig.rig import Rig, build
+from ddgsa.models.hss_rig.scenes import RigScene
+from ddgsa.signals import band_energy, harmonic_amplitudes, order_amplitudes, resample_to_angle
+
+ACCELEROMETERS = ("housing_1_y", "housing_1_z", "housing_2_y", "housing_2_z")
+PROBES = ("disk_y", "disk_z")
+SENSORS = ACCELEROMETERS + PROBES + ("motor_torque", "motor_current")
+NOISE = {"housing": 0.05, "disk": 1e-6, "motor_torque": 0.05, "motor_current": 0.02}
+"""Standard deviation of the measurement noise per sensor kind [m/s^2, m, N m, A] (assumption:
+industrial ICP accelerometers, eddy-current probes, a torque transducer and a current clamp)."""
+OUTPUTS = tuple(f"{k}_{s}" for k in ("rms", "peak", "order1x", "order2x") for s in SENSORS) + tuple(
+    f"{k}_{s}" for k in ("bpfo", "bpfi") for s in ACCELEROMETERS) + (
+    "torque_2f", "current_line", "current_sideband_1x", "current_sideband_2s", "mean_speed_rpm")
+SAMPLES_PER_REV = 128
+"""Angle-domain resampling of order tracking (orders up to 64)."""
+POLE_PAIRS = 2
+
+
+@register_model("hss_rig")
+class HssRig(Model):
+    """High-speed-shaft test rig (seed 001 paper A) on the multibody kernel; see the module.
+
+    Parameters
+    ----------
+    fidelity : str
+        ``dq``, ``kloss`` or ``linear`` (steady scenes only).
+    time_step : float
+        Generalised-alpha step [s] (``dq``, ``kloss``); the sensor interval must be a multiple.
+    noise : bool
+        Add seeded measurement noise to the sensors.
+    """
+
+    fidelities: ClassVar[tuple[str, ...]] = ("dq", "kloss", "linear")
+    options_note: ClassVar[str] = ("options: time_step [s] (generalised-alpha, default 2e-4), noise true | false; "
+                                   "scenes are rig scenes: {kind: startup | steady | coastdown, speed_rpm, duration, "
+                                   "sample_rate, settle, ramp_time, seed}")
+    parameters = PARAMETERS
+    outputs = OUTPUTS
+
+    def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False) -> None:
+        if fidelity not in self.fidelities:
+            raise ModelError(f"model 'hss_rig': unknown fidelity {fidelity!r}; known: {', '.join(self.fidelities)}")
+        if not (isinstance(time_step, (int, float)) and 0 < time_step <= 1e-2):
+            raise ModelError(f"model 'hss_rig': time_step must be in (0, 0.01] s, got {time_step!r}")
+        if not isinstance(noise, bool):
+            raise ModelError(f"model 'hss_rig': noise must be true or false, got {noise!r}")
+        self.fidelity, self.time_step, self.noise = fidelity, float(time_step), noise
+
+    # -- assembly ------------------------------------------------------------------------------
+    def _scene(self, scene: Any) -> RigScene:
+        if isinstance(scene, RigScene):
+            return scene
+        if isinstance(scene, Mapping):
+            return RigScene.from_fields(scene)
+        raise SceneError(f"model 'hss_rig' needs a rig scene (RigScene or a mapping of its fields), got "
+                         f"{type(scene).__name__}")
+
+    def assemble(self, p: Mapping[str, float], scene: RigScene) -> tuple[Rig, Drive, float]:
+        """The rig for parameters ``p`` in ``scene``, its drive and its initial spin [rad/s]."""
+        drive = drive_for(p, scene, POLE_PAIRS)
+        spin = 0.0
+        if scene.kind != "startup":
+            spin = steady_speed(drive, p["load_torque"], p["load_speed_exponent"], RATED_SPEED)
+        if self.fidelity == "dq":
+            parts = dq_parts(drive, steady_flux(drive, spin) if scene.kind != "startup" else None)
+        else:
+            parts = kloss_parts(drive)
+        extra = None
+        if p["defect_amplitude"] > 0.0 and scene.kind == "steady":
+            extra = _defect_loads(p, scene, spin)
+        if self.fidelity == "linear":
+            if p["misalignment_parallel"] or p["misalignment_angular"]:
+                raise ModelError("model 'hss_rig': fidelity 'linear' cannot carry a coupling misalignment (a stiffness "
+                                 "turning against a fixed offset makes the rig periodic, not time-invariant); "
+                                 f"got misalignment_parallel = {p['misalignment_parallel']} m, misalignment_angular = "
+                                 f"{p['misalignment_angular']} rad; use 'kloss' or 'dq'")
+            p = {**p, "coupling_asymmetry": 0.0}
+        return build(p, parts, spin=spin, extra=extra), drive, spin
+
+    # -- time integration ----------------------------------------------------------------------
+    def simulate(self, scene: Any, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+        """Sensor time series (see the module), indexed by time [s]."""
+        sc = self._scene(scene)
+        p = self.resolve(params).iloc[0].to_dict()
+        rig, drive, spin = self.assemble(p, sc)
+        h = 1.0 / sc.sample_rate
+        if self.fidelity == "linear":
+            if sc.kind != "steady":
+                raise ModelError(f"model 'hss_rig': fidelity 'linear' serves steady scenes only, not {sc.kind!r}; "
+                                 "use 'kloss' or 'dq'")
+            t, q, qd = self._linear_run(rig, p, sc, spin)
+        else:
+            every = int(round(h / self.time_step))
+            if every < 1 or abs(every * self.time_step - h) > 1e-9 * h:
+                raise ModelError(f"model 'hss_rig': the sensor interval 1/sample_rate = {h:.6g} s must be a multiple "
+                                 f"of time_step = {self.time_step:g} s")
+            q0, qd0 = self.initial_state(rig, p)
+            run = genalpha.simulate(rig.system, sc.duration, self.time_step, q0=q0, qd0=qd0, output_every=every)
+            t, q, qd = run.t, run.q, run.qd
+        return self._sensors(rig, drive, sc, t, q, qd)
+
+    @staticmethod
+    def initial_state(rig: Rig, p: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
+        """The rig's initial state with the static gravity sag (from the rig at rest, motor and load off).
+
+        Spin rates and flux states are the rig's own (:meth:`assemble`); the sag is solved on the
+        linearised rig standing still, so a run starts without a gravity transient.
+        """
+        still = build(p, lambda marker: ([], []), spin=0.0)
+        lin = linearise_system(still.system)
+        sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
+        q0 = rig.system.q0.copy()
+        q0[: still.system.n] += sag
+        return q0, rig.system.qd0.copy()
+
+    def _linear_run(self, rig: Rig, p: Mapping[str, float], sc: RigScene,
+                    spin: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        system = rig.system
+        varying = [e for e in system.elements if e.name in ("unbalance", "motor", "defect_housing", "defect_shaft")]
+        q0, qd0 = self.initial_state(rig, p)
+        lin = nonrotating.linearise(system, q0, qd0)
+        return nonrotating.simulate(system, lin, sc.duration, 1.0 / sc.sample_rate, varying, 2 * math.pi / spin)
+
+    def _sensors(self, rig: Rig, drive: Drive, sc: RigScene, t: np.ndarray, q: np.ndarray,
+                 qd: np.ndarray) -> pd.DataFrame:
+        system = rig.system
+        out: dict[str, np.ndarray] = {}
+        for i in (1, 2):
+            for ax in ("y", "z"):
+                out[f"housing_{i}_{ax}"] = np.gradient(qd[:, system.index(f"housing_{i}.{ax}")], t, edge_order=2)
+        disk = np.array([system.marker_state(rig.markers["disk"], qi, qdi, ti).r for ti, qi, qdi in zip(t, q, qd)])
+        out["disk_y"], out["disk_z"] = disk[:, 1], disk[:, 2]
+        speed = qd[:, system.index("hss.rx")]
+        motor_speed = qd[:, system.index("motor.rx")]
+        if self.fidelity == "dq":
+            flux = qd[:, [system.index(f"flux.{s}") for s in FLUX_STATES]]
+            el = next(e for e in system.elements if e.name == "motor")
+            torque, current = [], []
+            for ti, psi, w in zip(t, flux, motor_speed):
+                torque.append(el.rates(ti, psi, w)[1])
+                current.append(el.phase_current(ti, psi))
+            out["motor_torque"], out["motor_current"] = np.array(torque), np.array(current)
+        else:
+            out["motor_torque"] = np.array([kloss_torque_at(drive, ti, w) for ti, w in zip(t, motor_speed)])
+            out["motor_current"] = np.array([_kloss_current(drive, ti, w) for ti, w in zip(t, motor_speed)])
+        if self.noise:
+            rng = np.random.default_rng(np.random.SeedSequence([sc.seed, 13]))
+            for s in SENSORS:
+                out[s] = out[s] + _noise_scale(s) * rng.standard_normal(t.size)
+        out["speed"] = speed
+        out["angle"] = q[:, system.index("hss.rx")]
+        return pd.DataFrame(out, index=pd.Index(t, name="time"))
+
+    # -- objectives ----------------------------------------------------------------------------
+    def _evaluate_one(self, params: dict[str, float], scene: Any) -> dict[str, float]:
+        sc = self._scene(scene)
+        series = self.simulate(sc, params)
+        return objectives(series, sc, drive_for(params, sc, POLE_PAIRS))
+
+    def evaluate(self, points: Any, scene: Any) -> pd.DataFrame:
+        """Objective functions at each point for a rig scene (see :meth:`Model.evaluate`)."""
+        sc = self._scene(scene)
+        self.sampling_checks(sc)                             # refuses an aliased record before running
+        return super().evaluate(points, sc)
+
+    def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
+        """Damped modes of the rig spinning at ``rotor_speed`` [rad/s] (0: standing still), labelled.
+
+        Linearised about the static sag in non-rotating bending coordinates
+        (:mod:`ddgsa.mbs.nonrotating`), so the frequencies are those seen from the frame (a
+        Campbell diagram: ``ddgsa modes hss_rig --campbell``); the motor at ``kloss`` with its
+        supply at the synchronous frequency of ``rotor_speed`` (its slope damps the torsion).
+        """
+        p = self.resolve(params).iloc[0].to_dict()
+        rpm = max(abs(rotor_speed) * 30.0 / math.pi, 60.0)
+        drive = drive_for(p, RigScene("steady", speed_rpm=rpm, duration=10.0), POLE_PAIRS)
+        rig = build(p, kloss_parts(drive), spin=rotor_speed)
+        q0, qd0 = self.initial_state(rig, p)
+        lin = nonrotating.linearise(rig.system, q0, qd0)
+        return modal_analysis(lin.m, lin.c, lin.k, rig.system.coord_names, rig.system.groups())
+
+    def sampling_checks(self, scene: Any) -> list[dict[str, Any]]:
+        """The sensor sample interval against the frequencies the outputs read (at the synchronous speed)."""
+        sc = self._scene(scene)
+        f_r = sc.speed_hz
+        return sc.sampling_checks({"2 x supply frequency": 2 * POLE_PAIRS * f_r,
+                                   "3 x BPFI": 3 * float(BEARING_GEOMETRY.bpfi(f_r)),
+                                   "2x order": 2 * f_r})
+
+
+def _defect_loads(p: Mapping[str, float], scene: RigScene, spin: float):
+    """Outer-race defect impacts in bearing 2: downwards on the housing, upwards on the shaft.
+
+    The impacts follow the steady shaft angle ``spin t``; in start-up and coast-down scenes the
+    defect is not modelled (its timing would need the speed history the run computes).
+    """
+    width = p["defect_pulse_width"]
+    dt = min(width / 8.0, 1.0 / scene.sample_rate)
+    t = np.arange(0.0, scene.duration + 2 * dt, dt)
+    f = defect_impulses(t, spin * t, BEARING_GEOMETRY, p["defect_amplitude"], width, seed=scene.seed)
+    force = np.zeros((t.size, 3))
+    force[:, 2] = -f
+
+    def loads(markers: dict) -> list:
+        return [AppliedLoad(markers["housing_2"], t, force, name="defect_housing"),
+                AppliedLoad(markers["bearing_2"], t, -force, name="defect_shaft")]
+    return loads
+
+
+def _noise_scale(sensor: str) -> float:
+    """Measurement-noise standard deviation of ``sensor`` (:data:`NOISE`)."""
+    for kind in ("housing", "disk"):
+        if sensor.startswith(kind):
+            return NOISE[kind]
+    return NOISE[sensor]
+
+
+def _kloss_current(drive: Drive, t: float, speed: float) -> float:
+    """Phase-a current [A] of the steady circuit (both sequences) at time ``t`` and rotor ``speed``."""
+    theta, w, v = drive.state(t)
+    if v == 0.0 or w <= 0.0:
+        return 0.0
+    i1 = sequence_phasors(drive.motor, w, speed, v)[0]
+    i2 = sequence_phasors(drive.motor, -w, speed, drive.motor.supply_unbalance * v)[0]
+    return float((i1 * complex(math.cos(theta), math.sin(theta)) + i2 * complex(math.cos(theta), -math.sin(theta))).real)
+
+
+def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str, float]:
+    """The model's outputs (see the module) from its sensor series in ``scene``."""
+    t_all = series.index.to_numpy()
+    keep = t_all >= (scene.settle if scene.kind == "steady" else 0.0) - 1e-12
+    s = series.loc[keep]
+    t = s.index.to_numpy()
+    angle = s["angle"].to_numpy()
+    out: dict[str, float] = {}
+    for name in SENSORS:
+        x = s[name].to_numpy()
+        dev = x - x.mean()
+        out[f"rms_{name}"] = float(np.sqrt(np.mean(dev**2)))
+        out[f"peak_{name}"] = float(np.max(np.abs(dev)))
+        a1, a2 = order_amplitudes(t, x, angle, [1.0, 2.0], SAMPLES_PER_REV)
+        out[f"order1x_{name}"], out[f"order2x_{name}"] = float(a1), float(a2)
+    bpfo, bpfi = float(BEARING_GEOMETRY.bpfo()), float(BEARING_GEOMETRY.bpfi())
+    for name in ACCELEROMETERS:
+        phi, y = resample_to_angle(t, s[name].to_numpy(), angle, SAMPLES_PER_REV)
+        revs = phi / (2 * math.pi)
+        out[f"bpfo_{name}"] = band_energy(revs, y, bpfo, 0.25, harmonics=3)
+        out[f"bpfi_{name}"] = band_energy(revs, y, bpfi, 0.25, harmonics=3)
+    f = drive.motor.supply_frequency
+    f_r = float(np.mean(s["speed"])) / (2 * math.pi)
+    slip = 1.0 - f_r * drive.motor.pole_pairs / f
+    out["torque_2f"] = float(harmonic_amplitudes(t, s["motor_torque"].to_numpy(), [2 * f])[0])
+    cur = s["motor_current"].to_numpy()
+    amps = harmonic_amplitudes(t, cur, [f, f - f_r, f + f_r])
+    out["current_line"] = float(amps[0])
+    out["current_sideband_1x"] = float(0.5 * (amps[1] + amps[2]))
+    lo, hi = f * (1 - 2 * slip), f * (1 + 2 * slip)
+    out["current_sideband_2s"] = float(np.mean(harmonic_amplitudes(t, cur, [f, lo, hi])[1:]))
+    out["mean_speed_rpm"] = f_r * 60.0
+    return out

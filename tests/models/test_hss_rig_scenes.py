@@ -1,0 +1,53 @@
+"""Rig scenes: validation messages, grids and the aliasing guard."""
+
+from __future__ import annotations
+
+import warnings
+
+import pytest
+
+from ddgsa.errors import ModelError, SceneError
+from ddgsa.mbs.sampling import AliasingWarning
+from ddgsa.models.hss_rig.scenes import RigScene, scene_grid
+
+
+@pytest.mark.parametrize("fields, message", [
+    ({"kind": "run"}, "'kind' must be one of startup, steady, coastdown, got 'run'"),
+    ({"speed_rpm": -5}, r"'speed_rpm' must be in \(0, 6000\] rpm, got -5"),
+    ({"duration": 0}, "'duration' must be > 0 s, got 0"),
+    ({"settle": 3.0, "duration": 2.0}, r"'settle' must be in \[0, duration = 2\) s, got 3"),
+    ({"kind": "startup", "ramp_time": 5.0}, r"'ramp_time' must be in \[0, duration = 2\) s"),
+    ({"speed_rpm": "fast"}, "'speed_rpm' must be a finite number, got 'fast'"),
+    ({"seed": -1}, "'seed' must be an integer >= 0"),
+    ({"sample_rate": 10.0}, "gives 20 samples; need at least 64"),
+    ({"kind": "steady", "speed_rpm": 60.0, "duration": 2.0, "settle": 0.5}, "holds 1.5 revolutions; need at least 8"),
+])
+def test_bad_fields_are_refused_with_field_value_and_allowed(fields, message):
+    with pytest.raises(SceneError, match=message):
+        RigScene(**fields)
+
+
+def test_unknown_field_lists_the_allowed_ones():
+    with pytest.raises(SceneError, match=r"unknown field\(s\) \['speed'\]; allowed: kind, speed_rpm"):
+        RigScene.from_fields({"speed": 1500})
+
+
+def test_grid_expands_a_list_of_speeds():
+    scenes = scene_grid({"kind": "steady", "speed_rpm": [600, 1000, 1500], "duration": 3.0, "seed": 2})
+    assert [s.speed_rpm for s in scenes] == [600.0, 1000.0, 1500.0]
+    assert all(s.seed == 2 and s.analysed_duration == 2.5 for s in scenes)
+    assert hash(scenes[0]) != hash(scenes[1]) and scenes[0].to_dict()["kind"] == "steady"
+    with pytest.raises(SceneError, match="'speed_rpm' is an empty list"):
+        scene_grid({"speed_rpm": []})
+
+
+def test_aliasing_guard_refuses_below_nyquist_and_warns_below_ten_samples():
+    scene = RigScene("steady", speed_rpm=1500, duration=2.0, sample_rate=2000.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        rows = scene.sampling_checks({"2x": 50.0})
+    assert rows[0]["verdict"] == "ok" and rows[0]["samples_per_period"] == pytest.approx(40.0)
+    with pytest.warns(AliasingWarning, match="5 samples per period of the 400 Hz mode"):
+        assert scene.sampling_checks({"BPFI harmonic": 400.0})[0]["verdict"] == "coarse"
+    with pytest.raises(ModelError, match="would alias"):
+        scene.sampling_checks({"bending mode": 1500.0})
