@@ -35,16 +35,18 @@ def _parser() -> argparse.ArgumentParser:
     rep = sub.add_parser("report", help="rebuild tables and plots from a run's stored evaluations")
     rep.add_argument("dir", type=Path)
     ben = sub.add_parser("bench", help="speed of each fidelity (default), or accuracy against cost of each method")
-    ben.add_argument("what", nargs="?", choices=["speed", "accuracy"], default="speed",
-                     help="speed: fidelities against the solve_ivp reference; accuracy: index error against "
-                          "evaluations and wall time, written to --out")
-    ben.add_argument("--out", type=Path, default=Path("results") / "accuracy_cost",
-                     help="folder for the accuracy benchmark's CSVs and charts")
+    ben.add_argument("what", nargs="?", choices=["speed", "accuracy", "scaling"], default="speed",
+                     help="speed: every speed target with its measured value and verdict; accuracy: index error "
+                          "against evaluations and wall time; scaling: wall time against runs, parameters and "
+                          "workers (both written to --out)")
+    ben.add_argument("--out", type=Path, help="folder for the charts (default results/accuracy_cost or "
+                     "results/scaling)")
     ben.add_argument("--quick", action="store_true",
-                     help="accuracy: Saltelli/RBD-FAST up to 2^10 with 2 seeds, no drive-train part (a minute)")
+                     help="small problems: checks the bench itself (accuracy: Saltelli/RBD-FAST up to 2^10, "
+                          "2 seeds, no drive train; speed: 60 s scene, shortened study; scaling: small sizes)")
     ben.add_argument("--json", type=Path, help="also write the figures to this JSON file")
     ben.add_argument("--ref-seconds", type=float, default=20.0, help="scene seconds the slow reference integrates")
-    ben.add_argument("--no-quickstart", action="store_true", help="skip timing the quickstart study")
+    ben.add_argument("--no-study", action="store_true", help="speed: skip the paper_c_structural study rows")
     mod = sub.add_parser("modes", help="natural frequencies of a model or a study's model (CSV + PNG); "
                                        "--campbell: against rotor speed")
     mod.add_argument("target", help="a model name (see ddgsa models) or a study YAML file")
@@ -216,12 +218,20 @@ def _bench(args: argparse.Namespace) -> int:
         from ddgsa.accuracy_cost import run
 
         kw = {"max_log2": 10, "seeds": (0, 1), "drive_train": False} if args.quick else {}
-        for path in run(args.out, **kw):
+        for path in run(args.out or Path("results") / "accuracy_cost", **kw):
             print(f"wrote {path}")
         return EXIT_OK
-    quick = None if args.no_quickstart else Path(__file__).resolve().parents[2] / "studies" / "quickstart.yaml"
-    res = speed(ref_seconds=args.ref_seconds, quickstart=quick if quick is not None and quick.exists() else None)
-    print(format_speed(res))
+    if args.what == "scaling":
+        from ddgsa.scaling import format_scaling, scaling
+
+        res = scaling(args.out or Path("results") / "scaling", quick=args.quick)
+        print(format_scaling(res))
+    else:
+        from ddgsa.bench import PAPER_C
+
+        res = speed(ref_seconds=args.ref_seconds, quick=args.quick,
+                    study=None if args.no_study or not PAPER_C.exists() else PAPER_C)
+        print(format_speed(res))
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps(res, indent=2))

@@ -8,6 +8,7 @@ never imputed), runs each method's ``analyze`` and returns a :class:`StudyResult
 
 from __future__ import annotations
 
+import functools
 import itertools
 import platform
 import sys
@@ -28,6 +29,7 @@ from ddgsa.gsa.result import SobolResult
 from ddgsa.models.auto import choose_fidelity
 from ddgsa.runner import EvaluationStore, ModelId, Outcome, Task, run_tasks, task_key
 from ddgsa.space import ParameterSpace
+from ddgsa.loads import cache as loads_cache
 from ddgsa.loads.scene import Scene
 from ddgsa.study import PlannedScene, Study, plan_scenes
 
@@ -193,7 +195,16 @@ def _run_auto(plan: _Plan, store: EvaluationStore, outputs: list[str], options: 
 
 def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backend: str | None = None,
             address: str | None = None, quiet: bool = False, evaluate: bool = True) -> StudyResult:
-    """Run (or, with ``evaluate=False``, only read back) all model evaluations and analyse them."""
+    """Run (or, with ``evaluate=False``, only read back) all model evaluations and analyse them.
+
+    Wind-load realisations are shared by all workers through files beside the store
+    (:mod:`ddgsa.loads.cache`): each is generated once per study, not once per worker process."""
+    with loads_cache.shared(store.path.parent / "loads"):
+        return _execute(study, store, jobs, backend, address, quiet, evaluate)
+
+
+def _execute(study: Study, store: EvaluationStore, jobs: int | None, backend: str | None, address: str | None,
+             quiet: bool, evaluate: bool) -> StudyResult:
     if study.spec.model.variants:
         return _execute_variants(study, store, jobs=jobs, backend=backend, address=address, quiet=quiet,
                                  evaluate=evaluate)
@@ -201,7 +212,8 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
     spec = study.spec
     run = spec.run
     run_opts = {"jobs": jobs or run.jobs, "batch_size": run.batch_size, "backend": backend or run.backend,
-                "address": address or run.address, "quiet": quiet}
+                "address": address or run.address, "quiet": quiet,
+                "setup": functools.partial(loads_cache.set_directory, loads_cache.directory())}
     fidelity_choice: list[dict[str, Any]] = []
     if spec.model.fidelity == "auto":
         fidelity_choice = select_fidelities(study, store, evaluate, run_opts)

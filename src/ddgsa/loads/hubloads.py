@@ -54,29 +54,40 @@ def inflow_in_shaft_frame(turbine: Turbine, wind_speed: float, shear_exponent: f
     chi, tau = np.deg2rad(inclination_deg), np.deg2rad(turbine.tilt_deg)
     height = np.maximum(turbine.hub_height + z_points, 1.0)
     mean = wind_speed * (height / turbine.hub_height) ** shear_exponent
-    along = mean[None, :] + fluct[0]
-    # ground frame: mean flow along (cos chi, 0, sin chi); w along (-sin chi, 0, cos chi)
-    gx = along * np.cos(chi) - fluct[2] * np.sin(chi)
-    gz = along * np.sin(chi) + fluct[2] * np.cos(chi)
-    # shaft frame: X = (cos tau, 0, -sin tau), Z = (sin tau, 0, cos tau)
-    return np.stack([gx * np.cos(tau) - gz * np.sin(tau), fluct[1], gx * np.sin(tau) + gz * np.cos(tau)])
+    # ground frame: mean flow along (cos chi, 0, sin chi); w along (-sin chi, 0, cos chi);
+    # shaft frame: X = (cos tau, 0, -sin tau), Z = (sin tau, 0, cos tau). Composed, X and Z turn
+    # the (along, w) pair by chi + tau: written into one array without whole-field temporaries
+    out = np.empty_like(fluct)
+    c, s = np.cos(chi + tau), np.sin(chi + tau)
+    along = np.add(fluct[0], mean[None, :], out=out[1])      # out[1] as scratch, overwritten below
+    np.multiply(along, c, out=out[0])
+    out[0] -= s * fluct[2]
+    np.multiply(along, s, out=out[2])
+    out[2] += c * fluct[2]
+    out[1] = fluct[1]
+    return out
 
 
 @njit(cache=True)
-def _simulate(u_rings: NDArray[np.float64], dt: float, radius: NDArray[np.float64],
+def _simulate(inflow: NDArray[np.float64], spinup: int, n_az: int, dt: float, radius: NDArray[np.float64],
               area: NDArray[np.float64], big_r: float, rho: float, inertia: float,
               tsr: NDArray[np.float64], pitch: NDArray[np.float64], ct: NDArray[np.float64],
               cq: NDArray[np.float64], torque_law: NDArray[np.float64], omega0: float, beta0: float,
               rated_speed: float, rated_torque: float, kp: float, ki: float, knee: float,
               rate: float, beta_max: float) -> NDArray[np.float64]:  # pragma: no cover (compiled)
-    """Time loop: rotor speed, azimuth, pitch PI and element loads. Returns (n_t, 10)."""
-    n_t, _, n_r, n_az = u_rings.shape
-    out = np.empty((n_t, 10))
+    """Time loop: rotor speed, azimuth, pitch PI and element loads over ``spinup`` steps taken from
+    the end of the (periodic) inflow, then the whole record. Returns (spinup + n_t, 10).
+
+    The inflow (3, n_t, n_pts) is read in place: ring j, grid azimuth i is point ``1 + j n_az + i``."""
+    n_t = inflow.shape[1]
+    n_r = radius.size
+    out = np.empty((spinup + n_t, 10))
     omega, psi, beta = omega0, 0.0, beta0
     gk0 = 1.0 / (1.0 + beta0 / knee)
     integ = beta0 / (gk0 * ki) if ki > 0 else 0.0
     w_tab, q_tab = torque_law[0], torque_law[1]
-    for n in range(n_t):
+    for n in range(spinup + n_t):
+        ti = (n_t - spinup + n) % n_t
         fx = fy = fz = mx = my = mz = 0.0
         for b in range(3):
             az = psi + 2.0 * np.pi * b / 3.0
@@ -86,9 +97,10 @@ def _simulate(u_rings: NDArray[np.float64], dt: float, radius: NDArray[np.float6
             t = pos - int(pos)
             c, s = np.cos(az), np.sin(az)
             for j in range(n_r):
-                ux = (1 - t) * u_rings[n, 0, j, i0] + t * u_rings[n, 0, j, i1]
-                uy = (1 - t) * u_rings[n, 1, j, i0] + t * u_rings[n, 1, j, i1]
-                uz = (1 - t) * u_rings[n, 2, j, i0] + t * u_rings[n, 2, j, i1]
+                p0, p1 = 1 + j * n_az + i0, 1 + j * n_az + i1
+                ux = (1 - t) * inflow[0, ti, p0] + t * inflow[0, ti, p1]
+                uy = (1 - t) * inflow[1, ti, p0] + t * inflow[1, ti, p1]
+                uz = (1 - t) * inflow[2, ti, p0] + t * inflow[2, ti, p1]
                 ux = max(ux, 0.1)
                 w_t = omega * radius[j] + uy * c + uz * s
                 lam = w_t * big_r / (radius[j] * ux)
@@ -135,7 +147,7 @@ def _bilinear(x: NDArray[np.float64], y: NDArray[np.float64], table: NDArray[np.
 
 
 def simulate_rotor(turbine: Turbine, inflow: NDArray[np.float64], dt: float,
-                   initial: dict[str, float]) -> NDArray[np.float64]:
+                   initial: dict[str, float], spinup: int = 0) -> NDArray[np.float64]:
     """Run the rotor/controller loop over the inflow on the grid.
 
     Parameters
@@ -144,6 +156,9 @@ def simulate_rotor(turbine: Turbine, inflow: NDArray[np.float64], dt: float,
         Shaft-frame wind at :func:`grid_points` (hub centre first) [m/s].
     initial : dict
         Steady operating point (``rotor_speed`` [rad/s], ``pitch`` [rad]) to start from.
+    spinup : int
+        Steps run first over the last ``spinup`` samples of the inflow (a periodic record wraps
+        around) and discarded, so the record starts from a settled rotor and controller.
 
     Returns
     -------
@@ -152,12 +167,13 @@ def simulate_rotor(turbine: Turbine, inflow: NDArray[np.float64], dt: float,
         [N m], azimuth of blade 1 [rad].
     """
     r, area = turbine.stations
-    n_t = inflow.shape[1]
-    rings = inflow[:, :, 1:].reshape(3, n_t, r.size, N_AZIMUTH).transpose(1, 0, 2, 3)
+    spinup = min(int(spinup), inflow.shape[1])
     w_tab = np.linspace(0.0, 1.5 * turbine.rated_speed, 2001)
     law = np.vstack([w_tab, turbine.generator_torque(w_tab)])
     tab = turbine.table
-    return _simulate(np.ascontiguousarray(rings), dt, r, area, turbine.rotor_radius, turbine.air_density,
-                     turbine.rotor_inertia, tab.tsr, tab.pitch, tab.ct, np.ascontiguousarray(tab.cq), law,
-                     initial["rotor_speed"], initial["pitch"], turbine.rated_speed, turbine.rated_torque,
-                     turbine.kp, turbine.ki, turbine.gain_knee, turbine.pitch_rate, float(tab.pitch[-1]))
+    out = _simulate(np.ascontiguousarray(inflow), spinup, N_AZIMUTH, dt, r, area, turbine.rotor_radius,
+                    turbine.air_density, turbine.rotor_inertia, tab.tsr, tab.pitch, tab.ct,
+                    np.ascontiguousarray(tab.cq), law, initial["rotor_speed"], initial["pitch"], turbine.rated_speed,
+                    turbine.rated_torque, turbine.kp, turbine.ki, turbine.gain_knee, turbine.pitch_rate,
+                    float(tab.pitch[-1]))
+    return out[spinup:]

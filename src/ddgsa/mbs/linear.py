@@ -11,8 +11,16 @@ shapes) the equations are time-invariant; the spin angle is cyclic and only its 
 with positions ``p = [R, theta, psi, xi]`` (no spin angle), velocities
 ``v = [R_dot, phi_dot, theta_dot, psi_dot, xi_dot]`` and inputs ``u = [F (3), M (3), w_set]``:
 gyroscopic and Coriolis terms at the operating spin are in ``C``, centrifugal softening in
-``K``. :func:`simulate_lti` integrates the first-order form exactly for inputs cubic between
+``K``; the spring-damper forces are linearised in the same pass (:class:`LinearOutputs`).
+:func:`simulate_lti` integrates the first-order form exactly for inputs cubic between
 samples (the integrators' C1 interpolation; one matrix exponential).
+
+Cost: the linearisation is one compiled call (``4 n + 7`` pairs of residual evaluations);
+the response is stepped at the load interval in **modal coordinates** ``x = V z`` of the
+state matrix, where the recurrence is one complex multiply per mode and step (a conjugate
+pair counted once) and only the requested outputs ``C x`` are formed; the dense
+``x[k+1] = Phi x[k] + ...`` recurrence is kept for eigenvector bases too ill-conditioned to
+trust (:data:`MAX_MODAL_CONDITION`).
 """
 
 from __future__ import annotations
@@ -21,11 +29,16 @@ from dataclasses import dataclass
 from math import comb
 
 import numpy as np
-from numpy.typing import NDArray
 from numba import njit
+from numpy.lib.stride_tricks import sliding_window_view
+from numpy.typing import NDArray
 from scipy.linalg import expm
 
-from ddgsa.mbs.system import SystemArrays, evaluate_terms
+from ddgsa.mbs.system import SystemArrays, terms
+
+MAX_MODAL_CONDITION = 1e8
+"""Condition number of the eigenvector matrix above which :func:`lti_response` steps the dense
+recurrence instead of modal coordinates (modal round-off grows with it: 1e8 keeps ~1e-8 of 1e-16)."""
 
 
 @dataclass(frozen=True)
@@ -42,53 +55,109 @@ class LinearSystem:
     u0: NDArray[np.float64]
 
 
-def _rot_pairs(xi: NDArray[np.float64], pairs: list[tuple[int, int]]) -> NDArray[np.float64]:
+@dataclass(frozen=True)
+class LinearOutputs:
+    """Spring-damper forces (n_s x 3, flattened, global frame [N]) linearised about the same point:
+    ``y = y0 + d_p dp + d_v dv + d_u du``."""
+
+    y0: NDArray[np.float64]
+    d_p: NDArray[np.float64]
+    d_v: NDArray[np.float64]
+    d_u: NDArray[np.float64]
+
+
+@njit(cache=True)
+def _rot_pairs(xi, iy, iz):  # pragma: no cover (compiled)
     """``J xi``: the 90-degree rotation applied to each (y, z) pair, zero elsewhere."""
     out = np.zeros_like(xi)
-    for iy, iz in pairs:
-        out[iy], out[iz] = -xi[iz], xi[iy]
+    for k in range(iy.size):
+        out[iy[k]] = -xi[iz[k]]
+        out[iz[k]] = xi[iy[k]]
     return out
 
 
-def body_state(p: NDArray[np.float64], v: NDArray[np.float64], a: NDArray[np.float64],
-               pairs: list[tuple[int, int]]) -> tuple[NDArray[np.float64], ...]:
-    """Body coordinates, velocities and accelerations at spin angle 0 from the non-rotating ones."""
-    xi, xid, xidd = p[5:], v[6:], a[6:]
+@njit(cache=True)
+def _residual_and_springs(p, v, a, u, iy, iz, sys):  # pragma: no cover (compiled)
+    """``M q_ddot - Q`` and the spring forces at a non-rotating state (spin angle 0).
+
+    Body coordinates from the non-rotating ones: ``q_f = xi``, ``q_f_dot = xi_dot - w J xi``,
+    ``q_f_ddot = xi_ddot - 2 w J xi_dot - w_dot J xi + w^2 J J xi``.
+    """
+    n = v.size
+    q, qd, qdd = np.zeros(n), np.zeros(n), np.zeros(n)
+    q[0:3] = p[0:3]
+    q[4:6] = p[3:5]
+    q[6:] = p[5:]
+    qd[:6] = v[:6]
+    qdd[:6] = a[:6]
     w, wd = v[3], a[3]
-    q = np.concatenate([p[:3], [0.0], p[3:5], xi])
-    qd = np.concatenate([v[:6], xid - w * _rot_pairs(xi, pairs)])
-    jxi, jxid = _rot_pairs(xi, pairs), _rot_pairs(xid, pairs)
-    qdd = np.concatenate([a[:6], xidd - 2 * w * jxid - wd * jxi + w * w * _rot_pairs(jxi, pairs)])
-    return q, qd, qdd
+    jxi = _rot_pairs(p[5:], iy, iz)
+    jjxi = _rot_pairs(jxi, iy, iz)
+    jxid = _rot_pairs(v[6:], iy, iz)
+    qd[6:] = v[6:] - w * jxi
+    qdd[6:] = a[6:] - 2.0 * w * jxid - wd * jxi + w * w * jjxi
+    zero = np.zeros(3)
+    m, f, _, _, fs, _ = terms(q, qd, u[0:3], u[3:6], u[6], 0.0, zero, zero, *sys)
+    return m @ qdd - f, fs.ravel().copy()
 
 
-def residual(sys: SystemArrays, p: NDArray[np.float64], v: NDArray[np.float64], a: NDArray[np.float64],
-             u: NDArray[np.float64], pairs: list[tuple[int, int]]) -> NDArray[np.float64]:
-    """``M q_ddot - Q`` of the nonlinear system in non-rotating coordinates (spin angle 0)."""
-    q, qd, qdd = body_state(p, v, a, pairs)
-    m, f, *_ = evaluate_terms(sys, q, qd, u[0:3], u[3:6], float(u[6]))
-    return m @ qdd - f
+@njit(cache=True)
+def _central_columns(p0, v0, a0, u0, which, scale, rel_step, iy, iz, ny, sys):  # pragma: no cover (compiled)
+    """Central-difference Jacobians of the residual and the spring forces with respect to
+    argument ``which`` (0 p, 1 v, 2 a, 3 u); the step of entry ``i`` is ``rel_step max(scale, |x_i|)``."""
+    x0 = (p0, v0, a0, u0)[which]
+    jr = np.empty((v0.size, x0.size))
+    jy = np.empty((ny, x0.size))
+    for i in range(x0.size):
+        h = rel_step * max(scale, abs(x0[i]))
+        cols = []
+        for sign in (1.0, -1.0):
+            p, v, a, u = p0.copy(), v0.copy(), a0.copy(), u0.copy()
+            if which == 0:
+                p[i] += sign * h
+            elif which == 1:
+                v[i] += sign * h
+            elif which == 2:
+                a[i] += sign * h
+            else:
+                u[i] += sign * h
+            cols.append(_residual_and_springs(p, v, a, u, iy, iz, sys))
+        jr[:, i] = (cols[0][0] - cols[1][0]) / (2.0 * h)
+        jy[:, i] = (cols[0][1] - cols[1][1]) / (2.0 * h)
+    return jr, jy
 
 
 def linearise_spinning(sys: SystemArrays, p0: NDArray[np.float64], spin: float, u0: NDArray[np.float64],
-                       pairs: list[tuple[int, int]], rel_step: float = 1e-6) -> LinearSystem:
-    """Central-difference linearisation of :func:`residual` about ``(p0, spin, u0)`` (see the module)."""
+                       pairs: list[tuple[int, int]],
+                       rel_step: float = 1e-6) -> tuple[LinearSystem, LinearOutputs]:
+    """Central-difference linearisation about ``(p0, spin, u0)`` (see the module).
+
+    Parameters
+    ----------
+    p0 : positions without the spin angle [m, rad]
+    spin : operating spin rate [rad/s]
+    u0 : inputs ``[F (3) [N], M (3) [N m], w_set [rad/s]]``
+    pairs : elastic-coordinate indices ``(y, z)`` of equal bending shapes
+    rel_step : relative finite-difference step
+
+    Returns
+    -------
+    LinearSystem, LinearOutputs
+        The equations of motion and the spring-damper forces, linearised.
+    """
     n = p0.size + 1
     v0 = np.zeros(n)
     v0[3] = spin
     a0 = np.zeros(n)
-    r0 = -residual(sys, p0, v0, a0, u0, pairs)
-
-    def res(p: NDArray[np.float64], v: NDArray[np.float64], a: NDArray[np.float64],
-            u: NDArray[np.float64]) -> NDArray[np.float64]:
-        return residual(sys, p, v, a, u, pairs)
-
-    args = [p0, v0, a0, u0]
-    k = central_jacobian(res, args, 0, 1e-3, rel_step)
-    c = central_jacobian(res, args, 1, 1e-3, rel_step)
-    m = central_jacobian(res, args, 2, 1.0, rel_step)
-    b = -central_jacobian(res, args, 3, 1.0, rel_step)
-    return LinearSystem(m, c, k, b, r0, p0, v0, u0)
+    u0 = np.asarray(u0, dtype=float)
+    iy = np.array([i for i, _ in pairs], dtype=np.int64)
+    iz = np.array([j for _, j in pairs], dtype=np.int64)
+    args = sys.args()
+    r_base, y0 = _residual_and_springs(p0, v0, a0, u0, iy, iz, args)
+    jac = [_central_columns(p0, v0, a0, u0, w, s, rel_step, iy, iz, y0.size, args)
+           for w, s in ((0, 1e-3), (1, 1e-3), (2, 1.0), (3, 1.0))]
+    lin = LinearSystem(m=jac[2][0], c=jac[1][0], k=jac[0][0], b=-jac[3][0], r0=-r_base, p0=p0, v0=v0, u0=u0)
+    return lin, LinearOutputs(y0=y0, d_p=jac[0][1], d_v=jac[1][1], d_u=jac[3][1])
 
 
 def state_matrices(lin: LinearSystem) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -124,50 +193,106 @@ def discretise_cubic(a: NDArray[np.float64], bw: NDArray[np.float64],
     return e[:ns, :ns], [factorial[j] * e[:ns, ns + j * ni:ns + (j + 1) * ni] for j in range(4)]
 
 
+CATMULL_ROM = np.array([[0.0, 1.0, 0.0, 0.0], [-0.5, 0.0, 0.5, 0.0], [1.0, -2.5, 2.0, -0.5],
+                        [-0.5, 1.5, -1.5, 0.5]])
+"""``c_j = sum_l CATMULL_ROM[j, l] w[k - 1 + l]``: the C1 cubic (Catmull-Rom) on interval k from
+its four neighbouring samples (the end samples repeated at the ends)."""
+
+
+def _padded(w: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Samples with the first and last repeated: ``w[k - 1 + l]`` of interval k is row ``k + l``."""
+    return np.concatenate([w[:1], w, w[-1:], w[-1:]])
+
+
 def catmull_rom_coefficients(w: NDArray[np.float64]) -> list[NDArray[np.float64]]:
     """Cubic coefficients ``c_0..c_3`` per interval (n_t - 1, k) of the C1 interpolant the integrators use."""
-    n = w.shape[0]
-    idx = np.arange(n - 1)
-    p0, p1 = w[np.maximum(idx - 1, 0)], w[idx]
-    p2, p3 = w[idx + 1], w[np.minimum(idx + 2, n - 1)]
-    return [p1, 0.5 * (p2 - p0), 0.5 * (2 * p0 - 5 * p1 + 4 * p2 - p3), 0.5 * (-p0 + 3 * p1 - 3 * p2 + p3)]
+    wp, n = _padded(w), w.shape[0] - 1
+    return [sum(CATMULL_ROM[j, l] * wp[l:l + n] for l in range(4)) for j in range(4)]
 
 
-def simulate_lti(lin: LinearSystem, u: NDArray[np.float64], dt: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Positions and velocities (absolute, ``p0 + dp``, ``v0 + dv``) for input samples ``u`` (n_t, 7).
+def simulate_lti(lin: LinearSystem, u: NDArray[np.float64], dt: float,
+                 c_out: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+    """Deviations ``x = [dp, dv]`` (or outputs ``c_out x``) for input samples ``u`` (n_t, 7) [SI].
 
     Inputs between samples follow the same C1 cubic (Catmull-Rom) the nonlinear integrators
     see, integrated exactly (:func:`discretise_cubic`). Starts from the quasi-static state of
-    the first sample (``K dp = B du0 + r0``, ``dv = 0``).
+    the first sample (``K dp = B du0 + r0``, ``dv = 0``). Absolute states are ``p0 + dp``, ``v0 + dv``.
     """
     a, bw = state_matrices(lin)
-    npos = lin.k.shape[1]
     w = np.column_stack([u - lin.u0, np.ones(len(u))])
     dp0 = np.linalg.lstsq(lin.k, lin.b @ w[0, :-1] + lin.r0, rcond=None)[0]
-    out = lti_response(a, bw, w, dt, np.concatenate([dp0, np.zeros(lin.m.shape[0])]))
-    return lin.p0 + out[:, :npos], lin.v0 + out[:, npos:]
+    return lti_response(a, bw, w, dt, np.concatenate([dp0, np.zeros(lin.m.shape[0])]), c_out=c_out)
+
+
+def _window_gains(gains: list[NDArray[np.float64]], m: int, n_sub: int) -> NDArray[np.float64]:
+    """``H`` (4 k, ns): the drive of sub-interval ``m`` of interval k is ``window_k @ H`` with
+    ``window_k[4 c + l] = w[k - 1 + l, c]`` (the four samples around the interval, channel-major).
+
+    ``w(k + (m + s)/n)`` as a cubic in s has coefficients ``d_i = sum_{j>=i} c_j C(j, i) m^(j-i) / n^j``
+    and ``c_j = sum_l CATMULL_ROM[j, l] w[k - 1 + l]``, so the drive ``sum_i G_i d_i`` is a
+    four-tap filter of the samples: one product with a (n_t - 1, 4 k) window view, no table of
+    cubic coefficients."""
+    per_c = [sum(comb(j, i) * m ** (j - i) / n_sub ** j * gains[i].T for i in range(j + 1)) for j in range(4)]
+    taps = [sum(CATMULL_ROM[j, l] * per_c[j] for j in range(4)) for l in range(4)]          # (k, ns) each
+    return np.stack(taps, axis=1).reshape(-1, taps[0].shape[1])
+
+
+def _drive(w: NDArray[np.float64], gains: list[NDArray[np.float64]], n_sub: int,
+           basis: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+    """Drive rows ((n_t - 1) n_sub + 1, .) of the recurrence, the last one zero; ``basis`` maps the
+    state drive to other coordinates (``drive @ basis``)."""
+    n = w.shape[0] - 1
+    window = sliding_window_view(_padded(w), 4, axis=0)[:n].reshape(n, -1)     # (n, 4 k), channel-major
+    h0 = _window_gains(gains, 0, n_sub)
+    width = h0.shape[1] if basis is None else basis.shape[1]
+    drive = np.zeros((n * n_sub + 1, width))
+    for m in range(n_sub):
+        h = h0 if m == 0 else _window_gains(gains, m, n_sub)
+        drive[m:n * n_sub:n_sub] = window @ (h if basis is None else h @ basis)
+    return drive
 
 
 def lti_response(a: NDArray[np.float64], bw: NDArray[np.float64], w: NDArray[np.float64], dt: float,
-                 x0: NDArray[np.float64], n_sub: int = 1) -> NDArray[np.float64]:
-    """States of ``x_dot = A x + B_w w(t)`` for samples ``w`` (n_t, k) at spacing ``dt`` [s], exactly.
+                 x0: NDArray[np.float64], n_sub: int = 1,
+                 c_out: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+    """States (or outputs ``c_out x``) of ``x_dot = A x + B_w w(t)`` for samples ``w`` (n_t, k) at
+    spacing ``dt`` [s], exactly.
 
     ``w`` between samples is the C1 cubic (Catmull-Rom) interpolant; the states come back at
     ``n_sub`` points per sample interval (``(n_t - 1) n_sub + 1`` rows), each sub-interval's
-    cubic re-expanded exactly, so a fine output grid costs no interpolation error.
+    cubic re-expanded exactly, so a fine output grid costs no interpolation error. Stepped in
+    modal coordinates when the eigenvectors of ``A`` are well conditioned (see the module).
     """
     phi, gains = discretise_cubic(a, bw, dt / n_sub)
-    c = np.hstack(catmull_rom_coefficients(w))                       # (n_t - 1, 4 k)
-    ns = a.shape[0]
-    drive = np.empty((len(w) - 1, n_sub, ns))
-    for m in range(n_sub):
-        # w(k + (m + s)/n) as a cubic in s has coefficients d_i = sum_{j>=i} c_j C(j, i) m^(j-i) / n^j,
-        # so the drive sum_i G_i d_i is one product with the stacked gains H_m
-        h = np.vstack([sum(comb(j, i) * m ** (j - i) / n_sub ** j * gains[i].T for i in range(j + 1))
-                       for j in range(4)])                            # (4 k, ns)
-        drive[:, m] = c @ h
-    drive = np.vstack([drive.reshape(-1, ns), np.zeros((1, ns))])
-    return _recurrence(phi, drive, x0)
+    c_out = np.eye(a.shape[0]) if c_out is None else np.asarray(c_out, dtype=float)
+    lam, vec = np.linalg.eig(a)
+    if np.linalg.cond(vec) > MAX_MODAL_CONDITION:
+        return _recurrence(phi, _drive(w, gains, n_sub), x0) @ c_out.T
+    keep = lam.imag >= 0.0                              # one mode of each conjugate pair, all real ones
+    vinv = np.linalg.inv(vec)[keep]
+    weight = np.where(lam[keep].imag > 0.0, 2.0, 1.0)   # x = sum_real v z + sum_pairs 2 Re(v z)
+    drive = _drive(w, gains, n_sub, np.hstack([vinv.real.T, vinv.imag.T]))     # [Re | Im] of the modal drive
+    z = _modal_recurrence(np.exp(lam[keep] * dt / n_sub), drive, vinv @ x0)     # [Re | Im] of z
+    cm = (c_out @ vec[:, keep]) * weight                                       # (n_out, nk)
+    return z @ np.vstack([cm.real.T, -cm.imag.T])
+
+
+@njit(cache=True)
+def _modal_recurrence(mu, drive, z0):  # pragma: no cover (compiled)
+    """``z[k+1] = mu z[k] + drive[k]`` per mode from ``z0``; ``drive`` and the result hold the real
+    parts in the first half of the columns and the imaginary parts in the second."""
+    n, m = drive.shape[0], mu.size
+    out = np.empty((n, 2 * m))
+    zr, zi = z0.real.copy(), z0.imag.copy()
+    mr, mi = mu.real.copy(), mu.imag.copy()
+    for i in range(n):
+        for r in range(m):
+            out[i, r] = zr[r]
+            out[i, m + r] = zi[r]
+            re = mr[r] * zr[r] - mi[r] * zi[r] + drive[i, r]
+            zi[r] = mr[r] * zi[r] + mi[r] * zr[r] + drive[i, m + r]
+            zr[r] = re
+    return out
 
 
 @njit(cache=True)
@@ -186,33 +311,3 @@ def _recurrence(phi, drive, x0):  # pragma: no cover (compiled)
             nxt[r] += acc
         x = nxt
     return out
-
-
-def spring_outputs(sys: SystemArrays, p: NDArray[np.float64], v: NDArray[np.float64], u: NDArray[np.float64],
-                   pairs: list[tuple[int, int]]) -> NDArray[np.float64]:
-    """Spring-damper forces (n_s x 3, flattened) of the nonlinear system at a non-rotating state."""
-    q, qd, _ = body_state(p, v, np.zeros_like(v), pairs)
-    return evaluate_terms(sys, q, qd, u[0:3], u[3:6], float(u[6]))[4].ravel()
-
-
-def central_jacobian(fun, args: list[NDArray[np.float64]], which: int, scale: float,  # noqa: ANN001
-                     rel_step: float = 1e-6) -> NDArray[np.float64]:
-    """Central-difference Jacobian of ``fun(*args)`` with respect to ``args[which]``.
-
-    The step of entry ``i`` is ``rel_step * max(scale, |x_i|)``.
-    """
-    x0 = args[which]
-    cols = []
-    for i in range(x0.size):
-        h = rel_step * max(scale, abs(x0[i]))
-        plus, minus = [a.copy() for a in args], [a.copy() for a in args]
-        plus[which][i] += h
-        minus[which][i] -= h
-        cols.append((fun(*plus) - fun(*minus)) / (2 * h))
-    return np.column_stack(cols)
-
-
-def linearise_map(fun, lin: LinearSystem, rel_step: float = 1e-6) -> tuple[NDArray[np.float64], ...]:  # noqa: ANN001
-    """Value and Jacobians of ``fun(p, v, u)`` at the operating point: ``(y0, dy/dp, dy/dv, dy/du)``."""
-    args = [lin.p0, lin.v0, lin.u0]
-    return (fun(*args), *(central_jacobian(fun, args, w, s, rel_step) for w, s in ((0, 1e-3), (1, 1e-3), (2, 1.0))))

@@ -195,27 +195,29 @@ def _solve_spd(a, b):  # pragma: no cover (compiled)
 
 
 @njit(cache=True)
-def _interp_row(series, k, frac):  # pragma: no cover (compiled)
-    """Catmull-Rom (C1 cubic) interpolation between samples k and k+1 at fraction ``frac``.
+def _interp_into(series, k, frac, out):  # pragma: no cover (compiled)
+    """Catmull-Rom (C1 cubic) interpolation of a (n_t, m) series between samples k and k+1 at
+    fraction ``frac``, written into ``out`` (no allocation per step).
 
     A C1 input does not kick the stiff bearing modes at every load sample the way linear
     interpolation's slope jumps do, which keeps results independent of the step.
     """
     n = series.shape[0]
-    p0 = series[max(k - 1, 0)]
-    p1 = series[k]
-    p2 = series[min(k + 1, n - 1)]
-    p3 = series[min(k + 2, n - 1)]
+    i0, i2, i3 = max(k - 1, 0), min(k + 1, n - 1), min(k + 2, n - 1)
     t = frac
     t2 = t * t
     t3 = t2 * t
-    return 0.5 * ((2.0 * p1) + (-p0 + p2) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2
-                  + (-p0 + 3.0 * p1 - 3.0 * p2 + p3) * t3)
+    for c in range(series.shape[1]):
+        p0, p1, p2, p3 = series[i0, c], series[k, c], series[i2, c], series[i3, c]
+        out[c] = 0.5 * ((2.0 * p1) + (-p0 + p2) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2
+                        + (-p0 + 3.0 * p1 - 3.0 * p2 + p3) * t3)
 
 
 @njit(cache=True)
 def _gen_alpha(q0, qd0, dt_load, n_sub, forces, moments, w_set, torque0, bp_disp, bp_vel, rho_inf, tol,
                max_iter, *sys):  # pragma: no cover (compiled)
+    """Fixed-step generalised-alpha (see :func:`integrate`), vectors updated in place: at about one
+    Newton iteration a step the allocations of whole-array expressions cost as much as the model."""
     n_t = forces.shape[0]
     n = q0.size
     ns = sys[13].shape[0]
@@ -230,42 +232,57 @@ def _gen_alpha(q0, qd0, dt_load, n_sub, forces, moments, w_set, torque0, bp_disp
     qd_out = np.empty((n_t, n))
     fs_out = np.empty((n_t, ns, 3))
     tq_out = np.empty(n_t)
+    inputs = np.empty((n_t, 13))                    # force, moment, w_set, bedplate displacement, velocity
+    inputs[:, 0:3], inputs[:, 3:6], inputs[:, 6] = forces, moments, w_set
+    inputs[:, 7:10], inputs[:, 10:13] = bp_disp, bp_vel
+    row = np.empty(13)
     q, qd = q0.copy(), qd0.copy()
     m, f, kt, ct, fs, tq = terms(q, qd, forces[0], moments[0], w_set[0], torque0, bp_disp[0], bp_vel[0], *sys)
     acc = np.linalg.solve(m, f)
     aux = acc.copy()
+    acc_prev = acc.copy()
+    acc_new = np.empty(n)
+    res = np.empty(n)
+    it_mat = np.empty((n, n))
     q_out[0], qd_out[0], fs_out[0], tq_out[0] = q, qd, fs, tq
     worst = 0
+    c_aux = h * h * (0.5 - beta)
     for k in range(n_t - 1):
         for sub in range(n_sub):
-            frac = (sub + 1.0) / n_sub
-            fo = _interp_row(forces, k, frac)
-            mo = _interp_row(moments, k, frac)
-            ws = _interp_row(w_set.reshape(-1, 1), k, frac)[0]
-            bd = _interp_row(bp_disp, k, frac)
-            bv = _interp_row(bp_vel, k, frac)
-            acc_new = acc.copy()                                 # predictor: acceleration unchanged
-            aux_new = (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
-            q = q + h * qd + h * h * ((0.5 - beta) * aux + beta * aux_new)
-            qd = qd + h * ((1.0 - gamma) * aux + gamma * aux_new)
+            _interp_into(inputs, k, (sub + 1.0) / n_sub, row)
+            for i in range(n):
+                acc_new[i] = 2.0 * acc[i] - acc_prev[i]           # predictor: acceleration extrapolated
+                aux_new = (af * acc[i] - am * aux[i] + (1.0 - af) * acc_new[i]) / (1.0 - am)
+                q[i] += h * qd[i] + c_aux * aux[i] + h * h * beta * aux_new
+                qd[i] += h * ((1.0 - gamma) * aux[i] + gamma * aux_new)
             converged = False
             for it in range(max_iter):
-                m, f, kt, ct, fs, tq = terms(q, qd, fo, mo, ws, torque0, bd, bv, *sys)
-                res = mv(m, acc_new) - f
-                it_mat = m + gp * h * ct + bp * h * h * kt
-                delta = _solve_spd(it_mat, -res)
-                acc_new += delta
-                q += bp * h * h * delta
-                qd += gp * h * delta
+                m, f, kt, ct, fs, tq = terms(q, qd, row[0:3], row[3:6], row[6], torque0, row[7:10], row[10:13],
+                                             *sys)
+                for i in range(n):
+                    acc_i = 0.0
+                    for j in range(n):
+                        acc_i += m[i, j] * acc_new[j]
+                        it_mat[i, j] = m[i, j] + gp * h * ct[i, j] + bp * h * h * kt[i, j]
+                    res[i] = f[i] - acc_i
+                delta = _solve_spd(it_mat, res)
+                step = 0.0
+                for i in range(n):
+                    acc_new[i] += delta[i]
+                    q[i] += bp * h * h * delta[i]
+                    qd[i] += gp * h * delta[i]
+                    step = max(step, abs(bp * h * h * delta[i]))
                 if it + 1 > worst:
                     worst = it + 1
-                if np.max(np.abs(bp * h * h * delta)) < tol:
+                if step < tol:
                     converged = True
                     break
             if not converged or not np.all(np.isfinite(q)):
                 return q_out[:k + 1], qd_out[:k + 1], fs_out[:k + 1], tq_out[:k + 1], -(k + 1)
-            aux = (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
-            acc = acc_new
+            for i in range(n):
+                aux[i] = (af * acc[i] - am * aux[i] + (1.0 - af) * acc_new[i]) / (1.0 - am)
+                acc_prev[i] = acc[i]
+                acc[i] = acc_new[i]
         m, f, kt, ct, fs, tq = terms(q, qd, forces[k + 1], moments[k + 1], w_set[k + 1], torque0, bp_disp[k + 1],
                                      bp_vel[k + 1], *sys)
         q_out[k + 1], qd_out[k + 1], fs_out[k + 1], tq_out[k + 1] = q, qd, fs, tq
@@ -347,7 +364,8 @@ def integrate_reference(sys: SystemArrays, q0: NDArray[np.float64], qd0: NDArray
 
     def rhs(t: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
         k = min(int((t - times[0]) / dt), times.size - 2)
-        row = _interp_row(inputs, k, (t - times[k]) / dt)
+        row = np.empty(inputs.shape[1])
+        _interp_into(inputs, k, (t - times[k]) / dt, row)
         m, f, *_ = evaluate_terms(sys, y[:n], y[n:], row[0:3], row[3:6], float(row[6]), torque0)
         return np.concatenate([y[n:], np.linalg.solve(m, f)])
 

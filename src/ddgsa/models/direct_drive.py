@@ -58,12 +58,12 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.loads import EXCITATION_FACTORS, NREL5MW, apply_excitation, generate
+from ddgsa.loads import EXCITATION_FACTORS, NREL5MW, generate_columns
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs.beam import BeamSpec, mesh, shaft_modes
 from ddgsa.mbs.ffr import inertia_points
 from ddgsa.mbs.modal import linearise, modal_analysis
-from ddgsa.mbs.linear import linearise_map, linearise_spinning, simulate_lti, spring_outputs
+from ddgsa.mbs.linear import linearise_spinning, simulate_lti
 from ddgsa.mbs.sampling import NYQUIST, check_interval, controller_row, sampling_row
 from ddgsa.mbs.system import SystemArrays, evaluate_terms, integrate, integrate_reference
 from ddgsa.models.base import Model, ModelParameter, register_model
@@ -317,13 +317,17 @@ class DirectDrive(Model):
         inertial torque). ``attrs`` carries the static
         solution for the mean loads (``static_hub``, ``static_gen``) and integrator statistics.
         """
-        p = self.resolve(params).iloc[0].to_dict()
+        return self._simulate(scene, self.resolve(params).iloc[0].to_dict(), states=True)
+
+    def _simulate(self, scene: Scene, p: Mapping[str, float], states: bool) -> pd.DataFrame:
+        """:meth:`simulate` for resolved parameters ``p``; ``states=False`` lets the linear fidelity
+        skip the coordinate columns (the objective functions do not read them)."""
         asm = assemble(p, self.fields)
-        loads = apply_excitation(generate(scene), {k: p[k] for k in EXCITATION_FACTORS})
-        forces = loads[["Fx", "Fy", "Fz"]].to_numpy()
-        moments = loads[["Mx", "My", "Mz"]].to_numpy()
+        raw = generate_columns(scene, ["Fx", "Fy", "Fz", "Mx", "My", "Mz", "rotor_speed", "gen_torque"])
+        factors = np.array([p[name] for name in EXCITATION_FACTORS])       # Fx, Fy, Fz, Mx, My, Mz order
+        forces, moments = raw[:, 0:3] * factors[0:3], raw[:, 3:6] * factors[3:6]
         blades = NREL5MW.rotor_inertia - p["hub_inertia_x"] - p["generator_inertia_x"]
-        moments[:, 0] -= blades * np.gradient(loads["rotor_speed"].to_numpy(), scene.dt)
+        moments[:, 0] -= blades * np.gradient(raw[:, 6], scene.dt)
         n_sub = max(1, int(round(scene.dt / self.time_step)))
         if abs(n_sub * self.time_step - scene.dt) > 1e-9 * scene.dt:
             raise ModelError(f"time_step {self.time_step} s must divide the scene's dt {scene.dt} s")
@@ -332,37 +336,43 @@ class DirectDrive(Model):
         q_st = self.static(asm, forces.mean(axis=0), moments.mean(axis=0))
         # torque_factor scales the torque through the shaft: aerodynamic and generator alike,
         # so the rotor keeps its speed (scaling Mx alone would spin the shaft up by dMx / C_gen)
-        w_set = (loads["rotor_speed"] - p["torque_factor"] * loads["gen_torque"] / p["c_gen"]).to_numpy()
+        w_set = raw[:, 6] - p["torque_factor"] * raw[:, 7] / p["c_gen"]
+        static_hub = end_positions(q_st[None, :], asm.hub_s, 0.0)[0]
+        static_gen = end_positions(q_st[None, :], asm.gen_s, asm.length)[0]
+        blocks: list[NDArray[np.float64]] = []
+        names: list[str] = []
         if self.fidelity == "linear":
-            res = self._linear_response(asm, q_st, forces, moments, w_set, scene.dt)
+            res = self._linear_response(asm, q_st, forces, moments, w_set, scene.dt, states)
+            ends = res["ends"]
         else:
             q0 = self.static(asm, forces[0], moments[0], q_guess=q_st)      # start at rest under the first loads
             qd0 = np.zeros_like(q0)
-            qd0[3] = loads["rotor_speed"].iloc[0]
+            qd0[3] = raw[0, 6]
             if self.integrator == "gen_alpha":
                 self._check_step()
                 res = integrate(asm.system, q0, qd0, scene.dt, n_sub, forces, moments, w_set, rho_inf=self.rho_inf)
             else:
-                res = integrate_reference(asm.system, q0, qd0, loads.index.to_numpy(), forces, moments, w_set,
-                                          method=self.integrator)
-        if res["failed_at"] >= 0:
-            raise RuntimeError(f"integrator diverged at t = {res['failed_at'] * scene.dt:.3f} s "
-                               f"(step {self.time_step} s)")
-        q, qd, fs = res["q"], res["qd"], res["spring_forces"]
-        blocks, names = [q, qd[:, 3:4]], [*self.coordinate_names, "rotor_speed"]
-        for name, s_mat, x0 in (("hub", asm.hub_s, 0.0), ("gen", asm.gen_s, asm.length)):
-            blocks.append(end_positions(q, s_mat, x0) - np.array([x0, 0.0, 0.0]))
-            names += [f"{name}_dx", f"{name}_dy", f"{name}_dz"]
+                res = integrate_reference(asm.system, q0, qd0, np.arange(len(raw)) * scene.dt, forces, moments,
+                                          w_set, method=self.integrator)
+            if res["failed_at"] >= 0:
+                raise RuntimeError(f"integrator diverged at t = {res['failed_at'] * scene.dt:.3f} s "
+                                   f"(step {self.time_step} s)")
+            ends = np.hstack([end_positions(res["q"], asm.hub_s, 0.0), end_positions(res["q"], asm.gen_s, asm.length)
+                              - np.array([asm.length, 0.0, 0.0])])
+        if "q" in res:
+            blocks.append(res["q"])
+            names += list(self.coordinate_names)
+        blocks += [res["speed"][:, None] if "speed" in res else res["qd"][:, 3:4], ends]
+        names += ["rotor_speed", "hub_dx", "hub_dy", "hub_dz", "gen_dx", "gen_dy", "gen_dz"]
         for b, name in enumerate(("front", "rear")):
-            blocks.append(fs[:, b, :])
+            blocks.append(res["spring_forces"][:, b, :])
             names += [f"{name}_Fx", f"{name}_Fy", f"{name}_Fz"]
         blocks += [res["torque"][:, None], forces, moments]
         names += ["gen_torque", "Fx", "Fy", "Fz", "Mx", "My", "Mz"]
-        out = pd.DataFrame(np.hstack(blocks), index=loads.index, columns=names)   # one block: no per-column inserts
-        out.attrs.update(
-            static_hub=end_positions(q_st[None, :], asm.hub_s, 0.0)[0],
-            static_gen=end_positions(q_st[None, :], asm.gen_s, asm.length)[0],
-            max_newton_iterations=res.get("max_iterations", 0), fidelity=self.fidelity, fields=self.fields)
+        index = pd.Index(np.arange(len(raw)) * scene.dt, name="time")
+        out = pd.DataFrame(np.hstack(blocks), index=index, columns=names)   # one block: no per-column inserts
+        out.attrs.update(static_hub=static_hub, static_gen=static_gen, max_newton_iterations=res.get("max_iterations", 0),
+                         fidelity=self.fidelity, fields=self.fields)
         return out
 
     @functools.cached_property
@@ -388,31 +398,48 @@ class DirectDrive(Model):
                        "direct_drive integration step", refuse=False, warn_below=NYQUIST)
 
     def _linear_response(self, asm: Assembly, q_st: NDArray[np.float64], forces: NDArray[np.float64],
-                         moments: NDArray[np.float64], w_set: NDArray[np.float64], dt: float) -> dict[str, Any]:
+                         moments: NDArray[np.float64], w_set: NDArray[np.float64], dt: float,
+                         states: bool) -> dict[str, Any]:
         """The flexible model linearised about the scene's mean operating point, integrated exactly.
 
         Operating point: ``q_st``, the static state under the mean hub loads; spin at the mean set speed
         plus the slip of the mean torque; bending in non-rotating coordinates
         (:mod:`ddgsa.mbs.linear`). Valid while rotations stay small (they are ~1e-4 rad) and the
-        rotor speed stays near its mean (gyroscopic terms are frozen at the mean speed).
+        rotor speed stays near its mean (gyroscopic terms are frozen at the mean speed). Every
+        output is linear in the state: the bearing forces and the shaft-end displacements are
+        linearised about the operating point too (the end points' rotation terms are of order
+        ``L theta^2 ~ 1e-7 m``, 1e-5 of the deflections), so the response is one modal pass
+        that forms only the rows asked for (``states``: also the coordinates and velocities).
         """
         u = np.column_stack([forces, moments, w_set])
         u0 = u.mean(axis=0)
         spin = float(u0[6] + u0[3] / asm.system.c_torque)            # torque balance: T = -M_x
         pairs = [(self.fields.index(f"bending_y_{k}"), self.fields.index(f"bending_z_{k}"))
                  for k in (1, 2) if f"bending_y_{k}" in self.fields]
-        lin = linearise_spinning(asm.system, np.delete(q_st, 3), spin, u0, pairs)
-        p, v = simulate_lti(lin, u, dt)
-        y0, dp, dv, du = linearise_map(lambda a, b, c: spring_outputs(asm.system, a, b, c, pairs), lin)
-        fs = y0 + (p - lin.p0) @ dp.T + (v - lin.v0) @ dv.T + (u - u0) @ du.T
-        q = np.insert(p, 3, 0.0, axis=1)                               # axis points do not see the spin angle
-        qd = np.column_stack([v[:, :6], v[:, 6:]])
-        torque = asm.system.c_torque * (w_set - v[:, 3])
-        return {"q": q, "qd": qd, "spring_forces": fs.reshape(len(u), -1, 3), "torque": torque,
-                "max_iterations": 0, "failed_at": -1}
+        lin, springs = linearise_spinning(asm.system, np.delete(q_st, 3), spin, u0, pairs)
+        npos, nvel = lin.k.shape[1], lin.m.shape[0]
+        ends0, d_ends = _end_jacobian(asm, lin.p0)
+        # outputs = y0 + C x + D du with x = [dp, dv]: speed, end displacements, spring forces
+        c_out = np.zeros((1 + 6 + springs.y0.size, npos + nvel))
+        c_out[0, npos + 3] = 1.0
+        c_out[1:7, :npos] = d_ends
+        c_out[7:, :npos], c_out[7:, npos:] = springs.d_p, springs.d_v
+        y0 = np.concatenate([[spin], ends0, springs.y0])
+        if states:
+            c_out = np.vstack([c_out, np.eye(npos + nvel)])
+        y = simulate_lti(lin, u, dt, c_out)
+        y[:, :y0.size] += y0
+        y[:, 7:y0.size] += (u - u0) @ springs.d_u.T
+        speed = y[:, 0]
+        res = {"speed": speed, "ends": y[:, 1:7], "spring_forces": y[:, 7:y0.size].reshape(len(u), -1, 3),
+               "torque": asm.system.c_torque * (w_set - speed), "max_iterations": 0}
+        if states:
+            p = lin.p0 + y[:, y0.size:y0.size + npos]
+            res["q"] = np.insert(p, 3, 0.0, axis=1)                     # axis points do not see the spin angle
+        return res
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
-        sim = self.simulate(scene, params)
+        sim = self._simulate(scene, params, states=False)
         return objectives(sim, params, self.rule, length=params["shaft_length"])
 
     def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
@@ -447,6 +474,20 @@ def end_positions(q: NDArray[np.float64], s_mat: NDArray[np.float64], x0: float)
                   np.stack([sp * ct, sp * st * sf + cp * cf, sp * st * cf - cp * sf], -1),
                   np.stack([-st, ct * sf, ct * cf], -1)], 1)                   # (n_t, 3, 3)
     return q[:, :3] + np.einsum("tij,tj->ti", a, u)
+
+
+def _end_jacobian(asm: Assembly, p0: NDArray[np.float64],
+                  step: float = 1e-7) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Shaft-end displacements ``[hub (3), gen (3)]`` [m] at positions ``p0`` (no spin angle) and their
+    central-difference Jacobian (6, n_p), from one vectorised :func:`end_positions` call."""
+    n = p0.size
+    p = np.repeat(p0[None, :], 2 * n + 1, axis=0)
+    p[1:n + 1] += step * np.eye(n)
+    p[n + 1:] -= step * np.eye(n)
+    q = np.insert(p, 3, 0.0, axis=1)
+    e = np.hstack([end_positions(q, asm.hub_s, 0.0), end_positions(q, asm.gen_s, asm.length)])
+    e[:, 3] -= asm.length
+    return e[0], ((e[1:n + 1] - e[n + 1:]) / (2 * step)).T
 
 
 def objectives(sim: pd.DataFrame, params: Mapping[str, float], rule: str, length: float) -> dict[str, float]:
