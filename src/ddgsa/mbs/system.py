@@ -412,7 +412,7 @@ def single_body_arrays(system: "System") -> SystemArrays:  # noqa: F821 (ddgsa.m
             raise ModelError(f"spring {s.name!r}: the single-body kernel needs global-frame springs from the "
                              "body to a ground or prescribed marker")
     load, law = loads[0].markers[0], laws[0].markers[0]
-    return SystemArrays(
+    arrays = SystemArrays(
         pm=pm, pu=pu, ps=ps, gravity=system.gravity.copy(), kff=body.kff, cff=body.cff,
         sp_u0=np.array([s.markers[0].position for s in springs]), sp_s=np.stack([s.markers[0].shapes for s in springs]),
         sp_k=np.array([np.diag(s.k6)[:3] for s in springs]), sp_c=np.array([np.diag(s.c6)[:3] for s in springs]),
@@ -420,3 +420,5 @@ def single_body_arrays(system: "System") -> SystemArrays:  # noqa: F821 (ddgsa.m
                             for s in springs]),
         ld_u0=load.position.copy(), ld_s=load.shapes.copy(), ld_srot=load.rotation_shapes.copy(),
         gn_srot=law.rotation_shapes.copy(), c_torque=laws[0].linear_form[1])
+    arrays.__dict__["invariants"] = body.invariants      # computed once, by the body (cached property)
+    return arrays
