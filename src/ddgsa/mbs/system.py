@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit
@@ -31,6 +32,9 @@ from numpy.typing import NDArray
 from scipy.integrate import solve_ivp
 
 from ddgsa.mbs.ffr import Invariants, body_terms_inv, dot, g_bar, mm, mv, rotation
+
+if TYPE_CHECKING:
+    from ddgsa.mbs.assembly import System
 
 
 @dataclass(frozen=True)
@@ -381,7 +385,7 @@ def integrate_reference(sys: SystemArrays, q0: NDArray[np.float64], qd0: NDArray
             "torque": np.array([t[5] for t in at_samples]), "nfev": int(sol.nfev), "failed_at": -1}
 
 
-def single_body_arrays(system: "System") -> SystemArrays:  # noqa: F821 (ddgsa.mbs.assembly.System)
+def single_body_arrays(system: System) -> SystemArrays:
     """The arrays of this module's compiled single-body kernel for a :class:`~ddgsa.mbs.assembly.System`
     of that shape (how the direct drive is written on the kernel's parts).
 
