@@ -95,7 +95,16 @@ def _mdrm(n_params: int) -> tuple[float, int]:
 
 
 def scaling(out: Path, quick: bool = False) -> dict[str, Any]:
-    """Measure the three scalings, write ``scaling.json`` and ``scaling.png`` to ``out``; return the figures."""
+    """Measure the three scalings, write ``scaling.json`` and ``scaling.png`` to ``out``; return the figures.
+
+    BLAS is single-threaded in this process (one worker = one core, as in the loky workers)."""
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _scaling(out, quick)
+
+
+def _scaling(out: Path, quick: bool) -> dict[str, Any]:
     generate(SCENE)
     _run(8, 1)                                        # compile / load kernels outside the timings
     _run(64, 2)                                       # start the reusable loky workers outside the timings

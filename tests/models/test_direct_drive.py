@@ -195,14 +195,24 @@ def test_linear_fidelity_agrees_with_flexible(wind: float) -> None:
 
 
 @pytest.mark.slow
-def test_bench_reports_every_fidelity() -> None:
-    from ddgsa.bench import format_speed, speed
+def test_bench_quick_variant_produces_every_target_row() -> None:
+    """``ddgsa bench --quick`` (small problems, ~1 min): every target of the speed issue has a row
+    with a measured value and a verdict, in the table and in the JSON. Timings are judged by the
+    bench, never here; the only numbers checked are ones that do not depend on the machine."""
+    import json as json_module
 
-    res = speed(ref_seconds=2.0)
-    assert [r["fidelity"] for r in res["fidelities"]] == ["flexible", "rigid", "linear"]
-    assert all(r["speedup_vs_reference"] > 0 for r in res["fidelities"])
-    assert res["fidelities"][0]["max_rel_error"] < 0.05          # flexible vs Radau on the same equations
-    assert "speed-up" in format_speed(res)
+    from ddgsa.bench import TARGETS, format_speed, speed
+
+    res = speed(quick=True)
+    assert [t["key"] for t in res["targets"]] == [t[0] for t in TARGETS]
+    assert all(t["measured"] is not None and t["pass"] in (True, False) for t in res["targets"]), res["targets"]
+    table = format_speed(res)
+    assert all(t["target"] in table for t in res["targets"])
+    assert json_module.loads(json_module.dumps(res))["targets"] == res["targets"]
+    by = {t["key"]: t["measured"] for t in res["targets"]}
+    assert by["flexible_error"] < 0.05                      # flexible vs Radau on the same equations
+    assert by["loads_generations"] == 1                     # no realisation generated twice
+    assert "/" not in res["study"]["study"].split("studies")[0]       # no absolute path of the machine
 
 
 def test_excitation_factors_scale_the_hub_loads_and_keep_the_speed() -> None:

@@ -107,7 +107,7 @@ def _cholesky_factors(points: NDArray[np.float64], f: NDArray[np.float64],
     return _factor_cached(r.tobytes(), r.shape[0], tuple(f[:n_low].tolist()), model), n_low
 
 
-@lru_cache(maxsize=16)
+@lru_cache(maxsize=2)       # 20-60 MB each for a 600 s record; refactoring costs ~0.05 s
 def _factor_cached(r_bytes: bytes, n: int, f_low: tuple[float, ...],
                    model: IecTurbulence) -> NDArray[np.float64]:
     r = np.frombuffer(r_bytes).reshape(n, n)

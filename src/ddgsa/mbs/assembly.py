@@ -288,7 +288,7 @@ def static_equilibrium(system: System, q: Array | None = None, t: float = 0.0, t
     q : (n,) equilibrium coordinates
     lam : (n_c,) multipliers (holonomic first), see each constraint's ``reaction``
     """
-    from ddgsa.mbs.linear import central_jacobian
+    from ddgsa.mbs.modal import central_jacobian
 
     q_start = (system.q0 if q is None else np.asarray(q, dtype=float)).copy()
     n, nc, nh = system.n, system.n_constraints, system.n_holonomic

@@ -17,7 +17,7 @@ says what ``lambda`` means for each constraint.
 
 from __future__ import annotations
 
-from abc import ABC, abstractmethod
+from abc import ABC
 from collections.abc import Callable
 
 import numpy as np

@@ -57,6 +57,23 @@ def linearise(terms: Terms, q0: NDArray[np.float64], qd0: NDArray[np.float64],
     return m0[np.ix_(idx, idx)], c, k
 
 
+def central_jacobian(fun: Callable[..., NDArray[np.float64]], args: list[NDArray[np.float64]], which: int,
+                     scale: float, rel_step: float = 1e-6) -> NDArray[np.float64]:
+    """Central-difference Jacobian of ``fun(*args)`` with respect to ``args[which]``.
+
+    The step of entry ``i`` is ``rel_step * max(scale, |x_i|)``.
+    """
+    x0 = args[which]
+    cols = []
+    for i in range(x0.size):
+        h = rel_step * max(scale, abs(x0[i]))
+        plus, minus = [a.copy() for a in args], [a.copy() for a in args]
+        plus[which][i] += h
+        minus[which][i] -= h
+        cols.append((fun(*plus) - fun(*minus)) / (2 * h))
+    return np.column_stack(cols)
+
+
 def damped_eigen(m: NDArray[np.float64], c: NDArray[np.float64],
                  k: NDArray[np.float64]) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """Oscillating eigenpairs of ``M q'' + C q' + K q = 0``, ascending ``|lambda|``.
@@ -149,12 +166,11 @@ def linearise_system(system: "System", q0: NDArray[np.float64] | None = None, qd
                      t0: float = 0.0, rel_step: float = 1e-6) -> ConstrainedLinearisation:
     """Linearise a constrained system about ``(q0, qd0, t0)`` and reduce it on the null space of ``C_q``.
 
-    The full matrices are central differences (:func:`ddgsa.mbs.linear.central_jacobian`) of the
+    The full matrices are central differences (:func:`central_jacobian`) of the
     residual ``M(q) q_ddot - Q(q, q_dot, t0) + C_q(q)^T lambda_0``; ``q0, qd0`` default to the
     system's (consistent) initial state.
     """
     from ddgsa.mbs.assembly import accelerations
-    from ddgsa.mbs.linear import central_jacobian
 
     if q0 is None or qd0 is None:
         q0, qd0 = system.consistent_state(q0, qd0, t0)

@@ -30,7 +30,8 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody
 from ddgsa.mbs.elements import Element
-from ddgsa.mbs.linear import central_jacobian, lti_response
+from ddgsa.mbs.linear import lti_response
+from ddgsa.mbs.modal import central_jacobian
 
 Array = NDArray[np.float64]
 RIGID_RCOND = 1e-12

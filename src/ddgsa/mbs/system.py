@@ -1,6 +1,7 @@
 """A flexible body on spring-dampers to a prescribed body, driven by point loads and a torque law.
 
-This is the assembly the drive-train models share: one FFR body (:mod:`ddgsa.mbs.ffr`),
+The compiled kernel of systems of one FFR body (:func:`single_body_arrays` packs such a
+:class:`ddgsa.mbs.assembly.System`, which is how the direct drive is written): one FFR body (:mod:`ddgsa.mbs.ffr`),
 3-direction spring-damper elements between body points and points of a prescribed body
 (the bedplate, translating with a given motion), a force and moment time series applied at
 one body point (the hub), and a torque law ``T = T0 + c (w_set(t) - w)`` on one section
@@ -23,6 +24,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit
@@ -30,6 +32,9 @@ from numpy.typing import NDArray
 from scipy.integrate import solve_ivp
 
 from ddgsa.mbs.ffr import Invariants, body_terms_inv, dot, g_bar, mm, mv, rotation
+
+if TYPE_CHECKING:
+    from ddgsa.mbs.assembly import System
 
 
 @dataclass(frozen=True)
@@ -378,3 +383,46 @@ def integrate_reference(sys: SystemArrays, q0: NDArray[np.float64], qd0: NDArray
                   for i in range(times.size)]
     return {"q": q, "qd": qd, "spring_forces": np.stack([t[4] for t in at_samples]),
             "torque": np.array([t[5] for t in at_samples]), "nfev": int(sol.nfev), "failed_at": -1}
+
+
+def single_body_arrays(system: System) -> SystemArrays:
+    """The arrays of this module's compiled single-body kernel for a :class:`~ddgsa.mbs.assembly.System`
+    of that shape (how the direct drive is written on the kernel's parts).
+
+    The System must hold one :class:`~ddgsa.mbs.bodies.FlexibleBody` (FE shaft), global-frame
+    :class:`~ddgsa.mbs.elements.SpringDamper3` elements from it to ground or prescribed-body
+    markers (the bearings to the bedplate, whose motion the integrators take as an input), one
+    :class:`~ddgsa.mbs.elements.AppliedLoad` marker (where the force and moment inputs act) and one
+    :class:`~ddgsa.mbs.elements.TorqueLaw.linear` (its damping ``c``; ``torque0`` and the set speed
+    are inputs), and no constraints. Anything else raises :class:`~ddgsa.errors.ModelError`.
+    """
+    from ddgsa.errors import ModelError
+    from ddgsa.mbs.bodies import FlexibleBody
+    from ddgsa.mbs.elements import AppliedLoad, SpringDamper3, TorqueLaw
+
+    if len(system.bodies) != 1 or not isinstance(system.bodies[0], FlexibleBody) or system.constraints:
+        raise ModelError("the single-body kernel runs one FlexibleBody on elements, without constraints")
+    body = system.bodies[0]
+    pm, pu, ps = body.points
+    springs = [e for e in system.elements if isinstance(e, SpringDamper3)]
+    loads = [e for e in system.elements if isinstance(e, AppliedLoad)]
+    laws = [e for e in system.elements if isinstance(e, TorqueLaw)]
+    if len(loads) != 1 or len(laws) != 1 or laws[0].linear_form is None or \
+            len(springs) + 2 != len(system.elements):
+        raise ModelError("the single-body kernel needs SpringDamper3 bearings, one AppliedLoad and one "
+                         "TorqueLaw.linear, nothing else")
+    for s in springs:
+        if s.frame != "global" or s.markers[0].body is not body or s.markers[1].body.n_coords:
+            raise ModelError(f"spring {s.name!r}: the single-body kernel needs global-frame springs from the "
+                             "body to a ground or prescribed marker")
+    load, law = loads[0].markers[0], laws[0].markers[0]
+    arrays = SystemArrays(
+        pm=pm, pu=pu, ps=ps, gravity=system.gravity.copy(), kff=body.kff, cff=body.cff,
+        sp_u0=np.array([s.markers[0].position for s in springs]), sp_s=np.stack([s.markers[0].shapes for s in springs]),
+        sp_k=np.array([np.diag(s.k6)[:3] for s in springs]), sp_c=np.array([np.diag(s.c6)[:3] for s in springs]),
+        sp_ground=np.array([s.markers[1].body.marker_state(s.markers[1], np.zeros(0), np.zeros(0), 0.0)[0]
+                            for s in springs]),
+        ld_u0=load.position.copy(), ld_s=load.shapes.copy(), ld_srot=load.rotation_shapes.copy(),
+        gn_srot=law.rotation_shapes.copy(), c_torque=laws[0].linear_form[1])
+    arrays.__dict__["invariants"] = body.invariants      # computed once, by the body (cached property)
+    return arrays

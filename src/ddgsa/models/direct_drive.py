@@ -60,12 +60,14 @@ from numpy.typing import NDArray
 from ddgsa.errors import ModelError
 from ddgsa.loads import EXCITATION_FACTORS, NREL5MW, generate_columns
 from ddgsa.loads.scene import Scene
-from ddgsa.mbs.beam import BeamSpec, mesh, shaft_modes
-from ddgsa.mbs.ffr import inertia_points
+from ddgsa.mbs.assembly import System
+from ddgsa.mbs.beam import BeamSpec, mesh
+from ddgsa.mbs.bodies import FlexibleBody, Ground
+from ddgsa.mbs.elements import AppliedLoad, SpringDamper3, TorqueLaw
 from ddgsa.mbs.modal import linearise, modal_analysis
 from ddgsa.mbs.linear import linearise_spinning, simulate_lti
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
-from ddgsa.mbs.system import SystemArrays, evaluate_terms, integrate, integrate_reference
+from ddgsa.mbs.system import SystemArrays, evaluate_terms, integrate, integrate_reference, single_body_arrays
 from ddgsa.models.base import Model, ModelOutput, ModelParameter, controller_row, register_model
 
 GRAVITY = 9.81
@@ -138,10 +140,6 @@ class Assembly:
     length: float
 
 
-def _skew(d: NDArray[np.float64]) -> NDArray[np.float64]:
-    return np.array([[0.0, -d[2], d[1]], [d[2], 0.0, -d[0]], [-d[1], d[0], 0.0]])
-
-
 def bearing_order_problem(p: Mapping[str, float]) -> str:
     """Why the bearing positions of ``p`` are invalid ("" when 0 < front < rear < shaft length)."""
     length, l1, l2 = p["shaft_length"], p["front_bearing_x"], p["rear_bearing_x"]
@@ -152,7 +150,16 @@ def bearing_order_problem(p: Mapping[str, float]) -> str:
 
 
 def assemble(p: Mapping[str, float], fields: tuple[str, ...]) -> Assembly:
-    """Build the system arrays for one parameter set and the retained elastic fields."""
+    """Build the system for one parameter set and the retained elastic fields.
+
+    Written on the kernel's parts (:mod:`ddgsa.mbs`): the shaft is a
+    :meth:`~ddgsa.mbs.bodies.FlexibleBody.shaft` on its FE modes with the hub and generator as end
+    inertias, the bearings are :class:`~ddgsa.mbs.elements.SpringDamper3` elements to the
+    bedplate, the hub loads an :class:`~ddgsa.mbs.elements.AppliedLoad` point and the generator a
+    :meth:`~ddgsa.mbs.elements.TorqueLaw.linear`; :func:`~ddgsa.mbs.system.single_body_arrays`
+    packs that System for the compiled single-body integrators, which take the scene's loads,
+    set speed and bedplate motion as inputs.
+    """
     length, l1, l2 = p["shaft_length"], p["front_bearing_x"], p["rear_bearing_x"]
     problem = bearing_order_problem(p)
     if problem:
@@ -165,72 +172,20 @@ def assemble(p: Mapping[str, float], fields: tuple[str, ...]) -> Assembly:
                     end_masses=((0.0, p["hub_mass"], p["hub_inertia_x"], p["hub_inertia_yz"]),
                                 (length, p["generator_mass"], p["generator_inertia_x"], p["generator_inertia_yz"])),
                     supports=(l1, l2), axial_support=l1)
-    modes = shaft_modes(spec, n_axial=1, n_torsion=1, n_bending=2)
-    nf = len(fields)
-    x = spec.x
-    s_tr = np.zeros((x.size, 3, nf))
-    s_rot = np.zeros((x.size, 3, nf))
-    for c, field in enumerate(fields):
-        if field == "axial":
-            s_tr[:, 0, c] = modes.axial[0]
-        elif field == "torsion":
-            s_rot[:, 0, c] = modes.torsion[0]
-        else:
-            k = int(field[-1]) - 1
-            if field.startswith("bending_y"):
-                s_tr[:, 1, c], s_rot[:, 2, c] = modes.bending[k], modes.bending_slope[k]
-            else:
-                s_tr[:, 2, c], s_rot[:, 1, c] = modes.bending[k], -modes.bending_slope[k]
-    # shaft: lumped (tributary) node masses on the axis
-    trib = np.zeros(x.size)
-    le = np.diff(x)
-    trib[:-1] += le / 2
-    trib[1:] += le / 2
-    pm = [p["shaft_mass"] / length * trib]
-    pu = [np.column_stack([x, np.zeros_like(x), np.zeros_like(x)])]
-    ps = [s_tr]
-    for node, mass, jx, jd in ((0, p["hub_mass"], p["hub_inertia_x"], p["hub_inertia_yz"]),
-                               (x.size - 1, p["generator_mass"], p["generator_inertia_x"],
-                                p["generator_inertia_yz"])):
-        masses, offsets = inertia_points(mass, jx, jd)
-        pm.append(masses)
-        pu.append(np.array([x[node], 0.0, 0.0]) + offsets)
-        ps.append(np.stack([s_tr[node] - _skew(d) @ s_rot[node] for d in offsets]))
-    pm_a, pu_a, ps_a = np.concatenate(pm), np.vstack(pu), np.concatenate(ps, axis=0)
-    m_ff = np.einsum("j,jai,jak->ik", pm_a, ps_a, ps_a)
-    kff, cff = _elastic_matrices(fields, modes, m_ff, p["shaft_damping_ratio"])
-    total_mass = pm_a.sum()
-    i1, i2 = spec.node_index(l1), spec.node_index(l2)
+    shaft = FlexibleBody.shaft("shaft", spec, fields=fields, damping_ratio=p["shaft_damping_ratio"],
+                               rotary_inertia=False)        # shaft rotary inertia neglected (module notes)
+    bedplate = Ground("bedplate")                           # its motion is an input of the integrators
     k_sp = np.array([[p["k_front_x"], p["k_front_y"], p["k_front_z"]], [p["k_rear_x"], p["k_rear_y"], p["k_rear_z"]]])
-    c_sp = 2.0 * p["bearing_damping_ratio"] * np.sqrt(k_sp * total_mass / 2.0)
+    c_sp = 2.0 * p["bearing_damping_ratio"] * np.sqrt(k_sp * shaft.mass / 2.0)
+    bearings = [SpringDamper3(shaft.marker((x, 0.0, 0.0)), bedplate.marker((x, 0.0, 0.0)), k, c, name=name)
+                for x, k, c, name in ((l1, k_sp[0], c_sp[0], "front"), (l2, k_sp[1], c_sp[1], "rear"))]
+    hub = AppliedLoad(shaft.marker(), [0.0, 1.0], name="hub")                  # the scene's loads act here
+    generator = TorqueLaw.linear(shaft.marker((length, 0.0, 0.0)), damping=p["c_gen"], name="generator")
     tau = math.radians(TILT_DEG)
-    system = SystemArrays(
-        pm=pm_a, pu=pu_a, ps=ps_a, gravity=np.array([GRAVITY * math.sin(tau), 0.0, -GRAVITY * math.cos(tau)]),
-        kff=kff, cff=cff, sp_u0=np.array([[l1, 0.0, 0.0], [l2, 0.0, 0.0]]), sp_s=np.stack([s_tr[i1], s_tr[i2]]),
-        sp_k=k_sp, sp_c=c_sp, sp_ground=np.array([[l1, 0.0, 0.0], [l2, 0.0, 0.0]]), ld_u0=np.zeros(3),
-        ld_s=s_tr[0].copy(), ld_srot=s_rot[0].copy(), gn_srot=s_rot[-1].copy(), c_torque=p["c_gen"])
-    return Assembly(system, fields, s_tr[0].copy(), s_tr[-1].copy(), length)
-
-
-def _elastic_matrices(fields: tuple[str, ...], modes: Any, m_ff: NDArray[np.float64],
-                      zeta: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Elastic stiffness (FE generalised stiffness) and damping (seed 000 eq. 43-44) of the fields."""
-    nf = len(fields)
-    k = np.zeros((nf, nf))
-    for c, field in enumerate(fields):
-        k[c, c] = (modes.k_axial[0] if field == "axial" else modes.k_torsion[0] if field == "torsion"
-                   else modes.k_bending[int(field[-1]) - 1])
-    c_mat = np.zeros((nf, nf))
-    w1, w2 = 2 * np.pi * modes.freq_bending[0], 2 * np.pi * modes.freq_bending[1]
-    a0, a1 = 2 * zeta * w1 * w2 / (w1 + w2), 2 * zeta / (w1 + w2)
-    for c, field in enumerate(fields):
-        if field in ("axial", "torsion"):
-            c_mat[c, c] = 2 * zeta * math.sqrt(k[c, c] * m_ff[c, c])
-    bend = [c for c, f in enumerate(fields) if f.startswith("bending")]
-    if bend:
-        ix = np.ix_(bend, bend)
-        c_mat[ix] = a0 * m_ff[ix] + a1 * k[ix]
-    return k, c_mat
+    system = System([shaft], [*bearings, hub, generator],
+                    gravity=(GRAVITY * math.sin(tau), 0.0, -GRAVITY * math.cos(tau)))
+    return Assembly(single_body_arrays(system), fields, hub.markers[0].shapes.copy(),
+                    generator.markers[0].shapes.copy(), length)
 
 
 def equivalent_load(fr: NDArray[np.float64], fa: NDArray[np.float64], rule: str) -> NDArray[np.float64]:

@@ -1,0 +1,27 @@
+"""The direct drive written on the kernel's parts reproduces the table committed before its port."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ddgsa import models
+from port_regression import TABLE, objectives
+
+
+def test_objectives_unchanged_by_the_port() -> None:
+    """Every objective of 3 fidelities x 3 scenes x 3 points within 1e-6 relative of the pre-port table."""
+    before = pd.read_csv(TABLE)
+    after = objectives()
+    assert list(after.columns) == list(before.columns) and len(after) == len(before) == 27
+    outputs = before.columns[3:]
+    np.testing.assert_allclose(after[outputs].to_numpy(float), before[outputs].to_numpy(float), rtol=1e-6, atol=0)
+
+
+def test_modes_unchanged_by_the_port() -> None:
+    before = pd.read_csv(TABLE.parent / "direct_drive_modes.csv")
+    for fidelity, table in before.groupby("fidelity"):
+        now = models.get("direct_drive", fidelity=fidelity).modes()
+        np.testing.assert_allclose(now["frequency_hz"], table["frequency_hz"], rtol=1e-6)
+        np.testing.assert_allclose(now["damping_ratio"], table["damping_ratio"], rtol=1e-6, atol=1e-9)
+        assert list(now["label"]) == list(table["label"])
