@@ -5,7 +5,8 @@ Three measurements of the ``linear`` direct drive on one 60 s turbulent scene (l
 - **runs**: ``n`` evaluations (10^2 ... 10^5, quasi-random points of the paper-C structural space)
   through the runner (SQLite store, batches of 64, 2 loky workers): the fitted exponent of
   ``wall ~ n^p`` above 10^3 runs says whether cost stays proportional to the work;
-- **parameters**: a first-order M-DRM analysis (5 Gauss points per parameter, ``5 n + 1`` runs)
+- **parameters**: a first-order M-DRM analysis (5 Gauss points per parameter, ``5 n + 1`` runs plus
+  its 32-point check sample)
   over the first ``n`` of the model's parameters (5 ... 31: the direct drive declares 31, so
   50 is out of its reach), in one process;
 - **workers**: the same 4 000 runs on 1 and 2 loky workers and on a Dask ``LocalCluster`` of 2
@@ -156,7 +157,7 @@ def plot(res: dict[str, Any]) -> Any:
     tp = np.array([r["wall_s"] for r in res["parameters"]])
     runs = np.array([r["runs"] for r in res["parameters"]], dtype=float)
     ax.plot(p, tp, "o-", label="measured (M-DRM, 5 points, 1 process)")
-    ax.plot(p, tp[-1] * runs / runs[-1], "k--", label="ideal: proportional to 5 n + 1 runs")
+    ax.plot(p, tp[-1] * runs / runs[-1], "k--", label="ideal: proportional to runs (5 n + 1 + 32 check)")
     ax.set(xlabel="parameters n", ylabel="wall time [s]", title="parameters")
     ax.legend(fontsize=8)
     ax = axes[2]
