@@ -1,0 +1,459 @@
+"""Bodies of the multibody kernel: each owns its coordinates and tells where its points are.
+
+- :class:`RigidBody` -- six coordinates ``[R (3), angles (3)]``, origin at the centre of mass.
+- :class:`FlexibleBody` -- a floating-frame-of-reference shaft ``[R, angles, q_f]`` whose elastic
+  coordinates scale the FE eigenmodes of :mod:`ddgsa.mbs.beam` (seed 000 §2.5), with the inertia
+  invariants of :mod:`ddgsa.mbs.ffr` (computed once) and rigid end inertias from its
+  :class:`~ddgsa.mbs.beam.BeamSpec`.
+- :class:`Ground` and :class:`PrescribedBody` -- no coordinates; a prescribed body moves along a
+  given trajectory (a bedplate, a tower top).
+
+Angles are the Bryant angles of :func:`ddgsa.mbs.ffr.rotation`, ``A = R_Z(psi) R_Y(theta) R_X(phi)``:
+the spin ``phi`` about the body x axis acts first, so the x axis is the spin axis of a shaft.
+
+A :class:`Marker` is a point of a body with a section frame. Its state (:class:`MarkerState`) holds
+global position, section orientation, velocity, angular velocity and the 6 x n Jacobian
+``[v; w] = J q_dot`` of the body's coordinates. Elements and constraints see bodies only through
+marker states, so a new element never needs to know what kind of body it is attached to.
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ddgsa.errors import ModelError
+from ddgsa.mbs.beam import BeamSpec, ShaftModes, shaft_modes
+from ddgsa.mbs.ffr import Invariants, body_terms_inv, g_bar, inertia_points, rotation
+
+Array = NDArray[np.float64]
+
+FIELDS = ("axial", "torsion", "bending_y_1", "bending_z_1", "bending_y_2", "bending_z_2",
+          "bending_y_3", "bending_z_3")
+
+
+def skew(d: Array) -> Array:
+    """Cross-product matrix: ``skew(d) @ x == d x x``."""
+    return np.array([[0.0, -d[2], d[1]], [d[2], 0.0, -d[0]], [-d[1], d[0], 0.0]])
+
+
+def rodrigues(v: Array) -> Array:
+    """Rotation matrix of the rotation vector ``v`` [rad]."""
+    angle = float(np.linalg.norm(v))
+    k = skew(v)
+    if angle < 1e-8:
+        return np.eye(3) + k + 0.5 * k @ k
+    return np.eye(3) + math.sin(angle) / angle * k + (1.0 - math.cos(angle)) / angle ** 2 * k @ k
+
+
+def rotation_vector(r: Array) -> Array:
+    """Rotation vector [rad] of the rotation matrix ``r`` (angles below pi)."""
+    cos = min(1.0, max(-1.0, 0.5 * (np.trace(r) - 1.0)))
+    angle = math.acos(cos)
+    axis2 = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    if angle < 1e-6:
+        return 0.5 * axis2
+    return 0.5 * angle / math.sin(angle) * axis2
+
+
+@dataclass(frozen=True, eq=False)
+class Marker:
+    """A point of a body with a section frame (created by ``body.marker``).
+
+    Attributes
+    ----------
+    body : Body
+    position : ndarray (3,)
+        Undeformed position in the body frame [m].
+    name : str
+    shapes, rotation_shapes : ndarray (3, n_f)
+        Elastic displacement [m] and section rotation [rad] per unit elastic coordinate
+        (empty for rigid bodies).
+    """
+
+    body: "Body"
+    position: Array
+    name: str
+    shapes: Array
+    rotation_shapes: Array
+
+    def __repr__(self) -> str:
+        return f"Marker({self.body.name}.{self.name})"
+
+
+@dataclass
+class MarkerState:
+    """Where a marker is and how it moves, in the global frame.
+
+    Attributes
+    ----------
+    r : (3,) position [m]; ``a`` : (3, 3) section orientation (section -> global);
+    v : (3,) velocity [m/s]; ``w`` : (3,) angular velocity [rad/s];
+    jac : (6, n) ``[v; w] = jac @ q_dot`` over the system coordinates (zeros for prescribed bodies).
+    """
+
+    r: Array
+    a: Array
+    v: Array
+    w: Array
+    jac: Array
+
+
+class Body(ABC):
+    """A body: its coordinates, inertia and internal forces, and the kinematics of its markers."""
+
+    name: str
+    coord_names: tuple[str, ...] = ()
+
+    @property
+    def n_coords(self) -> int:
+        """Number of coordinates the body owns."""
+        return len(self.coord_names)
+
+    @abstractmethod
+    def marker(self, position: ArrayLike = (0.0, 0.0, 0.0), name: str | None = None) -> Marker:
+        """A point of the body at ``position`` [m] in the body frame."""
+
+    @abstractmethod
+    def marker_state(self, mk: Marker, q: Array, qd: Array, t: float) -> tuple[Array, Array, Array, Array, Array]:
+        """``(r, A_section, v, w, J (6, n_coords))`` of a marker at the body's ``q``, ``qd``."""
+
+    def initial_state(self) -> tuple[Array, Array]:
+        """Initial coordinates and velocities."""
+        return np.zeros(self.n_coords), np.zeros(self.n_coords)
+
+    def terms(self, q: Array, qd: Array, gravity: Array) -> tuple[Array, Array, Array, Array]:
+        """``(M, Q, K_t, C_t)``: mass matrix, inertia + gravity + internal forces and their tangents."""
+        n = self.n_coords
+        return np.zeros((n, n)), np.zeros(n), np.zeros((n, n)), np.zeros((n, n))
+
+    def potential_energy(self, q: Array, gravity: Array) -> float:
+        """Gravity and elastic potential energy [J]."""
+        return 0.0
+
+    def groups(self) -> dict[str, str]:
+        """Coordinate name -> mode label (component and direction)."""
+        return {}
+
+
+class PrescribedBody(Body):
+    """A body moving along a given trajectory; it owns no coordinates.
+
+    Parameters
+    ----------
+    name : str
+    trajectory : callable
+        ``trajectory(t) -> (R, A, v, w)``: origin position [m], orientation (body -> global),
+        origin velocity [m/s] and angular velocity [rad/s], global frame.
+    """
+
+    def __init__(self, name: str, trajectory: Callable[[float], tuple[Array, Array, Array, Array]]) -> None:
+        self.name = name
+        self.trajectory = trajectory
+
+    @classmethod
+    def translating(cls, name: str, times: ArrayLike, displacement: ArrayLike) -> "PrescribedBody":
+        """A body translating by sampled ``displacement`` (n_t, 3) [m] at ``times`` [s].
+
+        Between samples the motion is the C1 cubic (Catmull-Rom) the integrators use for every
+        input; velocity is its derivative.
+        """
+        from ddgsa.mbs.elements import Series
+        series = Series(times, displacement)
+        eye = np.eye(3)
+        return cls(name, lambda t: (series(t), eye, series.derivative(t), np.zeros(3)))
+
+    def marker(self, position: ArrayLike = (0.0, 0.0, 0.0), name: str | None = None) -> Marker:
+        p = np.asarray(position, dtype=float).reshape(3)
+        return Marker(self, p, name or f"p{p.tolist()}", np.zeros((3, 0)), np.zeros((3, 0)))
+
+    def marker_state(self, mk: Marker, q: Array, qd: Array, t: float) -> tuple[Array, Array, Array, Array, Array]:
+        r0, a, v0, w = (np.asarray(x, dtype=float) for x in self.trajectory(t))
+        arm = a @ mk.position
+        return r0 + arm, a, v0 + np.cross(w, arm), w, np.zeros((6, 0))
+
+
+class Ground(PrescribedBody):
+    """The fixed global frame."""
+
+    def __init__(self, name: str = "ground") -> None:
+        eye, zero = np.eye(3), np.zeros(3)
+        super().__init__(name, lambda t: (zero, eye, zero, zero))
+
+
+@dataclass
+class _Pose:
+    position: Array = field(default_factory=lambda: np.zeros(3))
+    angles: Array = field(default_factory=lambda: np.zeros(3))
+    velocity: Array = field(default_factory=lambda: np.zeros(3))
+    angle_rates: Array = field(default_factory=lambda: np.zeros(3))
+
+
+class FlexibleBody(Body):
+    """Floating-frame-of-reference body of mass points (see :mod:`ddgsa.mbs.ffr`).
+
+    Use :meth:`shaft` for an FE shaft, :class:`RigidBody` for a rigid one; the constructor takes
+    the lumped points directly.
+
+    Parameters
+    ----------
+    name : str
+    point_masses : (n_p,) [kg]; ``point_positions`` : (n_p, 3) [m]; ``point_shapes`` : (n_p, 3, n_f)
+    stiffness, damping : (n_f, n_f)
+        Elastic stiffness and damping of the elastic coordinates.
+    field_names : sequence of str
+        Names of the elastic coordinates (e.g. ``bending_y_1``).
+    position, angles, velocity, angle_rates : (3,)
+        Initial pose [m, rad] and its rates [m/s, rad/s].
+    node_x, node_shapes, node_rotation_shapes : optional
+        Stations along the body x axis [m] where markers may sit, with translation and
+        section-rotation shapes there (n_nodes, 3, n_f).
+    """
+
+    def __init__(self, name: str, point_masses: ArrayLike, point_positions: ArrayLike, point_shapes: ArrayLike,
+                 stiffness: ArrayLike | None = None, damping: ArrayLike | None = None,
+                 field_names: Sequence[str] = (), *, position: ArrayLike = (0.0, 0.0, 0.0),
+                 angles: ArrayLike = (0.0, 0.0, 0.0), velocity: ArrayLike = (0.0, 0.0, 0.0),
+                 angle_rates: ArrayLike = (0.0, 0.0, 0.0), node_x: ArrayLike | None = None,
+                 node_shapes: ArrayLike | None = None, node_rotation_shapes: ArrayLike | None = None,
+                 invariants: Invariants | None = None) -> None:
+        self.name = name
+        pm = np.asarray(point_masses, dtype=float)
+        pu = np.asarray(point_positions, dtype=float).reshape(-1, 3)
+        ps = np.asarray(point_shapes, dtype=float).reshape(pu.shape[0], 3, -1)
+        nf = ps.shape[2]
+        if len(field_names) != nf:
+            raise ModelError(f"body {name!r}: {len(field_names)} field names for {nf} elastic coordinates")
+        self.fields = tuple(field_names)
+        self.invariants = invariants if invariants is not None else Invariants(pm, pu, ps)
+        self._inv_args = self.invariants.args()
+        self.mass = self.invariants.mass
+        self.kff = np.zeros((nf, nf)) if stiffness is None else np.asarray(stiffness, dtype=float)
+        self.cff = np.zeros((nf, nf)) if damping is None else np.asarray(damping, dtype=float)
+        self.pose = _Pose(*(np.asarray(v, dtype=float).reshape(3) for v in (position, angles, velocity, angle_rates)))
+        self.coord_names = ("x", "y", "z", "rx", "ry", "rz", *self.fields)
+        self.node_x = None if node_x is None else np.asarray(node_x, dtype=float)
+        self.node_shapes = None if node_shapes is None else np.asarray(node_shapes, dtype=float)
+        self.node_rotation_shapes = None if node_rotation_shapes is None else np.asarray(node_rotation_shapes, float)
+
+    @property
+    def n_elastic(self) -> int:
+        """Number of elastic coordinates."""
+        return len(self.fields)
+
+    @classmethod
+    def shaft(cls, name: str, spec: BeamSpec, fields: Sequence[str] = ("torsion", "bending_y_1", "bending_z_1"),
+              damping_ratio: float = 0.0, rotary_inertia: bool = True, **pose: ArrayLike) -> "FlexibleBody":
+        """An FE shaft along the body x axis (x = 0 .. L) with its end inertias (seed 000 §2.5).
+
+        Parameters
+        ----------
+        spec : BeamSpec
+            Mesh, stiffness, shaft mass and end inertias; ``spec.supports`` and
+            ``spec.axial_support`` are the boundary conditions the mode shapes are computed on.
+        fields : sequence of str
+            Retained elastic coordinates, from ``axial``, ``torsion``, ``bending_y_k``, ``bending_z_k``
+            (k = 1, 2, 3; y and z share the shapes of the axisymmetric shaft).
+        damping_ratio : float
+            Modal damping of axial and torsion coordinates; Rayleigh damping through the first
+            two bending frequencies for the bending ones (seed 000 eq. 43-44) [-].
+        rotary_inertia : bool
+            Give each shaft station its slice's polar and diametral inertia (else the shaft mass
+            is lumped on the axis, as the direct drive of seed 000 does).
+        **pose
+            ``position``, ``angles``, ``velocity``, ``angle_rates`` of the body frame.
+        """
+        bad = [f for f in fields if f not in FIELDS]
+        if bad:
+            raise ModelError(f"body {name!r}: unknown elastic field(s) {bad}; allowed: {', '.join(FIELDS)}")
+        n_bend = max([int(f[-1]) for f in fields if f.startswith("bending")] + [1])
+        modes = shaft_modes(spec, n_axial=1, n_torsion=1, n_bending=max(n_bend, 2))
+        s_tr, s_rot = _field_shapes(modes, fields)
+        x = spec.x
+        trib = np.zeros(x.size)
+        le = np.diff(x)
+        trib[:-1] += le / 2
+        trib[1:] += le / 2
+        node_mass = spec.mass / spec.length * trib
+        pm, pu, ps = [], [], []
+        if rotary_inertia:
+            jx_node = spec.polar_inertia / spec.length * trib
+            for i in range(x.size):
+                jd = 0.5 * jx_node[i] + node_mass[i] * trib[i] ** 2 / 12.0
+                _add_inertia(pm, pu, ps, node_mass[i], jx_node[i], jd, x[i], s_tr[i], s_rot[i])
+        else:
+            pm.append(node_mass)
+            pu.append(np.column_stack([x, np.zeros_like(x), np.zeros_like(x)]))
+            ps.append(s_tr)
+        for xe, mass, jx, jd in spec.end_masses:
+            i = spec.node_index(xe)
+            _add_inertia(pm, pu, ps, mass, jx, jd, x[i], s_tr[i], s_rot[i])
+        pm_a, pu_a, ps_a = np.concatenate(pm), np.vstack(pu), np.concatenate(ps, axis=0)
+        m_ff = np.einsum("j,jai,jak->ik", pm_a, ps_a, ps_a)
+        k, c = elastic_matrices(fields, modes, m_ff, damping_ratio)
+        body = cls(name, pm_a, pu_a, ps_a, k, c, fields, node_x=x, node_shapes=s_tr, node_rotation_shapes=s_rot,
+                   **pose)
+        body.modes = modes
+        return body
+
+    def marker(self, position: ArrayLike = (0.0, 0.0, 0.0), name: str | None = None) -> Marker:
+        p = np.asarray(position, dtype=float).reshape(3)
+        nf = self.n_elastic
+        if nf == 0:
+            s, sr = np.zeros((3, 0)), np.zeros((3, 0))
+        else:
+            if self.node_x is None:
+                raise ModelError(f"body {self.name!r} has no stations for markers")
+            i = int(np.argmin(np.abs(self.node_x - p[0])))
+            if abs(self.node_x[i] - p[0]) > 1e-9 * max(1.0, abs(self.node_x[-1])):
+                raise ModelError(f"marker at x = {p[0]} m of body {self.name!r} is not a shaft node; nodes: "
+                                 f"{np.round(self.node_x, 4).tolist()}")
+            off = p - np.array([self.node_x[i], 0.0, 0.0])
+            sr = self.node_rotation_shapes[i]
+            s = self.node_shapes[i] - skew(off) @ sr
+        return Marker(self, p, name or f"p{p.tolist()}", s, sr)
+
+    def initial_state(self) -> tuple[Array, Array]:
+        nf = self.n_elastic
+        q = np.concatenate([self.pose.position, self.pose.angles, np.zeros(nf)])
+        qd = np.concatenate([self.pose.velocity, self.pose.angle_rates, np.zeros(nf)])
+        return q, qd
+
+    def marker_state(self, mk: Marker, q: Array, qd: Array, t: float) -> tuple[Array, Array, Array, Array, Array]:
+        a = rotation(q[3:6])
+        g = g_bar(q[3:6])
+        qf, qfd = q[6:], qd[6:]
+        u = mk.position + mk.shapes @ qf
+        jac = np.zeros((6, self.n_coords))
+        jac[0:3, 0:3] = np.eye(3)
+        jac[0:3, 3:6] = -a @ skew(u) @ g
+        jac[3:6, 3:6] = a @ g
+        if qf.size:
+            jac[0:3, 6:] = a @ mk.shapes
+            jac[3:6, 6:] = a @ mk.rotation_shapes
+            a_sec = a @ rodrigues(mk.rotation_shapes @ qf)
+        else:
+            a_sec = a
+        vw = jac @ qd
+        return q[0:3] + a @ u, a_sec, vw[:3], vw[3:], jac
+
+    def terms(self, q: Array, qd: Array, gravity: Array) -> tuple[Array, Array, Array, Array]:
+        m, f = body_terms_inv(q, qd, *self._inv_args, gravity)
+        n = self.n_coords
+        kt, ct = np.zeros((n, n)), np.zeros((n, n))
+        if self.n_elastic:
+            f[6:] -= self.kff @ q[6:] + self.cff @ qd[6:]
+            kt[6:, 6:] = self.kff
+            ct[6:, 6:] = self.cff
+        return m, f, kt, ct
+
+    def potential_energy(self, q: Array, gravity: Array) -> float:
+        inv = self.invariants
+        c = inv.first0 + inv.s_sum @ q[6:]
+        centre = q[0:3] + rotation(q[3:6]) @ c / inv.mass
+        return float(-inv.mass * gravity @ centre + 0.5 * q[6:] @ self.kff @ q[6:])
+
+    def groups(self) -> dict[str, str]:
+        lab = {"x": "axial", "y": "lateral_y", "z": "lateral_z", "rx": "spin", "ry": "tilt_y", "rz": "tilt_z"}
+        out = {f"{self.name}.{c}": f"{self.name}_{lab[c]}" for c in lab}
+        for f in self.fields:
+            out[f"{self.name}.{f}"] = f"{self.name}_{f}"
+        return out
+
+
+class RigidBody(FlexibleBody):
+    """A rigid body: coordinates ``[R, angles]`` of its centre of mass and orientation.
+
+    Parameters
+    ----------
+    name : str
+    mass : float [kg]
+    inertia : (3,) or (3, 3)
+        Principal moments ``(J_x, J_y, J_z)`` or the inertia tensor about the centre of mass,
+        body frame [kg m^2]; ``x`` is the spin axis of a rotor.
+    **pose
+        ``position``, ``angles``, ``velocity``, ``angle_rates`` (see :class:`FlexibleBody`).
+
+    Examples
+    --------
+    >>> disc = RigidBody("disc", mass=10.0, inertia=(0.2, 0.1, 0.1), angle_rates=(50.0, 0.0, 0.0))
+    >>> disc.coord_names
+    ('x', 'y', 'z', 'rx', 'ry', 'rz')
+    """
+
+    def __init__(self, name: str, mass: float, inertia: ArrayLike, **pose: ArrayLike) -> None:
+        j = np.asarray(inertia, dtype=float)
+        j = np.diag(j) if j.shape == (3,) else j.reshape(3, 3)
+        if mass <= 0 or not np.allclose(j, j.T) or np.linalg.eigvalsh(j).min() <= 0:
+            raise ModelError(f"body {name!r}: mass {mass} kg and inertia {j.tolist()} kg m^2 are not physical "
+                             "(mass > 0, symmetric positive-definite inertia)")
+        inv = Invariants.__new__(Invariants)
+        inv.mass = float(mass)
+        inv.first0 = np.zeros(3)
+        inv.s_sum = np.zeros((3, 0))
+        inv.k0 = 0.5 * np.trace(j) * np.eye(3) - j            # sum m u u^T of the inertia tensor
+        inv.k1 = np.zeros((3, 3, 0))
+        inv.e = np.zeros((3, 3, 0))
+        inv.f = np.zeros((3, 3, 0, 0))
+        inv.h0 = np.zeros((3, 0))
+        inv.h1 = np.zeros((0, 3, 0))
+        super().__init__(name, [mass], np.zeros((1, 3)), np.zeros((1, 3, 0)), invariants=inv, **pose)
+        self.inertia = j
+
+
+def _field_shapes(modes: ShaftModes, fields: Sequence[str]) -> tuple[Array, Array]:
+    """Translation and section-rotation shapes (n_nodes, 3, n_f) of the retained fields."""
+    nf, nn = len(fields), modes.x.size
+    s_tr, s_rot = np.zeros((nn, 3, nf)), np.zeros((nn, 3, nf))
+    for c, fld in enumerate(fields):
+        if fld == "axial":
+            s_tr[:, 0, c] = modes.axial[0]
+        elif fld == "torsion":
+            s_rot[:, 0, c] = modes.torsion[0]
+        else:
+            k = int(fld[-1]) - 1
+            if fld.startswith("bending_y"):
+                s_tr[:, 1, c], s_rot[:, 2, c] = modes.bending[k], modes.bending_slope[k]
+            else:
+                s_tr[:, 2, c], s_rot[:, 1, c] = modes.bending[k], -modes.bending_slope[k]
+    return s_tr, s_rot
+
+
+def _add_inertia(pm: list, pu: list, ps: list, mass: float, jx: float, jd: float, x: float,
+                 s_tr: Array, s_rot: Array) -> None:
+    """Append the seven points of a rigid axisymmetric inertia at station ``x`` (moving with the section)."""
+    if mass <= 0:
+        return
+    masses, offsets = inertia_points(mass, jx, jd)
+    pm.append(masses)
+    pu.append(np.array([x, 0.0, 0.0]) + offsets)
+    ps.append(np.stack([s_tr - skew(d) @ s_rot for d in offsets]))
+
+
+def elastic_matrices(fields: Sequence[str], modes: ShaftModes, m_ff: Array, zeta: float) -> tuple[Array, Array]:
+    """Elastic stiffness (FE generalised stiffness) and damping (seed 000 eq. 43-44) of the fields.
+
+    Axial and torsion coordinates get modal damping ``2 zeta sqrt(k m)``; bending coordinates
+    Rayleigh damping ``a0 M + a1 K`` through the first two bending frequencies.
+    """
+    nf = len(fields)
+    k = np.zeros((nf, nf))
+    for c, fld in enumerate(fields):
+        k[c, c] = (modes.k_axial[0] if fld == "axial" else modes.k_torsion[0] if fld == "torsion"
+                   else modes.k_bending[int(fld[-1]) - 1])
+    c_mat = np.zeros((nf, nf))
+    w1, w2 = 2 * np.pi * modes.freq_bending[0], 2 * np.pi * modes.freq_bending[1]
+    a0, a1 = 2 * zeta * w1 * w2 / (w1 + w2), 2 * zeta / (w1 + w2)
+    for c, fld in enumerate(fields):
+        if fld in ("axial", "torsion"):
+            c_mat[c, c] = 2 * zeta * math.sqrt(k[c, c] * m_ff[c, c])
+    bend = [c for c, f in enumerate(fields) if f.startswith("bending")]
+    if bend:
+        ix = np.ix_(bend, bend)
+        c_mat[ix] = a0 * m_ff[ix] + a1 * k[ix]
+    return k, c_mat

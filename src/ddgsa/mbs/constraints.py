@@ -1,0 +1,197 @@
+"""Kinematic constraints between markers (thesis seed 001 §2.2, eqs. 2.3-2.4).
+
+A constraint reads its markers' states and returns its value and its Jacobian over the markers'
+motions ``x = [dr (3), dtheta (3)]`` per marker; the system maps the Jacobian onto the
+coordinates (``C_q = sum_m jac_x[:, m] J_m``). Two kinds:
+
+- **holonomic** (position level, ``C(q, t) = 0``): :class:`Spherical` (eq. 2.3),
+  :class:`TransverseBearing` (the two projections ``N1, N2`` of eq. 2.3). Their velocity-level
+  form ``C_q q_dot + C_t`` is ``jac_x @ [v_i, w_i, v_j, w_j]`` (prescribed motion included).
+- **velocity level** (``B(q) q_dot + b(t) = 0``, non-holonomic in form): :class:`GearContact`
+  (eq. 2.4), :class:`PrescribedSpeed`.
+
+The Lagrange multipliers ``lambda`` enter the dynamics as ``M q_ddot + C_q^T lambda = Q``
+(eq. 2.5): the constraint force on a body is ``-C_q^T lambda``; :meth:`Constraint.reaction`
+says what ``lambda`` means for each constraint.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ddgsa.errors import ModelError
+from ddgsa.mbs.bodies import Marker, MarkerState
+
+Array = NDArray[np.float64]
+
+
+def _rates(states: list[MarkerState]) -> Array:
+    return np.concatenate([np.concatenate([s.v, s.w]) for s in states])
+
+
+class Constraint(ABC):
+    """``n_eq`` scalar constraint equations on ``markers``."""
+
+    name: str
+    markers: tuple[Marker, ...]
+    n_eq: int
+    holonomic: bool
+    #: what the multipliers are (one string per equation), for results tables
+    reaction: tuple[str, ...] = ()
+
+    def bind(self, states: list[MarkerState]) -> None:
+        """Record what the constraint needs from the initial configuration (called by the system)."""
+
+    def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        """``(C, dC/dx)`` of a holonomic constraint."""
+        raise NotImplementedError(f"{type(self).__name__} is a velocity-level constraint")
+
+    def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        """``(C_dot or B q_dot + b, jac_x)``: the velocity-level value and its Jacobian over marker rates."""
+        _, jac = self.position(t, states)
+        return jac @ _rates(states), jac
+
+
+class Spherical(Constraint):
+    """Spherical joint: the two markers coincide, ``r_i - r_j = 0`` (seed 001 eq. 2.3).
+
+    The multipliers are the force [N] the joint exerts on marker ``j`` (global frame); marker
+    ``i`` gets the opposite.
+    """
+
+    n_eq = 3
+    holonomic = True
+    reaction = ("force_on_j_x", "force_on_j_y", "force_on_j_z")
+
+    def __init__(self, marker_i: Marker, marker_j: Marker, name: str = "spherical") -> None:
+        self.markers, self.name = (marker_i, marker_j), name
+
+    def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        jac = np.zeros((3, 12))
+        jac[:, 0:3] = np.eye(3)
+        jac[:, 6:9] = -np.eye(3)
+        return states[0].r - states[1].r, jac
+
+
+class TransverseBearing(Constraint):
+    """A bearing free along its axis: ``N_k^T (r_i - r_j) = 0``, k = 1, 2 (seed 001 §2.2).
+
+    ``marker_i`` is on the shaft, ``marker_j`` on the (non-spinning) housing; the bearing axis is
+    the x axis of marker j's frame and ``N_1, N_2`` its y and z axes. The multipliers are the
+    radial forces on the housing along ``N_1, N_2`` [N].
+    """
+
+    n_eq = 2
+    holonomic = True
+    reaction = ("force_on_j_n1", "force_on_j_n2")
+
+    def __init__(self, marker_i: Marker, marker_j: Marker, name: str = "bearing") -> None:
+        self.markers, self.name = (marker_i, marker_j), name
+
+    def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        si, sj = states
+        d = si.r - sj.r
+        n = sj.a[:, 1:3].T                                   # (2, 3): N1, N2
+        jac = np.zeros((2, 12))
+        jac[:, 0:3] = n
+        jac[:, 6:9] = -n
+        jac[:, 9:12] = np.cross(n, d)                      # d(n_k . d)/d theta_j = n_k x d
+        return n @ d, jac
+
+
+class GearContact(Constraint):
+    """Gear mesh as the velocity constraint of seed 001 eq. 2.4.
+
+    The material points of the two gears at the contact point ``A`` have equal velocity along
+    the tangent ``t`` of the pitch circles: ``t . (v_i^A - v_j^A) = 0`` with
+    ``v^A = v_centre + w x (r_A - r_centre)``. ``A`` and ``t`` are fixed in the housing's frame
+    (taken from the initial configuration), so when the housing moves the mesh moves with it,
+    and the reaction torque reaches the housing through the shafts' bearings.
+
+    Parameters
+    ----------
+    gear_i, gear_j : Marker
+        The gear centres on their shafts; the gear axes are the housing marker's x axis.
+    radius_i, radius_j : float
+        Pitch radii [m]; for an external pair the centre distance must be ``r_i + r_j``, for an
+        internal pair (``gear_j`` the ring) ``r_j - r_i``.
+    housing : Marker
+        A marker of the housing (or of the ground) whose x axis is the gear axis.
+    internal : bool
+
+    Notes
+    -----
+    The multiplier is the tangential mesh force on gear ``j`` along ``t`` [N] (its negative
+    acts on gear ``i``). Speeds follow ``w_j / w_i = -r_i / r_j`` (external) or ``+r_i / r_j``
+    (internal).
+    """
+
+    n_eq = 1
+    holonomic = False
+    reaction = ("mesh_force_on_j",)
+
+    def __init__(self, gear_i: Marker, gear_j: Marker, radius_i: float, radius_j: float, housing: Marker,
+                 internal: bool = False, name: str = "gear") -> None:
+        if radius_i <= 0 or radius_j <= 0 or (internal and radius_j <= radius_i):
+            raise ModelError(f"gear contact {name!r}: pitch radii ({radius_i}, {radius_j}) m must be > 0"
+                             + (" and the ring's larger" if internal else ""))
+        self.markers = (gear_i, gear_j, housing)
+        self.radius_i, self.radius_j, self.internal, self.name = radius_i, radius_j, internal, name
+        self.contact = np.zeros(3)
+        self.tangent = np.zeros(3)
+
+    def bind(self, states: list[MarkerState]) -> None:
+        si, sj, sh = states
+        axis = sh.a[:, 0]
+        d = sj.r - si.r
+        d_plane = d - axis * (axis @ d)
+        dist = float(np.linalg.norm(d_plane))
+        want = self.radius_j - self.radius_i if self.internal else self.radius_i + self.radius_j
+        if abs(dist - want) > 1e-6 * want:
+            raise ModelError(f"gear contact {self.name!r}: centre distance {dist:.6g} m in the gear plane does not "
+                             f"match the pitch radii ({want:.6g} m for an {'internal' if self.internal else 'external'}"
+                             " pair)")
+        e = d_plane / dist
+        a_point = si.r + (-1.0 if self.internal else 1.0) * self.radius_i * e
+        self.contact = sh.a.T @ (a_point - sh.r)
+        self.tangent = sh.a.T @ np.cross(axis, e)
+
+    def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        si, sj, sh = states
+        p = sh.r + sh.a @ self.contact
+        tan = sh.a @ self.tangent
+        jac = np.zeros((1, 18))
+        jac[0, 0:3] = tan
+        jac[0, 3:6] = np.cross(p - si.r, tan)
+        jac[0, 6:9] = -tan
+        jac[0, 9:12] = -np.cross(p - sj.r, tan)
+        return jac @ _rates(states), jac
+
+
+class PrescribedSpeed(Constraint):
+    """Spin rate of a marker about its x axis (relative to ``reference``) equals ``speed(t)`` [rad/s].
+
+    The multiplier is the driving torque the motor applies to the marker, negated [N m].
+    """
+
+    n_eq = 1
+    holonomic = False
+    reaction = ("torque",)
+
+    def __init__(self, marker: Marker, speed: float | Callable[[float], float], reference: Marker | None = None,
+                 name: str = "speed") -> None:
+        self.markers = (marker,) if reference is None else (marker, reference)
+        self.speed = speed if callable(speed) else (lambda t, s=float(speed): s)
+        self.name = name
+
+    def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        axis = states[0].a[:, 0]
+        jac = np.zeros((1, 6 * len(states)))
+        jac[0, 3:6] = axis
+        if len(states) > 1:
+            jac[0, 9:12] = -axis
+        return jac @ _rates(states) - float(self.speed(t)), jac
