@@ -1,13 +1,26 @@
-"""Linearisation and modal analysis of second-order systems ``M q_ddot = Q(q, q_dot)``."""
+"""Linearisation and modal analysis of second-order systems ``M q_ddot = Q(q, q_dot)``.
+
+For a constrained :class:`~ddgsa.mbs.assembly.System`, :func:`linearise_system` linearises
+``M q_ddot + C_q^T lambda = Q`` about an operating state and reduces it on the null space ``N``
+of the constraint Jacobian (``q = q_op + N z``): holonomic and velocity-level rows alike (the
+gear constraint's linearisation is integrable), with the geometric stiffness of the operating
+multipliers ``d(C_q^T lambda_0)/dq`` kept (a pendulum's restoring stiffness comes from it).
+:func:`modes` labels the modes of that reduced system by body and direction.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
-from scipy.linalg import eig
+from scipy.linalg import eig, null_space
+
+if TYPE_CHECKING:
+    from ddgsa.mbs.assembly import System
 
 Terms = Callable[[NDArray[np.float64], NDArray[np.float64]], tuple[NDArray[np.float64], NDArray[np.float64]]]
 
@@ -44,23 +57,11 @@ def linearise(terms: Terms, q0: NDArray[np.float64], qd0: NDArray[np.float64],
     return m0[np.ix_(idx, idx)], c, k
 
 
-def modal_analysis(m: NDArray[np.float64], c: NDArray[np.float64], k: NDArray[np.float64],
-                   names: Sequence[str], groups: dict[str, str]) -> pd.DataFrame:
-    """Damped modes of ``M q'' + C q' + K q = 0`` with labels from their kinetic-energy shares.
+def damped_eigen(m: NDArray[np.float64], c: NDArray[np.float64],
+                 k: NDArray[np.float64]) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """Oscillating eigenpairs of ``M q'' + C q' + K q = 0``, ascending ``|lambda|``.
 
-    Parameters
-    ----------
-    names : sequence of str
-        Coordinate names (same order as the matrices).
-    groups : dict
-        Coordinate name -> mode label; a mode is labelled by the group holding the largest
-        share of its kinetic energy (a suffix ``_2``, ``_3`` ... tells repeated labels apart).
-
-    Returns
-    -------
-    DataFrame
-        One row per oscillating mode, ascending frequency: ``frequency_hz``, ``damping_ratio``,
-        ``label`` and the energy share of each group (``share_<label>``).
+    Returns the eigenvalues with positive imaginary part and their displacement shapes (n, n_modes).
     """
     n = m.shape[0]
     a = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(m, k), -np.linalg.solve(m, c)]])
@@ -68,14 +69,42 @@ def modal_analysis(m: NDArray[np.float64], c: NDArray[np.float64], k: NDArray[np
     sel = lam.imag > 1e-6 * max(1.0, np.abs(lam).max()) * 1e-3
     lam, vec = lam[sel], vec[:n, sel]
     order = np.argsort(np.abs(lam))
+    return lam[order], vec[:, order]
+
+
+def modal_analysis(m: NDArray[np.float64], c: NDArray[np.float64], k: NDArray[np.float64],
+                   names: Sequence[str], groups: dict[str, str], basis: NDArray[np.float64] | None = None,
+                   m_full: NDArray[np.float64] | None = None) -> pd.DataFrame:
+    """Damped modes of ``M q'' + C q' + K q = 0`` with labels from their kinetic-energy shares.
+
+    Parameters
+    ----------
+    names : sequence of str
+        Coordinate names (same order as the matrices, or as the rows of ``basis``).
+    groups : dict
+        Coordinate name -> mode label; a mode is labelled by the group holding the largest
+        share of its kinetic energy (a suffix ``_2``, ``_3`` ... tells repeated labels apart).
+    basis, m_full : ndarray, optional
+        For reduced matrices (``q = basis z``): the basis (n, n_z) and the full mass matrix;
+        energy shares are then taken over the full coordinates.
+
+    Returns
+    -------
+    DataFrame
+        One row per oscillating mode, ascending frequency: ``frequency_hz``, ``damping_ratio``,
+        ``label`` and the energy share of each group (``share_<label>``).
+    """
+    lam, vec = damped_eigen(m, c, k)
+    if basis is not None:
+        vec, m = basis @ vec, m_full
     labels_all = sorted(set(groups.values()))
     rows = []
     seen: dict[str, int] = {}
-    for j in order:
+    for j in range(lam.size):
         v = vec[:, j]
         energy = np.real(np.conj(v) * (m @ v))
         energy = np.abs(energy) / np.abs(energy).sum()
-        shares = {g: float(sum(e for e, nm in zip(energy, names) if groups[nm] == g)) for g in labels_all}
+        shares = {g: float(sum(e for e, nm in zip(energy, names) if groups.get(nm) == g)) for g in labels_all}
         label = max(shares, key=shares.get)
         seen[label] = seen.get(label, 0) + 1
         rows.append({"frequency_hz": float(abs(lam[j]) / (2 * np.pi)),
@@ -83,3 +112,80 @@ def modal_analysis(m: NDArray[np.float64], c: NDArray[np.float64], k: NDArray[np
                      "label": label if seen[label] == 1 else f"{label}_{seen[label]}",
                      **{f"share_{g}": s for g, s in shares.items()}})
     return pd.DataFrame(rows)
+
+
+@dataclass(frozen=True)
+class ConstrainedLinearisation:
+    """``M z'' + C z' + K z = N^T (Q(t) - Q_0) + r0`` about an operating state, ``q = q0 + qd0 (t - t0) + N z``.
+
+    Attributes
+    ----------
+    m, c, k : (n_z, n_z) reduced mass, damping (with gyroscopic terms) and stiffness
+    basis : (n, n_z) null space ``N`` of the constraint Jacobian at ``q0`` (orthonormal columns)
+    m_full, c_full, k_full : (n, n) the unreduced matrices
+    q0, qd0, t0 : the operating state; ``qdd0``, ``lam0`` its accelerations and multipliers
+    r0 : (n_z,) ``N^T Q_0``, the unbalanced generalised force at the operating state
+    """
+
+    m: NDArray[np.float64]
+    c: NDArray[np.float64]
+    k: NDArray[np.float64]
+    basis: NDArray[np.float64]
+    m_full: NDArray[np.float64]
+    c_full: NDArray[np.float64]
+    k_full: NDArray[np.float64]
+    q0: NDArray[np.float64]
+    qd0: NDArray[np.float64]
+    t0: float
+    qdd0: NDArray[np.float64]
+    lam0: NDArray[np.float64]
+    r0: NDArray[np.float64]
+
+
+def linearise_system(system: "System", q0: NDArray[np.float64] | None = None, qd0: NDArray[np.float64] | None = None,
+                     t0: float = 0.0, rel_step: float = 1e-6) -> ConstrainedLinearisation:
+    """Linearise a constrained system about ``(q0, qd0, t0)`` and reduce it on the null space of ``C_q``.
+
+    The full matrices are central differences (:func:`ddgsa.mbs.linear.central_jacobian`) of the
+    residual ``M(q) q_ddot - Q(q, q_dot, t0) + C_q(q)^T lambda_0``; ``q0, qd0`` default to the
+    system's (consistent) initial state.
+    """
+    from ddgsa.mbs.assembly import accelerations
+    from ddgsa.mbs.linear import central_jacobian
+
+    if q0 is None or qd0 is None:
+        q0, qd0 = system.consistent_state(q0, qd0, t0)
+    q0, qd0 = np.asarray(q0, dtype=float), np.asarray(qd0, dtype=float)
+    qdd0, lam0 = accelerations(system, q0, qd0, t0)
+
+    def residual(q: NDArray[np.float64], qd: NDArray[np.float64], qdd: NDArray[np.float64]) -> NDArray[np.float64]:
+        tm = system.terms(q, qd, t0)
+        out = tm.m @ qdd - tm.q
+        if lam0.size:
+            out = out + system.constraint_jacobian(q, qd, t0).T @ lam0
+        return out
+
+    args = [q0, qd0, qdd0]
+    k_full = central_jacobian(residual, args, 0, 1e-3, rel_step)
+    c_full = central_jacobian(residual, args, 1, 1e-3, rel_step)
+    tm = system.terms(q0, qd0, t0)
+    if system.n_constraints:
+        basis = null_space(system.constraint_jacobian(q0, qd0, t0))
+    else:
+        basis = np.eye(system.n)
+    return ConstrainedLinearisation(basis.T @ tm.m @ basis, basis.T @ c_full @ basis, basis.T @ k_full @ basis,
+                                    basis, tm.m, c_full, k_full, q0, qd0, t0, qdd0, lam0, basis.T @ tm.q)
+
+
+def modes(system: "System", q0: NDArray[np.float64] | None = None, qd0: NDArray[np.float64] | None = None,
+          t0: float = 0.0) -> pd.DataFrame:
+    """Damped modes of a constrained system about an operating state, labelled by body and direction.
+
+    Returns
+    -------
+    DataFrame
+        ``frequency_hz``, ``damping_ratio``, ``label`` (e.g. ``shaft_tilt_y``, ``disc_spin``) and the
+        energy share of each label, ascending frequency (rigid-body modes, at zero frequency, left out).
+    """
+    lin = linearise_system(system, q0, qd0, t0)
+    return modal_analysis(lin.m, lin.c, lin.k, system.coord_names, system.groups(), lin.basis, lin.m_full)

@@ -6,8 +6,11 @@
   stabilisation, the reference path.
 - :mod:`~ddgsa.mbs.integrate.exact` -- linearisation about an operating point, reduction on the
   null space of the constraint Jacobian and exact integration of the LTI system.
+
+Each ``simulate(system, t_end, dt, ...)`` returns a :class:`Trajectory`.
 """
 
+from ddgsa.mbs.integrate import exact, genalpha, reference
 from ddgsa.mbs.integrate.trajectory import Trajectory
 
-__all__ = ["Trajectory"]
+__all__ = ["Trajectory", "genalpha", "reference", "exact"]
