@@ -81,6 +81,10 @@ class Assembly:
         [m/s^2]
     spin_inertia : float
         Polar inertia the model spins, referred to the LSS [kg m^2].
+    ratio : float
+        Gear ratio N [-].
+    c_hss : float
+        Generator torque constant on the HSS, ``c_gen / N^2`` [N m s/rad].
     """
 
     system: System
@@ -94,6 +98,8 @@ class Assembly:
     mount_points: Array
     gravity: Array
     spin_inertia: float
+    ratio: float
+    c_hss: float
 
 
 def check_geometry(p: Mapping[str, float]) -> None:
@@ -202,7 +208,12 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
     tau = math.radians(TILT_DEG)
     gravity = np.array([GRAVITY * math.sin(tau), 0.0, -GRAVITY * math.cos(tau)])
     system = System([rotor, lss, hss, housing], elements, constraints, gravity=gravity)
-    spin_inertia = p["rotor_inertia_x"] + n ** 2 * p["generator_inertia"] + p["lss_mass"] * (
-        p["lss_radius"] ** 2 + min(LSS_BORE, 0.8 * p["lss_radius"]) ** 2) / 2.0
     return Assembly(system, rotor, lss, hss, housing, x0, geo, np.array([gx, 0.0, 0.0]), mounts, gravity,
-                    spin_inertia)
+                    spin_inertia(p), n, c_hss)
+
+
+def spin_inertia(p: Mapping[str, float]) -> float:
+    """Polar inertia the model spins, referred to the LSS: rotor, LSS and ``N^2`` x generator [kg m^2]."""
+    r_o = p["lss_radius"]
+    return (p["rotor_inertia_x"] + p["gear_ratio"] ** 2 * p["generator_inertia"]
+            + p["lss_mass"] * (r_o ** 2 + min(LSS_BORE, 0.8 * r_o) ** 2) / 2.0)
