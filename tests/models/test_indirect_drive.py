@@ -96,14 +96,14 @@ def test_steady_moment_and_force_balance_close(steady: tuple) -> None:
     hss = s.slices[id(asm.hss)]
     gen_axis = rotation(q[hss][3:6])[:, 0]
     gen_torque = LSS_TORQUE / p["gear_ratio"] * gen_axis                      # the law balances T at SPIN
-    masses = {"rotor": 1.0, "lss": p["lss_mass"] + p["hub_mass"] - 1.0, "hss": p["hss_mass"],
+    masses = {"rotor": 1.0, "wheel": 1.0, "lss": p["lss_mass"] + p["hub_mass"] - 1.0, "hss": p["hss_mass"],
               "housing": p["housing_mass"]}
     weight = sum(masses.values()) * asm.gravity
     r_main = np.array([p["main_bearing_x"], 0.0, 0.0])
     moment = (np.array([LSS_TORQUE, 0.0, 0.0]) + gen_torque + sum(np.cross(pts[0, i], fm[0, i]) for i in range(2))
               + np.cross(r_main, -main))
     # gravity: each body's weight at its centre of mass (the LSS's from its mass points)
-    for body in (asm.rotor, asm.hss, asm.housing):
+    for body in (asm.rotor, asm.wheel, asm.hss, asm.housing):
         moment += np.cross(q[s.slices[id(body)]][:3], masses[body.name] * asm.gravity)
     lss_q = q[s.slices[id(asm.lss)]]
     inv = asm.lss.invariants

@@ -2,16 +2,23 @@
 
 Bodies (seed 001 §2.2, Fig. 2.2; frame of :mod:`ddgsa.loads.hubloads`, X along the LSS):
 
-- ``rotor`` -- the rotor's polar inertia (blades and hub) at the LSS flange (x = 0), joined to
-  the flange by a revolute joint (:class:`~ddgsa.mbs.constraints.Spherical` +
-  :class:`~ddgsa.mbs.revolute.AxisAlignment`) and the NREL equivalent drive-train torsional
-  spring-damper (:class:`~ddgsa.mbs.elements.TorsionalSpring`), which lumps the shaft, gearbox
-  and HSS torsional compliance into one LSS spring as the NREL model does. Its mass and
-  diametral inertia are 1 kg / 1 kg m^2 placeholders: the hub's mass and diametral inertia
-  are on the LSS flange, where the shaft's bending shapes see them.
-- ``lss`` -- FFR shaft (``flexible``: axial and two bending modes per plane, FE shapes on pinned
-  supports at the main bearing and the rear gearbox bearing) or a rigid body (``rigid``),
-  carrying the hub mass at x = 0.
+- ``lss`` -- the low-speed shaft as a **non-spinning** carrier of its bending and axial motion:
+  an FFR shaft (``flexible``: axial and two bending modes per plane, FE shapes on pinned supports
+  at the main bearing and the rear gearbox bearing) or a rigid body (``rigid``), with the hub's
+  mass and diametral inertia at x = 0; its spin rate is held at zero
+  (:class:`~ddgsa.mbs.constraints.PrescribedSpeed`). For an axisymmetric shaft these are the
+  non-rotating bending coordinates of the direct drive's linear model (the slender shaft's own
+  gyroscopic moments, small, are left out), and they make every spinning body below rigid and
+  axisymmetric with its markers on its axis, so the spin angles are cyclic and the linearised
+  system is time-invariant.
+- ``rotor`` -- the rotor's polar inertia (blades and hub), on the LSS flange by a revolute joint
+  (:class:`~ddgsa.mbs.constraints.Spherical` + :class:`~ddgsa.mbs.revolute.AxisAlignment`); it
+  keeps the rotor's gyroscopic moments when the flange tilts.
+- ``wheel`` -- the gear wheel with the LSS's polar inertia, on the LSS at the mesh plane by a
+  revolute joint; the NREL equivalent drive-train torsional spring-damper joins it to the rotor
+  (:class:`~ddgsa.mbs.elements.TorsionalSpring`: shaft, gearbox and HSS compliance lumped into one
+  LSS spring as the NREL model does). Rotor and wheel masses and diametral inertias are 1 kg /
+  1 kg m^2 placeholders (the masses are on the LSS and in the housing).
 - ``hss`` -- rigid pinion shaft, axis parallel to the LSS at the centre distance above it,
   polar inertia = the generator inertia.
 - ``housing`` -- rigid gearbox housing, centre of mass on the LSS axis at the mesh plane, on two
@@ -19,12 +26,12 @@ Bodies (seed 001 §2.2, Fig. 2.2; frame of :mod:`ddgsa.loads.hubloads`, X along 
 
 Constraints: main bearing (spherical, LSS-ground), LSS bearings 1 and 3 (transverse-only,
 LSS-housing), HSS bearing 2 (spherical) and 4 (transverse-only) to the housing, gear mesh
-(eq. 2.4 along the line of action, :class:`~ddgsa.mbs.gear_mesh.GearMesh`).
+(eq. 2.4 along the line of action, :class:`~ddgsa.mbs.gear_mesh.GearMesh`) between wheel and pinion.
 
-Loads: hub force and moment (the aerodynamic torque net of the inertial torque of the rotor
-inertia this model does not spin, see :func:`hub_torque_correction`), gravity (shaft tilted 4 deg),
-generator torque ``T = (c_gen / N^2) (w_set,HSS - w_HSS)`` on the HSS with ``w_set,HSS = -N
-w_set`` (seed 000 eq. 25 referred through the gear; the HSS turns the other way).
+Loads: hub force and moment on the rotor (the aerodynamic torque net of the inertial torque of
+the rotor inertia this model does not spin, see :func:`ddgsa.models.indirect_drive.model.scene_inputs`),
+gravity (shaft tilted 4 deg), generator torque ``T = (c_gen / N^2) (w_set,HSS - w_HSS)`` on the HSS
+with ``w_set,HSS = -N w_set`` (seed 000 eq. 25 referred through the gear; the HSS turns the other way).
 """
 
 from __future__ import annotations
@@ -40,7 +47,7 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.beam import BeamSpec, mesh
 from ddgsa.mbs.bodies import Body, FlexibleBody, Ground, Marker, RigidBody
-from ddgsa.mbs.constraints import Spherical, TransverseBearing
+from ddgsa.mbs.constraints import PrescribedSpeed, Spherical, TransverseBearing
 from ddgsa.mbs.elements import AppliedLoad, Bushing6, Series, TorqueLaw, TorsionalSpring
 from ddgsa.mbs.gear_mesh import GearMesh
 from ddgsa.mbs.revolute import AxisAlignment
@@ -55,7 +62,7 @@ FLEXIBLE_FIELDS = ("axial", "bending_y_1", "bending_z_1", "bending_y_2", "bendin
 LSS_BORE = 0.15
 #: longest FE element of the LSS mesh [m]
 MAX_ELEMENT = 0.25
-#: placeholder mass [kg] and diametral inertia [kg m^2] of the rotor's spin body (constrained)
+#: placeholder mass [kg] of the rotor and wheel spin bodies (their diametral inertia: 1 kg m^2)
 _SPIN_BODY_MASS = 1.0
 #: direction from the LSS axis to the HSS axis (HSS above the LSS)
 HSS_OFFSET = (0.0, 0.0, 1.0)
@@ -68,7 +75,7 @@ class Assembly:
     Attributes
     ----------
     system : System
-    rotor, lss, hss, housing : Body
+    rotor, wheel, lss, hss, housing : Body
     lss_origin : float
         x of the LSS body frame origin [m] (0 for the FFR shaft, its centre of mass if rigid).
     geometry : MeshGeometry
@@ -89,6 +96,7 @@ class Assembly:
 
     system: System
     rotor: Body
+    wheel: Body
     lss: Body
     hss: Body
     housing: Body
@@ -114,11 +122,17 @@ def check_geometry(p: Mapping[str, float]) -> None:
                          f"({p['hss_bearing_2_x']}) < gear_x ({p['gear_x']}) < hss_bearing_4_x ({p['hss_bearing_4_x']})")
 
 
-def _lss_body(p: Mapping[str, float], fields: tuple[str, ...], spin: float) -> tuple[Body, float]:
-    """The LSS with the hub mass at x = 0: FFR shaft with ``fields`` or a rigid body (no fields)."""
+def lss_polar_inertia(p: Mapping[str, float]) -> float:
+    """Polar inertia of the hollow LSS [kg m^2] (bore :data:`LSS_BORE`, at most 0.8 of the radius)."""
+    r_o = p["lss_radius"]
+    return p["lss_mass"] * (r_o ** 2 + min(LSS_BORE, 0.8 * r_o) ** 2) / 2.0
+
+
+def _lss_body(p: Mapping[str, float], fields: tuple[str, ...]) -> tuple[Body, float]:
+    """The non-spinning LSS with the hub mass at x = 0: FFR shaft with ``fields`` or rigid (no fields)."""
     length, r_o = p["lss_length"], p["lss_radius"]
     r_i = min(LSS_BORE, 0.8 * r_o)
-    polar = p["lss_mass"] * (r_o ** 2 + r_i ** 2) / 2.0
+    polar = lss_polar_inertia(p)
     if fields:
         spec = BeamSpec(nodes=mesh([0.0, p["main_bearing_x"], p["lss_bearing_1_x"], p["gear_x"],
                                     p["lss_bearing_3_x"], length], MAX_ELEMENT),
@@ -126,14 +140,13 @@ def _lss_body(p: Mapping[str, float], fields: tuple[str, ...], spin: float) -> t
                         EA=p["lss_axial_stiffness"], GJ=p["drivetrain_torsional_stiffness"] * p["gear_x"],
                         end_masses=((0.0, p["hub_mass"] - _SPIN_BODY_MASS, 0.0, p["hub_inertia_yz"]),),
                         supports=(p["main_bearing_x"], p["lss_bearing_3_x"]), axial_support=p["main_bearing_x"])
-        body = FlexibleBody.shaft("lss", spec, fields, damping_ratio=p["lss_damping_ratio"], rotary_inertia=True,
-                                  angle_rates=(spin, 0.0, 0.0))
+        body = FlexibleBody.shaft("lss", spec, fields, damping_ratio=p["lss_damping_ratio"], rotary_inertia=False)
         return body, 0.0
     m_s, m_h = p["lss_mass"], p["hub_mass"] - _SPIN_BODY_MASS
     x_cm = m_s * length / 2.0 / (m_s + m_h)
     j_d = (m_s * (length ** 2 / 12.0 + (r_o ** 2 + r_i ** 2) / 4.0) + m_s * (length / 2.0 - x_cm) ** 2
            + p["hub_inertia_yz"] + m_h * x_cm ** 2)
-    body = RigidBody("lss", m_s + m_h, (polar, j_d, j_d), position=(x_cm, 0.0, 0.0), angle_rates=(spin, 0.0, 0.0))
+    body = RigidBody("lss", m_s + m_h, (polar, j_d, j_d), position=(x_cm, 0.0, 0.0))
     return body, x_cm
 
 
@@ -153,7 +166,7 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
     lss_speed_set : (n_t,)
         Generator set speed referred to the LSS, ``w_set`` [rad/s].
     spin : float
-        Initial LSS spin rate [rad/s] (rotor and LSS turn at ``spin``, the HSS at ``-N spin``).
+        Initial LSS spin rate [rad/s] (rotor and wheel turn at ``spin``, the HSS at ``-N spin``).
     """
     check_geometry(p)
     n = p["gear_ratio"]
@@ -161,7 +174,9 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
     gx, off = p["gear_x"], geo.centre_distance * geo.offset_direction
     ground = Ground("bedplate")
     rotor = RigidBody("rotor", _SPIN_BODY_MASS, (p["rotor_inertia_x"], 1.0, 1.0), angle_rates=(spin, 0.0, 0.0))
-    lss, x0 = _lss_body(p, fields, spin)
+    lss, x0 = _lss_body(p, fields)
+    wheel = RigidBody("wheel", _SPIN_BODY_MASS, (lss_polar_inertia(p), 1.0, 1.0), position=(gx, 0.0, 0.0),
+                      angle_rates=(spin, 0.0, 0.0))
     hss = RigidBody("hss", p["hss_mass"], (p["generator_inertia"], p["hss_inertia_yz"], p["hss_inertia_yz"]),
                     position=(gx, *off[1:]), angle_rates=(-n * spin, 0.0, 0.0))
     housing = RigidBody("housing", p["housing_mass"],
@@ -174,10 +189,13 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
         o = np.zeros(3) if offset is None else offset
         return housing.marker((x - gx + o[0], o[1], o[2]), name)
 
-    flange = on_lss(0.0, "flange")
+    flange, seat = on_lss(0.0, "flange"), on_lss(gx, "wheel_seat")
+    hub, wheel_centre = rotor.marker((0.0, 0.0, 0.0), "hub"), wheel.marker((0.0, 0.0, 0.0), "centre")
     constraints = [
-        Spherical(rotor.marker((0.0, 0.0, 0.0), "hub"), flange, name="hub_joint"),
-        AxisAlignment(rotor.marker((0.0, 0.0, 0.0), "hub_axis"), flange, name="hub_alignment"),
+        Spherical(hub, flange, name="hub_joint"),
+        AxisAlignment(hub, flange, name="hub_alignment"),
+        Spherical(wheel_centre, seat, name="wheel_joint"),
+        AxisAlignment(wheel_centre, seat, name="wheel_alignment"),
         Spherical(on_lss(p["main_bearing_x"], "main"), ground.marker((p["main_bearing_x"], 0.0, 0.0)), name="main"),
         TransverseBearing(on_lss(p["lss_bearing_1_x"], "lss1"), on_housing(p["lss_bearing_1_x"], "lss1"), name="lss1"),
         TransverseBearing(on_lss(p["lss_bearing_3_x"], "lss3"), on_housing(p["lss_bearing_3_x"], "lss3"), name="lss3"),
@@ -185,7 +203,8 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
                   on_housing(p["hss_bearing_2_x"], "hss2", off), name="hss2"),
         TransverseBearing(hss.marker((p["hss_bearing_4_x"] - gx, 0.0, 0.0), "hss4"),
                           on_housing(p["hss_bearing_4_x"], "hss4", off), name="hss4"),
-        GearMesh(on_lss(gx, "wheel"), hss.marker((0.0, 0.0, 0.0), "pinion"), geo.wheel_radius, geo.pinion_radius,
+        PrescribedSpeed(on_lss(p["main_bearing_x"], "no_spin"), 0.0, name="lss_no_spin"),
+        GearMesh(wheel_centre, hss.marker((0.0, 0.0, 0.0), "pinion"), geo.wheel_radius, geo.pinion_radius,
                  on_housing(gx, "mesh"), p["pressure_angle"], name="gear"),
     ]
     mass_h = p["housing_mass"]
@@ -197,8 +216,8 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
     c_hss = p["c_gen"] / n ** 2
     w_set = Series(times, -n * np.asarray(lss_speed_set, dtype=float))
     elements = [
-        TorsionalSpring(flange, rotor.marker((0.0, 0.0, 0.0), "hub_twist"), p["drivetrain_torsional_stiffness"],
-                        p["drivetrain_torsional_damping"], name="drivetrain_spring"),
+        TorsionalSpring(wheel_centre, hub, p["drivetrain_torsional_stiffness"], p["drivetrain_torsional_damping"],
+                        name="drivetrain_spring"),
         *(Bushing6(housing.marker(m, f"mount_{s}"), ground.marker(m + np.array([gx, 0.0, 0.0])), k6, c6,
                    name=f"mount_{s}") for m, s in zip(mounts, ("left", "right"))),
         TorqueLaw(hss.marker((0.0, 0.0, 0.0), "generator"), lambda t, w: c_hss * (float(w_set(t)) - w),
@@ -207,13 +226,11 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
     ]
     tau = math.radians(TILT_DEG)
     gravity = np.array([GRAVITY * math.sin(tau), 0.0, -GRAVITY * math.cos(tau)])
-    system = System([rotor, lss, hss, housing], elements, constraints, gravity=gravity)
-    return Assembly(system, rotor, lss, hss, housing, x0, geo, np.array([gx, 0.0, 0.0]), mounts, gravity,
+    system = System([rotor, wheel, lss, hss, housing], elements, constraints, gravity=gravity)
+    return Assembly(system, rotor, wheel, lss, hss, housing, x0, geo, np.array([gx, 0.0, 0.0]), mounts, gravity,
                     spin_inertia(p), n, c_hss)
 
 
 def spin_inertia(p: Mapping[str, float]) -> float:
     """Polar inertia the model spins, referred to the LSS: rotor, LSS and ``N^2`` x generator [kg m^2]."""
-    r_o = p["lss_radius"]
-    return (p["rotor_inertia_x"] + p["gear_ratio"] ** 2 * p["generator_inertia"]
-            + p["lss_mass"] * (r_o ** 2 + min(LSS_BORE, 0.8 * r_o) ** 2) / 2.0)
+    return p["rotor_inertia_x"] + p["gear_ratio"] ** 2 * p["generator_inertia"] + lss_polar_inertia(p)

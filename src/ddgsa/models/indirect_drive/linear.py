@@ -10,10 +10,10 @@ moment through the hub marker's Jacobian and the generator set speed through the
 nonlinear force evaluation per sample. The multipliers (bearing and tooth forces) follow from
 the linearised equations of motion, ``C_q^T dlambda = G du - M N z'' - C N z' - K N z``.
 
-The linearisation is time-invariant only if the spin angles are cyclic: true for the rigid
-LSS (every spinning body is axisymmetric with its markers on the axis), not for the FFR shaft,
-whose body-fixed bending shapes turn with it. The ``linear`` fidelity therefore linearises the
-rigid-LSS system; its accuracy against ``flexible`` is tested.
+The linearisation is time-invariant because the spin angles are cyclic: the LSS carries its
+bending in non-rotating coordinates and every spinning body (rotor, wheel, HSS) is rigid and
+axisymmetric with its markers on its axis (:mod:`.assembly`). Its accuracy against
+``flexible`` is tested.
 """
 
 from __future__ import annotations

@@ -67,7 +67,7 @@ class IndirectDrive(Model):
     ----------
     fidelity : {"flexible", "rigid", "linear"}
         ``flexible``: FFR LSS (axial and two bending modes per plane); ``rigid``: rigid LSS; both
-        by constrained generalised-alpha. ``linear``: the rigid-LSS system linearised about the
+        by constrained generalised-alpha. ``linear``: the flexible system linearised about the
         scene's mean operating state and integrated exactly (:mod:`.linear`).
     time_step : float, optional
         Generalised-alpha step [s] (default 0.005); must divide the scene's ``dt``.
@@ -109,7 +109,7 @@ class IndirectDrive(Model):
         self.integrator = integrator
         self.rule = equivalent_load
         self.housing_point = point
-        self.fields: tuple[str, ...] = FLEXIBLE_FIELDS if fidelity == "flexible" else ()
+        self.fields: tuple[str, ...] = () if fidelity == "rigid" else FLEXIBLE_FIELDS
 
     # -- building -----------------------------------------------------------------------------------
     def assemble(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0,
@@ -150,7 +150,7 @@ class IndirectDrive(Model):
             u0 = u.mean(axis=0)
             spin = float(u0[6] + u0[3] / p["c_gen"])                 # torque balance at the mean
             const = np.ones((len(times), 1))
-            asm = build(p, (), times, const * u0[:3], const * u0[3:6], const[:, 0] * u0[6], spin)
+            asm = build(p, self.fields, times, const * u0[:3], const * u0[3:6], const[:, 0] * u0[6], spin)
             _, _, lin = operating_state(asm.system, asm.system.q0, asm.system.qd0)
             res = linear_response(asm, lin, u, dt)
             q, qd, lam = res.q, res.qd, res.lam
@@ -214,11 +214,12 @@ def constraint_residuals(asm: Assembly, q: Array, qd: Array, rows: Array) -> tup
     """Largest holonomic residual [m] and the gear constraint's velocity residual [m/s] at ``rows``
     of a record (NaN elsewhere), from the nonlinear constraint equations."""
     s = asm.system
+    row = s.multiplier_names.index("gear.normal_force_on_j")          # rows: holonomic, then velocity-level
     pos, gear = np.full(len(q), np.nan), np.full(len(q), np.nan)
     for i in np.unique(rows):
         states = s.marker_states(q[i], qd[i], 0.0)
         pos[i] = np.max(np.abs(s.holonomic_residual(q[i], qd[i], 0.0, states)[0]))
-        gear[i] = abs(s.velocity_residual(q[i], qd[i], 0.0, states)[0][-1])     # the one velocity-level row
+        gear[i] = abs(s.velocity_residual(q[i], qd[i], 0.0, states)[0][row])
     return pos, gear
 
 

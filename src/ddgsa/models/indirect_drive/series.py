@@ -61,7 +61,7 @@ def time_series(asm: Assembly, p: Mapping[str, float], times: Array, q: Array, q
                 loads: Mapping[str, Array], housing_point: Array, drift: tuple[Array, Array]) -> pd.DataFrame:
     """The model's time series (see :meth:`IndirectDrive.simulate` for the columns)."""
     s = asm.system
-    sl = {b.name: s.slices[id(b)] for b in (asm.rotor, asm.lss, asm.hss, asm.housing)}
+    sl = {b.name: s.slices[id(b)] for b in (asm.rotor, asm.wheel, asm.lss, asm.hss, asm.housing)}
     q_h, qd_h = q[:, sl["housing"]], qd[:, sl["housing"]]
     a_h = bryant(q_h[:, 3:6])
     cols: dict[str, Array] = {}
@@ -71,9 +71,9 @@ def time_series(asm: Assembly, p: Mapping[str, float], times: Array, q: Array, q
         cols[f"housing_d{ax}"] = disp[:, i]
     for i, ax in enumerate("xyz"):
         cols[f"housing_r{ax}"] = ang[:, i]
-    w_lss, w_hss, w_h = qd[:, sl["lss"]][:, 3], qd[:, sl["hss"]][:, 3], qd_h[:, 3]
+    w_lss, w_hss, w_h = qd[:, sl["wheel"]][:, 3], qd[:, sl["hss"]][:, 3], qd_h[:, 3]
     cols["lss_speed"], cols["hss_speed"], cols["housing_roll_rate"] = w_lss, w_hss, w_h
-    cols["rotor_twist"] = q[:, sl["rotor"]][:, 3] - q[:, sl["lss"]][:, 3]
+    cols["rotor_twist"] = q[:, sl["rotor"]][:, 3] - q[:, sl["wheel"]][:, 3]
     names = s.multiplier_names
     col = {n: i for i, n in enumerate(names)}
     cols["gear_force"] = lam[:, col["gear.normal_force_on_j"]]
