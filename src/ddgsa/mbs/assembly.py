@@ -86,6 +86,10 @@ class System:
         self.markers: list[Marker] = list({id(mk): mk for p in [*self.elements, *self.constraints]
                                            for mk in p.markers}.values())
         self._index = {id(mk): i for i, mk in enumerate(self.markers)}
+        by_body: dict[int, list[int]] = {}
+        for i, mk in enumerate(self.markers):
+            by_body.setdefault(id(mk.body), []).append(i)
+        self._groups = [(self.markers[idx[0]].body, idx) for idx in by_body.values()]
         self.holonomic = [c for c in self.constraints if c.holonomic]
         self.nonholonomic = [c for c in self.constraints if not c.holonomic]
         self.n_holonomic = sum(c.n_eq for c in self.holonomic)
@@ -101,13 +105,13 @@ class System:
     # -- kinematics -------------------------------------------------------------------------------
     def marker_states(self, q: Array, qd: Array, t: float) -> list[MarkerState]:
         """States of all markers used by elements and constraints, with Jacobians over all coordinates."""
-        out = []
-        for mk in self.markers:
-            sl = self.slices.get(id(mk.body), slice(0, 0))
-            r, a, v, w, jb = mk.body.marker_state(mk, q[sl], qd[sl], t)
-            jac = np.zeros((6, self.n))
-            jac[:, sl] = jb
-            out.append(MarkerState(r, a, v, w, jac))
+        out: list[MarkerState] = [None] * len(self.markers)  # type: ignore[list-item]
+        for body, idx in self._groups:
+            sl = self.slices.get(id(body), slice(0, 0))
+            for i, (r, a, v, w, jb) in zip(idx, body.marker_states([self.markers[i] for i in idx], q[sl], qd[sl], t)):
+                jac = np.zeros((6, self.n))
+                jac[:, sl] = jb
+                out[i] = MarkerState(r, a, v, w, jac)
         return out
 
     def marker_state(self, mk: Marker, q: Array, qd: Array, t: float) -> MarkerState:
@@ -268,3 +272,48 @@ def accelerations(system: System, q: Array, qd: Array, t: float, stabilisation: 
     big[n:, :n] = b
     sol = np.linalg.solve(big, np.concatenate([tm.q, rhs_c]))
     return sol[:n], sol[n:]
+
+
+def static_equilibrium(system: System, q: Array | None = None, t: float = 0.0, tol: float = 1e-10,
+                       max_iter: int = 50) -> tuple[Array, Array]:
+    """Static equilibrium ``Q(q, 0, t) = C_q^T lambda`` near ``q`` (default the initial pose).
+
+    Holonomic constraints are kept exactly; velocity-level constraints (gear contacts) hold for
+    the displacement from the starting pose, ``B (q - q_start) = 0`` (their integrable
+    linearisation). Newton iterations with a central-difference tangent; rigid-body directions
+    left free by elements and constraints make the problem singular and raise.
+
+    Returns
+    -------
+    q : (n,) equilibrium coordinates
+    lam : (n_c,) multipliers (holonomic first), see each constraint's ``reaction``
+    """
+    from ddgsa.mbs.linear import central_jacobian
+
+    q_start = (system.q0 if q is None else np.asarray(q, dtype=float)).copy()
+    n, nc, nh = system.n, system.n_constraints, system.n_holonomic
+    zero = np.zeros(n)
+
+    def residual(x: Array) -> Array:
+        qq, lam = x[:n], x[n:]
+        states = system.marker_states(qq, zero, t)
+        jac = system.constraint_jacobian(qq, zero, t)
+        out = np.empty(n + nc)
+        out[:n] = system.terms(qq, zero, t, states).q - jac.T @ lam
+        out[n:n + nh] = system.holonomic_residual(qq, zero, t, states)[0]
+        out[n + nh:] = jac[nh:] @ (qq - q_start)
+        return out
+
+    x = np.concatenate([q_start, np.zeros(nc)])
+    for _ in range(max_iter):
+        r = residual(x)
+        jac = central_jacobian(lambda y: residual(y), [x], 0, 1e-3)
+        try:
+            dx = np.linalg.solve(jac, -r)
+        except np.linalg.LinAlgError:
+            raise ModelError("static equilibrium: the tangent is singular (a rigid-body motion is left free by "
+                             "the elements and constraints)") from None
+        x = x + dx
+        if np.max(np.abs(dx[:n])) < tol:
+            return x[:n], x[n:]
+    raise ModelError(f"static equilibrium: no convergence in {max_iter} iterations (residual {np.abs(r).max():.3g})")

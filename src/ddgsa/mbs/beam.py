@@ -6,7 +6,8 @@ rotary inertias at its nodes. Three independent fields:
 - bending (one transverse plane; the shaft is axisymmetric, so Y and Z share the shapes):
   Hermite cubic elements, nodal (w, w'), consistent mass, pinned supports (w = 0) at the
   bearing nodes;
-- axial: linear bar elements, u = 0 at the axial (front) bearing;
+- axial: linear bar elements, u = 0 at the axial (front) bearing, or free with a longitudinal
+  spring there (``axial_spring``, seed 000 §2.5);
 - torsion: linear elements, free-free (the spin is the body's rigid rotation).
 
 Modes are mass-normalised by the solver and then scaled so the largest nodal displacement
@@ -43,6 +44,11 @@ class BeamSpec:
         Positions of the bending supports (bearings) [m].
     axial_support : float
         Position where the axial field is held (the axial bearing) [m].
+    axial_spring : float, optional
+        Axial stiffness of that bearing [N/m]: the field is then free, on this spring, and its
+        first mode is the shaft bouncing on the spring (None: held rigidly). The spring shapes
+        the modes only; the generalised stiffness ``k_axial`` is the shaft's own (a body puts
+        the bearing in as an element).
     """
 
     nodes: tuple[float, ...]
@@ -54,6 +60,7 @@ class BeamSpec:
     end_masses: tuple[tuple[float, float, float, float], ...]
     supports: tuple[float, ...]
     axial_support: float
+    axial_spring: float | None = None
 
     @property
     def x(self) -> NDArray[np.float64]:
@@ -176,8 +183,14 @@ def shaft_modes(spec: BeamSpec, n_axial: int = 1, n_torsion: int = 1, n_bending:
     free_b = np.array([i for i in range(2 * n) if i not in pinned])
     fb, vb = _modes(kb, mb, free_b, n_bending)
     ka, ma = bar_matrices(spec, spec.EA, spec.mass / spec.length, 1)
-    free_a = np.array([i for i in range(n) if i != spec.node_index(spec.axial_support)])
-    fa, va = _modes(ka, ma, free_a, n_axial)
+    i_ax = spec.node_index(spec.axial_support)
+    ka_bc = ka.copy()
+    if spec.axial_spring is None:
+        free_a = np.array([i for i in range(n) if i != i_ax])
+    else:
+        ka_bc[i_ax, i_ax] += spec.axial_spring
+        free_a = np.arange(n)
+    fa, va = _modes(ka_bc, ma, free_a, n_axial)
     kt, mt = bar_matrices(spec, spec.GJ, spec.polar_inertia / spec.length, 2)
     ft, vt = _modes(kt, mt, np.arange(n), n_torsion, skip_rigid=True)
 

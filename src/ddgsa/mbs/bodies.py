@@ -42,6 +42,11 @@ def skew(d: Array) -> Array:
     return np.array([[0.0, -d[2], d[1]], [d[2], 0.0, -d[0]], [-d[1], d[0], 0.0]])
 
 
+def cross(a: Array, b: Array) -> Array:
+    """Cross product of 3-vectors (``np.cross`` costs ten times more on small arrays)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
 def rodrigues(v: Array) -> Array:
     """Rotation matrix of the rotation vector ``v`` [rad]."""
     angle = float(np.linalg.norm(v))
@@ -123,6 +128,11 @@ class Body(ABC):
     def marker_state(self, mk: Marker, q: Array, qd: Array, t: float) -> tuple[Array, Array, Array, Array, Array]:
         """``(r, A_section, v, w, J (6, n_coords))`` of a marker at the body's ``q``, ``qd``."""
 
+    def marker_states(self, markers: list[Marker], q: Array, qd: Array,
+                      t: float) -> list[tuple[Array, Array, Array, Array, Array]]:
+        """:meth:`marker_state` of several markers of this body (bodies may share work between them)."""
+        return [self.marker_state(mk, q, qd, t) for mk in markers]
+
     def initial_state(self) -> tuple[Array, Array]:
         """Initial coordinates and velocities."""
         return np.zeros(self.n_coords), np.zeros(self.n_coords)
@@ -173,9 +183,16 @@ class PrescribedBody(Body):
         return Marker(self, p, name or f"p{p.tolist()}", np.zeros((3, 0)), np.zeros((3, 0)))
 
     def marker_state(self, mk: Marker, q: Array, qd: Array, t: float) -> tuple[Array, Array, Array, Array, Array]:
+        return self.marker_states([mk], q, qd, t)[0]
+
+    def marker_states(self, markers: list[Marker], q: Array, qd: Array,
+                      t: float) -> list[tuple[Array, Array, Array, Array, Array]]:
         r0, a, v0, w = (np.asarray(x, dtype=float) for x in self.trajectory(t))
-        arm = a @ mk.position
-        return r0 + arm, a, v0 + np.cross(w, arm), w, np.zeros((6, 0))
+        out = []
+        for mk in markers:
+            arm = a @ mk.position
+            out.append((r0 + arm, a, v0 + cross(w, arm), w, np.zeros((6, 0))))
+        return out
 
 
 class Ground(PrescribedBody):
@@ -325,22 +342,29 @@ class FlexibleBody(Body):
         return q, qd
 
     def marker_state(self, mk: Marker, q: Array, qd: Array, t: float) -> tuple[Array, Array, Array, Array, Array]:
+        return self.marker_states([mk], q, qd, t)[0]
+
+    def marker_states(self, markers: list[Marker], q: Array, qd: Array,
+                      t: float) -> list[tuple[Array, Array, Array, Array, Array]]:
         a = rotation(q[3:6])
-        g = g_bar(q[3:6])
-        qf, qfd = q[6:], qd[6:]
-        u = mk.position + mk.shapes @ qf
-        jac = np.zeros((6, self.n_coords))
-        jac[0:3, 0:3] = np.eye(3)
-        jac[0:3, 3:6] = -a @ skew(u) @ g
-        jac[3:6, 3:6] = a @ g
-        if qf.size:
-            jac[0:3, 6:] = a @ mk.shapes
-            jac[3:6, 6:] = a @ mk.rotation_shapes
-            a_sec = a @ rodrigues(mk.rotation_shapes @ qf)
-        else:
-            a_sec = a
-        vw = jac @ qd
-        return q[0:3] + a @ u, a_sec, vw[:3], vw[3:], jac
+        ag = a @ g_bar(q[3:6])
+        qf = q[6:]
+        out = []
+        for mk in markers:
+            u = a @ (mk.position + mk.shapes @ qf) if qf.size else a @ mk.position
+            jac = np.zeros((6, self.n_coords))
+            jac[0, 0] = jac[1, 1] = jac[2, 2] = 1.0
+            jac[0:3, 3:6] = -skew(u) @ ag   # -A u~ G with u in global axes
+            jac[3:6, 3:6] = ag
+            if qf.size:
+                jac[0:3, 6:] = a @ mk.shapes
+                jac[3:6, 6:] = a @ mk.rotation_shapes
+                a_sec = a @ rodrigues(mk.rotation_shapes @ qf)
+            else:
+                a_sec = a
+            vw = jac @ qd
+            out.append((q[0:3] + u, a_sec, vw[:3], vw[3:], jac))
+        return out
 
     def terms(self, q: Array, qd: Array, gravity: Array) -> tuple[Array, Array, Array, Array]:
         m, f = body_terms_inv(q, qd, *self._inv_args, gravity)

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.bodies import Marker, MarkerState
+from ddgsa.mbs.bodies import Marker, MarkerState, cross
 
 Array = NDArray[np.float64]
 
@@ -99,7 +99,7 @@ class TransverseBearing(Constraint):
         jac = np.zeros((2, 12))
         jac[:, 0:3] = n
         jac[:, 6:9] = -n
-        jac[:, 9:12] = np.cross(n, d)                      # d(n_k . d)/d theta_j = n_k x d
+        jac[:, 9:12] = np.array([cross(n[0], d), cross(n[1], d)])                      # d(n_k . d)/d theta_j = n_k x d
         return n @ d, jac
 
 
@@ -158,7 +158,7 @@ class GearContact(Constraint):
         e = d_plane / dist
         a_point = si.r + (-1.0 if self.internal else 1.0) * self.radius_i * e
         self.contact = sh.a.T @ (a_point - sh.r)
-        self.tangent = sh.a.T @ np.cross(axis, e)
+        self.tangent = sh.a.T @ cross(axis, e)
 
     def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
         si, sj, sh = states
@@ -166,9 +166,9 @@ class GearContact(Constraint):
         tan = sh.a @ self.tangent
         jac = np.zeros((1, 18))
         jac[0, 0:3] = tan
-        jac[0, 3:6] = np.cross(p - si.r, tan)
+        jac[0, 3:6] = cross(p - si.r, tan)
         jac[0, 6:9] = -tan
-        jac[0, 9:12] = -np.cross(p - sj.r, tan)
+        jac[0, 9:12] = -cross(p - sj.r, tan)
         return jac @ _rates(states), jac
 
 

@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.bodies import Marker, MarkerState, rotation_vector
+from ddgsa.mbs.bodies import Marker, MarkerState, cross, rotation_vector
 from ddgsa.mbs.linear import catmull_rom_coefficients
 
 Array = NDArray[np.float64]
@@ -103,7 +103,10 @@ class _Connector(Element):
         if frame not in ("global", "i"):
             raise ModelError(f"element {name!r}: frame {frame!r} not allowed; use 'global' or 'i'")
         self.markers = (marker_i, marker_j)
-        self.k6, self.c6 = np.asarray(k6, dtype=float), np.asarray(c6, dtype=float)
+        self.k6, self.c6 = np.array(k6, dtype=float), np.array(c6, dtype=float)
+        if free_spin:                      # no stiffness or damping about the free spin axis
+            for mat in (self.k6, self.c6):
+                mat[3, :] = mat[:, 3] = 0.0
         self.frame, self.free_spin, self.name = frame, free_spin, name
         self.rest_r: Array = np.zeros(3)
         self.rest_a: Array = np.eye(3)
@@ -120,7 +123,7 @@ class _Connector(Element):
         dw = sj.w - si.w
         if self.free_spin:
             axis = si.a[:, 0]
-            dth = np.cross(axis, (sj.a @ self.rest_a.T)[:, 0])
+            dth = cross(axis, (sj.a @ self.rest_a.T)[:, 0])
             dw = dw - axis * (axis @ dw)
         else:
             dth = rotation_vector(sj.a @ self.rest_a.T @ si.a.T)
@@ -141,7 +144,7 @@ class _Connector(Element):
         w = np.zeros((2, 6))
         w[0] = f
         w[1, :3] = -f[:3]
-        w[1, 3:] = -f[3:] + np.cross(arm, f[:3])
+        w[1, 3:] = -f[3:] + cross(arm, f[:3])
         return w, _pair(k), _pair(c)
 
     def potential_energy(self, states: list[MarkerState]) -> float:

@@ -61,12 +61,15 @@ def damped_eigen(m: NDArray[np.float64], c: NDArray[np.float64],
                  k: NDArray[np.float64]) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """Oscillating eigenpairs of ``M q'' + C q' + K q = 0``, ascending ``|lambda|``.
 
-    Returns the eigenvalues with positive imaginary part and their displacement shapes (n, n_modes).
+    Returns the eigenvalues with positive imaginary part and their displacement shapes (n, n_modes);
+    rigid-body eigenvalues (``|lambda|`` below 1e-7 of the largest, finite-difference noise on a
+    zero eigenvalue) are left out.
     """
     n = m.shape[0]
     a = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(m, k), -np.linalg.solve(m, c)]])
     lam, vec = eig(a)
-    sel = lam.imag > 1e-6 * max(1.0, np.abs(lam).max()) * 1e-3
+    top = max(1.0, np.abs(lam).max())
+    sel = (lam.imag > 1e-9 * top) & (np.abs(lam) > 1e-7 * top)
     lam, vec = lam[sel], vec[:n, sel]
     order = np.argsort(np.abs(lam))
     return lam[order], vec[:, order]
