@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.linalg import null_space
 
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.integrate.exact import state_matrices
@@ -37,22 +38,32 @@ Array = NDArray[np.float64]
 RCOND = 1e-9
 
 
-def operating_state(system: System, q: Array, qd: Array, iterations: int = 8,
+def operating_state(system: System, q: Array, qd: Array, iterations: int = 30,
                     tol: float = 1e-9) -> tuple[Array, Array, ConstrainedLinearisation]:
-    """Quasi-static state at spin: ``N^T Q(q, qd) = 0`` by Newton steps on the null space of ``C_q``.
+    """Quasi-static state at spin: ``N^T Q(q, qd) = 0`` on the null space ``N`` of ``C_q``.
 
-    Each step solves ``K_r z = N^T Q`` in least squares (the spin directions carry no stiffness;
-    their residual is the torque imbalance, which accelerates the drive and is left alone) and
-    projects the result back on the constraints. Stops when the step is below ``tol`` [m or
-    rad]; returns the state and the linearisation at the last iterate.
+    Modified Newton: the stiffness of one linearisation at the start, projected on the current
+    null space, against the current residual ``N^T Q`` (least squares: the spin directions carry
+    no stiffness; their residual is the torque imbalance, which accelerates the drive and is left
+    alone); each step is projected back on the constraints. Stops when the step is below ``tol``
+    [m or rad]; returns the state and the linearisation there.
+
+    Raises
+    ------
+    RuntimeError
+        If the iterations do not converge.
     """
+    lin = linearise_system(system, q, qd, 0.0)
+    basis, k_r, r0 = lin.basis, lin.k, lin.r0
     for _ in range(iterations):
-        lin = linearise_system(system, q, qd, 0.0)
-        step = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=RCOND)[0]
-        if np.max(np.abs(step)) < tol:
-            break
+        step = basis @ np.linalg.lstsq(k_r, r0, rcond=RCOND)[0]
         q, qd = system.consistent_state(q + step, qd, 0.0)
-    return q, qd, lin
+        if np.max(np.abs(step)) < tol:
+            return q, qd, linearise_system(system, q, qd, 0.0)
+        basis = null_space(system.constraint_jacobian(q, qd, 0.0))
+        k_r, r0 = basis.T @ lin.k_full @ basis, basis.T @ system.terms(q, qd, 0.0).q
+    raise RuntimeError(f"operating state: no convergence in {iterations} modified-Newton steps (last step "
+                       f"{np.max(np.abs(step)):.3g})")
 
 
 def input_matrix(asm: Assembly, q: Array, qd: Array, c_hss: float, ratio: float) -> Array:
@@ -108,6 +119,6 @@ def linear_response(asm: Assembly, lin: ConstrainedLinearisation, u: Array, dt: 
     # multipliers: C_q^T dlambda = G du - M N z'' - C_full N z' - K_full N z
     cq = s.constraint_jacobian(q0, qd0, 0.0)
     rhs = du @ g.T - zdd @ (lin.m_full @ basis).T - zd @ (lin.c_full @ basis).T - z @ (lin.k_full @ basis).T
-    lam = lin.lam0 + np.linalg.lstsq(cq.T, rhs.T, rcond=None)[0].T
+    lam = lin.lam0 + rhs @ np.linalg.pinv(cq.T).T
     return LinearResponse(q, qd, lam, lin)
 

@@ -23,14 +23,15 @@ from ddgsa.models.indirect_drive.linear import linear_response, operating_state
 from ddgsa.models.indirect_drive.outputs import (bearing_outputs, constraint_drift, gear_force_outputs,
                                                   housing_motion_outputs, signal_statistics)
 from ddgsa.models.indirect_drive.parameters import BEARINGS, PARAMETERS
-from ddgsa.models.indirect_drive.series import time_series
+from ddgsa.models.indirect_drive.series import TRANSVERSE, time_series
 
 Array = NDArray[np.float64]
 
 HOUSING_OUTPUTS = tuple(f"housing_{c}_{s}" for c in ("dx", "dy", "dz", "rx", "ry", "rz")
                         for s in ("mean", "rms", "p2p"))
 OUTPUTS = (*HOUSING_OUTPUTS, "gear_force_mean", "gear_force_rms", "gear_force_del",
-           *(o for b in BEARINGS for o in (f"damage_{b}", f"{b}_Fr_mean", f"{b}_Fa_mean")),
+           *(o for b in BEARINGS for o in (f"damage_{b}", f"{b}_Fr_mean", f"{b}_Fa_mean")
+             if not (b in TRANSVERSE and o.endswith("_Fa_mean"))),        # transverse bearings carry no Fa
            "housing_torque_mean", "housing_torque_rms", "position_drift", "gear_drift")
 #: default housing point: the upwind top corner on the +Y side of the 2.0 x 2.5 x 2.5 m housing,
 #: housing frame relative to its centre of mass [m]
