@@ -1,4 +1,4 @@
-"""The ``ddgsa`` command: ``run``, ``validate``, ``models``, ``report``, ``bench``.
+"""The ``ddgsa`` command: ``run``, ``validate``, ``models``, ``report``, ``bench``, ``modes``.
 
 Exit codes: 0 success, 1 a failure while running, 2 invalid input. Errors print one clear
 message and no traceback (``--verbose`` adds it).
@@ -45,6 +45,14 @@ def _parser() -> argparse.ArgumentParser:
     ben.add_argument("--json", type=Path, help="also write the figures to this JSON file")
     ben.add_argument("--ref-seconds", type=float, default=20.0, help="scene seconds the slow reference integrates")
     ben.add_argument("--no-quickstart", action="store_true", help="skip timing the quickstart study")
+    mod = sub.add_parser("modes", help="natural frequencies of a model or a study's model (CSV + PNG); "
+                                       "--campbell: against rotor speed")
+    mod.add_argument("target", help="a model name (see ddgsa models) or a study YAML file")
+    mod.add_argument("--campbell", action="store_true", help="modes against rotor speed with order lines")
+    mod.add_argument("--max-rpm", type=float, default=20.0, help="highest rotor speed of the Campbell diagram [rpm]")
+    mod.add_argument("--points", type=int, default=11, help="rotor speeds from 0 to --max-rpm")
+    mod.add_argument("--orders", type=float, nargs="+", default=[1.0, 3.0], help="excitation orders (1P, 3P ...)")
+    mod.add_argument("--out", type=Path, help="output folder (default results/modes_<name>)")
     return p
 
 
@@ -92,7 +100,61 @@ def _dispatch(args: argparse.Namespace) -> int:
         return _report(args.dir, args.quiet)
     if args.command == "bench":
         return _bench(args)
+    if args.command == "modes":
+        return _modes(args)
     return EXIT_INPUT  # pragma: no cover (argparse requires a command)
+
+
+def _modes(args: argparse.Namespace) -> int:
+    """``ddgsa modes``: the model's mode table, or its Campbell diagram (from ``model.campbell`` or
+    from ``model.modes(rotor_speed=...)`` at each speed), as CSV and PNG."""
+    import inspect
+
+    import matplotlib
+    import numpy as np
+
+    matplotlib.use("Agg")
+    from ddgsa import models
+    from ddgsa.errors import ModelError
+    from ddgsa.mbs.campbell import campbell_from_tables
+    from ddgsa.mbs.modal import plot_modes
+    from ddgsa.study import load_study
+
+    target = Path(args.target)
+    if target.suffix in (".yaml", ".yml") or target.exists():
+        study = load_study(target)
+        model, name = study.make_model(), study.name
+    else:
+        model, name = models.get(args.target), args.target
+    out = args.out or Path("results") / f"modes_{name}"
+    out.mkdir(parents=True, exist_ok=True)
+    if not args.campbell:
+        table = model.modes()
+        table.to_csv(out / "modes.csv", index=False)
+        plot_modes(table).figure.savefig(out / "modes.png", dpi=120, bbox_inches="tight")
+        if not args.quiet:
+            print(table[["frequency_hz", "damping_ratio", "label"]].to_string(index=False))
+            print(f"wrote {out / 'modes.csv'} and {out / 'modes.png'}")
+        return EXIT_OK
+    if args.points < 2 or args.max_rpm <= 0:
+        raise ModelError(f"--points ({args.points}) must be >= 2 and --max-rpm ({args.max_rpm}) > 0")
+    speeds = np.linspace(0.0, args.max_rpm * np.pi / 30.0, args.points)
+    if hasattr(model, "campbell"):
+        diagram = model.campbell(speeds=speeds, orders=args.orders)
+    elif "rotor_speed" in inspect.signature(model.modes).parameters:
+        diagram = campbell_from_tables({s: model.modes(rotor_speed=s) for s in speeds}, args.orders)
+    else:
+        raise ModelError(f"model {name!r} has no rotor speed to sweep: no Campbell diagram (ddgsa modes {args.target} "
+                         "without --campbell gives its modes)")
+    diagram.to_frame().to_csv(out / "campbell.csv", index=False)
+    diagram.plot().figure.savefig(out / "campbell.png", dpi=120, bbox_inches="tight")
+    if not args.quiet:
+        for order in args.orders:
+            cross = diagram.crossings(order)
+            for _, row in cross.iterrows():
+                print(f"{order:g}P crosses mode {row['mode']} at {row['speed_rpm']:.2f} rpm ({row['frequency_hz']:.3g} Hz)")
+        print(f"wrote {out / 'campbell.csv'} and {out / 'campbell.png'}")
+    return EXIT_OK
 
 
 def _run(study, args: argparse.Namespace) -> int:  # noqa: ANN001

@@ -163,3 +163,19 @@ def campbell(system: "System", speeds: ArrayLike, spin: str, q0: Array | None = 
                          "damping_ratio": float(-lam[j].real / abs(lam[j])), "whirl": whirl,
                          "whirl_index": float(index), "label": labels[j]})
     return CampbellDiagram(pd.DataFrame(rows), tuple(float(o) for o in orders))
+
+
+def campbell_from_tables(tables: dict[float, pd.DataFrame], orders: Sequence[float] = (1.0, 3.0)) -> CampbellDiagram:
+    """A Campbell diagram from mode tables computed at each speed [rad/s] by other means (a model's ``modes``).
+
+    The tables need ``frequency_hz``, ``damping_ratio`` and ``label``; whirl is not known there
+    (``whirl`` is ``"unknown"``).
+    """
+    rows = []
+    for speed, table in sorted(tables.items()):
+        tab = table.sort_values("frequency_hz").reset_index(drop=True)
+        for j, row in tab.iterrows():
+            rows.append({"speed_rad_s": float(speed), "speed_rpm": float(speed) * 30.0 / np.pi, "mode": int(j) + 1,
+                         "frequency_hz": float(row["frequency_hz"]), "damping_ratio": float(row["damping_ratio"]),
+                         "whirl": "unknown", "whirl_index": np.nan, "label": row["label"]})
+    return CampbellDiagram(pd.DataFrame(rows), tuple(float(o) for o in orders))

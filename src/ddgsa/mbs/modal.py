@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -192,3 +192,18 @@ def modes(system: "System", q0: NDArray[np.float64] | None = None, qd0: NDArray[
     """
     lin = linearise_system(system, q0, qd0, t0)
     return modal_analysis(lin.m, lin.c, lin.k, system.coord_names, system.groups(), lin.basis, lin.m_full)
+
+
+def plot_modes(table: pd.DataFrame, ax: Any = None) -> Any:
+    """Horizontal bars of the natural frequencies [Hz] of a mode table, labelled; returns the ``Axes``."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 0.35 * max(len(table), 4) + 1.0))
+    y = np.arange(len(table))
+    ax.barh(y, table["frequency_hz"], color="tab:blue")
+    ax.set_yticks(y, [f"{lab} ({f:.3g} Hz)" for lab, f in zip(table["label"], table["frequency_hz"])], fontsize=8)
+    ax.invert_yaxis()
+    ax.set_xscale("log")
+    ax.set_xlabel("natural frequency [Hz]")
+    return ax

@@ -1,0 +1,33 @@
+"""``ddgsa modes``: mode tables and Campbell diagrams written as CSV + PNG; clear errors."""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from ddgsa.cli import main
+
+
+def test_modes_writes_table_and_chart(tmp_path, capsys) -> None:
+    assert main(["-q", "modes", "generator_radial", "--out", str(tmp_path)]) == 0
+    table = pd.read_csv(tmp_path / "modes.csv")
+    assert {"frequency_hz", "damping_ratio", "label"} <= set(table.columns) and len(table) >= 2
+    assert (tmp_path / "modes.png").stat().st_size > 1000
+
+
+def test_campbell_of_a_spinning_model(tmp_path, capsys) -> None:
+    assert main(["modes", "direct_drive", "--campbell", "--max-rpm", "15", "--points", "3", "--out",
+                 str(tmp_path)]) == 0
+    fr = pd.read_csv(tmp_path / "campbell.csv")
+    assert sorted(fr["speed_rpm"].round(9).unique()) == [0.0, 7.5, 15.0]
+    assert (tmp_path / "campbell.png").stat().st_size > 1000
+    assert "campbell.csv" in capsys.readouterr().out
+
+
+def test_campbell_of_a_model_without_rotor_speed_is_an_input_error(tmp_path, capsys) -> None:
+    assert main(["modes", "generator_radial", "--campbell", "--out", str(tmp_path)]) == 2
+    assert "no rotor speed to sweep" in capsys.readouterr().err
+
+
+def test_unknown_model_is_an_input_error(tmp_path, capsys) -> None:
+    assert main(["modes", "no_such_model", "--out", str(tmp_path)]) == 2
+    assert "unknown model" in capsys.readouterr().err
