@@ -137,7 +137,7 @@ def _lss_body(p: Mapping[str, float], fields: tuple[str, ...]) -> tuple[Body, fl
         spec = BeamSpec(nodes=mesh([0.0, p["main_bearing_x"], p["lss_bearing_1_x"], p["gear_x"],
                                     p["lss_bearing_3_x"], length], MAX_ELEMENT),
                         mass=p["lss_mass"], polar_inertia=polar, EI=p["lss_bending_stiffness"],
-                        EA=p["lss_axial_stiffness"], GJ=p["drivetrain_torsional_stiffness"] * p["gear_x"],
+                        EA=p["lss_axial_stiffness"], GJ=p["drivetrain_torsional_stiffness"] * p["gear_x"],  # no torsion field
                         end_masses=((0.0, p["hub_mass"] - _SPIN_BODY_MASS, 0.0, p["hub_inertia_yz"]),),
                         supports=(p["main_bearing_x"], p["lss_bearing_3_x"]), axial_support=p["main_bearing_x"])
         body = FlexibleBody.shaft("lss", spec, fields, damping_ratio=p["lss_damping_ratio"], rotary_inertia=False)

@@ -14,6 +14,7 @@ from scipy.spatial.transform import Rotation
 from ddgsa.errors import ModelError
 from ddgsa.loads import EXCITATION_FACTORS, NREL5MW, apply_excitation, generate
 from ddgsa.loads.scene import Scene
+from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables
 from ddgsa.mbs.integrate import genalpha, reference
 from ddgsa.mbs.modal import modes as system_modes
 from ddgsa.mbs.sampling import NYQUIST, check_interval, controller_row, sampling_row
@@ -36,6 +37,8 @@ OUTPUTS = (*HOUSING_OUTPUTS, "gear_force_mean", "gear_force_rms", "gear_force_de
 #: default housing point: the upwind top corner on the +Y side of the 2.0 x 2.5 x 2.5 m housing,
 #: housing frame relative to its centre of mass [m]
 HOUSING_POINT = (-1.0, 1.25, 1.25)
+#: highest frequency drawn in the Campbell diagram [Hz] (drive-train, rotor-tilt and housing modes)
+CAMPBELL_MAX_HZ = 25.0
 #: samples of the record at which the linear fidelity evaluates the nonlinear constraint residual
 DRIFT_SAMPLES = 50
 
@@ -189,6 +192,18 @@ class IndirectDrive(Model):
         labels ``<body>_<direction>`` (``rotor_spin`` is the drive-train torsion mode)."""
         asm, q, qd = self.assemble(params, rotor_speed, lss_torque)
         return system_modes(asm.system, q, qd)
+
+    def campbell(self, params: Mapping[str, float] | None = None, speeds: Any = None,
+                 orders: Any = (1.0, 3.0), max_frequency_hz: float = CAMPBELL_MAX_HZ) -> CampbellDiagram:
+        """Campbell diagram: :meth:`modes` below ``max_frequency_hz`` at each rotor speed of ``speeds``
+        [rad/s] (default 0 to 15 rpm), every body spinning at its operating speed (rotor and wheel at
+        the rotor speed, the HSS at -N times it), no load. Whirl directions are not classified."""
+        speeds = np.linspace(0.0, 15.0 * np.pi / 30.0, 11) if speeds is None else np.asarray(speeds, dtype=float)
+        tables = {}
+        for w in speeds:
+            table = self.modes(params, rotor_speed=float(w))
+            tables[float(w)] = table[table["frequency_hz"] <= max_frequency_hz]
+        return campbell_from_tables(tables, tuple(float(o) for o in orders))
 
     @functools.cached_property
     def nominal_modes(self) -> pd.DataFrame:

@@ -22,10 +22,10 @@ Sources, in order of preference:
 Assumptions, with the reasoning:
 
 - LSS: hollow steel shaft, outer radius 0.35 m, bore 0.15 m, length 4.2 m (hub flange to the
-  rear gearbox bearing): mass 10.36 t, EI = 2.39e9 N m^2, EA = 6.60e10 N (E = 210 GPa,
-  rho = 7850 kg/m^3). Its torsional stiffness is **not** the steel's: the shaft between hub and
-  gear mesh is given the NREL *equivalent* drive-train stiffness (GJ = k_eq x gear_x), which
-  lumps the shaft, gearbox and HSS torsional compliance into the LSS as the NREL model does.
+  LSS end 0.2 m behind the rear gearbox bearing): mass 10.36 t, EI = 2.39e9 N m^2, EA = 6.60e10 N (E = 210 GPa,
+  rho = 7850 kg/m^3). Its torsional stiffness is **not** the steel's: the NREL *equivalent*
+  drive-train stiffness and damping act between the rotor and the gear wheel, lumping the
+  shaft, gearbox and HSS torsional compliance into one LSS spring as the NREL model does.
 - Gearbox bearings: LSS bearings at 3.0 m (point 1) and 4.0 m (point 3), HSS bearings at 3.2 m
   (point 2) and 3.8 m (point 4), the mesh plane at 3.5 m (seed 001 Fig. 2.2 topology, sizes
   assumed: a 1.0 m long gearbox behind a 2.0 m main-shaft span).
