@@ -147,7 +147,7 @@ def test_input_matrix_against_finite_differences() -> None:
         return asm
 
     base = system_q(u0)
-    q, qd, _ = operating_state(base.system, base.system.q0, base.system.qd0)
+    q, qd, _ = operating_state(base.system, base.system.q0, base.system.qd0, base.system.index("hss.rx"))
     g = input_matrix(base, q, qd, base.c_hss, base.ratio)
     q_ref = base.system.terms(q, qd, 0.0).q
     for k, step in enumerate([1e3] * 3 + [1e3] * 3 + [1e-3]):

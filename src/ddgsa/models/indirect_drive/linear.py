@@ -38,26 +38,30 @@ Array = NDArray[np.float64]
 RCOND = 1e-9
 
 
-def operating_state(system: System, q: Array, qd: Array, iterations: int = 30,
+def operating_state(system: System, q: Array, qd: Array, free_rate: int, iterations: int = 30,
                     tol: float = 1e-9) -> tuple[Array, Array, ConstrainedLinearisation]:
     """Quasi-static state at spin: ``N^T Q(q, qd) = 0`` on the null space ``N`` of ``C_q``.
 
     Modified Newton: the stiffness of one linearisation at the start, projected on the current
     null space, against the current residual ``N^T Q`` (least squares: the spin directions carry
     no stiffness; their residual is the torque imbalance, which accelerates the drive and is left
-    alone); each step is projected back on the constraints. Stops when the step is below ``tol``
-    [m or rad]; returns the state and the linearisation there.
+    alone); each step is projected back on the constraints, the velocities by changing only the
+    rate of coordinate ``free_rate`` (the pinion's spin: a minimum-norm correction would give the
+    housing a roll rate, which a linearised run integrates into a drift of its roll). Stops when
+    the step is below ``tol`` [m or rad]; returns the state and the linearisation there.
 
     Raises
     ------
     RuntimeError
         If the iterations do not converge.
     """
+    keep = [i for i in range(system.n) if i != free_rate]
+    q, qd = system.consistent_state(q, qd, 0.0, keep=keep)
     lin = linearise_system(system, q, qd, 0.0)
     basis, k_r, r0 = lin.basis, lin.k, lin.r0
     for _ in range(iterations):
         step = basis @ np.linalg.lstsq(k_r, r0, rcond=RCOND)[0]
-        q, qd = system.consistent_state(q + step, qd, 0.0)
+        q, qd = system.consistent_state(q + step, qd, 0.0, keep=keep)
         if np.max(np.abs(step)) < tol:
             return q, qd, linearise_system(system, q, qd, 0.0)
         basis = null_space(system.constraint_jacobian(q, qd, 0.0))
@@ -92,13 +96,16 @@ class LinearResponse:
     lin: ConstrainedLinearisation
 
 
-def linear_response(asm: Assembly, lin: ConstrainedLinearisation, u: Array, dt: float) -> LinearResponse:
+def linear_response(asm: Assembly, lin: ConstrainedLinearisation, u: Array, dt: float,
+                    spin_scale: float = 1.0) -> LinearResponse:
     """Exact response of the linearisation ``lin`` of ``asm`` to inputs ``u`` (n_t, 7).
 
     ``u`` columns: hub ``Fx, Fy, Fz`` [N], ``Mx, My, Mz`` [N m], LSS set speed [rad/s], sampled
     every ``dt`` [s]; ``asm`` must have been built with the constant loads ``u0 = u.mean(0)``
     and ``lin`` taken at its operating state (:func:`operating_state`). Starts from the
-    quasi-static deflection under ``u[0]``.
+    quasi-static deflection under ``u[0]``, every body spinning at ``spin_scale`` times its
+    operating speed (the drive's speed mode relaxes in ``J / c_gen``, about 50 s: start it at
+    the scene's initial speed, not the mean).
     """
     s = asm.system
     q0, qd0 = lin.q0, lin.qd0
@@ -110,6 +117,7 @@ def linear_response(asm: Assembly, lin: ConstrainedLinearisation, u: Array, dt: 
     nz = lin.m.shape[0]
     x0 = np.zeros(2 * nz)
     x0[:nz] = np.linalg.lstsq(lin.k, forcing[0] + lin.r0, rcond=RCOND)[0]
+    x0[nz:] = basis.T @ ((spin_scale - 1.0) * qd0)             # a uniform spin change keeps the constraints
     x = lti_response(a, bw, np.column_stack([forcing, np.ones(len(u))]), dt, x0)
     z, zd = x[:, :nz], x[:, nz:]
     zdd = np.linalg.solve(lin.m, (forcing + lin.r0 - zd @ lin.c.T - z @ lin.k.T).T).T

@@ -127,7 +127,7 @@ class IndirectDrive(Model):
         moment[:, 0] = lss_torque
         w_set = np.full(2, rotor_speed - lss_torque / p["c_gen"])
         asm = build(p, self.fields, times, zero, moment, w_set, rotor_speed)
-        q, qd, _ = operating_state(asm.system, asm.system.q0, asm.system.qd0)
+        q, qd, _ = operating_state(asm.system, asm.system.q0, asm.system.qd0, asm.system.index("hss.rx"))
         return asm, q, qd
 
     # -- simulation ---------------------------------------------------------------------------------
@@ -155,8 +155,8 @@ class IndirectDrive(Model):
             spin = float(u0[6] + u0[3] / p["c_gen"])                 # torque balance at the mean
             const = np.ones((len(times), 1))
             asm = build(p, self.fields, times, const * u0[:3], const * u0[3:6], const[:, 0] * u0[6], spin)
-            _, _, lin = operating_state(asm.system, asm.system.q0, asm.system.qd0)
-            res = linear_response(asm, lin, u, dt)
+            _, _, lin = operating_state(asm.system, asm.system.q0, asm.system.qd0, asm.system.index("hss.rx"))
+            res = linear_response(asm, lin, u, dt, spin_scale=float(inp["rotor_speed"][0]) / spin)
             q, qd, lam = res.q, res.qd, res.lam
             drift = constraint_residuals(asm, q, qd, np.linspace(0, len(times) - 1, DRIFT_SAMPLES).astype(int))
             info: dict[str, Any] = {"method": "exact (linearised)", "reduced_dofs": res.lin.m.shape[0]}
@@ -166,7 +166,7 @@ class IndirectDrive(Model):
                 raise ModelError(f"model 'indirect_drive': time_step {self.time_step} s must divide the scene's "
                                  f"dt {dt} s")
             asm = build(p, self.fields, times, forces, moments, inp["w_set"], float(inp["rotor_speed"][0]))
-            q0, qd0, _ = operating_state(asm.system, asm.system.q0, asm.system.qd0)
+            q0, qd0, _ = operating_state(asm.system, asm.system.q0, asm.system.qd0, asm.system.index("hss.rx"))
             t_end = float(times[-1])
             if self.integrator == "gen_alpha":
                 self._check_step()
