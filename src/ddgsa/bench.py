@@ -87,3 +87,60 @@ def format_speed(res: dict[str, Any]) -> str:
         q = res["quickstart"]
         lines += ["", f"quickstart study: {q['evaluations']} model runs in {q['wall_s']} s ({q['jobs']} jobs)"]
     return "\n".join(lines)
+
+
+#: objective functions of the indirect drive compared in its benchmark rows
+INDIRECT_OUTPUTS = ("gear_force_mean", "gear_force_rms", "housing_rx_mean", "housing_rx_rms", "housing_dz_rms",
+                    "damage_main", "damage_hss2", "housing_torque_mean")
+
+
+def indirect_speed(window_seconds: float = 2.0) -> dict[str, Any]:
+    """The indirect drive's fidelities, each against its reference, ratios in one run.
+
+    ``rigid``: generalised-alpha against the kernel's ``solve_ivp`` (Radau) on the same rigid
+    system; ``flexible``: against itself at half the step (step halving); ``linear``: against
+    ``flexible``. The nonlinear paths (and the reference) are timed on the first
+    ``window_seconds`` of the scene and scaled to 600 s; ``linear`` is timed on the full scene.
+    """
+    import ddgsa.models as models
+
+    window = FULL.replace(duration=window_seconds)
+    generate(FULL)
+    generate(window)
+
+    def run(**options: Any) -> tuple[float, Any]:
+        model = models.get("indirect_drive", **options)
+        return _best(lambda: model.evaluate(None, window).iloc[0])
+
+    def err(a: Any, b: Any) -> float:
+        return float(f"{max(abs(a[c] / b[c] - 1) for c in INDIRECT_OUTPUTS if b[c] != 0):.3g}")
+
+    scale = FULL.duration / window_seconds
+    w_ref, ref = run(fidelity="rigid", integrator="Radau")
+    w_rig, rig = run(fidelity="rigid")
+    w_flex, flex = run(fidelity="flexible")
+    _, flex_half = run(fidelity="flexible", time_step=0.0025)
+    _, lin_window = run(fidelity="linear")
+    lin_model = models.get("indirect_drive", fidelity="linear")
+    w_lin, _ = _best(lambda: lin_model.evaluate(None, FULL))
+    rows = [{"fidelity": "rigid", "reference": "rigid, solve_ivp Radau", "wall_s_600s": round(w_rig * scale, 1),
+             "speedup_vs_reference": round(w_ref / w_rig, 2), "max_rel_error": err(rig, ref)},
+            {"fidelity": "flexible", "reference": "flexible, half step", "wall_s_600s": round(w_flex * scale, 1),
+             "speedup_vs_reference": None, "max_rel_error": err(flex, flex_half)},
+            {"fidelity": "linear", "reference": "flexible, generalised-alpha", "wall_s_600s": round(w_lin, 2),
+             "speedup_vs_reference": round(w_flex * scale / w_lin, 1), "max_rel_error": err(lin_window, flex)}]
+    return {"machine": f"{platform.machine()}, {platform.processor() or 'cpu'}", "scene": FULL.to_dict(),
+            "window_seconds": window_seconds, "reference_wall_s_window": round(w_ref, 1),
+            "outputs": list(INDIRECT_OUTPUTS), "fidelities": rows}
+
+
+def format_indirect_speed(res: dict[str, Any]) -> str:
+    """A plain-text table of :func:`indirect_speed`'s figures."""
+    lines = [f"indirect drive, machine: {res['machine']}; nonlinear paths timed on {res['window_seconds']:g} s "
+             f"and scaled to 600 s; errors on {', '.join(res['outputs'])}", "",
+             f"{'fidelity':10s} {'600 s scene [s]':>16s} {'speed-up':>10s} {'max rel. error':>15s}  reference"]
+    for r in res["fidelities"]:
+        speedup = "" if r["speedup_vs_reference"] is None else f"{r['speedup_vs_reference']:g}x"
+        lines.append(f"{r['fidelity']:10s} {r['wall_s_600s']:16.1f} {speedup:>10s} {r['max_rel_error']:15.2%}  "
+                     f"{r['reference']}")
+    return "\n".join(lines)

@@ -35,9 +35,10 @@ def _parser() -> argparse.ArgumentParser:
     rep = sub.add_parser("report", help="rebuild tables and plots from a run's stored evaluations")
     rep.add_argument("dir", type=Path)
     ben = sub.add_parser("bench", help="speed of each fidelity (default), or accuracy against cost of each method")
-    ben.add_argument("what", nargs="?", choices=["speed", "accuracy"], default="speed",
+    ben.add_argument("what", nargs="?", choices=["speed", "accuracy", "indirect"], default="speed",
                      help="speed: fidelities against the solve_ivp reference; accuracy: index error against "
-                          "evaluations and wall time, written to --out")
+                          "evaluations and wall time, written to --out; indirect: the indirect drive's "
+                          "fidelities against their references")
     ben.add_argument("--out", type=Path, default=Path("results") / "accuracy_cost",
                      help="folder for the accuracy benchmark's CSVs and charts")
     ben.add_argument("--quick", action="store_true",
@@ -218,6 +219,15 @@ def _bench(args: argparse.Namespace) -> int:
         kw = {"max_log2": 10, "seeds": (0, 1), "drive_train": False} if args.quick else {}
         for path in run(args.out, **kw):
             print(f"wrote {path}")
+        return EXIT_OK
+    if args.what == "indirect":
+        from ddgsa.bench import format_indirect_speed, indirect_speed
+
+        res = indirect_speed()
+        print(format_indirect_speed(res))
+        if args.json:
+            args.json.parent.mkdir(parents=True, exist_ok=True)
+            args.json.write_text(json.dumps(res, indent=2))
         return EXIT_OK
     quick = None if args.no_quickstart else Path(__file__).resolve().parents[2] / "studies" / "quickstart.yaml"
     res = speed(ref_seconds=args.ref_seconds, quickstart=quick if quick is not None and quick.exists() else None)
