@@ -4,7 +4,6 @@ ratio, and the fidelities against each other and against the solve_ivp reference
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import pandas as pd
@@ -195,13 +194,16 @@ def test_linear_against_flexible_on_a_small_amplitude_scene() -> None:
 
 @pytest.mark.slow
 def test_generalised_alpha_against_solve_ivp_reference() -> None:
-    """Rigid fidelity, 0.5 s turbulent (the reference needs ~20 min a simulated second):
-    generalised-alpha (5 ms) against the kernel's Radau (rtol 1e-8) on the time series of tooth
-    force, housing roll and bearing forces (0.5 % of the signal's size)."""
+    """Rigid fidelity, 0.5 s turbulent (the reference needs ~8 min a simulated second): generalised-
+    alpha at 5 ms against the kernel's Radau (rtol 1e-8) on the time series, within 0.5 % of the
+    signal's peak (tooth force 3e-5, housing roll 1e-5, housing point 0.2 %; measured) and 1 % for
+    the main bearing (0.95 %); halving the step cuts the error about fourfold (second order)."""
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=0.5, seed=5)
     fast = models.get("indirect_drive", fidelity="rigid").simulate(scene)
+    half = models.get("indirect_drive", fidelity="rigid", time_step=0.0025).simulate(scene)
     ref = models.get("indirect_drive", fidelity="rigid", integrator="Radau").simulate(scene)
-    for col in ("gear_force", "housing_rx", "main_Fz", "hss2_Fz"):
-        scale = max(np.ptp(ref[col]), 1e-3 * np.abs(ref[col]).max())
-        assert np.abs(fast[col] - ref[col]).max() < 0.005 * np.abs(ref[col]).max() + 0.05 * scale, col
-    assert math.isfinite(ref["gear_force"].iloc[-1])
+    for col, tol in (("gear_force", 0.005), ("housing_rx", 0.005), ("hss2_Fz", 0.005), ("housing_dz", 0.005),
+                     ("main_Fz", 0.01)):
+        err, err_half = (float(np.abs(run[col] - ref[col]).max()) for run in (fast, half))
+        assert err < tol * np.abs(ref[col]).max(), col
+        assert err_half < 0.35 * err, col
