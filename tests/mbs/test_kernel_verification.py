@@ -99,7 +99,7 @@ def gear_pair(mount_k_rx: float | None, spring_k: float = 0.0, load_torque: floa
         cons += [Spherical(shaft.marker((-0.2, 0, 0)), housing.marker((-0.2, 0, z)), name=f"{shaft.name}_fixed"),
                  TransverseBearing(shaft.marker((0.2, 0, 0)), housing.marker((0.2, 0, z)), name=f"{shaft.name}_float")]
     cons.append(GearContact(lss.marker(), hss.marker(), 0.3, 0.1, housing=housing.marker((0, 0, 0.3))))
-    els = [TorqueLaw(lss.marker(), lambda t, w: t_in, name="input")]
+    els = [TorqueLaw.linear(lss.marker(), t_in, name="input")]
     if spring_k:
         els.append(TorsionalSpring(hss.marker(), ground.marker((0, 0, -0.1)), spring_k, name="output_spring"))
     if load_torque:

@@ -162,6 +162,11 @@ class PrescribedBody(Body):
         origin velocity [m/s] and angular velocity [rad/s], global frame.
     """
 
+    #: the sampled translation of :meth:`translating` (a :class:`~ddgsa.mbs.elements.Series`), else None
+    series = None
+    #: fixed pose ``(R, A)`` of a body that does not move (the ground), else None
+    fixed_pose: tuple[Array, Array] | None = None
+
     def __init__(self, name: str, trajectory: Callable[[float], tuple[Array, Array, Array, Array]]) -> None:
         self.name = name
         self.trajectory = trajectory
@@ -176,7 +181,9 @@ class PrescribedBody(Body):
         from ddgsa.mbs.elements import Series
         series = Series(times, displacement)
         eye = np.eye(3)
-        return cls(name, lambda t: (series(t), eye, series.derivative(t), np.zeros(3)))
+        body = cls(name, lambda t: (series(t), eye, series.derivative(t), np.zeros(3)))
+        body.series = series
+        return body
 
     def marker(self, position: ArrayLike = (0.0, 0.0, 0.0), name: str | None = None) -> Marker:
         p = np.asarray(position, dtype=float).reshape(3)
@@ -201,6 +208,7 @@ class Ground(PrescribedBody):
     def __init__(self, name: str = "ground") -> None:
         eye, zero = np.eye(3), np.zeros(3)
         super().__init__(name, lambda t: (zero, eye, zero, zero))
+        self.fixed_pose = (zero, eye)
 
 
 @dataclass
@@ -247,6 +255,8 @@ class FlexibleBody(Body):
         if len(field_names) != nf:
             raise ModelError(f"body {name!r}: {len(field_names)} field names for {nf} elastic coordinates")
         self.fields = tuple(field_names)
+        #: the lumped mass points ``(masses, positions, shapes)`` the body was built from
+        self.points = (pm, pu, ps)
         self.invariants = invariants if invariants is not None else Invariants(pm, pu, ps)
         self._inv_args = self.invariants.args()
         self.mass = self.invariants.mass

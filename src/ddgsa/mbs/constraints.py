@@ -182,10 +182,12 @@ class PrescribedSpeed(Constraint):
     holonomic = False
     reaction = ("torque",)
 
-    def __init__(self, marker: Marker, speed: float | Callable[[float], float], reference: Marker | None = None,
+    def __init__(self, marker: Marker, speed: "float | Callable[[float], float]", reference: Marker | None = None,
                  name: str = "speed") -> None:
         self.markers = (marker,) if reference is None else (marker, reference)
         self.speed = speed if callable(speed) else (lambda t, s=float(speed): s)
+        #: the constant speed, or None when ``speed`` is a function (a ``Series`` runs compiled)
+        self.constant = None if callable(speed) else float(speed)
         self.name = name
 
     def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:

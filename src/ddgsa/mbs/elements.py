@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.bodies import Marker, MarkerState, cross, rotation_vector
+from ddgsa.mbs.bodies import Marker, MarkerState, cross, rotation_vector, skew
 from ddgsa.mbs.linear import catmull_rom_coefficients
 
 Array = NDArray[np.float64]
@@ -127,7 +127,7 @@ class _Connector(Element):
             dw = dw - axis * (axis @ dw)
         else:
             dth = rotation_vector(sj.a @ self.rest_a.T @ si.a.T)
-        dv = sj.v - si.v
+        dv = sj.v - si.v - cross(si.w, rest) if self.frame == "i" else sj.v - si.v   # d/dt of dr
         rot = si.a if self.frame == "i" else np.eye(3)
         big = np.zeros((6, 6))
         big[:3, :3] = big[3:, 3:] = rot
@@ -145,7 +145,8 @@ class _Connector(Element):
         w[0] = f
         w[1, :3] = -f[:3]
         w[1, 3:] = -f[3:] + cross(arm, f[:3])
-        return w, _pair(k), _pair(c)
+        rest = states[0].a @ self.rest_r if self.frame == "i" else np.zeros(3)
+        return w, connector_tangent(k, rest, arm, f[:3]), connector_tangent(c, rest, arm, np.zeros(3))
 
     def potential_energy(self, states: list[MarkerState]) -> float:
         d, _, big = self._deflection(states)
@@ -156,6 +157,29 @@ class _Connector(Element):
 def _pair(k: Array) -> Array:
     """Tangent of a two-marker connector over ``[x_i, x_j]``: ``[[K, -K], [-K, K]]``."""
     return np.block([[k, -k], [-k, k]])
+
+
+def connector_tangent(k: Array, rest: Array, arm: Array, force: Array) -> Array:
+    """``-dW/dx`` (12 x 12) of a connector ``F = K d`` between markers ``i`` and ``j``.
+
+    ``d = [r_j - r_i - rest, theta_j - theta_i]`` where ``rest`` [m] turns with marker i (a
+    lever arm when the points do not coincide, frame ``i``), so ``dd/dtheta_i`` has ``skew(rest)``;
+    marker j also gets the couple ``arm x F`` of the force about the two points, whose
+    variation with the points adds ``-skew(F) (dr_j - dr_i)`` (``force`` the current force).
+    Variations of the frame's rotation of ``K`` itself are left to the Newton iterations.
+    """
+    eye = np.eye(3)
+    dmat = np.zeros((6, 12))
+    dmat[:3, 0:3], dmat[:3, 3:6], dmat[:3, 6:9] = -eye, skew(rest), eye
+    dmat[3:, 3:6], dmat[3:, 9:12] = -eye, eye
+    g = k @ dmat
+    dw = np.zeros((12, 12))
+    dw[0:6] = g
+    dw[6:9] = -g[:3]
+    dw[9:12] = -g[3:] + skew(arm) @ g[:3]
+    dw[9:12, 0:3] += skew(force)
+    dw[9:12, 6:9] -= skew(force)
+    return -dw
 
 
 class SpringDamper3(_Connector):
@@ -233,11 +257,27 @@ class TorqueLaw(Element):
     """
 
     time_varying = True
+    #: ``(torque0, c, set_speed)`` of a linear law (:meth:`linear`), which the compiled path can run
+    linear_form: tuple[float, float, "float | Series"] | None = None
 
     def __init__(self, marker: Marker, law: Callable[[float, float], float], reaction: Marker | None = None,
                  dtorque_dspeed: Callable[[float, float], float] | None = None, name: str = "torque") -> None:
         self.markers = (marker,) if reaction is None else (marker, reaction)
         self.law, self.slope, self.name = law, dtorque_dspeed, name
+
+    @classmethod
+    def linear(cls, marker: Marker, torque0: float = 0.0, damping: float = 0.0, set_speed: "float | Series" = 0.0,
+               reaction: Marker | None = None, name: str = "torque") -> "TorqueLaw":
+        """``T = torque0 + damping (set_speed(t) - speed)`` (a generator, seed 000 eq. 25) [N m, N m s/rad].
+
+        ``set_speed`` is a constant [rad/s] or a :class:`Series`; this form also runs on the compiled
+        path (:mod:`ddgsa.mbs.compiled`).
+        """
+        ws = set_speed if isinstance(set_speed, Series) else (lambda t, c=float(set_speed): c)
+        law = cls(marker, lambda t, w: torque0 + damping * (float(ws(t)) - w), reaction,
+                  lambda t, w: -damping, name)
+        law.linear_form = (float(torque0), float(damping), set_speed)
+        return law
 
     def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, Array, Array | None]:
         axis = states[0].a[:, 0]

@@ -6,7 +6,9 @@ and ``N`` the null space of the constraint Jacobian, so the constraints hold to 
 construction. Inputs are the time-varying part of the generalised forces along the operating
 trajectory, ``N^T (Q(q_op(t), qd0, t) - Q_0)`` (applied loads, torque laws, prescribed motion),
 sampled on the output grid and integrated exactly for their C1 cubic interpolant by
-:func:`ddgsa.mbs.linear.lti_response` (one matrix exponential for the whole run).
+:func:`ddgsa.mbs.linear.lti_response` (one matrix exponential for the whole run). Inputs and
+outputs are evaluated by the compiled kernel (:func:`ddgsa.mbs.compiled.along`) when the system
+packs, in Python otherwise.
 """
 
 from __future__ import annotations
@@ -55,7 +57,17 @@ def simulate(system: System, t_end: float, dt: float, lin: ConstrainedLinearisat
     times = lin.t0 + dt * np.arange(n_out)
     q_op = lin.q0 + np.outer(times - lin.t0, lin.qd0)
     q_ref = system.terms(lin.q0, lin.qd0, lin.t0).q
-    dq = np.array([lin.basis.T @ (system.terms(q_op[i], lin.qd0, t).q - q_ref) for i, t in enumerate(times)])
+    try:
+        from ddgsa.mbs.compiled import along, pack
+        packed = pack(system)
+    except ModelError:
+        packed = None
+    qd_op = np.tile(lin.qd0, (n_out, 1))
+    if packed is not None:
+        forces = along(packed, q_op, qd_op, times)[0]
+    else:
+        forces = np.array([system.terms(q_op[i], lin.qd0, t).q for i, t in enumerate(times)])
+    dq = (forces - q_ref) @ lin.basis
     w = np.column_stack([dq, np.ones(n_out)])
     a, bw = state_matrices(lin)
     nz = lin.m.shape[0]
@@ -68,7 +80,9 @@ def simulate(system: System, t_end: float, dt: float, lin: ConstrainedLinearisat
     nel, nc, nh = len(system.elements), system.n_constraints, system.n_holonomic
     out = np.zeros((n_out, nel, 6))
     pdrift, vdrift = np.zeros(n_out), np.zeros(n_out)
-    if outputs:
+    if outputs and packed is not None:
+        _, out, pdrift, vdrift = along(packed, q, qd, times)
+    elif outputs:
         for i, t in enumerate(times):
             states = system.marker_states(q[i], qd[i], t)
             if nel:

@@ -1,0 +1,744 @@
+"""The compiled nonlinear path: a System packed into arrays, evaluated and integrated in numba.
+
+:func:`pack` turns a :class:`~ddgsa.mbs.assembly.System` into flat arrays; the compiled
+:func:`_assemble` evaluates exactly what the Python objects do (same formulas, tested equal),
+and :func:`_gen_alpha` runs the constrained generalised-alpha of
+:mod:`ddgsa.mbs.integrate.genalpha` without leaving compiled code. What packs:
+
+- bodies: :class:`RigidBody`, :class:`FlexibleBody`; :class:`Ground` and
+  :class:`PrescribedBody.translating` (sampled translation);
+- elements: :class:`SpringDamper3`, :class:`Bushing6`, :class:`TorsionalSpring`,
+  :class:`AppliedLoad`, and :class:`TorqueLaw` in its :meth:`~TorqueLaw.linear` form;
+- constraints: :class:`Spherical`, :class:`TransverseBearing`, :class:`GearContact`,
+  :class:`PrescribedSpeed` (constant speed or a :class:`Series`).
+
+Anything else (a Python torque law, a general trajectory, a new element class) raises a
+:class:`~ddgsa.errors.ModelError` naming the part; the Python path runs it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from ddgsa.errors import ModelError
+from ddgsa.mbs.assembly import System
+from ddgsa.mbs.bodies import FlexibleBody, PrescribedBody
+from ddgsa.mbs.constraints import GearContact, PrescribedSpeed, Spherical, TransverseBearing
+from ddgsa.mbs.elements import AppliedLoad, Series, TorqueLaw, _Connector
+from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rotation
+
+Array = NDArray[np.float64]
+
+_SPHERICAL, _TRANSVERSE, _GEAR, _SPEED = 0, 1, 2, 3
+_CONNECTOR, _TORQUE, _LOAD = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class Packed:
+    """A system as arrays for the compiled kernels (``arrays`` in kernel order)."""
+
+    n: int
+    n_holonomic: int
+    n_constraints: int
+    n_elements: int
+    arrays: tuple
+
+
+class _SeriesTable:
+    """Collects :class:`Series` into one flat coefficient array."""
+
+    def __init__(self) -> None:
+        self.coef: list[Array] = []
+        self.meta: list[tuple[int, int, int, float, float]] = []     # offset, n, k, t0, dt
+        self.size = 0
+
+    def add(self, s: Series) -> int:
+        flat = np.ascontiguousarray(s.coef).ravel()
+        self.meta.append((self.size, s.n, s.coef.shape[2], s.t0, s.dt))
+        self.coef.append(flat)
+        self.size += flat.size
+        return len(self.meta) - 1
+
+    def arrays(self) -> tuple[Array, ...]:
+        coef = np.concatenate(self.coef) if self.coef else np.zeros(1)
+        meta = np.array(self.meta, dtype=float).reshape(-1, 5)
+        return coef, meta[:, 0].astype(np.int64), meta[:, 1].astype(np.int64), meta[:, 2].astype(np.int64), \
+            meta[:, 3].copy(), meta[:, 4].copy()
+
+
+def pack(system: System) -> Packed:
+    """Arrays of ``system`` for the compiled kernels; raises :class:`ModelError` for parts it cannot run."""
+    n = system.n
+    nb = len(system.bodies)
+    series = _SeriesTable()
+    # bodies
+    b_off, b_nf, b_mass = np.zeros(nb, np.int64), np.zeros(nb, np.int64), np.zeros(nb)
+    b_first0, b_k0 = np.zeros((nb, 3)), np.zeros((nb, 3, 3))
+    o1, o2 = np.zeros(nb, np.int64), np.zeros(nb, np.int64)
+    flat: dict[str, list[Array]] = {k: [] for k in ("ssum", "k1", "e", "f4", "h0", "h1", "kff", "cff")}
+    c1 = c2 = 0
+    for b_i, b in enumerate(system.bodies):
+        if not isinstance(b, FlexibleBody):
+            raise ModelError(f"body {b.name!r} ({type(b).__name__}) has no compiled form")
+        inv = b.invariants
+        nf = b.n_elastic
+        b_off[b_i], b_nf[b_i], b_mass[b_i] = system.slices[id(b)].start, nf, inv.mass
+        b_first0[b_i], b_k0[b_i] = inv.first0, inv.k0
+        o1[b_i], o2[b_i] = c1, c2
+        c1, c2 = c1 + nf, c2 + nf * nf
+        for key, arr in (("ssum", inv.s_sum), ("k1", inv.k1), ("e", inv.e), ("f4", inv.f), ("h0", inv.h0),
+                         ("h1", inv.h1), ("kff", b.kff), ("cff", b.cff)):
+            flat[key].append(np.ascontiguousarray(arr, dtype=float).ravel())
+    fl = {k: (np.concatenate(v) if v and sum(a.size for a in v) else np.zeros(1)) for k, v in flat.items()}
+    body_index = {id(b): i for i, b in enumerate(system.bodies)}
+    # prescribed bodies and markers
+    prescribed: list[PrescribedBody] = []
+    nm = len(system.markers)
+    mk_body, mk_u0 = np.zeros(nm, np.int64), np.zeros((nm, 3))
+    mk_so = np.zeros(nm, np.int64)
+    mk_s, mk_sr = [], []
+    off = 0
+    for m_i, mk in enumerate(system.markers):
+        body = mk.body
+        if id(body) in body_index:
+            mk_body[m_i] = body_index[id(body)]
+        else:
+            if not isinstance(body, PrescribedBody) or (body.fixed_pose is None and body.series is None):
+                raise ModelError(f"body {body.name!r} moves along a Python trajectory: no compiled form (use Ground "
+                                 "or PrescribedBody.translating)")
+            if body not in prescribed:
+                prescribed.append(body)
+            mk_body[m_i] = -1 - prescribed.index(body)
+        mk_u0[m_i] = mk.position
+        mk_so[m_i] = off
+        mk_s.append(np.ascontiguousarray(mk.shapes, dtype=float).ravel())
+        mk_sr.append(np.ascontiguousarray(mk.rotation_shapes, dtype=float).ravel())
+        off += mk.shapes.size
+    mk_s_a = np.concatenate(mk_s) if off else np.zeros(1)
+    mk_sr_a = np.concatenate(mk_sr) if off else np.zeros(1)
+    npb = max(len(prescribed), 1)
+    pb_r0, pb_a0, pb_ser = np.zeros((npb, 3)), np.tile(np.eye(3), (npb, 1, 1)), -np.ones(npb, np.int64)
+    for p_i, body in enumerate(prescribed):
+        if body.fixed_pose is not None:
+            pb_r0[p_i], pb_a0[p_i] = body.fixed_pose
+        else:
+            pb_ser[p_i] = series.add(body.series)
+    midx = {id(mk): i for i, mk in enumerate(system.markers)}
+    # elements
+    nel = len(system.elements)
+    el_kind, el_idx = np.zeros(max(nel, 1), np.int64), np.zeros(max(nel, 1), np.int64)
+    cn, tq, ld = [], [], []
+    for e_i, el in enumerate(system.elements):
+        if isinstance(el, _Connector):
+            el_kind[e_i], el_idx[e_i] = _CONNECTOR, len(cn)
+            cn.append(el)
+        elif isinstance(el, TorqueLaw):
+            if el.linear_form is None:
+                raise ModelError(f"torque law {el.name!r} is a Python function: no compiled form (use "
+                                 "TorqueLaw.linear)")
+            el_kind[e_i], el_idx[e_i] = _TORQUE, len(tq)
+            tq.append(el)
+        elif isinstance(el, AppliedLoad):
+            el_kind[e_i], el_idx[e_i] = _LOAD, len(ld)
+            ld.append(el)
+        else:
+            raise ModelError(f"element {el.name!r} ({type(el).__name__}) has no compiled form")
+    ncn = max(len(cn), 1)
+    cn_m = np.zeros((ncn, 2), np.int64)
+    cn_k, cn_c = np.zeros((ncn, 6, 6)), np.zeros((ncn, 6, 6))
+    cn_flags = np.zeros((ncn, 2), np.int64)
+    cn_rest_r, cn_rest_a = np.zeros((ncn, 3)), np.zeros((ncn, 3, 3))
+    for i, el in enumerate(cn):
+        cn_m[i] = midx[id(el.markers[0])], midx[id(el.markers[1])]
+        cn_k[i], cn_c[i] = el.k6, el.c6
+        cn_flags[i] = int(el.frame == "i"), int(el.free_spin)
+        cn_rest_r[i], cn_rest_a[i] = el.rest_r, el.rest_a
+    ntq = max(len(tq), 1)
+    tq_m, tq_par, tq_ser = -np.ones((ntq, 2), np.int64), np.zeros((ntq, 3)), -np.ones(ntq, np.int64)
+    for i, el in enumerate(tq):
+        torque0, damping, ws = el.linear_form
+        tq_m[i, 0] = midx[id(el.markers[0])]
+        if len(el.markers) > 1:
+            tq_m[i, 1] = midx[id(el.markers[1])]
+        if isinstance(ws, Series):
+            tq_ser[i] = series.add(ws)
+            tq_par[i] = torque0, damping, 0.0
+        else:
+            tq_par[i] = torque0, damping, float(ws)
+    nld = max(len(ld), 1)
+    ld_m, ld_ser = np.zeros(nld, np.int64), np.zeros(nld, np.int64)
+    for i, el in enumerate(ld):
+        ld_m[i], ld_ser[i] = midx[id(el.markers[0])], series.add(el.series)
+    # constraints, holonomic first
+    cons = [*system.holonomic, *system.nonholonomic]
+    ncs = max(len(cons), 1)
+    cs_kind, cs_row = np.zeros(ncs, np.int64), np.zeros(ncs, np.int64)
+    cs_m, cs_par, cs_ser = -np.ones((ncs, 3), np.int64), np.zeros((ncs, 7)), -np.ones(ncs, np.int64)
+    row = 0
+    for i, c in enumerate(cons):
+        cs_row[i] = row
+        row += c.n_eq
+        for k, mk in enumerate(c.markers):
+            cs_m[i, k] = midx[id(mk)]
+        if isinstance(c, Spherical):
+            cs_kind[i] = _SPHERICAL
+        elif isinstance(c, TransverseBearing):
+            cs_kind[i] = _TRANSVERSE
+        elif isinstance(c, GearContact):
+            cs_kind[i] = _GEAR
+            cs_par[i, :3], cs_par[i, 3:6] = c.contact, c.tangent
+        elif isinstance(c, PrescribedSpeed):
+            cs_kind[i] = _SPEED
+            if c.constant is not None:
+                cs_par[i, 6] = c.constant
+            elif isinstance(c.speed, Series):
+                cs_ser[i] = series.add(c.speed)
+            else:
+                raise ModelError(f"prescribed speed {c.name!r} is a Python function: no compiled form (give a "
+                                 "constant or a Series)")
+        else:
+            raise ModelError(f"constraint {c.name!r} ({type(c).__name__}) has no compiled form")
+    arrays = (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, fl["ssum"], fl["k1"], fl["e"], fl["f4"], fl["h0"],
+              fl["h1"], fl["kff"], fl["cff"], mk_body, mk_u0, mk_so, mk_s_a, mk_sr_a, pb_r0, pb_a0, pb_ser,
+              *series.arrays(), el_kind[:nel] if nel else el_kind[:0], el_idx, cn_m, cn_k, cn_c, cn_flags,
+              cn_rest_r, cn_rest_a, tq_m[:len(tq)], tq_par, tq_ser, ld_m[:len(ld)], ld_ser, cs_kind[:len(cons)],
+              cs_row, cs_m, cs_par, cs_ser, np.asarray(system.gravity, dtype=float))
+    return Packed(n, system.n_holonomic, system.n_constraints, nel, arrays)
+
+
+# ---------------------------------------------------------------------------------------------------
+# compiled kernels
+
+
+@njit(cache=True)
+def _series(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t, deriv):  # pragma: no cover (compiled)
+    """Value (or time derivative) of series ``idx`` at ``t`` (Catmull-Rom, as :class:`Series`)."""
+    n, k, dt = s_n[idx], s_k[idx], s_dt[idx]
+    pos = (t - s_t0[idx]) / dt
+    j = int(pos)
+    if j < 0:
+        j = 0
+    if j > n - 2:
+        j = n - 2
+    s = pos - j
+    out = np.empty(k)
+    base = s_off[idx]
+    stride = (n - 1) * k
+    for c in range(k):
+        c0 = coef[base + j * k + c]
+        c1 = coef[base + stride + j * k + c]
+        c2 = coef[base + 2 * stride + j * k + c]
+        c3 = coef[base + 3 * stride + j * k + c]
+        if deriv:
+            out[c] = (c1 + s * (2.0 * c2 + 3.0 * s * c3)) / dt
+        else:
+            out[c] = c0 + s * (c1 + s * (c2 + s * c3))
+    return out
+
+
+@njit(cache=True)
+def _cross(a, b):  # pragma: no cover (compiled)
+    out = np.empty(3)
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]
+    return out
+
+
+@njit(cache=True)
+def _rodrigues(v):  # pragma: no cover (compiled)
+    angle = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    k = np.zeros((3, 3))
+    k[0, 1], k[0, 2], k[1, 2] = -v[2], v[1], -v[0]
+    k[1, 0], k[2, 0], k[2, 1] = v[2], -v[1], v[0]
+    kk = mm(k, k)
+    if angle < 1e-8:
+        return np.eye(3) + k + 0.5 * kk
+    return np.eye(3) + math.sin(angle) / angle * k + (1.0 - math.cos(angle)) / angle ** 2 * kk
+
+
+@njit(cache=True)
+def _rotvec(r):  # pragma: no cover (compiled)
+    cos = 0.5 * (r[0, 0] + r[1, 1] + r[2, 2] - 1.0)
+    cos = min(1.0, max(-1.0, cos))
+    angle = math.acos(cos)
+    out = np.empty(3)
+    out[0], out[1], out[2] = r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]
+    if angle < 1e-6:
+        return 0.5 * out
+    return 0.5 * angle / math.sin(angle) * out
+
+
+@njit(cache=True)
+def _markers(q, qd, t, P):  # pragma: no cover (compiled)
+    """Position, orientation, velocity, angular velocity, Jacobian and column range of every marker."""
+    (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
+     mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt) = P[:29]
+    n = q.size
+    nm = mk_body.size
+    mr, ma = np.zeros((nm, 3)), np.zeros((nm, 3, 3))
+    mvel, mw = np.zeros((nm, 3)), np.zeros((nm, 3))
+    mj = np.zeros((nm, 6, n))
+    lohi = np.zeros((nm, 2), np.int64)
+    for m in range(nm):
+        b = mk_body[m]
+        u0 = mk_u0[m]
+        if b < 0:
+            p = -1 - b
+            if pb_ser[p] >= 0:
+                r0 = _series(coef, s_off, s_n, s_k, s_t0, s_dt, pb_ser[p], t, False)
+                v0 = _series(coef, s_off, s_n, s_k, s_t0, s_dt, pb_ser[p], t, True)
+                a = np.eye(3)
+            else:
+                r0, v0, a = pb_r0[p].copy(), np.zeros(3), pb_a0[p].copy()
+            arm = mv(a, u0)
+            mr[m] = r0 + arm
+            ma[m] = a
+            mvel[m] = v0
+            continue
+        lo, nf = b_off[b], b_nf[b]
+        ang = q[lo + 3:lo + 6]
+        a = rotation(ang)
+        ag = mm(a, g_bar(ang))
+        so = mk_so[m]
+        s = mk_s[so:so + 3 * nf].reshape(3, nf) if nf > 0 else np.zeros((3, 0))
+        sr = mk_sr[so:so + 3 * nf].reshape(3, nf) if nf > 0 else np.zeros((3, 0))
+        qf = q[lo + 6:lo + 6 + nf]
+        ub = u0.copy()
+        for i in range(3):
+            for k in range(nf):
+                ub[i] += s[i, k] * qf[k]
+        u = mv(a, ub)
+        hi = lo + 6 + nf
+        lohi[m, 0], lohi[m, 1] = lo, hi
+        for i in range(3):
+            mj[m, i, lo + i] = 1.0
+        # -skew(u) @ ag
+        for k in range(3):
+            c = _cross(ag[:, k], u)
+            for i in range(3):
+                mj[m, i, lo + 3 + k] = c[i]
+                mj[m, 3 + i, lo + 3 + k] = ag[i, k]
+        if nf > 0:
+            as_ = mm(a, s)
+            asr = mm(a, sr)
+            for i in range(3):
+                for k in range(nf):
+                    mj[m, i, lo + 6 + k] = as_[i, k]
+                    mj[m, 3 + i, lo + 6 + k] = asr[i, k]
+            th = np.zeros(3)
+            for i in range(3):
+                for k in range(nf):
+                    th[i] += sr[i, k] * qf[k]
+            ma[m] = mm(a, _rodrigues(th))
+        else:
+            ma[m] = a
+        mr[m] = q[lo:lo + 3] + u
+        for i in range(3):
+            acc_v, acc_w = 0.0, 0.0
+            for c in range(lo, hi):
+                acc_v += mj[m, i, c] * qd[c]
+                acc_w += mj[m, 3 + i, c] * qd[c]
+            mvel[m, i], mw[m, i] = acc_v, acc_w
+    return mr, ma, mvel, mw, mj, lohi
+
+
+@njit(cache=True)
+def _add_jtw(f, mj, lohi, m, w, sign):  # pragma: no cover (compiled)
+    for c in range(lohi[m, 0], lohi[m, 1]):
+        acc = 0.0
+        for k in range(6):
+            acc += mj[m, k, c] * w[k]
+        f[c] += sign * acc
+
+
+@njit(cache=True)
+def _add_jtkj(kt, mj, lohi, a, b, k6, sign):  # pragma: no cover (compiled)
+    """``kt += sign J_a^T k6 J_b``."""
+    lo_b, hi_b = lohi[b, 0], lohi[b, 1]
+    lo_a, hi_a = lohi[a, 0], lohi[a, 1]
+    if hi_a == lo_a or hi_b == lo_b:
+        return
+    tmp = np.zeros((6, hi_b - lo_b))
+    for r in range(6):
+        for k in range(6):
+            kv = k6[r, k]
+            if kv != 0.0:
+                for c in range(lo_b, hi_b):
+                    tmp[r, c - lo_b] += kv * mj[b, k, c]
+    for r in range(lo_a, hi_a):
+        for k in range(6):
+            jv = mj[a, k, r]
+            if jv != 0.0:
+                for c in range(lo_b, hi_b):
+                    kt[r, c] += sign * jv * tmp[k, c - lo_b]
+
+
+@njit(cache=True)
+def _pair_tangent(kt, mj, lohi, i, j, k6):  # pragma: no cover (compiled)
+    _add_jtkj(kt, mj, lohi, i, i, k6, 1.0)
+    _add_jtkj(kt, mj, lohi, i, j, k6, -1.0)
+    _add_jtkj(kt, mj, lohi, j, i, k6, -1.0)
+    _add_jtkj(kt, mj, lohi, j, j, k6, 1.0)
+
+
+@njit(cache=True)
+def _skew(d):  # pragma: no cover (compiled)
+    out = np.zeros((3, 3))
+    out[0, 1], out[0, 2], out[1, 2] = -d[2], d[1], -d[0]
+    out[1, 0], out[2, 0], out[2, 1] = d[2], -d[1], d[0]
+    return out
+
+
+@njit(cache=True)
+def _connector_tangent(k, rest, arm, force):  # pragma: no cover (compiled)
+    """As :func:`ddgsa.mbs.elements.connector_tangent`."""
+    dmat = np.zeros((6, 12))
+    sr = _skew(rest)
+    for r in range(3):
+        dmat[r, r] = -1.0
+        dmat[r, 6 + r] = 1.0
+        dmat[3 + r, 3 + r] = -1.0
+        dmat[3 + r, 9 + r] = 1.0
+        for c in range(3):
+            dmat[r, 3 + c] = sr[r, c]
+    g = mm(k, dmat)
+    dw = np.zeros((12, 12))
+    dw[0:6] = g
+    dw[6:9] = -g[:3]
+    dw[9:12] = -g[3:] + mm(_skew(arm), g[:3])
+    sf = _skew(force)
+    dw[9:12, 0:3] += sf
+    dw[9:12, 6:9] -= sf
+    return -dw
+
+
+@njit(cache=True)
+def _add_blocks(kt, mj, lohi, i, j, t12):  # pragma: no cover (compiled)
+    """``kt += J^T t12 J`` over the markers ``[i, j]``."""
+    _add_jtkj(kt, mj, lohi, i, i, t12[0:6, 0:6].copy(), 1.0)
+    _add_jtkj(kt, mj, lohi, i, j, t12[0:6, 6:12].copy(), 1.0)
+    _add_jtkj(kt, mj, lohi, j, i, t12[6:12, 0:6].copy(), 1.0)
+    _add_jtkj(kt, mj, lohi, j, j, t12[6:12, 6:12].copy(), 1.0)
+
+
+@njit(cache=True)
+def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
+    """``M, Q, K_t, C_t, element outputs (n_el, 6), C_h, jac (n_c, n), V`` at ``(q, qd, t)``."""
+    (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
+     mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt, el_kind, el_idx, cn_m, cn_k, cn_c,
+     cn_flags, cn_rest_r, cn_rest_a, tq_m, tq_par, tq_ser, ld_m, ld_ser, cs_kind, cs_row, cs_m, cs_par, cs_ser,
+     gravity) = P
+    n = q.size
+    m_mat, f = np.zeros((n, n)), np.zeros(n)
+    kt, ct = np.zeros((n, n)), np.zeros((n, n))
+    for b in range(b_off.size):
+        lo, nf = b_off[b], b_nf[b]
+        hi = lo + 6 + nf
+        a1, a2 = o1[b], o2[b]
+        mb, fb = body_terms_inv(q[lo:hi].copy(), qd[lo:hi].copy(), b_mass[b], b_first0[b],
+                                ssum[3 * a1:3 * (a1 + nf)].reshape(3, nf), b_k0[b],
+                                k1[9 * a1:9 * (a1 + nf)].reshape(3, 3, nf), e[9 * a1:9 * (a1 + nf)].reshape(3, 3, nf),
+                                f4[9 * a2:9 * (a2 + nf * nf)].reshape(3, 3, nf, nf),
+                                h0[3 * a1:3 * (a1 + nf)].reshape(3, nf), h1[3 * a2:3 * (a2 + nf * nf)].reshape(nf, 3, nf),
+                                gravity)
+        m_mat[lo:hi, lo:hi] = mb
+        f[lo:hi] += fb
+        if nf > 0:
+            kb = kff[a2:a2 + nf * nf].reshape(nf, nf)
+            cb = cff[a2:a2 + nf * nf].reshape(nf, nf)
+            f[lo + 6:hi] -= mv(kb, q[lo + 6:hi]) + mv(cb, qd[lo + 6:hi])
+            kt[lo + 6:hi, lo + 6:hi] += kb
+            ct[lo + 6:hi, lo + 6:hi] += cb
+    mr, ma, mvel, mw, mj, lohi = _markers(q, qd, t, P)
+    nel = el_kind.size
+    out = np.zeros((nel, 6))
+    for el in range(nel):
+        kind, idx = el_kind[el], el_idx[el]
+        if kind == 0:
+            i, j = cn_m[idx, 0], cn_m[idx, 1]
+            frame_i, free = cn_flags[idx, 0] == 1, cn_flags[idx, 1] == 1
+            ai, aj = ma[i], ma[j]
+            rest = mv(ai, cn_rest_r[idx]) if frame_i else cn_rest_r[idx].copy()
+            d = np.zeros(6)
+            dd = np.zeros(6)
+            wxr = _cross(mw[i], rest) if frame_i else np.zeros(3)
+            for k in range(3):
+                d[k] = mr[j, k] - mr[i, k] - rest[k]
+                dd[k] = mvel[j, k] - mvel[i, k] - wxr[k]
+            dw = mw[j] - mw[i]
+            if free:
+                axis = ai[:, 0].copy()
+                th = _cross(axis, mm(aj, cn_rest_a[idx].T)[:, 0].copy())
+                proj = axis[0] * dw[0] + axis[1] * dw[1] + axis[2] * dw[2]
+                dw = dw - axis * proj
+            else:
+                th = _rotvec(mm(mm(aj, cn_rest_a[idx].T), ai.T))
+            for k in range(3):
+                d[3 + k] = th[k]
+                dd[3 + k] = dw[k]
+            kg, cg = cn_k[idx], cn_c[idx]
+            if frame_i:
+                big = np.zeros((6, 6))
+                big[:3, :3] = ai
+                big[3:, 3:] = ai
+                kg = mm(mm(big, kg), big.T)
+                cg = mm(mm(big, cg), big.T)
+            fv = mv(kg, d) + mv(cg, dd)
+            arm = mr[j] - mr[i]
+            wj = np.empty(6)
+            mom = _cross(arm, fv[:3].copy())
+            for k in range(3):
+                wj[k] = -fv[k]
+                wj[3 + k] = -fv[3 + k] + mom[k]
+            _add_jtw(f, mj, lohi, i, fv, 1.0)
+            _add_jtw(f, mj, lohi, j, wj, 1.0)
+            _add_blocks(kt, mj, lohi, i, j, _connector_tangent(kg, rest, arm, fv[:3].copy()))
+            _add_blocks(ct, mj, lohi, i, j, _connector_tangent(cg, rest, arm, np.zeros(3)))
+            out[el] = fv
+        elif kind == 1:
+            mk, rm = tq_m[idx, 0], tq_m[idx, 1]
+            axis = ma[mk][:, 0].copy()
+            wrel = mw[mk].copy()
+            if rm >= 0:
+                wrel -= mw[rm]
+            speed = axis[0] * wrel[0] + axis[1] * wrel[1] + axis[2] * wrel[2]
+            ws = tq_par[idx, 2]
+            if tq_ser[idx] >= 0:
+                ws = _series(coef, s_off, s_n, s_k, s_t0, s_dt, tq_ser[idx], t, False)[0]
+            torque = tq_par[idx, 0] + tq_par[idx, 1] * (ws - speed)
+            w6 = np.zeros(6)
+            w6[3:] = torque * axis
+            _add_jtw(f, mj, lohi, mk, w6, 1.0)
+            c6 = np.zeros((6, 6))
+            for r in range(3):
+                for c in range(3):
+                    c6[3 + r, 3 + c] = tq_par[idx, 1] * axis[r] * axis[c]
+            if rm >= 0:
+                _add_jtw(f, mj, lohi, rm, w6, -1.0)
+                _pair_tangent(ct, mj, lohi, mk, rm, c6)
+            else:
+                _add_jtkj(ct, mj, lohi, mk, mk, c6, 1.0)
+            out[el] = w6
+        else:
+            w6 = _series(coef, s_off, s_n, s_k, s_t0, s_dt, ld_ser[idx], t, False)
+            _add_jtw(f, mj, lohi, ld_m[idx], w6, 1.0)
+            out[el] = w6
+    # constraints
+    ncs = cs_kind.size
+    nc = 0
+    nh = 0
+    for c in range(ncs):
+        k = cs_kind[c]
+        neq = 3 if k == 0 else 2 if k == 1 else 1
+        nc += neq
+        if k <= 1:
+            nh += neq
+    ch = np.zeros(nh)
+    jac = np.zeros((nc, n))
+    vel = np.zeros(nc)
+    for c in range(ncs):
+        k, row = cs_kind[c], cs_row[c]
+        i, j, h = cs_m[c, 0], cs_m[c, 1], cs_m[c, 2]
+        if k == 0:
+            for r in range(3):
+                ch[row + r] = mr[i, r] - mr[j, r]
+                vel[row + r] = mvel[i, r] - mvel[j, r]
+                for col in range(lohi[i, 0], lohi[i, 1]):
+                    jac[row + r, col] += mj[i, r, col]
+                for col in range(lohi[j, 0], lohi[j, 1]):
+                    jac[row + r, col] -= mj[j, r, col]
+        elif k == 1:
+            d = mr[i] - mr[j]
+            for r in range(2):
+                nv = ma[j][:, 1 + r].copy()
+                nxd = _cross(nv, d)
+                ch[row + r] = nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2]
+                v = 0.0
+                for x in range(3):
+                    v += nv[x] * (mvel[i, x] - mvel[j, x]) + nxd[x] * mw[j, x]
+                vel[row + r] = v
+                for col in range(lohi[i, 0], lohi[i, 1]):
+                    for x in range(3):
+                        jac[row + r, col] += nv[x] * mj[i, x, col]
+                for col in range(lohi[j, 0], lohi[j, 1]):
+                    for x in range(3):
+                        jac[row + r, col] += -nv[x] * mj[j, x, col] + nxd[x] * mj[j, 3 + x, col]
+        elif k == 2:
+            p = mr[h] + mv(ma[h], cs_par[c, :3])
+            tan = mv(ma[h], cs_par[c, 3:6])
+            ci = _cross(p - mr[i], tan)
+            cj = _cross(p - mr[j], tan)
+            v = 0.0
+            for x in range(3):
+                v += tan[x] * mvel[i, x] + ci[x] * mw[i, x] - tan[x] * mvel[j, x] - cj[x] * mw[j, x]
+            vel[row] = v
+            for col in range(lohi[i, 0], lohi[i, 1]):
+                for x in range(3):
+                    jac[row, col] += tan[x] * mj[i, x, col] + ci[x] * mj[i, 3 + x, col]
+            for col in range(lohi[j, 0], lohi[j, 1]):
+                for x in range(3):
+                    jac[row, col] -= tan[x] * mj[j, x, col] + cj[x] * mj[j, 3 + x, col]
+        else:
+            axis = ma[i][:, 0].copy()
+            s = cs_par[c, 6]
+            if cs_ser[c] >= 0:
+                s = _series(coef, s_off, s_n, s_k, s_t0, s_dt, cs_ser[c], t, False)[0]
+            v = 0.0
+            for x in range(3):
+                v += axis[x] * mw[i, x]
+                if j >= 0:
+                    v -= axis[x] * mw[j, x]
+            vel[row] = v - s
+            for col in range(lohi[i, 0], lohi[i, 1]):
+                for x in range(3):
+                    jac[row, col] += axis[x] * mj[i, 3 + x, col]
+            if j >= 0:
+                for col in range(lohi[j, 0], lohi[j, 1]):
+                    for x in range(3):
+                        jac[row, col] -= axis[x] * mj[j, 3 + x, col]
+    return m_mat, f, kt, ct, out, ch, jac, vel
+
+
+@njit(cache=True)
+def _accelerations(q, qd, t, P, fd_step):  # pragma: no cover (compiled)
+    """Index-1 accelerations and multipliers (no stabilisation), as :func:`ddgsa.mbs.assembly.accelerations`."""
+    m_mat, f, kt, ct, out, ch, jac, vel = _assemble(q, qd, t, P)
+    n = q.size
+    nc = vel.size
+    if nc == 0:
+        return np.linalg.solve(m_mat, f), np.zeros(0)
+    h = fd_step
+    vp = _assemble(q + h * qd, qd, t + h, P)[7]
+    vm = _assemble(q - h * qd, qd, t - h, P)[7]
+    big = np.zeros((n + nc, n + nc))
+    big[:n, :n] = m_mat
+    big[:n, n:] = jac.T
+    big[n:, :n] = jac
+    rhs = np.zeros(n + nc)
+    rhs[:n] = f
+    rhs[n:] = -(vp - vm) / (2 * h)
+    sol = np.linalg.solve(big, rhs)
+    return sol[:n], sol[n:]
+
+
+@njit(cache=True)
+def _gen_alpha(q0, qd0, t0, dt, n_steps, output_every, am, af, gamma, beta, tol, max_iter, P,
+               nh):  # pragma: no cover (compiled)
+    h = dt
+    bp = beta * (1.0 - af) / (1.0 - am)
+    gp = gamma * (1.0 - af) / (1.0 - am)
+    n = q0.size
+    q, qd = q0.copy(), qd0.copy()
+    acc, lam = _accelerations(q, qd, t0, P, 1e-6)
+    nc = lam.size
+    aux = acc.copy()
+    n_out = n_steps // output_every + 1
+    m_mat, f, kt, ct, out, ch, jac, vel = _assemble(q, qd, t0, P)
+    nel = out.shape[0]
+    q_out, qd_out = np.zeros((n_out, n)), np.zeros((n_out, n))
+    lam_out, y_out = np.zeros((n_out, nc)), np.zeros((n_out, nel, 6))
+    pd_out, vd_out = np.zeros(n_out), np.zeros(n_out)
+    q_out[0], qd_out[0], lam_out[0], y_out[0] = q, qd, lam, out
+    if nh > 0:
+        pd_out[0] = np.max(np.abs(ch))
+    if nc > 0:
+        vd_out[0] = np.max(np.abs(vel))
+    slot = 1
+    worst, total = 0, 0
+    big = np.zeros((n + nc, n + nc))
+    rhs = np.zeros(n + nc)
+    for step in range(1, n_steps + 1):
+        t = t0 + step * h
+        acc_new = acc.copy()
+        aux_new = (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
+        q = q + h * qd + h * h * ((0.5 - beta) * aux + beta * aux_new)
+        qd = qd + h * ((1.0 - gamma) * aux + gamma * aux_new)
+        converged = False
+        it = 0
+        for it in range(max_iter):
+            m_mat, f, kt, ct, out, ch, jac, vel = _assemble(q, qd, t, P)
+            res = mv(m_mat, acc_new) - f
+            cmax = 0.0
+            if nc > 0:
+                res += mv(jac.T, lam)
+                for r in range(nh):
+                    rhs[n + r] = -ch[r] / (bp * h * h)
+                    cmax = max(cmax, abs(ch[r]))
+                for r in range(nh, nc):
+                    rhs[n + r] = -vel[r] / (gp * h)
+                    cmax = max(cmax, abs(vel[r]) * bp * h / gp)
+                big[:n, n:] = jac.T
+                big[n:, :n] = jac
+            big[:n, :n] = m_mat + gp * h * ct + bp * h * h * kt
+            rhs[:n] = -res
+            delta = np.linalg.solve(big, rhs)
+            acc_new += delta[:n]
+            q += bp * h * h * delta[:n]
+            qd += gp * h * delta[:n]
+            if nc > 0:
+                lam = lam + delta[n:]
+            if np.max(np.abs(bp * h * h * delta[:n])) < tol and cmax < tol:
+                converged = True
+                break
+        if not converged or not np.all(np.isfinite(q)):
+            return q_out[:slot], qd_out[:slot], lam_out[:slot], y_out[:slot], pd_out[:slot], vd_out[:slot], -step, \
+                total
+        total += it + 1
+        if it + 1 > worst:
+            worst = it + 1
+        aux = (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
+        acc = acc_new
+        if step % output_every == 0:
+            m_mat, f, kt, ct, out, ch, jac, vel = _assemble(q, qd, t, P)
+            q_out[slot], qd_out[slot], lam_out[slot], y_out[slot] = q, qd, lam, out
+            if nh > 0:
+                pd_out[slot] = np.max(np.abs(ch))
+            if nc > 0:
+                vd_out[slot] = np.max(np.abs(vel))
+            slot += 1
+    return q_out, qd_out, lam_out, y_out, pd_out, vd_out, worst, total
+
+
+def evaluate(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, ...]:
+    """``(M, Q, K_t, C_t, outputs, C_h, C_q, V)`` of the packed system at one state (for tests)."""
+    return _assemble(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays)
+
+
+def gen_alpha(packed: Packed, q0: Array, qd0: Array, t0: float, dt: float, n_steps: int, output_every: int,
+              coefficients: tuple[float, float, float, float], tol: float, max_iter: int) -> tuple:
+    """Run the compiled constrained generalised-alpha; see :func:`ddgsa.mbs.integrate.genalpha.simulate`."""
+    am, af, gamma, beta = coefficients
+    return _gen_alpha(np.asarray(q0, dtype=float), np.asarray(qd0, dtype=float), float(t0), float(dt), int(n_steps),
+                      int(output_every), am, af, gamma, beta, float(tol), int(max_iter), packed.arrays,
+                      packed.n_holonomic)
+
+
+@njit(cache=True)
+def _along(q, qd, times, P, nh):  # pragma: no cover (compiled)
+    """Generalised forces, element outputs and constraint drift at each row of ``q, qd`` (times ``times``)."""
+    n_t, n = q.shape
+    m0, f0, k0, c0, out0, ch0, jac0, vel0 = _assemble(q[0], qd[0], times[0], P)
+    forces = np.zeros((n_t, n))
+    outs = np.zeros((n_t, out0.shape[0], 6))
+    pdrift, vdrift = np.zeros(n_t), np.zeros(n_t)
+    for i in range(n_t):
+        m_mat, f, kt, ct, out, ch, jac, vel = _assemble(q[i], qd[i], times[i], P)
+        forces[i] = f
+        outs[i] = out
+        if nh > 0:
+            pdrift[i] = np.max(np.abs(ch))
+        if vel.size > 0:
+            vdrift[i] = np.max(np.abs(vel))
+    return forces, outs, pdrift, vdrift
+
+
+def along(packed: Packed, q: Array, qd: Array, times: Array) -> tuple[Array, Array, Array, Array]:
+    """``(Q (n_t, n), outputs (n_t, n_el, 6), position drift, velocity drift)`` along a trajectory."""
+    return _along(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float),
+                  np.asarray(times, dtype=float), packed.arrays, packed.n_holonomic)
