@@ -11,9 +11,11 @@ Bodies (seed 001 §2.2, Fig. 2.2; frame of :mod:`ddgsa.loads.hubloads`, X along 
   gyroscopic moments, small, are left out), and they make every spinning body below rigid and
   axisymmetric with its markers on its axis, so the spin angles are cyclic and the linearised
   system is time-invariant.
-- ``rotor`` -- the rotor's polar inertia (blades and hub), on the LSS flange by a revolute joint
-  (:class:`~ddgsa.mbs.constraints.Spherical` + :class:`~ddgsa.mbs.revolute.AxisAlignment`); it
-  keeps the rotor's gyroscopic moments when the flange tilts.
+- ``rotor`` -- the rotor's polar inertia (blades and hub), on the LSS flange by a revolute joint:
+  :class:`~ddgsa.mbs.constraints.Spherical` at the flange and a
+  :class:`~ddgsa.mbs.constraints.TransverseBearing` between a rotor point 1 m along its axis and the
+  flange's section axes, which keeps the two axes parallel (:data:`JOINT_LEVER`); it keeps the
+  rotor's gyroscopic moments when the flange tilts.
 - ``wheel`` -- the gear wheel with the LSS's polar inertia, on the LSS at the mesh plane by a
   revolute joint; the NREL equivalent drive-train torsional spring-damper joins it to the rotor
   (:class:`~ddgsa.mbs.elements.TorsionalSpring`: shaft, gearbox and HSS compliance lumped into one
@@ -50,7 +52,6 @@ from ddgsa.mbs.bodies import Body, FlexibleBody, Ground, Marker, RigidBody
 from ddgsa.mbs.constraints import PrescribedSpeed, Spherical, TransverseBearing
 from ddgsa.mbs.elements import AppliedLoad, Bushing6, Series, TorqueLaw, TorsionalSpring
 from ddgsa.mbs.gear_mesh import GearMesh
-from ddgsa.mbs.revolute import AxisAlignment
 from ddgsa.models.direct_drive import GRAVITY, TILT_DEG
 from ddgsa.models.indirect_drive.closed_form import MeshGeometry, mesh_geometry
 
@@ -64,6 +65,8 @@ LSS_BORE = 0.15
 MAX_ELEMENT = 0.25
 #: placeholder mass [kg] of the rotor and wheel spin bodies (their diametral inertia: 1 kg m^2)
 _SPIN_BODY_MASS = 1.0
+#: axial distance of the second point of a revolute joint (its transverse constraint aligns the axes) [m]
+JOINT_LEVER = 1.0
 #: direction from the LSS axis to the HSS axis (HSS above the LSS)
 HSS_OFFSET = (0.0, 0.0, 1.0)
 
@@ -193,9 +196,9 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
     hub, wheel_centre = rotor.marker((0.0, 0.0, 0.0), "hub"), wheel.marker((0.0, 0.0, 0.0), "centre")
     constraints = [
         Spherical(hub, flange, name="hub_joint"),
-        AxisAlignment(hub, flange, name="hub_alignment"),
+        TransverseBearing(rotor.marker((JOINT_LEVER, 0.0, 0.0), "hub_axis"), flange, name="hub_alignment"),
         Spherical(wheel_centre, seat, name="wheel_joint"),
-        AxisAlignment(wheel_centre, seat, name="wheel_alignment"),
+        TransverseBearing(wheel.marker((JOINT_LEVER, 0.0, 0.0), "wheel_axis"), seat, name="wheel_alignment"),
         Spherical(on_lss(p["main_bearing_x"], "main"), ground.marker((p["main_bearing_x"], 0.0, 0.0)), name="main"),
         TransverseBearing(on_lss(p["lss_bearing_1_x"], "lss1"), on_housing(p["lss_bearing_1_x"], "lss1"), name="lss1"),
         TransverseBearing(on_lss(p["lss_bearing_3_x"], "lss3"), on_housing(p["lss_bearing_3_x"], "lss3"), name="lss3"),
@@ -220,8 +223,7 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
                         name="drivetrain_spring"),
         *(Bushing6(housing.marker(m, f"mount_{s}"), ground.marker(m + np.array([gx, 0.0, 0.0])), k6, c6,
                    name=f"mount_{s}") for m, s in zip(mounts, ("left", "right"))),
-        TorqueLaw(hss.marker((0.0, 0.0, 0.0), "generator"), lambda t, w: c_hss * (float(w_set(t)) - w),
-                  dtorque_dspeed=lambda t, w: -c_hss, name="generator"),
+        TorqueLaw.linear(hss.marker((0.0, 0.0, 0.0), "generator"), 0.0, c_hss, w_set, name="generator"),
         AppliedLoad(rotor.marker((0.0, 0.0, 0.0), "hub_load"), times, hub_force, hub_moment, name="hub"),
     ]
     tau = math.radians(TILT_DEG)
