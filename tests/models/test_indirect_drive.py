@@ -177,7 +177,7 @@ def test_gear_ratio_and_constraint_drift(rigid_short: pd.DataFrame) -> None:
 
 @pytest.mark.slow
 def test_linear_against_flexible_on_a_small_amplitude_scene() -> None:
-    """I_ref 0.05, 60 s (about 5 min of generalised-alpha): the linear fidelity within 1 % of the
+    """I_ref 0.05, 60 s (30 s of compiled generalised-alpha): the linear fidelity within 1 % of the
     flexible one on the means, the torque path (tooth force RMS and DEL, housing roll RMS) and the
     gearbox-bearing damage; within 5 % on the housing's translation RMS and the main bearing, whose
     lateral response the linearisation gives 3-4 % low (measured)."""
