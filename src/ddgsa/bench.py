@@ -334,3 +334,62 @@ def format_speed(res: dict[str, Any]) -> str:
         lines.append(f"{r['fidelity']:40s} {r['wall_s']:9.4f} {r['cpu_s']:9.4f} {r['speedup']:9,.0f}x "
                      f"{r['speedup_cpu']:8,.0f}x {r['max_rel_error']:8.2%}")
     return "\n".join(lines)
+
+
+#: objective functions of the indirect drive compared in its benchmark rows
+INDIRECT_OUTPUTS = ("gear_force_mean", "gear_force_rms", "housing_rx_mean", "housing_rx_rms", "housing_dz_rms",
+                    "damage_main", "damage_hss2", "housing_torque_mean")
+
+
+def indirect_speed(window_seconds: float = 0.5) -> dict[str, Any]:
+    """The indirect drive's fidelities, each against its reference, ratios in one run.
+
+    Every fidelity is timed on the full 600 s scene. Errors: ``rigid`` against the kernel's
+    ``solve_ivp`` (Radau) on the same rigid system and ``flexible`` against itself at half the
+    step, both on the first ``window_seconds`` (the reference needs ~8 min a simulated second; its
+    cost is scaled to 600 s); ``linear`` against ``flexible`` on the full scene.
+    """
+    import ddgsa.models as models
+
+    window = FULL.replace(duration=window_seconds)
+    generate(FULL)
+    generate(window)
+
+    def run(scene: Scene, **options: Any) -> tuple[float, Any]:
+        model = models.get("indirect_drive", **options)
+        wall, _, out = timed(lambda: model.evaluate(None, scene).iloc[0])
+        return wall, out
+
+    def err(a: Any, b: Any) -> float:
+        return float(f"{max(abs(a[c] / b[c] - 1) for c in INDIRECT_OUTPUTS if b[c] != 0):.3g}")
+
+    run(window, fidelity="rigid")                       # compile the kernel outside the timings
+    w_ref, ref = run(window, fidelity="rigid", integrator="Radau")
+    _, rig_window = run(window, fidelity="rigid")
+    _, flex_window = run(window, fidelity="flexible")
+    _, flex_half = run(window, fidelity="flexible", time_step=0.0025)
+    w_rig, _ = run(FULL, fidelity="rigid")
+    w_flex, flex = run(FULL, fidelity="flexible")
+    w_lin, lin = run(FULL, fidelity="linear")
+    ref_full = w_ref * FULL.duration / window_seconds
+    rows = [{"fidelity": "rigid", "reference": "rigid, solve_ivp Radau", "wall_s_600s": round(w_rig, 1),
+             "speedup_vs_reference": round(ref_full / w_rig, 1), "max_rel_error": err(rig_window, ref)},
+            {"fidelity": "flexible", "reference": "flexible, half step", "wall_s_600s": round(w_flex, 1),
+             "speedup_vs_reference": None, "max_rel_error": err(flex_window, flex_half)},
+            {"fidelity": "linear", "reference": "flexible, generalised-alpha", "wall_s_600s": round(w_lin, 2),
+             "speedup_vs_reference": round(w_flex / w_lin, 1), "max_rel_error": err(lin, flex)}]
+    return {"machine": f"{platform.machine()}, {platform.processor() or 'cpu'}", "scene": FULL.to_dict(),
+            "window_seconds": window_seconds, "reference_wall_s_window": round(w_ref, 1),
+            "outputs": list(INDIRECT_OUTPUTS), "fidelities": rows}
+
+
+def format_indirect_speed(res: dict[str, Any]) -> str:
+    """A plain-text table of :func:`indirect_speed`'s figures."""
+    lines = [f"indirect drive, machine: {res['machine']}; 600 s scene; rigid and flexible errors on the first "
+             f"{res['window_seconds']:g} s; errors on {', '.join(res['outputs'])}", "",
+             f"{'fidelity':10s} {'600 s scene [s]':>16s} {'speed-up':>10s} {'max rel. error':>15s}  reference"]
+    for r in res["fidelities"]:
+        speedup = "" if r["speedup_vs_reference"] is None else f"{r['speedup_vs_reference']:g}x"
+        lines.append(f"{r['fidelity']:10s} {r['wall_s_600s']:16.1f} {speedup:>10s} {r['max_rel_error']:15.2%}  "
+                     f"{r['reference']}")
+    return "\n".join(lines)

@@ -63,13 +63,14 @@ def _parser() -> argparse.ArgumentParser:
     rep.add_argument("dir", type=Path)
     rep.add_argument("--allow-untrusted", action="store_true", help="exit 0 even with untrusted results")
     ben = sub.add_parser("bench", help="speed of each fidelity (default), accuracy against cost of each method, "
-                                       "the calibration of every method's trusted flag, or scaling",
+                                       "the calibration of every method's trusted flag, scaling, or the indirect drive",
                          parents=[common])
-    ben.add_argument("what", nargs="?", choices=["speed", "accuracy", "trust", "scaling"], default="speed",
+    ben.add_argument("what", nargs="?", choices=["speed", "accuracy", "trust", "scaling", "indirect"], default="speed",
                      help="speed: every speed target with its measured value and verdict; accuracy: index error "
                           "against evaluations and wall time; trust: false-trust and false-alarm rates of every "
                           "method on 15 reference functions x 20 seeds; scaling: wall time against runs, "
-                          "parameters and workers (all but speed written to --out)")
+                          "parameters and workers (all but speed and indirect written to --out); indirect: the indirect "
+                          "drive's fidelities against their references")
     ben.add_argument("--out", type=Path, default=None,
                      help="folder for the CSVs and charts (default results/accuracy_cost, results/trust_calibration "
                           "or results/scaling)")
@@ -291,6 +292,15 @@ def _bench(args: argparse.Namespace) -> int:
         kw = {"max_log2": 10, "seeds": (0, 1), "drive_train": False} if args.quick else {}
         for path in run(args.out or ACC_OUT, **kw):
             print(f"wrote {path}")
+        return EXIT_OK
+    if args.what == "indirect":
+        from ddgsa.bench import format_indirect_speed, indirect_speed
+
+        res = indirect_speed()
+        print(format_indirect_speed(res))
+        if args.json:
+            args.json.parent.mkdir(parents=True, exist_ok=True)
+            args.json.write_text(json.dumps(res, indent=2))
         return EXIT_OK
     if args.what == "scaling":
         from ddgsa.scaling import format_scaling, scaling

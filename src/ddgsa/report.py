@@ -139,7 +139,7 @@ def sweep_summary(sweep: pd.DataFrame, outputs: list[str], grid: list[str] | Non
     mean, std = g.mean(), g.std(ddof=1).fillna(0.0)
     out = mean.add_suffix("_mean").join(std.add_suffix("_std")).reset_index()
     for o in outputs:
-        out[f"{o}_scaled"] = out[f"{o}_mean"] / out[f"{o}_mean"].max()
+        out[f"{o}_scaled"] = out[f"{o}_mean"] / (out[f"{o}_mean"].abs().max() or 1.0)
     return out
 
 
@@ -173,7 +173,7 @@ def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None
     for o in outputs:
         fig, ax = plt.subplots(figsize=(6, 3.6))
         groups = summary.groupby(others, sort=False) if others else [((), summary)]
-        scale = 1.0 if grid else summary[f"{o}_mean"].max()
+        scale = 1.0 if grid else (summary[f"{o}_mean"].abs().max() or 1.0)   # signed outputs: scale by |max|
         for key, g in groups:
             g = g.sort_values(x)
             label = _case_label(others, key if isinstance(key, tuple) else (key,))

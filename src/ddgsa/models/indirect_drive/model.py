@@ -1,0 +1,260 @@
+"""The ``indirect_drive`` model: fidelities, scene inputs, simulation and objective functions."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
+
+from ddgsa.errors import ModelError
+from ddgsa.loads import EXCITATION_FACTORS, NREL5MW, apply_excitation, generate
+from ddgsa.loads.scene import Scene
+from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables
+from ddgsa.mbs.integrate import genalpha, reference
+from ddgsa.mbs.modal import modes as system_modes
+from ddgsa.mbs.sampling import NYQUIST, check_interval, controller_row, sampling_row
+from ddgsa.models.base import Model, register_model
+from ddgsa.models.indirect_drive.assembly import FLEXIBLE_FIELDS, Assembly, build, spin_inertia
+from ddgsa.models.indirect_drive.linear import linear_response, operating_state
+from ddgsa.models.indirect_drive.outputs import (bearing_outputs, constraint_drift, gear_force_outputs,
+                                                  housing_motion_outputs, signal_statistics)
+from ddgsa.models.indirect_drive.parameters import BEARINGS, PARAMETERS
+from ddgsa.models.indirect_drive.series import TRANSVERSE, time_series
+
+Array = NDArray[np.float64]
+
+HOUSING_OUTPUTS = tuple(f"housing_{c}_{s}" for c in ("dx", "dy", "dz", "rx", "ry", "rz")
+                        for s in ("mean", "rms", "p2p"))
+OUTPUTS = (*HOUSING_OUTPUTS, "gear_force_mean", "gear_force_rms", "gear_force_del",
+           *(o for b in BEARINGS for o in (f"damage_{b}", f"{b}_Fr_mean", f"{b}_Fa_mean")
+             if not (b in TRANSVERSE and o.endswith("_Fa_mean"))),        # transverse bearings carry no Fa
+           "housing_torque_mean", "housing_torque_rms", "position_drift", "gear_drift")
+#: default housing point: the upwind top corner on the +Y side of the 2.0 x 2.5 x 2.5 m housing,
+#: housing frame relative to its centre of mass [m]
+HOUSING_POINT = (-1.0, 1.25, 1.25)
+#: highest frequency drawn in the Campbell diagram [Hz] (drive-train, rotor-tilt and housing modes)
+CAMPBELL_MAX_HZ = 25.0
+#: samples of the record at which the linear fidelity evaluates the nonlinear constraint residual
+DRIFT_SAMPLES = 50
+
+
+def scene_inputs(scene: Scene, p: Mapping[str, float]) -> dict[str, Array]:
+    """Hub loads, set speed and times of a scene for parameters ``p``.
+
+    The hub torque is the aerodynamic torque net of the inertial torque of the rotor inertia the
+    loads model spins but this model does not (negative here: this model also spins the
+    generator through the gear), ``M_x - (J_loads - J_model) dw/dt``, so the drive turns at the
+    loads model's speed; the generator set speed is ``w - torque_factor T_ctrl / c_gen`` (seed 000
+    eq. 25; ``torque_factor`` scales the torque through the drive train).
+    """
+    loads = apply_excitation(generate(scene), {k: p[k] for k in EXCITATION_FACTORS})
+    out = {c: loads[c].to_numpy().copy() for c in ("Fx", "Fy", "Fz", "Mx", "My", "Mz", "rotor_speed")}
+    out["Mx"] -= (NREL5MW.rotor_inertia - spin_inertia(p)) * np.gradient(out["rotor_speed"], scene.dt)
+    out["w_set"] = out["rotor_speed"] - p["torque_factor"] * loads["gen_torque"].to_numpy() / p["c_gen"]
+    out["times"] = loads.index.to_numpy()
+    return out
+
+
+@register_model("indirect_drive")
+class IndirectDrive(Model):
+    """Geared (one-stage) drive train with the gearbox as kinematic constraints (seed 001 paper D).
+
+    See :mod:`ddgsa.models.indirect_drive` for the bodies, constraints and loads and
+    :mod:`~ddgsa.models.indirect_drive.parameters` for every default and its source.
+
+    Parameters
+    ----------
+    fidelity : {"flexible", "rigid", "linear"}
+        ``flexible``: FFR LSS (axial and two bending modes per plane); ``rigid``: rigid LSS; both
+        by constrained generalised-alpha. ``linear``: the flexible system linearised about the
+        scene's mean operating state and integrated exactly (:mod:`.linear`).
+    time_step : float, optional
+        Generalised-alpha step [s] (default 0.005); must divide the scene's ``dt``.
+    rho_inf : float
+        Generalised-alpha spectral radius at infinite frequency (default 0.8).
+    integrator : {"gen_alpha", "Radau", "BDF"}
+        Generalised-alpha, or the kernel's ``solve_ivp`` reference (index-1 with Baumgarte
+        stabilisation; slow) on the same system.
+    equivalent_load : {"iso281", "seed"}
+        Bearing equivalent-load rule (:func:`ddgsa.models.direct_drive.equivalent_load`).
+    housing_point : sequence of 3 floats
+        The observed housing point in the housing frame, from its centre of mass [m].
+    """
+
+    parameters = PARAMETERS
+    outputs = OUTPUTS
+    fidelities = ("flexible", "rigid", "linear")
+
+    def __init__(self, fidelity: str = "flexible", time_step: float | None = None, rho_inf: float = 0.8,
+                 integrator: str = "gen_alpha", equivalent_load: str = "iso281",
+                 housing_point: tuple[float, float, float] | list[float] = HOUSING_POINT) -> None:
+        if fidelity not in self.fidelities:
+            raise ModelError(f"model 'indirect_drive': unknown fidelity {fidelity!r}; known: {', '.join(self.fidelities)}")
+        if time_step is None:
+            time_step = 0.005
+        if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not 0 < time_step <= 0.05:
+            raise ModelError(f"model 'indirect_drive': time_step must be in (0, 0.05] s, got {time_step!r}")
+        if integrator not in ("gen_alpha", "Radau", "BDF") or (fidelity == "linear" and integrator != "gen_alpha"):
+            raise ModelError(f"model 'indirect_drive': integrator must be gen_alpha, Radau or BDF (the linear "
+                             f"fidelity has its own exact discretisation); got {integrator!r}")
+        if equivalent_load not in ("iso281", "seed"):
+            raise ModelError(f"model 'indirect_drive': equivalent_load must be 'iso281' or 'seed', got {equivalent_load!r}")
+        point = np.asarray(housing_point, dtype=float)
+        if point.shape != (3,) or not np.all(np.isfinite(point)):
+            raise ModelError(f"model 'indirect_drive': housing_point must be three finite numbers [m], got {housing_point!r}")
+        self.fidelity = fidelity
+        self.time_step = float(time_step)
+        self.rho_inf = float(rho_inf)
+        self.integrator = integrator
+        self.rule = equivalent_load
+        self.housing_point = point
+        self.fields: tuple[str, ...] = () if fidelity == "rigid" else FLEXIBLE_FIELDS
+
+    # -- building -----------------------------------------------------------------------------------
+    def assemble(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0,
+                 lss_torque: float = 0.0) -> tuple[Assembly, Array, Array]:
+        """The system under constant loads (hub torque ``lss_torque`` [N m], generator balancing it
+        at ``rotor_speed`` [rad/s]) and its operating state ``(q, qd)``."""
+        p = self.resolve(params).iloc[0].to_dict()
+        times = np.array([0.0, 1.0])
+        zero = np.zeros((2, 3))
+        moment = zero.copy()
+        moment[:, 0] = lss_torque
+        w_set = np.full(2, rotor_speed - lss_torque / p["c_gen"])
+        asm = build(p, self.fields, times, zero, moment, w_set, rotor_speed)
+        q, qd, _ = operating_state(asm.system, asm.system.q0, asm.system.qd0, asm.system.index("hss.rx"))
+        return asm, q, qd
+
+    # -- simulation ---------------------------------------------------------------------------------
+    def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+        """Time series of a scene (indexed by time [s]).
+
+        Columns: ``housing_dx, dy, dz`` (displacement of the housing point [m]) and ``housing_rx,
+        ry, rz`` (housing rotation vector [rad]) from the unloaded assembly; ``lss_speed``,
+        ``hss_speed``, ``housing_roll_rate`` [rad/s]; ``rotor_twist`` (rotor against LSS flange
+        [rad]); ``gear_force`` (normal tooth force [N]); ``{main,lss1,lss3,hss2,hss4}_F{x,y,z}``
+        (bearing forces on the outer rings, global [N]); ``mount_{left,right}_F{x,y,z}`` [N];
+        ``housing_torque`` [N m]; ``gen_torque`` (on the HSS [N m]); the applied hub loads
+        ``Fx ... Mz``; ``position_drift`` (largest holonomic constraint residual [m]) and
+        ``gear_drift`` (residual of the gear's velocity constraint [m/s]), NaN between the
+        :data:`DRIFT_SAMPLES` samples where the linear fidelity evaluates them.
+        """
+        p = self.resolve(params).iloc[0].to_dict()
+        inp = scene_inputs(scene, p)
+        times, dt = inp["times"], scene.dt
+        forces = np.column_stack([inp["Fx"], inp["Fy"], inp["Fz"]])
+        moments = np.column_stack([inp["Mx"], inp["My"], inp["Mz"]])
+        if self.fidelity == "linear":
+            u = np.column_stack([forces, moments, inp["w_set"]])
+            u0 = u.mean(axis=0)
+            spin = float(u0[6] + u0[3] / p["c_gen"])                 # torque balance at the mean
+            const = np.ones((len(times), 1))
+            asm = build(p, self.fields, times, const * u0[:3], const * u0[3:6], const[:, 0] * u0[6], spin)
+            _, _, lin = operating_state(asm.system, asm.system.q0, asm.system.qd0, asm.system.index("hss.rx"))
+            res = linear_response(asm, lin, u, dt, spin_scale=float(inp["rotor_speed"][0]) / spin)
+            q, qd, lam = res.q, res.qd, res.lam
+            drift = constraint_residuals(asm, q, qd, np.linspace(0, len(times) - 1, DRIFT_SAMPLES).astype(int))
+            info: dict[str, Any] = {"method": "exact (linearised)", "reduced_dofs": res.lin.m.shape[0]}
+        else:
+            n_sub = int(round(dt / self.time_step))
+            if n_sub < 1 or abs(n_sub * self.time_step - dt) > 1e-9 * dt:
+                raise ModelError(f"model 'indirect_drive': time_step {self.time_step} s must divide the scene's "
+                                 f"dt {dt} s")
+            asm = build(p, self.fields, times, forces, moments, inp["w_set"], float(inp["rotor_speed"][0]))
+            q0, qd0, _ = operating_state(asm.system, asm.system.q0, asm.system.qd0, asm.system.index("hss.rx"))
+            t_end = float(times[-1])
+            if self.integrator == "gen_alpha":
+                self._check_step()
+                traj = genalpha.simulate(asm.system, t_end, self.time_step, q0, qd0, rho_inf=self.rho_inf,
+                                         output_every=n_sub)
+            else:
+                traj = reference.simulate(asm.system, t_end, dt, q0, qd0, method=self.integrator)
+            q, qd, lam = traj.q, traj.qd, traj.lam
+            drift = constraint_residuals(asm, q, qd, np.arange(len(times)))
+            info = dict(traj.info)
+        out = time_series(asm, p, times, q, qd, lam, {**inp}, self.housing_point, drift)
+        out.attrs.update(fidelity=self.fidelity, solver=info, duration=scene.duration)
+        return out
+
+    def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
+        return objectives(self.simulate(scene, params), params, self.rule)
+
+    # -- modes and sampling ---------------------------------------------------------------------
+    def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0,
+              lss_torque: float = 0.0) -> pd.DataFrame:
+        """Damped modes of the constrained system about its operating state (kernel
+        :func:`ddgsa.mbs.modal.modes`), at ``rotor_speed`` [rad/s] under ``lss_torque`` [N m];
+        labels ``<body>_<direction>`` (``rotor_spin`` is the drive-train torsion mode)."""
+        asm, q, qd = self.assemble(params, rotor_speed, lss_torque)
+        return system_modes(asm.system, q, qd)
+
+    def campbell(self, params: Mapping[str, float] | None = None, speeds: Any = None,
+                 orders: Any = (1.0, 3.0), max_frequency_hz: float = CAMPBELL_MAX_HZ) -> CampbellDiagram:
+        """Campbell diagram: :meth:`modes` below ``max_frequency_hz`` at each rotor speed of ``speeds``
+        [rad/s] (default 0 to 15 rpm), every body spinning at its operating speed (rotor and wheel at
+        the rotor speed, the HSS at -N times it), no load. Whirl directions are not classified."""
+        speeds = np.linspace(0.0, 15.0 * np.pi / 30.0, 11) if speeds is None else np.asarray(speeds, dtype=float)
+        tables = {}
+        for w in speeds:
+            table = self.modes(params, rotor_speed=float(w))
+            tables[float(w)] = table[table["frequency_hz"] <= max_frequency_hz]
+        return campbell_from_tables(tables, tuple(float(o) for o in orders))
+
+    @functools.cached_property
+    def nominal_modes(self) -> pd.DataFrame:
+        """:meth:`modes` at nominal parameters, standstill (computed once per instance)."""
+        return self.modes()
+
+    def _check_step(self) -> None:
+        """Aliasing guard: warn when the step does not resolve the lowest mode."""
+        check_interval(self.time_step, float(self.nominal_modes["frequency_hz"].min()),
+                       "indirect_drive integration step", refuse=False, warn_below=NYQUIST)
+
+    def sampling_checks(self, scene: Scene) -> list[dict[str, Any]]:
+        """Integration step against the lowest mode and the load interval against the highest."""
+        m = self.nominal_modes
+        low, top = m.loc[m["frequency_hz"].idxmin()], m.loc[m["frequency_hz"].idxmax()]
+        rows = []
+        if self.fidelity != "linear":
+            rows.append(sampling_row("integration step", self.time_step, low["frequency_hz"], low["label"],
+                                     "the mode's period and damping are approximated"))
+        return rows + [controller_row(scene.dt, top["frequency_hz"], top["label"])]
+
+
+def constraint_residuals(asm: Assembly, q: Array, qd: Array, rows: Array) -> tuple[Array, Array]:
+    """Largest holonomic residual [m] and the gear constraint's velocity residual [m/s] at ``rows``
+    of a record (NaN elsewhere), from the nonlinear constraint equations."""
+    s = asm.system
+    row = s.multiplier_names.index("gear.normal_force_on_j")          # rows: holonomic, then velocity-level
+    pos, gear = np.full(len(q), np.nan), np.full(len(q), np.nan)
+    for i in np.unique(rows):
+        states = s.marker_states(q[i], qd[i], 0.0)
+        pos[i] = np.max(np.abs(s.holonomic_residual(q[i], qd[i], 0.0, states)[0]))
+        gear[i] = abs(s.velocity_residual(q[i], qd[i], 0.0, states)[0][row])
+    return pos, gear
+
+
+def objectives(sim: pd.DataFrame, params: Mapping[str, float], rule: str) -> dict[str, float]:
+    """Objective functions of a simulated record (:data:`OUTPUTS`)."""
+    disp = sim[["housing_dx", "housing_dy", "housing_dz"]].to_numpy()
+    ang = sim[["housing_rx", "housing_ry", "housing_rz"]].to_numpy()
+    out = housing_motion_outputs(disp, ang)
+    out.update(gear_force_outputs(sim["gear_force"].to_numpy(), float(sim.attrs["duration"])))
+    w_lss, w_hss = sim["lss_speed"].to_numpy(), sim["hss_speed"].to_numpy()
+    w_h = sim["housing_roll_rate"].to_numpy()
+    axis = Rotation.from_rotvec(np.array(ang)).as_matrix()[:, :, 0]   # housing (and, to LSS bending, shaft) axis
+    for b in BEARINGS:
+        f = sim[[f"{b}_Fx", f"{b}_Fy", f"{b}_Fz"]].to_numpy()
+        speed = w_lss if b == "main" else (w_lss - w_h if b.startswith("lss") else w_hss - w_h)
+        out.update(bearing_outputs(b, f, axis, speed, params[f"bearing_C_{b}"], rule))
+    torque = signal_statistics(sim["housing_torque"].to_numpy())
+    out["housing_torque_mean"], out["housing_torque_rms"] = float(torque["mean"]), float(torque["rms"])
+    drift = constraint_drift({"position": sim["position_drift"].dropna().to_numpy(),
+                              "gear": sim["gear_drift"].dropna().to_numpy()})
+    out.update(drift)
+    return {k: out[k] for k in OUTPUTS}

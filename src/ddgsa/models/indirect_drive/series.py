@@ -1,0 +1,99 @@
+"""Time series of the indirect drive from its coordinates and multipliers (every fidelity alike).
+
+Sign conventions: bearing forces are the forces on the **outer ring** (housing or bedplate),
+global frame [N] -- the multiplier of :class:`~ddgsa.mbs.constraints.Spherical` /
+:class:`~ddgsa.mbs.constraints.TransverseBearing` on their housing-side marker; ``gear_force`` is
+the normal tooth force on the pinion along the line of action [N]; mount forces are the forces
+the torque-arm bushings apply to the housing [N]; ``housing_torque`` their torque about the
+LSS axis (X through the origin) [N m].
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
+
+from ddgsa.models.indirect_drive.assembly import Assembly
+from ddgsa.models.indirect_drive.outputs import axial_torque, point_displacement, rotation_vectors
+from ddgsa.models.indirect_drive.parameters import BEARINGS
+
+Array = NDArray[np.float64]
+X_AXIS = np.array([1.0, 0.0, 0.0])
+#: bearings on the housing whose multipliers are radial forces along the housing's y, z axes
+TRANSVERSE = ("lss1", "lss3", "hss4")
+
+
+def bryant(angles: Array) -> Array:
+    """Rotation matrices (n_t, 3, 3) of Bryant angles (n_t, 3) ``[phi, theta, psi]``: ``R_Z R_Y R_X``
+    (the kernel's :func:`ddgsa.mbs.ffr.rotation`, vectorised)."""
+    return Rotation.from_euler("ZYX", angles[:, ::-1]).as_matrix()
+
+
+def mount_forces(asm: Assembly, k: Array, c: Array, q_h: Array, qd_h: Array) -> tuple[Array, Array]:
+    """Mount forces on the housing (n_t, 2, 3) [N] and mount positions (n_t, 2, 3) [m].
+
+    The bushings' law in the global frame (:class:`~ddgsa.mbs.elements.Bushing6` with diagonal
+    translational ``k``, ``c`` [N/m], [N s/m] and no rotational stiffness): ``F = -K u - C u_dot``
+    with ``u`` the mount point's displacement from its rest position.
+    """
+    a = bryant(q_h[:, 3:6])
+    pts = q_h[:, None, :3] + np.einsum("tij,mj->tmi", a, asm.mount_points)
+    rest = asm.housing_origin + asm.mount_points
+    omega = _angular_velocity(q_h[:, 3:6], qd_h[:, 3:6])
+    vel = qd_h[:, None, :3] + np.cross(omega[:, None, :], pts - q_h[:, None, :3])
+    return -(pts - rest) * k - vel * c, pts
+
+
+def _angular_velocity(ang: Array, rate: Array) -> Array:
+    """Global angular velocity (n_t, 3) of Bryant angles and rates: ``psi' e_Z + theta' R_Z e_Y + phi' R_Z R_Y e_X``."""
+    _, theta, psi = ang.T
+    ct, st, cp, sp = np.cos(theta), np.sin(theta), np.cos(psi), np.sin(psi)
+    e_y = np.column_stack([-sp, cp, np.zeros_like(sp)])
+    e_x = np.column_stack([cp * ct, sp * ct, -st])
+    return rate[:, 2:3] * np.array([0.0, 0.0, 1.0]) + rate[:, 1:2] * e_y + rate[:, 0:1] * e_x
+
+
+def time_series(asm: Assembly, p: Mapping[str, float], times: Array, q: Array, qd: Array, lam: Array,
+                loads: Mapping[str, Array], housing_point: Array, drift: tuple[Array, Array]) -> pd.DataFrame:
+    """The model's time series (see :meth:`IndirectDrive.simulate` for the columns)."""
+    s = asm.system
+    sl = {b.name: s.slices[id(b)] for b in (asm.rotor, asm.wheel, asm.lss, asm.hss, asm.housing)}
+    q_h, qd_h = q[:, sl["housing"]], qd[:, sl["housing"]]
+    a_h = bryant(q_h[:, 3:6])
+    cols: dict[str, Array] = {}
+    disp = point_displacement(q_h[:, :3], a_h, housing_point, asm.housing_origin, np.eye(3))
+    ang = rotation_vectors(a_h, np.eye(3))
+    for i, ax in enumerate("xyz"):
+        cols[f"housing_d{ax}"] = disp[:, i]
+    for i, ax in enumerate("xyz"):
+        cols[f"housing_r{ax}"] = ang[:, i]
+    w_lss, w_hss, w_h = qd[:, sl["wheel"]][:, 3], qd[:, sl["hss"]][:, 3], qd_h[:, 3]
+    cols["lss_speed"], cols["hss_speed"], cols["housing_roll_rate"] = w_lss, w_hss, w_h
+    cols["rotor_twist"] = q[:, sl["rotor"]][:, 3] - q[:, sl["wheel"]][:, 3]
+    names = s.multiplier_names
+    col = {n: i for i, n in enumerate(names)}
+    cols["gear_force"] = lam[:, col["gear.normal_force_on_j"]]
+    for b in BEARINGS:
+        if b in TRANSVERSE:
+            f = (a_h[:, :, 1] * lam[:, [col[f"{b}.force_on_j_n1"]]] + a_h[:, :, 2] * lam[:, [col[f"{b}.force_on_j_n2"]]])
+        else:
+            f = lam[:, [col[f"{b}.force_on_j_{ax}"] for ax in "xyz"]]
+        for i, ax in enumerate("xyz"):
+            cols[f"{b}_F{ax}"] = f[:, i]
+    k_m = np.array([p["k_mount_x"], p["k_mount_y"], p["k_mount_z"]])
+    c_m = 2.0 * p["mount_damping_ratio"] * np.sqrt(k_m * p["housing_mass"] / 2.0)
+    fm, pts = mount_forces(asm, k_m, c_m, q_h, qd_h)
+    for m, side in enumerate(("left", "right")):
+        for i, ax in enumerate("xyz"):
+            cols[f"mount_{side}_F{ax}"] = fm[:, m, i]
+    cols["housing_torque"] = axial_torque(fm, np.zeros_like(fm), pts, np.zeros(3), X_AXIS)
+    n = p["gear_ratio"]
+    cols["gen_torque"] = p["c_gen"] / n ** 2 * (-n * loads["w_set"] - w_hss)
+    for name in ("Fx", "Fy", "Fz", "Mx", "My", "Mz"):
+        cols[name] = loads[name]
+    cols["position_drift"], cols["gear_drift"] = drift
+    return pd.DataFrame(cols, index=pd.Index(times, name="time"))
