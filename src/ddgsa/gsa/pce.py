@@ -156,7 +156,6 @@ class PCE(GsaMethod):
             check_size(space.dim, order, n, fit)
 
     def _design(self, space: ParameterSpace, opts: dict[str, Any]) -> Design:
-        alphas = total_degree_indices(space.dim, opts["order"])
         if opts["fit"] == "quadrature":
             nodes, weights = chaospy.generate_quadrature(opts["order"], space.joint, rule="gaussian")
             x = np.asarray(nodes, dtype=float).reshape(space.dim, -1).T
