@@ -199,7 +199,10 @@ class PCE(GsaMethod):
             if opts["fit"] == "quadrature":
                 rel_err2, why = frac, f"variance in the top order {opts['order']}"
             else:
-                rel_err2 = _LOO_FACTOR * loo / np.clip(1.0 - _LOO_FACTOR * loo, 0.0, None)
+                # delta^2 / Var(g): the LOO mean square over the expansion's own (population) variance,
+                # not the sample's -- pooled designs (auto: M-DRM's Gauss nodes far in a lognormal
+                # tail) have a sample variance that says little about the input distribution
+                rel_err2 = _LOO_FACTOR * loo * np.var(y, axis=0) / var
                 why = f"leave-one-out error on {n_pts} points"
             eps = np.where(np.isfinite(rel_err2) & (rel_err2 >= 0), np.sqrt(rel_err2), np.inf)
         extras["top_order_fraction"] = frac
