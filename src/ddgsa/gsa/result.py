@@ -166,8 +166,9 @@ def draw_index_bars(ax: "Axes", table: pd.DataFrame, fontsize: float = 10.0, rot
 
 
 def trusted_mask(table: pd.DataFrame, diagnostics: list[Diagnostic]) -> NDArray[np.bool_]:
-    """Rows not hit by any ``untrusted`` diagnostic."""
-    ok = np.ones(len(table), dtype=bool)
+    """Rows not hit by any ``untrusted`` diagnostic and whose S1 and ST are both finite (a row with
+    a missing or non-finite index cannot be within any tolerance of the truth)."""
+    ok = np.isfinite(table["S1"].to_numpy(float)) & np.isfinite(table["ST"].to_numpy(float))
     for d in diagnostics:
         if d.severity != "untrusted":
             continue

@@ -17,8 +17,8 @@ from ddgsa.loads.scene import Scene
 from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables
 from ddgsa.mbs.integrate import genalpha, reference
 from ddgsa.mbs.modal import modes as system_modes
-from ddgsa.mbs.sampling import NYQUIST, check_interval, controller_row, sampling_row
-from ddgsa.models.base import Model, register_model
+from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
+from ddgsa.models.base import Model, controller_row, register_model
 from ddgsa.models.indirect_drive.assembly import FLEXIBLE_FIELDS, Assembly, build, spin_inertia
 from ddgsa.models.indirect_drive.linear import linear_response, operating_state
 from ddgsa.models.indirect_drive.outputs import (bearing_outputs, constraint_drift, gear_force_outputs,
