@@ -485,7 +485,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
             fields = ", ".join(f"{f}={g[f].iloc[0]:g}" for f in SCENE_FIELDS)
             lines.append(f"### scene {scene} ({fields}) - `{out}` [{info.get(out, declared(out)).unit or '?'}]")
             lines.append("")
-            lines.append(_dominance(g, out, mom.get((scene, out))))
+            lines += [_dominance(g, out, mom.get((scene, out))), ""]
             lines.append("| method | tolerance | trusted | ranking: parameter ST (S1) |")
             lines.append("|---|---|---|---|")
             for meth, gm in g.groupby("method", sort=False):
