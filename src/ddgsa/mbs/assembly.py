@@ -280,7 +280,9 @@ def static_equilibrium(system: System, q: Array | None = None, t: float = 0.0, t
 
     Holonomic constraints are kept exactly; velocity-level constraints (gear contacts) hold for
     the displacement from the starting pose, ``B (q - q_start) = 0`` (their integrable
-    linearisation). Newton iterations with a central-difference tangent; rigid-body directions
+    linearisation). Newton iterations with a central-difference tangent over ``q`` (the multiplier
+    block, ``-C_q^T``, is exact: a difference step in ``lambda`` is lost in large forces such as the
+    weight a lock carries); rigid-body directions
     left free by elements and constraints make the problem singular and raise.
 
     Returns
@@ -307,7 +309,9 @@ def static_equilibrium(system: System, q: Array | None = None, t: float = 0.0, t
     x = np.concatenate([q_start, np.zeros(nc)])
     for _ in range(max_iter):
         r = residual(x)
-        jac = central_jacobian(lambda y: residual(y), [x], 0, 1e-3)
+        jac = np.zeros((n + nc, n + nc))                  # linear in lambda: that block is exact, -C_q^T
+        jac[:, :n] = central_jacobian(lambda y: residual(np.concatenate([y, x[n:]])), [x[:n]], 0, 1e-3)
+        jac[:n, n:] = -system.constraint_jacobian(x[:n], zero, t).T
         try:
             dx = np.linalg.solve(jac, -r)
         except np.linalg.LinAlgError:
