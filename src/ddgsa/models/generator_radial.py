@@ -358,10 +358,10 @@ class GeneratorRadial(Model):
         highest_hz = float(np.sqrt(np.linalg.eigvals(np.linalg.solve(lin.m, lin.k)).real.max()) / (2 * np.pi))
         h, n_sub = self.output_interval(scene, highest_hz)
         nz = lin.m.shape[0]
-        a, bw = state_matrices(lin)
-        dq = (hub[:, :n_dir] - hub[:, :n_dir].mean(axis=0)) @ op.load_map.T
-        x0 = np.concatenate([np.linalg.solve(lin.k, dq[0] + lin.r0), np.zeros(nz)])
-        x = lti_response(a, bw, np.column_stack([dq, np.ones(len(dq))]), scene.dt, x0, n_sub)
+        a, bw = state_matrices(lin)                 # inputs [N^T dQ, 1]; dQ = J_rotor^T dF_hub, N^T Q_0 = 0 at rest
+        w = hub[:, :n_dir] - hub[:, :n_dir].mean(axis=0)
+        x0 = np.concatenate([np.linalg.solve(lin.k, op.load_map @ w[0]), np.zeros(nz)])
+        x = lti_response(a, bw[:, :nz] @ op.load_map, w, scene.dt, x0, n_sub)
         ecc = op.static_ecc + x[:, :nz] @ op.ecc_map.T
         ecc_rate = x[:, nz:] @ op.ecc_map.T
         bearing = op.system.elements[op.system.element_names.index("bearing_front")]
