@@ -78,10 +78,6 @@ TOTAL_MASS_TABLE3 = 2446e3
 """``m_1 + m_2`` of seed 003 Table 3 [kg]."""
 TOWER_STIFFNESS = {"tower_side_to_side": 3.48e6, "tower_torsion": 2.55e9}
 """Linearised tower stiffness ``c_i,lin`` of seed 003 Table 3 [N/m]."""
-LINEARISATION_STEP = 1e-4
-"""Relative central-difference step of the linearisation: 1e-7 m and 1e-7 m/s about the static state,
-where the bearings carry the rotor's weight (4 MN), so round-off stays below 1e-9 of the stiffness and
-damping while the pull's curvature error is (1e-7 m / gap)^2."""
 LINEARISATION_TOLERANCE = 0.01
 """Largest allowed pull linearisation error at the peak eccentricity, relative to the bearing force."""
 
@@ -284,11 +280,11 @@ class GeneratorRadial(Model):
         p = self.resolve(params).iloc[0].to_dict()
         system, rotor, stator = self.system(p, mean_hub_force)
         try:
-            q0, _ = static_equilibrium(system, tol=1e-15)
+            q0, _ = static_equilibrium(system, tol=1e-15, analytic=True)
         except (ValueError, ModelError) as exc:
             raise RuntimeError(f"no static equilibrium inside the air gap against the magnetic pull ({exc})") from None
         zero = np.zeros(system.n)
-        lin = linearise_system(system, q0, zero, 0.0, rel_step=LINEARISATION_STEP)
+        lin = linearise_system(system, q0, zero, 0.0, analytic=True)    # at rest, exact element tangents
         if np.linalg.eigvalsh(0.5 * (lin.k + lin.k.T)).min() <= 0:
             raise RuntimeError("magnetic pull stiffness exceeds the bearings': no stable centred rotor")
         n_dir = 1 if self.config == "one_mass" else 2
