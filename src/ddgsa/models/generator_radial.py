@@ -239,7 +239,10 @@ class GeneratorRadial(Model):
 
         Returns the system, the rotor body and the stator marker (ground or tower).
         """
-        p = self.resolve(params).iloc[0].to_dict()
+        return self._assemble(self.resolve(params).iloc[0].to_dict(), mean_hub_force)
+
+    def _assemble(self, p: Mapping[str, float],
+                  mean_hub_force: NDArray[np.float64] | None) -> tuple[System, RigidBody, Any]:
         free = ("y",) if self.config == "one_mass" else ("y", "z")
         rotor = RigidBody("rotor", p["rotating_mass"], (1.0, 1.0, 1.0))    # rotations locked: inertia unused
         ground = Ground()
@@ -277,8 +280,10 @@ class GeneratorRadial(Model):
             When the pull exceeds the bearings (no equilibrium inside the gap: the rotor would
             close the gap, or the centred rotor is unstable).
         """
-        p = self.resolve(params).iloc[0].to_dict()
-        system, rotor, stator = self.system(p, mean_hub_force)
+        return self._operating(self.resolve(params).iloc[0].to_dict(), mean_hub_force)
+
+    def _operating(self, p: Mapping[str, float], mean_hub_force: NDArray[np.float64] | None) -> Operating:
+        system, rotor, stator = self._assemble(p, mean_hub_force)
         try:
             q0, _ = static_equilibrium(system, tol=1e-15, analytic=True)
         except (ValueError, ModelError) as exc:
@@ -349,7 +354,7 @@ class GeneratorRadial(Model):
         p = self.resolve(params).iloc[0].to_dict()
         loads = generate(scene)
         hub = loads[["Fy", "Fz"]].to_numpy()
-        op = self.operating(p, hub.mean(axis=0))
+        op = self._operating(p, hub.mean(axis=0))
         lin, n_dir = op.lin, op.ecc_map.shape[0]
         highest_hz = float(np.sqrt(np.linalg.eigvals(np.linalg.solve(lin.m, lin.k)).real.max()) / (2 * np.pi))
         h, n_sub = self.output_interval(scene, highest_hz)
