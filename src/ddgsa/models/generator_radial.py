@@ -217,15 +217,12 @@ class GeneratorRadial(Model):
         return self.generator.updated({k: p[k] for k in ("air_gap", "magnet_remanence", "magnet_height")})
 
     def _pull(self, ecc: NDArray[np.float64], gen: PMGenerator) -> NDArray[np.float64]:
-        """Pull on the rotor in the model's eccentricity directions [N] (zero when ``magnetic`` is off)."""
-        if not self.magnetic:
-            return np.zeros_like(ecc)
+        """Pull on the rotor in the model's eccentricity directions [N]."""
         f = pull_vector(ecc[0], ecc[1] if ecc.size > 1 else 0.0, gen)
         return f[: ecc.size]
 
     def _pull_stiffness(self, ecc: NDArray[np.float64], gen: PMGenerator) -> NDArray[np.float64]:
-        if not self.magnetic:
-            return np.zeros((ecc.size, ecc.size))
+        """``d pull / d ecc`` [N/m] in the model's eccentricity directions."""
         j = pull_jacobian(float(ecc[0]), float(ecc[1]) if ecc.size > 1 else 0.0, gen)
         return j[: ecc.size, : ecc.size]
 
