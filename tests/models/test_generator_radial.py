@@ -112,9 +112,9 @@ def _reference_eccentricity(model: models.Model, scene: Scene) -> np.ndarray:
         f = force(t) + np.array([0.0, -m * 9.81]) + pull_vector(e[0], e[1], gen) - kb * e - d * v
         return np.concatenate([v, f / m])
 
-    e0 = model.matrices(None, hub.mean(axis=0)).static_ecc
-    mats = model.matrices(None, hub.mean(axis=0))
-    x0 = np.concatenate([e0 + np.linalg.solve(mats.k, hub[0] - hub.mean(axis=0)), [0.0, 0.0]])
+    op = model.operating(None, hub.mean(axis=0))            # the static state and its quasi-static start
+    start = op.ecc_map @ np.linalg.solve(op.lin.k, op.load_map @ (hub[0] - hub.mean(axis=0)))
+    x0 = np.concatenate([op.static_ecc + start, [0.0, 0.0]])
     sim = model.simulate(scene)
     sol = solve_ivp(rhs, (t0, sim.index[-1]), x0, method="DOP853", rtol=1e-10, atol=1e-14,
                     t_eval=sim.index.to_numpy(), max_step=1e-3)

@@ -5,8 +5,12 @@ motions ``x = [dr (3), dtheta (3)]`` per marker; the system maps the Jacobian on
 coordinates (``C_q = sum_m jac_x[:, m] J_m``). Two kinds:
 
 - **holonomic** (position level, ``C(q, t) = 0``): :class:`Spherical` (eq. 2.3),
-  :class:`TransverseBearing` (the two projections ``N1, N2`` of eq. 2.3). Their velocity-level
-  form ``C_q q_dot + C_t`` is ``jac_x @ [v_i, w_i, v_j, w_j]`` (prescribed motion included).
+  :class:`TransverseBearing` (the two projections ``N1, N2`` of eq. 2.3), :class:`Lock` (chosen
+  relative translations and rotations of two markers held at their rest values) and
+  :class:`PrescribedCoordinate` (one of them held at a value or a function of time). Their
+  velocity-level form ``C_q q_dot + C_t`` is ``jac_x @ [v_i, w_i, v_j, w_j] + C_t`` (prescribed
+  motion of a marker enters through its rates; ``C_t`` is the explicit time rate of a prescribed
+  coordinate).
 - **velocity level** (``B(q) q_dot + b(t) = 0``, non-holonomic in form): :class:`GearContact`
   (eq. 2.4), :class:`PrescribedSpeed`.
 
@@ -24,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.bodies import Marker, MarkerState, cross
+from ddgsa.mbs.bodies import Ground, Marker, MarkerState, cross, rotation_vector, skew
 
 Array = NDArray[np.float64]
 
@@ -197,3 +201,162 @@ class PrescribedSpeed(Constraint):
         if len(states) > 1:
             jac[0, 9:12] = -axis
         return jac @ _rates(states) - float(self.speed(t)), jac
+
+
+AXES = ("x", "y", "z", "rx", "ry", "rz")
+"""Relative coordinates a :class:`Lock` or :class:`PrescribedCoordinate` can hold: translations
+along and rotations about the x, y, z axes of the reference marker's frame."""
+
+
+def inverse_left_jacobian(phi: Array) -> Array:
+    """``J_l(phi)^-1``: maps a small global rotation ``dtheta`` of ``exp(phi)`` to ``d phi`` [-].
+
+    ``exp(dtheta^) exp(phi^) = exp((phi + J_l^-1 dtheta)^)`` to first order (the SO(3) left Jacobian).
+    """
+    angle = float(np.linalg.norm(phi))
+    k = skew(phi)
+    if angle < 1e-6:
+        return np.eye(3) - 0.5 * k + k @ k / 12.0
+    coef = 1.0 / angle ** 2 - (1.0 + np.cos(angle)) / (2.0 * angle * np.sin(angle))
+    return np.eye(3) - 0.5 * k + coef * k @ k
+
+
+class _RelativeCoordinates(Constraint):
+    """Relative coordinates of marker ``i`` seen from marker ``j`` (default: the ground), from the rest pose.
+
+    Translation ``d = A_j^T (r_i - r_j) - d_0`` and rotation ``phi = rotvec(A_j^T A_i (A_j0^T A_i0)^T)``
+    (the rotation vector of the relative rotation since the rest pose, in marker j's axes); the
+    rest pose is the markers' configuration when the system is built. The Jacobians are exact
+    (``phi`` through the inverse left Jacobian of SO(3)), so Newton corrections converge
+    quadratically at any angle below pi.
+    """
+
+    holonomic = True
+
+    def __init__(self, marker_i: Marker, marker_j: Marker | None, axes: tuple[str, ...], name: str) -> None:
+        bad = [a for a in axes if a not in AXES]
+        if bad or not axes or len(set(axes)) != len(axes):
+            raise ModelError(f"constraint {name!r}: axes {list(axes)} not allowed; choose distinct ones of "
+                             f"{', '.join(AXES)}")
+        self.markers = (marker_i, Ground().marker() if marker_j is None else marker_j)
+        self.rows = np.array([AXES.index(a) for a in axes])
+        self.axes, self.name, self.n_eq = tuple(axes), name, len(axes)
+        self.rest_r: Array = np.zeros(3)
+        self.rest_a: Array = np.eye(3)
+
+    def bind(self, states: list[MarkerState]) -> None:
+        si, sj = states
+        self.rest_r = sj.a.T @ (si.r - sj.r)
+        self.rest_a = sj.a.T @ si.a
+
+    def relative(self, states: list[MarkerState]) -> tuple[Array, Array]:
+        """All six relative coordinates ``[d (3) [m], phi (3) [rad]]`` and their Jacobian (6, 12)."""
+        si, sj = states
+        at = sj.a.T
+        arm = si.r - sj.r
+        phi = rotation_vector(at @ si.a @ self.rest_a.T)
+        jl = inverse_left_jacobian(phi) @ at
+        jac = np.zeros((6, 12))
+        jac[0:3, 0:3], jac[0:3, 6:9], jac[0:3, 9:12] = at, -at, at @ skew(arm)
+        jac[3:6, 3:6], jac[3:6, 9:12] = jl, -jl
+        return np.concatenate([at @ arm - self.rest_r, phi]), jac
+
+
+class Lock(_RelativeCoordinates):
+    """A joint that locks chosen relative translations and rotations of two markers.
+
+    ``axes`` are taken from ``x, y, z`` (translations along marker j's axes) and ``rx, ry, rz``
+    (rotations about them); the locked coordinates stay at their rest values (the markers'
+    relative pose when the system is built). All six lock the markers rigidly together; ``("x",
+    "y", "z", "ry", "rz")`` leaves a spin about x free (a rigid shaft on its bearings).
+
+    Parameters
+    ----------
+    marker_i : Marker
+    marker_j : Marker, optional
+        The reference marker (default: a ground marker at the origin, global axes).
+    axes : sequence of str
+    name : str
+
+    Notes
+    -----
+    The multipliers are the force [N] along, and the moment [N m] about (to first order in the
+    relative rotation), each locked axis of marker j's frame that the joint exerts on marker
+    ``j``; marker ``i`` gets the opposite.
+
+    Examples
+    --------
+    >>> from ddgsa.mbs import RigidBody
+    >>> lock = Lock(RigidBody("b", 1.0, (1.0, 1.0, 1.0)).marker(), axes=("x", "ry", "rz"))
+    >>> lock.n_eq, lock.reaction
+    (3, ('force_on_j_x', 'moment_on_j_ry', 'moment_on_j_rz'))
+    """
+
+    def __init__(self, marker_i: Marker, marker_j: Marker | None = None,
+                 axes: tuple[str, ...] = AXES, name: str = "lock") -> None:
+        super().__init__(marker_i, marker_j, tuple(axes), name)
+        self.reaction = tuple(("force_on_j_" if a in "xyz" else "moment_on_j_") + a for a in self.axes)
+
+    def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        value, jac = self.relative(states)
+        return value[self.rows], jac[self.rows]
+
+
+class PrescribedCoordinate(_RelativeCoordinates):
+    """One relative coordinate of a marker held at a value or a function of time (position level).
+
+    ``C = coordinate - value(t) = 0``, ``C_t = -value'(t)``: the coordinate (``x, y, z`` [m] or
+    ``rx, ry, rz`` [rad], see :class:`Lock`) of ``marker`` relative to ``reference`` (default the
+    ground), measured from the rest pose, follows ``value``.
+
+    Parameters
+    ----------
+    marker : Marker
+    axis : str
+        One of ``x, y, z, rx, ry, rz``.
+    value : float or callable
+        Constant [m or rad], or ``value(t)``; a callable needs ``rate(t)`` too (a
+        :class:`~ddgsa.mbs.elements.Series` is both: ``value(t)`` and ``value.derivative(t)``).
+    rate : callable, optional
+        ``d value / dt`` [m/s or rad/s].
+    reference : Marker, optional
+    name : str
+
+    Notes
+    -----
+    The multiplier is the force [N] (moment [N m]) along the axis that the constraint exerts on
+    the reference marker; the prescribed marker gets its opposite, so ``-lambda`` is the force
+    that drives the marker along the prescribed motion.
+
+    Examples
+    --------
+    >>> import math
+    >>> from ddgsa.mbs import RigidBody
+    >>> c = PrescribedCoordinate(RigidBody("b", 1.0, (1.0, 1.0, 1.0)).marker(), "y",
+    ...                          math.sin, rate=math.cos)
+    >>> c.reaction
+    ('force_on_j_y',)
+    """
+
+    def __init__(self, marker: Marker, axis: str, value: "float | Callable[[float], float]",
+                 rate: Callable[[float], float] | None = None, reference: Marker | None = None,
+                 name: str = "prescribed") -> None:
+        super().__init__(marker, reference, (axis,), name)
+        if callable(value):
+            rate = rate if rate is not None else getattr(value, "derivative", None)
+            if rate is None:
+                raise ModelError(f"constraint {name!r}: a prescribed value(t) needs its rate(t) "
+                                 "(or pass a Series, which has both)")
+            self.value, self.rate = value, rate
+        else:
+            self.value, self.rate = (lambda t, s=float(value): s), (lambda t: 0.0)
+        self.reaction = (("force_on_j_" if axis in "xyz" else "moment_on_j_") + axis,)
+
+    def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        value, jac = self.relative(states)
+        return value[self.rows] - float(self.value(t)), jac[self.rows]
+
+    def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        _, jac = self.relative(states)
+        jac = jac[self.rows]
+        return jac @ _rates(states) - float(self.rate(t)), jac

@@ -325,3 +325,55 @@ class AppliedLoad(Element):
 
     def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, None, None]:
         return self.series(t).reshape(1, 6), None, None
+
+
+class RadialForce(Element):
+    """A force in the plane normal to marker j's x axis, a given law of the radial displacement.
+
+    The displacement ``e = P A_j^T (r_i - r_j) - e_0`` (``P`` picks marker j's y and z axes,
+    ``e_0`` its rest value) sets ``F = law(e)`` (2,) [N] on marker ``i`` along those axes and
+    ``-F`` on marker ``j``; with ``dF/de`` (2, 2) [N/m] from the law, the tangent is exact for
+    coincident markers whose frame j does not turn (a rotor centre in a stator, the magnetic pull
+    of an air gap: the law lives with the model, e.g. :mod:`ddgsa.models.electromagnetic`).
+
+    Parameters
+    ----------
+    marker_i, marker_j : Marker
+    law : callable
+        ``law(e) -> (F (2,), dF/de (2, 2))`` with ``e`` (2,) [m].
+    name : str
+
+    Examples
+    --------
+    >>> from ddgsa.mbs import Ground, RigidBody
+    >>> pull = RadialForce(RigidBody("rotor", 1.0, (1.0, 1.0, 1.0)).marker(), Ground().marker(),
+    ...                    lambda e: (-1e6 * e, -1e6 * np.eye(2)))
+    >>> pull.markers[1].body.name
+    'ground'
+    """
+
+    def __init__(self, marker_i: Marker, marker_j: Marker,
+                 law: Callable[[Array], tuple[ArrayLike, ArrayLike]], name: str = "radial_force") -> None:
+        self.markers, self.law, self.name = (marker_i, marker_j), law, name
+        self.rest: Array = np.zeros(2)
+
+    def bind(self, states: list[MarkerState]) -> None:
+        si, sj = states
+        self.rest = sj.a[:, 1:3].T @ (si.r - sj.r)
+
+    def displacement(self, states: list[MarkerState]) -> Array:
+        """The radial displacement ``e`` (2,) [m] of marker i from its rest position, marker j's y, z axes."""
+        si, sj = states
+        return sj.a[:, 1:3].T @ (si.r - sj.r) - self.rest
+
+    def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, Array, None]:
+        si, sj = states
+        axes = sj.a[:, 1:3]                                        # (3, 2): marker j's y and z axes
+        force, slope = (np.asarray(x, dtype=float) for x in self.law(self.displacement(states)))
+        f = axes @ force.reshape(2)
+        w = np.zeros((2, 6))
+        w[0, :3], w[1, :3] = f, -f
+        w[1, 3:] = cross(sj.r - si.r, f)                           # the pair's couple, kept by marker j
+        k = np.zeros((6, 6))
+        k[:3, :3] = -axes @ slope.reshape(2, 2) @ axes.T
+        return w, _pair(k), None

@@ -23,11 +23,23 @@ Each configuration runs with or without the magnetic forces (``magnetic``). Damp
 given in the seed: a bearing damping ratio (of the one-mass mode) and a tower damping ratio
 are parameters (2 % and 1 %).
 
+Assembly on the multibody kernel (:mod:`ddgsa.mbs`): the rotating assembly is a
+:class:`~ddgsa.mbs.RigidBody` whose axial motion and rotations are held by a
+:class:`~ddgsa.mbs.Lock` to the ground (``one_mass`` locks its vertical motion too); the two
+bearings are :class:`~ddgsa.mbs.SpringDamper3` elements to the stator (the ground, or the tower
+mass: a rigid body locked except for its side-to-side motion, on a tower spring to the ground);
+the pull is a :class:`~ddgsa.mbs.RadialForce` whose law is :func:`pull_vector` and
+:func:`pull_jacobian` of :mod:`ddgsa.models.electromagnetic`; the mean hub forces are an
+:class:`~ddgsa.mbs.AppliedLoad`, gravity the system's. The static state is
+:func:`ddgsa.mbs.assembly.static_equilibrium` (Newton, nonlinear pull), the linearisation and
+modes those of :mod:`ddgsa.mbs.modal` on the null space of the locks.
+
 Time response: the hub forces ``Fy, Fz`` of the scene act on the rotor (the load generator is
 the NREL 5-MW rotor's, scaled by ``hub_force_factor``; the hub moments are carried by the tilt
 constraint, as in the seed). The system is linearised about the static state under gravity
-and the mean hub forces (solved with the nonlinear pull) and integrated exactly for the C1
-cubic load input (:func:`ddgsa.mbs.linear.lti_response`) on an output grid of at least
+and the mean hub forces and integrated exactly for the C1 cubic load input (the state matrices
+of :mod:`ddgsa.mbs.integrate.exact`, :func:`ddgsa.mbs.linear.lti_response`; the load fluctuation
+enters through the rotor marker's Jacobian) on an output grid of at least
 :data:`ddgsa.mbs.sampling.RESOLVED` samples per period of the highest mode. Validity: the pull
 is linearised about the static eccentricity; each evaluation measures the nonlinear pull at
 the peak eccentricity against the linearised one and fails (recorded, not imputed) when they
@@ -49,8 +61,12 @@ from numpy.typing import ArrayLike, NDArray
 from ddgsa.errors import ModelError, unknown_name_message
 from ddgsa.loads import generate
 from ddgsa.loads.scene import Scene
+from ddgsa.mbs import AppliedLoad, Ground, Lock, RadialForce, RigidBody, SpringDamper3, System
+from ddgsa.mbs.assembly import static_equilibrium
+from ddgsa.mbs.constraints import AXES
+from ddgsa.mbs.integrate.exact import state_matrices
 from ddgsa.mbs.linear import lti_response
-from ddgsa.mbs.modal import modal_analysis
+from ddgsa.mbs.modal import ConstrainedLinearisation, linearise_system, modal_analysis
 from ddgsa.mbs.sampling import RESOLVED, AliasingWarning, check_interval, sampling_row
 from ddgsa.models.base import Model, ModelOutput, ModelParameter, controller_row, register_model
 from ddgsa.models.electromagnetic import PMGenerator, pull_jacobian, pull_vector, radial_pull
@@ -103,21 +119,26 @@ def magnetic_pull(eccentricity: ArrayLike, params: Mapping[str, float] | None = 
 
 
 @dataclass(frozen=True)
-class Matrices:
-    """Linearised system ``M q'' + C q' + K q = B f`` about the static state, and its maps.
+class Operating:
+    """The assembled system linearised about its static state, and the maps the model reads.
 
-    ``ecc`` maps coordinates to the eccentricity components (one row per direction); ``b`` maps
-    the hub forces (Fy[, Fz]) to the coordinates; ``static_q``/``static_ecc`` hold the static state.
+    Attributes
+    ----------
+    system : System
+    lin : ConstrainedLinearisation
+        ``M z'' + C z' + K z = N^T dQ`` on the free coordinates ``q = q0 + N z``.
+    static_ecc : (n_dir,) static eccentricity [m] (y[, z])
+    ecc_map : (n_dir, n_z) eccentricity per unit ``z`` [m]
+    load_map : (n_z, n_dir) generalised force per unit hub force (Fy[, Fz]), ``hub_force_factor`` included
+    tower_row : (n_z,) or None, tower displacement per unit ``z`` (tower configurations)
     """
 
-    m: NDArray[np.float64]
-    c: NDArray[np.float64]
-    k: NDArray[np.float64]
-    b: NDArray[np.float64]
-    ecc: NDArray[np.float64]
-    static_q: NDArray[np.float64]
+    system: System
+    lin: ConstrainedLinearisation
     static_ecc: NDArray[np.float64]
-    bearing_damping: float
+    ecc_map: NDArray[np.float64]
+    load_map: NDArray[np.float64]
+    tower_row: NDArray[np.float64] | None
 
 
 OUTPUTS = (
@@ -196,77 +217,85 @@ class GeneratorRadial(Model):
         return self.generator.updated({k: p[k] for k in ("air_gap", "magnet_remanence", "magnet_height")})
 
     def _pull(self, ecc: NDArray[np.float64], gen: PMGenerator) -> NDArray[np.float64]:
-        """Pull on the rotor in the model's eccentricity directions [N] (zero when ``magnetic`` is off)."""
-        if not self.magnetic:
-            return np.zeros_like(ecc)
+        """Pull on the rotor in the model's eccentricity directions [N]."""
         f = pull_vector(ecc[0], ecc[1] if ecc.size > 1 else 0.0, gen)
         return f[: ecc.size]
 
     def _pull_stiffness(self, ecc: NDArray[np.float64], gen: PMGenerator) -> NDArray[np.float64]:
-        if not self.magnetic:
-            return np.zeros((ecc.size, ecc.size))
+        """``d pull / d ecc`` [N/m] in the model's eccentricity directions."""
         j = pull_jacobian(float(ecc[0]), float(ecc[1]) if ecc.size > 1 else 0.0, gen)
         return j[: ecc.size, : ecc.size]
 
-    def static_eccentricity(self, p: Mapping[str, float], rotor_force: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Eccentricity [m] where ``2 c_B e - F_mag(e) = rotor_force`` (Newton, nonlinear pull).
+    def _law(self, gen: PMGenerator) -> Any:
+        """The pull of the air gap as the law of a :class:`~ddgsa.mbs.RadialForce` (force, tangent)."""
+        return lambda e: (pull_vector(e[0], e[1], gen), pull_jacobian(float(e[0]), float(e[1]), gen))
+
+    def system(self, params: Mapping[str, float] | None = None,
+               mean_hub_force: NDArray[np.float64] | None = None) -> tuple[System, RigidBody, Any]:
+        """The configuration assembled from kernel parts, the mean hub forces ``(Fy, Fz)`` [N] applied.
+
+        Returns the system, the rotor body and the stator marker (ground or tower).
+        """
+        return self._assemble(self.resolve(params).iloc[0].to_dict(), mean_hub_force)
+
+    def _assemble(self, p: Mapping[str, float],
+                  mean_hub_force: NDArray[np.float64] | None) -> tuple[System, RigidBody, Any]:
+        free = ("y",) if self.config == "one_mass" else ("y", "z")
+        rotor = RigidBody("rotor", p["rotating_mass"], (1.0, 1.0, 1.0))    # rotations locked: inertia unused
+        ground = Ground()
+        bodies, elements = [rotor], []
+        constraints = [Lock(rotor.marker(), axes=tuple(a for a in AXES if a not in free), name="rotor_guide")]
+        stator = ground.marker()
+        if self.tower:
+            tower = RigidBody("tower", p["tower_mass"], (1.0, 1.0, 1.0))
+            c_t = p["tower_stiffness"]
+            d_t = p["tower_damping_ratio"] * 2 * math.sqrt(c_t * (p["tower_mass"] + p["rotating_mass"]))
+            bodies.append(tower)
+            constraints.append(Lock(tower.marker(), axes=("x", "z", "rx", "ry", "rz"), name="tower_guide"))
+            elements.append(SpringDamper3(tower.marker(), ground.marker(), (0.0, c_t, 0.0), (0.0, d_t, 0.0),
+                                          name="tower"))
+            stator = tower.marker()
+        c_b = p["bearing_stiffness"]
+        d_b = p["bearing_damping_ratio"] * math.sqrt(2 * c_b * p["rotating_mass"])   # one bearing: half of 2 zeta sqrt(2 c_B m)
+        for name in ("bearing_front", "bearing_rear"):
+            elements.append(SpringDamper3(rotor.marker(), stator, (0.0, c_b, c_b), (0.0, d_b, d_b), name=name))
+        if self.magnetic:
+            elements.append(RadialForce(rotor.marker(), stator, self._law(self._gen(p)), name="magnetic_pull"))
+        f_hub = np.zeros(2) if mean_hub_force is None else np.asarray(mean_hub_force, dtype=float)[:2]
+        force = np.array([0.0, *(f_hub * p["hub_force_factor"])])
+        elements.append(AppliedLoad(rotor.marker(), [0.0, 1.0], force=[force, force], name="hub_mean"))
+        gravity = (0.0, 0.0, 0.0 if self.config == "one_mass" else -GRAVITY)
+        return System(bodies, elements, constraints, gravity=gravity), rotor, stator
+
+    def operating(self, params: Mapping[str, float] | None = None,
+                  mean_hub_force: NDArray[np.float64] | None = None) -> Operating:
+        """Static state under gravity (not in ``one_mass``) and the mean hub forces, and the linearisation there.
 
         Raises
         ------
         RuntimeError
             When the pull exceeds the bearings (no equilibrium inside the gap: the rotor would
-            close the gap) or Newton does not converge.
+            close the gap, or the centred rotor is unstable).
         """
-        gen = self._gen(p)
-        k_b = 2 * p["bearing_stiffness"]
-        e = rotor_force / k_b
-        for _ in range(50):
-            try:
-                res = k_b * e - self._pull(e, gen) - rotor_force
-            except ValueError as exc:
-                raise RuntimeError(f"no static equilibrium inside the air gap ({exc})") from None
-            jac = k_b * np.eye(e.size) - self._pull_stiffness(e, gen)
-            if np.linalg.eigvalsh(jac).min() <= 0:
-                raise RuntimeError("magnetic pull stiffness exceeds the bearings': no stable centred rotor")
-            step = np.linalg.solve(jac, res)
-            e = e - step
-            if np.max(np.abs(step)) < 1e-15 + 1e-12 * np.max(np.abs(e)):
-                return e
-        raise RuntimeError("static eccentricity: Newton did not converge in 50 iterations")
+        return self._operating(self.resolve(params).iloc[0].to_dict(), mean_hub_force)
 
-    def matrices(self, params: Mapping[str, float] | None = None,
-                 mean_hub_force: NDArray[np.float64] | None = None) -> Matrices:
-        """The linearised system about the static state under gravity (not in ``one_mass``) and mean hub forces."""
-        p = self.resolve(params).iloc[0].to_dict()
+    def _operating(self, p: Mapping[str, float], mean_hub_force: NDArray[np.float64] | None) -> Operating:
+        system, rotor, stator = self._assemble(p, mean_hub_force)
+        try:
+            q0, _ = static_equilibrium(system, tol=1e-15, analytic=True)
+        except (ValueError, ModelError) as exc:
+            raise RuntimeError(f"no static equilibrium inside the air gap against the magnetic pull ({exc})") from None
+        zero = np.zeros(system.n)
+        lin = linearise_system(system, q0, zero, 0.0, analytic=True)    # at rest, exact element tangents
+        if np.linalg.eigvalsh(0.5 * (lin.k + lin.k.T)).min() <= 0:
+            raise RuntimeError("magnetic pull stiffness exceeds the bearings': no stable centred rotor")
         n_dir = 1 if self.config == "one_mass" else 2
-        n = len(self.coordinates)
-        rot = slice(n - n_dir, n)                                   # rotor coordinates
-        ecc = np.zeros((n_dir, n))
-        ecc[:, rot] = np.eye(n_dir)
-        if self.tower:
-            ecc[0, 0] = -1.0                                        # horizontal gap closes with the stator
-        b = np.zeros((n, n_dir))
-        b[rot] = np.eye(n_dir)
-        f_hub = np.zeros(n_dir) if mean_hub_force is None else np.asarray(mean_hub_force[:n_dir], dtype=float)
-        rotor_force = f_hub * p["hub_force_factor"]
-        if n_dir == 2:
-            rotor_force = rotor_force + np.array([0.0, -p["rotating_mass"] * GRAVITY])
-        e0 = self.static_eccentricity(p, rotor_force)
-        k_b = 2 * p["bearing_stiffness"]
-        d_b = p["bearing_damping_ratio"] * 2 * math.sqrt(k_b * p["rotating_mass"])
-        k_e = k_b * np.eye(n_dir) - self._pull_stiffness(e0, self._gen(p))
-        m = np.diag(([p["tower_mass"]] if self.tower else []) + [p["rotating_mass"]] * n_dir)
-        k = ecc.T @ k_e @ ecc
-        c = ecc.T @ (d_b * np.eye(n_dir)) @ ecc
-        q0 = np.zeros(n)
-        q0[rot] = e0
-        if self.tower:
-            c_t = p["tower_stiffness"]
-            k[0, 0] += c_t
-            c[0, 0] += p["tower_damping_ratio"] * 2 * math.sqrt(c_t * (p["tower_mass"] + p["rotating_mass"]))
-            q0[0] = rotor_force[0] / c_t                            # the tower carries the horizontal force
-            q0[n - n_dir] += q0[0]
-        return Matrices(m, c, k, b * p["hub_force_factor"], ecc, q0, e0, d_b / 2)
+        js_r, js_s = system.marker_state(rotor.marker(), q0, zero, 0.0), system.marker_state(stator, q0, zero, 0.0)
+        rows = slice(1, 1 + n_dir)                                    # y[, z]
+        ecc_map = (js_r.jac[rows] - js_s.jac[rows]) @ lin.basis
+        tower_row = lin.basis[system.index("tower.y")] if self.tower else None
+        return Operating(system, lin, (js_r.r - js_s.r)[rows], ecc_map,
+                         lin.basis.T @ js_r.jac[rows].T * p["hub_force_factor"], tower_row)
 
     # -- Model interface -----------------------------------------------------------------
     def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
@@ -275,9 +304,15 @@ class GeneratorRadial(Model):
         Labels: ``bearing_radial`` (horizontal rotor mode; with a tower, the out-of-phase coupled
         mode), ``bearing_radial_vertical`` and the tower configuration's name for the tower mode.
         """
-        mats = self.matrices(params)
-        groups = {"tower_y": self.config, "rotor_y": "bearing_radial", "rotor_z": "bearing_radial_vertical"}
-        out = modal_analysis(mats.m, mats.c, mats.k, self.coordinates, {c: groups[c] for c in self.coordinates})
+        op = self.operating(params)
+        names = {"tower_y": self.config, "rotor_y": "bearing_radial", "rotor_z": "bearing_radial_vertical"}
+        groups = {c.replace("_", "."): names[c] for c in self.coordinates}
+        lin = op.lin
+        out = modal_analysis(lin.m, lin.c, lin.k, op.system.coord_names, groups, lin.basis, lin.m_full)
+        # a degenerate pair (isotropic bearings, no pull) in coordinate order: horizontal first
+        rank = out["label"].map({g: i for i, g in enumerate(groups.values())}).fillna(len(groups))
+        bucket = np.round(np.log(out["frequency_hz"].to_numpy()) * 1e9)
+        out = out.iloc[np.lexsort((rank.to_numpy(), bucket))].reset_index(drop=True)
         if self.tower:      # horizontal pair: the in-phase (lower) mode is the tower's, whatever its energy split
             horizontal = out.index[out["share_bearing_radial_vertical"] < 0.5]
             out.loc[horizontal.min(), "label"], out.loc[horizontal.max(), "label"] = self.config, "bearing_radial"
@@ -316,39 +351,39 @@ class GeneratorRadial(Model):
         p = self.resolve(params).iloc[0].to_dict()
         loads = generate(scene)
         hub = loads[["Fy", "Fz"]].to_numpy()
-        mats = self.matrices(p, hub.mean(axis=0))
-        n_dir = mats.ecc.shape[0]
-        highest_hz = float(np.sqrt(np.linalg.eigvals(np.linalg.solve(mats.m, mats.k)).real.max()) / (2 * np.pi))
+        op = self._operating(p, hub.mean(axis=0))
+        lin, n_dir = op.lin, op.ecc_map.shape[0]
+        highest_hz = float(np.sqrt(np.linalg.eigvals(np.linalg.solve(lin.m, lin.k)).real.max()) / (2 * np.pi))
         h, n_sub = self.output_interval(scene, highest_hz)
-        n = len(self.coordinates)
-        minv = np.linalg.inv(mats.m)
-        a = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ mats.k, -minv @ mats.c]])
-        bw = np.vstack([np.zeros((n, n_dir)), minv @ mats.b])
+        nz = lin.m.shape[0]
+        a, bw = state_matrices(lin)                 # inputs [N^T dQ, 1]; dQ = J_rotor^T dF_hub, N^T Q_0 = 0 at rest
         w = hub[:, :n_dir] - hub[:, :n_dir].mean(axis=0)
-        x0 = np.concatenate([np.linalg.solve(mats.k, mats.b @ w[0]), np.zeros(n)])
-        x = lti_response(a, bw, w, scene.dt, x0, n_sub)
-        ecc = mats.static_ecc + x[:, :n] @ mats.ecc.T
-        ecc_rate = x[:, n:] @ mats.ecc.T
-        force = p["bearing_stiffness"] * ecc + mats.bearing_damping * ecc_rate
+        x0 = np.concatenate([np.linalg.solve(lin.k, op.load_map @ w[0]), np.zeros(nz)])
+        x = lti_response(a, bw[:, :nz] @ op.load_map, w, scene.dt, x0, n_sub)
+        ecc = op.static_ecc + x[:, :nz] @ op.ecc_map.T
+        ecc_rate = x[:, nz:] @ op.ecc_map.T
+        bearing = op.system.elements[op.system.element_names.index("bearing_front")]
+        force = bearing.k6[1, 1] * ecc + bearing.c6[1, 1] * ecc_rate
         time = loads.index[0] + h * np.arange(len(x))
         out = pd.DataFrame(ecc, index=pd.Index(time, name="time"), columns=["ecc_y", "ecc_z"][:n_dir])
         out["eccentricity"] = np.linalg.norm(ecc, axis=1)
         out[["bearing_Fy", "bearing_Fz"][:n_dir]] = force
-        if self.tower:
-            out["tower_y"] = mats.static_q[0] + x[:, 0]
-        out.attrs.update(static_eccentricity=mats.static_ecc, output_step=h,
-                         linearisation_error=self._linearisation_error(p, mats, ecc))
+        if op.tower_row is not None:
+            out["tower_y"] = lin.q0[op.system.index("tower.y")] + x[:, :nz] @ op.tower_row
+        out.attrs.update(static_eccentricity=op.static_ecc, output_step=h,
+                         linearisation_error=self._linearisation_error(p, op.static_ecc, ecc))
         return out
 
-    def _linearisation_error(self, p: Mapping[str, float], mats: Matrices, ecc: NDArray[np.float64]) -> float:
+    def _linearisation_error(self, p: Mapping[str, float], static_ecc: NDArray[np.float64],
+                             ecc: NDArray[np.float64]) -> float:
         """|F_mag(e_peak) - linearised F_mag(e_peak)| over the bearing force there."""
         if not self.magnetic:
             return 0.0
         gen = self._gen(p)
-        i = int(np.argmax(np.linalg.norm(ecc - mats.static_ecc, axis=1)))
-        de = ecc[i] - mats.static_ecc
-        exact = self._pull(ecc[i], gen) - self._pull(mats.static_ecc, gen)
-        lin = self._pull_stiffness(mats.static_ecc, gen) @ de
+        i = int(np.argmax(np.linalg.norm(ecc - static_ecc, axis=1)))
+        de = ecc[i] - static_ecc
+        exact = self._pull(ecc[i], gen) - self._pull(static_ecc, gen)
+        lin = self._pull_stiffness(static_ecc, gen) @ de
         return float(np.linalg.norm(exact - lin) / (2 * p["bearing_stiffness"] * np.linalg.norm(ecc[i])))
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
