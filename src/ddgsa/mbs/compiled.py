@@ -31,6 +31,7 @@ from ddgsa.mbs.bodies import FlexibleBody, PrescribedBody
 from ddgsa.mbs.constraints import GearContact, PrescribedSpeed, Spherical, TransverseBearing
 from ddgsa.mbs.elements import AppliedLoad, Series, TorqueLaw, _Connector
 from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rotation
+from ddgsa.mbs.ffr import cross as _cross
 
 Array = NDArray[np.float64]
 
@@ -238,15 +239,6 @@ def _series(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t, deriv):  # pragma: no cov
             out[c] = (c1 + s * (2.0 * c2 + 3.0 * s * c3)) / dt
         else:
             out[c] = c0 + s * (c1 + s * (c2 + s * c3))
-    return out
-
-
-@njit(cache=True)
-def _cross(a, b):  # pragma: no cover (compiled)
-    out = np.empty(3)
-    out[0] = a[1] * b[2] - a[2] * b[1]
-    out[1] = a[2] * b[0] - a[0] * b[2]
-    out[2] = a[0] * b[1] - a[1] * b[0]
     return out
 
 
