@@ -17,6 +17,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
@@ -284,9 +285,16 @@ def plot_heatmap(rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None)
     params = sorted(rows["parameter"].unique())
     fig, axes = plt.subplots(1, len(outputs), figsize=(2.4 * len(outputs) + 3.0, 0.3 * len(params) + 2.2),
                              squeeze=False, sharey=True, layout="constrained")
+    hatched = False
     for ax, out in zip(axes[0], outputs):
         t = rows[rows["output"] == out].pivot(index="parameter", columns="scene", values="ST").reindex(params)
         im = ax.imshow(t.to_numpy(float), vmin=0, vmax=1, cmap="viridis", aspect="auto")
+        ok = (rows[rows["output"] == out].pivot(index="parameter", columns="scene", values="trusted")
+              .reindex(params).fillna(False).to_numpy(bool) if "trusted" in rows else np.ones(t.shape, bool))
+        for i, j in zip(*np.nonzero(~ok)):
+            ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, hatch="///", edgecolor="white",
+                                   linewidth=0, label="untrusted"))
+            hatched = True
         labels = [f"{rows[rows['scene'] == s]['wind_speed'].iloc[0]:g} m/s" for s in t.columns]
         ax.set_xticks(range(t.shape[1]), labels, rotation=45, ha="right", fontsize=7)
         ax.set_yticks(range(len(params)), params, fontsize=7)
@@ -294,7 +302,9 @@ def plot_heatmap(rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None)
         o = (info or {}).get(out, declared(out))
         ax.set_title(f"{o}\n[{o.unit}]" if o.unit else str(o), fontsize=8)
     fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, label="ST [-]")
-    fig.suptitle(f"total Sobol index per scene ({rows['method'].iloc[0]})", fontsize=9)
+    fig.suptitle(f"total Sobol index per scene ({rows['method'].iloc[0]})"
+                 + ("; hatched: untrusted (not within the tolerance by the method's own estimate)" if hatched else ""),
+                 fontsize=9)
     return fig
 
 

@@ -176,3 +176,18 @@ def test_pngs_carry_no_software_metadata_and_repeat_byte_for_byte(tmp_path: Path
         fig.savefig(tmp_path / f"{k}.png", dpi=100, bbox_inches="tight", metadata=PNG_METADATA)
         blobs.append((tmp_path / f"{k}.png").read_bytes())
     assert blobs[0] == blobs[1] and b"matplotlib" not in blobs[0]
+
+
+def test_heatmap_hatches_exactly_the_untrusted_cells() -> None:
+    """A cell whose row is untrusted is hatched and the title says what hatching means; a map with
+    every row trusted has no hatching and no such words."""
+    rows = pd.DataFrame([{"scene": s, "wind_speed": w, "output": "rms_deflection_hub", "method": "mdrm",
+                          "parameter": p, "ST": 0.3, "trusted": not (s == 1 and p == "b")}
+                         for s, w in enumerate((6.0, 11.0)) for p in ("a", "b", "c")])
+    fig = plot_heatmap(rows)
+    patches = [p for ax in fig.axes for p in ax.patches if p.get_hatch()]
+    assert len(patches) == 1 and patches[0].get_xy() == (0.5, 0.5)       # scene column 1, parameter row 1
+    assert "hatched: untrusted" in fig._suptitle.get_text()
+    fig = plot_heatmap(rows.assign(trusted=True))
+    assert not [p for ax in fig.axes for p in ax.patches if p.get_hatch()]
+    assert "hatched" not in fig._suptitle.get_text()
