@@ -36,13 +36,22 @@ class Toy(Model):
 
 
 @pytest.mark.parametrize("name, options", [("direct_drive", {"fidelity": "rigid"}), ("analytic", {}),
-                                           ("generator_radial", {}), ("generator_radial", {"config": "tower_torsion"})])
+                                           ("generator_radial", {}), ("generator_radial", {"config": "tower_torsion"}),
+                                           ("fault_shift", {}), ("hss_rig", {}), ("indirect_drive", {})])
 def test_every_output_has_a_unit_a_meaning_and_a_range(name: str, options: dict[str, str]) -> None:
     model = get(name, **options)
     for out in model.outputs:
         decl = model.output(out)
         assert isinstance(out, str) and decl.unit and len(decl.description) > 10 and decl.low < decl.high
     assert list(model.output_table()["name"]) == [str(o) for o in model.outputs]
+
+
+def test_every_registered_model_is_in_the_declaration_test() -> None:
+    """A new model joins the parametrised test above (so its outputs get units and meanings)."""
+    from ddgsa.models import available
+
+    assert set(available()) == {"direct_drive", "analytic", "generator_radial", "fault_shift", "hss_rig",
+                                "indirect_drive"}
 
 
 def test_direct_drive_units_follow_the_design_names() -> None:

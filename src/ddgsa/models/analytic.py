@@ -76,7 +76,9 @@ class FaultShift(Model):
     parameters = (ModelParameter("fault", 0.0, "-", "fault size (shift)", -1e3, 1e3),
                   *(ModelParameter(f"x{i}", 0.0, "-", f"spread of sensor {i}", -math.inf, math.inf)
                     for i in (1, 2)))
-    outputs = ("full", "half_1", "half_2")
+    outputs = (ModelOutput("full", "-", "x1 plus the whole fault shift (a sensor that sees all of it)", -100.0, 100.0),
+               ModelOutput("half_1", "-", "x1 plus half the fault shift (first half-sensor)", -100.0, 100.0),
+               ModelOutput("half_2", "-", "x2 plus half the fault shift (second half-sensor)", -100.0, 100.0))
     fidelities = ("exact",)
 
     def __init__(self, fidelity: str = "exact") -> None:

@@ -50,7 +50,7 @@ import pandas as pd
 from ddgsa.errors import ModelError, SceneError
 from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
 from ddgsa.mbs.modal import modal_analysis
-from ddgsa.models.base import Model, register_model
+from ddgsa.models.base import Model, ModelOutput, register_model
 from ddgsa.models.hss_rig.bearing import defect_impulses
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
                                         steady_flux, steady_speed)
@@ -66,9 +66,30 @@ SENSORS = ACCELEROMETERS + PROBES + ("motor_torque", "motor_current")
 NOISE = {"housing": 0.05, "disk": 1e-6, "motor_torque": 0.05, "motor_current": 0.02}
 """Standard deviation of the measurement noise per sensor kind [m/s^2, m, N m, A] (assumption:
 industrial ICP accelerometers, eddy-current probes, a torque transducer and a current clamp)."""
-OUTPUTS = tuple(f"{k}_{s}" for k in ("rms", "peak", "order1x", "order2x") for s in SENSORS) + tuple(
-    f"{k}_{s}" for k in ("bpfo", "bpfi") for s in ACCELEROMETERS) + (
-    "torque_2f", "current_line", "current_sideband_1x", "current_sideband_2s", "mean_speed_rpm")
+_SENSOR_UNIT = {"housing": ("m/s^2", 1e3), "disk": ("m", 1e-2), "motor_torque": ("N m", 1e3),
+                "motor_current": ("A", 200.0)}
+"""Unit and plausible upper bound of a sensor kind (a lab-scale rig: a 3-hp motor, mm-scale shaft motion)."""
+_KINDS = {"rms": "RMS about the record's mean", "peak": "peak about the record's mean",
+          "order1x": "1x order amplitude (order tracking)", "order2x": "2x order amplitude (order tracking)"}
+
+
+def _sensor_unit(sensor: str) -> tuple[str, float]:
+    return next(v for k, v in _SENSOR_UNIT.items() if sensor.startswith(k))
+
+
+OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {s}", 0.0, _sensor_unit(s)[1])
+                for k, what in _KINDS.items() for s in SENSORS) + tuple(
+    ModelOutput(f"{k}_{s}", "m^2/s^4", f"{k.upper()} band energy of {s}: mean square in +-0.25 orders around the "
+                "first three ball-pass orders of the 6205", 0.0, 1e6)
+    for k in ("bpfo", "bpfi") for s in ACCELEROMETERS) + (
+    ModelOutput("torque_2f", "N m", "motor air-gap torque at twice the supply frequency (supply unbalance)",
+                0.0, 1e3),
+    ModelOutput("current_line", "A", "phase current at the supply frequency", 0.0, 200.0),
+    ModelOutput("current_sideband_1x", "A", "mean phase current at f -+ f_r (mechanical 1x load modulation)",
+                0.0, 200.0),
+    ModelOutput("current_sideband_2s", "A", "mean phase current at f (1 -+ 2 s) (broken-bar band; leakage here)",
+                0.0, 200.0),
+    ModelOutput("mean_speed_rpm", "rpm", "mean shaft speed over the analysed record", 0.0, 4000.0))
 SAMPLES_PER_REV = 128
 """Angle-domain resampling of order tracking (orders up to 64)."""
 POLE_PAIRS = 2

@@ -18,7 +18,7 @@ from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables
 from ddgsa.mbs.integrate import genalpha, reference
 from ddgsa.mbs.modal import modes as system_modes
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
-from ddgsa.models.base import Model, controller_row, register_model
+from ddgsa.models.base import Model, ModelOutput, controller_row, register_model
 from ddgsa.models.indirect_drive.assembly import FLEXIBLE_FIELDS, Assembly, build, spin_inertia
 from ddgsa.models.indirect_drive.linear import linear_response, operating_state
 from ddgsa.models.indirect_drive.outputs import (bearing_outputs, constraint_drift, gear_force_outputs,
@@ -28,12 +28,33 @@ from ddgsa.models.indirect_drive.series import TRANSVERSE, time_series
 
 Array = NDArray[np.float64]
 
-HOUSING_OUTPUTS = tuple(f"housing_{c}_{s}" for c in ("dx", "dy", "dz", "rx", "ry", "rz")
-                        for s in ("mean", "rms", "p2p"))
-OUTPUTS = (*HOUSING_OUTPUTS, "gear_force_mean", "gear_force_rms", "gear_force_del",
-           *(o for b in BEARINGS for o in (f"damage_{b}", f"{b}_Fr_mean", f"{b}_Fa_mean")
-             if not (b in TRANSVERSE and o.endswith("_Fa_mean"))),        # transverse bearings carry no Fa
-           "housing_torque_mean", "housing_torque_rms", "position_drift", "gear_drift")
+_COMPONENT = {"d": ("m", 0.1, "displacement"), "r": ("rad", 0.1, "rotation")}
+_STAT = {"mean": "mean", "rms": "RMS about the mean", "p2p": "peak-to-peak"}
+HOUSING_OUTPUTS = tuple(
+    ModelOutput(f"housing_{c}{a}_{st}", _COMPONENT[c][0], f"{what} of the housing point's {_COMPONENT[c][2]} "
+                f"along/about {a} (bedplate frame)", -_COMPONENT[c][1] if st == "mean" else 0.0, _COMPONENT[c][1])
+    for c in ("d", "r") for a in ("x", "y", "z") for st, what in _STAT.items())
+
+
+def _bearing_outputs(b: str) -> tuple[ModelOutput, ...]:
+    out = (ModelOutput(f"damage_{b}", "1/s", f"{b} bearing damage rate (Palmgren-Miner, as the direct drive)",
+                       0.0, 1e-6),
+           ModelOutput(f"{b}_Fr_mean", "N", f"{b} bearing mean radial force", 0.0, 1e8))
+    return out if b in TRANSVERSE else (*out, ModelOutput(f"{b}_Fa_mean", "N", f"{b} bearing mean axial force",
+                                                          -1e8, 1e8))   # transverse bearings carry no Fa
+
+
+OUTPUTS = (*HOUSING_OUTPUTS,
+           ModelOutput("gear_force_mean", "N", "mean tooth (line-of-action) force of the gear mesh", 0.0, 1e8),
+           ModelOutput("gear_force_rms", "N", "RMS of the tooth force about its mean", 0.0, 1e8),
+           ModelOutput("gear_force_del", "N", "damage-equivalent tooth-force range (rainflow, 1 Hz, Woehler exponent 8.7)",
+                       0.0, 1e8),
+           *(o for b in BEARINGS for o in _bearing_outputs(b)),
+           ModelOutput("housing_torque_mean", "N m", "mean reaction torque of the torque-arm mounts on the housing",
+                       -1e8, 1e8),
+           ModelOutput("housing_torque_rms", "N m", "RMS of that reaction torque about its mean", 0.0, 1e8),
+           ModelOutput("position_drift", "m", "largest position-level constraint violation over the run", 0.0, 1e-6),
+           ModelOutput("gear_drift", "m/s", "largest violation of the eq. 2.4 gear velocity constraint", 0.0, 1e-6))
 #: default housing point: the upwind top corner on the +Y side of the 2.0 x 2.5 x 2.5 m housing,
 #: housing frame relative to its centre of mass [m]
 HOUSING_POINT = (-1.0, 1.25, 1.25)
