@@ -90,8 +90,11 @@ def test_import_ddgsa_then_models_get_in_a_fresh_interpreter() -> None:
 
 
 def _start_slow_run(study: Path, out: Path) -> subprocess.Popen[bytes]:
+    # the child starts with SIGINT at its default, as from a terminal: an earlier test (a Dask or loky
+    # pool) can leave the test process ignoring SIGINT, and an ignored SIGINT is inherited
     proc = subprocess.Popen([sys.executable, "-m", "ddgsa.cli", "-q", "run", str(study), "--out", str(out),
-                             "--allow-untrusted"], env=_env(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+                             "--allow-untrusted"], env=_env(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     store = out / "evaluations.sqlite"
     deadline = time.time() + 90
     while not store.exists() and time.time() < deadline:          # the store exists once the lock is held
