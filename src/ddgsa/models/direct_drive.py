@@ -69,6 +69,7 @@ from ddgsa.mbs.linear import linearise_spinning, simulate_lti
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
 from ddgsa.mbs.system import SystemArrays, evaluate_terms, integrate, integrate_reference, single_body_arrays
 from ddgsa.models.base import Model, ModelOutput, ModelParameter, controller_row, register_model
+from ddgsa.objectives import damage_rate
 
 GRAVITY = 9.81
 TILT_DEG = 4.0
@@ -186,22 +187,6 @@ def assemble(p: Mapping[str, float], fields: tuple[str, ...]) -> Assembly:
                     gravity=(GRAVITY * math.sin(tau), 0.0, -GRAVITY * math.cos(tau)))
     return Assembly(single_body_arrays(system), fields, hub.markers[0].shapes.copy(),
                     generator.markers[0].shapes.copy(), length)
-
-
-def equivalent_load(fr: NDArray[np.float64], fa: NDArray[np.float64], rule: str) -> NDArray[np.float64]:
-    """Equivalent dynamic bearing load P [N] from radial ``fr`` and axial ``fa`` forces [N]."""
-    if rule == "seed":
-        return 2.5 * fr + 3.7 * fa                                    # seed 000 eq. (29)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        low_axial = fa <= 0.27 * fr
-    return np.where(low_axial, fr + 2.5 * fa, 0.67 * fr + 3.7 * fa)  # ISO 281 spherical roller
-
-
-def damage_rate(fr: NDArray[np.float64], fa: NDArray[np.float64], speed: NDArray[np.float64], rating: float,
-                rule: str) -> float:
-    """Palmgren-Miner damage rate [1/s]: mean of ``(w / 2 pi) (P / C)^(10/3) / 1e6``."""
-    p = equivalent_load(fr, fa, rule)
-    return float(np.mean(np.abs(speed) / (2 * np.pi) * (p / rating) ** (10.0 / 3.0)) / 1e6)
 
 
 @register_model("direct_drive")
