@@ -106,11 +106,17 @@ def evaluation_line(provenance: dict[str, Any]) -> str:
 
 def problems(result: StudyResult) -> list[str]:
     """What makes the run's answer incomplete: an output with no trusted method in some scene
-    (its indices refused or untrusted), failed sweep evaluations. Empty when all is well."""
+    (its indices refused or untrusted; an output that is constant there -- zero spread in the
+    study's sample -- has nothing to rank and is not counted), failed sweep evaluations. Empty
+    when all is well."""
     out = []
     if len(result.indices):
         ok = result.indices.groupby(["output", "scene", "method"], sort=False)["trusted"].all()
         any_ok = ok.groupby(level=["output", "scene"], sort=False).any()
+        mom = result.moments
+        if mom is not None and len(mom):     # a constant output has no sensitivity to rank: not a problem
+            constant = mom[(mom["std"] == 0) & (mom["mean"].notna())].set_index(["output", "scene"]).index
+            any_ok[any_ok.index.isin(constant)] = True
         for output, g in any_ok[~any_ok].groupby(level="output", sort=False):
             scenes = [int(s) for _, s in g.index]
             d = result.diagnostics

@@ -191,3 +191,21 @@ def test_heatmap_hatches_exactly_the_untrusted_cells() -> None:
     fig = plot_heatmap(rows.assign(trusted=True))
     assert not [p for ax in fig.axes for p in ax.patches if p.get_hatch()]
     assert "hatched" not in fig._suptitle.get_text()
+
+
+def test_a_constant_output_is_not_a_problem_but_an_untrusted_varying_one_is() -> None:
+    """The direct drive's rear_Fa_mean is 0 at every point (the rear bearing carries no axial
+    load), so M-DRM refuses its indices (0/0); that alone must not turn a run into exit 3."""
+    from types import SimpleNamespace
+
+    from ddgsa.report import problems
+
+    idx = pd.DataFrame({"output": ["flat", "flat", "wavy", "wavy"], "scene": 0, "method": "mdrm",
+                        "parameter": ["a", "b", "a", "b"], "trusted": False})
+    diags = pd.DataFrame({"output": ["flat", "wavy"], "scene": 0, "severity": "untrusted",
+                          "name": ["mdrm_zero_variance", "mdrm_index_error"]})
+    mom = pd.DataFrame({"scene": [0, 0], "output": ["flat", "wavy"], "mean": [0.0, 1.0], "std": [0.0, 0.3]})
+    res = SimpleNamespace(indices=idx, diagnostics=diags, moments=mom, sweep=None)
+    assert problems(res) == ["output 'wavy': no method's indices are trusted in scene 0 (mdrm_index_error)"]
+    res.moments = mom.assign(std=[1e-3, 0.3])                            # varies a little: counted
+    assert len(problems(res)) == 2
