@@ -220,8 +220,14 @@ def simulate_lti(lin: LinearSystem, u: NDArray[np.float64], dt: float,
     """
     a, bw = state_matrices(lin)
     w = np.column_stack([u - lin.u0, np.ones(len(u))])
-    dp0 = np.linalg.lstsq(lin.k, lin.b @ w[0, :-1] + lin.r0, rcond=None)[0]
-    return lti_response(a, bw, w, dt, np.concatenate([dp0, np.zeros(lin.m.shape[0])]), c_out=c_out)
+    return lti_response(a, bw, w, dt, initial_state(lin, w[0]), c_out=c_out)
+
+
+def initial_state(lin: LinearSystem, w0: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``x0 = [dp0, 0]``: the quasi-static state ``K dp0 = B du0 + r0`` for the first input sample
+    ``w0 = [du0, 1]``."""
+    dp0 = np.linalg.lstsq(lin.k, lin.b @ w0[:-1] + lin.r0, rcond=None)[0]
+    return np.concatenate([dp0, np.zeros(lin.m.shape[0])])
 
 
 def _window_gains(gains: list[NDArray[np.float64]], m: int, n_sub: int) -> NDArray[np.float64]:
@@ -242,7 +248,7 @@ def _drive(w: NDArray[np.float64], gains: list[NDArray[np.float64]], n_sub: int,
     """Drive rows ((n_t - 1) n_sub + 1, .) of the recurrence, the last one zero; ``basis`` maps the
     state drive to other coordinates (``drive @ basis``)."""
     n = w.shape[0] - 1
-    window = sliding_window_view(_padded(w), 4, axis=0)[:n].reshape(n, -1)     # (n, 4 k), channel-major
+    window = input_window(w)
     h0 = _window_gains(gains, 0, n_sub)
     width = h0.shape[1] if basis is None else basis.shape[1]
     drive = np.zeros((n * n_sub + 1, width))
@@ -265,16 +271,96 @@ def lti_response(a: NDArray[np.float64], bw: NDArray[np.float64], w: NDArray[np.
     """
     phi, gains = discretise_cubic(a, bw, dt / n_sub)
     c_out = np.eye(a.shape[0]) if c_out is None else np.asarray(c_out, dtype=float)
+    basis = modal_basis(a)
+    if basis is None:
+        return _recurrence(phi, _drive(w, gains, n_sub), x0) @ c_out.T
+    lam, vec, vinv = basis
+    drive = _drive(w, gains, n_sub, np.hstack([vinv.real.T, vinv.imag.T]))     # [Re | Im] of the modal drive
+    z = _modal_recurrence(np.exp(lam * dt / n_sub), drive, vinv @ x0)          # [Re | Im] of z
+    return z @ modal_output_matrix(vec, lam, c_out)
+
+
+def modal_basis(a: NDArray[np.float64]) -> tuple[NDArray[np.complex128], NDArray[np.complex128],
+                                                  NDArray[np.complex128]] | None:
+    """Eigenvalues, eigenvectors (ns, m) and the matching rows of the inverse (m, ns) of ``A``,
+    one mode of each conjugate pair and every real one; None when the eigenvector matrix is too
+    ill-conditioned to step in modal coordinates (:data:`MAX_MODAL_CONDITION`)."""
     lam, vec = np.linalg.eig(a)
     if np.linalg.cond(vec) > MAX_MODAL_CONDITION:
-        return _recurrence(phi, _drive(w, gains, n_sub), x0) @ c_out.T
-    keep = lam.imag >= 0.0                              # one mode of each conjugate pair, all real ones
-    vinv = np.linalg.inv(vec)[keep]
-    weight = np.where(lam[keep].imag > 0.0, 2.0, 1.0)   # x = sum_real v z + sum_pairs 2 Re(v z)
-    drive = _drive(w, gains, n_sub, np.hstack([vinv.real.T, vinv.imag.T]))     # [Re | Im] of the modal drive
-    z = _modal_recurrence(np.exp(lam[keep] * dt / n_sub), drive, vinv @ x0)     # [Re | Im] of z
-    cm = (c_out @ vec[:, keep]) * weight                                       # (n_out, nk)
-    return z @ np.vstack([cm.real.T, -cm.imag.T])
+        return None
+    keep = lam.imag >= 0.0
+    return lam[keep], vec[:, keep], np.linalg.inv(vec)[keep]
+
+
+def modal_output_matrix(vec: NDArray[np.complex128], lam: NDArray[np.complex128],
+                        c_out: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``(2 m, n_out)``: outputs ``c_out x`` from ``[Re z | Im z]`` (``x = sum_real v z +
+    sum_pairs 2 Re(v z)``)."""
+    cm = (c_out @ vec) * np.where(lam.imag > 0.0, 2.0, 1.0)
+    return np.vstack([cm.real.T, -cm.imag.T])
+
+
+@dataclass(frozen=True)
+class ModalStep:
+    """The exact one-sample step of ``x_dot = A x + B_w w(t)`` in modal coordinates, for inputs
+    given as windows of their four samples around each interval (:func:`input_window`).
+
+    ``z[k+1] = mu z[k] + window[k] @ taps`` (``z`` as ``[Re | Im]``), ``x = V z``.
+
+    Attributes
+    ----------
+    mu : (m,) complex
+        ``exp(lambda dt)`` of the kept modes.
+    taps : (4 k, 2 m)
+        Drive of ``[Re z | Im z]`` from the input window (channel-major, :func:`_window_gains`).
+    vec, vinv : (ns, m), (m, ns) complex
+        Kept eigenvectors and the matching rows of the inverse.
+    lam : (m,) complex
+        Kept eigenvalues [1/s].
+    """
+
+    mu: NDArray[np.complex128]
+    taps: NDArray[np.float64]
+    vec: NDArray[np.complex128]
+    vinv: NDArray[np.complex128]
+    lam: NDArray[np.complex128]
+
+    def outputs(self, window: NDArray[np.float64], x0: NDArray[np.float64], out: NDArray[np.float64],
+                channel_map: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+        """Outputs (n_t, n_out) from the input ``window`` (n_t - 1, 4 k) (:func:`input_window`), the
+        initial state ``x0`` and the output matrix ``out`` (2 m, n_out) of :func:`modal_output_matrix`.
+
+        With ``channel_map`` (k_c, k) the window is that of channels ``c`` (n_t, k_c) with inputs
+        ``w = c @ channel_map``: the taps are mapped instead of the samples, so inputs that are
+        linear in channels shared by many systems need one window for all.
+        """
+        taps = self.taps
+        if channel_map is not None:
+            k = channel_map.shape[1]
+            taps = np.einsum("dc,clm->dlm", channel_map, taps.reshape(k, 4, -1)).reshape(-1, taps.shape[1])
+        drive = np.empty((window.shape[0] + 1, taps.shape[1]))
+        np.matmul(window, taps, out=drive[:-1])
+        drive[-1] = 0.0
+        return _modal_recurrence(self.mu, drive, self.vinv @ x0) @ out
+
+
+def modal_step(a: NDArray[np.float64], bw: NDArray[np.float64], dt: float) -> ModalStep | None:
+    """:class:`ModalStep` of ``x_dot = A x + B_w w`` for the sample interval ``dt`` [s] (inputs the C1
+    cubic of their samples, as :func:`lti_response`); None where :func:`modal_basis` refuses."""
+    basis = modal_basis(a)
+    if basis is None:
+        return None
+    lam, vec, vinv = basis
+    _, gains = discretise_cubic(a, bw, dt)
+    taps = _window_gains(gains, 0, 1) @ np.hstack([vinv.real.T, vinv.imag.T])
+    return ModalStep(np.exp(lam * dt), taps, vec, vinv, lam)
+
+
+def input_window(w: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``(n_t - 1, 4 k)``: the four samples around each interval of ``w`` (n_t, k), channel-major
+    (end samples repeated), the rows :attr:`ModalStep.taps` multiplies."""
+    n = w.shape[0] - 1
+    return sliding_window_view(_padded(w), 4, axis=0)[:n].reshape(n, -1)
 
 
 @njit(cache=True)
