@@ -341,7 +341,8 @@ class ModalStep:
         drive = np.empty((window.shape[0] + 1, taps.shape[1]))
         np.matmul(window, taps, out=drive[:-1])
         drive[-1] = 0.0
-        return _modal_recurrence(self.mu, drive, self.vinv @ x0) @ out
+        z = _modal_recurrence(self.mu, drive, self.vinv @ x0)
+        return (out.T @ z.T).T           # column-major (n_t, n_out): each output's series contiguous
 
 
 def modal_step(a: NDArray[np.float64], bw: NDArray[np.float64], dt: float) -> ModalStep | None:
