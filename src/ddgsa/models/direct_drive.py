@@ -353,7 +353,7 @@ class DirectDrive(Model):
         names: list[str] = []
         if self.fidelity == "linear":
             res = self._linear_response(asm, q_st, p, inputs, scene.dt, states)
-            ends = res["ends"]
+            ends, bearings = res["ends"], res["spring_forces"]
         else:
             q0 = self.static(asm, forces[0], moments[0], q_guess=q_st)      # start at rest under the first loads
             qd0 = np.zeros_like(q0)
@@ -369,13 +369,14 @@ class DirectDrive(Model):
                                    f"(step {self.time_step} s)")
             ends = np.hstack([end_positions(res["q"], asm.hub_s, 0.0), end_positions(res["q"], asm.gen_s, asm.length)
                               - np.array([asm.length, 0.0, 0.0])])
+            bearings = [res["spring_forces"][:, b, :] for b in range(2)]
         if "q" in res:
             blocks.append(res["q"])
             names += list(self.coordinate_names)
         blocks += [res["speed"][:, None] if "speed" in res else res["qd"][:, 3:4], ends]
         names += ["rotor_speed", "hub_dx", "hub_dy", "hub_dz", "gen_dx", "gen_dy", "gen_dz"]
         for b, name in enumerate(("front", "rear")):
-            blocks.append(res["spring_forces"][b])
+            blocks.append(bearings[b])
             names += [f"{name}_Fx", f"{name}_Fy", f"{name}_Fz"]
         blocks += [res["torque"][:, None], forces, moments]
         names += ["gen_torque", "Fx", "Fy", "Fz", "Mx", "My", "Mz"]
