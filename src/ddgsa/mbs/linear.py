@@ -78,7 +78,7 @@ def _rot_pairs(xi, iy, iz):  # pragma: no cover (compiled)
 
 @njit(cache=True)
 def _residual_and_springs(p, v, a, u, iy, iz, sys):  # pragma: no cover (compiled)
-    """``M q_ddot - Q`` and the spring forces at a non-rotating state (spin angle 0).
+    """``M q_ddot - Q``, the spring forces and ``M`` at a non-rotating state (spin angle 0).
 
     Body coordinates from the non-rotating ones: ``q_f = xi``, ``q_f_dot = xi_dot - w J xi``,
     ``q_f_ddot = xi_ddot - 2 w J xi_dot - w_dot J xi + w^2 J J xi``.
@@ -98,7 +98,7 @@ def _residual_and_springs(p, v, a, u, iy, iz, sys):  # pragma: no cover (compile
     qdd[6:] = a[6:] - 2.0 * w * jxid - wd * jxi + w * w * jjxi
     zero = np.zeros(3)
     m, f, _, _, fs, _ = terms(q, qd, u[0:3], u[3:6], u[6], 0.0, zero, zero, *sys)
-    return m @ qdd - f, fs.ravel().copy()
+    return m @ qdd - f, fs.ravel().copy(), m
 
 
 @njit(cache=True)
@@ -153,10 +153,14 @@ def linearise_spinning(sys: SystemArrays, p0: NDArray[np.float64], spin: float, 
     iy = np.array([i for i, _ in pairs], dtype=np.int64)
     iz = np.array([j for _, j in pairs], dtype=np.int64)
     args = sys.args()
-    r_base, y0 = _residual_and_springs(p0, v0, a0, u0, iy, iz, args)
-    jac = [_central_columns(p0, v0, a0, u0, w, s, rel_step, iy, iz, y0.size, args)
-           for w, s in ((0, 1e-3), (1, 1e-3), (2, 1.0), (3, 1.0))]
-    lin = LinearSystem(m=jac[2][0], c=jac[1][0], k=jac[0][0], b=-jac[3][0], r0=-r_base, p0=p0, v0=v0, u0=u0)
+    r_base, y0, m = _residual_and_springs(p0, v0, a0, u0, iy, iz, args)
+    jac = {w: _central_columns(p0, v0, a0, u0, w, s, rel_step, iy, iz, y0.size, args)
+           for w, s in ((0, 1e-3), (1, 1e-3), (3, 1.0))}
+    # the residual is linear in the accelerations: d/da = M d(q_ddot)/da, exactly, where the spin
+    # acceleration (a[3]) enters the body's elastic accelerations as -J xi
+    m_a = m.copy()
+    m_a[:, 3] -= m[:, 6:] @ _rot_pairs(p0[5:], iy, iz)
+    lin = LinearSystem(m=m_a, c=jac[1][0], k=jac[0][0], b=-jac[3][0], r0=-r_base, p0=p0, v0=v0, u0=u0)
     return lin, LinearOutputs(y0=y0, d_p=jac[0][1], d_v=jac[1][1], d_u=jac[3][1])
 
 
