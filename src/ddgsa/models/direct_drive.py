@@ -339,14 +339,16 @@ class DirectDrive(Model):
         skip the coordinate columns (the objective functions do not read them)."""
         asm = assemble(p, self.fields)
         inputs = self._scene_inputs(scene)
-        u = inputs.channels @ input_map(p)
+        to_u = input_map(p)
+        u = inputs.channels @ to_u
         forces, moments, w_set = u[:, 0:3], u[:, 3:6], u[:, 6]
         n_sub = max(1, int(round(scene.dt / self.time_step)))
         if abs(n_sub * self.time_step - scene.dt) > 1e-9 * scene.dt:
             raise ModelError(f"time_step {self.time_step} s must divide the scene's dt {scene.dt} s")
         # the quasi-static state under the mean loads: the reference of the deflection objectives
         # and the linear fidelity's operating point
-        q_st = self.static(asm, forces.mean(axis=0), moments.mean(axis=0))
+        u0 = inputs.mean @ to_u
+        q_st = self.static(asm, u0[0:3], u0[3:6])
         static_hub = end_positions(q_st[None, :], asm.hub_s, 0.0)[0]
         static_gen = end_positions(q_st[None, :], asm.gen_s, asm.length)[0]
         blocks: list[NDArray[np.float64]] = []
