@@ -107,16 +107,24 @@ def _scatter(elements: NDArray[np.float64], dofs_per_node: int, n_nodes: int) ->
     return out
 
 
+_K_HERMITE = np.array([[[12, 0, -12, 0], [0, 0, 0, 0], [-12, 0, 12, 0], [0, 0, 0, 0]],
+                       [[0, 6, 0, 6], [6, 0, -6, 0], [0, -6, 0, -6], [6, 0, -6, 0]],
+                       [[0, 0, 0, 0], [0, 4, 0, 2], [0, 0, 0, 0], [0, 2, 0, 4]]], dtype=float)
+_M_HERMITE = np.array([[[156, 0, 54, 0], [0, 0, 0, 0], [54, 0, 156, 0], [0, 0, 0, 0]],
+                       [[0, 22, 0, -13], [22, 0, 13, 0], [0, 13, 0, -22], [-13, 0, -22, 0]],
+                       [[0, 0, 0, 0], [0, 4, 0, -3], [0, 0, 0, 0], [0, -3, 0, 4]]], dtype=float)
+"""Euler-Bernoulli Hermite element (nodal w, w'): stiffness ``EI / le^3 [[12, 6 le, -12, 6 le], ...]`` and
+consistent mass ``rho A le / 420 [[156, 22 le, 54, -13 le], ...]``, split by powers of ``le``."""
+
+
 def bending_matrices(spec: BeamSpec) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Global bending stiffness and consistent mass (nodal w, w'), end inertias included."""
     n = spec.n_elements + 1
     rho_a = spec.mass / spec.length
     le = np.diff(spec.x)[:, None, None]
-    one, l1, l2 = np.ones_like(le), le, le ** 2
-    k_e = spec.EI / le ** 3 * np.block([[12 * one, 6 * l1, -12 * one, 6 * l1], [6 * l1, 4 * l2, -6 * l1, 2 * l2],
-                                        [-12 * one, -6 * l1, 12 * one, -6 * l1], [6 * l1, 2 * l2, -6 * l1, 4 * l2]])
-    m_e = rho_a * le / 420 * np.block([[156 * one, 22 * l1, 54 * one, -13 * l1], [22 * l1, 4 * l2, 13 * l1, -3 * l2],
-                                       [54 * one, 13 * l1, 156 * one, -22 * l1], [-13 * l1, -3 * l2, -22 * l1, 4 * l2]])
+    # Hermite element matrices as powers of the element length: k_e = EI sum_p le^(p-3) K_p, m_e = rho A le / 420 sum_p le^p M_p
+    k_e = spec.EI * (_K_HERMITE[0] / le ** 3 + _K_HERMITE[1] / le ** 2 + _K_HERMITE[2] / le)
+    m_e = rho_a * le / 420 * (_M_HERMITE[0] + _M_HERMITE[1] * le + _M_HERMITE[2] * le ** 2)
     k, m = _scatter(k_e, 2, n), _scatter(m_e, 2, n)
     for x, mass, _, j_diam in spec.end_masses:
         i = spec.node_index(x)
