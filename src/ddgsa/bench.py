@@ -289,9 +289,11 @@ def _speed(ref_seconds: float, quick: bool, study: Path | None) -> dict[str, Any
                                     f"{st['cpu_s_all_processes'] / 2:.0f} s); {st['evaluations']} model runs, "
                                     f"fidelity {st['fidelity']}")
         measured["paper_c_memory"] = (st["peak_memory_gib"], "")
+        pilots = st["realisations_generated"] - st["realisations"]
         measured["loads_generations"] = (st["max_generations_per_realisation"],
-                                         f"{st['realisations_generated']} generated for {st['realisations']} "
-                                         "realisations")
+                                         f"{st['realisations_generated']} records generated, none twice: "
+                                         f"{st['realisations']} realisations"
+                                         + (f" and {pilots} shorter pilot records (fidelity: auto)" if pilots else ""))
     out["targets"] = [_verdict(key, what, goal, unit, higher, *measured.get(key, (None, "not measured")))
                       for key, what, goal, unit, higher in TARGETS]
     return out
