@@ -330,3 +330,25 @@ def test_modal_and_dense_lti_recurrences_agree(monkeypatch: pytest.MonkeyPatch) 
         monkeypatch.undo()
         assert modal.shape == dense.shape == ((len(w) - 1) * n_sub + 1, a.shape[0])
         assert np.all(np.abs(modal - dense) <= 1e-8 * np.abs(dense).max(axis=0)), np.abs(modal - dense).max()
+
+
+def test_modal_step_gains_are_the_integrals_of_the_cubic_input() -> None:
+    """:func:`ddgsa.mbs.linear._cubic_integrals` (closed form for ``|x| >= 1``, series below)
+    against adaptive quadrature on both sides of the switch, and the modal step's taps against the
+    matrix-exponential gains projected on the modes (the dense path's), on the direct drive's
+    system. Tolerances: 1e-13 relative (quadrature round-off), 1e-12 of the largest tap."""
+    from scipy.integrate import quad
+
+    import ddgsa.mbs.linear as linear
+
+    for x in (0.0, 1e-3, -0.02 + 0.3j, -0.999, 1.0, -1.2 + 3.0j, -5.0 + 60.0j):
+        got = linear._cubic_integrals(np.array([x]))[:, 0]
+        for j in range(4):
+            part = [quad(lambda s, f=f: f(np.exp(x * (1 - s)) * s ** j), 0.0, 1.0, epsabs=1e-14, epsrel=2e-14)[0]
+                    for f in (np.real, np.imag)]
+            assert abs(got[j] - complex(*part)) <= 1e-13 * abs(complex(*part)), (x, j)
+    _, (a, bw) = _standstill_linearisation()
+    step = linear.modal_step(a, bw, 0.05)
+    _, gains = linear.discretise_cubic(a, bw, 0.05)
+    dense = linear._window_gains(gains, 0, 1) @ np.hstack([step.vinv.real.T, step.vinv.imag.T])
+    assert np.abs(step.taps - dense).max() <= 1e-12 * np.abs(dense).max()

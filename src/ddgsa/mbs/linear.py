@@ -356,9 +356,35 @@ def modal_step(a: NDArray[np.float64], bw: NDArray[np.float64], dt: float) -> Mo
     if basis is None:
         return None
     lam, vec, vinv = basis
-    _, gains = discretise_cubic(a, bw, dt)
-    taps = _window_gains(gains, 0, 1) @ np.hstack([vinv.real.T, vinv.imag.T])
-    return ModalStep(np.exp(lam * dt), taps, vec, vinv, lam)
+    # per mode the cubic's gains are scalars: g_j = dt int_0^1 e^(lam dt (1-s)) s^j ds (no matrix exponential)
+    per_tap = dt * CATMULL_ROM.T @ _cubic_integrals(lam * dt)                # (4 taps, m)
+    modal_b = (vinv @ bw).T                                                  # (k, m)
+    taps = (modal_b[:, None, :] * per_tap[None, :, :]).reshape(-1, lam.size)  # rows 4 c + l, channel-major
+    return ModalStep(np.exp(lam * dt), np.hstack([taps.real, taps.imag]), vec, vinv, lam)
+
+
+def _cubic_integrals(x: NDArray[np.complex128]) -> NDArray[np.complex128]:
+    """``I_j(x) = int_0^1 e^(x (1-s)) s^j ds`` for j = 0..3, shape (4, len(x)).
+
+    ``|x| >= 1``: ``I_0 = (e^x - 1)/x``, ``I_j = (j I_(j-1) - 1)/x`` (by parts; round-off grows
+    by at most ``j/|x|`` a step); ``|x| < 1``: the series ``sum_n x^n j! / (j + n + 1)!`` (20 terms:
+    the last is below 1e-18 of the first)."""
+    x = np.asarray(x, dtype=complex)
+    out = np.empty((4, x.size), dtype=complex)
+    big = np.abs(x) >= 1.0
+    xb = x[big]
+    out[0, big] = np.expm1(xb) / xb
+    for j in range(1, 4):
+        out[j, big] = (j * out[j - 1, big] - 1.0) / xb
+    xs = x[~big][None, :]
+    j = np.arange(4.0)[:, None]
+    term = np.ones((4, xs.size), dtype=complex) / (j + 1)
+    total = term.copy()
+    for n in range(20):
+        term *= xs / (j + n + 2)
+        total += term
+    out[:, ~big] = total
+    return out
 
 
 def input_window(w: NDArray[np.float64]) -> NDArray[np.float64]:
