@@ -20,7 +20,10 @@ the response is stepped at the load interval in **modal coordinates** ``x = V z`
 state matrix, where the recurrence is one complex multiply per mode and step (a conjugate
 pair counted once) and only the requested outputs ``C x`` are formed; the dense
 ``x[k+1] = Phi x[k] + ...`` recurrence is kept for eigenvector bases too ill-conditioned to
-trust (:data:`MAX_MODAL_CONDITION`).
+trust (:data:`MAX_MODAL_CONDITION`). :func:`modal_step` gives the same step with each mode's
+cubic-input gains in closed form (no matrix exponential) and takes the inputs as windows of
+channels shared by many systems (a batch of parameter points of one scene), so that the drive of
+every point is one product with the same window.
 """
 
 from __future__ import annotations
