@@ -12,10 +12,11 @@ with positions ``p = [R, theta, psi, xi]`` (no spin angle), velocities
 ``v = [R_dot, phi_dot, theta_dot, psi_dot, xi_dot]`` and inputs ``u = [F (3), M (3), w_set]``:
 gyroscopic and Coriolis terms at the operating spin are in ``C``, centrifugal softening in
 ``K``; the spring-damper forces are linearised in the same pass (:class:`LinearOutputs`).
-:func:`simulate_lti` integrates the first-order form exactly for inputs cubic between
+:func:`lti_response` integrates the first-order form exactly for inputs cubic between
 samples (the integrators' C1 interpolation; one matrix exponential).
 
-Cost: the linearisation is one compiled call (``4 n + 7`` pairs of residual evaluations);
+Cost: the linearisation is one compiled call (``2 n + 6`` pairs of residual evaluations for
+``n`` velocities; the acceleration Jacobian is the mass matrix);
 the response is stepped at the load interval in **modal coordinates** ``x = V z`` of the
 state matrix, where the recurrence is one complex multiply per mode and step (a conjugate
 pair counted once) and only the requested outputs ``C x`` are formed; the dense
@@ -215,19 +216,6 @@ def catmull_rom_coefficients(w: NDArray[np.float64]) -> list[NDArray[np.float64]
     """Cubic coefficients ``c_0..c_3`` per interval (n_t - 1, k) of the C1 interpolant the integrators use."""
     wp, n = _padded(w), w.shape[0] - 1
     return [sum(CATMULL_ROM[j, l] * wp[l:l + n] for l in range(4)) for j in range(4)]
-
-
-def simulate_lti(lin: LinearSystem, u: NDArray[np.float64], dt: float,
-                 c_out: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
-    """Deviations ``x = [dp, dv]`` (or outputs ``c_out x``) for input samples ``u`` (n_t, 7) [SI].
-
-    Inputs between samples follow the same C1 cubic (Catmull-Rom) the nonlinear integrators
-    see, integrated exactly (:func:`discretise_cubic`). Starts from the quasi-static state of
-    the first sample (``K dp = B du0 + r0``, ``dv = 0``). Absolute states are ``p0 + dp``, ``v0 + dv``.
-    """
-    a, bw = state_matrices(lin)
-    w = np.column_stack([u - lin.u0, np.ones(len(u))])
-    return lti_response(a, bw, w, dt, initial_state(lin, w[0]), c_out=c_out)
 
 
 def initial_state(lin: LinearSystem, w0: NDArray[np.float64]) -> NDArray[np.float64]:
