@@ -33,7 +33,7 @@ from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.result import SobolResult
 from ddgsa.models import ImplausibleOutputWarning
 from ddgsa.models import get as get_model
-from ddgsa.models.auto import choose_fidelity
+from ddgsa.models.auto import choose_fidelity, pilot_scene
 from ddgsa.runner import EvaluationStore, Evaluator, ModelId, Outcome, Task, run_tasks, task_key
 from ddgsa.space import ParameterSpace
 from ddgsa.loads import cache as loads_cache
@@ -202,7 +202,8 @@ def select_fidelities(study: Study, runs: Runs) -> list[dict[str, Any]]:
     """``fidelity: auto``: per scene, the cheapest fidelity whose pilot outputs stay within tolerance.
 
     The pilot set is the nominal point plus ``model.auto.pilot`` scrambled-Sobol' points of the
-    space, in the first realisation of each scene, at every fidelity of the model. Errors are
+    space, in the first realisation of each scene (its seed, on a record of at most
+    :data:`ddgsa.models.auto.PILOT_DURATION_S`), at every fidelity of the model. Errors are
     the largest relative deviation over pilot points and study outputs from the richest
     fidelity (the model's first); cost is the model's deterministic cost model
     (:meth:`ddgsa.models.Model.fidelity_cost`), never measured time, so the choice is the same on
@@ -219,7 +220,7 @@ def select_fidelities(study: Study, runs: Runs) -> list[dict[str, Any]]:
     outputs = study.outputs
     tasks, plan = [], []
     for ps in plan_scenes(study):
-        scene = ps.scenes[0]
+        scene = pilot_scene(ps.scenes[0])
         for fid in fidelities:
             mid = model_id(study, fid)
             ts = [make_task(mid, scene, p) for p in pts]
@@ -235,7 +236,8 @@ def select_fidelities(study: Study, runs: Runs) -> list[dict[str, Any]]:
         values = {fid: np.array([[o.outputs[n] if o.outputs else np.nan for n in outputs] for o in table[fid]])
                   for fid in fidelities}
         costs = {fid: model.fidelity_cost(fid) for fid in fidelities}
-        entry = {"scene": ps.index, **ps.fields, **choose_fidelity(values, costs, outputs, auto.tolerance)}
+        entry = {"scene": ps.index, **ps.fields, **choose_fidelity(values, costs, outputs, auto.tolerance),
+                 "pilot_duration_s": pilot_scene(ps.scenes[0]).duration}
         entry.update({f"measured_s_per_eval_{fid}": round(float(np.mean([o.seconds for o in table[fid]])), 4)
                       for fid in fidelities})
         choices.append(entry)

@@ -148,7 +148,8 @@ def evaluate_batch(factory: ModelFactory, model: ModelId, scene: Mapping[str, An
     per_point = (time.perf_counter() - t0) / max(len(points), 1)
     failures = frame.attrs.get("failures", {})
     outcomes = []
-    for i, row in enumerate(frame.to_dict("records")):
+    names = list(frame.columns)
+    for i, row in enumerate(dict(zip(names, values)) for values in frame.to_numpy(dtype=float).tolist()):
         bad = [k for k, v in row.items() if not math.isfinite(v)]
         if i in failures:
             outcomes.append(Outcome(None, failures[i], per_point))

@@ -194,6 +194,29 @@ def test_linear_fidelity_agrees_with_flexible(wind: float) -> None:
     assert rel < 0.01, rel
 
 
+def test_linear_batch_path_matches_its_time_series_and_the_dense_recurrence(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The linear fidelity's batch path (modal drive from the scene's shared input windows, objectives
+    from arrays) against the same model's time-series frame (:meth:`simulate` then
+    :func:`objectives`) and against the dense ``x[k+1] = Phi x[k] + ...`` recurrence on the
+    per-point inputs (:func:`lti_response`, forced by a zero condition limit), for points that move
+    the inputs' per-point maps (excitation factors, inertias, C_gen, torque factor). Tolerance 1e-9
+    relative: round-off of a reordered computation (eigenvector condition ~1e3)."""
+    import ddgsa.mbs.linear as linear
+    from ddgsa.models.direct_drive import objectives
+
+    scene = Scene(wind_speed=13.0, turbulence_intensity=0.12, duration=60.0, seed=4)
+    points = pd.DataFrame([NOM, {**NOM, "thrust_factor": 1.3, "torque_factor": 0.8, "hub_inertia_x": 1.8e6},
+                           {**NOM, "c_gen": 1.2e6, "tilt_moment_factor": 0.7, "k_rear_y": 4e9, "rear_bearing_x": 4.6}])
+    model = models.get("direct_drive", fidelity="linear")
+    batch = model.evaluate(points, scene)
+    frames = pd.DataFrame([objectives(model.simulate(scene, p), p, "iso281", p["shaft_length"])
+                           for p in points.to_dict("records")])
+    monkeypatch.setattr(linear, "MAX_MODAL_CONDITION", 0.0)
+    dense = models.get("direct_drive", fidelity="linear").evaluate(points, scene)
+    for other in (frames, dense):
+        np.testing.assert_allclose(batch.to_numpy(), other[batch.columns].to_numpy(), rtol=1e-9, atol=1e-300)
+
+
 @pytest.mark.slow
 def test_bench_quick_variant_produces_every_target_row() -> None:
     """``ddgsa bench --quick`` (small problems, ~1 min): every target of the speed issue has a row
@@ -307,3 +330,25 @@ def test_modal_and_dense_lti_recurrences_agree(monkeypatch: pytest.MonkeyPatch) 
         monkeypatch.undo()
         assert modal.shape == dense.shape == ((len(w) - 1) * n_sub + 1, a.shape[0])
         assert np.all(np.abs(modal - dense) <= 1e-8 * np.abs(dense).max(axis=0)), np.abs(modal - dense).max()
+
+
+def test_modal_step_gains_are_the_integrals_of_the_cubic_input() -> None:
+    """:func:`ddgsa.mbs.linear._cubic_integrals` (closed form for ``|x| >= 1``, series below)
+    against adaptive quadrature on both sides of the switch, and the modal step's taps against the
+    matrix-exponential gains projected on the modes (the dense path's), on the direct drive's
+    system. Tolerances: 1e-13 relative (quadrature round-off), 1e-12 of the largest tap."""
+    from scipy.integrate import quad
+
+    import ddgsa.mbs.linear as linear
+
+    for x in (0.0, 1e-3, -0.02 + 0.3j, -0.999, 1.0, -1.2 + 3.0j, -5.0 + 60.0j):
+        got = linear._cubic_integrals(np.array([x]))[:, 0]
+        for j in range(4):
+            part = [quad(lambda s, f=f: f(np.exp(x * (1 - s)) * s ** j), 0.0, 1.0, epsabs=1e-14, epsrel=2e-14)[0]
+                    for f in (np.real, np.imag)]
+            assert abs(got[j] - complex(*part)) <= 1e-13 * abs(complex(*part)), (x, j)
+    _, (a, bw) = _standstill_linearisation()
+    step = linear.modal_step(a, bw, 0.05)
+    _, gains = linear.discretise_cubic(a, bw, 0.05)
+    dense = linear._window_gains(gains, 0, 1) @ np.hstack([step.vinv.real.T, step.vinv.imag.T])
+    assert np.abs(step.taps - dense).max() <= 1e-12 * np.abs(dense).max()

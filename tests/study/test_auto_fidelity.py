@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pandas as pd
+import pytest
 
 from ddgsa.cli import main
 
@@ -65,3 +66,35 @@ def test_fidelity_auto_in_the_python_api() -> None:
     assert model.choices[scene] is choice                        # piloted once per scene
     strict = models.get("direct_drive", fidelity="auto", tolerance=1e-6, pilot=0)
     assert strict.evaluate(points.iloc[:1], scene).attrs["fidelity"]["chosen"] == "flexible"
+
+
+def test_pilot_scene_caps_the_record_and_keeps_the_realisation_seed() -> None:
+    from ddgsa.loads.scene import Scene
+    from ddgsa.models.auto import PILOT_DURATION_S, pilot_scene
+
+    long = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=600.0, seed=5)
+    short = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=20.0, seed=5)
+    assert pilot_scene(long) == long.replace(duration=PILOT_DURATION_S)
+    assert pilot_scene(long).seed == 5 and pilot_scene(long).dt == long.dt
+    assert pilot_scene(short) is short
+
+
+@pytest.mark.slow
+def test_pilot_window_gives_the_full_records_choice_with_a_larger_error() -> None:
+    """The capped pilot (120 s) against the full 600 s record on a paper-C scene, nominal point and
+    two off-nominal ones: the same fidelity is chosen at paper C's 3 % tolerance, and the window's
+    linear-fidelity error is the larger (a conservative estimate), both below 1 %."""
+    from ddgsa import models
+    from ddgsa.loads.scene import Scene
+    from ddgsa.models.auto import choose_fidelity, pilot_scene
+
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=600.0, seed=1)
+    points = pd.DataFrame({"rear_bearing_x": [5.0, 4.6, 5.4], "k_front_y": [3e9, 3.5e9, 2.5e9]})
+    outputs = ["damage_front", "damage_rear", "rms_deflection_hub", "rms_deflection_gen"]
+    fids = {f: models.get("direct_drive", fidelity=f) for f in ("flexible", "linear")}
+    costs = {"flexible": 2.0, "linear": 1.0}
+    full, window = ({f: m.evaluate(points, sc)[outputs].to_numpy() for f, m in fids.items()}
+                    for sc in (scene, pilot_scene(scene)))
+    on_full, on_window = (choose_fidelity(v, costs, outputs, 0.03) for v in (full, window))
+    assert on_full["chosen"] == on_window["chosen"] == "linear"
+    assert on_full["max_rel_error_linear"] < on_window["max_rel_error_linear"] < 0.01

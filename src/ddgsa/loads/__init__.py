@@ -65,7 +65,7 @@ def _compute(scene: Scene, turbine: Turbine) -> np.ndarray:
                             speed - torque / C_GEN_DEFAULT, torque * speed])
 
 
-@lru_cache(maxsize=32)
+@lru_cache(maxsize=8)
 def _generate(scene: Scene, turbine: Turbine) -> pd.DataFrame:
     values = cache.load_or_compute(scene, turbine, _compute)
     t = pd.Index(np.arange(values.shape[0]) * scene.dt, name="time")
@@ -78,7 +78,7 @@ def _generate(scene: Scene, turbine: Turbine) -> pd.DataFrame:
     return df
 
 
-@lru_cache(maxsize=32)
+@lru_cache(maxsize=8)
 def _as_array(scene: Scene, turbine: Turbine) -> tuple[dict[str, int], np.ndarray]:
     return {c: i for i, c in enumerate(COLUMNS)}, _generate(scene, turbine).to_numpy(dtype=float)
 

@@ -105,8 +105,9 @@ def _simulate(inflow: NDArray[np.float64], spinup: int, n_az: int, dt: float, ra
                 w_t = omega * radius[j] + uy * c + uz * s
                 lam = w_t * big_r / (radius[j] * ux)
                 q = 0.5 * rho * ux * ux * area[j]
-                dt_ = q * _bilinear(tsr, pitch, ct, lam, beta)
-                dq = q * big_r * _bilinear(tsr, pitch, cq, lam, beta)
+                i, k, tx, ty = _cell(tsr, pitch, lam, beta)
+                dt_ = q * _blend(ct, i, k, tx, ty)
+                dq = q * big_r * _blend(cq, i, k, tx, ty)
                 ft = dq / radius[j]
                 fx += dt_
                 fy -= ft * c
@@ -133,15 +134,20 @@ def _simulate(inflow: NDArray[np.float64], spinup: int, n_az: int, dt: float, ra
 
 
 @njit(cache=True)
-def _bilinear(x: NDArray[np.float64], y: NDArray[np.float64], table: NDArray[np.float64],
-              xq: float, yq: float) -> float:  # pragma: no cover (compiled)
-    """Scalar bilinear interpolation clamped to the grid (the same rule as ``rotor.bilinear``)."""
+def _cell(x: NDArray[np.float64], y: NDArray[np.float64], xq: float,
+          yq: float) -> tuple[int, int, float, float]:  # pragma: no cover (compiled)
+    """Grid cell ``(i, j)`` of ``(xq, yq)`` and its fractions ``(tx, ty)``, clamped to the grid (the rule of
+    ``rotor.bilinear``; the thrust and torque tables share the grid, so one search serves both)."""
     xq = min(max(xq, x[0]), x[-1])
     yq = min(max(yq, y[0]), y[-1])
     i = min(max(np.searchsorted(x, xq) - 1, 0), x.size - 2)
     j = min(max(np.searchsorted(y, yq) - 1, 0), y.size - 2)
-    tx = (xq - x[i]) / (x[i + 1] - x[i])
-    ty = (yq - y[j]) / (y[j + 1] - y[j])
+    return i, j, (xq - x[i]) / (x[i + 1] - x[i]), (yq - y[j]) / (y[j + 1] - y[j])
+
+
+@njit(cache=True)
+def _blend(table: NDArray[np.float64], i: int, j: int, tx: float, ty: float) -> float:  # pragma: no cover
+    """Bilinear value of ``table`` in cell ``(i, j)`` at fractions ``(tx, ty)``."""
     return ((1 - tx) * (1 - ty) * table[i, j] + tx * (1 - ty) * table[i + 1, j]
             + (1 - tx) * ty * table[i, j + 1] + tx * ty * table[i + 1, j + 1])
 

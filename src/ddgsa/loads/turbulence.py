@@ -29,6 +29,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+import scipy.fft
 from numpy.typing import NDArray
 
 COHERENCE_TOL = 1e-4
@@ -143,13 +144,13 @@ def generate_field(points: NDArray[np.float64], model: IecTurbulence, duration: 
     scale = np.sqrt(2.0 * model.spectra(f) * df) * (n / 2.0) / np.sqrt(2.0)   # (3, n_f)
     n_pts = points.shape[0]
     out = np.empty((3, n, n_pts))
-    spec = np.zeros((n // 2 + 1, n_pts), dtype=complex)
+    spec = np.zeros((n_pts, n // 2 + 1), dtype=complex)     # one point per row: each FFT reads contiguous memory
     for k in range(3):
-        parts = np.empty((f.size, n_pts, 2))               # real and imaginary parts, drawn in that order
-        parts[..., 0] = rng.standard_normal((f.size, n_pts))
-        parts[..., 1] = rng.standard_normal((f.size, n_pts))
-        parts[:n_low] = np.matmul(factors, parts[:n_low])  # real factors act on both parts (batched BLAS)
-        parts *= scale[k][:, None, None]
-        spec[1:1 + f.size] = parts.view(np.complex128)[..., 0]
-        out[k] = np.fft.irfft(spec, n=n, axis=0)
+        re = rng.standard_normal((f.size, n_pts))          # real and imaginary parts, drawn in that order
+        im = rng.standard_normal((f.size, n_pts))
+        low = np.matmul(factors, np.stack([re[:n_low], im[:n_low]], axis=-1))   # real factors act on both parts
+        re[:n_low], im[:n_low] = low[..., 0], low[..., 1]
+        spec.real[:, 1:1 + f.size] = (re * scale[k][:, None]).T
+        spec.imag[:, 1:1 + f.size] = (im * scale[k][:, None]).T
+        out[k] = scipy.fft.irfft(spec, n=n, axis=1).T
     return out

@@ -95,21 +95,37 @@ def mesh(breakpoints: list[float], max_element: float) -> tuple[float, ...]:
     return tuple(nodes)
 
 
+def _scatter(elements: NDArray[np.float64], dofs_per_node: int, n_nodes: int) -> NDArray[np.float64]:
+    """Global matrix of a chain of two-node elements: ``elements`` (n_e, 2 d, 2 d), element e on the
+    DOFs ``d e .. d e + 2 d - 1``."""
+    size = dofs_per_node * n_nodes
+    out = np.zeros((size, size))
+    local = np.arange(elements.shape[1])
+    for first in (0, 1):            # every other element: their blocks do not overlap, so no index repeats
+        start = dofs_per_node * np.arange(first, elements.shape[0], 2)[:, None, None]
+        out[start + local[:, None], start + local[None, :]] += elements[first::2]
+    return out
+
+
+_K_HERMITE = np.array([[[12, 0, -12, 0], [0, 0, 0, 0], [-12, 0, 12, 0], [0, 0, 0, 0]],
+                       [[0, 6, 0, 6], [6, 0, -6, 0], [0, -6, 0, -6], [6, 0, -6, 0]],
+                       [[0, 0, 0, 0], [0, 4, 0, 2], [0, 0, 0, 0], [0, 2, 0, 4]]], dtype=float)
+_M_HERMITE = np.array([[[156, 0, 54, 0], [0, 0, 0, 0], [54, 0, 156, 0], [0, 0, 0, 0]],
+                       [[0, 22, 0, -13], [22, 0, 13, 0], [0, 13, 0, -22], [-13, 0, -22, 0]],
+                       [[0, 0, 0, 0], [0, 4, 0, -3], [0, 0, 0, 0], [0, -3, 0, 4]]], dtype=float)
+"""Euler-Bernoulli Hermite element (nodal w, w'): stiffness ``EI / le^3 [[12, 6 le, -12, 6 le], ...]`` and
+consistent mass ``rho A le / 420 [[156, 22 le, 54, -13 le], ...]``, split by powers of ``le``."""
+
+
 def bending_matrices(spec: BeamSpec) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Global bending stiffness and consistent mass (nodal w, w'), end inertias included."""
     n = spec.n_elements + 1
     rho_a = spec.mass / spec.length
-    k, m = np.zeros((2 * n, 2 * n)), np.zeros((2 * n, 2 * n))
-    for e, le in enumerate(np.diff(spec.x)):
-        k_e = spec.EI / le ** 3 * np.array([[12, 6 * le, -12, 6 * le], [6 * le, 4 * le ** 2, -6 * le, 2 * le ** 2],
-                                            [-12, -6 * le, 12, -6 * le], [6 * le, 2 * le ** 2, -6 * le, 4 * le ** 2]])
-        m_e = rho_a * le / 420 * np.array([[156, 22 * le, 54, -13 * le],
-                                           [22 * le, 4 * le ** 2, 13 * le, -3 * le ** 2],
-                                           [54, 13 * le, 156, -22 * le],
-                                           [-13 * le, -3 * le ** 2, -22 * le, 4 * le ** 2]])
-        sl = slice(2 * e, 2 * e + 4)
-        k[sl, sl] += k_e
-        m[sl, sl] += m_e
+    le = np.diff(spec.x)[:, None, None]
+    # Hermite element matrices as powers of the element length: k_e = EI sum_p le^(p-3) K_p, m_e = rho A le / 420 sum_p le^p M_p
+    k_e = spec.EI * (_K_HERMITE[0] / le ** 3 + _K_HERMITE[1] / le ** 2 + _K_HERMITE[2] / le)
+    m_e = rho_a * le / 420 * (_M_HERMITE[0] + _M_HERMITE[1] * le + _M_HERMITE[2] * le ** 2)
+    k, m = _scatter(k_e, 2, n), _scatter(m_e, 2, n)
     for x, mass, _, j_diam in spec.end_masses:
         i = spec.node_index(x)
         m[2 * i, 2 * i] += mass
@@ -121,11 +137,9 @@ def bar_matrices(spec: BeamSpec, stiffness: float, line_inertia: float,
                  end_index: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Linear-element stiffness and consistent mass of an axial (end_index 1) or torsion (2) field."""
     n = spec.n_elements + 1
-    k, m = np.zeros((n, n)), np.zeros((n, n))
-    for e, le in enumerate(np.diff(spec.x)):
-        sl = slice(e, e + 2)
-        k[sl, sl] += stiffness / le * np.array([[1, -1], [-1, 1]])
-        m[sl, sl] += line_inertia * le / 6 * np.array([[2, 1], [1, 2]])
+    le = np.diff(spec.x)[:, None, None]
+    k = _scatter(stiffness / le * np.array([[1.0, -1.0], [-1.0, 1.0]]), 1, n)
+    m = _scatter(line_inertia * le / 6 * np.array([[2.0, 1.0], [1.0, 2.0]]), 1, n)
     for end in spec.end_masses:
         i = spec.node_index(end[0])
         m[i, i] += end[end_index]
@@ -168,11 +182,11 @@ class ShaftModes:
 def _modes(k: NDArray[np.float64], m: NDArray[np.float64], free: NDArray[np.intp], count: int,
            skip_rigid: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Lowest ``count`` eigenpairs on the free DOFs (optionally skipping the one rigid-body mode)."""
-    w2, vec = eigh(k[np.ix_(free, free)], m[np.ix_(free, free)])
     start = 1 if skip_rigid else 0
+    w2, vec = eigh(k[np.ix_(free, free)], m[np.ix_(free, free)], subset_by_index=[start, start + count - 1])
     full = np.zeros((k.shape[0], count))
-    full[free] = vec[:, start:start + count]
-    return np.sqrt(np.maximum(w2[start:start + count], 0.0)) / (2 * np.pi), full
+    full[free] = vec
+    return np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi), full
 
 
 def shaft_modes(spec: BeamSpec, n_axial: int = 1, n_torsion: int = 1, n_bending: int = 2) -> ShaftModes:

@@ -12,15 +12,19 @@ with positions ``p = [R, theta, psi, xi]`` (no spin angle), velocities
 ``v = [R_dot, phi_dot, theta_dot, psi_dot, xi_dot]`` and inputs ``u = [F (3), M (3), w_set]``:
 gyroscopic and Coriolis terms at the operating spin are in ``C``, centrifugal softening in
 ``K``; the spring-damper forces are linearised in the same pass (:class:`LinearOutputs`).
-:func:`simulate_lti` integrates the first-order form exactly for inputs cubic between
+:func:`lti_response` integrates the first-order form exactly for inputs cubic between
 samples (the integrators' C1 interpolation; one matrix exponential).
 
-Cost: the linearisation is one compiled call (``4 n + 7`` pairs of residual evaluations);
+Cost: the linearisation is one compiled call (``2 n + 6`` pairs of residual evaluations for
+``n`` velocities; the acceleration Jacobian is the mass matrix);
 the response is stepped at the load interval in **modal coordinates** ``x = V z`` of the
 state matrix, where the recurrence is one complex multiply per mode and step (a conjugate
 pair counted once) and only the requested outputs ``C x`` are formed; the dense
 ``x[k+1] = Phi x[k] + ...`` recurrence is kept for eigenvector bases too ill-conditioned to
-trust (:data:`MAX_MODAL_CONDITION`).
+trust (:data:`MAX_MODAL_CONDITION`). :func:`modal_step` gives the same step with each mode's
+cubic-input gains in closed form (no matrix exponential) and takes the inputs as windows of
+channels shared by many systems (a batch of parameter points of one scene), so that the drive of
+every point is one product with the same window.
 """
 
 from __future__ import annotations
@@ -78,7 +82,7 @@ def _rot_pairs(xi, iy, iz):  # pragma: no cover (compiled)
 
 @njit(cache=True)
 def _residual_and_springs(p, v, a, u, iy, iz, sys):  # pragma: no cover (compiled)
-    """``M q_ddot - Q`` and the spring forces at a non-rotating state (spin angle 0).
+    """``M q_ddot - Q``, the spring forces and ``M`` at a non-rotating state (spin angle 0).
 
     Body coordinates from the non-rotating ones: ``q_f = xi``, ``q_f_dot = xi_dot - w J xi``,
     ``q_f_ddot = xi_ddot - 2 w J xi_dot - w_dot J xi + w^2 J J xi``.
@@ -98,7 +102,7 @@ def _residual_and_springs(p, v, a, u, iy, iz, sys):  # pragma: no cover (compile
     qdd[6:] = a[6:] - 2.0 * w * jxid - wd * jxi + w * w * jjxi
     zero = np.zeros(3)
     m, f, _, _, fs, _ = terms(q, qd, u[0:3], u[3:6], u[6], 0.0, zero, zero, *sys)
-    return m @ qdd - f, fs.ravel().copy()
+    return m @ qdd - f, fs.ravel().copy(), m
 
 
 @njit(cache=True)
@@ -153,10 +157,14 @@ def linearise_spinning(sys: SystemArrays, p0: NDArray[np.float64], spin: float, 
     iy = np.array([i for i, _ in pairs], dtype=np.int64)
     iz = np.array([j for _, j in pairs], dtype=np.int64)
     args = sys.args()
-    r_base, y0 = _residual_and_springs(p0, v0, a0, u0, iy, iz, args)
-    jac = [_central_columns(p0, v0, a0, u0, w, s, rel_step, iy, iz, y0.size, args)
-           for w, s in ((0, 1e-3), (1, 1e-3), (2, 1.0), (3, 1.0))]
-    lin = LinearSystem(m=jac[2][0], c=jac[1][0], k=jac[0][0], b=-jac[3][0], r0=-r_base, p0=p0, v0=v0, u0=u0)
+    r_base, y0, m = _residual_and_springs(p0, v0, a0, u0, iy, iz, args)
+    jac = {w: _central_columns(p0, v0, a0, u0, w, s, rel_step, iy, iz, y0.size, args)
+           for w, s in ((0, 1e-3), (1, 1e-3), (3, 1.0))}
+    # the residual is linear in the accelerations: d/da = M d(q_ddot)/da, exactly, where the spin
+    # acceleration (a[3]) enters the body's elastic accelerations as -J xi
+    m_a = m.copy()
+    m_a[:, 3] -= m[:, 6:] @ _rot_pairs(p0[5:], iy, iz)
+    lin = LinearSystem(m=m_a, c=jac[1][0], k=jac[0][0], b=-jac[3][0], r0=-r_base, p0=p0, v0=v0, u0=u0)
     return lin, LinearOutputs(y0=y0, d_p=jac[0][1], d_v=jac[1][1], d_u=jac[3][1])
 
 
@@ -210,18 +218,11 @@ def catmull_rom_coefficients(w: NDArray[np.float64]) -> list[NDArray[np.float64]
     return [sum(CATMULL_ROM[j, l] * wp[l:l + n] for l in range(4)) for j in range(4)]
 
 
-def simulate_lti(lin: LinearSystem, u: NDArray[np.float64], dt: float,
-                 c_out: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
-    """Deviations ``x = [dp, dv]`` (or outputs ``c_out x``) for input samples ``u`` (n_t, 7) [SI].
-
-    Inputs between samples follow the same C1 cubic (Catmull-Rom) the nonlinear integrators
-    see, integrated exactly (:func:`discretise_cubic`). Starts from the quasi-static state of
-    the first sample (``K dp = B du0 + r0``, ``dv = 0``). Absolute states are ``p0 + dp``, ``v0 + dv``.
-    """
-    a, bw = state_matrices(lin)
-    w = np.column_stack([u - lin.u0, np.ones(len(u))])
-    dp0 = np.linalg.lstsq(lin.k, lin.b @ w[0, :-1] + lin.r0, rcond=None)[0]
-    return lti_response(a, bw, w, dt, np.concatenate([dp0, np.zeros(lin.m.shape[0])]), c_out=c_out)
+def initial_state(lin: LinearSystem, w0: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``x0 = [dp0, 0]``: the quasi-static state ``K dp0 = B du0 + r0`` for the first input sample
+    ``w0 = [du0, 1]``."""
+    dp0 = np.linalg.lstsq(lin.k, lin.b @ w0[:-1] + lin.r0, rcond=None)[0]
+    return np.concatenate([dp0, np.zeros(lin.m.shape[0])])
 
 
 def _window_gains(gains: list[NDArray[np.float64]], m: int, n_sub: int) -> NDArray[np.float64]:
@@ -242,7 +243,7 @@ def _drive(w: NDArray[np.float64], gains: list[NDArray[np.float64]], n_sub: int,
     """Drive rows ((n_t - 1) n_sub + 1, .) of the recurrence, the last one zero; ``basis`` maps the
     state drive to other coordinates (``drive @ basis``)."""
     n = w.shape[0] - 1
-    window = sliding_window_view(_padded(w), 4, axis=0)[:n].reshape(n, -1)     # (n, 4 k), channel-major
+    window = input_window(w)
     h0 = _window_gains(gains, 0, n_sub)
     width = h0.shape[1] if basis is None else basis.shape[1]
     drive = np.zeros((n * n_sub + 1, width))
@@ -265,16 +266,123 @@ def lti_response(a: NDArray[np.float64], bw: NDArray[np.float64], w: NDArray[np.
     """
     phi, gains = discretise_cubic(a, bw, dt / n_sub)
     c_out = np.eye(a.shape[0]) if c_out is None else np.asarray(c_out, dtype=float)
+    basis = modal_basis(a)
+    if basis is None:
+        return _recurrence(phi, _drive(w, gains, n_sub), x0) @ c_out.T
+    lam, vec, vinv = basis
+    drive = _drive(w, gains, n_sub, np.hstack([vinv.real.T, vinv.imag.T]))     # [Re | Im] of the modal drive
+    z = _modal_recurrence(np.exp(lam * dt / n_sub), drive, vinv @ x0)          # [Re | Im] of z
+    return z @ modal_output_matrix(vec, lam, c_out)
+
+
+def modal_basis(a: NDArray[np.float64]) -> tuple[NDArray[np.complex128], NDArray[np.complex128],
+                                                  NDArray[np.complex128]] | None:
+    """Eigenvalues, eigenvectors (ns, m) and the matching rows of the inverse (m, ns) of ``A``,
+    one mode of each conjugate pair and every real one; None when the eigenvector matrix is too
+    ill-conditioned to step in modal coordinates (:data:`MAX_MODAL_CONDITION`)."""
     lam, vec = np.linalg.eig(a)
     if np.linalg.cond(vec) > MAX_MODAL_CONDITION:
-        return _recurrence(phi, _drive(w, gains, n_sub), x0) @ c_out.T
-    keep = lam.imag >= 0.0                              # one mode of each conjugate pair, all real ones
-    vinv = np.linalg.inv(vec)[keep]
-    weight = np.where(lam[keep].imag > 0.0, 2.0, 1.0)   # x = sum_real v z + sum_pairs 2 Re(v z)
-    drive = _drive(w, gains, n_sub, np.hstack([vinv.real.T, vinv.imag.T]))     # [Re | Im] of the modal drive
-    z = _modal_recurrence(np.exp(lam[keep] * dt / n_sub), drive, vinv @ x0)     # [Re | Im] of z
-    cm = (c_out @ vec[:, keep]) * weight                                       # (n_out, nk)
-    return z @ np.vstack([cm.real.T, -cm.imag.T])
+        return None
+    keep = lam.imag >= 0.0
+    return lam[keep], vec[:, keep], np.linalg.inv(vec)[keep]
+
+
+def modal_output_matrix(vec: NDArray[np.complex128], lam: NDArray[np.complex128],
+                        c_out: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``(2 m, n_out)``: outputs ``c_out x`` from ``[Re z | Im z]`` (``x = sum_real v z +
+    sum_pairs 2 Re(v z)``)."""
+    cm = (c_out @ vec) * np.where(lam.imag > 0.0, 2.0, 1.0)
+    return np.vstack([cm.real.T, -cm.imag.T])
+
+
+@dataclass(frozen=True)
+class ModalStep:
+    """The exact one-sample step of ``x_dot = A x + B_w w(t)`` in modal coordinates, for inputs
+    given as windows of their four samples around each interval (:func:`input_window`).
+
+    ``z[k+1] = mu z[k] + window[k] @ taps`` (``z`` as ``[Re | Im]``), ``x = V z``.
+
+    Attributes
+    ----------
+    mu : (m,) complex
+        ``exp(lambda dt)`` of the kept modes.
+    taps : (4 k, 2 m)
+        Drive of ``[Re z | Im z]`` from the input window (channel-major, :func:`_window_gains`).
+    vec, vinv : (ns, m), (m, ns) complex
+        Kept eigenvectors and the matching rows of the inverse.
+    lam : (m,) complex
+        Kept eigenvalues [1/s].
+    """
+
+    mu: NDArray[np.complex128]
+    taps: NDArray[np.float64]
+    vec: NDArray[np.complex128]
+    vinv: NDArray[np.complex128]
+    lam: NDArray[np.complex128]
+
+    def outputs(self, window: NDArray[np.float64], x0: NDArray[np.float64], out: NDArray[np.float64],
+                channel_map: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+        """Outputs (n_t, n_out) from the input ``window`` (n_t - 1, 4 k) (:func:`input_window`), the
+        initial state ``x0`` and the output matrix ``out`` (2 m, n_out) of :func:`modal_output_matrix`.
+
+        With ``channel_map`` (k_c, k) the window is that of channels ``c`` (n_t, k_c) with inputs
+        ``w = c @ channel_map``: the taps are mapped instead of the samples, so inputs that are
+        linear in channels shared by many systems need one window for all.
+        """
+        taps = self.taps
+        if channel_map is not None:
+            k = channel_map.shape[1]
+            taps = np.einsum("dc,clm->dlm", channel_map, taps.reshape(k, 4, -1)).reshape(-1, taps.shape[1])
+        drive = np.empty((window.shape[0] + 1, taps.shape[1]))
+        np.matmul(window, taps, out=drive[:-1])
+        drive[-1] = 0.0
+        z = _modal_recurrence(self.mu, drive, self.vinv @ x0)
+        return (out.T @ z.T).T           # column-major (n_t, n_out): each output's series contiguous
+
+
+def modal_step(a: NDArray[np.float64], bw: NDArray[np.float64], dt: float) -> ModalStep | None:
+    """:class:`ModalStep` of ``x_dot = A x + B_w w`` for the sample interval ``dt`` [s] (inputs the C1
+    cubic of their samples, as :func:`lti_response`); None where :func:`modal_basis` refuses."""
+    basis = modal_basis(a)
+    if basis is None:
+        return None
+    lam, vec, vinv = basis
+    # per mode the cubic's gains are scalars: g_j = dt int_0^1 e^(lam dt (1-s)) s^j ds (no matrix exponential)
+    per_tap = dt * CATMULL_ROM.T @ _cubic_integrals(lam * dt)                # (4 taps, m)
+    modal_b = (vinv @ bw).T                                                  # (k, m)
+    taps = (modal_b[:, None, :] * per_tap[None, :, :]).reshape(-1, lam.size)  # rows 4 c + l, channel-major
+    return ModalStep(np.exp(lam * dt), np.hstack([taps.real, taps.imag]), vec, vinv, lam)
+
+
+def _cubic_integrals(x: NDArray[np.complex128]) -> NDArray[np.complex128]:
+    """``I_j(x) = int_0^1 e^(x (1-s)) s^j ds`` for j = 0..3, shape (4, len(x)).
+
+    ``|x| >= 1``: ``I_0 = (e^x - 1)/x``, ``I_j = (j I_(j-1) - 1)/x`` (by parts; round-off grows
+    by at most ``j/|x|`` a step); ``|x| < 1``: the series ``sum_n x^n j! / (j + n + 1)!`` (20 terms:
+    the last is below 1e-18 of the first)."""
+    x = np.asarray(x, dtype=complex)
+    out = np.empty((4, x.size), dtype=complex)
+    big = np.abs(x) >= 1.0
+    xb = x[big]
+    out[0, big] = np.expm1(xb) / xb
+    for j in range(1, 4):
+        out[j, big] = (j * out[j - 1, big] - 1.0) / xb
+    xs = x[~big][None, :]
+    j = np.arange(4.0)[:, None]
+    term = np.ones((4, xs.size), dtype=complex) / (j + 1)
+    total = term.copy()
+    for n in range(20):
+        term *= xs / (j + n + 2)
+        total += term
+    out[:, ~big] = total
+    return out
+
+
+def input_window(w: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``(n_t - 1, 4 k)``: the four samples around each interval of ``w`` (n_t, k), channel-major
+    (end samples repeated), the rows :attr:`ModalStep.taps` multiplies."""
+    n = w.shape[0] - 1
+    return sliding_window_view(_padded(w), 4, axis=0)[:n].reshape(n, -1)
 
 
 @njit(cache=True)

@@ -8,7 +8,8 @@ fidelity (the model's first), and the cheapest fidelity whose error is within ``
 same choice on a loaded machine, a fast one, or on rerun.
 
 :class:`AutoFidelity` applies it inside ``evaluate``: the first time it sees a scene it pilots
-the nominal point plus the first ``pilot`` points it was given at every fidelity, records the
+the nominal point plus the first ``pilot`` points it was given at every fidelity (on a record of
+at most :data:`PILOT_DURATION_S`, :func:`pilot_scene`), records the
 choice in ``choices`` (and each result's ``attrs["fidelity"]``), and evaluates the points with
 the chosen fidelity. ``ddgsa.models.get("direct_drive", fidelity="auto", tolerance=0.02)``.
 """
@@ -25,6 +26,20 @@ from numpy.typing import NDArray
 from ddgsa.errors import ModelError
 from ddgsa.loads.scene import Scene
 from ddgsa.models.base import Model
+
+PILOT_DURATION_S = 120.0
+"""Longest pilot record [s]. The pilot estimates each fidelity's error; it need not be run at the
+study's full length. On paper C's scenes (6, 11, 18 m/s, nominal + 4 points) records of 60-200 s
+gave the linear fidelity 0.3-0.8 % error where 600 s gave 0.07-0.3 % (short records weigh the
+start-up transient more, so the estimate errs on the safe side), with the same choice in all 12
+cases; the flexible reference costs a fifth."""
+
+
+def pilot_scene(scene: Scene) -> Scene:
+    """The scene the fidelities are piloted on: ``scene`` with its duration capped at
+    :data:`PILOT_DURATION_S` (same seed; a realisation of that length, not the first seconds of
+    the long one)."""
+    return scene if scene.duration <= PILOT_DURATION_S else scene.replace(duration=PILOT_DURATION_S)
 
 
 def choose_fidelity(values: Mapping[str, NDArray[np.float64]], costs: Mapping[str, float], outputs: list[str],
@@ -98,7 +113,8 @@ class AutoFidelity(Model):
         if scene not in self.choices:
             params = self.resolve(points)
             pilot = pd.concat([self.resolve(None), params.iloc[: self.pilot]], ignore_index=True)
-            values = {fid: model.evaluate(pilot, scene).to_numpy(float) for fid, model in self.variants.items()}
+            values = {fid: model.evaluate(pilot, pilot_scene(scene)).to_numpy(float)
+                      for fid, model in self.variants.items()}
             costs = {fid: model.fidelity_cost(fid) for fid, model in self.variants.items()}
             self.choices[scene] = choose_fidelity(values, costs, list(self.outputs), self.tolerance)
         return self.choices[scene]

@@ -217,19 +217,22 @@ class Model(ABC):
             frame = pd.DataFrame([dict(points)])
         else:
             frame = points.reset_index(drop=True)
-        known = {p.name for p in self.parameters}
-        unknown = [c for c in frame.columns if c not in known]
+        column = {p.name: j for j, p in enumerate(self.parameters)}
+        unknown = [c for c in frame.columns if c not in column]
         if unknown:
-            raise ModelError(f"model {self.name!r} has no parameter(s) {unknown}; known: {', '.join(sorted(known))}")
-        out = pd.DataFrame({p.name: frame[p.name].astype(float) if p.name in frame else p.nominal
-                            for p in self.parameters}, index=range(len(frame)))
-        for p in self.parameters:
-            col = out[p.name].to_numpy()
-            bad = ~((col >= p.low) & (col <= p.high))
-            if bad.any():
-                raise ModelError(f"model {self.name!r}: parameter {p.name!r} = {col[bad][0]} is outside its "
-                                 f"allowed range [{p.low}, {p.high}] {p.unit}")
-        return out
+            raise ModelError(f"model {self.name!r} has no parameter(s) {unknown}; known: {', '.join(sorted(column))}")
+        # one float block, filled column by column (a frame per column cost ~2 ms a batch)
+        values = np.tile(np.array([p.nominal for p in self.parameters], dtype=float), (len(frame), 1))
+        for name in frame.columns:
+            values[:, column[name]] = frame[name].to_numpy(dtype=float)
+        low, high = (np.array([getattr(p, b) for p in self.parameters]) for b in ("low", "high"))
+        bad = ~((values >= low) & (values <= high))
+        if bad.any():
+            j = int(np.flatnonzero(bad.any(axis=0))[0])
+            p = self.parameters[j]
+            raise ModelError(f"model {self.name!r}: parameter {p.name!r} = {values[bad[:, j], j][0]} is outside its "
+                             f"allowed range [{p.low}, {p.high}] {p.unit}")
+        return pd.DataFrame(values, columns=list(column))
 
     def evaluate(self, points: pd.DataFrame | Mapping[str, Any] | None, scene: Scene) -> pd.DataFrame:
         """Objective functions at each parameter point for ``scene``.
@@ -240,7 +243,8 @@ class Model(ABC):
         """
         params = self.resolve(points)
         rows, failures = [], {}
-        for i, row in enumerate(params.to_dict("records")):
+        names = list(params.columns)
+        for i, row in enumerate(dict(zip(names, values)) for values in params.to_numpy().tolist()):
             try:
                 rows.append(self._evaluate_one(row, scene))
             except (ArithmeticError, RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
