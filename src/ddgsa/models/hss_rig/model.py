@@ -115,6 +115,7 @@ class HssRig(Model):
                                    "sample_rate, settle, ramp_time, seed}")
     parameters = PARAMETERS
     outputs = OUTPUTS
+    scene_type = RigScene
 
     def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False) -> None:
         if fidelity not in self.fidelities:
@@ -192,13 +193,20 @@ class HssRig(Model):
         q0[: still.system.n] += sag
         return q0, rig.system.qd0.copy()
 
-    def _linear_run(self, rig: Rig, p: Mapping[str, float], sc: RigScene,
-                    spin: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _linear_run(self, rig: Rig, p: Mapping[str, float], sc: RigScene, spin: float,
+                    harmonic: bool | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The linear fidelity's record: in the frequency domain (:func:`ddgsa.mbs.nonrotating.periodic`)
+        when every input repeats once per revolution (``harmonic=None``: no supply unbalance, no
+        defect), else by exact time integration (:func:`ddgsa.mbs.nonrotating.simulate`); both start
+        from the periodic state of one revolution."""
         system = rig.system
         varying = [e for e in system.elements if e.name in ("unbalance", "motor", "defect_housing", "defect_shaft")]
         q0, qd0 = self.initial_state(rig, p)
         lin = nonrotating.linearise(system, q0, qd0)
-        return nonrotating.simulate(system, lin, sc.duration, 1.0 / sc.sample_rate, varying, 2 * math.pi / spin)
+        if harmonic is None:
+            harmonic = p["supply_unbalance"] == 0.0 and p["defect_amplitude"] == 0.0
+        run = nonrotating.periodic if harmonic else nonrotating.simulate
+        return run(system, lin, sc.duration, 1.0 / sc.sample_rate, varying, 2 * math.pi / spin)
 
     def _sensors(self, rig: Rig, drive: Drive, sc: RigScene, t: np.ndarray, q: np.ndarray,
                  qd: np.ndarray) -> pd.DataFrame:
