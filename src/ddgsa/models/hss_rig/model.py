@@ -8,12 +8,17 @@ Fidelities (the motor's, "model no more than a scene needs"):
 ``kloss``
     Steady equivalent-circuit torque at the instantaneous speed and supply; generalised-alpha.
 ``linear``
-    ``kloss`` motor, the rig linearised about its steady operating point (spinning, gravity sag)
-    in non-rotating bending coordinates (:mod:`ddgsa.mbs.nonrotating`) and integrated exactly from
-    the periodic steady state of one revolution; steady scenes only. Its time-varying inputs are
-    the eccentric mass, the motor's torque ripple and the defect impacts. The coupling's turning
-    stiffness anisotropy would make the rig periodic rather than time-invariant: the linear
-    fidelity averages it out (``coupling_asymmetry`` has no effect) and refuses a misalignment.
+    ``kloss`` motor and the cheapest exact path each scene allows. Steady scenes: the rig
+    linearised about its steady operating point (spinning, gravity sag) in non-rotating bending
+    coordinates (:mod:`ddgsa.mbs.nonrotating`); when every input repeats once per revolution (the
+    eccentric mass; no supply unbalance, no defect) its periodic steady state is solved harmonic by
+    harmonic in the frequency domain, else it is integrated exactly from the periodic state of one
+    revolution (inputs: the eccentric mass, the motor's torque ripple, the defect impacts).
+    Start-up and coast-down (a speed sweep no linearisation about one speed carries): the ``kloss``
+    rig by generalised-alpha, a coast-down starting from the frequency-domain steady state. The
+    coupling's turning stiffness anisotropy would make the steady rig periodic rather than
+    time-invariant: the linear fidelity averages it out (``coupling_asymmetry`` has no effect) and
+    refuses a misalignment.
 
 Scenes are :class:`~ddgsa.models.hss_rig.scenes.RigScene` (start-up, steady, coast-down).
 
@@ -102,7 +107,7 @@ class HssRig(Model):
     Parameters
     ----------
     fidelity : str
-        ``dq``, ``kloss`` or ``linear`` (steady scenes only).
+        ``dq``, ``kloss`` or ``linear`` (``kloss`` with steady scenes linearised; see the module).
     time_step : float
         Generalised-alpha step [s] (``dq``, ``kloss``); the sensor interval must be a multiple.
     noise : bool
@@ -148,26 +153,28 @@ class HssRig(Model):
         extra = None
         if p["defect_amplitude"] > 0.0 and scene.kind == "steady":
             extra = _defect_loads(p, scene, spin)
-        if self.fidelity == "linear":
-            if p["misalignment_parallel"] or p["misalignment_angular"]:
-                raise ModelError("model 'hss_rig': fidelity 'linear' cannot carry a coupling misalignment (a stiffness "
-                                 "turning against a fixed offset makes the rig periodic, not time-invariant); "
-                                 f"got misalignment_parallel = {p['misalignment_parallel']} m, misalignment_angular = "
-                                 f"{p['misalignment_angular']} rad; use 'kloss' or 'dq'")
-            p = {**p, "coupling_asymmetry": 0.0}
-        return build(p, parts, spin=spin, extra=extra), drive, spin
+        return build(self.effective(p), parts, spin=spin, extra=extra), drive, spin
+
+    def effective(self, p: Mapping[str, float]) -> dict[str, float]:
+        """The parameters the fidelity builds the rig with: ``linear`` averages the coupling's
+        anisotropy out (``coupling_asymmetry = 0``) and refuses a misalignment (see the module)."""
+        if self.fidelity != "linear":
+            return dict(p)
+        if p["misalignment_parallel"] or p["misalignment_angular"]:
+            raise ModelError("model 'hss_rig': fidelity 'linear' cannot carry a coupling misalignment (a stiffness "
+                             "turning against a fixed offset makes the rig periodic, not time-invariant); "
+                             f"got misalignment_parallel = {p['misalignment_parallel']} m, misalignment_angular = "
+                             f"{p['misalignment_angular']} rad; use 'kloss' or 'dq'")
+        return {**p, "coupling_asymmetry": 0.0}
 
     # -- time integration ----------------------------------------------------------------------
     def simulate(self, scene: Any, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         """Sensor time series (see the module), indexed by time [s]."""
         sc = self._scene(scene)
-        p = self.resolve(params).iloc[0].to_dict()
+        p = self.effective(self.resolve(params).iloc[0].to_dict())
         rig, drive, spin = self.assemble(p, sc)
         h = 1.0 / sc.sample_rate
-        if self.fidelity == "linear":
-            if sc.kind != "steady":
-                raise ModelError(f"model 'hss_rig': fidelity 'linear' serves steady scenes only, not {sc.kind!r}; "
-                                 "use 'kloss' or 'dq'")
+        if self.fidelity == "linear" and sc.kind == "steady":
             t, q, qd = self._linear_run(rig, p, sc, spin)
         else:
             every = int(round(h / self.time_step))
@@ -175,6 +182,8 @@ class HssRig(Model):
                 raise ModelError(f"model 'hss_rig': the sensor interval 1/sample_rate = {h:.6g} s must be a multiple "
                                  f"of time_step = {self.time_step:g} s")
             q0, qd0 = self.initial_state(rig, p)
+            if sc.kind == "coastdown" and self.fidelity != "dq":
+                q0, qd0 = self.periodic_state(rig, q0, qd0, spin)
             run = genalpha.simulate(rig.system, sc.duration, self.time_step, q0=q0, qd0=qd0, output_every=every)
             t, q, qd = run.t, run.q, run.qd
         return self._sensors(rig, drive, sc, t, q, qd)
@@ -192,6 +201,22 @@ class HssRig(Model):
         q0 = rig.system.q0.copy()
         q0[: still.system.n] += sag
         return q0, rig.system.qd0.copy()
+
+    @staticmethod
+    def periodic_state(rig: Rig, q0: np.ndarray, qd0: np.ndarray, spin: float) -> tuple[np.ndarray, np.ndarray]:
+        """The state at ``t = 0`` of the steady unbalance response at ``spin`` [rad/s] about ``(q0, qd0)``.
+
+        The rig linearised in non-rotating coordinates, its eccentric mass solved in the
+        frequency domain (:func:`ddgsa.mbs.nonrotating.periodic`): a coast-down then starts in the
+        steady state it leaves instead of ringing from the static sag for seconds (the 2 %-damped
+        bending mode). Exact for the ``linear`` fidelity's rig; for ``kloss`` the coupling's turning
+        anisotropy and a misalignment are left out of this start (their 2x part rings down).
+        """
+        system = rig.system
+        lin = nonrotating.linearise(system, q0, qd0)
+        unbalance = [e for e in system.elements if e.name == "unbalance"]
+        _, q, qd = nonrotating.periodic(system, lin, 0.0, 1.0, unbalance, 2 * math.pi / spin)
+        return q[0], qd[0]
 
     def _linear_run(self, rig: Rig, p: Mapping[str, float], sc: RigScene, spin: float,
                     harmonic: bool | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
