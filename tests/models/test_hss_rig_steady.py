@@ -83,3 +83,18 @@ def test_start_up_at_the_linear_fidelity_is_the_kloss_rig_with_an_axisymmetric_c
     linear = models.get("hss_rig", fidelity="linear", time_step=5e-4).simulate(scene)
     kloss = models.get("hss_rig", fidelity="kloss", time_step=5e-4).simulate(scene, {"coupling_asymmetry": 0.0})
     np.testing.assert_allclose(linear.to_numpy(), kloss.to_numpy(), rtol=0, atol=1e-12)
+
+
+def test_campbell_whirl_agrees_with_the_gyroscopic_split():
+    """The disk-tilt pair splits with speed (gyroscopic): the branch whose frequency rises must
+    orbit forward, the falling one backward (whirl read from the non-rotating mode shapes)."""
+    model = models.get("hss_rig", fidelity="linear")
+    spin = 3000.0 * np.pi / 30.0
+    frame = model.campbell([0.0, spin], orders=(1.0, 2.0)).to_frame()
+    still, fast = frame[frame["speed_rad_s"] == 0.0], frame[frame["speed_rad_s"] == spin]
+    assert still["frequency_hz"].max() < 150.0 and (still["whirl"] != "forward").all()
+    tilt = fast[fast["frequency_hz"].between(80.0, 160.0) & fast["whirl"].isin(["forward", "backward"])]
+    low, high = tilt.nsmallest(1, "frequency_hz").iloc[0], tilt.nlargest(1, "frequency_hz").iloc[0]
+    base = still[still["frequency_hz"].between(115.0, 130.0)]["frequency_hz"]      # the pair at standstill
+    assert low["whirl"] == "backward" and low["frequency_hz"] < base.min()
+    assert high["whirl"] == "forward" and high["frequency_hz"] > base.max()

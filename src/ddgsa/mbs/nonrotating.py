@@ -228,3 +228,31 @@ def _full_states(lin: SpinLinearisation, times: Array, z: Array, zd: Array) -> t
     for i, t in enumerate(times):
         q[i], qd[i], _ = lin.state(z[i], zd[i], zero, t)
     return q, qd
+
+
+def whirl_index(system: System, lin: SpinLinearisation, shape: NDArray[np.complex128]) -> tuple[float, float]:
+    """Energy-weighted orbit direction about +x of a mode ``shape`` in non-rotating coordinates, and
+    the lateral share of its kinetic energy.
+
+    As :func:`ddgsa.mbs.campbell.whirl_index`, with the bending pairs (non-rotating here, so their
+    orbit is seen from the frame) among the orbits: each pair ``(Y, Z)`` orbits with direction
+    ``2 Im(Y conj(Z)) / (|Y|^2 + |Z|^2)`` (+1: circular, counter-clockwise about +x, forward for a
+    positive spin).
+    """
+    energy = np.abs(shape) ** 2 * np.abs(np.diag(lin.m))
+    pairs = [(iy, iz) for iy, iz, _ in lin.pairs]
+    for b in system.bodies:
+        for cy, cz in (("y", "z"), ("ry", "rz")):
+            names = (f"{b.name}.{cy}", f"{b.name}.{cz}")
+            if all(n in system.coord_names for n in names):
+                pairs.append((system.index(names[0]), system.index(names[1])))
+    num = den = 0.0
+    for iy, iz in pairs:
+        amp = abs(shape[iy]) ** 2 + abs(shape[iz]) ** 2
+        if amp == 0.0:
+            continue
+        w = energy[iy] + energy[iz]
+        num += w * 2.0 * float(np.imag(shape[iy] * np.conj(shape[iz]))) / amp
+        den += w
+    total = energy.sum()
+    return (num / den if den > 0 else 0.0), (den / total if total > 0 else 0.0)

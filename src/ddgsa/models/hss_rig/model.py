@@ -54,7 +54,8 @@ import pandas as pd
 
 from ddgsa.errors import ModelError, SceneError
 from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
-from ddgsa.mbs.modal import modal_analysis
+from ddgsa.mbs.campbell import CampbellDiagram
+from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.models.base import Model, ModelOutput, register_model
 from ddgsa.models.hss_rig.bearing import defect_impulses
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
@@ -290,6 +291,35 @@ class HssRig(Model):
         q0, qd0 = self.initial_state(rig, p)
         lin = nonrotating.linearise(rig.system, q0, qd0)
         return modal_analysis(lin.m, lin.c, lin.k, rig.system.coord_names, rig.system.groups())
+
+    def campbell(self, speeds: Any, orders: Any = (1.0, 2.0), params: Mapping[str, float] | None = None,
+                 max_frequency_hz: float = 150.0) -> CampbellDiagram:
+        """Campbell diagram of the rig seen from the frame: the modes of :meth:`modes` at each of
+        ``speeds`` [rad/s], those below ``max_frequency_hz`` [Hz] at standstill (the band the
+        orders up to 2x and the supply reach), with their whirl from the non-rotating shapes
+        (:func:`ddgsa.mbs.nonrotating.whirl_index`). ``ddgsa modes hss_rig --campbell`` calls it.
+        """
+        p = self.resolve(params).iloc[0].to_dict()
+        rows: list[dict[str, Any]] = []
+        keep = None
+        for speed in np.asarray(speeds, dtype=float):
+            rpm = max(abs(speed) * 30.0 / math.pi, 60.0)
+            drive = drive_for(p, RigScene("steady", speed_rpm=rpm, duration=10.0), POLE_PAIRS)
+            rig = build(p, kloss_parts(drive), spin=float(speed))
+            lin = nonrotating.linearise(rig.system, *self.initial_state(rig, p))
+            lam, vec = damped_eigen(lin.m, lin.c, lin.k)
+            labels = modal_analysis(lin.m, lin.c, lin.k, rig.system.coord_names, rig.system.groups())["label"]
+            freq = np.abs(lam) / (2 * math.pi)
+            keep = int(np.sum(freq < max_frequency_hz)) if keep is None else keep
+            for j in range(min(keep, lam.size)):
+                index, lateral = nonrotating.whirl_index(rig.system, lin, vec[:, j])
+                whirl = ("none" if lateral < 0.01 else "standstill" if speed == 0 else
+                         "forward" if index * np.sign(speed) > 0.5 else
+                         "backward" if index * np.sign(speed) < -0.5 else "mixed")
+                rows.append({"speed_rad_s": float(speed), "speed_rpm": float(speed) * 30.0 / math.pi, "mode": j + 1,
+                             "frequency_hz": float(freq[j]), "damping_ratio": float(-lam[j].real / abs(lam[j])),
+                             "whirl": whirl, "whirl_index": float(index), "label": labels.iloc[j]})
+        return CampbellDiagram(pd.DataFrame(rows), tuple(float(o) for o in orders))
 
     def sampling_checks(self, scene: Any) -> list[dict[str, Any]]:
         """The sensor sample interval against the frequencies the outputs read (at the synchronous speed)."""
