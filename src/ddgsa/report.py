@@ -27,7 +27,7 @@ from ddgsa.gsa.result import draw_index_bars  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.outdir import previous_files, remove_stale  # noqa: E402
 from ddgsa.pipeline import StudyResult  # noqa: E402
-from ddgsa.study import WIND_LABEL_FIELDS  # noqa: E402
+from ddgsa.study import WIND_LABEL_FIELDS, plan_scenes  # noqa: E402
 
 PNG_METADATA = {"Software": None}
 """No matplotlib version in the PNGs: a rerun on the same machine writes the same bytes."""
@@ -85,6 +85,8 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
                 save_fig(plot_heatmap(result.indices[result.indices["method"] == method], info,
                                       result.study.scene_fields),
                          f"heatmap_ST_{method}.png")
+    for fig, name in scene_figures(result):
+        save_fig(fig, name)
     if result.fidelity is not None and len(result.fidelity):
         save_csv(result.fidelity, "fidelity_selection.csv")
     if result.fault is not None:
@@ -99,6 +101,19 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     written.append(path)
     remove_stale(out, before, names)
     return written
+
+
+def scene_figures(result: StudyResult) -> list[tuple[Any, str]]:
+    """A model's own signal plots of each scene at the study's nominal point (healthy fault level),
+    for a model that draws them (``model.scene_figures``, e.g. the rig's order maps and spectra)."""
+    study = result.study
+    draw = getattr(study.make_model(), "scene_figures", None)
+    if draw is None:
+        return []
+    point = {**study.spec.fixed, **(study.space.nominal if study.space is not None else {})}
+    if study.spec.fault is not None:
+        point[study.spec.fault.parameter] = study.spec.fault.healthy
+    return [(fig, f"{name}_scene{ps.index}.png") for ps in plan_scenes(study) for fig, name in draw(ps.scenes[0], point)]
 
 
 def evaluation_line(provenance: dict[str, Any]) -> str:

@@ -103,3 +103,5 @@ def test_rig_study_runs_end_to_end_and_labels_rig_scenes(tmp_path: Path) -> None
     assert evaluations["error"].isna().all() and set(evaluations["sample_rate"]) == {1000.0}
     assert "kind=steady, speed_rpm=1500" in (out / "summary.md").read_text()
     assert not (out / "loads").exists()                            # no wind loads, no loads cache
+    assert {f"spectrum_{s}_scene0.png" for s in ("housing_1_y", "disk_y", "motor_current")} <= \
+        {p.name for p in out.iterdir()}                              # the model's own signal plots

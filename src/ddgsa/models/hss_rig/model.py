@@ -64,7 +64,8 @@ from ddgsa.models.hss_rig.motor import sequence_phasors
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, build
 from ddgsa.models.hss_rig.scenes import RigScene
-from ddgsa.signals import band_energy, harmonic_amplitudes, order_amplitudes, resample_to_angle
+from ddgsa.signals import (band_energy, harmonic_amplitudes, order_amplitudes, order_map, plot_order_map,
+                           plot_spectrum, resample_to_angle)
 
 ACCELEROMETERS = ("housing_1_y", "housing_1_z", "housing_2_y", "housing_2_z")
 PROBES = ("disk_y", "disk_z")
@@ -320,6 +321,45 @@ class HssRig(Model):
                              "frequency_hz": float(freq[j]), "damping_ratio": float(-lam[j].real / abs(lam[j])),
                              "whirl": whirl, "whirl_index": float(index), "label": labels.iloc[j]})
         return CampbellDiagram(pd.DataFrame(rows), tuple(float(o) for o in orders))
+
+    def scene_figures(self, scene: Any, params: Mapping[str, float] | None = None) -> list[tuple[Any, str]]:
+        """Signal plots of one run at ``params`` (a study's report draws them at its nominal point).
+
+        Start-up and coast-down: order maps (2-revolution blocks, :func:`ddgsa.signals.order_map`)
+        of the housing-1 vertical accelerometer and the disk probe against shaft speed. Steady:
+        spectra of the analysed record with the orders, ball-pass frequencies, the supply frequency
+        and its 1x sidebands marked (:func:`ddgsa.signals.plot_spectrum`). Returns ``(figure, name)``.
+        """
+        import matplotlib.pyplot as plt
+
+        sc = self._scene(scene)
+        s = self.simulate(sc, params)
+        if sc.kind == "steady":
+            s = s[s.index >= sc.settle - 1e-12]
+        t, angle = s.index.to_numpy(), s["angle"].to_numpy()
+        f_r = float(s["speed"].mean()) / (2 * math.pi)
+        title = f"{sc.kind} at {sc.speed_rpm:g} rpm synchronous"
+        figs = []
+        if sc.kind != "steady":
+            for sensor in ("housing_1_y", "disk_y"):
+                speed, orders, amp = order_map(t, s[sensor].to_numpy(), angle, revs_per_block=2)
+                fig, ax = plt.subplots(figsize=(7, 4.5))
+                plot_order_map(speed, orders, amp, max_order=8.0, ax=ax, unit=f"[{_sensor_unit(sensor)[0]}]")
+                ax.set_title(f"{sensor}, {title}", fontsize=9)
+                figs.append((fig, f"order_map_{sensor}"))
+            return figs
+        supply = drive_for(self.resolve(params).iloc[0].to_dict(), sc, POLE_PAIRS).motor.supply_frequency
+        marks = {"housing_1_y": {"1x": f_r, "2x": 2 * f_r, "BPFO": float(BEARING_GEOMETRY.bpfo(f_r)),
+                                 "BPFI": float(BEARING_GEOMETRY.bpfi(f_r))},
+                 "disk_y": {"1x": f_r, "2x": 2 * f_r},
+                 "motor_current": {"f": supply, "f-fr": supply - f_r, "f+fr": supply + f_r}}
+        for sensor, mark in marks.items():
+            fig, ax = plt.subplots(figsize=(7, 4))
+            plot_spectrum(t, s[sensor].to_numpy(), mark, max_hz=1.3 * max(mark.values()), ax=ax,
+                          unit=f"[{_sensor_unit(sensor)[0]}]")
+            ax.set_title(f"{sensor}, {title}", fontsize=9)
+            figs.append((fig, f"spectrum_{sensor}"))
+        return figs
 
     def sampling_checks(self, scene: Any) -> list[dict[str, Any]]:
         """The sensor sample interval against the frequencies the outputs read (at the synchronous speed)."""
