@@ -294,7 +294,8 @@ def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | Non
     from matplotlib.patches import Patch
 
     outputs, methods = list(scene_rows["output"].unique()), list(scene_rows["method"].unique())
-    fig, axes = plt.subplots(len(outputs), len(methods), figsize=(3.8 * len(methods), 2.6 * len(outputs)),
+    width = max(3.8, 0.25 * scene_rows["parameter"].nunique())          # room for many parameters' labels
+    fig, axes = plt.subplots(len(outputs), len(methods), figsize=(width * len(methods), 2.6 * len(outputs)),
                              squeeze=False)
     for i, out in enumerate(outputs):
         for j, meth in enumerate(methods):
