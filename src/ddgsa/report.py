@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import matplotlib
@@ -27,7 +27,7 @@ from ddgsa.gsa.result import draw_index_bars  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.outdir import previous_files, remove_stale  # noqa: E402
 from ddgsa.pipeline import StudyResult  # noqa: E402
-from ddgsa.study import WIND_LABEL_FIELDS, plan_scenes  # noqa: E402
+from ddgsa.study import WIND_LABEL_FIELDS, plan_scenes, scene_text  # noqa: E402
 
 PNG_METADATA = {"Software": None}
 """No matplotlib version in the PNGs: a rerun on the same machine writes the same bytes."""
@@ -152,12 +152,6 @@ def problems(result: StudyResult) -> list[str]:
 
 def _scenes(scenes: list[int]) -> str:
     return f"scene {scenes[0]}" if len(scenes) == 1 else f"scenes {', '.join(map(str, scenes))}"
-
-
-def scene_text(values: Mapping[str, Any]) -> str:
-    """``field=value, ...`` of a scene's label fields (numbers by ``:g``, labels such as a rig scene's kind as they are)."""
-    return ", ".join(f"{k}={v:g}" if isinstance(v, (int, float)) and not isinstance(v, bool) else f"{k}={v}"
-                     for k, v in values.items())
 
 
 def _sweep_keys(sweep: pd.DataFrame, grid: list[str], fields: Sequence[str] = WIND_LABEL_FIELDS) -> list[str]:

@@ -35,6 +35,7 @@ import json
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
+from collections.abc import Mapping
 from typing import Any, Literal
 
 import numpy as np
@@ -511,14 +512,17 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         try:
             spec.scenes.scene(fields, 0)
         except (DdgsaError, TypeError) as exc:
-            raise StudyError(f"{where}: field 'scenes' (scene {k}: {_fields_text(fields)}): {exc}") from None
+            raise StudyError(f"{where}: field 'scenes' (scene {k}: {scene_text(fields)}): {exc}") from None
     if spec.fault is not None:
         _validate_fault(where, spec, model)
     return Study(spec=spec, space=space, path=path, text=text)
 
 
-def _fields_text(fields: dict[str, Any]) -> str:
-    return ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in fields.items())
+def scene_text(values: Mapping[str, Any]) -> str:
+    """``field=value, ...`` of a scene's label fields (numbers by ``:g``, labels such as a rig scene's
+    kind as they are), for messages, tables and plot titles."""
+    return ", ".join(f"{k}={v:g}" if isinstance(v, (int, float)) and not isinstance(v, bool) else f"{k}={v}"
+                     for k, v in values.items())
 
 
 def _unknown_parameter(name: str, known: list[str]) -> str:
