@@ -175,8 +175,8 @@ class ModelScenesSpec(BaseModel):
     @property
     def label_fields(self) -> list[str]:
         """The fields that label a scene: the type's ``label_fields`` and every list-valued one."""
-        axes = [k for k, v in self.fields.items() if isinstance(v, list)]
-        return [f for f in getattr(self._type, "label_fields", ()) if f not in axes] + axes
+        declared = list(getattr(self._type, "label_fields", ()))
+        return declared + [k for k, v in self.fields.items() if isinstance(v, list) and k not in declared]
 
     def grid(self) -> list[dict[str, Any]]:
         """The scene grid (without seeds): the label fields of every combination of the list-valued fields."""
