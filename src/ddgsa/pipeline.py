@@ -40,8 +40,6 @@ from ddgsa.loads import cache as loads_cache
 from ddgsa.loads.scene import Scene
 from ddgsa.study import PlannedScene, Study, plan_scenes
 
-SCENE_FIELDS = ["wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent"]
-
 
 @dataclass
 class StudyResult:
@@ -115,16 +113,17 @@ def model_evaluator(mid: ModelId) -> Evaluator:
     """The runner's model factory: the registered model's ``evaluate``, scenes given as dicts.
     Implausible outputs are not warned per batch: the study reports them once, over all evaluations."""
     model = get_model(mid.name, fidelity=mid.fidelity, **dict(mid.options))
+    scene_type = getattr(model, "scene_type", Scene)
 
     def evaluate(points: pd.DataFrame, scene: dict[str, Any]) -> pd.DataFrame:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ImplausibleOutputWarning)
-            return model.evaluate(points, Scene(**scene))
+            return model.evaluate(points, scene_type(**scene))
 
     return evaluate
 
 
-def make_task(mid: ModelId, scene: Scene, point: dict[str, float]) -> Task:
+def make_task(mid: ModelId, scene: Any, point: dict[str, float]) -> Task:
     """The runner's task for one point of one scene realisation."""
     fields = scene.to_dict()
     return Task(task_key(mid, fields, point, ddgsa.__version__), mid, fields, point)
@@ -258,7 +257,7 @@ class _Plan:
         self.tasks: list[Task] = []
         self.blocks: dict[str, tuple[np.ndarray, tuple[str, ...]]] = {}
 
-    def task(self, ps: PlannedScene, scene: Scene, point: dict[str, float]) -> Task:
+    def task(self, ps: PlannedScene, scene: Any, point: dict[str, float]) -> Task:
         """The task of one point in one realisation of a planned scene."""
         return make_task(self.mids[ps.index], scene, point)
 
@@ -343,8 +342,9 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
     """Run (or, with ``evaluate=False``, only read back) all model evaluations and analyse them.
 
     Wind-load realisations are shared by all workers through files beside the store
-    (:mod:`ddgsa.loads.cache`): each is generated once per study, not once per worker process."""
-    with loads_cache.shared(store.path.parent / "loads"):
+    (:mod:`ddgsa.loads.cache`): each is generated once per study, not once per worker process.
+    Studies of a model with its own scene type (no wind loads) use no loads cache."""
+    with loads_cache.shared(store.path.parent / "loads" if study.wind else None):
         return _execute(study, store, jobs, backend, address, quiet, evaluate)
 
 
@@ -390,7 +390,7 @@ def _execute(study: Study, store: EvaluationStore, jobs: int | None, backend: st
         if spec.kind == "fault":
             _fault_verdicts(plan, store, outputs, result)
     result.evaluations = _evaluation_table(store, list(runs.tasks.values()))
-    failures += [{"key": r["key"], "fidelity": r["fidelity"], "scene": {k: r[k] for k in SCENE_FIELDS + ["seed"]},
+    failures += [{"key": r["key"], "fidelity": r["fidelity"], "scene": {k: r[k] for k in study.scene_fields + ["seed"]},
                   "error": r["error"]} for r in result.evaluations.to_dict("records") if isinstance(r["error"], str)]
     result.provenance = _provenance(study, mids, runs.counts(), t_eval, time.perf_counter() - t0, failures, designs)
     if spec.kind == "fault":

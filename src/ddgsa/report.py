@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from collections.abc import Sequence
 from typing import Any
 
 import matplotlib
@@ -25,7 +26,8 @@ from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.result import draw_index_bars  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.outdir import previous_files, remove_stale  # noqa: E402
-from ddgsa.pipeline import SCENE_FIELDS, StudyResult  # noqa: E402
+from ddgsa.pipeline import StudyResult  # noqa: E402
+from ddgsa.study import WIND_LABEL_FIELDS, plan_scenes, scene_text  # noqa: E402
 
 PNG_METADATA = {"Software": None}
 """No matplotlib version in the PNGs: a rerun on the same machine writes the same bytes."""
@@ -59,9 +61,10 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     save_csv(result.evaluations.drop(columns=["key"], errors="ignore"), "evaluations.csv")
     if result.sweep is not None:
         save_csv(result.sweep, "sweep.csv")
-        summary = sweep_summary(result.sweep, result.study.outputs, list(result.study.spec.grid))
+        fields = result.study.scene_fields
+        summary = sweep_summary(result.sweep, result.study.outputs, list(result.study.spec.grid), fields)
         save_csv(summary, "sweep_summary.csv")
-        for fig, name in plot_sweep(summary, result.study.outputs, list(result.study.spec.grid), info):
+        for fig, name in plot_sweep(summary, result.study.outputs, list(result.study.spec.grid), info, fields):
             save_fig(fig, name)
     if len(result.indices):
         save_csv(result.indices.assign(output_unit=result.indices["output"].map(lambda o: info[o].unit)),
@@ -75,11 +78,15 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
             save_csv(acc, "accuracy.csv")
             save_fig(plot_agreement(result.indices), "mdrm_vs_crosscheck.png")
         for scene in sorted(result.indices["scene"].unique()):
-            save_fig(plot_scene_bars(result.indices[result.indices["scene"] == scene], info), f"bars_scene{scene}.png")
+            save_fig(plot_scene_bars(result.indices[result.indices["scene"] == scene], info, result.study.scene_fields),
+                     f"bars_scene{scene}.png")
         if result.indices["scene"].nunique() > 1:
             for method in result.indices["method"].unique():
-                save_fig(plot_heatmap(result.indices[result.indices["method"] == method], info),
+                save_fig(plot_heatmap(result.indices[result.indices["method"] == method], info,
+                                      result.study.scene_fields),
                          f"heatmap_ST_{method}.png")
+    for fig, name in scene_figures(result):
+        save_fig(fig, name)
     if result.fidelity is not None and len(result.fidelity):
         save_csv(result.fidelity, "fidelity_selection.csv")
     if result.fault is not None:
@@ -94,6 +101,19 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     written.append(path)
     remove_stale(out, before, names)
     return written
+
+
+def scene_figures(result: StudyResult) -> list[tuple[Any, str]]:
+    """A model's own signal plots of each scene at the study's nominal point (healthy fault level),
+    for a model that draws them (``model.scene_figures``, e.g. the rig's order maps and spectra)."""
+    study = result.study
+    draw = getattr(study.make_model(), "scene_figures", None)
+    if draw is None:
+        return []
+    point = {**study.spec.fixed, **(study.space.nominal if study.space is not None else {})}
+    if study.spec.fault is not None:
+        point[study.spec.fault.parameter] = study.spec.fault.healthy
+    return [(fig, f"{name}_scene{ps.index}.png") for ps in plan_scenes(study) for fig, name in draw(ps.scenes[0], point)]
 
 
 def evaluation_line(provenance: dict[str, Any]) -> str:
@@ -134,14 +154,15 @@ def _scenes(scenes: list[int]) -> str:
     return f"scene {scenes[0]}" if len(scenes) == 1 else f"scenes {', '.join(map(str, scenes))}"
 
 
-def _sweep_keys(sweep: pd.DataFrame, grid: list[str]) -> list[str]:
-    return (["variant"] if "variant" in sweep else []) + ["scene", *SCENE_FIELDS, *grid]
+def _sweep_keys(sweep: pd.DataFrame, grid: list[str], fields: Sequence[str] = WIND_LABEL_FIELDS) -> list[str]:
+    return (["variant"] if "variant" in sweep else []) + ["scene", *fields, *grid]
 
 
-def sweep_summary(sweep: pd.DataFrame, outputs: list[str], grid: list[str] | None = None) -> pd.DataFrame:
+def sweep_summary(sweep: pd.DataFrame, outputs: list[str], grid: list[str] | None = None,
+                  fields: Sequence[str] = WIND_LABEL_FIELDS) -> pd.DataFrame:
     """Mean and standard deviation over realisations per scene (and grid point and variant), plus
-    each mean scaled by its maximum."""
-    keys = _sweep_keys(sweep, grid or [])
+    each mean scaled by its maximum; ``fields``: the scene fields that label a scene."""
+    keys = _sweep_keys(sweep, grid or [], fields)
     g = sweep.groupby(keys, sort=False)[outputs]
     mean, std = g.mean(), g.std(ddof=1).fillna(0.0)
     out = mean.add_suffix("_mean").join(std.add_suffix("_std")).reset_index()
@@ -156,14 +177,15 @@ def _case_label(fields: list[str], values: Any) -> str:
 
 
 def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None = None,
-               info: dict[str, ModelOutput] | None = None) -> list[tuple[Any, str]]:
-    """Each output (+- one std) against the first grid parameter, or against wind speed scaled by
-    its maximum; one line per value of every other varying key (variant, scene fields, grid).
-    Axis labels carry the outputs' units from ``info``."""
+               info: dict[str, ModelOutput] | None = None,
+               fields: Sequence[str] = WIND_LABEL_FIELDS) -> list[tuple[Any, str]]:
+    """Each output (+- one std) against the first grid parameter, or against the first numeric
+    scene field (wind speed) scaled by its maximum; one line per value of every other varying key
+    (variant, scene fields, grid). Axis labels carry the outputs' units from ``info``."""
     grid = grid or []
     label_of = {o: (info or {}).get(o, declared(o)).label for o in outputs}
-    x = grid[0] if grid else "wind_speed"
-    others = [f for f in _sweep_keys(summary, grid) if f not in (x, "scene") and summary[f].nunique() > 1]
+    x = grid[0] if grid else next(f for f in fields if pd.api.types.is_numeric_dtype(summary[f]))
+    others = [f for f in _sweep_keys(summary, grid, fields) if f not in (x, "scene") and summary[f].nunique() > 1]
     figs = []
     if summary[x].nunique() == 1 and others:      # nothing to sweep along: one bar per case, real units
         labels = [_case_label(others, row) for row in summary[others].itertuples(index=False)]
@@ -188,7 +210,7 @@ def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None
                         marker="o", ms=3, label=label or None)
         if grid and summary[x].min() > 0 and summary[x].max() / summary[x].min() > 50:
             ax.set_xscale("log")
-        ax.set_xlabel(x if grid else "mean wind speed [m/s]")
+        ax.set_xlabel(x if grid or x != "wind_speed" else "mean wind speed [m/s]")
         ax.set_ylabel(label_of[o] if grid else f"{o} / max [-]")
         ax.grid(alpha=0.3)
         if others:
@@ -258,14 +280,16 @@ def plot_agreement(indices: pd.DataFrame) -> Any:
     return fig
 
 
-def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None) -> Any:
+def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None,
+                    fields: Sequence[str] = WIND_LABEL_FIELDS) -> Any:
     """S1/ST bars with confidence bars where a method gives an interval: one row per output
     (titled with its unit), one column per method; hatched bars are untrusted (said in the
-    legend only when some are)."""
+    legend only when some are); the title names the scene by its label ``fields``."""
     from matplotlib.patches import Patch
 
     outputs, methods = list(scene_rows["output"].unique()), list(scene_rows["method"].unique())
-    fig, axes = plt.subplots(len(outputs), len(methods), figsize=(3.8 * len(methods), 2.6 * len(outputs)),
+    width = max(3.8, 0.25 * scene_rows["parameter"].nunique())          # room for many parameters' labels
+    fig, axes = plt.subplots(len(outputs), len(methods), figsize=(width * len(methods), 2.6 * len(outputs)),
                              squeeze=False)
     for i, out in enumerate(outputs):
         for j, meth in enumerate(methods):
@@ -278,15 +302,16 @@ def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | Non
     if not scene_rows["trusted"].astype(bool).all():
         handles.append(Patch(facecolor="white", edgecolor="0.3", hatch="//", label="untrusted"))
     axes[0, 0].legend(handles=handles, fontsize=7)
-    fields = {f: scene_rows[f].iloc[0] for f in SCENE_FIELDS}
-    fig.suptitle("Sobol indices, " + ", ".join(f"{k}={v:g}" for k, v in fields.items()), fontsize=9)
+    fig.suptitle("Sobol indices, " + scene_text({f: scene_rows[f].iloc[0] for f in fields}), fontsize=9)
     fig.tight_layout()
     return fig
 
 
-def plot_heatmap(rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None) -> Any:
+def plot_heatmap(rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None,
+                 fields: Sequence[str] = WIND_LABEL_FIELDS) -> Any:
     """ST as parameter x scene, one panel per output; the panels share the parameter axis, so
-    its labels are drawn once, left of the first panel, and never over a neighbour."""
+    its labels are drawn once, left of the first panel, and never over a neighbour. Scenes are
+    labelled by their wind speed, or by their label ``fields`` for a model's own scene type."""
     outputs = list(rows["output"].unique())
     params = sorted(rows["parameter"].unique())
     fig, axes = plt.subplots(1, len(outputs), figsize=(2.4 * len(outputs) + 3.0, 0.3 * len(params) + 2.2),
@@ -301,7 +326,9 @@ def plot_heatmap(rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None)
             ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, hatch="///", edgecolor="white",
                                    linewidth=0, label="untrusted"))
             hatched = True
-        labels = [f"{rows[rows['scene'] == s]['wind_speed'].iloc[0]:g} m/s" for s in t.columns]
+        first = [rows[rows["scene"] == s].iloc[0] for s in t.columns]
+        labels = ([f"{r['wind_speed']:g} m/s" for r in first] if "wind_speed" in fields
+                  else [scene_text({f: r[f] for f in fields}) for r in first])
         ax.set_xticks(range(t.shape[1]), labels, rotation=45, ha="right", fontsize=7)
         ax.set_yticks(range(len(params)), params, fontsize=7)
         ax.tick_params(axis="y", labelleft=ax is axes[0, 0])
@@ -323,7 +350,7 @@ def _write_fault(result: StudyResult, save_csv: Any, save_fig: Any) -> None:
     fault = result.study.spec.fault
     assert fault is not None
     for ps, det in result.fault_detection:
-        title = ", ".join(f"{k}={v:g}" for k, v in ps.fields.items())
+        title = scene_text(ps.fields)
         fig, ax = plt.subplots(figsize=(7, 4.2))
         det.plot_curve(ax=ax)
         ax.set_xlabel(f"{fault.parameter} (healthy {fault.healthy:g}: grey line)")
@@ -481,13 +508,15 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
         lines.append("")
     if result.fidelity is not None and len(result.fidelity):
         lines += ["## Fidelity chosen per scene (`fidelity: auto`)", "",
-                  "| scene | wind speed | chosen | " + " | ".join(
+                  f"| scene | {'wind speed' if result.study.wind else 'scene fields'} | chosen | " + " | ".join(
                       f"max rel. error {c[len('max_rel_error_'):]}" for c in result.fidelity.columns
                       if c.startswith("max_rel_error_")) + " |",
                   "|---|---|---|" + "---|" * sum(c.startswith("max_rel_error_") for c in result.fidelity.columns)]
         for r in result.fidelity.to_dict("records"):
             errs = " | ".join(f"{v:.2%}" for k, v in r.items() if k.startswith("max_rel_error_"))
-            lines.append(f"| {r['scene']} | {r['wind_speed']:g} | {r['chosen']} | {errs} |")
+            where = (f"{r['wind_speed']:g}" if result.study.wind
+                     else scene_text({f: r[f] for f in result.study.scene_fields}))
+            lines.append(f"| {r['scene']} | {where} | {r['chosen']} | {errs} |")
         lines.append("")
     if len(result.indices):
         mom = {(r["scene"], r["output"]): r for r in (result.moments.to_dict("records")
@@ -498,7 +527,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                   "by the method's own error estimate (README: \"When M-DRM is not to be trusted\"); "
                   "a method is `yes` when all its rows are.", ""]
         for (scene, out), g in result.indices.groupby(["scene", "output"]):
-            fields = ", ".join(f"{f}={g[f].iloc[0]:g}" for f in SCENE_FIELDS)
+            fields = scene_text({f: g[f].iloc[0] for f in result.study.scene_fields})
             lines.append(f"### scene {scene} ({fields}) - `{out}` [{info.get(out, declared(out)).unit or '?'}]")
             lines.append("")
             lines += [_dominance(g, out, mom.get((scene, out))), ""]

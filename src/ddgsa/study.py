@@ -28,17 +28,21 @@ measurement noise per output, the false-alarm rate, POD target and confidence le
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import itertools
 import json
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
+from collections.abc import Mapping
 from typing import Any, Literal
 
 import numpy as np
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import (BaseModel, ConfigDict, Field, PrivateAttr, ValidationError, ValidationInfo,
+                      field_validator, model_validator)
+from pydantic_core import InitErrorDetails, PydanticCustomError
 from ruamel.yaml import YAML
 from ruamel.yaml.error import YAMLError
 
@@ -111,6 +115,81 @@ class ScenesSpec(BaseModel):
     def scene(self, fields: dict[str, float], realisation: int) -> Scene:
         """The scene of one grid point and realisation (turbulence seed ``seed + realisation``)."""
         return Scene(**fields, duration=self.duration, dt=self.dt, seed=self.seed + realisation)
+
+
+WIND_LABEL_FIELDS = ("wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent")
+"""The wind scene's grid fields, which label its scenes in tables and plots."""
+_GRID_KEYS = ("realisations", "seed", "aggregate")
+"""Keys of ``scenes:`` that are not fields of the model's scene type."""
+
+
+def _refuse(key: str, value: Any, message: str) -> None:
+    """Raise a validation error at field ``key`` (its path then reads ``scenes.<key>``)."""
+    raise ValidationError.from_exception_data("scenes", [InitErrorDetails(
+        type=PydanticCustomError("scene_field", message), loc=(key,), input=value)])
+
+
+class ModelScenesSpec(BaseModel):
+    """``scenes:`` of a model with its own scene type (e.g. the test rig's ``RigScene``).
+
+    In the file the scene type's fields stand beside ``realisations``, ``seed`` and ``aggregate``;
+    a list-valued field is a grid axis. Every grid point has ``realisations`` scenes with seeds
+    ``seed + r``. The scene type (a dataclass whose ``__post_init__`` validates it) names the
+    fields that label its scenes in ``label_fields``; list-valued fields label them too.
+    """
+
+    model_config = _STRICT
+    scene_type: str = Field(description="the scene type's qualified name (provenance)")
+    fields: dict[str, Any] = Field(default_factory=dict, description="the scene fields as given")
+    realisations: int = Field(1, ge=1, le=1000)
+    seed: int = Field(1, ge=0)
+    aggregate: Literal["mean", "median", "max"] = "mean"
+    _type: Any = PrivateAttr(None)
+
+    @classmethod
+    def for_type(cls, scene_type: type, model: str, data: Any) -> "ModelScenesSpec":
+        """Validate the raw ``scenes:`` mapping against ``scene_type`` (the scene type of ``model``).
+
+        Raises
+        ------
+        ValueError
+            For an unknown field (with close names and the allowed ones) or an empty list.
+        """
+        if data is None:
+            data = {}
+        if not isinstance(data, dict):
+            raise ValueError(f"a mapping of {model!r} scene fields is needed, got {type(data).__name__}")
+        allowed = [f.name for f in dataclasses.fields(scene_type) if f.name != "seed"]
+        for key, value in data.items():
+            if key not in allowed and key not in _GRID_KEYS:
+                _refuse(key, value, unknown_name_message(f"{model} scene field", key,
+                                                         [*allowed, *_GRID_KEYS]))
+            if isinstance(value, list) and not value:
+                _refuse(key, value, "an empty list gives an empty scene grid; give at least one value")
+        grid = {k: v for k, v in data.items() if k in _GRID_KEYS}
+        spec = cls(scene_type=f"{scene_type.__module__}.{scene_type.__qualname__}",
+                   fields={k: v for k, v in data.items() if k not in _GRID_KEYS}, **grid)
+        spec._type = scene_type
+        return spec
+
+    @property
+    def label_fields(self) -> list[str]:
+        """The fields that label a scene: the type's ``label_fields`` and every list-valued one."""
+        declared = list(getattr(self._type, "label_fields", ()))
+        return declared + [k for k, v in self.fields.items() if isinstance(v, list) and k not in declared]
+
+    def grid(self) -> list[dict[str, Any]]:
+        """The scene grid (without seeds): the label fields of every combination of the list-valued fields."""
+        defaults = {f.name: f.default for f in dataclasses.fields(self._type)}
+        labels = self.label_fields
+        axes = {k: (v if isinstance(v, list) else [v]) for k, v in
+                ((k, self.fields.get(k, defaults[k])) for k in labels)}
+        return [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
+
+    def scene(self, fields: dict[str, Any], realisation: int) -> Any:
+        """The scene of one grid point and realisation (seed ``seed + realisation``)."""
+        scalars = {k: v for k, v in self.fields.items() if not isinstance(v, list)}
+        return self._type(**{**scalars, **fields}, seed=self.seed + realisation)
 
 
 class MethodSpec(BaseModel):
@@ -216,11 +295,23 @@ class StudySpec(BaseModel):
     fixed: dict[str, float] = Field(default_factory=dict)
     grid: dict[str, list[float]] = Field(
         default_factory=dict, description="parameter values to sweep, full factorial (kind: sweep only)")
-    scenes: ScenesSpec = Field(default_factory=ScenesSpec)
+    scenes: ScenesSpec | ModelScenesSpec = Field(default_factory=ScenesSpec)
     outputs: list[str] = Field(default_factory=list)
     methods: list[MethodSpec] = Field(default_factory=list)
     fault: FaultSpec | None = None
     run: RunSpec = Field(default_factory=RunSpec)
+
+    @field_validator("scenes", mode="wrap")
+    @classmethod
+    def _model_scenes(cls, v: Any, handler: Any, info: ValidationInfo) -> ScenesSpec | ModelScenesSpec:
+        """Scenes are the model's: validated against the scene type of the named model (wind by default)."""
+        if isinstance(v, (ScenesSpec, ModelScenesSpec)):
+            return v
+        model = info.data.get("model")
+        scene_type = scene_type_of(model.name) if isinstance(model, ModelSpec) else Scene
+        if scene_type is Scene:
+            return ScenesSpec.model_validate(v)
+        return ModelScenesSpec.for_type(scene_type, model.name, v)
 
     @model_validator(mode="after")
     def _kind_needs(self) -> "StudySpec":
@@ -239,6 +330,11 @@ class StudySpec(BaseModel):
         if self.model.variants and self.model.fidelity == "auto":
             raise ValueError("'model.variants' cannot be combined with fidelity: auto")
         return self
+
+
+def scene_type_of(model: str) -> type:
+    """The scene type model ``model`` declares (``Model.scene_type``; the wind ``Scene`` for an unknown name)."""
+    return getattr(MODELS[model], "scene_type", Scene) if model in MODELS else Scene
 
 
 @dataclass
@@ -275,6 +371,17 @@ class Study:
             label = ", ".join(f"{k}={val}" for k, val in v.items())
             out.append((label, Study(self.spec.model_copy(update={"model": model}), self.space, self.path, self.text)))
         return out
+
+    @property
+    def scene_fields(self) -> list[str]:
+        """The fields that label the study's scenes in tables and plots."""
+        sc = self.spec.scenes
+        return sc.label_fields if isinstance(sc, ModelScenesSpec) else list(WIND_LABEL_FIELDS)
+
+    @property
+    def wind(self) -> bool:
+        """Whether the study's scenes are wind scenes (``ddgsa.Scene``, whose loads are cached)."""
+        return isinstance(self.spec.scenes, ScenesSpec)
 
     @property
     def outputs(self) -> list[str]:
@@ -404,11 +511,18 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
     for k, fields in enumerate(spec.scenes.grid()):
         try:
             spec.scenes.scene(fields, 0)
-        except DdgsaError as exc:
-            raise StudyError(f"{where}: field 'scenes': {exc}") from None
+        except (DdgsaError, TypeError) as exc:
+            raise StudyError(f"{where}: field 'scenes' (scene {k}: {scene_text(fields)}): {exc}") from None
     if spec.fault is not None:
         _validate_fault(where, spec, model)
     return Study(spec=spec, space=space, path=path, text=text)
+
+
+def scene_text(values: Mapping[str, Any]) -> str:
+    """``field=value, ...`` of a scene's label fields (numbers by ``:g``, labels such as a rig scene's
+    kind as they are), for messages, tables and plot titles."""
+    return ", ".join(f"{k}={v:g}" if isinstance(v, (int, float)) and not isinstance(v, bool) else f"{k}={v}"
+                     for k, v in values.items())
 
 
 def _unknown_parameter(name: str, known: list[str]) -> str:
@@ -467,8 +581,9 @@ class PlannedScene:
     """One grid point of the scene grid with its realisation seeds."""
 
     index: int
-    fields: dict[str, float]
-    scenes: tuple[Scene, ...]
+    fields: dict[str, Any]
+    scenes: tuple[Any, ...]
+    """The realisations' scenes, of the model's scene type."""
 
 
 def plan_scenes(study: Study) -> list[PlannedScene]:

@@ -20,7 +20,7 @@ from ddgsa.models.hss_rig.scenes import RigScene, scene_grid
     ({"speed_rpm": "fast"}, "'speed_rpm' must be a finite number, got 'fast'"),
     ({"seed": -1}, "'seed' must be an integer >= 0"),
     ({"sample_rate": 10.0}, "gives 20 samples; need at least 64"),
-    ({"kind": "steady", "speed_rpm": 60.0, "duration": 2.0, "settle": 0.5}, "holds 1.5 revolutions; need at least 8"),
+    ({"kind": "steady", "speed_rpm": 60.0, "duration": 2.0, "settle": 0.5}, "holds 1.35 revolutions at 10% slip; need at least 8"),
 ])
 def test_bad_fields_are_refused_with_field_value_and_allowed(fields, message):
     with pytest.raises(SceneError, match=message):

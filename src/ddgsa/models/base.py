@@ -131,10 +131,13 @@ class Model(ABC):
     """Base class: parameters declared once, evaluated many points at a time.
 
     Subclasses set ``name`` (by :func:`register_model`), ``parameters`` and ``outputs`` and
-    implement :meth:`_evaluate_one`, :meth:`simulate` and :meth:`modes`.
+    implement :meth:`_evaluate_one`, :meth:`simulate` and :meth:`modes`. A model whose scenes
+    are not wind scenes declares its own ``scene_type`` (a validating dataclass with a ``seed``
+    field and a ``to_dict()``); studies validate their ``scenes:`` against it.
     """
 
     name: ClassVar[str] = ""
+    scene_type: ClassVar[type] = Scene
     parameters: tuple[ModelParameter, ...] = ()        # per class, or per instance where options change them
     outputs: tuple[str, ...] = ()                     # names; ModelOutput declarations carry unit and range
     fidelities: ClassVar[tuple[str, ...]] = ()

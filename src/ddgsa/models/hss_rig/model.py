@@ -8,12 +8,17 @@ Fidelities (the motor's, "model no more than a scene needs"):
 ``kloss``
     Steady equivalent-circuit torque at the instantaneous speed and supply; generalised-alpha.
 ``linear``
-    ``kloss`` motor, the rig linearised about its steady operating point (spinning, gravity sag)
-    in non-rotating bending coordinates (:mod:`ddgsa.mbs.nonrotating`) and integrated exactly from
-    the periodic steady state of one revolution; steady scenes only. Its time-varying inputs are
-    the eccentric mass, the motor's torque ripple and the defect impacts. The coupling's turning
-    stiffness anisotropy would make the rig periodic rather than time-invariant: the linear
-    fidelity averages it out (``coupling_asymmetry`` has no effect) and refuses a misalignment.
+    ``kloss`` motor and the cheapest exact path each scene allows. Steady scenes: the rig
+    linearised about its steady operating point (spinning, gravity sag) in non-rotating bending
+    coordinates (:mod:`ddgsa.mbs.nonrotating`); when every input repeats once per revolution (the
+    eccentric mass; no supply unbalance, no defect) its periodic steady state is solved harmonic by
+    harmonic in the frequency domain, else it is integrated exactly from the periodic state of one
+    revolution (inputs: the eccentric mass, the motor's torque ripple, the defect impacts).
+    Start-up and coast-down (a speed sweep no linearisation about one speed carries): the ``kloss``
+    rig by generalised-alpha, a coast-down starting from the frequency-domain steady state. The
+    coupling's turning stiffness anisotropy would make the steady rig periodic rather than
+    time-invariant: the linear fidelity averages it out (``coupling_asymmetry`` has no effect) and
+    refuses a misalignment.
 
 Scenes are :class:`~ddgsa.models.hss_rig.scenes.RigScene` (start-up, steady, coast-down).
 
@@ -49,7 +54,8 @@ import pandas as pd
 
 from ddgsa.errors import ModelError, SceneError
 from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
-from ddgsa.mbs.modal import modal_analysis
+from ddgsa.mbs.campbell import CampbellDiagram
+from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.models.base import Model, ModelOutput, register_model
 from ddgsa.models.hss_rig.bearing import defect_impulses
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
@@ -58,7 +64,8 @@ from ddgsa.models.hss_rig.motor import sequence_phasors
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, build
 from ddgsa.models.hss_rig.scenes import RigScene
-from ddgsa.signals import band_energy, harmonic_amplitudes, order_amplitudes, resample_to_angle
+from ddgsa.signals import (band_energy, harmonic_amplitudes, order_amplitudes, order_map, plot_order_map,
+                           plot_spectrum, resample_to_angle)
 
 ACCELEROMETERS = ("housing_1_y", "housing_1_z", "housing_2_y", "housing_2_z")
 PROBES = ("disk_y", "disk_z")
@@ -102,7 +109,7 @@ class HssRig(Model):
     Parameters
     ----------
     fidelity : str
-        ``dq``, ``kloss`` or ``linear`` (steady scenes only).
+        ``dq``, ``kloss`` or ``linear`` (``kloss`` with steady scenes linearised; see the module).
     time_step : float
         Generalised-alpha step [s] (``dq``, ``kloss``); the sensor interval must be a multiple.
     noise : bool
@@ -115,6 +122,7 @@ class HssRig(Model):
                                    "sample_rate, settle, ramp_time, seed}")
     parameters = PARAMETERS
     outputs = OUTPUTS
+    scene_type = RigScene
 
     def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False) -> None:
         if fidelity not in self.fidelities:
@@ -147,26 +155,28 @@ class HssRig(Model):
         extra = None
         if p["defect_amplitude"] > 0.0 and scene.kind == "steady":
             extra = _defect_loads(p, scene, spin)
-        if self.fidelity == "linear":
-            if p["misalignment_parallel"] or p["misalignment_angular"]:
-                raise ModelError("model 'hss_rig': fidelity 'linear' cannot carry a coupling misalignment (a stiffness "
-                                 "turning against a fixed offset makes the rig periodic, not time-invariant); "
-                                 f"got misalignment_parallel = {p['misalignment_parallel']} m, misalignment_angular = "
-                                 f"{p['misalignment_angular']} rad; use 'kloss' or 'dq'")
-            p = {**p, "coupling_asymmetry": 0.0}
-        return build(p, parts, spin=spin, extra=extra), drive, spin
+        return build(self.effective(p), parts, spin=spin, extra=extra), drive, spin
+
+    def effective(self, p: Mapping[str, float]) -> dict[str, float]:
+        """The parameters the fidelity builds the rig with: ``linear`` averages the coupling's
+        anisotropy out (``coupling_asymmetry = 0``) and refuses a misalignment (see the module)."""
+        if self.fidelity != "linear":
+            return dict(p)
+        if p["misalignment_parallel"] or p["misalignment_angular"]:
+            raise ModelError("model 'hss_rig': fidelity 'linear' cannot carry a coupling misalignment (a stiffness "
+                             "turning against a fixed offset makes the rig periodic, not time-invariant); "
+                             f"got misalignment_parallel = {p['misalignment_parallel']} m, misalignment_angular = "
+                             f"{p['misalignment_angular']} rad; use 'kloss' or 'dq'")
+        return {**p, "coupling_asymmetry": 0.0}
 
     # -- time integration ----------------------------------------------------------------------
     def simulate(self, scene: Any, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         """Sensor time series (see the module), indexed by time [s]."""
         sc = self._scene(scene)
-        p = self.resolve(params).iloc[0].to_dict()
+        p = self.effective(self.resolve(params).iloc[0].to_dict())
         rig, drive, spin = self.assemble(p, sc)
         h = 1.0 / sc.sample_rate
-        if self.fidelity == "linear":
-            if sc.kind != "steady":
-                raise ModelError(f"model 'hss_rig': fidelity 'linear' serves steady scenes only, not {sc.kind!r}; "
-                                 "use 'kloss' or 'dq'")
+        if self.fidelity == "linear" and sc.kind == "steady":
             t, q, qd = self._linear_run(rig, p, sc, spin)
         else:
             every = int(round(h / self.time_step))
@@ -174,6 +184,8 @@ class HssRig(Model):
                 raise ModelError(f"model 'hss_rig': the sensor interval 1/sample_rate = {h:.6g} s must be a multiple "
                                  f"of time_step = {self.time_step:g} s")
             q0, qd0 = self.initial_state(rig, p)
+            if sc.kind == "coastdown" and self.fidelity != "dq":
+                q0, qd0 = self.periodic_state(rig, q0, qd0, spin)
             run = genalpha.simulate(rig.system, sc.duration, self.time_step, q0=q0, qd0=qd0, output_every=every)
             t, q, qd = run.t, run.q, run.qd
         return self._sensors(rig, drive, sc, t, q, qd)
@@ -192,13 +204,36 @@ class HssRig(Model):
         q0[: still.system.n] += sag
         return q0, rig.system.qd0.copy()
 
-    def _linear_run(self, rig: Rig, p: Mapping[str, float], sc: RigScene,
-                    spin: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    @staticmethod
+    def periodic_state(rig: Rig, q0: np.ndarray, qd0: np.ndarray, spin: float) -> tuple[np.ndarray, np.ndarray]:
+        """The state at ``t = 0`` of the steady unbalance response at ``spin`` [rad/s] about ``(q0, qd0)``.
+
+        The rig linearised in non-rotating coordinates, its eccentric mass solved in the
+        frequency domain (:func:`ddgsa.mbs.nonrotating.periodic`): a coast-down then starts in the
+        steady state it leaves instead of ringing from the static sag for seconds (the 2 %-damped
+        bending mode). Exact for the ``linear`` fidelity's rig; for ``kloss`` the coupling's turning
+        anisotropy and a misalignment are left out of this start (their 2x part rings down).
+        """
+        system = rig.system
+        lin = nonrotating.linearise(system, q0, qd0)
+        unbalance = [e for e in system.elements if e.name == "unbalance"]
+        _, q, qd = nonrotating.periodic(system, lin, 0.0, 1.0, unbalance, 2 * math.pi / spin)
+        return q[0], qd[0]
+
+    def _linear_run(self, rig: Rig, p: Mapping[str, float], sc: RigScene, spin: float,
+                    harmonic: bool | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The linear fidelity's record: in the frequency domain (:func:`ddgsa.mbs.nonrotating.periodic`)
+        when every input repeats once per revolution (``harmonic=None``: no supply unbalance, no
+        defect), else by exact time integration (:func:`ddgsa.mbs.nonrotating.simulate`); both start
+        from the periodic state of one revolution."""
         system = rig.system
         varying = [e for e in system.elements if e.name in ("unbalance", "motor", "defect_housing", "defect_shaft")]
         q0, qd0 = self.initial_state(rig, p)
         lin = nonrotating.linearise(system, q0, qd0)
-        return nonrotating.simulate(system, lin, sc.duration, 1.0 / sc.sample_rate, varying, 2 * math.pi / spin)
+        if harmonic is None:
+            harmonic = p["supply_unbalance"] == 0.0 and p["defect_amplitude"] == 0.0
+        run = nonrotating.periodic if harmonic else nonrotating.simulate
+        return run(system, lin, sc.duration, 1.0 / sc.sample_rate, varying, 2 * math.pi / spin)
 
     def _sensors(self, rig: Rig, drive: Drive, sc: RigScene, t: np.ndarray, q: np.ndarray,
                  qd: np.ndarray) -> pd.DataFrame:
@@ -257,6 +292,74 @@ class HssRig(Model):
         q0, qd0 = self.initial_state(rig, p)
         lin = nonrotating.linearise(rig.system, q0, qd0)
         return modal_analysis(lin.m, lin.c, lin.k, rig.system.coord_names, rig.system.groups())
+
+    def campbell(self, speeds: Any, orders: Any = (1.0, 2.0), params: Mapping[str, float] | None = None,
+                 max_frequency_hz: float = 150.0) -> CampbellDiagram:
+        """Campbell diagram of the rig seen from the frame: the modes of :meth:`modes` at each of
+        ``speeds`` [rad/s], those below ``max_frequency_hz`` [Hz] at standstill (the band the
+        orders up to 2x and the supply reach), with their whirl from the non-rotating shapes
+        (:func:`ddgsa.mbs.nonrotating.whirl_index`). ``ddgsa modes hss_rig --campbell`` calls it.
+        """
+        p = self.resolve(params).iloc[0].to_dict()
+        rows: list[dict[str, Any]] = []
+        keep = None
+        for speed in np.asarray(speeds, dtype=float):
+            rpm = max(abs(speed) * 30.0 / math.pi, 60.0)
+            drive = drive_for(p, RigScene("steady", speed_rpm=rpm, duration=10.0), POLE_PAIRS)
+            rig = build(p, kloss_parts(drive), spin=float(speed))
+            lin = nonrotating.linearise(rig.system, *self.initial_state(rig, p))
+            lam, vec = damped_eigen(lin.m, lin.c, lin.k)
+            labels = modal_analysis(lin.m, lin.c, lin.k, rig.system.coord_names, rig.system.groups())["label"]
+            freq = np.abs(lam) / (2 * math.pi)
+            keep = int(np.sum(freq < max_frequency_hz)) if keep is None else keep
+            for j in range(min(keep, lam.size)):
+                index, lateral = nonrotating.whirl_index(rig.system, lin, vec[:, j])
+                whirl = ("none" if lateral < 0.01 else "standstill" if speed == 0 else
+                         "forward" if index * np.sign(speed) > 0.5 else
+                         "backward" if index * np.sign(speed) < -0.5 else "mixed")
+                rows.append({"speed_rad_s": float(speed), "speed_rpm": float(speed) * 30.0 / math.pi, "mode": j + 1,
+                             "frequency_hz": float(freq[j]), "damping_ratio": float(-lam[j].real / abs(lam[j])),
+                             "whirl": whirl, "whirl_index": float(index), "label": labels.iloc[j]})
+        return CampbellDiagram(pd.DataFrame(rows), tuple(float(o) for o in orders))
+
+    def scene_figures(self, scene: Any, params: Mapping[str, float] | None = None) -> list[tuple[Any, str]]:
+        """Signal plots of one run at ``params`` (a study's report draws them at its nominal point).
+
+        Start-up and coast-down: order maps (2-revolution blocks, :func:`ddgsa.signals.order_map`)
+        of the housing-1 vertical accelerometer and the disk probe against shaft speed. Steady:
+        spectra of the analysed record with the orders, ball-pass frequencies, the supply frequency
+        and its 1x sidebands marked (:func:`ddgsa.signals.plot_spectrum`). Returns ``(figure, name)``.
+        """
+        import matplotlib.pyplot as plt
+
+        sc = self._scene(scene)
+        s = self.simulate(sc, params)
+        if sc.kind == "steady":
+            s = s[s.index >= sc.settle - 1e-12]
+        t, angle = s.index.to_numpy(), s["angle"].to_numpy()
+        f_r = float(s["speed"].mean()) / (2 * math.pi)
+        title = f"{sc.kind} at {sc.speed_rpm:g} rpm synchronous"
+        figs = []
+        if sc.kind != "steady":
+            for sensor in ("housing_1_y", "disk_y"):
+                speed, orders, amp = order_map(t, s[sensor].to_numpy(), angle, revs_per_block=2)
+                fig, ax = plt.subplots(figsize=(7, 4.5))
+                plot_order_map(speed, orders, amp, max_order=8.0, ax=ax, unit=f"[{_sensor_unit(sensor)[0]}]")
+                ax.set_title(f"{sensor}, {title}", fontsize=9)
+                figs.append((fig, f"order_map_{sensor}"))
+            return figs
+        supply = drive_for(self.resolve(params).iloc[0].to_dict(), sc, POLE_PAIRS).motor.supply_frequency
+        marks = {"housing_1_y": {"1x": f_r, "2x": 2 * f_r, "BPFO": float(BEARING_GEOMETRY.bpfo(f_r)),
+                                 "BPFI": float(BEARING_GEOMETRY.bpfi(f_r))},
+                 "disk_y": {"1x": f_r, "2x": 2 * f_r},
+                 "motor_current": {"f": supply, "f-fr": supply - f_r, "f+fr": supply + f_r}}
+        for sensor, mark in marks.items():
+            fig, ax = plt.subplots(figsize=(7, 4))
+            plot_spectrum(t, s[sensor].to_numpy(), mark, max_hz=1.3 * max(mark.values()), ax=ax,
+                          unit=f"[{_sensor_unit(sensor)[0]}]")
+            ax.set_title(f"{sensor}, {title}", fontsize=9)
+            figs.append((fig, f"spectrum_{sensor}"))
+        return figs
 
     def sampling_checks(self, scene: Any) -> list[dict[str, Any]]:
         """The sensor sample interval against the frequencies the outputs read (at the synchronous speed)."""

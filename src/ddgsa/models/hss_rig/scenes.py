@@ -29,7 +29,7 @@ import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, fields
-from typing import Any
+from typing import Any, ClassVar
 
 from ddgsa.errors import SceneError
 from ddgsa.mbs.sampling import check_interval, sampling_row
@@ -37,6 +37,9 @@ from ddgsa.mbs.sampling import check_interval, sampling_row
 KINDS = ("startup", "steady", "coastdown")
 MIN_STEADY_REVS = 8
 """Whole shaft revolutions the analysed steady record must hold (order resolution 1/8)."""
+SLIP_ALLOWANCE = 0.1
+"""Slip the revolution count allows for [-]: the shaft turns slower than ``speed_rpm`` by the
+motor's slip (3-6 % for the rig's motor at its load; 10 % leaves room for a GSA's extremes)."""
 
 
 @dataclass(frozen=True)
@@ -73,6 +76,8 @@ class RigScene:
     settle: float = 0.5
     ramp_time: float = 0.0
     seed: int = 1
+    label_fields: ClassVar[tuple[str, ...]] = ("kind", "speed_rpm")
+    """The fields that label a rig scene in study tables and plots."""
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -99,12 +104,12 @@ class RigScene:
             raise SceneError(f"rig scene: duration {self.duration:g} s at sample_rate {self.sample_rate:g} Hz gives "
                              f"{self.duration * self.sample_rate:.0f} samples; need at least 64")
         if self.kind == "steady":
-            revs = self.analysed_duration * self.speed_rpm / 60.0
+            revs = self.analysed_duration * self.speed_rpm / 60.0 * (1.0 - SLIP_ALLOWANCE)
             if revs < MIN_STEADY_REVS:
                 raise SceneError(f"rig scene 'steady' at {self.speed_rpm:g} rpm: the analysed record "
-                                 f"(duration - settle = {self.analysed_duration:g} s) holds {revs:.3g} revolutions; "
-                                 f"need at least {MIN_STEADY_REVS} (duration >= "
-                                 f"{self.settle + 60 * MIN_STEADY_REVS / self.speed_rpm:.3g} s)")
+                                 f"(duration - settle = {self.analysed_duration:g} s) holds {revs:.3g} revolutions "
+                                 f"at {SLIP_ALLOWANCE:.0%} slip; need at least {MIN_STEADY_REVS} (duration >= "
+                                 f"{self.settle + 60 * MIN_STEADY_REVS / (self.speed_rpm * (1 - SLIP_ALLOWANCE)):.3g} s)")
 
     @property
     def analysed_duration(self) -> float:

@@ -1,0 +1,107 @@
+"""Scenes are the model's: a study of the test rig validates its ``scenes:`` against ``RigScene``
+(errors name the file, the field, the value and the allowed fields), runs end to end and labels
+its scenes by the rig's fields; wind studies keep their schema (and their digests)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from ddgsa.cli import main
+from ddgsa.errors import StudyError
+from ddgsa.loads.scene import Scene
+from ddgsa.models.hss_rig.scenes import RigScene
+from ddgsa.study import ModelScenesSpec, ScenesSpec, load_study, load_yaml, plan_scenes, validate_study
+
+ROOT = Path(__file__).resolve().parents[2]
+
+RIG = """\
+name: rig_tiny
+model: {{name: hss_rig, fidelity: linear}}
+parameters:
+  disk_mass: {{nominal: 15.0, spread: 0.1}}
+scenes: {{{scenes}}}
+outputs: [order1x_disk_y, rms_housing_1_y]
+methods:
+  - {{method: mdrm, points: 3}}
+"""
+STEADY = "kind: steady, speed_rpm: [1200, 1500], duration: 0.5, sample_rate: 2000, settle: 0.05, realisations: 2"
+
+
+def _write(tmp_path: Path, scenes: str) -> Path:
+    path = tmp_path / "rig.yaml"
+    path.write_text(RIG.format(scenes=scenes))
+    return path
+
+
+def test_rig_study_builds_rig_scenes_over_its_grid(tmp_path: Path) -> None:
+    study = load_study(_write(tmp_path, STEADY))
+    assert isinstance(study.spec.scenes, ModelScenesSpec)
+    assert study.scene_fields == ["kind", "speed_rpm"] and not study.wind
+    planned = plan_scenes(study)
+    assert [ps.fields for ps in planned] == [{"kind": "steady", "speed_rpm": 1200},
+                                             {"kind": "steady", "speed_rpm": 1500}]
+    first = planned[0].scenes
+    assert first == (RigScene("steady", 1200.0, 0.5, 2000.0, 0.05, seed=1),
+                     RigScene("steady", 1200.0, 0.5, 2000.0, 0.05, seed=2))       # seeds: seed + realisation
+
+
+def test_a_list_of_kinds_labels_every_scene(tmp_path: Path) -> None:
+    study = load_study(_write(tmp_path, "kind: [startup, steady, coastdown], speed_rpm: 1500, duration: 0.5, "
+                                        "sample_rate: 2000, settle: 0.1"))
+    assert [ps.fields for ps in plan_scenes(study)] == [{"kind": k, "speed_rpm": 1500}
+                                                         for k in ("startup", "steady", "coastdown")]
+
+
+@pytest.mark.parametrize("scenes, message", [
+    ("kind: steady, speed: 1500, duration: 0.45",
+     r"rig\.yaml: field 'scenes\.speed': unknown hss_rig scene field 'speed'; known: aggregate, duration, kind, "
+     r"ramp_time, realisations, sample_rate, seed, settle, speed_rpm; did you mean .*'speed_rpm'.*\(given: 1500\)"),
+    ("wind_speed: [8.0, 11.0]", r"field 'scenes\.wind_speed': unknown hss_rig scene field 'wind_speed'; known: .*speed_rpm"),
+    ("kind: steady, speed_rpm: [], duration: 0.45", r"field 'scenes\.speed_rpm': an empty list"),
+    ("kind: stedy, speed_rpm: 1500", r"field 'scenes' \(scene 0: kind=stedy, speed_rpm=1500\): rig scene field 'kind' "
+                                     r"must be one of startup, steady, coastdown, got 'stedy'"),
+    ("kind: steady, speed_rpm: [1500, 9000], duration: 0.45, settle: 0.05",
+     r"field 'scenes' \(scene 1: kind=steady, speed_rpm=9000\): rig scene field 'speed_rpm' must be in \(0, 6000\] rpm"),
+    ("kind: steady, duration: 0.45, realisations: 0", r"field 'scenes\.realisations': Input should be greater than"),
+])
+def test_a_wrong_rig_scene_is_refused_naming_file_field_and_value(tmp_path: Path, scenes: str, message: str) -> None:
+    with pytest.raises(StudyError, match=message):
+        load_study(_write(tmp_path, scenes))
+
+
+def test_cli_validate_refuses_a_wrong_rig_scene_field_with_exit_2(tmp_path: Path, capsys) -> None:
+    assert main(["validate", str(_write(tmp_path, "kind: steady, speed: 1500"))]) == 2
+    assert "did you mean" in capsys.readouterr().err
+
+
+def test_wind_studies_keep_their_schema_and_digest() -> None:
+    study = load_study(ROOT / "studies" / "quickstart.yaml")
+    assert isinstance(study.spec.scenes, ScenesSpec) and study.wind
+    assert all(isinstance(s, Scene) for ps in plan_scenes(study) for s in ps.scenes)
+    committed = json.loads((ROOT / "results" / "quickstart" / "provenance.json").read_text())
+    assert study.digest == committed["study_sha256"]             # the validated study is the one committed
+    data, _ = load_yaml(ROOT / "studies" / "quickstart.yaml")
+    data["scenes"]["kind"] = "steady"                            # a rig field in a wind study
+    with pytest.raises(StudyError, match=r"quickstart\.yaml: field 'scenes\.kind': unknown field"):
+        validate_study(data, ROOT / "studies" / "quickstart.yaml")
+
+
+def test_rig_study_runs_end_to_end_and_labels_rig_scenes(tmp_path: Path) -> None:
+    path = tmp_path / "rig_run.yaml"
+    path.write_text(RIG.format(scenes="kind: steady, speed_rpm: 1500, duration: 0.45, sample_rate: 1000, settle: 0.05")
+                    .replace("points: 3", "points: 2, check: 0"))
+    out = tmp_path / "out"
+    assert main(["-q", "run", str(path), "--out", str(out), "--allow-untrusted"]) == 0
+    table = pd.read_csv(out / "indices.csv")
+    assert set(table[["kind", "speed_rpm"]].itertuples(index=False, name=None)) == {("steady", 1500)}
+    assert "wind_speed" not in table
+    evaluations = pd.read_csv(out / "evaluations.csv")
+    assert evaluations["error"].isna().all() and set(evaluations["sample_rate"]) == {1000.0}
+    assert "kind=steady, speed_rpm=1500" in (out / "summary.md").read_text()
+    assert not (out / "loads").exists()                            # no wind loads, no loads cache
+    assert {f"spectrum_{s}_scene0.png" for s in ("housing_1_y", "disk_y", "motor_current")} <= \
+        {p.name for p in out.iterdir()}                              # the model's own signal plots
