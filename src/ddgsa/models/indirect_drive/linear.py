@@ -25,9 +25,8 @@ from numpy.typing import NDArray
 from scipy.linalg import null_space
 
 from ddgsa.mbs.assembly import System
-from ddgsa.mbs.integrate.exact import state_matrices
 from ddgsa.mbs.linear import lti_response
-from ddgsa.mbs.modal import ConstrainedLinearisation, linearise_system
+from ddgsa.mbs.modal import ConstrainedLinearisation, central_jacobian, linearise_system
 from ddgsa.models.indirect_drive.assembly import Assembly
 
 Array = NDArray[np.float64]
@@ -87,6 +86,61 @@ def input_matrix(asm: Assembly, q: Array, qd: Array, c_hss: float, ratio: float)
 
 
 @dataclass(frozen=True)
+class StateSpace:
+    """The linearised constrained system as ``y' = A y + B du + c`` on the state ``x = [dq, dq'] = T y``.
+
+    ``T`` (2n, n_y) is an orthonormal basis of the states that satisfy the linearised constraints
+    (:func:`state_space`); the multipliers are ``lambda = lambda0 + L [x, du, 1]``.
+    """
+
+    a: Array
+    b: Array
+    c: Array
+    basis: Array
+    multipliers: Array
+    lin: ConstrainedLinearisation
+
+
+def velocity_curvature(system: System, q: Array, qd: Array) -> Array:
+    """``B0 = d(C_q(q) qd0)/dq`` (n_c, n) at the operating state by central differences [1/s].
+
+    Zero for the holonomic rows of a system whose constraints do not depend on the spin angles;
+    for the gear's velocity constraint it is the change of the pitch-point velocity when a gear
+    centre moves in the housing while the gears spin (``w x dr``), which the null space of ``C_q``
+    alone misses.
+    """
+    return central_jacobian(lambda x: system.velocity_residual(x, qd, 0.0)[0], [np.asarray(q, dtype=float)], 0,
+                            1e-3)
+
+
+def state_space(asm: Assembly, lin: ConstrainedLinearisation) -> StateSpace:
+    """First-order linearisation of ``asm`` about ``lin``'s operating state with its constraints linearised.
+
+    ``M dq'' + C dq' + K dq + C_q^T dlambda = G du + M qdd0`` (the full matrices of ``lin``, with
+    the geometric stiffness of the operating multipliers) on the states that satisfy the
+    linearised constraints: ``H dq = 0`` for the holonomic rows and ``C_q dq' + B0 dq = 0`` for
+    every velocity-level row (:func:`velocity_curvature`). ``dlambda`` keeps the derivative of the
+    velocity rows zero, ``(E P) dlambda = E (F x + ...)`` with ``E = [B0, C_q]`` and
+    ``P = [0; M^-1 C_q^T]``, so a state on the constraints stays on them.
+    """
+    s = asm.system
+    n, nh = s.n, s.n_holonomic
+    q0, qd0 = lin.q0, lin.qd0
+    cq = s.constraint_jacobian(q0, qd0, 0.0)
+    ev = np.hstack([velocity_curvature(s, q0, qd0), cq])
+    basis = null_space(np.vstack([np.hstack([cq[:nh], np.zeros((nh, n))]), ev]))
+    minv = np.linalg.inv(lin.m_full)
+    f = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ lin.k_full, -minv @ lin.c_full]])
+    drive = np.vstack([np.zeros((n, 8)),
+                       minv @ np.column_stack([input_matrix(asm, q0, qd0, asm.c_hss, asm.ratio), lin.m_full @ lin.qdd0])])
+    p = np.vstack([np.zeros((n, cq.shape[0])), minv @ cq.T])
+    mult = np.linalg.solve(ev @ p, ev @ np.hstack([f, drive]))       # dlambda = mult [x, du, 1]
+    proj = np.hstack([f, drive]) - p @ mult
+    a = basis.T @ proj[:, :2 * n] @ basis
+    return StateSpace(a, basis.T @ proj[:, 2 * n:2 * n + 7], basis.T @ proj[:, -1], basis, mult, lin)
+
+
+@dataclass(frozen=True)
 class LinearResponse:
     """Coordinates, rates and multipliers of the linearised system over a record."""
 
@@ -105,28 +159,19 @@ def linear_response(asm: Assembly, lin: ConstrainedLinearisation, u: Array, dt: 
     and ``lin`` taken at its operating state (:func:`operating_state`). Starts from the
     quasi-static deflection under ``u[0]``, every body spinning at ``spin_scale`` times its
     operating speed (the drive's speed mode relaxes in ``J / c_gen``, about 50 s: start it at
-    the scene's initial speed, not the mean).
+    the scene's initial speed, not the mean), projected on the linearised constraints
+    (:func:`state_space`); every state of the record satisfies them to round-off.
     """
-    s = asm.system
-    q0, qd0 = lin.q0, lin.qd0
-    g = input_matrix(asm, q0, qd0, asm.c_hss, asm.ratio)
+    ss = state_space(asm, lin)
+    n = asm.system.n
     du = u - u.mean(axis=0)
-    basis = lin.basis
-    forcing = du @ (basis.T @ g).T                                   # (n_t, n_z)
-    a, bw = state_matrices(lin)
-    nz = lin.m.shape[0]
-    x0 = np.zeros(2 * nz)
-    x0[:nz] = np.linalg.lstsq(lin.k, forcing[0] + lin.r0, rcond=RCOND)[0]
-    x0[nz:] = basis.T @ ((spin_scale - 1.0) * qd0)             # a uniform spin change keeps the constraints
-    x = lti_response(a, bw, np.column_stack([forcing, np.ones(len(u))]), dt, x0)
-    z, zd = x[:, :nz], x[:, nz:]
-    zdd = np.linalg.solve(lin.m, (forcing + lin.r0 - zd @ lin.c.T - z @ lin.k.T).T).T
+    q0, qd0, basis = lin.q0, lin.qd0, lin.basis
+    g = input_matrix(asm, q0, qd0, asm.c_hss, asm.ratio)
+    z = np.linalg.lstsq(lin.k, basis.T @ g @ du[0] + lin.r0, rcond=RCOND)[0]
+    y0 = ss.basis.T @ np.concatenate([basis @ z, (spin_scale - 1.0) * qd0])
+    x = lti_response(ss.a, np.column_stack([ss.b, ss.c]), np.column_stack([du, np.ones(len(u))]), dt, y0) @ ss.basis.T
     times = dt * np.arange(len(u))
-    q = q0 + np.outer(times, qd0) + z @ basis.T
-    qd = qd0 + zd @ basis.T
-    # multipliers: C_q^T dlambda = G du - M N z'' - C_full N z' - K_full N z
-    cq = s.constraint_jacobian(q0, qd0, 0.0)
-    rhs = du @ g.T - zdd @ (lin.m_full @ basis).T - zd @ (lin.c_full @ basis).T - z @ (lin.k_full @ basis).T
-    lam = lin.lam0 + rhs @ np.linalg.pinv(cq.T).T
+    q = q0 + np.outer(times, qd0) + x[:, :n]
+    qd = qd0 + x[:, n:]
+    lam = lin.lam0 + np.column_stack([x, du, np.ones(len(u))]) @ ss.multipliers.T
     return LinearResponse(q, qd, lam, lin)
-
