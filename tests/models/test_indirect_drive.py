@@ -165,31 +165,71 @@ def rigid_short() -> pd.DataFrame:
 
 
 def test_gear_ratio_and_constraint_drift(rigid_short: pd.DataFrame) -> None:
-    """Turbulent scene: holonomic constraints hold to 1e-12 m (index 3), the gear's velocity
-    constraint to 1e-8 m/s, and the HSS turns -N times the LSS relative to the housing (1e-6; the
-    shafts' small translations in the housing are what remains)."""
+    """Turbulent scene, rigid LSS: holonomic constraints hold to 1e-12 m (index 3), the gear's
+    velocity constraint (eq. 2.4: equal line-of-action velocities at the pitch point) to 1e-8 m/s,
+    and -- both gear centres being fixed in the housing -- the pinion turns exactly -N times the
+    wheel relative to the housing, from angular velocities about the housing's axis (1e-10; found
+    3e-14 on rates projected on the velocity-level constraints, 3e-8 on the integrator's own)."""
     sim = rigid_short
     assert sim["position_drift"].max() < 1e-12
     assert sim["gear_drift"].max() < 1e-8
-    ratio = (sim["hss_speed"] - sim["housing_roll_rate"]) / (sim["lss_speed"] - sim["housing_roll_rate"])
-    np.testing.assert_allclose(ratio, -NOMINAL["gear_ratio"], rtol=1e-6)
+    np.testing.assert_allclose(sim["spin_ratio"], -NOMINAL["gear_ratio"], rtol=1e-10)
+
+
+def test_linear_states_satisfy_the_linearised_constraints() -> None:
+    """The linear fidelity's states lie on the linearised constraints (H dq = 0, C_q dq' + B0 dq = 0)
+    to round-off, so its nonlinear constraint residual is its second-order linearisation error:
+    halving the fluctuations divides it by 4 (3.5-4.5; 20 s at 11 m/s, I_ref 0.05)."""
+    from ddgsa.models.indirect_drive.linear import state_space
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.05, duration=20.0, seed=1)
+    model = models.get("indirect_drive", fidelity="linear")
+    asm, q, qd = model.assemble(None, rotor_speed=SPIN, lss_torque=LSS_TORQUE)
+    _, _, lin = operating_state(asm.system, q, qd, asm.system.index("hss.rx"))
+    ss = state_space(asm, lin)
+    s = asm.system
+    cq = s.constraint_jacobian(lin.q0, lin.qd0, 0.0)
+    from ddgsa.models.indirect_drive.linear import velocity_curvature
+    e = np.vstack([np.hstack([cq[:s.n_holonomic], np.zeros((s.n_holonomic, s.n))]),
+                   np.hstack([velocity_curvature(s, lin.q0, lin.qd0), cq])])
+    assert np.abs(e @ ss.basis).max() < 1e-12 * np.abs(e).max()
+    drift = [models.get("indirect_drive", fidelity="linear", fluctuation_scale=f).simulate(scene)
+             [["position_drift", "gear_drift"]].max() for f in (0.2, 0.1)]
+    for col in ("position_drift", "gear_drift"):
+        assert 3.5 < drift[0][col] / drift[1][col] < 4.5, col
 
 
 @pytest.mark.slow
 def test_linear_against_flexible_on_a_small_amplitude_scene() -> None:
-    """I_ref 0.05, 60 s (30 s of compiled generalised-alpha): the linear fidelity within 1 % of the
-    flexible one on the means, the torque path (tooth force RMS and DEL, housing roll RMS) and the
-    gearbox-bearing damage; within 5 % on the housing's translation RMS and the main bearing, whose
-    lateral response the linearisation gives 3-4 % low (measured)."""
+    """11 m/s, I_ref 0.05, 60 s with every input's fluctuation scaled to 3 % (``fluctuation_scale``
+    0.03: housing vertical RMS ~15 um): the linear fidelity within 1 % of the flexible one (2.5 ms
+    step) on every output but the drift diagnostics (worst found: housing pitch peak-to-peak 0.29 %)."""
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.05, duration=60.0, seed=1)
-    lin = models.get("indirect_drive", fidelity="linear").evaluate(None, scene).iloc[0]
-    ref = models.get("indirect_drive", fidelity="flexible").evaluate(None, scene).iloc[0]
-    for out in ("gear_force_mean", "gear_force_rms", "gear_force_del", "housing_rx_mean", "housing_rx_rms",
-                "housing_dy_mean", "housing_dz_mean", "housing_ry_mean", "housing_torque_mean", "hss2_Fr_mean",
-                "damage_hss2", "damage_lss1", "damage_lss3"):
+    lin = models.get("indirect_drive", fidelity="linear", fluctuation_scale=0.03).evaluate(None, scene).iloc[0]
+    ref = models.get("indirect_drive", fidelity="flexible", time_step=0.0025,
+                     fluctuation_scale=0.03).evaluate(None, scene).iloc[0]
+    for out in lin.index.drop(["position_drift", "gear_drift"]):
         assert lin[out] == pytest.approx(ref[out], rel=0.01), out
-    for out in ("housing_dx_rms", "housing_dy_rms", "housing_dz_rms", "housing_ry_rms", "main_Fr_mean", "damage_main"):
-        assert lin[out] == pytest.approx(ref[out], rel=0.05), out
+
+
+@pytest.mark.slow
+def test_linear_error_grows_with_the_amplitude() -> None:
+    """Amplitude sweep of the same scene (fluctuation_scale 0.03 / 0.3 / 1): the linear fidelity's
+    error on housing translation RMS grows with the amplitude (measured 0.1 / 1.9 / 4.9 %; housing
+    peak-to-peak 0.3 / 5.3 / 17 %) -- genuine nonlinearity, not a linearisation error: the 1.97 Hz
+    rotor-tilt mode (damping 1 %) is gyroscopic, its frequency follows the drive's speed, which the
+    turbulence moves by ~1 % over the record while the linearisation holds it at the mean. The
+    torque path stays within 1 % at full amplitude (tooth force RMS, housing roll RMS)."""
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.05, duration=60.0, seed=1)
+    errors = []
+    for scale in (0.03, 0.3, 1.0):
+        lin, ref = (models.get("indirect_drive", fidelity=f, fluctuation_scale=scale, **opt).evaluate(None, scene)
+                    .iloc[0] for f, opt in (("linear", {}), ("flexible", {"time_step": 0.0025})))
+        errors.append(max(abs(lin[o] / ref[o] - 1) for o in ("housing_dx_rms", "housing_dy_rms", "housing_dz_rms")))
+        if scale == 1.0:
+            for out in ("gear_force_rms", "housing_rx_rms", "gear_force_mean", "housing_torque_mean"):
+                assert lin[out] == pytest.approx(ref[out], rel=0.01), out
+    assert errors[0] < 0.01 < errors[1] < errors[2]
+    assert errors[2] > 10 * errors[0]
 
 
 @pytest.mark.slow
