@@ -103,7 +103,7 @@ class IndirectDrive(Model):
     fidelity : {"flexible", "rigid", "linear"}
         ``flexible``: FFR LSS (axial and two bending modes per plane); ``rigid``: rigid LSS; both
         by constrained generalised-alpha. ``linear``: the flexible system linearised about the
-        scene's mean operating state and integrated exactly (:mod:`.linear`).
+        scene's mean loads at its mean speed and integrated exactly (:mod:`.linear`).
     time_step : float, optional
         Generalised-alpha step [s] (default 0.005); must divide the scene's ``dt``.
     rho_inf : float
@@ -192,7 +192,7 @@ class IndirectDrive(Model):
         if self.fidelity == "linear":
             u = np.column_stack([forces, moments, inp["w_set"]])
             u0 = u.mean(axis=0)
-            spin = float(np.mean(inp["rotor_speed"]))                # the record's mean speed (see linear.py)
+            spin = float(np.mean(inp["rotor_speed"]))    # the record's mean speed, not the torque balance (.linear)
             const = np.ones((len(times), 1))
             asm = build(p, self.fields, times, const * u0[:3], const * u0[3:6], const[:, 0] * u0[6], spin)
             _, _, lin = operating_state(asm.system, asm.system.q0, asm.system.qd0, asm.system.index("hss.rx"))
