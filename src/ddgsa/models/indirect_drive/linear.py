@@ -132,16 +132,18 @@ def input_matrix(asm: Assembly, q: Array, qd: Array, c_hss: float, ratio: float)
 
 @dataclass(frozen=True)
 class StateSpace:
-    """The linearised constrained system as ``y' = A y + B du + c`` on the state ``x = [dq, dq'] = T y``.
+    """The linearised constrained system as ``y' = A y + B du + c`` in reduced coordinates.
 
-    ``T`` (2n, n_y) is an orthonormal basis of the states that satisfy the linearised constraints
-    (:func:`state_space`); the multipliers are ``lambda = lambda0 + L [x, du, 1]``.
+    The state ``y = [p, v]`` maps to coordinates and rates that satisfy the linearised constraints
+    (:func:`state_space`): ``dq = positions @ y``, ``dq' = rates @ y``; the multipliers are
+    ``lambda = lambda0 + multipliers @ [y, du, 1]``.
     """
 
     a: Array
     b: Array
     c: Array
-    basis: Array
+    positions: Array
+    rates: Array
     multipliers: Array
     lin: ConstrainedLinearisation
 
@@ -164,10 +166,12 @@ def state_space(asm: Assembly, lin: ConstrainedLinearisation) -> StateSpace:
 
     ``M dq'' + C dq' + K dq + C_q^T dlambda = G du + M qdd0`` (the full matrices of ``lin``, with
     the geometric stiffness of the operating multipliers) on the states that satisfy the
-    linearised constraints: ``H dq = 0`` for the holonomic rows and ``C_q dq' + B0 dq = 0`` for
-    every velocity-level row (:func:`velocity_curvature`). ``dlambda`` keeps the derivative of the
-    velocity rows zero, ``(E P) dlambda = E (F x + ...)`` with ``E = [B0, C_q]`` and
-    ``P = [0; M^-1 C_q^T]``, so a state on the constraints stays on them.
+    linearised constraints, parametrised without ``M^-1`` (the placeholder 1 kg bodies make the
+    full mass matrix span 1e7): positions ``dq = N_h p`` on the null space of the holonomic rows
+    ``H``; rates ``dq' = N v - C_q^+ B0 dq`` on the velocity-level rows
+    ``C_q dq' + B0 dq = 0`` (:func:`velocity_curvature`), ``N`` the null space of ``C_q``.
+    Then ``p' = N_h^T dq'`` and, projected on ``N`` (no multipliers),
+    ``N^T M N v' = N^T (G du + M qdd0 - K dq - C dq' + M C_q^+ B0 dq')``.
     """
     s = asm.system
     n, nh = s.n, s.n_holonomic
@@ -179,17 +183,23 @@ def state_space(asm: Assembly, lin: ConstrainedLinearisation) -> StateSpace:
     spin = qd0 / np.linalg.norm(qd0)
     along = np.eye(n) - np.outer(spin, spin)
     k_full = lin.k_full @ along
-    ev = np.hstack([velocity_curvature(s, q0, qd0) @ along, cq])
-    basis = null_space(np.vstack([np.hstack([cq[:nh], np.zeros((nh, n))]), ev]))
-    minv = np.linalg.inv(lin.m_full)
-    f = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ k_full, -minv @ lin.c_full]])
-    drive = np.vstack([np.zeros((n, 8)),
-                       minv @ np.column_stack([input_matrix(asm, q0, qd0, asm.c_hss, asm.ratio), lin.m_full @ lin.qdd0])])
-    p = np.vstack([np.zeros((n, cq.shape[0])), minv @ cq.T])
-    mult = np.linalg.solve(ev @ p, ev @ np.hstack([f, drive]))       # dlambda = mult [x, du, 1]
-    proj = np.hstack([f, drive]) - p @ mult
-    a = basis.T @ proj[:, :2 * n] @ basis
-    return StateSpace(a, basis.T @ proj[:, 2 * n:2 * n + 7], basis.T @ proj[:, -1], basis, mult, lin)
+    curvature = velocity_curvature(s, q0, qd0) @ along
+    n_h, n_v = null_space(cq[:nh]), lin.basis
+    cq_pinv = np.linalg.pinv(cq)
+    np_, nv = n_h.shape[1], n_v.shape[1]
+    positions = np.hstack([n_h, np.zeros((n, nv))])
+    rates = np.hstack([-cq_pinv @ curvature @ n_h, n_v])
+    m, c = lin.m_full, lin.c_full
+    m_r = n_v.T @ m @ n_v
+    g = input_matrix(asm, q0, qd0, asm.c_hss, asm.ratio)
+    force = np.hstack([-k_full @ positions - (c - m @ cq_pinv @ curvature) @ rates, g, (m @ lin.qdd0)[:, None]])
+    accel = np.linalg.solve(m_r, n_v.T @ force)                          # v' = accel [y, du, 1]
+    a = np.vstack([n_h.T @ rates, accel[:, :np_ + nv]])
+    # multipliers: C_q^T dlambda = force - M dq'', dq'' = N v' - C_q^+ B0 dq'
+    ddq = n_v @ accel - np.hstack([cq_pinv @ curvature @ rates, np.zeros((n, 8))])
+    mult = np.linalg.pinv(cq.T) @ (force - m @ ddq)
+    return StateSpace(a, np.vstack([np.zeros((np_, 7)), accel[:, np_ + nv:-1]]),
+                      np.concatenate([np.zeros(np_), accel[:, -1]]), positions, rates, mult, lin)
 
 
 @dataclass(frozen=True)
@@ -215,15 +225,17 @@ def linear_response(asm: Assembly, lin: ConstrainedLinearisation, u: Array, dt: 
     (:func:`state_space`); every state of the record satisfies them to round-off.
     """
     ss = state_space(asm, lin)
-    n = asm.system.n
     du = u - u.mean(axis=0)
     q0, qd0, basis = lin.q0, lin.qd0, lin.basis
     g = input_matrix(asm, q0, qd0, asm.c_hss, asm.ratio)
-    z = np.linalg.lstsq(lin.k, basis.T @ g @ du[0] + lin.r0, rcond=RCOND)[0]
-    y0 = ss.basis.T @ np.concatenate([basis @ z, (spin_scale - 1.0) * qd0])
-    x = lti_response(ss.a, np.column_stack([ss.b, ss.c]), np.column_stack([du, np.ones(len(u))]), dt, y0) @ ss.basis.T
+    dq0 = basis @ np.linalg.lstsq(lin.k, basis.T @ g @ du[0] + lin.r0, rcond=RCOND)[0]
+    np_ = ss.positions.shape[1] - basis.shape[1]
+    p0 = ss.positions[:, :np_].T @ dq0
+    v0 = basis.T @ ((spin_scale - 1.0) * qd0 - ss.rates[:, :np_] @ p0)
+    y = lti_response(ss.a, np.column_stack([ss.b, ss.c]), np.column_stack([du, np.ones(len(u))]), dt,
+                     np.concatenate([p0, v0]))
     times = dt * np.arange(len(u))
-    q = q0 + np.outer(times, qd0) + x[:, :n]
-    qd = qd0 + x[:, n:]
-    lam = lin.lam0 + np.column_stack([x, du, np.ones(len(u))]) @ ss.multipliers.T
+    q = q0 + np.outer(times, qd0) + y @ ss.positions.T
+    qd = qd0 + y @ ss.rates.T
+    lam = lin.lam0 + np.column_stack([y, du, np.ones(len(u))]) @ ss.multipliers.T
     return LinearResponse(q, qd, lam, lin)
