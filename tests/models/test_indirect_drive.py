@@ -201,8 +201,9 @@ def test_linear_states_satisfy_the_linearised_constraints() -> None:
 @pytest.mark.slow
 def test_linear_against_flexible_on_a_small_amplitude_scene() -> None:
     """11 m/s, I_ref 0.05, 60 s with every input's fluctuation scaled to 3 % (``fluctuation_scale``
-    0.03: housing vertical RMS ~15 um): the linear fidelity within 1 % of the flexible one (2.5 ms
-    step) on every output but the drift diagnostics (worst found: housing pitch peak-to-peak 0.29 %)."""
+    0.03: housing vertical RMS 24 um): the linear fidelity within 1 % of the flexible one (2.5 ms
+    step) on every output but the drift diagnostics (found: housing pitch peak-to-peak 0.27 %,
+    translation RMS 0.11 %, tooth force and housing torque 0.005 %)."""
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.05, duration=60.0, seed=1)
     lin = models.get("indirect_drive", fidelity="linear", fluctuation_scale=0.03).evaluate(None, scene).iloc[0]
     ref = models.get("indirect_drive", fidelity="flexible", time_step=0.0025,
@@ -214,11 +215,12 @@ def test_linear_against_flexible_on_a_small_amplitude_scene() -> None:
 @pytest.mark.slow
 def test_linear_error_grows_with_the_amplitude() -> None:
     """Amplitude sweep of the same scene (fluctuation_scale 0.03 / 0.3 / 1): the linear fidelity's
-    error on housing translation RMS grows with the amplitude (measured 0.1 / 1.9 / 4.9 %; housing
-    peak-to-peak 0.3 / 5.3 / 17 %) -- genuine nonlinearity, not a linearisation error: the 1.97 Hz
-    rotor-tilt mode (damping 1 %) is gyroscopic, its frequency follows the drive's speed, which the
-    turbulence moves by ~1 % over the record while the linearisation holds it at the mean. The
-    torque path stays within 1 % at full amplitude (tooth force RMS, housing roll RMS)."""
+    largest error on housing translation RMS grows in proportion to the amplitude (measured 0.11 /
+    1.04 / 4.9 %; peak-to-peak 0.27 / 4.3 / 17 %), so it is nonlinearity, not a linearisation
+    error: the 1.97 Hz rotor-tilt mode (damping 1 %) is gyroscopic, its frequency follows the
+    drive's speed (a 0.15 % speed offset moved it 0.12 %, measured), and the turbulence moves the
+    speed by ~1 % over the record while the linearisation holds it at the mean. The torque path
+    stays within 1 % at full amplitude (found 0.4 %)."""
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.05, duration=60.0, seed=1)
     errors = []
     for scale in (0.03, 0.3, 1.0):
@@ -226,10 +228,11 @@ def test_linear_error_grows_with_the_amplitude() -> None:
                     .iloc[0] for f, opt in (("linear", {}), ("flexible", {"time_step": 0.0025})))
         errors.append(max(abs(lin[o] / ref[o] - 1) for o in ("housing_dx_rms", "housing_dy_rms", "housing_dz_rms")))
         if scale == 1.0:
-            for out in ("gear_force_rms", "housing_rx_rms", "gear_force_mean", "housing_torque_mean"):
+            for out in ("gear_force_rms", "gear_force_mean", "gear_force_del", "housing_rx_rms", "housing_torque_mean",
+                        "housing_torque_rms"):
                 assert lin[out] == pytest.approx(ref[out], rel=0.01), out
-    assert errors[0] < 0.01 < errors[1] < errors[2]
-    assert errors[2] > 10 * errors[0]
+    assert errors[0] < 0.005
+    assert errors[1] > 5 * errors[0] and errors[2] > 2.5 * errors[1]
 
 
 @pytest.mark.slow
