@@ -252,6 +252,31 @@ def test_linear_error_grows_with_the_amplitude() -> None:
 
 
 @pytest.mark.slow
+def test_linear_error_is_the_speed_variation(monkeypatch: pytest.MonkeyPatch) -> None:
+    """I_ref 0.20, 11 m/s, 120 s: as generated, the linear fidelity's housing translation RMS is
+    ~20 % low (measured 17-20 %); with the inputs that move the drive's speed (hub torque and
+    thrust, set speed) held at their record means and the lateral loads (Fy, Fz, My, Mz) at full
+    turbulence, it is within 1 % (measured 0.25 %): the error is the speed's variation, which the
+    linearisation holds at its mean (the gyroscopic 1.97 Hz rotor-tilt mode follows it)."""
+    import ddgsa.models.indirect_drive.model as model_module
+
+    original = model_module.scene_inputs
+
+    def steady_speed(scene: Scene, p: dict, scale: float = 1.0) -> dict:
+        out = original(scene, p, scale)
+        for key in ("Fx", "Mx", "rotor_speed", "w_set"):
+            out[key] = np.full_like(out[key], out[key].mean())
+        return out
+
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.20, duration=120.0, seed=1)
+    monkeypatch.setattr(model_module, "scene_inputs", steady_speed)
+    lin = models.get("indirect_drive", fidelity="linear").evaluate(None, scene).iloc[0]
+    ref = models.get("indirect_drive", fidelity="flexible", time_step=0.0025).evaluate(None, scene).iloc[0]
+    for out in ("housing_dx_rms", "housing_dy_rms", "housing_dz_rms", "housing_rx_rms", "gear_force_rms"):
+        assert lin[out] == pytest.approx(ref[out], rel=0.01), out
+
+
+@pytest.mark.slow
 def test_generalised_alpha_against_solve_ivp_reference() -> None:
     """Rigid fidelity, 0.5 s turbulent (the reference needs ~8 min a simulated second): generalised-
     alpha at 5 ms against the kernel's Radau (rtol 1e-8) on the time series, within 0.5 % of the
