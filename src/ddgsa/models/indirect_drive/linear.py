@@ -1,16 +1,18 @@
 """Operating state and the ``linear`` fidelity of the indirect drive.
 
 The constrained system is linearised about a steadily spinning operating state under the
-scene's mean loads, spinning at the record's **mean speed** (:func:`linearise`, the kernel's
-central differences on its compiled terms): the rotor-tilt mode at ~2 Hz is gyroscopic (the
-rotor's polar inertia on a flange of small diametral inertia), so its frequency follows the
-speed used in the linearisation -- the torque balance of the mean inputs differs from the
-record's mean speed by ~0.15 % on 20-60 s records (the speed mode relaxes in ``J / c_gen``,
-about 50 s), which moved that lightly damped mode by 0.12 % and the housing's lateral RMS by
-3-5 %. The torque imbalance at the mean speed is a constant generalised force.
+scene's mean loads, spinning at the drive's **mean speed** over the record (:func:`linearise`,
+the kernel's central differences on its compiled terms; the model takes the loads' mean speed,
+then its first response's): the rotor-tilt mode at ~2 Hz is gyroscopic (the rotor's polar
+inertia on a flange of small diametral inertia), so its frequency follows the speed used in the
+linearisation -- the torque balance of the mean inputs differs from the record's mean speed by
+~0.15 % on 20-60 s records (the speed mode relaxes in ``J / c_gen``, about 50 s), which moved
+that lightly damped mode by 0.12 % and the housing's lateral RMS by 3-5 %. The torque imbalance
+at the mean speed is a constant generalised force. What the linearisation cannot hold is the
+speed's variation within a record: docs/indirect_drive.md gives the resulting bias by scene.
 
-The linearised system is integrated as a first-order state space on the states that satisfy the
-**linearised constraints** (:func:`state_space`): ``H dq = 0`` for the holonomic rows and
+The linearised system is integrated as a first-order state space in reduced coordinates on the
+states that satisfy the **linearised constraints** (:func:`state_space`): ``H dq = 0`` for the holonomic rows and
 ``C_q dq' + B0 dq = 0`` for the velocity-level ones, with ``B0 = d(C_q qd0)/dq``
 (:func:`velocity_curvature`). ``B0`` is zero for the bearings; for the gear mesh (eq. 2.4) it is
 the change of the pitch-point velocity when a gear centre moves in the spinning gear's field,
@@ -48,8 +50,8 @@ Array = NDArray[np.float64]
 
 
 #: relative central-difference step of :func:`linearise`: the step of a coordinate near zero is
-#: 1e-3 x this (the kernel's 1e-6 makes it 1e-9 m, where round-off of the ~1e6 N constant forces
-#: puts ~1 N/m of noise in K -- enough to move a small-amplitude response by 1 %)
+#: 1e-3 x this, 1e-6 m (the kernel's default gives 1e-9 m, where round-off of the ~1e6 N constant
+#: forces leaves ~1 N/m in K; responses agree to 1e-9 between 1e-4 and 1e-2)
 LINEARISATION_STEP = 1e-3
 #: relative central-difference step of :func:`velocity_curvature` (the residual is smooth and of
 #: order the pitch velocity, ~1 m/s: 1e-6 m steps keep round-off near 1e-10 instead of 1e-7)
@@ -64,7 +66,7 @@ def linearise(system: System, q: Array, qd: Array, rel_step: float = LINEARISATI
 
     The same central differences of ``M q_ddot0 - Q + C_q^T lambda0`` and the same null-space
     reduction, with every residual from :func:`ddgsa.mbs.compiled.evaluate` (identical to the
-    Python terms to round-off; about 50x faster, the linear fidelity's largest cost otherwise).
+    Python terms to round-off; 13x faster, the linear fidelity's largest cost otherwise).
     """
     packed = pack(system)
     qdd0, lam0 = accelerations(system, q, qd, 0.0)
