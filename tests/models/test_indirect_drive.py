@@ -16,7 +16,7 @@ from ddgsa.mbs.ffr import rotation
 from ddgsa.models.indirect_drive.assembly import build, check_geometry
 from ddgsa.models.indirect_drive.closed_form import (housing_roll, mount_torsional_stiffness, stage_torques,
                                                       torsional_frequency)
-from ddgsa.models.indirect_drive.linear import input_matrix, operating_state
+from ddgsa.models.indirect_drive.linear import input_matrix, operating_state, state_space, velocity_curvature
 from ddgsa.models.indirect_drive.parameters import NOMINAL
 from ddgsa.models.indirect_drive.series import bryant, mount_forces
 
@@ -165,31 +165,115 @@ def rigid_short() -> pd.DataFrame:
 
 
 def test_gear_ratio_and_constraint_drift(rigid_short: pd.DataFrame) -> None:
-    """Turbulent scene: holonomic constraints hold to 1e-12 m (index 3), the gear's velocity
-    constraint to 1e-8 m/s, and the HSS turns -N times the LSS relative to the housing (1e-6; the
-    shafts' small translations in the housing are what remains)."""
+    """Turbulent scene, rigid LSS: holonomic constraints hold to 1e-12 m (index 3), the gear's
+    velocity constraint (eq. 2.4: equal line-of-action velocities at the pitch point) to 1e-8 m/s,
+    and -- both gear centres being fixed in the housing -- the pinion turns exactly -N times the
+    wheel relative to the housing, from angular velocities about the housing's axis (1e-10; found
+    3e-14 on rates projected on the velocity-level constraints, 3e-8 on the integrator's own)."""
     sim = rigid_short
     assert sim["position_drift"].max() < 1e-12
     assert sim["gear_drift"].max() < 1e-8
-    ratio = (sim["hss_speed"] - sim["housing_roll_rate"]) / (sim["lss_speed"] - sim["housing_roll_rate"])
-    np.testing.assert_allclose(ratio, -NOMINAL["gear_ratio"], rtol=1e-6)
+    np.testing.assert_allclose(sim["spin_ratio"], -NOMINAL["gear_ratio"], rtol=1e-10)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("fidelity", ["rigid", "flexible"])
+def test_constraints_over_a_600_s_turbulent_scene(fidelity: str) -> None:
+    """600 s at 11 m/s, I_ref 0.12: holonomic constraints to 1e-8 m and the gear's eq. 2.4 (equal
+    line-of-action velocities at the pitch point, relative to the housing) to 1e-8 m/s. The spin
+    ratio is -N to 1e-10 on the rigid LSS; on the flexible one the wheel centre moves in the
+    housing as the LSS bends, and the ratio differs from -N by that velocity over the pitch
+    velocity (< 1e-3; measured 5.5e-4)."""
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=600.0, seed=1)
+    sim = models.get("indirect_drive", fidelity=fidelity).simulate(scene)
+    assert sim["position_drift"].max() < 1e-8
+    assert sim["gear_drift"].max() < 1e-8
+    ratio_error = np.abs(sim["spin_ratio"] / -NOMINAL["gear_ratio"] - 1).max()
+    assert ratio_error < (1e-10 if fidelity == "rigid" else 1e-3)
+
+
+def test_linear_states_satisfy_the_linearised_constraints() -> None:
+    """The linear fidelity's coordinates and rates lie on the linearised constraints (H dq = 0,
+    C_q dq' + B0 dq = 0 with B0 = d(C_q qd0)/dq) to round-off (1e-12 of the rows' scale), so its
+    nonlinear constraint residual is its second-order linearisation error: halving the
+    fluctuations divides it by 4 (3.5-4.5; 20 s at 11 m/s, I_ref 0.05)."""
+    model = models.get("indirect_drive", fidelity="linear")
+    asm, q, qd = model.assemble(None, rotor_speed=SPIN, lss_torque=LSS_TORQUE)
+    s = asm.system
+    _, _, lin = operating_state(s, q, qd, s.index("hss.rx"))
+    ss = state_space(asm, lin)
+    cq = s.constraint_jacobian(lin.q0, lin.qd0, 0.0)
+    b0 = velocity_curvature(s, lin.q0, lin.qd0)
+    scale = np.abs(np.hstack([b0, cq])).max()
+    assert np.abs(cq[:s.n_holonomic] @ ss.positions).max() < 1e-12
+    assert np.abs(cq @ ss.rates + b0 @ ss.positions).max() < 1e-12 * scale
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.05, duration=20.0, seed=1)
+    drift = [models.get("indirect_drive", fidelity="linear", fluctuation_scale=f).simulate(scene)
+             [["position_drift", "gear_drift"]].max() for f in (0.2, 0.1)]
+    for col in ("position_drift", "gear_drift"):
+        assert 3.5 < drift[0][col] / drift[1][col] < 4.5, col
 
 
 @pytest.mark.slow
 def test_linear_against_flexible_on_a_small_amplitude_scene() -> None:
-    """I_ref 0.05, 60 s (30 s of compiled generalised-alpha): the linear fidelity within 1 % of the
-    flexible one on the means, the torque path (tooth force RMS and DEL, housing roll RMS) and the
-    gearbox-bearing damage; within 5 % on the housing's translation RMS and the main bearing, whose
-    lateral response the linearisation gives 3-4 % low (measured)."""
+    """11 m/s, I_ref 0.05, 60 s with every input's fluctuation scaled to 3 % (``fluctuation_scale``
+    0.03: housing vertical RMS 24 um): the linear fidelity within 1 % of the flexible one (2.5 ms
+    step) on every output but the drift diagnostics (found: housing pitch peak-to-peak 0.27 %,
+    translation RMS 0.11 %, tooth force and housing torque 0.005 %)."""
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.05, duration=60.0, seed=1)
-    lin = models.get("indirect_drive", fidelity="linear").evaluate(None, scene).iloc[0]
-    ref = models.get("indirect_drive", fidelity="flexible").evaluate(None, scene).iloc[0]
-    for out in ("gear_force_mean", "gear_force_rms", "gear_force_del", "housing_rx_mean", "housing_rx_rms",
-                "housing_dy_mean", "housing_dz_mean", "housing_ry_mean", "housing_torque_mean", "hss2_Fr_mean",
-                "damage_hss2", "damage_lss1", "damage_lss3"):
+    lin = models.get("indirect_drive", fidelity="linear", fluctuation_scale=0.03).evaluate(None, scene).iloc[0]
+    ref = models.get("indirect_drive", fidelity="flexible", time_step=0.0025,
+                     fluctuation_scale=0.03).evaluate(None, scene).iloc[0]
+    for out in lin.index.drop(["position_drift", "gear_drift"]):
         assert lin[out] == pytest.approx(ref[out], rel=0.01), out
-    for out in ("housing_dx_rms", "housing_dy_rms", "housing_dz_rms", "housing_ry_rms", "main_Fr_mean", "damage_main"):
-        assert lin[out] == pytest.approx(ref[out], rel=0.05), out
+
+
+@pytest.mark.slow
+def test_linear_error_grows_with_the_amplitude() -> None:
+    """Amplitude sweep of the same scene (fluctuation_scale 0.03 / 0.3 / 1): the linear fidelity's
+    largest error on housing translation RMS grows in proportion to the amplitude (measured 0.11 /
+    1.04 / 4.9 %; peak-to-peak 0.27 / 4.3 / 17 %), so it is nonlinearity, not a linearisation
+    error: the 1.97 Hz rotor-tilt mode (damping 1 %) is gyroscopic, its frequency follows the
+    drive's speed (a 0.15 % speed offset moved it 0.12 %, measured), and the turbulence moves the
+    speed by ~1 % over the record while the linearisation holds it at the mean. The torque path
+    stays within 1 % at full amplitude (found 0.4 %)."""
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.05, duration=60.0, seed=1)
+    errors = []
+    for scale in (0.03, 0.3, 1.0):
+        lin, ref = (models.get("indirect_drive", fidelity=f, fluctuation_scale=scale, **opt).evaluate(None, scene)
+                    .iloc[0] for f, opt in (("linear", {}), ("flexible", {"time_step": 0.0025})))
+        errors.append(max(abs(lin[o] / ref[o] - 1) for o in ("housing_dx_rms", "housing_dy_rms", "housing_dz_rms")))
+        if scale == 1.0:
+            for out in ("gear_force_rms", "gear_force_mean", "gear_force_del", "housing_rx_rms", "housing_torque_mean",
+                        "housing_torque_rms"):
+                assert lin[out] == pytest.approx(ref[out], rel=0.01), out
+    assert errors[0] < 0.005
+    assert errors[1] > 5 * errors[0] and errors[2] > 2.5 * errors[1]
+
+
+@pytest.mark.slow
+def test_linear_error_is_the_speed_variation(monkeypatch: pytest.MonkeyPatch) -> None:
+    """I_ref 0.20, 11 m/s, 120 s: as generated, the linear fidelity's housing translation RMS is
+    ~20 % low (measured 17-20 %); with the inputs that move the drive's speed (hub torque and
+    thrust, set speed) held at their record means and the lateral loads (Fy, Fz, My, Mz) at full
+    turbulence, it is within 1 % (measured 0.25 %): the error is the speed's variation, which the
+    linearisation holds at its mean (the gyroscopic 1.97 Hz rotor-tilt mode follows it)."""
+    import ddgsa.models.indirect_drive.model as model_module
+
+    original = model_module.scene_inputs
+
+    def steady_speed(scene: Scene, p: dict, scale: float = 1.0) -> dict:
+        out = original(scene, p, scale)
+        for key in ("Fx", "Mx", "rotor_speed", "w_set"):
+            out[key] = np.full_like(out[key], out[key].mean())
+        return out
+
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.20, duration=120.0, seed=1)
+    monkeypatch.setattr(model_module, "scene_inputs", steady_speed)
+    lin = models.get("indirect_drive", fidelity="linear").evaluate(None, scene).iloc[0]
+    ref = models.get("indirect_drive", fidelity="flexible", time_step=0.0025).evaluate(None, scene).iloc[0]
+    for out in ("housing_dx_rms", "housing_dy_rms", "housing_dz_rms", "housing_rx_rms", "gear_force_rms"):
+        assert lin[out] == pytest.approx(ref[out], rel=0.01), out
 
 
 @pytest.mark.slow

@@ -1,19 +1,35 @@
 """Operating state and the ``linear`` fidelity of the indirect drive.
 
-The constrained system is linearised about its steadily spinning operating state under the
-scene's mean loads (:func:`ddgsa.mbs.modal.linearise_system`: null-space reduction ``q = q_op(t)
-+ N z``) and integrated exactly for the C1-cubic inputs between load samples
-(:func:`ddgsa.mbs.integrate.exact.state_matrices`, :func:`ddgsa.mbs.linear.lti_response`) --
-the kernel's exact path. The inputs enter through a constant matrix ``G``: the hub force and
-moment through the hub marker's Jacobian and the generator set speed through the torque law,
-``dQ(t) = G (u(t) - u0)``, so the whole record is one vectorised product instead of one
-nonlinear force evaluation per sample. The multipliers (bearing and tooth forces) follow from
-the linearised equations of motion, ``C_q^T dlambda = G du - M N z'' - C N z' - K N z``.
+The constrained system is linearised about a steadily spinning operating state under the
+scene's mean loads, spinning at the drive's **mean speed** over the record (:func:`linearise`,
+the kernel's central differences on its compiled terms; the model takes the loads' mean speed,
+then its first response's): the rotor-tilt mode at ~2 Hz is gyroscopic (the rotor's polar
+inertia on a flange of small diametral inertia), so its frequency follows the speed used in the
+linearisation -- the torque balance of the mean inputs differs from the record's mean speed by
+~0.15 % on 20-60 s records (the speed mode relaxes in ``J / c_gen``, about 50 s), which moved
+that lightly damped mode by 0.12 % and the housing's lateral RMS by 3-5 %. The torque imbalance
+at the mean speed is a constant generalised force. What the linearisation cannot hold is the
+speed's variation within a record: docs/indirect_drive.md gives the resulting bias by scene.
+
+The linearised system is integrated as a first-order state space in reduced coordinates on the
+states that satisfy the **linearised constraints** (:func:`state_space`): ``H dq = 0`` for the holonomic rows and
+``C_q dq' + B0 dq = 0`` for the velocity-level ones, with ``B0 = d(C_q qd0)/dq``
+(:func:`velocity_curvature`). ``B0`` is zero for the bearings; for the gear mesh (eq. 2.4) it is
+the change of the pitch-point velocity when a gear centre moves in the spinning gear's field,
+which a reduction on the null space of ``C_q`` alone misses (the tooth force's response to a
+hub-force pulse was 4.6 % off without it, 0.16 % with it). Inputs enter through a constant
+matrix ``G`` (hub force and moment through the hub marker's Jacobian, the set speed through the
+torque law) and are integrated exactly for their C1 cubic between samples
+(:func:`ddgsa.mbs.linear.lti_response`); the multipliers (bearing and tooth forces) are those that
+keep the constraints' derivatives zero. The states satisfy the linearised constraints to
+round-off, so the nonlinear constraint residual of the record (``position_drift``,
+``gear_drift``) is the linearisation's second-order error: it scales with the square of the
+fluctuations (tested).
 
 The linearisation is time-invariant because the spin angles are cyclic: the LSS carries its
 bending in non-rotating coordinates and every spinning body (rotor, wheel, HSS) is rigid and
-axisymmetric with its markers on its axis (:mod:`.assembly`). Its accuracy against
-``flexible`` is tested.
+axisymmetric with its markers on its axis (:mod:`.assembly`); linearised a quarter of a
+second later, the eigenvalues agree to 1e-8.
 """
 
 from __future__ import annotations
@@ -24,18 +40,48 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.linalg import null_space
 
-from ddgsa.mbs.assembly import System
-from ddgsa.mbs.integrate.exact import state_matrices
+from ddgsa.mbs.assembly import System, accelerations
+from ddgsa.mbs.compiled import evaluate, pack
 from ddgsa.mbs.linear import lti_response
-from ddgsa.mbs.modal import ConstrainedLinearisation, linearise_system
+from ddgsa.mbs.modal import ConstrainedLinearisation, central_jacobian
 from ddgsa.models.indirect_drive.assembly import Assembly
 
 Array = NDArray[np.float64]
 
 
+#: relative central-difference step of :func:`linearise`: the step of a coordinate near zero is
+#: 1e-3 x this, 1e-6 m (the kernel's default gives 1e-9 m, where round-off of the ~1e6 N constant
+#: forces leaves ~1 N/m in K; responses agree to 1e-9 between 1e-4 and 1e-2)
+LINEARISATION_STEP = 1e-3
+#: relative central-difference step of :func:`velocity_curvature` (the residual is smooth and of
+#: order the pitch velocity, ~1 m/s: 1e-6 m steps keep round-off near 1e-10 instead of 1e-7)
+CURVATURE_STEP = 1e-3
 #: relative singular-value cut-off of the reduced stiffness: the spin directions have none, and
 #: central differences leave them ~1e-13 of the largest
 RCOND = 1e-9
+
+
+def linearise(system: System, q: Array, qd: Array, rel_step: float = LINEARISATION_STEP) -> ConstrainedLinearisation:
+    """:func:`ddgsa.mbs.modal.linearise_system` at ``(q, qd, t = 0)`` on the compiled kernel.
+
+    The same central differences of ``M q_ddot0 - Q + C_q^T lambda0`` and the same null-space
+    reduction, with every residual from :func:`ddgsa.mbs.compiled.evaluate` (identical to the
+    Python terms to round-off; 13x faster, the linear fidelity's largest cost otherwise).
+    """
+    packed = pack(system)
+    qdd0, lam0 = accelerations(system, q, qd, 0.0)
+
+    def residual(x: Array, xd: Array, xdd: Array) -> Array:
+        m, f, *_, jac, _ = evaluate(packed, x, xd, 0.0)
+        return m @ xdd - f + jac.T @ lam0
+
+    args = [np.asarray(q, dtype=float), np.asarray(qd, dtype=float), qdd0]
+    k_full = central_jacobian(residual, args, 0, 1e-3, rel_step)
+    c_full = central_jacobian(residual, args, 1, 1e-3, rel_step)
+    m, f, *_, jac, _ = evaluate(packed, q, qd, 0.0)
+    basis = null_space(jac)
+    return ConstrainedLinearisation(basis.T @ m @ basis, basis.T @ c_full @ basis, basis.T @ k_full @ basis, basis,
+                                    m, c_full, k_full, args[0], args[1], 0.0, qdd0, lam0, basis.T @ f)
 
 
 def operating_state(system: System, q: Array, qd: Array, free_rate: int, iterations: int = 30,
@@ -57,13 +103,13 @@ def operating_state(system: System, q: Array, qd: Array, free_rate: int, iterati
     """
     keep = [i for i in range(system.n) if i != free_rate]
     q, qd = system.consistent_state(q, qd, 0.0, keep=keep)
-    lin = linearise_system(system, q, qd, 0.0)
+    lin = linearise(system, q, qd)
     basis, k_r, r0 = lin.basis, lin.k, lin.r0
     for _ in range(iterations):
         step = basis @ np.linalg.lstsq(k_r, r0, rcond=RCOND)[0]
         q, qd = system.consistent_state(q + step, qd, 0.0, keep=keep)
         if np.max(np.abs(step)) < tol:
-            return q, qd, linearise_system(system, q, qd, 0.0)
+            return q, qd, linearise(system, q, qd)
         basis = null_space(system.constraint_jacobian(q, qd, 0.0))
         k_r, r0 = basis.T @ lin.k_full @ basis, basis.T @ system.terms(q, qd, 0.0).q
     raise RuntimeError(f"operating state: no convergence in {iterations} modified-Newton steps (last step "
@@ -87,6 +133,78 @@ def input_matrix(asm: Assembly, q: Array, qd: Array, c_hss: float, ratio: float)
 
 
 @dataclass(frozen=True)
+class StateSpace:
+    """The linearised constrained system as ``y' = A y + B du + c`` in reduced coordinates.
+
+    The state ``y = [p, v]`` maps to coordinates and rates that satisfy the linearised constraints
+    (:func:`state_space`): ``dq = positions @ y``, ``dq' = rates @ y``; the multipliers are
+    ``lambda = lambda0 + multipliers @ [y, du, 1]``.
+    """
+
+    a: Array
+    b: Array
+    c: Array
+    positions: Array
+    rates: Array
+    multipliers: Array
+    lin: ConstrainedLinearisation
+
+
+def velocity_curvature(system: System, q: Array, qd: Array) -> Array:
+    """``B0 = d(C_q(q) qd0)/dq`` (n_c, n) at the operating state by central differences [1/s].
+
+    Zero for the holonomic rows of a system whose constraints do not depend on the spin angles;
+    for the gear's velocity constraint it is the change of the pitch-point velocity when a gear
+    centre moves in the housing while the gears spin (``w x dr``), which the null space of ``C_q``
+    alone misses.
+    """
+    packed = pack(system)
+    return central_jacobian(lambda x: evaluate(packed, x, qd, 0.0)[7], [np.asarray(q, dtype=float)], 0, 1e-3,
+                            rel_step=CURVATURE_STEP)
+
+
+def state_space(asm: Assembly, lin: ConstrainedLinearisation) -> StateSpace:
+    """First-order linearisation of ``asm`` about ``lin``'s operating state with its constraints linearised.
+
+    ``M dq'' + C dq' + K dq + C_q^T dlambda = G du + M qdd0`` (the full matrices of ``lin``, with
+    the geometric stiffness of the operating multipliers) on the states that satisfy the
+    linearised constraints, parametrised without ``M^-1`` (the placeholder 1 kg bodies make the
+    full mass matrix span 1e7): positions ``dq = N_h p`` on the null space of the holonomic rows
+    ``H``; rates ``dq' = N v - C_q^+ B0 dq`` on the velocity-level rows
+    ``C_q dq' + B0 dq = 0`` (:func:`velocity_curvature`), ``N`` the null space of ``C_q``.
+    Then ``p' = N_h^T dq'`` and, projected on ``N`` (no multipliers),
+    ``N^T M N v' = N^T (G du + M qdd0 - K dq - C dq' + M C_q^+ B0 dq')``.
+    """
+    s = asm.system
+    n, nh = s.n, s.n_holonomic
+    q0, qd0 = lin.q0, lin.qd0
+    cq = s.constraint_jacobian(q0, qd0, 0.0)
+    # the operating trajectory q0 + t qd0 is cyclic: nothing depends on a uniform advance of the spin
+    # angles, K qd0 = B0 qd0 = 0 exactly; central differences leave round-off there, which the
+    # perturbation of the spin angles (growing with the speed's, ~30 rad of the pinion's) multiplies
+    spin = qd0 / np.linalg.norm(qd0)
+    along = np.eye(n) - np.outer(spin, spin)
+    k_full = lin.k_full @ along
+    curvature = velocity_curvature(s, q0, qd0) @ along
+    n_h, n_v = null_space(cq[:nh]), lin.basis
+    cq_pinv = np.linalg.pinv(cq)
+    np_, nv = n_h.shape[1], n_v.shape[1]
+    positions = np.hstack([n_h, np.zeros((n, nv))])
+    rates = np.hstack([-cq_pinv @ curvature @ n_h, n_v])
+    m, c = lin.m_full, lin.c_full
+    m_r = n_v.T @ m @ n_v
+    g = input_matrix(asm, q0, qd0, asm.c_hss, asm.ratio)
+    force = np.hstack([-k_full @ positions - (c - m @ cq_pinv @ curvature) @ rates, g, (m @ lin.qdd0)[:, None]])
+    accel = np.linalg.solve(m_r, n_v.T @ force)                          # v' = accel [y, du, 1]
+    a = np.vstack([n_h.T @ rates, accel[:, :np_ + nv]])
+    # multipliers: C_q^T dlambda = force - M dq'', dq'' = N v' - C_q^+ B0 dq'
+    ddq = n_v @ accel - np.hstack([cq_pinv @ curvature @ rates, np.zeros((n, 8))])
+    mult = np.linalg.pinv(cq.T) @ (force - m @ ddq)
+    return StateSpace(a, np.vstack([np.zeros((np_, 7)), accel[:, np_ + nv:-1]]),
+                      np.concatenate([np.zeros(np_), accel[:, -1]]), positions, rates, mult, lin)
+
+
+@dataclass(frozen=True)
 class LinearResponse:
     """Coordinates, rates and multipliers of the linearised system over a record."""
 
@@ -105,28 +223,21 @@ def linear_response(asm: Assembly, lin: ConstrainedLinearisation, u: Array, dt: 
     and ``lin`` taken at its operating state (:func:`operating_state`). Starts from the
     quasi-static deflection under ``u[0]``, every body spinning at ``spin_scale`` times its
     operating speed (the drive's speed mode relaxes in ``J / c_gen``, about 50 s: start it at
-    the scene's initial speed, not the mean).
+    the scene's initial speed, not the mean), projected on the linearised constraints
+    (:func:`state_space`); every state of the record satisfies them to round-off.
     """
-    s = asm.system
-    q0, qd0 = lin.q0, lin.qd0
-    g = input_matrix(asm, q0, qd0, asm.c_hss, asm.ratio)
+    ss = state_space(asm, lin)
     du = u - u.mean(axis=0)
-    basis = lin.basis
-    forcing = du @ (basis.T @ g).T                                   # (n_t, n_z)
-    a, bw = state_matrices(lin)
-    nz = lin.m.shape[0]
-    x0 = np.zeros(2 * nz)
-    x0[:nz] = np.linalg.lstsq(lin.k, forcing[0] + lin.r0, rcond=RCOND)[0]
-    x0[nz:] = basis.T @ ((spin_scale - 1.0) * qd0)             # a uniform spin change keeps the constraints
-    x = lti_response(a, bw, np.column_stack([forcing, np.ones(len(u))]), dt, x0)
-    z, zd = x[:, :nz], x[:, nz:]
-    zdd = np.linalg.solve(lin.m, (forcing + lin.r0 - zd @ lin.c.T - z @ lin.k.T).T).T
+    q0, qd0, basis = lin.q0, lin.qd0, lin.basis
+    g = input_matrix(asm, q0, qd0, asm.c_hss, asm.ratio)
+    dq0 = basis @ np.linalg.lstsq(lin.k, basis.T @ g @ du[0] + lin.r0, rcond=RCOND)[0]
+    np_ = ss.positions.shape[1] - basis.shape[1]
+    p0 = ss.positions[:, :np_].T @ dq0
+    v0 = basis.T @ ((spin_scale - 1.0) * qd0 - ss.rates[:, :np_] @ p0)
+    y = lti_response(ss.a, np.column_stack([ss.b, ss.c]), np.column_stack([du, np.ones(len(u))]), dt,
+                     np.concatenate([p0, v0]))
     times = dt * np.arange(len(u))
-    q = q0 + np.outer(times, qd0) + z @ basis.T
-    qd = qd0 + zd @ basis.T
-    # multipliers: C_q^T dlambda = G du - M N z'' - C_full N z' - K_full N z
-    cq = s.constraint_jacobian(q0, qd0, 0.0)
-    rhs = du @ g.T - zdd @ (lin.m_full @ basis).T - zd @ (lin.c_full @ basis).T - z @ (lin.k_full @ basis).T
-    lam = lin.lam0 + rhs @ np.linalg.pinv(cq.T).T
+    q = q0 + np.outer(times, qd0) + y @ ss.positions.T
+    qd = qd0 + y @ ss.rates.T
+    lam = lin.lam0 + np.column_stack([y, du, np.ones(len(u))]) @ ss.multipliers.T
     return LinearResponse(q, qd, lam, lin)
-

@@ -57,6 +57,23 @@ def _angular_velocity(ang: Array, rate: Array) -> Array:
     return rate[:, 2:3] * np.array([0.0, 0.0, 1.0]) + rate[:, 1:2] * e_y + rate[:, 0:1] * e_x
 
 
+def spin_ratio(q_w: Array, qd_w: Array, q_p: Array, qd_p: Array, q_h: Array, qd_h: Array) -> Array:
+    """Pinion over wheel spin relative to the housing, about the housing's gear axis (n_t,) [-].
+
+    ``((w_p - w_h) . e) / ((w_w - w_h) . e)`` from the bodies' angular velocities (not their
+    Bryant rates) and the housing's x axis ``e``. The gear constraint (eq. 2.4) makes the two
+    pitch-point velocities equal along the line of action; this ratio is ``-N`` exactly when
+    both gear centres are fixed in the housing (rigid LSS: its two gearbox bearings hold the
+    wheel centre), and differs by the wheel centre's velocity in the housing over the pitch
+    velocity when the LSS bends between those bearings (flexible).
+    """
+    e = bryant(q_h[:, 3:6])[:, :, 0]
+    w_h = _angular_velocity(q_h[:, 3:6], qd_h[:, 3:6])
+    rel_w = np.einsum("ti,ti->t", _angular_velocity(q_w[:, 3:6], qd_w[:, 3:6]) - w_h, e)
+    rel_p = np.einsum("ti,ti->t", _angular_velocity(q_p[:, 3:6], qd_p[:, 3:6]) - w_h, e)
+    return rel_p / rel_w
+
+
 def time_series(asm: Assembly, p: Mapping[str, float], times: Array, q: Array, qd: Array, lam: Array,
                 loads: Mapping[str, Array], housing_point: Array, drift: tuple[Array, Array]) -> pd.DataFrame:
     """The model's time series (see :meth:`IndirectDrive.simulate` for the columns)."""
@@ -74,6 +91,7 @@ def time_series(asm: Assembly, p: Mapping[str, float], times: Array, q: Array, q
     w_lss, w_hss, w_h = qd[:, sl["wheel"]][:, 3], qd[:, sl["hss"]][:, 3], qd_h[:, 3]
     cols["lss_speed"], cols["hss_speed"], cols["housing_roll_rate"] = w_lss, w_hss, w_h
     cols["rotor_twist"] = q[:, sl["rotor"]][:, 3] - q[:, sl["wheel"]][:, 3]
+    cols["spin_ratio"] = spin_ratio(q[:, sl["wheel"]], qd[:, sl["wheel"]], q[:, sl["hss"]], qd[:, sl["hss"]], q_h, qd_h)
     names = s.multiplier_names
     col = {n: i for i, n in enumerate(names)}
     cols["gear_force"] = lam[:, col["gear.normal_force_on_j"]]
