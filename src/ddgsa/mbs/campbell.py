@@ -105,21 +105,30 @@ def whirl_index(system: "System", shape: NDArray[np.complex128], m_full: Array) 
     ``2 Im(Y conj(Z)) / (|Y|^2 + |Z|^2)`` (+1: circular, counter-clockwise about +x); the index is
     their average weighted by kinetic energy.
     """
-    energy = np.abs(shape) ** 2 * np.diag(m_full)
-    total = energy.sum()
-    num, den = 0.0, 0.0
+    pairs = []
     for b in system.bodies:
         for cy, cz in (("y", "z"), ("ry", "rz")):
             try:
-                iy, iz = system.index(f"{b.name}.{cy}"), system.index(f"{b.name}.{cz}")
+                pairs.append((system.index(f"{b.name}.{cy}"), system.index(f"{b.name}.{cz}")))
             except ModelError:
                 continue
-            amp = abs(shape[iy]) ** 2 + abs(shape[iz]) ** 2
-            if amp == 0.0:
-                continue
-            w = energy[iy] + energy[iz]
-            num += w * 2.0 * float(np.imag(shape[iy] * np.conj(shape[iz]))) / amp
-            den += w
+    return orbit_average(shape, np.abs(shape) ** 2 * np.diag(m_full), pairs)
+
+
+def orbit_average(shape: NDArray[np.complex128], energy: Array,
+                  pairs: Sequence[tuple[int, int]]) -> tuple[float, float]:
+    """Orbit direction ``2 Im(Y conj(Z)) / (|Y|^2 + |Z|^2)`` of the coordinate ``pairs`` of ``shape``,
+    averaged with the pairs' kinetic ``energy`` [J, any common scale] as weights, and the pairs' share
+    of the total energy."""
+    num = den = 0.0
+    for iy, iz in pairs:
+        amp = abs(shape[iy]) ** 2 + abs(shape[iz]) ** 2
+        if amp == 0.0:
+            continue
+        w = energy[iy] + energy[iz]
+        num += w * 2.0 * float(np.imag(shape[iy] * np.conj(shape[iz]))) / amp
+        den += w
+    total = energy.sum()
     return (num / den if den > 0 else 0.0), (den / total if total > 0 else 0.0)
 
 

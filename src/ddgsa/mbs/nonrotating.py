@@ -29,6 +29,7 @@ from scipy.linalg import expm, null_space
 from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody
+from ddgsa.mbs.campbell import orbit_average
 from ddgsa.mbs.elements import Element
 from ddgsa.mbs.linear import lti_response
 from ddgsa.mbs.modal import central_jacobian
@@ -246,13 +247,4 @@ def whirl_index(system: System, lin: SpinLinearisation, shape: NDArray[np.comple
             names = (f"{b.name}.{cy}", f"{b.name}.{cz}")
             if all(n in system.coord_names for n in names):
                 pairs.append((system.index(names[0]), system.index(names[1])))
-    num = den = 0.0
-    for iy, iz in pairs:
-        amp = abs(shape[iy]) ** 2 + abs(shape[iz]) ** 2
-        if amp == 0.0:
-            continue
-        w = energy[iy] + energy[iz]
-        num += w * 2.0 * float(np.imag(shape[iy] * np.conj(shape[iz]))) / amp
-        den += w
-    total = energy.sum()
-    return (num / den if den > 0 else 0.0), (den / total if total > 0 else 0.0)
+    return orbit_average(shape, energy, pairs)
