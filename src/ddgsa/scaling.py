@@ -113,7 +113,8 @@ def _scaling(out: Path, quick: bool) -> dict[str, Any]:
     params = [5, 10] if quick else [5, 10, 20, 31]
     n_workers_runs = 100 if quick else 4000
     res: dict[str, Any] = {"machine": f"{platform.machine()}, {os.cpu_count()} cores",
-                           "python": platform.python_version(), "scene": SCENE.to_dict(), "quick": quick}
+                           "python": platform.python_version(), "scene": SCENE.to_dict(), "quick": quick,
+                           "load_average": [round(x, 2) for x in os.getloadavg()]}
     res["runs"] = [{"runs": n, "jobs": 2, "wall_s": _run(n, 2)} for n in runs]
     res["parameters"] = [dict(zip(("parameters", "wall_s", "runs"), (n, *_mdrm(n)))) for n in params]
     workers = [{"backend": "loky", "workers": 1, "wall_s": _run(n_workers_runs, 1)},
@@ -171,7 +172,7 @@ def plot(res: dict[str, Any]) -> Any:
     ax.set_xticks(range(len(ws)), labels, fontsize=8)
     ax.set(ylabel="wall time [s]", title=f"workers ({res['workers_runs']} runs)")
     ax.legend(fontsize=8)
-    fig.suptitle(f"ddgsa scaling ({res['machine']}; shared machine: absolute times vary)", fontsize=10)
+    fig.suptitle(f"ddgsa scaling ({res['machine']}; load average {res.get('load_average', 'not recorded')} at the start)", fontsize=10)
     return fig
 
 
