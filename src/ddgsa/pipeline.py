@@ -235,7 +235,8 @@ def select_fidelities(study: Study, runs: Runs) -> list[dict[str, Any]]:
         values = {fid: np.array([[o.outputs[n] if o.outputs else np.nan for n in outputs] for o in table[fid]])
                   for fid in fidelities}
         costs = {fid: model.fidelity_cost(fid) for fid in fidelities}
-        entry = {"scene": ps.index, **ps.fields, **choose_fidelity(values, costs, outputs, auto.tolerance),
+        entry = {"scene": ps.index, **ps.fields, **choose_fidelity(values, costs, outputs, auto.tolerance,
+                                                                 ignore=model.numerical_outputs),
                  "pilot_duration_s": pilot_scene(ps.scenes[0]).duration}
         entry.update({f"measured_s_per_eval_{fid}": round(float(np.mean([o.seconds for o in table[fid]])), 4)
                       for fid in fidelities})

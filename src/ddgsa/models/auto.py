@@ -16,7 +16,7 @@ the chosen fidelity. ``ddgsa.models.get("direct_drive", fidelity="auto", toleran
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -43,7 +43,7 @@ def pilot_scene(scene: Scene) -> Scene:
 
 
 def choose_fidelity(values: Mapping[str, NDArray[np.float64]], costs: Mapping[str, float], outputs: list[str],
-                    tolerance: float) -> dict[str, Any]:
+                    tolerance: float, ignore: Sequence[str] = ()) -> dict[str, Any]:
     """The cheapest fidelity whose pilot values stay within ``tolerance`` of the first (richest) one.
 
     Parameters
@@ -57,6 +57,9 @@ def choose_fidelity(values: Mapping[str, NDArray[np.float64]], costs: Mapping[st
         Output names, the columns of ``values``.
     tolerance : float
         Largest relative error allowed [-].
+    ignore : sequence of str
+        Outputs reported in ``errors`` but not judged (a model's ``numerical_outputs``, e.g.
+        constraint drift: 1e-12 on one path and 1e-9 on another is no difference in physics).
 
     Returns
     -------
@@ -69,6 +72,9 @@ def choose_fidelity(values: Mapping[str, NDArray[np.float64]], costs: Mapping[st
     >>> ref = np.array([[1.0, 2.0]])
     >>> choose_fidelity({"fine": ref, "coarse": ref * 1.01}, {"fine": 2.0, "coarse": 1.0}, ["a", "b"], 0.02)["chosen"]
     'coarse'
+    >>> drift = {"fine": np.array([[1.0, 1e-12]]), "coarse": np.array([[1.0, 1e-9]])}
+    >>> choose_fidelity(drift, {"fine": 2.0, "coarse": 1.0}, ["a", "drift"], 0.02, ignore=["drift"])["chosen"]
+    'coarse'
     
     """
     fidelities = list(values)
@@ -80,7 +86,9 @@ def choose_fidelity(values: Mapping[str, NDArray[np.float64]], costs: Mapping[st
             rel = np.abs(vals - ref) / np.abs(ref)
         rel = np.where((ref == 0) & (vals == 0), 0.0, rel)
         entry["errors"][fid] = {n: float(np.max(rel[:, j])) for j, n in enumerate(outputs)}
-        entry[f"max_rel_error_{fid}"] = float(np.max(rel)) if np.all(np.isfinite(rel)) else float("inf")
+        judged = rel[:, [j for j, n in enumerate(outputs) if n not in ignore]]
+        entry[f"max_rel_error_{fid}"] = (float(np.max(judged, initial=0.0)) if np.all(np.isfinite(judged))
+                                         else float("inf"))
         entry[f"relative_cost_{fid}"] = float(costs[fid])
     ok = [f for f in fidelities if entry[f"max_rel_error_{f}"] <= tolerance]
     entry["chosen"] = min(ok, key=lambda f: (costs[f], fidelities.index(f))) if ok else fidelities[0]
@@ -116,7 +124,8 @@ class AutoFidelity(Model):
             values = {fid: model.evaluate(pilot, pilot_scene(scene)).to_numpy(float)
                       for fid, model in self.variants.items()}
             costs = {fid: model.fidelity_cost(fid) for fid, model in self.variants.items()}
-            self.choices[scene] = choose_fidelity(values, costs, list(self.outputs), self.tolerance)
+            self.choices[scene] = choose_fidelity(values, costs, list(self.outputs), self.tolerance,
+                                                 ignore=self.variants[self.fidelities[0]].numerical_outputs)
         return self.choices[scene]
 
     def evaluate(self, points: pd.DataFrame | Mapping[str, Any] | None, scene: Scene) -> pd.DataFrame:

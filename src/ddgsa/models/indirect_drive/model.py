@@ -126,6 +126,7 @@ class IndirectDrive(Model):
     parameters = PARAMETERS
     outputs = OUTPUTS
     fidelities = ("flexible", "rigid", "linear")
+    numerical_outputs = ("position_drift", "gear_drift")
 
     def __init__(self, fidelity: str = "flexible", time_step: float | None = None, rho_inf: float = 0.8,
                  integrator: str = "gen_alpha", equivalent_load: str = "iso281",
