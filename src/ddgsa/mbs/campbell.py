@@ -163,15 +163,22 @@ def campbell(system: "System", speeds: ArrayLike, spin: str, q0: Array | None = 
         shapes = lin.basis @ vec
         count = lam.size if n_modes is None else min(n_modes, lam.size)
         for j in range(count):
-            index, lateral = whirl_index(system, shapes[:, j], lin.m_full)
-            signed = index * np.sign(speed)
-            whirl = ("none" if lateral < 0.01 else "standstill" if speed == 0 else "forward" if signed > 0.5
-                     else "backward" if signed < -0.5 else "mixed")
-            rows.append({"speed_rad_s": speed, "speed_rpm": speed * 30.0 / np.pi, "mode": j + 1,
-                         "frequency_hz": float(abs(lam[j]) / (2 * np.pi)),
-                         "damping_ratio": float(-lam[j].real / abs(lam[j])), "whirl": whirl,
-                         "whirl_index": float(index), "label": labels[j]})
+            rows.append(mode_row(speed, j + 1, lam[j], *whirl_index(system, shapes[:, j], lin.m_full), labels[j]))
     return CampbellDiagram(pd.DataFrame(rows), tuple(float(o) for o in orders))
+
+
+def mode_row(speed: float, mode: int, eigenvalue: complex, index: float, lateral: float, label: str) -> dict[str, Any]:
+    """One row of a Campbell table: the damped mode ``eigenvalue`` [1/s] at ``speed`` [rad/s], its whirl
+    from the orbit ``index`` and the ``lateral`` share of its energy (:func:`whirl_index`): ``none``
+    below 1 % lateral energy, ``standstill`` at zero speed, else ``forward`` / ``backward`` beyond
+    +-0.5 (signed with the spin) and ``mixed`` between."""
+    signed = index * np.sign(speed)
+    whirl = ("none" if lateral < 0.01 else "standstill" if speed == 0 else "forward" if signed > 0.5
+             else "backward" if signed < -0.5 else "mixed")
+    return {"speed_rad_s": float(speed), "speed_rpm": float(speed) * 30.0 / np.pi, "mode": mode,
+            "frequency_hz": float(abs(eigenvalue) / (2 * np.pi)),
+            "damping_ratio": float(-eigenvalue.real / abs(eigenvalue)), "whirl": whirl,
+            "whirl_index": float(index), "label": label}
 
 
 def campbell_from_tables(tables: dict[float, pd.DataFrame], orders: Sequence[float] = (1.0, 3.0)) -> CampbellDiagram:

@@ -54,7 +54,7 @@ import pandas as pd
 
 from ddgsa.errors import ModelError, SceneError
 from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
-from ddgsa.mbs.campbell import CampbellDiagram
+from ddgsa.mbs.campbell import CampbellDiagram, mode_row
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.models.base import Model, ModelOutput, register_model
 from ddgsa.models.hss_rig.bearing import defect_impulses
@@ -313,13 +313,8 @@ class HssRig(Model):
             freq = np.abs(lam) / (2 * math.pi)
             keep = int(np.sum(freq < max_frequency_hz)) if keep is None else keep
             for j in range(min(keep, lam.size)):
-                index, lateral = nonrotating.whirl_index(rig.system, lin, vec[:, j])
-                whirl = ("none" if lateral < 0.01 else "standstill" if speed == 0 else
-                         "forward" if index * np.sign(speed) > 0.5 else
-                         "backward" if index * np.sign(speed) < -0.5 else "mixed")
-                rows.append({"speed_rad_s": float(speed), "speed_rpm": float(speed) * 30.0 / math.pi, "mode": j + 1,
-                             "frequency_hz": float(freq[j]), "damping_ratio": float(-lam[j].real / abs(lam[j])),
-                             "whirl": whirl, "whirl_index": float(index), "label": labels.iloc[j]})
+                rows.append(mode_row(speed, j + 1, lam[j], *nonrotating.whirl_index(rig.system, lin, vec[:, j]),
+                                     labels.iloc[j]))
         return CampbellDiagram(pd.DataFrame(rows), tuple(float(o) for o in orders))
 
     def scene_figures(self, scene: Any, params: Mapping[str, float] | None = None) -> list[tuple[Any, str]]:
