@@ -105,11 +105,9 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
 
 def scene_figures(result: StudyResult) -> list[tuple[Any, str]]:
     """A model's own signal plots of each scene at the study's nominal point (healthy fault level),
-    for a model that draws them (``model.scene_figures``, e.g. the rig's order maps and spectra)."""
+    for a model that draws them (:meth:`Model.scene_figures`, e.g. the rig's order maps and spectra)."""
     study = result.study
-    draw = getattr(study.make_model(), "scene_figures", None)
-    if draw is None:
-        return []
+    draw = study.make_model().scene_figures
     point = {**study.spec.fixed, **(study.space.nominal if study.space is not None else {})}
     if study.spec.fault is not None:
         point[study.spec.fault.parameter] = study.spec.fault.healthy

@@ -274,6 +274,11 @@ class Model(ABC):
     def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         """Natural frequencies [Hz] and labels."""
 
+    def scene_figures(self, scene: Any, params: Mapping[str, float] | None = None) -> list[tuple[Any, str]]:
+        """The model's own signal plots of one run at ``params`` as ``(figure, name)`` pairs (a
+        study's report draws them at its nominal point; e.g. the rig's order maps); none by default."""
+        return []
+
     def sampling_checks(self, scene: Scene) -> list[dict[str, Any]]:
         """The aliasing guard's table for ``scene`` at nominal parameters
         (:func:`ddgsa.mbs.sampling.sampling_row` rows); none for a model without modes."""
