@@ -228,78 +228,174 @@ def body_terms_inv(q, qd, mass, first0, s_sum, k0, k1, e, f4, h0, h1, gravity): 
     """Mass matrix and quadratic-velocity plus gravity forces from :class:`Invariants`.
 
     Equal to :func:`body_terms` on the same points (tested), at a cost independent of the
-    number of points.
+    number of points. Allocates its outputs; :func:`body_terms_into` writes into given arrays.
+    """
+    n = 6 + s_sum.shape[1]
+    m = np.empty((n, n))
+    out = np.empty(n)
+    body_terms_into(q, qd, mass, first0, s_sum, k0, k1, e, f4, h0, h1, gravity, m, out)
+    return m, out
+
+
+@njit(cache=True)
+def body_terms_into(q, qd, mass, first0, s_sum, k0, k1, e, f4, h0, h1, gravity, m, out):  # pragma: no cover
+    """:func:`body_terms_inv` written into ``m`` (n, n) and ``out`` (n,), in scalar loops.
+
+    The integrators call this once per Newton iteration, so it allocates only three small
+    arrays (the ``f4`` contractions and the rotation) and keeps 3-vectors in scalars: whole-array
+    expressions of 3-vectors cost an allocation each, more than their arithmetic.
+
+    Terms (seed 000 App. 6.7 in the invariant form of :class:`Invariants`): with
+    ``c = first0 + s_sum q_f`` (first moment), ``theta = sum m u u^T`` and
+    ``psi = sum m u (S q_f_dot)^T`` (quadratic in ``q_f``), ``hq = h0 + sum_l q_f,l h1[l]``,
+
+    - ``M_RR = m I``, ``M_Ra = A (g_k x c)`` (column k), ``M_aa = G^T (tr(theta) I - theta) G``,
+      ``M_Rf = A s_sum``, ``M_af = G^T hq``, ``M_ff = sum_a f4[a, a]``;
+    - ``Q_R = A (m g_b - alpha x c - w x (w x c) - 2 w x (s_sum q_f_dot))``,
+    - ``Q_a = G^T (c x g_b - (tr(theta) alpha - theta alpha + (theta w) x w + 2 (tr(psi) w - psi^T w)))``,
+    - ``Q_f = s_sum^T g_b - sum_ab ((alpha~ + w~ w~)_ab (e_ab + f4_ab q_f) + 2 w~_ab f4_ab q_f_dot)``,
+
+    with ``g_b = A^T gravity``, ``w = G angles_dot`` and ``alpha = G_dot angles_dot``.
     """
     nf = s_sum.shape[1]
-    n = 6 + nf
+    cf, sf = np.cos(q[3]), np.sin(q[3])
+    ct, st = np.cos(q[4]), np.sin(q[4])
+    fd, td, pd = qd[3], qd[4], qd[5]
     a = rotation(q[3:6])
-    g = g_bar(q[3:6])
-    w = mv(g, qd[3:6])
-    al = g_bar_dot_rate(q[3:6], qd[3:6])
-    qf = q[6:]
-    qfd = qd[6:]
-    gb = mv(a.T, gravity)
-    c = first0 + mv(s_sum, qf)
-    theta = k0.copy()
-    psi = np.zeros((3, 3))
-    fq = np.zeros((3, 3, nf))          # f[a,b] @ qf
-    fqd = np.zeros((3, 3, nf))         # f[a,b] @ qfd
-    for i in range(3):                 # loops, not calls: this runs in every Newton iteration
+    g00, g02, g11, g12, g21, g22 = 1.0, -st, cf, ct * sf, -sf, ct * cf        # G_bar (others zero)
+    w0, w1, w2 = fd + g02 * pd, g11 * td + g12 * pd, g21 * td + g22 * pd
+    al0 = -ct * td * pd                                                    # G_bar_dot angles_dot
+    al1 = -sf * fd * td + (-st * td * sf + ct * cf * fd) * pd
+    al2 = -cf * fd * td + (-st * td * cf - ct * sf * fd) * pd
+    gb0 = a[0, 0] * gravity[0] + a[1, 0] * gravity[1] + a[2, 0] * gravity[2]
+    gb1 = a[0, 1] * gravity[0] + a[1, 1] * gravity[1] + a[2, 1] * gravity[2]
+    gb2 = a[0, 2] * gravity[0] + a[1, 2] * gravity[1] + a[2, 2] * gravity[2]
+    c0, c1, c2 = first0[0], first0[1], first0[2]
+    sd0, sd1, sd2 = 0.0, 0.0, 0.0                                          # s_sum q_f_dot
+    for k in range(nf):
+        qk, qdk = q[6 + k], qd[6 + k]
+        c0 += s_sum[0, k] * qk
+        c1 += s_sum[1, k] * qk
+        c2 += s_sum[2, k] * qk
+        sd0 += s_sum[0, k] * qdk
+        sd1 += s_sum[1, k] * qdk
+        sd2 += s_sum[2, k] * qdk
+    # theta (3x3), psi (3x3) and the f4 contractions fq = f4 q_f, fqd = f4 q_f_dot
+    fq = np.empty((3, 3, nf))
+    fqd = np.empty((3, 3, nf))
+    th = np.empty((3, 3))
+    ps = np.empty((3, 3))
+    for i in range(3):
         for j in range(3):
-            th, ps_ = 0.0, 0.0
+            t_ij, p_ij = k0[i, j], 0.0
             for k in range(nf):
-                th += (k1[i, j, k] + k1[j, i, k]) * qf[k]
-                ps_ += k1[i, j, k] * qfd[k]
+                qk = q[6 + k]
+                t_ij += (k1[i, j, k] + k1[j, i, k]) * qk
+                p_ij += k1[i, j, k] * qd[6 + k]
                 acc, accd = 0.0, 0.0
                 for l in range(nf):
-                    acc += f4[i, j, k, l] * qf[l]
-                    accd += f4[i, j, k, l] * qfd[l]
-                fq[i, j, k], fqd[i, j, k] = acc, accd
-                th += qf[k] * acc
-                ps_ += qf[k] * accd
-            theta[i, j] += th
-            psi[i, j] = ps_
-    hq = h0.copy()
-    for l in range(nf):
-        hq += qf[l] * h1[l]
-    m = np.zeros((n, n))
-    ct = np.zeros((3, 3))
-    ct[0, 1], ct[0, 2], ct[1, 2] = -c[2], c[1], -c[0]
-    ct[1, 0], ct[2, 0], ct[2, 1] = c[2], -c[1], c[0]
+                    x = f4[i, j, k, l]
+                    acc += x * q[6 + l]
+                    accd += x * qd[6 + l]
+                fq[i, j, k] = acc
+                fqd[i, j, k] = accd
+                t_ij += qk * acc
+                p_ij += qk * accd
+            th[i, j] = t_ij
+            ps[i, j] = p_ij
+    tr = th[0, 0] + th[1, 1] + th[2, 2]
+    trp = ps[0, 0] + ps[1, 1] + ps[2, 2]
+    n = 6 + nf
+    for i in range(n):
+        for j in range(n):
+            m[i, j] = 0.0
     for i in range(3):
         m[i, i] = mass
-    m[0:3, 3:6] = mm(mm(a, -ct), g)
-    m[3:6, 0:3] = m[0:3, 3:6].T
-    tr = theta[0, 0] + theta[1, 1] + theta[2, 2]
-    inert = -theta.copy()
+    # M_Ra: column k is A (g_k x c) with g_k column k of G_bar
+    for k in range(3):
+        gk0 = g00 if k == 0 else (g02 if k == 2 else 0.0)
+        gk1 = 0.0 if k == 0 else (g11 if k == 1 else g12)
+        gk2 = 0.0 if k == 0 else (g21 if k == 1 else g22)
+        x0, x1, x2 = gk1 * c2 - gk2 * c1, gk2 * c0 - gk0 * c2, gk0 * c1 - gk1 * c0
+        for i in range(3):
+            v = a[i, 0] * x0 + a[i, 1] * x1 + a[i, 2] * x2
+            m[i, 3 + k] = v
+            m[3 + k, i] = v
+    # M_aa = G^T (tr I - theta) G, G = [[1, 0, g02], [0, g11, g12], [0, g21, g22]]
+    j00, j01, j02 = tr - th[0, 0], -th[0, 1], -th[0, 2]
+    j10, j11, j12 = -th[1, 0], tr - th[1, 1], -th[1, 2]
+    j20, j21, j22 = -th[2, 0], -th[2, 1], tr - th[2, 2]
+    # (tr I - theta) G, columns 0..2
+    b00, b10, b20 = j00, j10, j20
+    b01, b11, b21 = j01 * g11 + j02 * g21, j11 * g11 + j12 * g21, j21 * g11 + j22 * g21
+    b02 = j00 * g02 + j01 * g12 + j02 * g22
+    b12 = j10 * g02 + j11 * g12 + j12 * g22
+    b22 = j20 * g02 + j21 * g12 + j22 * g22
+    m[3, 3], m[3, 4], m[3, 5] = b00, b01, b02
+    m[4, 3] = g11 * b10 + g21 * b20
+    m[4, 4] = g11 * b11 + g21 * b21
+    m[4, 5] = g11 * b12 + g21 * b22
+    m[5, 3] = g02 * b00 + g12 * b10 + g22 * b20
+    m[5, 4] = g02 * b01 + g12 * b11 + g22 * b21
+    m[5, 5] = g02 * b02 + g12 * b12 + g22 * b22
+    # forces on the reference point: A (m g_b - alpha x c - w x (w x c) - 2 w x sd)
+    wc0, wc1, wc2 = w1 * c2 - w2 * c1, w2 * c0 - w0 * c2, w0 * c1 - w1 * c0
+    fr0 = mass * gb0 - ((al1 * c2 - al2 * c1) + (w1 * wc2 - w2 * wc1) + 2.0 * (w1 * sd2 - w2 * sd1))
+    fr1 = mass * gb1 - ((al2 * c0 - al0 * c2) + (w2 * wc0 - w0 * wc2) + 2.0 * (w2 * sd0 - w0 * sd2))
+    fr2 = mass * gb2 - ((al0 * c1 - al1 * c0) + (w0 * wc1 - w1 * wc0) + 2.0 * (w0 * sd1 - w1 * sd0))
     for i in range(3):
-        inert[i, i] += tr
-    m[3:6, 3:6] = mm(mm(g.T, inert), g)
-    if nf > 0:
-        m[0:3, 6:] = mm(a, s_sum)
-        m[6:, 0:3] = m[0:3, 6:].T
-        m[3:6, 6:] = mm(g.T, hq)
-        m[6:, 3:6] = m[3:6, 6:].T
-        mff = f4[0, 0] + f4[1, 1] + f4[2, 2]
-        m[6:, 6:] = mff
-    out = np.zeros(n)
-    wsq = cross(w, cross(w, c))
-    fr = mass * gb - (cross(al, c) + wsq + 2.0 * cross(w, mv(s_sum, qfd)))
-    out[0:3] = mv(a, fr)
-    trp = psi[0, 0] + psi[1, 1] + psi[2, 2]
-    ft = cross(c, gb) - (tr * al - mv(theta, al) + cross(mv(theta, w), w) + 2.0 * (trp * w - mv(psi.T, w)))
-    out[3:6] = mv(g.T, ft)
-    if nf > 0:
-        wt = np.zeros((3, 3))          # skew(w)
-        wt[0, 1], wt[0, 2], wt[1, 2] = -w[2], w[1], -w[0]
-        wt[1, 0], wt[2, 0], wt[2, 1] = w[2], -w[1], w[0]
-        at = np.zeros((3, 3))          # skew(alpha_v)
-        at[0, 1], at[0, 2], at[1, 2] = -al[2], al[1], -al[0]
-        at[1, 0], at[2, 0], at[2, 1] = al[2], -al[1], al[0]
-        ww = mm(wt, wt)
-        ff = mv(s_sum.T, gb)
+        out[i] = a[i, 0] * fr0 + a[i, 1] * fr1 + a[i, 2] * fr2
+    # torque: c x g_b - (tr alpha - theta alpha + (theta w) x w + 2 (tr(psi) w - psi^T w))
+    ta0 = th[0, 0] * al0 + th[0, 1] * al1 + th[0, 2] * al2
+    ta1 = th[1, 0] * al0 + th[1, 1] * al1 + th[1, 2] * al2
+    ta2 = th[2, 0] * al0 + th[2, 1] * al1 + th[2, 2] * al2
+    tw0 = th[0, 0] * w0 + th[0, 1] * w1 + th[0, 2] * w2
+    tw1 = th[1, 0] * w0 + th[1, 1] * w1 + th[1, 2] * w2
+    tw2 = th[2, 0] * w0 + th[2, 1] * w1 + th[2, 2] * w2
+    pw0 = ps[0, 0] * w0 + ps[1, 0] * w1 + ps[2, 0] * w2
+    pw1 = ps[0, 1] * w0 + ps[1, 1] * w1 + ps[2, 1] * w2
+    pw2 = ps[0, 2] * w0 + ps[1, 2] * w1 + ps[2, 2] * w2
+    ft0 = (c1 * gb2 - c2 * gb1) - (tr * al0 - ta0 + (tw1 * w2 - tw2 * w1) + 2.0 * (trp * w0 - pw0))
+    ft1 = (c2 * gb0 - c0 * gb2) - (tr * al1 - ta1 + (tw2 * w0 - tw0 * w2) + 2.0 * (trp * w1 - pw1))
+    ft2 = (c0 * gb1 - c1 * gb0) - (tr * al2 - ta2 + (tw0 * w1 - tw1 * w0) + 2.0 * (trp * w2 - pw2))
+    out[3] = ft0
+    out[4] = g11 * ft1 + g21 * ft2
+    out[5] = g02 * ft0 + g12 * ft1 + g22 * ft2
+    if nf == 0:
+        return
+    # skew(alpha) + skew(w) skew(w) = alpha~ + w w^T - |w|^2 I, and skew(w)
+    ww = w0 * w0 + w1 * w1 + w2 * w2
+    cq = np.empty((3, 3))           # coefficient of (e + fq)
+    cw = np.empty((3, 3))           # coefficient of fqd (2 w~)
+    cq[0, 0], cq[1, 1], cq[2, 2] = w0 * w0 - ww, w1 * w1 - ww, w2 * w2 - ww
+    cq[0, 1], cq[1, 0] = -al2 + w0 * w1, al2 + w1 * w0
+    cq[0, 2], cq[2, 0] = al1 + w0 * w2, -al1 + w2 * w0
+    cq[1, 2], cq[2, 1] = -al0 + w1 * w2, al0 + w2 * w1
+    cw[0, 0], cw[1, 1], cw[2, 2] = 0.0, 0.0, 0.0
+    cw[0, 1], cw[1, 0] = -2.0 * w2, 2.0 * w2
+    cw[0, 2], cw[2, 0] = 2.0 * w1, -2.0 * w1
+    cw[1, 2], cw[2, 1] = -2.0 * w0, 2.0 * w0
+    for k in range(nf):
+        # M_Rf = A s_sum, M_af = G^T hq with hq = h0 + sum_l q_f,l h1[l]
+        s0, s1, s2 = s_sum[0, k], s_sum[1, k], s_sum[2, k]
+        h_0, h_1, h_2 = h0[0, k], h0[1, k], h0[2, k]
+        for l in range(nf):
+            ql = q[6 + l]
+            h_0 += ql * h1[l, 0, k]
+            h_1 += ql * h1[l, 1, k]
+            h_2 += ql * h1[l, 2, k]
+        for i in range(3):
+            v = a[i, 0] * s0 + a[i, 1] * s1 + a[i, 2] * s2
+            m[i, 6 + k] = v
+            m[6 + k, i] = v
+        va = (h_0, g11 * h_1 + g21 * h_2, g02 * h_0 + g12 * h_1 + g22 * h_2)
+        for i in range(3):
+            m[3 + i, 6 + k] = va[i]
+            m[6 + k, 3 + i] = va[i]
+        for l in range(nf):
+            m[6 + k, 6 + l] = f4[0, 0, k, l] + f4[1, 1, k, l] + f4[2, 2, k, l]
+        acc = s0 * gb0 + s1 * gb1 + s2 * gb2
         for i in range(3):
             for j in range(3):
-                ff -= (at[i, j] + ww[i, j]) * (e[i, j] + fq[i, j]) + 2.0 * wt[i, j] * fqd[i, j]
-        out[6:] = ff
-    return m, out
+                acc -= cq[i, j] * (e[i, j, k] + fq[i, j, k]) + cw[i, j] * fqd[i, j, k]
+        out[6 + k] = acc

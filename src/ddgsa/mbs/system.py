@@ -31,7 +31,7 @@ from numba import njit
 from numpy.typing import NDArray
 from scipy.integrate import solve_ivp
 
-from ddgsa.mbs.ffr import Invariants, body_terms_inv, dot, g_bar, mm, mv, rotation
+from ddgsa.mbs.ffr import Invariants, body_terms_into, g_bar, rotation
 
 if TYPE_CHECKING:
     from ddgsa.mbs.assembly import System
@@ -96,58 +96,110 @@ def terms(q, qd, force, moment, w_set, torque0, bp_disp, bp_vel, mass, first0, s
 
     Returns ``(M, Q, K_t, C_t, F_springs (n_s, 3), T)`` where ``F_springs`` are the forces the
     body exerts on the prescribed body (``K l + C l_dot``, global frame) and ``T`` the torque-law
-    torque on the body about its x axis.
+    torque on the body about its x axis. Allocates its outputs; the integrator calls
+    :func:`terms_into` on arrays it keeps.
     """
     n = q.size
-    nf = n - 6
-    m, f = body_terms_inv(q, qd, mass, first0, s_sum, k0, k1, e, f4, h0, h1, gravity)
-    a = rotation(q[3:6])
-    g = g_bar(q[3:6])
-    ag = mm(a, g)
-    kt = np.zeros((n, n))
-    ct = np.zeros((n, n))
-    ns = sp_k.shape[0]
-    fs = np.zeros((ns, 3))
-    lg = np.empty((3, n))
-    for s in range(ns):
-        u = sp_u0[s] + mv(sp_s[s], q[6:])
-        _global_map(a, g, u, sp_s[s], lg)
-        r = q[0:3] + mv(a, u)
-        v = mv(lg, qd)
-        for k in range(3):
-            fs[s, k] = sp_k[s, k] * (r[k] - sp_ground[s, k] - bp_disp[k]) + sp_c[s, k] * (v[k] - bp_vel[k])
-        for i in range(n):
-            f[i] -= lg[0, i] * fs[s, 0] + lg[1, i] * fs[s, 1] + lg[2, i] * fs[s, 2]
-            for j in range(n):
-                kt[i, j] += (sp_k[s, 0] * lg[0, i] * lg[0, j] + sp_k[s, 1] * lg[1, i] * lg[1, j]
-                             + sp_k[s, 2] * lg[2, i] * lg[2, j])
-                ct[i, j] += (sp_c[s, 0] * lg[0, i] * lg[0, j] + sp_c[s, 1] * lg[1, i] * lg[1, j]
-                             + sp_c[s, 2] * lg[2, i] * lg[2, j])
-    if nf > 0:
-        f[6:] -= mv(kff, q[6:]) + mv(cff, qd[6:])
-        kt[6:, 6:] += kff
-        ct[6:, 6:] += cff
-    _global_map(a, g, ld_u0 + mv(ld_s, q[6:]), ld_s, lg)
-    f += mv(lg.T, force)
-    f[3:6] += mv(ag.T, moment)
-    if nf > 0:
-        f[6:] += mv(ld_srot.T, mv(a.T, moment))
-    # torque law on the section: axis = A e_x; b = map from q_dot to the section spin rate
-    axis = a[:, 0]
-    b = np.zeros(n)
-    b[3:6] = mv(ag.T, axis)
-    if nf > 0:
-        b[6:] = gn_srot[0]                 # (A S_rot)^T A e_x = S_rot^T e_x
-    torque = torque0 + c_torque * (w_set - dot(b, qd))
-    for i in range(n):
-        f[i] += b[i] * torque
-        for j in range(n):
-            ct[i, j] += c_torque * b[i] * b[j]
+    m, f, kt, ct = np.empty((n, n)), np.empty(n), np.empty((n, n)), np.empty((n, n))
+    fs = np.empty((sp_k.shape[0], 3))
+    torque = terms_into(q, qd, force, moment, w_set, torque0, bp_disp, bp_vel, mass, first0, s_sum, k0, k1, e, f4,
+                        h0, h1, gravity, kff, cff, sp_u0, sp_s, sp_k, sp_c, sp_ground, ld_u0, ld_s, ld_srot, gn_srot,
+                        c_torque, m, f, kt, ct, fs, np.empty((3, n)))
     return m, f, kt, ct, fs, torque
 
 
 @njit(cache=True)
-def _global_map(a, g, u, s, out):  # pragma: no cover (compiled)
+def terms_into(q, qd, force, moment, w_set, torque0, bp_disp, bp_vel, mass, first0, s_sum, k0, k1, e, f4, h0, h1,
+               gravity, kff, cff, sp_u0, sp_s, sp_k, sp_c, sp_ground, ld_u0, ld_s, ld_srot, gn_srot,
+               c_torque, m, f, kt, ct, fs, lg):  # pragma: no cover
+    """:func:`terms` written into ``m, f, kt, ct`` (n, n), (n,), (n, n), (n, n) and ``fs`` (n_s, 3);
+    ``lg`` (3, n) is scratch. Returns the torque-law torque [N m].
+
+    Scalar loops, no allocation besides the body kernel's (:func:`ddgsa.mbs.ffr.body_terms_into`):
+    this runs once per Newton iteration. The tangents are symmetric rank-one sums
+    ``sum_d k_d L_d^T L_d`` (springs along global axes) and ``c b b^T`` (torque law).
+    """
+    n = q.size
+    nf = n - 6
+    body_terms_into(q, qd, mass, first0, s_sum, k0, k1, e, f4, h0, h1, gravity, m, f)
+    a = rotation(q[3:6])
+    g = g_bar(q[3:6])
+    for i in range(n):
+        for j in range(n):
+            kt[i, j] = 0.0
+            ct[i, j] = 0.0
+    for s in range(sp_k.shape[0]):
+        u0, u1, u2 = sp_u0[s, 0], sp_u0[s, 1], sp_u0[s, 2]
+        for k in range(nf):
+            u0 += sp_s[s, 0, k] * q[6 + k]
+            u1 += sp_s[s, 1, k] * q[6 + k]
+            u2 += sp_s[s, 2, k] * q[6 + k]
+        _global_map(a, g, u0, u1, u2, sp_s[s], lg)
+        for d in range(3):
+            r = q[d] + a[d, 0] * u0 + a[d, 1] * u1 + a[d, 2] * u2
+            v = 0.0
+            for i in range(n):
+                v += lg[d, i] * qd[i]
+            fd = sp_k[s, d] * (r - sp_ground[s, d] - bp_disp[d]) + sp_c[s, d] * (v - bp_vel[d])
+            fs[s, d] = fd
+            kd, cd = sp_k[s, d], sp_c[s, d]
+            for i in range(n):
+                li = lg[d, i]
+                f[i] -= li * fd
+                for j in range(i, n):
+                    lij = li * lg[d, j]
+                    kt[i, j] += kd * lij
+                    ct[i, j] += cd * lij
+    for i in range(nf):
+        acc = 0.0
+        for j in range(nf):
+            acc += kff[i, j] * q[6 + j] + cff[i, j] * qd[6 + j]
+            if j >= i:
+                kt[6 + i, 6 + j] += kff[i, j]
+                ct[6 + i, 6 + j] += cff[i, j]
+        f[6 + i] -= acc
+    # hub force and moment: Q += L^T F, Q_angles += (A G)^T M, Q_f += S_rot^T A^T M
+    u0, u1, u2 = ld_u0[0], ld_u0[1], ld_u0[2]
+    for k in range(nf):
+        u0 += ld_s[0, k] * q[6 + k]
+        u1 += ld_s[1, k] * q[6 + k]
+        u2 += ld_s[2, k] * q[6 + k]
+    _global_map(a, g, u0, u1, u2, ld_s, lg)
+    for i in range(n):
+        f[i] += lg[0, i] * force[0] + lg[1, i] * force[1] + lg[2, i] * force[2]
+    mb0 = a[0, 0] * moment[0] + a[1, 0] * moment[1] + a[2, 0] * moment[2]       # A^T M (body frame)
+    mb1 = a[0, 1] * moment[0] + a[1, 1] * moment[1] + a[2, 1] * moment[2]
+    mb2 = a[0, 2] * moment[0] + a[1, 2] * moment[1] + a[2, 2] * moment[2]
+    for k in range(3):                     # (A G)^T M = G^T A^T M
+        f[3 + k] += g[0, k] * mb0 + g[1, k] * mb1 + g[2, k] * mb2
+    for k in range(nf):
+        f[6 + k] += ld_srot[0, k] * mb0 + ld_srot[1, k] * mb1 + ld_srot[2, k] * mb2
+    # torque law on the section: b maps q_dot to the section spin rate; (A G)^T A e_x = G^T e_x
+    b = lg[0]                              # scratch row reused for b
+    for i in range(3):
+        b[i] = 0.0
+    for k in range(3):
+        b[3 + k] = g[0, k]
+    for k in range(nf):
+        b[6 + k] = gn_srot[0, k]           # (A S_rot)^T A e_x = S_rot^T e_x
+    rate = 0.0
+    for i in range(n):
+        rate += b[i] * qd[i]
+    torque = torque0 + c_torque * (w_set - rate)
+    for i in range(n):
+        f[i] += b[i] * torque
+        ci = c_torque * b[i]
+        for j in range(i, n):
+            ct[i, j] += ci * b[j]
+    for i in range(n):                     # mirror the upper triangles
+        for j in range(i + 1, n):
+            kt[j, i] = kt[i, j]
+            ct[j, i] = ct[i, j]
+    return torque
+
+
+@njit(cache=True)
+def _global_map(a, g, u0, u1, u2, s, out):  # pragma: no cover (compiled)
     """Write ``L = A [A^T, -u~ G_bar, S]`` (3 x n) of a point at body position ``u`` into ``out``."""
     nf = s.shape[1]
     for i in range(3):
@@ -155,9 +207,9 @@ def _global_map(a, g, u, s, out):  # pragma: no cover (compiled)
             out[i, j] = 1.0 if i == j else 0.0
     # -u~ G_bar column k = g_k x u, then rotate by A
     for k in range(3):
-        c0 = g[1, k] * u[2] - g[2, k] * u[1]
-        c1 = g[2, k] * u[0] - g[0, k] * u[2]
-        c2 = g[0, k] * u[1] - g[1, k] * u[0]
+        c0 = g[1, k] * u2 - g[2, k] * u1
+        c1 = g[2, k] * u0 - g[0, k] * u2
+        c2 = g[0, k] * u1 - g[1, k] * u0
         for i in range(3):
             out[i, 3 + k] = a[i, 0] * c0 + a[i, 1] * c1 + a[i, 2] * c2
     for k in range(nf):
@@ -243,6 +295,7 @@ def _gen_alpha(q0, qd0, dt_load, n_sub, forces, moments, w_set, torque0, bp_disp
     row = np.empty(13)
     q, qd = q0.copy(), qd0.copy()
     m, f, kt, ct, fs, tq = terms(q, qd, forces[0], moments[0], w_set[0], torque0, bp_disp[0], bp_vel[0], *sys)
+    lg = np.empty((3, n))
     acc = np.linalg.solve(m, f)
     aux = acc.copy()
     acc_prev = acc.copy()
@@ -262,8 +315,8 @@ def _gen_alpha(q0, qd0, dt_load, n_sub, forces, moments, w_set, torque0, bp_disp
                 qd[i] += h * ((1.0 - gamma) * aux[i] + gamma * aux_new)
             converged = False
             for it in range(max_iter):
-                m, f, kt, ct, fs, tq = terms(q, qd, row[0:3], row[3:6], row[6], torque0, row[7:10], row[10:13],
-                                             *sys)
+                terms_into(q, qd, row[0:3], row[3:6], row[6], torque0, row[7:10], row[10:13], *sys, m, f, kt, ct,
+                           fs, lg)
                 for i in range(n):
                     acc_i = 0.0
                     for j in range(n):
@@ -288,8 +341,8 @@ def _gen_alpha(q0, qd0, dt_load, n_sub, forces, moments, w_set, torque0, bp_disp
                 aux[i] = (af * acc[i] - am * aux[i] + (1.0 - af) * acc_new[i]) / (1.0 - am)
                 acc_prev[i] = acc[i]
                 acc[i] = acc_new[i]
-        m, f, kt, ct, fs, tq = terms(q, qd, forces[k + 1], moments[k + 1], w_set[k + 1], torque0, bp_disp[k + 1],
-                                     bp_vel[k + 1], *sys)
+        tq = terms_into(q, qd, forces[k + 1], moments[k + 1], w_set[k + 1], torque0, bp_disp[k + 1], bp_vel[k + 1],
+                        *sys, m, f, kt, ct, fs, lg)
         q_out[k + 1], qd_out[k + 1], fs_out[k + 1], tq_out[k + 1] = q, qd, fs, tq
     return q_out, qd_out, fs_out, tq_out, worst
 
