@@ -62,3 +62,41 @@ def test_fe_bending_and_torsion_against_closed_form() -> None:
     # two discs on a (nearly massless) shaft: f = sqrt(GJ/L (1/J1 + 1/J2)) / 2 pi
     two_disc = np.sqrt(7.7e8 / length * (1 / 5e4 + 1 / 2e4)) / (2 * np.pi)
     assert md.freq_torsion[0] == pytest.approx(two_disc, rel=1e-4)
+
+
+def _kernel_against_parts(fidelity: str, rigid_only: bool) -> None:
+    """The single-body kernel (:func:`ddgsa.mbs.system.terms`, scalar loops) against the Python
+    System of the kernel's parts it is packed from (element Jacobians and wrenches, matrix algebra)."""
+    from dataclasses import replace
+
+    from ddgsa.mbs.assembly import System
+    from ddgsa.mbs.elements import AppliedLoad
+    from ddgsa.mbs.system import evaluate_terms
+
+    asm = models.get("direct_drive", fidelity=fidelity).assemble()
+    parts = asm.kernel
+    bearings, hub, generator = parts.elements[:2], parts.elements[2], parts.elements[3]
+    rng = np.random.default_rng(3)
+    force, moment = rng.normal(size=3) * 1e5, rng.normal(size=3) * 1e6
+    loaded = AppliedLoad(hub.markers[0], [0.0, 1.0], force=[force, force], moment=[moment, moment], name="hub")
+    n = asm.system.n_dof
+    for _ in range(4):
+        q = np.concatenate([rng.normal(size=3) * 1e-3, [rng.uniform(-np.pi, np.pi)], rng.normal(size=2) * 1e-3,
+                            np.zeros(n - 6) if rigid_only else rng.normal(size=n - 6) * 1e-3])
+        qd = rng.normal(size=n) * 0.1
+        qd[3] = 1.2
+        if rigid_only:      # the torque law: the kernel takes the section axis as the body axis (exact at q_f = 0)
+            want = System(parts.bodies, [*bearings, loaded, generator], gravity=parts.gravity).terms(q, qd, 0.0)
+            got = evaluate_terms(asm.system, q, qd, force, moment, 0.0)
+        else:
+            want = System(parts.bodies, [*bearings, loaded], gravity=parts.gravity).terms(q, qd, 0.0)
+            got = evaluate_terms(replace(asm.system, c_torque=0.0), q, qd, force, moment, 0.0)
+        for g, w in zip(got[:4], (want.m, want.q, want.k, want.c)):
+            np.testing.assert_allclose(g, w, rtol=0, atol=1e-12 * np.abs(w).max())
+        np.testing.assert_allclose(got[4], -np.array(want.outputs[:2])[:, :3], rtol=0,
+                                   atol=1e-12 * np.abs(got[4]).max())
+
+
+@pytest.mark.parametrize("rigid_only", [False, True])
+def test_single_body_kernel_equals_the_python_system_of_its_parts(rigid_only: bool) -> None:
+    _kernel_against_parts("flexible", rigid_only)

@@ -303,7 +303,7 @@ def _gen_alpha(q0, qd0, dt_load, n_sub, forces, moments, w_set, torque0, bp_disp
     res = np.empty(n)
     it_mat = np.empty((n, n))
     q_out[0], qd_out[0], fs_out[0], tq_out[0] = q, qd, fs, tq
-    worst = 0
+    worst, total = 0, 0
     c_aux = h * h * (0.5 - beta)
     for k in range(n_t - 1):
         for sub in range(n_sub):
@@ -332,11 +332,12 @@ def _gen_alpha(q0, qd0, dt_load, n_sub, forces, moments, w_set, torque0, bp_disp
                     step = max(step, abs(bp * h * h * delta[i]))
                 if it + 1 > worst:
                     worst = it + 1
+                total += 1
                 if step < tol:
                     converged = True
                     break
             if not converged or not np.all(np.isfinite(q)):
-                return q_out[:k + 1], qd_out[:k + 1], fs_out[:k + 1], tq_out[:k + 1], -(k + 1)
+                return q_out[:k + 1], qd_out[:k + 1], fs_out[:k + 1], tq_out[:k + 1], -(k + 1), total
             for i in range(n):
                 aux[i] = (af * acc[i] - am * aux[i] + (1.0 - af) * acc_new[i]) / (1.0 - am)
                 acc_prev[i] = acc[i]
@@ -344,7 +345,7 @@ def _gen_alpha(q0, qd0, dt_load, n_sub, forces, moments, w_set, torque0, bp_disp
         tq = terms_into(q, qd, forces[k + 1], moments[k + 1], w_set[k + 1], torque0, bp_disp[k + 1], bp_vel[k + 1],
                         *sys, m, f, kt, ct, fs, lg)
         q_out[k + 1], qd_out[k + 1], fs_out[k + 1], tq_out[k + 1] = q, qd, fs, tq
-    return q_out, qd_out, fs_out, tq_out, worst
+    return q_out, qd_out, fs_out, tq_out, worst, total
 
 
 def integrate(sys: SystemArrays, q0: NDArray[np.float64], qd0: NDArray[np.float64], dt_load: float,
@@ -382,19 +383,20 @@ def integrate(sys: SystemArrays, q0: NDArray[np.float64], qd0: NDArray[np.float6
     -------
     dict
         ``q``, ``qd`` (n_t, n), ``spring_forces`` (n_t, n_s, 3), ``torque`` (n_t,) at the load
-        samples, ``max_iterations`` (worst Newton count) and ``failed_at`` (sample index of a
-        divergence, or -1).
+        samples, ``max_iterations`` (worst Newton count), ``mean_iterations`` (Newton iterations
+        per step) and ``failed_at`` (sample index of a divergence, or -1).
     """
     n_t = forces.shape[0]
     zeros = np.zeros((n_t, 3))
     bd = zeros if bp_disp is None else np.ascontiguousarray(bp_disp, dtype=float)
     bv = zeros if bp_vel is None else np.ascontiguousarray(bp_vel, dtype=float)
-    q, qd, fs, tq, status = _gen_alpha(np.asarray(q0, float), np.asarray(qd0, float), float(dt_load), int(n_sub),
+    q, qd, fs, tq, status, total = _gen_alpha(np.asarray(q0, float), np.asarray(qd0, float), float(dt_load), int(n_sub),
                                        np.ascontiguousarray(forces, float), np.ascontiguousarray(moments, float),
                                        np.ascontiguousarray(w_set, float), float(torque0), bd, bv, float(rho_inf),
                                        float(tol), int(max_iter), *sys.args())
+    n_steps = max(1, (q.shape[0] - 1) * int(n_sub))
     return {"q": q, "qd": qd, "spring_forces": fs, "torque": tq, "max_iterations": max(int(status), 0),
-            "failed_at": -int(status) if status < 0 else -1}
+            "mean_iterations": total / n_steps, "failed_at": -int(status) if status < 0 else -1}
 
 
 def evaluate_terms(sys: SystemArrays, q: NDArray[np.float64], qd: NDArray[np.float64],

@@ -133,13 +133,15 @@ MODE_GROUPS = {"R_x": "bearing_axial", "R_y": "bearing_y", "psi": "bearing_y", "
 
 @dataclass(frozen=True)
 class Assembly:
-    """A built system with what the outputs need."""
+    """A built system with what the outputs need: ``system`` the compiled kernel's arrays of
+    ``kernel``, the :class:`~ddgsa.mbs.assembly.System` of the kernel's parts it was packed from."""
 
     system: SystemArrays
     fields: tuple[str, ...]
     hub_s: NDArray[np.float64]
     gen_s: NDArray[np.float64]
     length: float
+    kernel: System
 
 
 def bearing_order_problem(p: Mapping[str, float]) -> str:
@@ -186,7 +188,7 @@ def assemble(p: Mapping[str, float], fields: tuple[str, ...]) -> Assembly:
     system = System([shaft], [*bearings, hub, generator],
                     gravity=(GRAVITY * math.sin(tau), 0.0, -GRAVITY * math.cos(tau)))
     return Assembly(single_body_arrays(system), fields, hub.markers[0].shapes.copy(),
-                    generator.markers[0].shapes.copy(), length)
+                    generator.markers[0].shapes.copy(), length, system)
 
 
 _CHANNELS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz", "rotor_acceleration", "rotor_speed", "gen_torque", "one")
