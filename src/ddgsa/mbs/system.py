@@ -104,7 +104,7 @@ def terms(q, qd, force, moment, w_set, torque0, bp_disp, bp_vel, mass, first0, s
     fs = np.empty((sp_k.shape[0], 3))
     torque = terms_into(q, qd, force, moment, w_set, torque0, bp_disp, bp_vel, mass, first0, s_sum, k0, k1, e, f4,
                         h0, h1, gravity, kff, cff, sp_u0, sp_s, sp_k, sp_c, sp_ground, ld_u0, ld_s, ld_srot, gn_srot,
-                        c_torque, m, f, kt, ct, fs, np.empty((3, n)))
+                        c_torque, m, f, kt, ct, fs, np.empty((sp_k.shape[0] + 1, 3, n)))
     return m, f, kt, ct, fs, torque
 
 
@@ -113,50 +113,41 @@ def terms_into(q, qd, force, moment, w_set, torque0, bp_disp, bp_vel, mass, firs
                gravity, kff, cff, sp_u0, sp_s, sp_k, sp_c, sp_ground, ld_u0, ld_s, ld_srot, gn_srot,
                c_torque, m, f, kt, ct, fs, lg):  # pragma: no cover
     """:func:`terms` written into ``m, f, kt, ct`` (n, n), (n,), (n, n), (n, n) and ``fs`` (n_s, 3);
-    ``lg`` (3, n) is scratch. Returns the torque-law torque [N m].
+    ``lg`` (n_s + 1, 3, n) is scratch. Returns the torque-law torque [N m].
 
     Scalar loops, no allocation besides the body kernel's (:func:`ddgsa.mbs.ffr.body_terms_into`):
-    this runs once per Newton iteration. The tangents are symmetric rank-one sums
-    ``sum_d k_d L_d^T L_d`` (springs along global axes) and ``c b b^T`` (torque law).
+    this runs once per Newton iteration. The tangents are the symmetric sums
+    ``K_t = sum_s L_s^T diag(k_s) L_s + K_ff`` and ``C_t = sum_s L_s^T diag(c_s) L_s + C_ff + c b b^T``
+    (springs along global axes, ``L_s`` the velocity map of spring ``s``'s body point, ``b`` the
+    map from ``q_dot`` to the generator section's spin rate), each entry summed once and written
+    once: accumulating into the arrays spring by spring costs a load and a store per term.
     """
     n = q.size
     nf = n - 6
+    ns = sp_k.shape[0]
     body_terms_into(q, qd, mass, first0, s_sum, k0, k1, e, f4, h0, h1, gravity, m, f)
     a = rotation(q[3:6])
     g = g_bar(q[3:6])
-    for i in range(n):
-        for j in range(n):
-            kt[i, j] = 0.0
-            ct[i, j] = 0.0
-    for s in range(sp_k.shape[0]):
+    for s in range(ns):
         u0, u1, u2 = sp_u0[s, 0], sp_u0[s, 1], sp_u0[s, 2]
         for k in range(nf):
             u0 += sp_s[s, 0, k] * q[6 + k]
             u1 += sp_s[s, 1, k] * q[6 + k]
             u2 += sp_s[s, 2, k] * q[6 + k]
-        _global_map(a, g, u0, u1, u2, sp_s[s], lg)
+        _global_map(a, g, u0, u1, u2, sp_s[s], lg[s])
         for d in range(3):
             r = q[d] + a[d, 0] * u0 + a[d, 1] * u1 + a[d, 2] * u2
             v = 0.0
             for i in range(n):
-                v += lg[d, i] * qd[i]
+                v += lg[s, d, i] * qd[i]
             fd = sp_k[s, d] * (r - sp_ground[s, d] - bp_disp[d]) + sp_c[s, d] * (v - bp_vel[d])
             fs[s, d] = fd
-            kd, cd = sp_k[s, d], sp_c[s, d]
             for i in range(n):
-                li = lg[d, i]
-                f[i] -= li * fd
-                for j in range(i, n):
-                    lij = li * lg[d, j]
-                    kt[i, j] += kd * lij
-                    ct[i, j] += cd * lij
+                f[i] -= lg[s, d, i] * fd
     for i in range(nf):
         acc = 0.0
         for j in range(nf):
             acc += kff[i, j] * q[6 + j] + cff[i, j] * qd[6 + j]
-            if j >= i:
-                kt[6 + i, 6 + j] += kff[i, j]
-                ct[6 + i, 6 + j] += cff[i, j]
         f[6 + i] -= acc
     # hub force and moment: Q += L^T F, Q_angles += (A G)^T M, Q_f += S_rot^T A^T M
     u0, u1, u2 = ld_u0[0], ld_u0[1], ld_u0[2]
@@ -164,9 +155,10 @@ def terms_into(q, qd, force, moment, w_set, torque0, bp_disp, bp_vel, mass, firs
         u0 += ld_s[0, k] * q[6 + k]
         u1 += ld_s[1, k] * q[6 + k]
         u2 += ld_s[2, k] * q[6 + k]
-    _global_map(a, g, u0, u1, u2, ld_s, lg)
+    ll = lg[ns]
+    _global_map(a, g, u0, u1, u2, ld_s, ll)
     for i in range(n):
-        f[i] += lg[0, i] * force[0] + lg[1, i] * force[1] + lg[2, i] * force[2]
+        f[i] += ll[0, i] * force[0] + ll[1, i] * force[1] + ll[2, i] * force[2]
     mb0 = a[0, 0] * moment[0] + a[1, 0] * moment[1] + a[2, 0] * moment[2]       # A^T M (body frame)
     mb1 = a[0, 1] * moment[0] + a[1, 1] * moment[1] + a[2, 1] * moment[2]
     mb2 = a[0, 2] * moment[0] + a[1, 2] * moment[1] + a[2, 2] * moment[2]
@@ -175,7 +167,7 @@ def terms_into(q, qd, force, moment, w_set, torque0, bp_disp, bp_vel, mass, firs
     for k in range(nf):
         f[6 + k] += ld_srot[0, k] * mb0 + ld_srot[1, k] * mb1 + ld_srot[2, k] * mb2
     # torque law on the section: b maps q_dot to the section spin rate; (A G)^T A e_x = G^T e_x
-    b = lg[0]                              # scratch row reused for b
+    b = ll[0]                              # the load's map is used: its first row holds b
     for i in range(3):
         b[i] = 0.0
     for k in range(3):
@@ -188,13 +180,22 @@ def terms_into(q, qd, force, moment, w_set, torque0, bp_disp, bp_vel, mass, firs
     torque = torque0 + c_torque * (w_set - rate)
     for i in range(n):
         f[i] += b[i] * torque
-        ci = c_torque * b[i]
+    for i in range(n):
         for j in range(i, n):
-            ct[i, j] += ci * b[j]
-    for i in range(n):                     # mirror the upper triangles
-        for j in range(i + 1, n):
-            kt[j, i] = kt[i, j]
-            ct[j, i] = ct[i, j]
+            acc_k = 0.0
+            acc_c = c_torque * b[i] * b[j]
+            for s in range(ns):
+                for d in range(3):
+                    lij = lg[s, d, i] * lg[s, d, j]
+                    acc_k += sp_k[s, d] * lij
+                    acc_c += sp_c[s, d] * lij
+            if i >= 6:
+                acc_k += kff[i - 6, j - 6]
+                acc_c += cff[i - 6, j - 6]
+            kt[i, j] = acc_k
+            kt[j, i] = acc_k
+            ct[i, j] = acc_c
+            ct[j, i] = acc_c
     return torque
 
 
@@ -295,7 +296,7 @@ def _gen_alpha(q0, qd0, dt_load, n_sub, forces, moments, w_set, torque0, bp_disp
     row = np.empty(13)
     q, qd = q0.copy(), qd0.copy()
     m, f, kt, ct, fs, tq = terms(q, qd, forces[0], moments[0], w_set[0], torque0, bp_disp[0], bp_vel[0], *sys)
-    lg = np.empty((3, n))
+    lg = np.empty((ns + 1, 3, n))
     acc = np.linalg.solve(m, f)
     aux = acc.copy()
     acc_prev = acc.copy()
