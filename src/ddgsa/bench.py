@@ -273,7 +273,9 @@ def _speed(ref_seconds: float, quick: bool, study: Path | None) -> dict[str, Any
         "linear_speedup": (batch["speedup_cpu"], f"{batch['cpu_s'] * 1e3:.2f} ms CPU a point; wall-time ratio "
                            f"{batch['speedup']:.0f}x; one point alone {by['linear']['speedup_cpu']:.0f}x (CPU)"),
         "linear_error": (by["linear"]["max_rel_error"], ""),
-        "flexible_speedup": (by["flexible"]["speedup_cpu"], f"wall-time ratio {by['flexible']['speedup']:.0f}x"),
+        "flexible_speedup": (by["flexible"]["speedup_cpu"], f"wall-time ratio {by['flexible']['speedup']:.0f}x; "
+                             f"{by['flexible']['cpu_s'] * by['flexible']['time_step_s'] / scene.duration * 1e6:.1f} us "
+                             f"CPU a {by['flexible']['time_step_s'] * 1e3:g} ms step"),
         "flexible_error": (by["flexible"]["max_rel_error"], ""),
         "loads_600s": (loads_cpu, f"wall {loads_wall:.3f} s"),
         "runner_overhead": (overhead[1]["overhead"], f"1 job: {overhead[0]['overhead']:.1%}"),

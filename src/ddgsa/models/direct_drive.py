@@ -396,7 +396,8 @@ class DirectDrive(Model):
         index = pd.Index(np.arange(len(u)) * scene.dt, name="time")
         out = pd.DataFrame(np.hstack(blocks), index=index, columns=names)   # one block: no per-column inserts
         out.attrs.update(static_hub=static_hub, static_gen=static_gen, max_newton_iterations=res.get("max_iterations", 0),
-                         fidelity=self.fidelity, fields=self.fields)
+                         mean_newton_iterations=res.get("mean_iterations", 0.0), fidelity=self.fidelity,
+                         fields=self.fields)
         return out
 
     def _scene_inputs(self, scene: Scene) -> SceneInputs:
