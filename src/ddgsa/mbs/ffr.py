@@ -106,15 +106,6 @@ def mv(a: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:  
 
 
 @njit(cache=True)
-def dot(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:  # pragma: no cover (compiled)
-    """Dot product by a loop."""
-    acc = 0.0
-    for i in range(a.size):
-        acc += a[i] * b[i]
-    return acc
-
-
-@njit(cache=True)
 def l_bar(a: NDArray[np.float64], g: NDArray[np.float64], u: NDArray[np.float64],
           s: NDArray[np.float64]) -> NDArray[np.float64]:  # pragma: no cover (compiled)
     """Body-frame velocity map ``[A^T, -u~ G_bar, S]`` (3 x n) of a point at body position ``u``."""
