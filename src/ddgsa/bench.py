@@ -241,7 +241,9 @@ def _runner_overhead(scene: Scene, n: int, jobs: int) -> dict[str, float]:
     tasks = [make_task(mid, scene, p) for p in points]
     with tempfile.TemporaryDirectory() as tmp:
         store = EvaluationStore(Path(tmp) / "evaluations.sqlite")
-        run_tasks(tasks[:jobs * 2], store, model_evaluator, jobs=jobs, batch_size=1, quiet=True)  # warm workers
+        # warm up: the kernels load here (forked workers inherit them), then loky's reusable workers start
+        run_tasks(tasks[:1], store, model_evaluator, jobs=1, quiet=True)
+        run_tasks(tasks[1:jobs * 2], store, model_evaluator, jobs=jobs, batch_size=1, quiet=True)
         t0 = time.perf_counter()
         run_tasks(tasks, store, model_evaluator, jobs=jobs, batch_size=4, quiet=True)
         wall = time.perf_counter() - t0

@@ -164,7 +164,8 @@ class Runs:
     def _warm_up(self, tasks: list[Task]) -> None:
         """One evaluation per model in this process before the parallel workers start. A first
         run after installing compiles the model's numba kernels here (cached on disk, so the
-        workers load them instead of each compiling them again); when that takes longer than
+        workers load them instead of each compiling them again; forked workers inherit them
+        loaded, :mod:`ddgsa.runner`); when that takes longer than
         :data:`SLOW_FIRST_S`, the user is told what is happening and then how long it took."""
         missing = {t.key for t in tasks} - self.store.known(t.key for t in tasks)
         first: dict[ModelId, Task] = {}
