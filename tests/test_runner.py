@@ -81,3 +81,23 @@ def test_forked_workers_die_with_a_killed_parent(tmp_path: Path) -> None:
     proc.wait()
     gone, alive = psutil.wait_procs(workers, timeout=5)
     assert not alive, f"workers outlived their parent: {[p.pid for p in alive]}"
+
+
+@linux_only
+def test_a_local_workers_block_keeps_its_workers_across_calls(tmp_path: Path) -> None:
+    """Inside ``local_workers()`` the second call runs on the first call's workers (no new fork);
+    outside, each call forks its own."""
+    mid = ModelId("pid", "exact")
+
+    def pids(tag: str) -> set[float]:
+        tasks = [Task(task_key(mid, {"gain": 1.0}, {"x": x}, tag), mid, {"gain": 1.0}, {"x": x}) for x in range(6)]
+        store = EvaluationStore(tmp_path / f"{tag}.sqlite")
+        run_tasks(tasks, store, pid_and_state, jobs=2, batch_size=1, quiet=True)
+        got = {store.get([t.key])[t.key].outputs["pid"] for t in tasks}
+        store.close()
+        return got
+
+    with runner.local_workers():
+        first, second = pids("a"), pids("b")
+    assert len(first | second) <= 2                   # two workers served both calls
+    assert not pids("c") & pids("d")

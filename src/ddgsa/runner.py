@@ -11,15 +11,17 @@ deterministic (seeded scenes), so results do not depend on the number of workers
 backend or the order batches finish in.
 
 Local workers (``backend="loky"``, ``jobs > 1``): on Linux they are forked from the calling
-process for each :func:`run_tasks` call, so they start with its imported modules, loaded
-compiled kernels and warm caches (a spawned loky worker spends ~1.5 s of CPU importing and
-loading them: a tenth of a paper-size study); elsewhere they are joblib's loky workers. A
+process, once per :func:`local_workers` block (a study) or else per :func:`run_tasks` call, so
+they start with its imported modules, loaded compiled kernels and warm caches (a spawned loky
+worker spends ~1.5 s of CPU importing and loading them: a tenth of a paper-size study);
+elsewhere they are joblib's loky workers. A
 forked worker dies with its parent (``PR_SET_PDEATHSIG``), ignores Ctrl-C (the parent stops
 it) and runs BLAS on ``cpu_count // jobs`` threads, as loky's do.
 """
 
 from __future__ import annotations
 
+import ctypes
 import hashlib
 import json
 import math
@@ -237,13 +239,49 @@ FORK_WORKERS = sys.platform.startswith("linux")
 """Local workers are forked from the calling process (Linux); elsewhere joblib's loky workers."""
 
 
+_SCOPE: dict[str, Any] = {}
+"""The pool of the innermost :func:`local_workers` scope (``jobs`` and ``pool`` once forked)."""
+
+
+@contextmanager
+def local_workers() -> Iterator[None]:
+    """Keep forked workers for every :func:`run_tasks` call inside the ``with`` block.
+
+    The pool is forked at the first parallel call in the block (so it inherits what the process
+    loaded until then, e.g. a study's warmed-up kernels) and stopped at its end; a call with
+    another ``jobs`` replaces it. Outside a block each call forks its own (~0.1 s). No effect
+    where workers are not forked (loky keeps its own workers).
+    """
+    outer = dict(_SCOPE)
+    _SCOPE.clear()
+    _SCOPE["active"] = True
+    try:
+        yield
+    finally:
+        if "pool" in _SCOPE:
+            _SCOPE["pool"].shutdown(wait=True, cancel_futures=True)
+        _SCOPE.clear()
+        _SCOPE.update(outer)
+
+
+def _new_pool(jobs: int) -> ProcessPoolExecutor:
+    return ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("fork"),
+                               initializer=_forked_worker,
+                               initargs=(_blas_controller(), max(1, (os.cpu_count() or 1) // jobs)))
+
+
 def _forked(jobs: int, factory: ModelFactory, batches: list[list[Task]],
             setup: Callable[[], None] | None) -> Iterator[tuple[list[Task], list[Outcome]]]:
-    """Finished batches, in the order they finish, from ``jobs`` workers forked for this call."""
+    """Finished batches, in the order they finish, from ``jobs`` forked workers (the scope's, or
+    forked for this call)."""
     if not batches:
         return
-    pool = ProcessPoolExecutor(max_workers=min(jobs, len(batches)), mp_context=multiprocessing.get_context("fork"),
-                               initializer=_forked_worker, initargs=(max(1, (os.cpu_count() or 1) // jobs),))
+    scoped = bool(_SCOPE.get("active"))
+    if scoped and _SCOPE.get("jobs") != jobs:
+        if "pool" in _SCOPE:
+            _SCOPE.pop("pool").shutdown(wait=True)
+        _SCOPE.update(jobs=jobs, pool=_new_pool(jobs))
+    pool = _SCOPE["pool"] if scoped else _new_pool(min(jobs, len(batches)))
     futures: list[Future[tuple[list[Task], list[Outcome]]]] = []
     clean = False
     try:
@@ -257,25 +295,30 @@ def _forked(jobs: int, factory: ModelFactory, batches: list[list[Task]],
                 future.cancel()
             for proc in list(getattr(pool, "_processes", {}).values()):   # no public way to stop running calls
                 proc.terminate()
-        pool.shutdown(wait=True, cancel_futures=True)
+        if not (clean and scoped):
+            pool.shutdown(wait=True, cancel_futures=True)
+            if scoped:
+                _SCOPE.pop("pool", None)
+                _SCOPE.pop("jobs", None)
 
 
-_BLAS_LIMIT: object = None
+@lru_cache(maxsize=1)
+def _blas_controller() -> Any:
+    """threadpoolctl's view of the loaded BLAS libraries, found once per process (the search costs
+    ~50 ms; forked workers inherit the result)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
 
 
-def _forked_worker(blas_threads: int) -> None:
+def _forked_worker(blas: Any, blas_threads: int) -> None:
     """Initialise a forked worker: die with the parent, leave Ctrl-C to it, cap BLAS threads."""
-    global _BLAS_LIMIT
-    import ctypes
-
-    from threadpoolctl import threadpool_limits
-
     try:
         ctypes.CDLL(None).prctl(1, signal.SIGKILL)    # PR_SET_PDEATHSIG: no orphans when the run is killed
     except (OSError, AttributeError):               # pragma: no cover (not glibc)
         pass
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _BLAS_LIMIT = threadpool_limits(limits=blas_threads, user_api="blas")
+    blas.limit(limits=blas_threads, user_api="blas")
 
 
 def _batch_job(factory: ModelFactory, batch: list[Task],

@@ -247,7 +247,7 @@ def _shaft(spec: BeamSpec, fields: tuple[str, ...], damping_ratio: float) -> Fle
 
 
 @functools.lru_cache(maxsize=256)
-def _assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...]) -> Assembly:
+def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...]) -> Assembly:
     """:func:`assemble` kept per exact parameter point (~40 % of a linear point's cost).
 
     A study evaluates every point in each scene and realisation (paper C: 60 times), and a
@@ -496,7 +496,7 @@ class DirectDrive(Model):
 
     def _evaluate_linear(self, p: dict[str, float], scene: Scene) -> dict[str, float]:
         """Objectives of the linear fidelity straight from the response arrays (no time-series frame)."""
-        asm = _assembled(tuple(p.items()), self.fields)
+        asm = assembled(tuple(p.items()), self.fields)
         inputs = self._scene_inputs(scene)
         u0 = inputs.mean @ input_map(p)
         q_st = self.static(asm, u0[0:3], u0[3:6])
