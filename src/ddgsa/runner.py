@@ -14,9 +14,9 @@ Local workers (``backend="loky"``, ``jobs > 1``): on Linux they are forked from 
 process, once per :func:`local_workers` block (a study) or else per :func:`run_tasks` call, so
 they start with its imported modules, loaded compiled kernels and warm caches (a spawned loky
 worker spends ~1.5 s of CPU importing and loading them: a tenth of a paper-size study);
-elsewhere they are joblib's loky workers. A
-forked worker dies with its parent (``PR_SET_PDEATHSIG``), ignores Ctrl-C (the parent stops
-it) and runs BLAS on ``cpu_count // jobs`` threads, as loky's do.
+elsewhere they are joblib's loky workers. A forked worker dies with the thread that forked it
+(``PR_SET_PDEATHSIG``: no orphans when a run is killed), ignores Ctrl-C (the parent stops it)
+and runs BLAS on ``cpu_count // jobs`` threads, as loky's do.
 """
 
 from __future__ import annotations

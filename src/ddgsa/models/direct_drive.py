@@ -248,7 +248,7 @@ def _shaft(spec: BeamSpec, fields: tuple[str, ...], damping_ratio: float) -> Fle
 
 @functools.lru_cache(maxsize=256)
 def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...]) -> Assembly:
-    """:func:`assemble` kept per exact parameter point (~40 % of a linear point's cost).
+    """:func:`assemble` kept per exact parameter point (~30 % of a linear point's cost).
 
     A study evaluates every point in each scene and realisation (paper C: 60 times), and a
     worker's batches hold the same points, so all but its first batch reuse the systems. The
