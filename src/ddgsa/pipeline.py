@@ -34,7 +34,7 @@ from ddgsa.gsa.result import SobolResult
 from ddgsa.models import ImplausibleOutputWarning
 from ddgsa.models import get as get_model
 from ddgsa.models.auto import choose_fidelity, pilot_scene
-from ddgsa.runner import EvaluationStore, Evaluator, ModelId, Outcome, Task, run_tasks, task_key
+from ddgsa.runner import EvaluationStore, Evaluator, ModelId, Outcome, Task, local_workers, run_tasks, task_key
 from ddgsa.space import ParameterSpace
 from ddgsa.loads import cache as loads_cache
 from ddgsa.loads.scene import Scene
@@ -164,7 +164,8 @@ class Runs:
     def _warm_up(self, tasks: list[Task]) -> None:
         """One evaluation per model in this process before the parallel workers start. A first
         run after installing compiles the model's numba kernels here (cached on disk, so the
-        workers load them instead of each compiling them again); when that takes longer than
+        workers load them instead of each compiling them again; forked workers inherit them
+        loaded, :mod:`ddgsa.runner`); when that takes longer than
         :data:`SLOW_FIRST_S`, the user is told what is happening and then how long it took."""
         missing = {t.key for t in tasks} - self.store.known(t.key for t in tasks)
         first: dict[ModelId, Task] = {}
@@ -344,8 +345,9 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
 
     Wind-load realisations are shared by all workers through files beside the store
     (:mod:`ddgsa.loads.cache`): each is generated once per study, not once per worker process.
-    Studies of a model with its own scene type (no wind loads) use no loads cache."""
-    with loads_cache.shared(store.path.parent / "loads" if study.wind else None):
+    Studies of a model with its own scene type (no wind loads) use no loads cache. The local
+    workers are forked once for the study, after the fidelity pilot's warm-up (:func:`ddgsa.runner.local_workers`)."""
+    with loads_cache.shared(store.path.parent / "loads" if study.wind else None), local_workers():
         return _execute(study, store, jobs, backend, address, quiet, evaluate)
 
 

@@ -1,0 +1,103 @@
+"""The runner's local workers: forked from the caller on Linux, gone with it, same results as in-process."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from ddgsa import runner
+from ddgsa.runner import EvaluationStore, ModelId, Task, run_tasks, task_key
+
+linux_only = pytest.mark.skipif(not runner.FORK_WORKERS, reason="workers are forked on Linux only")
+
+
+def pid_and_state(model: ModelId) -> object:
+    """A factory whose outputs are the worker's process id and a module-level value it inherited."""
+
+    def evaluate(points: pd.DataFrame, scene: dict[str, float]) -> pd.DataFrame:
+        return pd.DataFrame({"pid": float(os.getpid()), "inherited": float(_STATE["value"]),
+                             "y": points["x"] * scene["gain"]})
+
+    return evaluate
+
+
+_STATE = {"value": 0.0}
+
+
+@linux_only
+def test_forked_workers_inherit_the_callers_state_and_match_in_process_results(tmp_path: Path) -> None:
+    """Two forked workers see a value set in the caller after import (a spawned worker would re-import
+    the module and see 0), run in processes other than the caller, and give the in-process outputs."""
+    _STATE["value"] = 7.0
+    mid = ModelId("pid", "exact")
+    tasks = [Task(task_key(mid, {"gain": 3.0}, {"x": x}, "test"), mid, {"gain": 3.0}, {"x": x}) for x in range(8)]
+    outputs = {}
+    for jobs in (1, 2):
+        store = EvaluationStore(tmp_path / f"s{jobs}.sqlite")
+        assert run_tasks(tasks, store, pid_and_state, jobs=jobs, batch_size=2, quiet=True)["failed"] == 0
+        outputs[jobs] = [store.get([t.key])[t.key].outputs for t in tasks]
+        store.close()
+    assert {o["pid"] for o in outputs[1]} == {float(os.getpid())}
+    assert float(os.getpid()) not in {o["pid"] for o in outputs[2]}
+    assert all(o["inherited"] == 7.0 for o in outputs[2])
+    assert [o["y"] for o in outputs[2]] == [o["y"] for o in outputs[1]] == [3.0 * x for x in range(8)]
+
+
+@linux_only
+def test_forked_workers_die_with_a_killed_parent(tmp_path: Path) -> None:
+    """SIGKILL of the study's process leaves no worker behind (``PR_SET_PDEATHSIG``); within 5 s."""
+    psutil = pytest.importorskip("psutil")
+    script = tmp_path / "parent.py"
+    script.write_text(textwrap.dedent(f"""
+        from pathlib import Path
+        from ddgsa.pipeline import make_task, model_evaluator
+        from ddgsa.runner import EvaluationStore, ModelId, run_tasks
+        from ddgsa.loads.scene import Scene
+        mid = ModelId("analytic", "exact", (("delay_s", 0.5),))
+        scene = Scene(wind_speed=8.0, turbulence_intensity=0.0, duration=10.0)
+        tasks = [make_task(mid, scene, {{"x1": 0.01 * i}}) for i in range(400)]
+        run_tasks(tasks, EvaluationStore(Path({str(tmp_path / 'e.sqlite')!r})), model_evaluator, jobs=2,
+                  batch_size=1, quiet=True)
+    """))
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(Path(runner.__file__).parents[1]),
+                                                        os.environ.get("PYTHONPATH", "")])}
+    proc = subprocess.Popen([sys.executable, str(script)], env=env)
+    parent = psutil.Process(proc.pid)
+    deadline = time.time() + 60
+    workers: list = []
+    while time.time() < deadline and len(workers) < 2:
+        workers = [c for c in parent.children() if "resource_tracker" not in " ".join(c.cmdline())]
+        time.sleep(0.1)
+    assert len(workers) >= 2, "the workers did not start"
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    gone, alive = psutil.wait_procs(workers, timeout=5)
+    assert not alive, f"workers outlived their parent: {[p.pid for p in alive]}"
+
+
+@linux_only
+def test_a_local_workers_block_keeps_its_workers_across_calls(tmp_path: Path) -> None:
+    """Inside ``local_workers()`` the second call runs on the first call's workers (no new fork);
+    outside, each call forks its own."""
+    mid = ModelId("pid", "exact")
+
+    def pids(tag: str) -> set[float]:
+        tasks = [Task(task_key(mid, {"gain": 1.0}, {"x": x}, tag), mid, {"gain": 1.0}, {"x": x}) for x in range(6)]
+        store = EvaluationStore(tmp_path / f"{tag}.sqlite")
+        run_tasks(tasks, store, pid_and_state, jobs=2, batch_size=1, quiet=True)
+        got = {store.get([t.key])[t.key].outputs["pid"] for t in tasks}
+        store.close()
+        return got
+
+    with runner.local_workers():
+        first, second = pids("a"), pids("b")
+    assert len(first | second) <= 2                   # two workers served both calls
+    assert not pids("c") & pids("d")
