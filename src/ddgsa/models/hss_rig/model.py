@@ -57,6 +57,7 @@ from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
 from ddgsa.mbs.campbell import CampbellDiagram, mode_row
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.models.base import Model, ModelOutput, register_model
+from ddgsa.models.hss_rig import transient
 from ddgsa.models.hss_rig.bearing import defect_impulses
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
                                         steady_flux, steady_speed)
@@ -184,10 +185,14 @@ class HssRig(Model):
                 raise ModelError(f"model 'hss_rig': the sensor interval 1/sample_rate = {h:.6g} s must be a multiple "
                                  f"of time_step = {self.time_step:g} s")
             q0, qd0 = self.initial_state(rig, p)
-            if sc.kind == "coastdown" and self.fidelity != "dq":
-                q0, qd0 = self.periodic_state(rig, q0, qd0, spin)
-            run = genalpha.simulate(rig.system, sc.duration, self.time_step, q0=q0, qd0=qd0, output_every=every)
-            t, q, qd = run.t, run.q, run.qd
+            if self.fidelity == "linear":
+                t, q, qd = transient.run(rig, drive, p, q0, sc.kind, spin, sc.duration, self.time_step, every)
+            else:
+                if sc.kind == "coastdown" and self.fidelity == "kloss":
+                    q0, qd0 = self.periodic_state(rig, q0, qd0, spin)
+                run = genalpha.simulate(rig.system, sc.duration, self.time_step, q0=q0, qd0=qd0,
+                                        output_every=every)
+                t, q, qd = run.t, run.q, run.qd
         return self._sensors(rig, drive, sc, t, q, qd)
 
     @staticmethod
