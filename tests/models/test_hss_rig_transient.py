@@ -61,7 +61,8 @@ def test_sweep_matches_the_nonlinear_kloss_rig_off_nominal():
 
 def test_sweep_model_reproduces_a_third_linearisation():
     """C(W) linear and K(W) = K0 + W K1 (skew) + W^2 K2 (symmetric) fitted at rest and at W1
-    predict the linearisation at W1 / 2 (measured: 1e-6 of the change for K, 1e-7 for C)."""
+    predict the linearisation at W1 / 2 (measured: 1e-6 of the change for K, 1e-7 for C), all
+    blind to the common spin angle as the sweep model makes them."""
     model = models.get("hss_rig", fidelity="linear")
     p = model.effective(model.resolve(None).iloc[0].to_dict())
     p = {**p, "eccentric_mass": 0.0, "load_torque": 0.0}

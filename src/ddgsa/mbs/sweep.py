@@ -123,10 +123,10 @@ def sweep_model(rest: SpinLinearisation, spinning: SpinLinearisation, spin_index
     # the spinning damping's column along the spin rate is the speed derivative of the static
     # spin-dependent force, not a damping (times the spin itself it would add that force twice)
     free = np.eye(rates.size) - np.outer(rates, rates) / (rates @ rates)
-    dk = (spinning.k - rest.k) @ free
+    dk = spinning.k - rest.k
     return SweepModel(rest.m, rest.c @ free, (spinning.c - rest.c) @ free / w1, rest.k @ free,
-                      (dk - dk.T) / (2 * w1), (dk + dk.T) / (2 * w1**2), rest.r0, np.asarray(sag, dtype=float), row,
-                      rates, rest)
+                      (dk - dk.T) @ free / (2 * w1), (dk + dk.T) @ free / (2 * w1**2), rest.r0,
+                      np.asarray(sag, dtype=float), row, rates, rest)
 
 
 def marker_rows(system: System, lin: SpinLinearisation, marker: Marker) -> Array:
