@@ -194,7 +194,7 @@ class HssRig(Model):
                                  f"of time_step = {self.time_step:g} s")
             q0, qd0 = self.initial_state(rig, p)
             if self.fidelity == "linear":
-                t, q, qd = transient.run(rig, drive, p, q0, sc.kind, spin, sc.duration, self.time_step, every)
+                t, q, qd = transient.run(drive, p, q0, sc.kind, spin, sc.duration, self.time_step, every)
             else:
                 if sc.kind != "startup" and self.fidelity == "kloss":
                     q0, qd0 = self.periodic_state(rig, q0, qd0, spin)
@@ -224,8 +224,9 @@ class HssRig(Model):
         The rig linearised in non-rotating coordinates, its eccentric mass solved in the
         frequency domain (:func:`ddgsa.mbs.nonrotating.periodic`): a ``kloss`` steady scene or
         coast-down then starts in the steady state instead of ringing from the static sag for
-        seconds (the 2 %-damped bending mode). Exact for the ``linear`` fidelity's rig; for ``kloss`` the coupling's turning
-        anisotropy and a misalignment are left out of this start (their 2x part rings down).
+        seconds (the 2 %-damped bending mode). Exact for the ``linear`` fidelity's rig; for
+        ``kloss`` the coupling's turning anisotropy and a misalignment are left out of this start
+        (their 2x part rings in).
         """
         system = rig.system
         lin = nonrotating.linearise(system, q0, qd0)

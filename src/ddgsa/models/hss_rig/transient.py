@@ -48,14 +48,15 @@ def structure(p: Mapping[str, float], q0: Array, synchronous: float) -> tuple[Ri
     return bare, sweep_model(rest, spinning, system.index("hss.rx"), q0 - system.q0)
 
 
-def run(rig: Rig, drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float, t_end: float,
-        dt: float, output_every: int) -> tuple[Array, Array, Array]:
-    """Record ``(t, q, qd)`` of a start-up (from rest) or coast-down (from ``spin`` [rad/s]) of ``rig``.
+def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float, t_end: float, dt: float,
+        output_every: int) -> tuple[Array, Array, Array]:
+    """Record ``(t, q, qd)`` of a start-up (from rest) or coast-down (from ``spin`` [rad/s]) of the
+    rig of parameters ``p`` (in the coordinates of :func:`~ddgsa.models.hss_rig.rig.build`).
 
     Parameters
     ----------
-    rig : Rig
-        The ``kloss`` rig of the scene (its coordinates and markers; its elements are not run).
+    drive : Drive
+        The motor and supply of the scene.
     q0 : (n,)
         Positions at the static sag [m, rad].
     kind : str
