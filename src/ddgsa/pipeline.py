@@ -203,7 +203,8 @@ def select_fidelities(study: Study, runs: Runs) -> list[dict[str, Any]]:
 
     The pilot set is the nominal point plus ``model.auto.pilot`` scrambled-Sobol' points of the
     space, in the first realisation of each scene (its seed, on a record of at most
-    :data:`ddgsa.models.auto.PILOT_DURATION_S`), at every fidelity of the model. Errors are
+    :data:`ddgsa.models.auto.PILOT_DURATION_S`), at every fidelity of the model (of its
+    ``pilot_fidelities`` where it declares them). Errors are
     the largest relative deviation over pilot points and study outputs from the richest
     fidelity (the model's first); cost is the model's deterministic cost model
     (:meth:`ddgsa.models.Model.fidelity_cost`), never measured time, so the choice is the same on
@@ -211,7 +212,7 @@ def select_fidelities(study: Study, runs: Runs) -> list[dict[str, Any]]:
     """
     auto = study.spec.model.auto
     model = get_model(study.spec.model.name)
-    fidelities = list(model.fidelities)
+    fidelities = list(model.pilot_fidelities or model.fidelities)
     space = study.space
     names = space.names if space is not None else ()
     pilot = np.zeros((1, 0)) if space is None else np.vstack(

@@ -78,13 +78,6 @@ def test_the_nonlinear_rig_started_in_the_periodic_state_stays_in_it():
         assert error < most if most else error > 0.5, error
 
 
-def test_start_up_at_the_linear_fidelity_is_the_kloss_rig_with_an_axisymmetric_coupling():
-    scene = RigScene("startup", speed_rpm=1500.0, duration=0.05, sample_rate=2000.0)
-    linear = models.get("hss_rig", fidelity="linear", time_step=5e-4).simulate(scene)
-    kloss = models.get("hss_rig", fidelity="kloss", time_step=5e-4).simulate(scene, {"coupling_asymmetry": 0.0})
-    np.testing.assert_allclose(linear.to_numpy(), kloss.to_numpy(), rtol=0, atol=1e-12)
-
-
 def test_campbell_whirl_agrees_with_the_gyroscopic_split():
     """The disk-tilt pair splits with speed (gyroscopic): the branch whose frequency rises must
     orbit forward, the falling one backward (whirl read from the non-rotating mode shapes)."""

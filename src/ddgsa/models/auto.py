@@ -1,8 +1,8 @@
 """``fidelity="auto"`` in the Python API: per scene, the cheapest fidelity within a tolerance.
 
 :func:`choose_fidelity` is the rule (shared with studies' ``fidelity: auto``): every fidelity is
-run on a pilot set, errors are the largest relative deviation of any output from the richest
-fidelity (the model's first), and the cheapest fidelity whose error is within ``tolerance`` wins
+run on a pilot set (those of the model's ``pilot_fidelities`` where it declares them), errors are
+the largest relative deviation of any output from the richest (the first), and the cheapest fidelity whose error is within ``tolerance`` wins
 (the richest when none is). "Cheapest" is the model's deterministic cost model
 (:meth:`ddgsa.models.Model.fidelity_cost`), never measured wall time: the same study gives the
 same choice on a loaded machine, a fast one, or on rerun.
@@ -106,11 +106,12 @@ class AutoFidelity(Model):
             raise ModelError(f"model {name!r}: fidelity 'auto' needs a positive tolerance, got {tolerance!r}")
         if not (isinstance(pilot, int) and pilot >= 0):
             raise ModelError(f"model {name!r}: fidelity 'auto' needs pilot >= 0 points, got {pilot!r}")
-        self.variants = {fid: get(name, fidelity=fid, **options) for fid in cls.fidelities}
-        richest = self.variants[cls.fidelities[0]]
+        pool = cls.pilot_fidelities or cls.fidelities
+        self.variants = {fid: get(name, fidelity=fid, **options) for fid in pool}
+        richest = self.variants[pool[0]]
         # the wrapped model's identity, per instance (one wrapper class serves every model)
         self.name = name  # type: ignore[misc]
-        self.fidelities = cls.fidelities  # type: ignore[misc]
+        self.fidelities = pool  # type: ignore[misc]
         self.fidelity = "auto"
         self.parameters, self.outputs = richest.parameters, richest.outputs
         self.tolerance, self.pilot = float(tolerance), pilot

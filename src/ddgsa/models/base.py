@@ -141,6 +141,8 @@ class Model(ABC):
     parameters: tuple[ModelParameter, ...] = ()        # per class, or per instance where options change them
     outputs: tuple[str, ...] = ()                     # names; ModelOutput declarations carry unit and range
     fidelities: ClassVar[tuple[str, ...]] = ()
+    #: the fidelities ``fidelity: auto`` pilots and chooses from, its reference first (default: all)
+    pilot_fidelities: ClassVar[tuple[str, ...]] = ()
     #: outputs that measure the numerical method, not the physics (e.g. constraint drift): reported,
     #: but ``fidelity: auto`` does not compare them between fidelities
     numerical_outputs: ClassVar[tuple[str, ...]] = ()

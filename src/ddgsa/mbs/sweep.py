@@ -1,0 +1,254 @@
+"""Speed sweeps (run-up, coast-down) of a spinning system that is linear about its static sag.
+
+A rotor on non-rotating supports, written in the non-rotating bending coordinates ``z`` of
+:mod:`ddgsa.mbs.nonrotating`, has matrices that do not depend on the spin angle when it is
+axisymmetric, and depend on the spin ``W`` only through the gyroscopic term (linear in ``W``),
+the internal damping of its turning bending coordinates (a skew-symmetric circulatory stiffness,
+linear in ``W``) and the spin softening an FFR shaft's bending coordinates keep (symmetric,
+quadratic in ``W``). A run-up or coast-down is then the linear parameter-varying system
+
+``M z'' + (C_0 + W C_1) z' + (K_0 + W K_1 + W^2 K_2) z = r_0 - (W K_1 + W^2 K_2) s + f(t, z, z')``,
+
+with ``s`` the static displacement of the operating positions from the unloaded ones (the sag the
+spin-dependent forces act on) and ``f`` the few nonlinear inputs the caller names (torque laws of
+a spin speed, a turning unbalance). :func:`sweep_model` builds it from two linearisations of the
+system without those inputs, at rest and at a reference spin ``W_1``: ``C_1`` from their
+difference, ``K_1`` and ``K_2`` from the skew and symmetric parts of the stiffness difference
+(for the test rig this split reproduces a third linearisation at ``W_1 / 2`` to 1e-6 of the change,
+a quadratic fit only to 3e-2). The spin coordinates (``.rx`` of the rotating bodies) are the total
+angles, not perturbations about ``W_1 t``: their equations are linear in angle differences, and
+the matrices are made blind to the common (cyclic) angle. :func:`integrate` runs it with the
+kernel's generalised-alpha (:mod:`ddgsa.mbs.integrate.genalpha`, the same scheme and
+coefficients) on small dense matrices: the iteration matrix ``M + gamma' h C(W) + beta' h^2 K(W)``
+at the step's spin, the inputs iterated to the kernel's tolerance. :func:`full_state` maps the
+record back to the system's coordinates with the actual spin angles (for sensors), and
+:func:`steady_orbit` gives the periodic state a coast-down starts from.
+
+What it leaves out (the caller's model must allow it): the dependence of the matrices on the
+spin angle (an anisotropic rotor or support turning with it), geometric nonlinearity about the
+sag, and any state dependence of the inputs other than what ``f`` computes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.linalg import null_space
+
+from ddgsa.errors import ModelError
+from ddgsa.mbs.assembly import System
+from ddgsa.mbs.bodies import Marker
+from ddgsa.mbs.integrate.genalpha import coefficients
+from ddgsa.mbs.nonrotating import RIGID_RCOND, SpinLinearisation
+
+Array = NDArray[np.float64]
+Inputs = Callable[[float, Array, Array], Array]
+
+
+@dataclass(frozen=True)
+class SweepModel:
+    """``M z'' + (C_0 + W C_1) z' + (K_0 + W K_1 + W^2 K_2) z = r_0 - (W K_1 + W^2 K_2) s + f``
+    (see the module).
+
+    Attributes
+    ----------
+    m, c0, c1 : (n, n)
+        Mass [kg, kg m^2], damping at rest and its gyroscopic slope per unit spin (SI per coordinate).
+    k0, k1, k2 : (n, n)
+        Stiffness at rest, its circulatory part per unit spin and its softening per unit spin squared.
+    r0 : (n,)
+        Static generalised force at the operating positions at rest [N, N m].
+    sag : (n,)
+        Static displacement ``s`` of the operating positions from the unloaded ones [m, rad].
+    spin : (n,)
+        Row giving the spin ``W = spin @ z'`` [rad/s] the matrices are evaluated at.
+    rates : (n,)
+        Rates of a rigid spin at unit speed (1 on every rotating body's angle) [-].
+    lin : SpinLinearisation
+        The linearisation at rest (operating positions, bending pairs) for :func:`full_state`.
+    """
+
+    m: Array
+    c0: Array
+    c1: Array
+    k0: Array
+    k1: Array
+    k2: Array
+    r0: Array
+    sag: Array
+    spin: Array
+    rates: Array
+    lin: SpinLinearisation
+
+    def c(self, w: float) -> Array:
+        """Damping and gyroscopic matrix at spin ``w`` [rad/s]."""
+        return self.c0 + w * self.c1
+
+    def k(self, w: float) -> Array:
+        """Stiffness at spin ``w`` [rad/s]."""
+        return self.k0 + w * self.k1 + w * w * self.k2
+
+    def r(self, w: float) -> Array:
+        """Static generalised force at spin ``w`` [rad/s]."""
+        return self.r0 - (w * self.k1 + w * w * self.k2) @ self.sag
+
+
+def sweep_model(rest: SpinLinearisation, spinning: SpinLinearisation, spin_index: int, sag: Array) -> SweepModel:
+    """The sweep model from linearisations at rest and at a reference spin (same positions).
+
+    Parameters
+    ----------
+    rest, spinning : SpinLinearisation
+        :func:`ddgsa.mbs.nonrotating.linearise` of the system without the sweep's inputs about the
+        same positions ``q0``, with zero rates and with the reference spin on every rotating body.
+    spin_index : int
+        System index of the coordinate whose rate is the spin ``W`` (``spinning.qd0[spin_index]``
+        is the reference spin ``W_1``, > 0).
+    sag : (n,)
+        ``q0`` less the unloaded positions [m, rad] (no spin angles in it).
+    """
+    w1 = float(spinning.qd0[spin_index])
+    if not w1 > 0.0:
+        raise ModelError(f"sweep model: the reference spin must be positive, got {w1} rad/s")
+    if np.any(rest.qd0) or not np.allclose(rest.q0, spinning.q0, rtol=0.0, atol=1e-12):
+        raise ModelError("sweep model: the two linearisations must share their positions, the first at rest")
+    row = np.zeros(rest.q0.size)
+    row[spin_index] = 1.0
+    rates = spinning.qd0 / w1
+    # the common spin angle is cyclic and the spin a parameter: no force may depend on the angle
+    # (central-difference noise along it would grow with the hundreds of radians a sweep turns), and
+    # the spinning damping's column along the spin rate is the speed derivative of the static
+    # spin-dependent force, not a damping (times the spin itself it would add that force twice)
+    free = np.eye(rates.size) - np.outer(rates, rates) / (rates @ rates)
+    dk = spinning.k - rest.k
+    return SweepModel(rest.m, rest.c @ free, (spinning.c - rest.c) @ free / w1, rest.k @ free,
+                      (dk - dk.T) @ free / (2 * w1), (dk + dk.T) @ free / (2 * w1**2), rest.r0,
+                      np.asarray(sag, dtype=float), row, rates, rest)
+
+
+def marker_rows(system: System, lin: SpinLinearisation, marker: Marker) -> Array:
+    """``d (v, w) / d z'`` (6, n) of ``marker`` at the operating point: translational and angular
+    velocity rows [m/s, rad/s per unit rate]; their transposes map a force and moment on the
+    marker to generalised forces in ``z``."""
+    return system.marker_state(marker, lin.q0, np.zeros_like(lin.q0), lin.t0).jac @ lin.projection(lin.t0)
+
+
+def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array, inputs: Inputs,
+              output_every: int = 1, rho_inf: float = 0.8, tol: float = 1e-10,
+              max_iter: int = 20) -> tuple[Array, Array, Array]:
+    """Generalised-alpha run of the sweep model from ``(z0, zd0)`` at ``t = 0`` to ``t_end`` [s].
+
+    Parameters
+    ----------
+    inputs : callable
+        ``inputs(t, z, zd) -> f`` (n,) the nonlinear generalised forces (torque laws, unbalance).
+    output_every : int
+        Keep every ``output_every``-th step.
+    rho_inf, tol, max_iter
+        As :func:`ddgsa.mbs.integrate.genalpha.simulate` (the iteration stops when the position
+        correction is below ``tol``; the inputs' slopes are left out of the iteration matrix, so
+        they must be small against ``M / (gamma' h)``: torque laws of a speed are).
+
+    Returns
+    -------
+    ``(t, z, zd)`` at the kept steps.
+    """
+    n_steps = int(round(t_end / dt))
+    if n_steps < 1 or abs(n_steps * dt - t_end) > 1e-9 * max(1.0, t_end):
+        raise ModelError(f"sweep: t_end = {t_end} s is not a positive multiple of dt = {dt} s")
+    if output_every < 1 or n_steps % output_every:
+        raise ModelError(f"sweep: output_every = {output_every} must divide the {n_steps} steps")
+    am, af, gamma, beta = coefficients(rho_inf)
+    h = dt
+    bp = beta * (1.0 - af) / (1.0 - am)
+    gp = gamma * (1.0 - af) / (1.0 - am)
+    m = model.m
+    z, zd = np.array(z0, dtype=float), np.array(zd0, dtype=float)
+
+    def residual(t: float, z: Array, zd: Array, acc: Array) -> tuple[Array, float]:
+        w = float(model.spin @ zd)
+        return m @ acc + model.c(w) @ zd + model.k(w) @ z - model.r(w) - inputs(t, z, zd), w
+
+    acc = np.linalg.solve(m, -residual(0.0, z, zd, np.zeros_like(z))[0])
+    aux = acc.copy()
+    n_out = n_steps // output_every + 1
+    z_out, zd_out = np.empty((n_out, z.size)), np.empty((n_out, z.size))
+    z_out[0], zd_out[0] = z, zd
+    slot = 1
+    for step in range(1, n_steps + 1):
+        t = step * h
+        acc_new = acc.copy()
+        aux_new = (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
+        z = z + h * zd + h * h * ((0.5 - beta) * aux + beta * aux_new)
+        zd = zd + h * ((1.0 - gamma) * aux + gamma * aux_new)
+        lu = None
+        for _ in range(max_iter):
+            res, w_now = residual(t, z, zd, acc_new)
+            if lu is None:
+                lu = m + gp * h * model.c(w_now) + bp * h * h * model.k(w_now)
+            delta = np.linalg.solve(lu, -res)
+            acc_new += delta
+            z += bp * h * h * delta
+            zd += gp * h * delta
+            if np.max(np.abs(bp * h * h * delta)) < tol:
+                break
+        else:
+            raise ModelError(f"sweep: the iteration did not converge in {max_iter} iterations at t = {t:.6g} s "
+                             f"(step {dt} s); reduce the step")
+        if not np.all(np.isfinite(z)):
+            raise ModelError(f"sweep: the state is not finite at t = {t:.6g} s")
+        aux = (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
+        acc = acc_new
+        if step % output_every == 0:
+            z_out[slot], zd_out[slot] = z, zd
+            slot += 1
+    return h * output_every * np.arange(n_out), z_out, zd_out
+
+
+def full_state(model: SweepModel, z: Array, zd: Array) -> tuple[Array, Array]:
+    """``(q, qd)`` (n_t, n) of the system for records ``z``, ``zd`` (n_t, n), with each bending pair
+    turned by its body's actual spin angle ``q0 + z`` (not the reference trajectory's)."""
+    lin = model.lin
+    q, qd = lin.q0 + z, lin.qd0 + zd
+    for k, (iy, iz, isp) in enumerate(lin.pairs):
+        phi, w = q[:, isp], qd[:, isp]
+        c, s = np.cos(phi), np.sin(phi)
+        xy, xz = lin.xi0[k, 0] + z[:, iy], lin.xi0[k, 1] + z[:, iz]
+        ry, rz = c * xy + s * xz, -s * xy + c * xz              # R(-phi) xi
+        q[:, iy], q[:, iz] = ry, rz
+        # d/dt R(-phi) xi = R(-phi) xi' - w J R(-phi) xi, J = [[0, -1], [1, 0]]
+        qd[:, iy] = c * zd[:, iy] + s * zd[:, iz] + w * rz
+        qd[:, iz] = -s * zd[:, iy] + c * zd[:, iz] - w * ry
+    return q, qd
+
+
+def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.complex128], tangent: Array,
+                 gauge: Array) -> tuple[Array, Array]:
+    """State ``(z, z')`` at ``t = 0`` of the periodic response at constant spin ``w`` [rad/s].
+
+    ``z(t) = z_s + Re(Z exp(i w t))`` with ``K z_s = r + static`` (least squares: the rigid spin
+    direction carries no static load) and ``(K - w^2 M + i w (C(w) + tangent)) Z = once``.
+
+    Parameters
+    ----------
+    static : (n,)
+        Constant inputs at the operating point (the torques that wind the shafts up) [SI].
+    once : (n,) complex
+        Once-per-revolution input amplitude (``Re(once exp(i w t))``, an unbalance) [SI].
+    tangent : (n, n)
+        ``-d f / d z'`` of the inputs at the operating point (a torque law's slope damps the spin).
+    gauge : (n,)
+        Row fixing the free common angle: ``gauge @ z_s = 0`` (e.g. the angle the unbalance turns with).
+    """
+    k = model.k(w)
+    zs = np.linalg.lstsq(k, model.r(w) + static, rcond=RIGID_RCOND)[0]
+    rigid = null_space(k, rcond=RIGID_RCOND)
+    if rigid.size:
+        g = gauge @ rigid
+        zs = zs - rigid @ (np.linalg.lstsq(g[None, :], np.atleast_1d(gauge @ zs), rcond=None)[0])
+    amp = np.linalg.solve(k - w * w * model.m + 1j * w * (model.c(w) + tangent), once)
+    z = zs + amp.real
+    return z, (1j * w * amp).real + w * model.rates

@@ -1,0 +1,99 @@
+"""Start-up and coast-down of the ``linear`` fidelity: the rig as a speed sweep (:mod:`ddgsa.mbs.sweep`).
+
+The rig without its motor, load and eccentric mass is linear about its static sag and, with the
+coupling's anisotropy averaged out (what the ``linear`` fidelity builds), axisymmetric: in the
+non-rotating bending coordinates its matrices depend on the spin only through the gyroscopic
+term and a small spin softening. It is linearised twice, at rest and spinning at the supply's
+synchronous speed (the fastest a scene reaches), and run as the linear parameter-varying system
+of :func:`ddgsa.mbs.sweep.integrate` with three nonlinear inputs evaluated at every iteration
+exactly as the ``kloss`` rig's elements do:
+
+* the ``kloss`` motor torque (:func:`~ddgsa.models.hss_rig.drive.kloss_torque_at`) at the motor
+  rotor's spin, on its angle;
+* the load torque law (:func:`~ddgsa.models.hss_rig.rig.load_law`) at the disk's spin;
+* the eccentric mass's centrifugal force ``m_u e W^2`` at the disk, along the disk's actual angle
+  (its tangential part left out, as :class:`~ddgsa.models.hss_rig.elements.EccentricMass` does).
+
+A coast-down starts from the periodic state at the steady speed (:func:`ddgsa.mbs.sweep.steady_orbit`:
+the shafts wound up by the steady torque, the unbalance orbit with the motor's and load's slopes
+damping the spin). Against the nonlinear ``kloss`` rig by generalised-alpha the outputs agree to
+the tolerances ``tests/models/test_hss_rig_transient.py`` states.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ddgsa.mbs import nonrotating
+from ddgsa.mbs.sweep import SweepModel, full_state, integrate, marker_rows, steady_orbit, sweep_model
+from ddgsa.models.hss_rig.drive import Drive, kloss_torque_at
+from ddgsa.models.hss_rig.rig import Rig, build, load_law
+
+Array = NDArray[np.float64]
+SLOPE_STEP = 1e-6
+"""Relative speed step of the torque laws' slopes at the coast-down's operating point [-]."""
+
+
+def structure(p: Mapping[str, float], q0: Array, synchronous: float) -> tuple[Rig, SweepModel]:
+    """The rig without motor, load and eccentric mass, and its sweep model about the sag ``q0``
+    (the positions of :meth:`HssRig.initial_state`) with reference spin ``synchronous`` [rad/s]."""
+    bare = build({**p, "eccentric_mass": 0.0, "load_torque": 0.0}, lambda marker: ([], []), spin=synchronous)
+    system = bare.system
+    rest = nonrotating.linearise(system, q0, np.zeros(system.n))
+    spinning = nonrotating.linearise(system, q0, system.qd0)
+    return bare, sweep_model(rest, spinning, system.index("hss.rx"), q0 - system.q0)
+
+
+def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float, t_end: float, dt: float,
+        output_every: int) -> tuple[Array, Array, Array]:
+    """Record ``(t, q, qd)`` of a start-up (from rest) or coast-down (from ``spin`` [rad/s]) of the
+    rig of parameters ``p`` (in the coordinates of :func:`~ddgsa.models.hss_rig.rig.build`).
+
+    Parameters
+    ----------
+    drive : Drive
+        The motor and supply of the scene.
+    q0 : (n,)
+        Positions at the static sag [m, rad].
+    kind : str
+        ``startup`` or ``coastdown``.
+    dt : float
+        Generalised-alpha step [s]; ``output_every`` steps a sample.
+    """
+    synchronous = 2 * math.pi * drive.motor.supply_frequency / drive.motor.pole_pairs
+    bare, model = structure(p, q0, synchronous)
+    lin = model.lin
+    motor = marker_rows(bare.system, lin, bare.markers["motor"])[3]
+    disk_rows = marker_rows(bare.system, lin, bare.markers["disk"])
+    disk, lateral = disk_rows[3], disk_rows[1:3]
+    me = p["eccentric_mass"] * p["eccentric_radius"]
+    load = load_law(p)
+
+    def inputs(t: float, z: Array, zd: Array) -> Array:
+        wm, wd = float(motor @ zd), float(disk @ zd)
+        th = float(disk @ z)                         # the mass starts along +y, as in the rig
+        f = motor * kloss_torque_at(drive, t, wm) + disk * load(t, wd)
+        return f + me * wd * wd * (math.cos(th) * lateral[0] + math.sin(th) * lateral[1])
+
+    n = lin.q0.size
+    if kind == "startup":
+        z0, zd0 = np.zeros(n), np.zeros(n)
+    else:
+        def slope(law, w: float) -> float:
+            h = SLOPE_STEP * max(1.0, abs(w))
+            return (law(0.0, w + h) - law(0.0, w - h)) / (2 * h)
+
+        def motor_law(t: float, w: float) -> float:
+            return kloss_torque_at(drive, t, w)
+
+        static = motor * motor_law(0.0, spin) + disk * load(0.0, spin)
+        tangent = -slope(motor_law, spin) * np.outer(motor, motor) - slope(load, spin) * np.outer(disk, disk)
+        once = me * spin * spin * (lateral[0] - 1j * lateral[1])
+        z0, zd0 = steady_orbit(model, spin, static, once, tangent, disk)
+    t, z, zd = integrate(model, t_end, dt, z0, zd0, inputs, output_every)
+    q, qd = full_state(model, z, zd)
+    return t, q, qd
