@@ -361,3 +361,17 @@ def test_modal_step_gains_are_the_integrals_of_the_cubic_input() -> None:
     _, gains = linear.discretise_cubic(a, bw, 0.05)
     dense = linear._window_gains(gains, 0, 1) @ np.hstack([step.vinv.real.T, step.vinv.imag.T])
     assert np.abs(step.taps - dense).max() <= 1e-12 * np.abs(dense).max()
+
+
+def test_modal_basis_refuses_defective_and_keeps_normal_matrices() -> None:
+    """The modal path's guard (1-norm condition of the eigenvectors): a Jordan block (defective,
+    eigenvectors parallel) is refused, a damped oscillator (condition ~1) keeps one mode of its
+    pair with the exact eigenvalue ``-zeta w + i w sqrt(1 - zeta^2)`` (1e-12)."""
+    import ddgsa.mbs.linear as linear
+
+    assert linear.modal_basis(np.array([[-1.0, 1.0], [0.0, -1.0]])) is None
+    w, zeta = 2.0, 0.05
+    lam, vec, vinv = linear.modal_basis(np.array([[0.0, 1.0], [-w * w, -2.0 * zeta * w]]))
+    assert lam.shape == (1,)
+    assert abs(lam[0] - complex(-zeta * w, w * np.sqrt(1 - zeta ** 2))) <= 1e-12
+    assert np.allclose(vinv @ vec, 1.0, atol=1e-12)
