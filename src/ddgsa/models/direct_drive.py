@@ -392,8 +392,7 @@ class DirectDrive(Model):
             if res["failed_at"] >= 0:
                 raise RuntimeError(f"integrator diverged at t = {res['failed_at'] * scene.dt:.3f} s "
                                    f"(step {self.time_step} s)")
-            ends = np.hstack([end_positions(res["q"], asm.hub_s, 0.0), end_positions(res["q"], asm.gen_s, asm.length)
-                              - np.array([asm.length, 0.0, 0.0])])
+            ends = shaft_ends(res["q"], asm)
             bearings = [res["spring_forces"][:, b, :] for b in range(2)]
         if "q" in res:
             blocks.append(res["q"])
@@ -537,28 +536,41 @@ class DirectDrive(Model):
         return modal_analysis(m, c, k, names, {n: MODE_GROUPS[n] for n in names})
 
 
-def end_positions(q: NDArray[np.float64], s_mat: NDArray[np.float64], x0: float) -> NDArray[np.float64]:
-    """Global positions (n_t, 3) of the shaft-axis point at ``x0`` with shapes ``s_mat`` (3, n_f)."""
+def _rotations(q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Body rotation matrices (n_t, 3, 3) of the angles ``q[:, 3:6]`` (phi, theta, psi)."""
     phi, theta, psi = q[:, 3], q[:, 4], q[:, 5]
-    u = np.array([x0, 0.0, 0.0])[None, :] + q[:, 6:] @ s_mat.T                 # body frame (n_t, 3)
     cf, sf, ct, st, cp, sp = np.cos(phi), np.sin(phi), np.cos(theta), np.sin(theta), np.cos(psi), np.sin(psi)
-    a = np.stack([np.stack([cp * ct, cp * st * sf - sp * cf, cp * st * cf + sp * sf], -1),
-                  np.stack([sp * ct, sp * st * sf + cp * cf, sp * st * cf - cp * sf], -1),
-                  np.stack([-st, ct * sf, ct * cf], -1)], 1)                   # (n_t, 3, 3)
+    return np.stack([np.stack([cp * ct, cp * st * sf - sp * cf, cp * st * cf + sp * sf], -1),
+                     np.stack([sp * ct, sp * st * sf + cp * cf, sp * st * cf - cp * sf], -1),
+                     np.stack([-st, ct * sf, ct * cf], -1)], 1)
+
+
+def end_positions(q: NDArray[np.float64], s_mat: NDArray[np.float64], x0: float,
+                  rotations: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+    """Global positions (n_t, 3) of the shaft-axis point at ``x0`` with shapes ``s_mat`` (3, n_f);
+    ``rotations`` :func:`_rotations` of ``q`` where the caller has them (both shaft ends share them)."""
+    u = np.array([x0, 0.0, 0.0])[None, :] + q[:, 6:] @ s_mat.T                 # body frame (n_t, 3)
+    a = _rotations(q) if rotations is None else rotations
     return q[:, :3] + np.einsum("tij,tj->ti", a, u)
+
+
+def shaft_ends(q: NDArray[np.float64], asm: Assembly) -> NDArray[np.float64]:
+    """Displacements (n_t, 6) [m] of the hub end and the generator end (from ``x = L``) at coordinates ``q``."""
+    a = _rotations(q)
+    out = np.hstack([end_positions(q, asm.hub_s, 0.0, a), end_positions(q, asm.gen_s, asm.length, a)])
+    out[:, 3] -= asm.length
+    return out
 
 
 def _end_jacobian(asm: Assembly, p0: NDArray[np.float64],
                   step: float = 1e-7) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Shaft-end displacements ``[hub (3), gen (3)]`` [m] at positions ``p0`` (no spin angle) and their
-    central-difference Jacobian (6, n_p), from one vectorised :func:`end_positions` call."""
+    central-difference Jacobian (6, n_p), from one vectorised :func:`shaft_ends` call."""
     n = p0.size
     p = np.repeat(p0[None, :], 2 * n + 1, axis=0)
     p[1:n + 1] += step * np.eye(n)
     p[n + 1:] -= step * np.eye(n)
-    q = np.insert(p, 3, 0.0, axis=1)
-    e = np.hstack([end_positions(q, asm.hub_s, 0.0), end_positions(q, asm.gen_s, asm.length)])
-    e[:, 3] -= asm.length
+    e = shaft_ends(np.insert(p, 3, 0.0, axis=1), asm)
     return e[0], ((e[1:n + 1] - e[n + 1:]) / (2 * step)).T
 
 
