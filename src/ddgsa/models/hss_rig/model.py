@@ -17,8 +17,10 @@ Fidelities (the motor's, "model no more than a scene needs"):
     Start-up and coast-down (a speed sweep no linearisation about one speed carries): the ``kloss``
     rig by generalised-alpha, a coast-down starting from the frequency-domain steady state. The
     coupling's turning stiffness anisotropy would make the steady rig periodic rather than
-    time-invariant: the linear fidelity averages it out (``coupling_asymmetry`` has no effect) and
-    refuses a misalignment.
+    time-invariant: the linear fidelity averages it out of the rig and carries its action on a
+    misalignment as an external 2x load on the coupling (:mod:`ddgsa.models.hss_rig.faults`;
+    steady scenes only, refused where the shaft's vibration at the coupling is not small against
+    the offset); without a misalignment ``coupling_asymmetry`` has no effect.
 
 Scenes are :class:`~ddgsa.models.hss_rig.scenes.RigScene` (start-up, steady, coast-down).
 
@@ -34,8 +36,10 @@ otherwise): for every sensor ``rms_<s>`` and ``peak_<s>`` (about the record's me
 ``order1x_<s>`` and ``order2x_<s>`` (order tracking, :func:`ddgsa.signals.order_amplitudes`);
 for the accelerometers ``bpfo_<s>`` and ``bpfi_<s>`` (mean square in +-0.25 orders around the
 first three multiples of the ball-pass orders of the 6205, in the order domain so a run-up is
-covered too); ``torque_2f`` (motor torque at twice the supply frequency: supply unbalance),
-``current_line`` (current at the supply frequency), ``current_sideband_1x`` (mean of the current
+covered too) and ``envbpfo_<s>`` (the same BPFO band of the envelope of the record band-passed
+to :data:`ENVELOPE_BAND`: envelope analysis); steady records are low-passed before the angle
+resampling (:data:`ANTI_ALIAS`), so impacts do not fold into the low orders; ``torque_2f``
+(motor torque at twice the supply frequency: supply unbalance), ``current_line`` (current at the supply frequency), ``current_sideband_1x`` (mean of the current
 at ``f -+ f_r``: mechanical 1x load modulation), ``current_sideband_2s`` (mean at
 ``f (1 -+ 2 s)``: the broken-bar band; no broken bars are modelled, it measures leakage) and
 ``mean_speed_rpm``. Steady records are stationary, so the frequency-domain outputs read exact
@@ -57,14 +61,17 @@ from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
 from ddgsa.mbs.campbell import CampbellDiagram, mode_row
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.models.base import Model, ModelOutput, register_model
-from ddgsa.models.hss_rig.bearing import defect_impulses
+from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
+from ddgsa.models.hss_rig.faults import check_small, misaligned, misalignment_loads, operating_stretch
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
                                         steady_flux, steady_speed)
 from ddgsa.models.hss_rig.motor import sequence_phasors
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, build
 from ddgsa.models.hss_rig.scenes import RigScene
-from ddgsa.signals import (band_energy, harmonic_amplitudes, order_amplitudes, order_map, plot_order_map,
+from scipy.signal import butter, sosfiltfilt
+
+from ddgsa.signals import (band_energy, envelope, harmonic_amplitudes, order_amplitudes, order_map, plot_order_map,
                            plot_spectrum, resample_to_angle)
 
 ACCELEROMETERS = ("housing_1_y", "housing_1_z", "housing_2_y", "housing_2_z")
@@ -88,7 +95,10 @@ OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {
                 for k, what in _KINDS.items() for s in SENSORS) + tuple(
     ModelOutput(f"{k}_{s}", "m^2/s^4", f"{k.upper()} band energy of {s}: mean square in +-0.25 orders around the "
                 "first three ball-pass orders of the 6205", 0.0, 1e6)
-    for k in ("bpfo", "bpfi") for s in ACCELEROMETERS) + (
+    for k in ("bpfo", "bpfi") for s in ACCELEROMETERS) + tuple(
+    ModelOutput(f"envbpfo_{s}", "m^2/s^4", f"BPFO band energy of the envelope of {s} band-passed to "
+                "500-2000 Hz (envelope analysis; NaN below a 4 kHz sample rate)", 0.0, 1e6)
+    for s in ACCELEROMETERS) + (
     ModelOutput("torque_2f", "N m", "motor air-gap torque at twice the supply frequency (supply unbalance)",
                 0.0, 1e3),
     ModelOutput("current_line", "A", "phase current at the supply frequency", 0.0, 200.0),
@@ -99,6 +109,12 @@ OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {
     ModelOutput("mean_speed_rpm", "rpm", "mean shaft speed over the analysed record", 0.0, 4000.0))
 SAMPLES_PER_REV = 128
 """Angle-domain resampling of order tracking (orders up to 64)."""
+ANTI_ALIAS = 0.8
+"""Low-pass cutoff before angle resampling of steady records, as a fraction of the Nyquist order [-]."""
+ENVELOPE_BAND = (500.0, 2000.0)
+"""Band [Hz] demodulated for the envelope outputs: above the third BPFI harmonic at 1500 rpm (406 Hz),
+around the housings' vertical resonance on bearing and support (about 900 Hz at the nominal values);
+needs a sample rate above 4 kHz."""
 POLE_PAIRS = 2
 
 
@@ -152,32 +168,43 @@ class HssRig(Model):
             parts = dq_parts(drive, steady_flux(drive, spin) if scene.kind != "startup" else None)
         else:
             parts = kloss_parts(drive)
-        extra = None
+        extras = []
         if p["defect_amplitude"] > 0.0 and scene.kind == "steady":
-            extra = _defect_loads(p, scene, spin)
-        return build(self.effective(p), parts, spin=spin, extra=extra), drive, spin
+            extras.append(_defect_loads(p, scene, spin))
+        eff = self.effective(p)
+        if self.fidelity == "linear" and misaligned(p):
+            plain = build(eff, parts, spin=spin)
+            stretch = operating_stretch(plain, *self.initial_state(plain, eff))
+            extras.append(misalignment_loads(p, stretch, spin, scene.duration, 1.0 / scene.sample_rate))
+        extra = (lambda markers: [e for f in extras for e in f(markers)]) if extras else None
+        return build(eff, parts, spin=spin, extra=extra), drive, spin
 
     def effective(self, p: Mapping[str, float]) -> dict[str, float]:
         """The parameters the fidelity builds the rig with: ``linear`` averages the coupling's
-        anisotropy out (``coupling_asymmetry = 0``) and refuses a misalignment (see the module)."""
+        anisotropy out (``coupling_asymmetry = 0``; :meth:`assemble` adds its action on a
+        misalignment as an external load, :mod:`ddgsa.models.hss_rig.faults`) and refuses a
+        misalignment outside steady scenes (a speed sweep has no one operating point to load)."""
         if self.fidelity != "linear":
             return dict(p)
-        if p["misalignment_parallel"] or p["misalignment_angular"]:
-            raise ModelError("model 'hss_rig': fidelity 'linear' cannot carry a coupling misalignment (a stiffness "
-                             "turning against a fixed offset makes the rig periodic, not time-invariant); "
-                             f"got misalignment_parallel = {p['misalignment_parallel']} m, misalignment_angular = "
-                             f"{p['misalignment_angular']} rad; use 'kloss' or 'dq'")
         return {**p, "coupling_asymmetry": 0.0}
 
     # -- time integration ----------------------------------------------------------------------
     def simulate(self, scene: Any, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         """Sensor time series (see the module), indexed by time [s]."""
         sc = self._scene(scene)
-        p = self.effective(self.resolve(params).iloc[0].to_dict())
-        rig, drive, spin = self.assemble(p, sc)
+        raw = self.resolve(params).iloc[0].to_dict()
+        if self.fidelity == "linear" and sc.kind != "steady" and misaligned(raw):
+            raise ModelError("model 'hss_rig': fidelity 'linear' carries a coupling misalignment in steady scenes "
+                             f"only (a {sc.kind} has no one operating point); got misalignment_parallel = "
+                             f"{raw['misalignment_parallel']} m, misalignment_angular = {raw['misalignment_angular']} "
+                             "rad; use 'kloss' or 'dq'")
+        rig, drive, spin = self.assemble(raw, sc)
+        p = self.effective(raw)
         h = 1.0 / sc.sample_rate
         if self.fidelity == "linear" and sc.kind == "steady":
             t, q, qd = self._linear_run(rig, p, sc, spin)
+            if misaligned(raw):
+                check_small(raw, rig, q)
         else:
             every = int(round(h / self.time_step))
             if every < 1 or abs(every * self.time_step - h) > 1e-9 * h:
@@ -227,7 +254,8 @@ class HssRig(Model):
         defect), else by exact time integration (:func:`ddgsa.mbs.nonrotating.simulate`); both start
         from the periodic state of one revolution."""
         system = rig.system
-        varying = [e for e in system.elements if e.name in ("unbalance", "motor", "defect_housing", "defect_shaft")]
+        varying = [e for e in system.elements if e.name in ("unbalance", "motor", "defect_housing", "defect_shaft",
+                                                             "misalignment_hub", "misalignment_shaft")]
         q0, qd0 = self.initial_state(rig, p)
         lin = nonrotating.linearise(system, q0, qd0)
         if harmonic is None:
@@ -368,15 +396,19 @@ class HssRig(Model):
 def _defect_loads(p: Mapping[str, float], scene: RigScene, spin: float):
     """Outer-race defect impacts in bearing 2: downwards on the housing, upwards on the shaft.
 
-    The impacts follow the steady shaft angle ``spin t``; in start-up and coast-down scenes the
-    defect is not modelled (its timing would need the speed history the run computes).
+    The half-sine pulses are projected onto the sensor grid keeping each impulse
+    (:func:`~ddgsa.models.hss_rig.bearing.on_grid`), so the outputs converge with the sample rate
+    instead of catching or missing pulses shorter than a sample interval. The impacts follow the
+    steady shaft angle ``spin t``; in start-up and coast-down scenes the defect is not modelled
+    (its timing would need the speed history the run computes).
     """
-    width = p["defect_pulse_width"]
-    dt = min(width / 8.0, 1.0 / scene.sample_rate)
-    t = np.arange(0.0, scene.duration + 2 * dt, dt)
-    f = defect_impulses(t, spin * t, BEARING_GEOMETRY, p["defect_amplitude"], width, seed=scene.seed)
+    width, step = p["defect_pulse_width"], 1.0 / scene.sample_rate
+    dt = min(width, step) / 16.0
+    t_fine = np.arange(0.0, scene.duration + 3 * step, dt)
+    f = defect_impulses(t_fine, spin * t_fine, BEARING_GEOMETRY, p["defect_amplitude"], width, seed=scene.seed)
+    t = step * np.arange(int(round(scene.duration / step)) + 3)
     force = np.zeros((t.size, 3))
-    force[:, 2] = -f
+    force[:, 2] = -on_grid(f, dt, step, t.size)
 
     def loads(markers: dict) -> list:
         return [AppliedLoad(markers["housing_2"], t, force, name="defect_housing"),
@@ -402,6 +434,31 @@ def _kloss_current(drive: Drive, t: float, speed: float) -> float:
     return float((i1 * complex(math.cos(theta), math.sin(theta)) + i2 * complex(math.cos(theta), -math.sin(theta))).real)
 
 
+def _anti_alias(t: np.ndarray, f_r: float):
+    """Zero-phase low-pass (8th-order Butterworth) at :data:`ANTI_ALIAS` of the angle domain's
+    Nyquist order at the shaft speed ``f_r`` [Hz], or the identity where the sensor's own Nyquist
+    frequency lies below it: resampling to :data:`SAMPLES_PER_REV` samples a revolution folds an
+    impact's kHz content into the low orders otherwise (an order tracker filters first too)."""
+    fs = (t.size - 1) / (t[-1] - t[0])
+    cutoff = ANTI_ALIAS * SAMPLES_PER_REV / 2 * f_r
+    if cutoff >= 0.5 * fs:
+        return lambda x: x
+    sos = butter(8, cutoff, fs=fs, output="sos")
+    return lambda x: sosfiltfilt(sos, x)
+
+
+def _envelope_bpfo(t: np.ndarray, x: np.ndarray, angle: np.ndarray) -> float:
+    """BPFO band energy of the envelope of ``x`` band-passed to :data:`ENVELOPE_BAND` (bearing
+    envelope analysis, Randall & Antoni 2011 §3), in the order domain; NaN when the sensor's
+    Nyquist frequency does not reach the band's upper end."""
+    fs = (t.size - 1) / (t[-1] - t[0])
+    if ENVELOPE_BAND[1] >= 0.5 * fs:
+        return math.nan
+    env = envelope(t, x, ENVELOPE_BAND)
+    phi, y = resample_to_angle(t, env, angle, SAMPLES_PER_REV)
+    return band_energy(phi / (2 * math.pi), y, float(BEARING_GEOMETRY.bpfo()), 0.25, harmonics=3)
+
+
 def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str, float]:
     """The model's outputs (see the module) from its sensor series in ``scene``."""
     t_all = series.index.to_numpy()
@@ -410,21 +467,23 @@ def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str,
     t = s.index.to_numpy()
     angle = s["angle"].to_numpy()
     out: dict[str, float] = {}
+    f_r = float(np.mean(s["speed"])) / (2 * math.pi)
+    smooth = _anti_alias(t, f_r) if scene.kind == "steady" else (lambda x: x)
     for name in SENSORS:
         x = s[name].to_numpy()
         dev = x - x.mean()
         out[f"rms_{name}"] = float(np.sqrt(np.mean(dev**2)))
         out[f"peak_{name}"] = float(np.max(np.abs(dev)))
-        a1, a2 = order_amplitudes(t, x, angle, [1.0, 2.0], SAMPLES_PER_REV)
+        a1, a2 = order_amplitudes(t, smooth(x), angle, [1.0, 2.0], SAMPLES_PER_REV)
         out[f"order1x_{name}"], out[f"order2x_{name}"] = float(a1), float(a2)
     bpfo, bpfi = float(BEARING_GEOMETRY.bpfo()), float(BEARING_GEOMETRY.bpfi())
     for name in ACCELEROMETERS:
-        phi, y = resample_to_angle(t, s[name].to_numpy(), angle, SAMPLES_PER_REV)
+        phi, y = resample_to_angle(t, smooth(s[name].to_numpy()), angle, SAMPLES_PER_REV)
         revs = phi / (2 * math.pi)
         out[f"bpfo_{name}"] = band_energy(revs, y, bpfo, 0.25, harmonics=3)
         out[f"bpfi_{name}"] = band_energy(revs, y, bpfi, 0.25, harmonics=3)
+        out[f"envbpfo_{name}"] = _envelope_bpfo(t, s[name].to_numpy(), angle)
     f = drive.motor.supply_frequency
-    f_r = float(np.mean(s["speed"])) / (2 * math.pi)
     slip = 1.0 - f_r * drive.motor.pole_pairs / f
     out["torque_2f"] = float(harmonic_amplitudes(t, s["motor_torque"].to_numpy(), [2 * f])[0])
     cur = s["motor_current"].to_numpy()
