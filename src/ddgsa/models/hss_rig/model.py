@@ -17,10 +17,11 @@ Fidelities (the motor's, "model no more than a scene needs"):
     Start-up and coast-down (a speed sweep no linearisation about one speed carries): the ``kloss``
     rig by generalised-alpha, a coast-down starting from the frequency-domain steady state. The
     coupling's turning stiffness anisotropy would make the steady rig periodic rather than
-    time-invariant: the linear fidelity averages it out of the rig and carries its action on a
-    misalignment as an external 2x load on the coupling (:mod:`ddgsa.models.hss_rig.faults`;
-    steady scenes only, refused where the shaft's vibration at the coupling is not small against
-    the offset); without a misalignment ``coupling_asymmetry`` has no effect.
+    time-invariant: the linear fidelity averages it out of the rig and, in steady scenes, carries
+    its action on the coupling's static stretch (a misalignment, the gravity sag's lift of the
+    overhang, the torque's twist) as an external 2x load on the coupling
+    (:mod:`ddgsa.models.hss_rig.faults`; refused where the coupling's 2x vibration is not small
+    against the stretch). Start-up and coast-down average it out and refuse a misalignment.
 
 Scenes are :class:`~ddgsa.models.hss_rig.scenes.RigScene` (start-up, steady, coast-down).
 
@@ -58,11 +59,11 @@ import pandas as pd
 
 from ddgsa.errors import ModelError, SceneError
 from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
-from ddgsa.mbs.campbell import CampbellDiagram, mode_row
+from ddgsa.mbs.campbell import CampbellDiagram, mode_row, tracked_frame
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.models.base import Model, ModelOutput, register_model
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
-from ddgsa.models.hss_rig.faults import check_small, misaligned, misalignment_loads, operating_stretch
+from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligned, operating_stretch
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
                                         steady_flux, steady_speed)
 from ddgsa.models.hss_rig.motor import sequence_phasors
@@ -172,18 +173,21 @@ class HssRig(Model):
         if p["defect_amplitude"] > 0.0 and scene.kind == "steady":
             extras.append(_defect_loads(p, scene, spin))
         eff = self.effective(p)
-        if self.fidelity == "linear" and misaligned(p):
-            plain = build(eff, parts, spin=spin)
-            stretch = operating_stretch(plain, *self.initial_state(plain, eff))
-            extras.append(misalignment_loads(p, stretch, spin, scene.duration, 1.0 / scene.sample_rate))
+        if self.fidelity == "linear" and scene.kind == "steady" and p["coupling_asymmetry"] > 0.0:
+            # the static stretch of the rig without its turning loads (a frozen snapshot is not static)
+            steady = {**eff, "eccentric_mass": 0.0, "supply_unbalance": 0.0}
+            plain = build(steady, kloss_parts(drive_for(steady, scene, POLE_PAIRS)), spin=spin)
+            stretch = operating_stretch(plain, *self.initial_state(plain, steady))
+            extras.append(anisotropy_loads(p, stretch, spin, scene.duration, 1.0 / scene.sample_rate))
         extra = (lambda markers: [e for f in extras for e in f(markers)]) if extras else None
         return build(eff, parts, spin=spin, extra=extra), drive, spin
 
     def effective(self, p: Mapping[str, float]) -> dict[str, float]:
         """The parameters the fidelity builds the rig with: ``linear`` averages the coupling's
-        anisotropy out (``coupling_asymmetry = 0``; :meth:`assemble` adds its action on a
-        misalignment as an external load, :mod:`ddgsa.models.hss_rig.faults`) and refuses a
-        misalignment outside steady scenes (a speed sweep has no one operating point to load)."""
+        anisotropy out (``coupling_asymmetry = 0``); in steady scenes :meth:`assemble` adds its
+        action on the coupling's static stretch (misalignment, gravity sag) as an external 2x load
+        (:mod:`ddgsa.models.hss_rig.faults`), and :meth:`simulate` refuses a misalignment in the
+        other scenes (a speed sweep has no one operating point to load)."""
         if self.fidelity != "linear":
             return dict(p)
         return {**p, "coupling_asymmetry": 0.0}
@@ -203,8 +207,8 @@ class HssRig(Model):
         h = 1.0 / sc.sample_rate
         if self.fidelity == "linear" and sc.kind == "steady":
             t, q, qd = self._linear_run(rig, p, sc, spin)
-            if misaligned(raw):
-                check_small(raw, rig, q)
+            if raw["coupling_asymmetry"] > 0.0:
+                check_small(rig, q, t, spin)
         else:
             every = int(round(h / self.time_step))
             if every < 1 or abs(every * self.time_step - h) > 1e-9 * h:
@@ -255,7 +259,7 @@ class HssRig(Model):
         from the periodic state of one revolution."""
         system = rig.system
         varying = [e for e in system.elements if e.name in ("unbalance", "motor", "defect_housing", "defect_shaft",
-                                                             "misalignment_hub", "misalignment_shaft")]
+                                                             "anisotropy_hub", "anisotropy_shaft")]
         q0, qd0 = self.initial_state(rig, p)
         lin = nonrotating.linearise(system, q0, qd0)
         if harmonic is None:
@@ -326,24 +330,25 @@ class HssRig(Model):
         """Campbell diagram of the rig seen from the frame: the modes of :meth:`modes` at each of
         ``speeds`` [rad/s], those below ``max_frequency_hz`` [Hz] at standstill (the band the
         orders up to 2x and the supply reach), with their whirl from the non-rotating shapes
-        (:func:`ddgsa.mbs.nonrotating.whirl_index`). ``ddgsa modes hss_rig --campbell`` calls it.
+        (:func:`ddgsa.mbs.nonrotating.whirl_index`), each branch followed across speeds by its
+        shape (:func:`ddgsa.mbs.campbell.track`, modal assurance criterion). ``ddgsa modes hss_rig --campbell`` calls it.
         """
         p = self.resolve(params).iloc[0].to_dict()
-        rows: list[dict[str, Any]] = []
-        keep = None
-        for speed in np.asarray(speeds, dtype=float):
+        per_speed = []
+        for speed in np.sort(np.asarray(speeds, dtype=float)):
             rpm = max(abs(speed) * 30.0 / math.pi, 60.0)
             drive = drive_for(p, RigScene("steady", speed_rpm=rpm, duration=10.0), POLE_PAIRS)
             rig = build(p, kloss_parts(drive), spin=float(speed))
             lin = nonrotating.linearise(rig.system, *self.initial_state(rig, p))
             lam, vec = damped_eigen(lin.m, lin.c, lin.k)
             labels = modal_analysis(lin.m, lin.c, lin.k, rig.system.coord_names, rig.system.groups())["label"]
-            freq = np.abs(lam) / (2 * math.pi)
-            keep = int(np.sum(freq < max_frequency_hz)) if keep is None else keep
-            for j in range(min(keep, lam.size)):
-                rows.append(mode_row(speed, j + 1, lam[j], *nonrotating.whirl_index(rig.system, lin, vec[:, j]),
-                                     labels.iloc[j]))
-        return CampbellDiagram(pd.DataFrame(rows), tuple(float(o) for o in orders))
+            per_speed.append(([mode_row(speed, j + 1, lam[j], *nonrotating.whirl_index(rig.system, lin, vec[:, j]),
+                                        labels.iloc[j]) for j in range(lam.size)], vec))
+        frame = tracked_frame(per_speed)
+        first = frame[frame["speed_rad_s"] == frame["speed_rad_s"].min()]
+        keep = first.loc[first["frequency_hz"] < max_frequency_hz, "mode"]
+        return CampbellDiagram(frame[frame["mode"].isin(keep)].reset_index(drop=True),
+                               tuple(float(o) for o in orders))
 
     def scene_figures(self, scene: Any, params: Mapping[str, float] | None = None) -> list[tuple[Any, str]]:
         """Signal plots of one run at ``params`` (a study's report draws them at its nominal point).
