@@ -59,30 +59,30 @@ def coupling_stretch(rig: Rig, q: Array) -> Array:
     return coupling._deflection(states)[0]
 
 
-def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol: float = 1e-3) -> Array:
+def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol: float = 1e-4) -> Array:
     """The coupling's static stretch ``s_0`` (6,) at the spinning rig's operating point.
 
     Newton's method on the steady spinning rig from ``(q0, qd0)`` (the rig at rest's sag): each
     step the static part of the rig linearised in non-rotating coordinates
     (:func:`ddgsa.mbs.nonrotating.linearise`; least squares: the spin angle carries none), until
-    the residual falls by ``rtol`` (its finite-difference tangent stalls near 1e-4). One step is
-    not enough: the transmitted torque twists the coupling across the offset (at the nominal
-    values the first step's angular stretch is off by its whole size; three steps agree with
-    the mean of a nonlinear ``kloss`` run to 0.5 %)."""
-    q, first = q0, None
+    the stretch changes by less than ``rtol`` of its size (the residual itself stalls near 1e-3
+    of its start with the finite-difference tangent). One step is not enough: the transmitted
+    torque twists the coupling across the stretch (at the nominal values the first step's
+    angular stretch is off by its whole size; from the second step on the stretch agrees with the
+    mean of a nonlinear ``kloss`` run to 0.5 %)."""
+    q, last = q0, None
     for _ in range(iterations):
         lin = nonrotating.linearise(rig.system, q, qd0)
-        size = float(np.linalg.norm(lin.r0))
-        first = size if first is None else first
-        if size <= rtol * first:
-            break
         z0 = np.linalg.lstsq(lin.k, lin.r0, rcond=nonrotating.RIGID_RCOND)[0]
         zero = np.zeros_like(z0)
         q = lin.state(z0, zero, zero, lin.t0)[0]
-    else:
-        raise ModelError(f"model 'hss_rig': the steady operating point with the misalignment did not converge in "
-                         f"{iterations} Newton steps (residual {size:.3g} of {first:.3g})")
-    return coupling_stretch(rig, q)
+        stretch = coupling_stretch(rig, q)
+        if last is not None and np.linalg.norm(stretch - last) <= rtol * np.linalg.norm(stretch):
+            return stretch
+        last = stretch
+    raise ModelError(f"model 'hss_rig': the coupling's static stretch at the operating point did not settle in "
+                     f"{iterations} Newton steps (last change {np.linalg.norm(stretch - last):.3g} of "
+                     f"{np.linalg.norm(stretch):.3g})")
 
 
 def anisotropy(p: Mapping[str, float], theta: float) -> Array:

@@ -98,7 +98,7 @@ OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {
                 "first three ball-pass orders of the 6205", 0.0, 1e6)
     for k in ("bpfo", "bpfi") for s in ACCELEROMETERS) + tuple(
     ModelOutput(f"envbpfo_{s}", "m^2/s^4", f"BPFO band energy of the envelope of {s} band-passed to "
-                "500-2000 Hz (envelope analysis; NaN below a 4 kHz sample rate)", 0.0, 1e6)
+                "500-2000 Hz (envelope analysis; the upper end at most 0.45 of the sample rate)", 0.0, 1e6)
     for s in ACCELEROMETERS) + (
     ModelOutput("torque_2f", "N m", "motor air-gap torque at twice the supply frequency (supply unbalance)",
                 0.0, 1e3),
@@ -115,7 +115,7 @@ ANTI_ALIAS = 0.8
 ENVELOPE_BAND = (500.0, 2000.0)
 """Band [Hz] demodulated for the envelope outputs: above the third BPFI harmonic at 1500 rpm (406 Hz),
 around the housings' vertical resonance on bearing and support (about 900 Hz at the nominal values);
-needs a sample rate above 4 kHz."""
+below a 4.4 kHz sample rate its upper end is 0.45 of the rate (500-900 Hz at 2 kHz)."""
 POLE_PAIRS = 2
 
 
@@ -454,12 +454,10 @@ def _anti_alias(t: np.ndarray, f_r: float):
 
 def _envelope_bpfo(t: np.ndarray, x: np.ndarray, angle: np.ndarray) -> float:
     """BPFO band energy of the envelope of ``x`` band-passed to :data:`ENVELOPE_BAND` (bearing
-    envelope analysis, Randall & Antoni 2011 §3), in the order domain; NaN when the sensor's
-    Nyquist frequency does not reach the band's upper end."""
+    envelope analysis, Randall & Antoni 2011 §3), in the order domain; each end of the band held
+    below the sensor's Nyquist frequency (at most 0.2 and 0.45 of the sample rate)."""
     fs = (t.size - 1) / (t[-1] - t[0])
-    if ENVELOPE_BAND[1] >= 0.5 * fs:
-        return math.nan
-    env = envelope(t, x, ENVELOPE_BAND)
+    env = envelope(t, x, (min(ENVELOPE_BAND[0], 0.2 * fs), min(ENVELOPE_BAND[1], 0.45 * fs)))
     phi, y = resample_to_angle(t, env, angle, SAMPLES_PER_REV)
     return band_energy(phi / (2 * math.pi), y, float(BEARING_GEOMETRY.bpfo()), 0.25, harmonics=3)
 
