@@ -94,3 +94,19 @@ def test_bpfo_band_converges_with_the_sample_rate() -> None:
         scene = RigScene("steady", speed_rpm=1500.0, duration=0.6, sample_rate=fs, settle=0.1)
         out.append(model.evaluate(pd.DataFrame([{"defect_amplitude": 200.0}]), scene).iloc[0]["bpfo_housing_2_z"])
     assert abs(out[0] - out[1]) <= 0.06 * out[1], out
+
+
+def test_envelope_bpfo_of_an_amplitude_modulated_carrier() -> None:
+    """A 900 Hz carrier (inside the demodulated band) modulated at BPFO with depth m: the envelope's BPFO
+    band holds the modulation's mean square ``m^2 / 2`` (closed form; 2 %), whatever the carrier's amplitude
+    outside it; a pure carrier gives nothing at BPFO (1e-6 of it)."""
+    from ddgsa.models.hss_rig.model import _envelope_bpfo
+
+    fs, f_r, depth = 5000.0, 24.0, 0.5
+    t = np.arange(0.0, 0.5, 1.0 / fs)
+    angle = 2 * math.pi * f_r * t
+    f_b = float(SKF_6205.bpfo(f_r))
+    carrier = np.cos(2 * math.pi * 900.0 * t)
+    modulated = (1 + depth * np.cos(2 * math.pi * f_b * t)) * carrier
+    assert abs(_envelope_bpfo(t, modulated, angle) - depth**2 / 2) <= 0.02 * depth**2 / 2
+    assert _envelope_bpfo(t, carrier, angle) <= 1e-6 * depth**2 / 2
