@@ -133,7 +133,7 @@ def test_wrong_scenes_are_refused(linear):
         linear.simulate(3.0)
     with pytest.raises(ModelError, match="would alias"):
         linear.evaluate(None, RigScene("steady", duration=1.0, sample_rate=400.0))
-    with pytest.raises(ModelError, match="'linear' cannot carry a coupling misalignment"):
-        linear.simulate(STEADY, {"misalignment_parallel": 1e-4})
+    with pytest.raises(ModelError, match="misalignment in steady scenes only"):
+        linear.simulate(RigScene("startup", duration=0.5, sample_rate=2000.0), {"misalignment_parallel": 1e-4})
     with pytest.raises(ModelError, match="unknown fidelity 'fast'"):
         models.get("hss_rig", fidelity="fast")

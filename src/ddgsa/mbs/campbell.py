@@ -33,8 +33,10 @@ class CampbellDiagram:
     Attributes
     ----------
     frame : DataFrame
-        One row per (speed, mode): ``speed_rad_s``, ``speed_rpm``, ``mode`` (rank by frequency,
-        from 1), ``frequency_hz``, ``damping_ratio``, ``whirl`` (forward, backward, mixed; none for modes without lateral motion, standstill at zero speed),
+        One row per (speed, mode): ``speed_rad_s``, ``speed_rpm``, ``mode`` (the branch, followed
+        across speeds by its mode shape, :func:`track`; numbered from 1 by frequency at the first
+        speed) -- or the rank by frequency at each speed where no shapes are known
+        (:func:`campbell_from_tables`), ``frequency_hz``, ``damping_ratio``, ``whirl`` (forward, backward, mixed; none for modes without lateral motion, standstill at zero speed),
         ``whirl_index`` (+1 circular forward ... -1 circular backward), ``label``.
     orders : tuple of float
         Excitation orders drawn as lines ``f = n speed / 2 pi`` (1P, 3P, ...).
@@ -132,6 +134,52 @@ def orbit_average(shape: NDArray[np.complex128], energy: Array,
     return (num / den if den > 0 else 0.0), (den / total if total > 0 else 0.0)
 
 
+def mac(a: NDArray[np.complex128], b: NDArray[np.complex128]) -> Array:
+    """Modal assurance criterion ``|a_i^H b_j|^2 / ((a_i^H a_i)(b_j^H b_j))`` between the columns of
+    two complex shape matrices (n, m_a) and (n, m_b): (m_a, m_b), 1 for the same shape, 0 for orthogonal."""
+    num = np.abs(a.conj().T @ b) ** 2
+    den = np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
+    return np.divide(num, den, out=np.zeros_like(num), where=den > 0)
+
+
+def track(shapes: Sequence[NDArray[np.complex128]]) -> list[NDArray[np.int_]]:
+    """Branches of modes across a sequence of speeds, followed by their mode shapes.
+
+    Speed ``k + 1``'s modes are matched one to one with speed ``k``'s by the assignment that
+    maximises the summed modal assurance criterion (:func:`mac`; Hungarian algorithm), i.e.
+    eigenvector continuation: a branch keeps its identity where it crosses another one in
+    frequency (the shapes stay distinct), where ranking by frequency swaps the names. Modes
+    of a degenerate pair (equal frequencies, shapes any mix) may swap within the pair, which
+    no frequency or shape can tell apart.
+
+    Parameters
+    ----------
+    shapes : sequence of (n, m_k) complex arrays
+        Mode shapes at each speed, in the same coordinates (columns: modes).
+
+    Returns
+    -------
+    list of (m_k,) int arrays
+        The branch of each mode at each speed; branches are numbered from 0 in the order of the
+        first speed's modes, and a mode with no partner at the previous speed (more modes there)
+        opens a new branch.
+    """
+    from scipy.optimize import linear_sum_assignment
+
+    if not shapes:
+        return []
+    out = [np.arange(shapes[0].shape[1])]
+    fresh = shapes[0].shape[1]
+    for prev, cur in zip(shapes[:-1], shapes[1:]):
+        rows, cols = linear_sum_assignment(-mac(prev, cur))
+        branch = np.full(cur.shape[1], -1)
+        branch[cols] = out[-1][rows]
+        for j in np.nonzero(branch < 0)[0]:
+            branch[j], fresh = fresh, fresh + 1
+        out.append(branch)
+    return out
+
+
 def campbell(system: "System", speeds: ArrayLike, spin: str, q0: Array | None = None,
              orders: Sequence[float] = (1.0, 3.0), n_modes: int | None = None) -> CampbellDiagram:
     """Campbell diagram of ``system`` with coordinate ``spin`` turning at each of ``speeds`` [rad/s].
@@ -146,13 +194,13 @@ def campbell(system: "System", speeds: ArrayLike, spin: str, q0: Array | None = 
     orders : sequence of float
         Excitation orders for the plot and :meth:`CampbellDiagram.crossings`.
     n_modes : int, optional
-        Keep the lowest ``n_modes`` modes at each speed.
+        Keep the ``n_modes`` branches lowest at the first speed (followed by shape, :func:`track`).
     """
     from ddgsa.mbs.modal import modal_analysis
 
     idx = system.index(spin)
-    rows = []
-    for speed in np.asarray(speeds, dtype=float):
+    per_speed = []
+    for speed in np.sort(np.asarray(speeds, dtype=float)):
         qd = np.zeros(system.n)
         qd[idx] = speed
         q, qd = system.consistent_state(q0, qd, keep=[idx])
@@ -161,10 +209,36 @@ def campbell(system: "System", speeds: ArrayLike, spin: str, q0: Array | None = 
         labels = modal_analysis(lin.m, lin.c, lin.k, system.coord_names, system.groups(), lin.basis,
                                 lin.m_full)["label"].to_numpy()
         shapes = lin.basis @ vec
-        count = lam.size if n_modes is None else min(n_modes, lam.size)
-        for j in range(count):
-            rows.append(mode_row(speed, j + 1, lam[j], *whirl_index(system, shapes[:, j], lin.m_full), labels[j]))
-    return CampbellDiagram(pd.DataFrame(rows), tuple(float(o) for o in orders))
+        rows = [mode_row(speed, j + 1, lam[j], *whirl_index(system, shapes[:, j], lin.m_full), labels[j])
+                for j in range(lam.size)]
+        per_speed.append((rows, shapes))
+    frame = tracked_frame(per_speed)
+    if n_modes is not None:
+        frame = frame[frame["mode"] <= n_modes].reset_index(drop=True)
+    return CampbellDiagram(frame, tuple(float(o) for o in orders))
+
+
+def tracked_frame(per_speed: Sequence[tuple[list[dict[str, Any]], NDArray[np.complex128]]]) -> pd.DataFrame:
+    """A Campbell table whose ``mode`` is the branch (:func:`track`), not the rank at each speed.
+
+    ``per_speed``: for each speed in increasing order, its rows (:func:`mode_row`, one per mode, in
+    the order of the shape columns) and its mode shapes (n, m). Branches are numbered from 1 by
+    their frequency rank at the first speed (a branch opened later comes after them); a branch's
+    ``label`` is its label at the first speed it appears (labels read from a shape at each speed
+    change name where a mode changes character)."""
+    branches = track([shapes for _, shapes in per_speed])
+    rows = []
+    for (speed_rows, _), branch in zip(per_speed, branches):
+        for row, b in zip(speed_rows, branch):
+            rows.append({**row, "mode": int(b)})
+    frame = pd.DataFrame(rows)
+    first = frame.groupby("mode", sort=False).first()
+    start = frame.groupby("mode")["speed_rad_s"].transform("min")
+    opening = frame[frame["speed_rad_s"] == start].sort_values(["speed_rad_s", "frequency_hz"])["mode"]
+    rank = {int(b): i + 1 for i, b in enumerate(opening)}
+    frame["label"] = frame["mode"].map(first["label"])
+    frame["mode"] = frame["mode"].map(rank)
+    return frame.sort_values(["speed_rad_s", "frequency_hz"]).reset_index(drop=True)
 
 
 def mode_row(speed: float, mode: int, eigenvalue: complex, index: float, lateral: float, label: str) -> dict[str, Any]:

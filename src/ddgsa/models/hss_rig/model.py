@@ -19,8 +19,12 @@ Fidelities (the motor's, "model no more than a scene needs"):
     :mod:`ddgsa.mbs.sweep`) with the ``kloss`` motor, the load law and the unbalance as nonlinear
     inputs, a coast-down starting from its periodic steady state; within 0.3 % of the nonlinear
     ``kloss`` rig on the vibration outputs at a tenth of its cost. The coupling's turning stiffness
-    anisotropy would make the rig periodic rather than time-invariant: the linear fidelity averages
-    it out (``coupling_asymmetry`` has no effect) and refuses a misalignment.
+    anisotropy would make the steady rig periodic rather than time-invariant: the linear fidelity
+    averages it out of the rig and, in steady scenes, carries its action on the coupling's static
+    stretch (a misalignment, the gravity sag's lift of the overhang, the torque's twist) as an
+    external 2x load on the coupling (:mod:`ddgsa.models.hss_rig.faults`; refused where the
+    coupling's 2x vibration is not small against the stretch). Start-up and coast-down average it
+    out and refuse a misalignment.
 
 ``fidelity: auto`` pilots ``linear`` against ``kloss`` (:attr:`HssRig.pilot_fidelities`): the
 ``dq`` machine's flux transients are a motor study's concern, and its steady runs start from the
@@ -41,8 +45,10 @@ otherwise): for every sensor ``rms_<s>`` and ``peak_<s>`` (about the record's me
 ``order1x_<s>`` and ``order2x_<s>`` (order tracking, :func:`ddgsa.signals.order_amplitudes`);
 for the accelerometers ``bpfo_<s>`` and ``bpfi_<s>`` (mean square in +-0.25 orders around the
 first three multiples of the ball-pass orders of the 6205, in the order domain so a run-up is
-covered too); ``torque_2f`` (motor torque at twice the supply frequency: supply unbalance),
-``current_line`` (current at the supply frequency), ``current_sideband_1x`` (mean of the current
+covered too) and ``envbpfo_<s>`` (the same BPFO band of the envelope of the record band-passed
+to :data:`ENVELOPE_BAND`: envelope analysis); steady records are low-passed before the angle
+resampling (:data:`ANTI_ALIAS`), so impacts do not fold into the low orders; ``torque_2f``
+(motor torque at twice the supply frequency: supply unbalance), ``current_line`` (current at the supply frequency), ``current_sideband_1x`` (mean of the current
 at ``f -+ f_r``: mechanical 1x load modulation), ``current_sideband_2s`` (mean at
 ``f (1 -+ 2 s)``: the broken-bar band; no broken bars are modelled, it measures leakage) and
 ``mean_speed_rpm``. Steady records are stationary, so the frequency-domain outputs read exact
@@ -61,18 +67,21 @@ import pandas as pd
 
 from ddgsa.errors import ModelError, SceneError
 from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
-from ddgsa.mbs.campbell import CampbellDiagram, mode_row
+from ddgsa.mbs.campbell import CampbellDiagram, mode_row, tracked_frame
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.models.base import Model, ModelOutput, register_model
 from ddgsa.models.hss_rig import transient
-from ddgsa.models.hss_rig.bearing import defect_impulses
+from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
+from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligned, operating_stretch
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
                                         steady_flux, steady_speed)
 from ddgsa.models.hss_rig.motor import sequence_phasors
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, build
 from ddgsa.models.hss_rig.scenes import RigScene
-from ddgsa.signals import (band_energy, harmonic_amplitudes, order_amplitudes, order_map, plot_order_map,
+from scipy.signal import butter, sosfiltfilt
+
+from ddgsa.signals import (band_energy, envelope, harmonic_amplitudes, order_amplitudes, order_map, plot_order_map,
                            plot_spectrum, resample_to_angle)
 
 ACCELEROMETERS = ("housing_1_y", "housing_1_z", "housing_2_y", "housing_2_z")
@@ -96,7 +105,10 @@ OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {
                 for k, what in _KINDS.items() for s in SENSORS) + tuple(
     ModelOutput(f"{k}_{s}", "m^2/s^4", f"{k.upper()} band energy of {s}: mean square in +-0.25 orders around the "
                 "first three ball-pass orders of the 6205", 0.0, 1e6)
-    for k in ("bpfo", "bpfi") for s in ACCELEROMETERS) + (
+    for k in ("bpfo", "bpfi") for s in ACCELEROMETERS) + tuple(
+    ModelOutput(f"envbpfo_{s}", "m^2/s^4", f"BPFO band energy of the envelope of {s} band-passed to "
+                "500-2000 Hz (envelope analysis; the upper end at most 0.45 of the sample rate)", 0.0, 1e6)
+    for s in ACCELEROMETERS) + (
     ModelOutput("torque_2f", "N m", "motor air-gap torque at twice the supply frequency (supply unbalance)",
                 0.0, 1e3),
     ModelOutput("current_line", "A", "phase current at the supply frequency", 0.0, 200.0),
@@ -107,6 +119,12 @@ OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {
     ModelOutput("mean_speed_rpm", "rpm", "mean shaft speed over the analysed record", 0.0, 4000.0))
 SAMPLES_PER_REV = 128
 """Angle-domain resampling of order tracking (orders up to 64)."""
+ANTI_ALIAS = 0.8
+"""Low-pass cutoff before angle resampling of steady records, as a fraction of the Nyquist order [-]."""
+ENVELOPE_BAND = (500.0, 2000.0)
+"""Band [Hz] demodulated for the envelope outputs: above the third BPFI harmonic at 1500 rpm (406 Hz),
+around the housings' vertical resonance on bearing and support (about 900 Hz at the nominal values);
+below a 4.4 kHz sample rate its upper end is 0.45 of the rate (500-900 Hz at 2 kHz)."""
 POLE_PAIRS = 2
 
 
@@ -161,32 +179,46 @@ class HssRig(Model):
             parts = dq_parts(drive, steady_flux(drive, spin) if scene.kind != "startup" else None)
         else:
             parts = kloss_parts(drive)
-        extra = None
+        extras = []
         if p["defect_amplitude"] > 0.0 and scene.kind == "steady":
-            extra = _defect_loads(p, scene, spin)
-        return build(self.effective(p), parts, spin=spin, extra=extra), drive, spin
+            extras.append(_defect_loads(p, scene, spin))
+        eff = self.effective(p)
+        if self.fidelity == "linear" and scene.kind == "steady" and p["coupling_asymmetry"] > 0.0:
+            # the static stretch of the rig without its turning loads (a frozen snapshot is not static)
+            steady = {**eff, "eccentric_mass": 0.0, "supply_unbalance": 0.0}
+            plain = build(steady, kloss_parts(drive_for(steady, scene, POLE_PAIRS)), spin=spin)
+            stretch = operating_stretch(plain, *self.initial_state(plain, steady))
+            extras.append(anisotropy_loads(p, stretch, spin, scene.duration, 1.0 / scene.sample_rate))
+        extra = (lambda markers: [e for f in extras for e in f(markers)]) if extras else None
+        return build(eff, parts, spin=spin, extra=extra), drive, spin
 
     def effective(self, p: Mapping[str, float]) -> dict[str, float]:
         """The parameters the fidelity builds the rig with: ``linear`` averages the coupling's
-        anisotropy out (``coupling_asymmetry = 0``) and refuses a misalignment (see the module)."""
+        anisotropy out (``coupling_asymmetry = 0``); in steady scenes :meth:`assemble` adds its
+        action on the coupling's static stretch (misalignment, gravity sag) as an external 2x load
+        (:mod:`ddgsa.models.hss_rig.faults`), and :meth:`simulate` refuses a misalignment in the
+        other scenes (a speed sweep has no one operating point to load)."""
         if self.fidelity != "linear":
             return dict(p)
-        if p["misalignment_parallel"] or p["misalignment_angular"]:
-            raise ModelError("model 'hss_rig': fidelity 'linear' cannot carry a coupling misalignment (a stiffness "
-                             "turning against a fixed offset makes the rig periodic, not time-invariant); "
-                             f"got misalignment_parallel = {p['misalignment_parallel']} m, misalignment_angular = "
-                             f"{p['misalignment_angular']} rad; use 'kloss' or 'dq'")
         return {**p, "coupling_asymmetry": 0.0}
 
     # -- time integration ----------------------------------------------------------------------
     def simulate(self, scene: Any, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         """Sensor time series (see the module), indexed by time [s]."""
         sc = self._scene(scene)
-        p = self.effective(self.resolve(params).iloc[0].to_dict())
-        rig, drive, spin = self.assemble(p, sc)
+        raw = self.resolve(params).iloc[0].to_dict()
+        if self.fidelity == "linear" and sc.kind != "steady" and misaligned(raw):
+            raise ModelError("model 'hss_rig': fidelity 'linear' carries a coupling misalignment in steady scenes "
+                             f"only (a {sc.kind} has no one operating point); got misalignment_parallel = "
+                             f"{raw['misalignment_parallel']} m, misalignment_angular = {raw['misalignment_angular']} "
+                             "rad; use 'kloss' or 'dq'")
+        rig, drive, spin = self.assemble(raw, sc)
+        p = self.effective(raw)
         h = 1.0 / sc.sample_rate
         if self.fidelity == "linear" and sc.kind == "steady":
             t, q, qd = self._linear_run(rig, p, sc, spin)
+            if raw["coupling_asymmetry"] > 0.0:
+                check_small(rig, q, t, spin)
         else:
             every = int(round(h / self.time_step))
             if every < 1 or abs(every * self.time_step - h) > 1e-9 * h:
@@ -241,7 +273,8 @@ class HssRig(Model):
         defect), else by exact time integration (:func:`ddgsa.mbs.nonrotating.simulate`); both start
         from the periodic state of one revolution."""
         system = rig.system
-        varying = [e for e in system.elements if e.name in ("unbalance", "motor", "defect_housing", "defect_shaft")]
+        varying = [e for e in system.elements if e.name in ("unbalance", "motor", "defect_housing", "defect_shaft",
+                                                             "anisotropy_hub", "anisotropy_shaft")]
         q0, qd0 = self.initial_state(rig, p)
         lin = nonrotating.linearise(system, q0, qd0)
         if harmonic is None:
@@ -312,24 +345,25 @@ class HssRig(Model):
         """Campbell diagram of the rig seen from the frame: the modes of :meth:`modes` at each of
         ``speeds`` [rad/s], those below ``max_frequency_hz`` [Hz] at standstill (the band the
         orders up to 2x and the supply reach), with their whirl from the non-rotating shapes
-        (:func:`ddgsa.mbs.nonrotating.whirl_index`). ``ddgsa modes hss_rig --campbell`` calls it.
+        (:func:`ddgsa.mbs.nonrotating.whirl_index`), each branch followed across speeds by its
+        shape (:func:`ddgsa.mbs.campbell.track`, modal assurance criterion). ``ddgsa modes hss_rig --campbell`` calls it.
         """
         p = self.resolve(params).iloc[0].to_dict()
-        rows: list[dict[str, Any]] = []
-        keep = None
-        for speed in np.asarray(speeds, dtype=float):
+        per_speed = []
+        for speed in np.sort(np.asarray(speeds, dtype=float)):
             rpm = max(abs(speed) * 30.0 / math.pi, 60.0)
             drive = drive_for(p, RigScene("steady", speed_rpm=rpm, duration=10.0), POLE_PAIRS)
             rig = build(p, kloss_parts(drive), spin=float(speed))
             lin = nonrotating.linearise(rig.system, *self.initial_state(rig, p))
             lam, vec = damped_eigen(lin.m, lin.c, lin.k)
             labels = modal_analysis(lin.m, lin.c, lin.k, rig.system.coord_names, rig.system.groups())["label"]
-            freq = np.abs(lam) / (2 * math.pi)
-            keep = int(np.sum(freq < max_frequency_hz)) if keep is None else keep
-            for j in range(min(keep, lam.size)):
-                rows.append(mode_row(speed, j + 1, lam[j], *nonrotating.whirl_index(rig.system, lin, vec[:, j]),
-                                     labels.iloc[j]))
-        return CampbellDiagram(pd.DataFrame(rows), tuple(float(o) for o in orders))
+            per_speed.append(([mode_row(speed, j + 1, lam[j], *nonrotating.whirl_index(rig.system, lin, vec[:, j]),
+                                        labels.iloc[j]) for j in range(lam.size)], vec))
+        frame = tracked_frame(per_speed)
+        first = frame[frame["speed_rad_s"] == frame["speed_rad_s"].min()]
+        keep = first.loc[first["frequency_hz"] < max_frequency_hz, "mode"]
+        return CampbellDiagram(frame[frame["mode"].isin(keep)].reset_index(drop=True),
+                               tuple(float(o) for o in orders))
 
     def scene_figures(self, scene: Any, params: Mapping[str, float] | None = None) -> list[tuple[Any, str]]:
         """Signal plots of one run at ``params`` (a study's report draws them at its nominal point).
@@ -382,15 +416,19 @@ class HssRig(Model):
 def _defect_loads(p: Mapping[str, float], scene: RigScene, spin: float):
     """Outer-race defect impacts in bearing 2: downwards on the housing, upwards on the shaft.
 
-    The impacts follow the steady shaft angle ``spin t``; in start-up and coast-down scenes the
-    defect is not modelled (its timing would need the speed history the run computes).
+    The half-sine pulses are projected onto the sensor grid keeping each impulse
+    (:func:`~ddgsa.models.hss_rig.bearing.on_grid`), so the outputs converge with the sample rate
+    instead of catching or missing pulses shorter than a sample interval. The impacts follow the
+    steady shaft angle ``spin t``; in start-up and coast-down scenes the defect is not modelled
+    (its timing would need the speed history the run computes).
     """
-    width = p["defect_pulse_width"]
-    dt = min(width / 8.0, 1.0 / scene.sample_rate)
-    t = np.arange(0.0, scene.duration + 2 * dt, dt)
-    f = defect_impulses(t, spin * t, BEARING_GEOMETRY, p["defect_amplitude"], width, seed=scene.seed)
+    width, step = p["defect_pulse_width"], 1.0 / scene.sample_rate
+    dt = min(width, step) / 16.0
+    t_fine = np.arange(0.0, scene.duration + 3 * step, dt)
+    f = defect_impulses(t_fine, spin * t_fine, BEARING_GEOMETRY, p["defect_amplitude"], width, seed=scene.seed)
+    t = step * np.arange(int(round(scene.duration / step)) + 3)
     force = np.zeros((t.size, 3))
-    force[:, 2] = -f
+    force[:, 2] = -on_grid(f, dt, step, t.size)
 
     def loads(markers: dict) -> list:
         return [AppliedLoad(markers["housing_2"], t, force, name="defect_housing"),
@@ -416,6 +454,29 @@ def _kloss_current(drive: Drive, t: float, speed: float) -> float:
     return float((i1 * complex(math.cos(theta), math.sin(theta)) + i2 * complex(math.cos(theta), -math.sin(theta))).real)
 
 
+def _anti_alias(t: np.ndarray, f_r: float):
+    """Zero-phase low-pass (8th-order Butterworth) at :data:`ANTI_ALIAS` of the angle domain's
+    Nyquist order at the shaft speed ``f_r`` [Hz], or the identity where the sensor's own Nyquist
+    frequency lies below it: resampling to :data:`SAMPLES_PER_REV` samples a revolution folds an
+    impact's kHz content into the low orders otherwise (an order tracker filters first too)."""
+    fs = (t.size - 1) / (t[-1] - t[0])
+    cutoff = ANTI_ALIAS * SAMPLES_PER_REV / 2 * f_r
+    if cutoff >= 0.5 * fs:
+        return lambda x: x
+    sos = butter(8, cutoff, fs=fs, output="sos")
+    return lambda x: sosfiltfilt(sos, x)
+
+
+def _envelope_bpfo(t: np.ndarray, x: np.ndarray, angle: np.ndarray) -> float:
+    """BPFO band energy of the envelope of ``x`` band-passed to :data:`ENVELOPE_BAND` (bearing
+    envelope analysis, Randall & Antoni 2011 §3), in the order domain; each end of the band held
+    below the sensor's Nyquist frequency (at most 0.2 and 0.45 of the sample rate)."""
+    fs = (t.size - 1) / (t[-1] - t[0])
+    env = envelope(t, x, (min(ENVELOPE_BAND[0], 0.2 * fs), min(ENVELOPE_BAND[1], 0.45 * fs)))
+    phi, y = resample_to_angle(t, env, angle, SAMPLES_PER_REV)
+    return band_energy(phi / (2 * math.pi), y, float(BEARING_GEOMETRY.bpfo()), 0.25, harmonics=3)
+
+
 def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str, float]:
     """The model's outputs (see the module) from its sensor series in ``scene``."""
     t_all = series.index.to_numpy()
@@ -424,21 +485,23 @@ def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str,
     t = s.index.to_numpy()
     angle = s["angle"].to_numpy()
     out: dict[str, float] = {}
+    f_r = float(np.mean(s["speed"])) / (2 * math.pi)
+    smooth = _anti_alias(t, f_r) if scene.kind == "steady" else (lambda x: x)
     for name in SENSORS:
         x = s[name].to_numpy()
         dev = x - x.mean()
         out[f"rms_{name}"] = float(np.sqrt(np.mean(dev**2)))
         out[f"peak_{name}"] = float(np.max(np.abs(dev)))
-        a1, a2 = order_amplitudes(t, x, angle, [1.0, 2.0], SAMPLES_PER_REV)
+        a1, a2 = order_amplitudes(t, smooth(x), angle, [1.0, 2.0], SAMPLES_PER_REV)
         out[f"order1x_{name}"], out[f"order2x_{name}"] = float(a1), float(a2)
     bpfo, bpfi = float(BEARING_GEOMETRY.bpfo()), float(BEARING_GEOMETRY.bpfi())
     for name in ACCELEROMETERS:
-        phi, y = resample_to_angle(t, s[name].to_numpy(), angle, SAMPLES_PER_REV)
+        phi, y = resample_to_angle(t, smooth(s[name].to_numpy()), angle, SAMPLES_PER_REV)
         revs = phi / (2 * math.pi)
         out[f"bpfo_{name}"] = band_energy(revs, y, bpfo, 0.25, harmonics=3)
         out[f"bpfi_{name}"] = band_energy(revs, y, bpfi, 0.25, harmonics=3)
+        out[f"envbpfo_{name}"] = _envelope_bpfo(t, s[name].to_numpy(), angle)
     f = drive.motor.supply_frequency
-    f_r = float(np.mean(s["speed"])) / (2 * math.pi)
     slip = 1.0 - f_r * drive.motor.pole_pairs / f
     out["torque_2f"] = float(harmonic_amplitudes(t, s["motor_torque"].to_numpy(), [2 * f])[0])
     cur = s["motor_current"].to_numpy()
