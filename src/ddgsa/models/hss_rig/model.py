@@ -72,7 +72,7 @@ from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.models.base import Model, ModelOutput, register_model
 from ddgsa.models.hss_rig import transient
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
-from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligned, operating_stretch
+from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, operating_stretch
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
                                         steady_flux, steady_speed)
 from ddgsa.models.hss_rig.motor import sequence_phasors
@@ -207,11 +207,6 @@ class HssRig(Model):
         """Sensor time series (see the module), indexed by time [s]."""
         sc = self._scene(scene)
         raw = self.resolve(params).iloc[0].to_dict()
-        if self.fidelity == "linear" and sc.kind != "steady" and misaligned(raw):
-            raise ModelError("model 'hss_rig': fidelity 'linear' carries a coupling misalignment in steady scenes "
-                             f"only (a {sc.kind} has no one operating point); got misalignment_parallel = "
-                             f"{raw['misalignment_parallel']} m, misalignment_angular = {raw['misalignment_angular']} "
-                             "rad; use 'kloss' or 'dq'")
         rig, drive, spin = self.assemble(raw, sc)
         p = self.effective(raw)
         h = 1.0 / sc.sample_rate
@@ -224,10 +219,13 @@ class HssRig(Model):
             if every < 1 or abs(every * self.time_step - h) > 1e-9 * h:
                 raise ModelError(f"model 'hss_rig': the sensor interval 1/sample_rate = {h:.6g} s must be a multiple "
                                  f"of time_step = {self.time_step:g} s")
-            q0, qd0 = self.initial_state(rig, p)
             if self.fidelity == "linear":
-                t, q, qd = transient.run(drive, p, q0, sc.kind, spin, sc.duration, self.time_step, every)
+                # the sweep carries the coupling's anisotropy and misalignment itself, from the sag of
+                # the anisotropic rig standing at hub angle 0 (as the nonlinear rig starts)
+                q0, _ = self.initial_state(rig, raw)
+                t, q, qd = transient.run(drive, raw, q0, sc.kind, spin, sc.duration, self.time_step, every)
             else:
+                q0, qd0 = self.initial_state(rig, p)
                 if sc.kind != "startup" and self.fidelity == "kloss":
                     q0, qd0 = self.periodic_state(rig, q0, qd0, spin)
                 run = genalpha.simulate(rig.system, sc.duration, self.time_step, q0=q0, qd0=qd0,

@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 from ddgsa.mbs import nonrotating
 from ddgsa.mbs.sweep import SweepModel, full_state, integrate, marker_rows, steady_orbit, sweep_model
 from ddgsa.models.hss_rig.drive import Drive, kloss_torque_at
+from ddgsa.models.hss_rig.faults import anisotropy, coupling_stretch
 from ddgsa.models.hss_rig.rig import Rig, build, load_law
 
 Array = NDArray[np.float64]
@@ -39,9 +40,11 @@ SLOPE_STEP = 1e-6
 
 
 def structure(p: Mapping[str, float], q0: Array, synchronous: float) -> tuple[Rig, SweepModel]:
-    """The rig without motor, load and eccentric mass, and its sweep model about the sag ``q0``
-    (the positions of :meth:`HssRig.initial_state`) with reference spin ``synchronous`` [rad/s]."""
-    bare = build({**p, "eccentric_mass": 0.0, "load_torque": 0.0}, lambda marker: ([], []), spin=synchronous)
+    """The rig without motor, load and eccentric mass, with the coupling's mean stiffness
+    (``coupling_asymmetry`` 0), and its sweep model about the sag ``q0`` (the positions of
+    :meth:`HssRig.initial_state`) with reference spin ``synchronous`` [rad/s]."""
+    bare = build({**p, "eccentric_mass": 0.0, "load_torque": 0.0, "coupling_asymmetry": 0.0},
+                 lambda marker: ([], []), spin=synchronous)
     system = bare.system
     rest = nonrotating.linearise(system, q0, np.zeros(system.n))
     spinning = nonrotating.linearise(system, q0, system.qd0)
@@ -57,8 +60,11 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     ----------
     drive : Drive
         The motor and supply of the scene.
+    p : mapping
+        The rig's parameters, the coupling's anisotropy and misalignment included (see the module).
     q0 : (n,)
-        Positions at the static sag [m, rad].
+        Positions at the static sag [m, rad] (of the rig with its anisotropic coupling standing at
+        hub angle 0, as the nonlinear rig starts).
     kind : str
         ``startup`` or ``coastdown``.
     dt : float
@@ -72,11 +78,12 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     disk, lateral = disk_rows[3], disk_rows[1:3]
     me = p["eccentric_mass"] * p["eccentric_radius"]
     load = load_law(p)
+    coupling = _coupling_input(p, bare, lin)
 
     def inputs(t: float, z: Array, zd: Array) -> Array:
         wm, wd = float(motor @ zd), float(disk @ zd)
         th = float(disk @ z)                         # the mass starts along +y, as in the rig
-        f = motor * kloss_torque_at(drive, t, wm) + disk * load(t, wd)
+        f = motor * kloss_torque_at(drive, t, wm) + disk * load(t, wd) + coupling(z)
         return f + me * wd * wd * (math.cos(th) * lateral[0] + math.sin(th) * lateral[1])
 
     n = lin.q0.size
@@ -97,3 +104,28 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     t, z, zd = integrate(model, t_end, dt, z0, zd0, inputs, output_every)
     q, qd = full_state(model, z, zd)
     return t, q, qd
+
+
+def _coupling_input(p: Mapping[str, float], bare: Rig, lin: nonrotating.SpinLinearisation):
+    """``z -> f`` (n,): the coupling's turning anisotropy as a nonlinear input of the sweep.
+
+    The coupling's force on the hub is ``K(theta) s`` with ``K(theta) = K_mean + dK(theta)``
+    (:func:`~ddgsa.models.hss_rig.faults.anisotropy`, ``theta`` the hub's spin angle) and ``s``
+    its stretch (misalignment included); the sweep model holds ``K_mean s``. The input is the rest,
+    ``+-dK(theta) s`` on the hub and the shaft end, with ``s = s_sag + J z`` the stretch at the sag
+    (:func:`~ddgsa.models.hss_rig.faults.coupling_stretch`) plus its linear change with the
+    state, so it carries the static stretch along the sweep (the gravity sag's lift of the
+    overhang, a misalignment, the twist the torque winds up, the vibration) and the parametric
+    term the steady path drops. Zero without anisotropy."""
+    a = p["coupling_asymmetry"]
+    if a == 0.0:
+        return lambda z: 0.0
+    hub = marker_rows(bare.system, lin, bare.markers["hub"])
+    jac = marker_rows(bare.system, lin, bare.markers["coupling"]) - hub       # d(stretch) / dz
+    sag = coupling_stretch(bare, lin.q0)
+    angle = hub[3]                           # the hub's spin angle (0 at the sag, as the rig's hub frame)
+
+    def force(z: Array) -> Array:
+        # the wrench on the hub, reversed on the shaft end (coincident markers: no couple)
+        return -jac.T @ (anisotropy(p, float(angle @ z)) @ (sag + jac @ z))
+    return force
