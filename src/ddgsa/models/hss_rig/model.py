@@ -72,7 +72,7 @@ from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.models.base import Model, ModelOutput, register_model
 from ddgsa.models.hss_rig import transient
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
-from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, operating_stretch
+from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligned, operating_stretch
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
                                         steady_flux, steady_speed)
 from ddgsa.models.hss_rig.motor import sequence_phasors
@@ -207,6 +207,11 @@ class HssRig(Model):
         """Sensor time series (see the module), indexed by time [s]."""
         sc = self._scene(scene)
         raw = self.resolve(params).iloc[0].to_dict()
+        if self.fidelity == "linear" and sc.kind != "steady" and misaligned(raw):
+            raise ModelError("model 'hss_rig': fidelity 'linear' carries a coupling misalignment in steady scenes "
+                             f"only (not verified in a {sc.kind}); got misalignment_parallel = "
+                             f"{raw['misalignment_parallel']} m, misalignment_angular = {raw['misalignment_angular']} "
+                             "rad; use 'kloss' or 'dq'")
         rig, drive, spin = self.assemble(raw, sc)
         p = self.effective(raw)
         h = 1.0 / sc.sample_rate

@@ -78,7 +78,7 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     disk, lateral = disk_rows[3], disk_rows[1:3]
     me = p["eccentric_mass"] * p["eccentric_radius"]
     load = load_law(p)
-    coupling = _coupling_input(p, bare, lin)
+    coupling = _coupling_input(p, bare, model)
 
     def inputs(t: float, z: Array, zd: Array) -> Array:
         wm, wd = float(motor @ zd), float(disk @ zd)
@@ -106,7 +106,7 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     return t, q, qd
 
 
-def _coupling_input(p: Mapping[str, float], bare: Rig, lin: nonrotating.SpinLinearisation):
+def _coupling_input(p: Mapping[str, float], bare: Rig, model: SweepModel):
     """``z -> f`` (n,): the coupling's turning anisotropy as a nonlinear input of the sweep.
 
     The coupling's force on the hub is ``K(theta) s`` with ``K(theta) = K_mean + dK(theta)``
@@ -116,16 +116,23 @@ def _coupling_input(p: Mapping[str, float], bare: Rig, lin: nonrotating.SpinLine
     (:func:`~ddgsa.models.hss_rig.faults.coupling_stretch`) plus its linear change with the
     state, so it carries the static stretch along the sweep (the gravity sag's lift of the
     overhang, a misalignment, the twist the torque winds up, the vibration) and the parametric
-    term the steady path drops. Zero without anisotropy."""
-    a = p["coupling_asymmetry"]
-    if a == 0.0:
+    term the steady path drops. Zero without anisotropy.
+
+    ``J`` is the marker rows' difference (velocity rows) without its columns on the spin angles:
+    a spinning hub or shaft tilted by the sag has an angular velocity across the spin axis (the
+    tilt times the spin), which integrated over the hundreds of radians a sweep turns would read
+    as a growing angular stretch (0.3 rad after 1 s at the nominal point), while turning both
+    ends together leaves the stretch unchanged. The force keeps the full rows (virtual work)."""
+    if p["coupling_asymmetry"] == 0.0:
         return lambda z: 0.0
+    lin = model.lin
     hub = marker_rows(bare.system, lin, bare.markers["hub"])
-    jac = marker_rows(bare.system, lin, bare.markers["coupling"]) - hub       # d(stretch) / dz
+    rows = marker_rows(bare.system, lin, bare.markers["coupling"]) - hub     # d(stretch rate) / dz'
+    jac = np.where(model.rates != 0.0, 0.0, rows)                             # d(stretch) / dz
     sag = coupling_stretch(bare, lin.q0)
     angle = hub[3]                           # the hub's spin angle (0 at the sag, as the rig's hub frame)
 
     def force(z: Array) -> Array:
         # the wrench on the hub, reversed on the shaft end (coincident markers: no couple)
-        return -jac.T @ (anisotropy(p, float(angle @ z)) @ (sag + jac @ z))
+        return -rows.T @ (anisotropy(p, float(angle @ z)) @ (sag + jac @ z))
     return force
