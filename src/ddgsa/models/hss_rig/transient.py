@@ -78,7 +78,7 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     disk, lateral = disk_rows[3], disk_rows[1:3]
     me = p["eccentric_mass"] * p["eccentric_radius"]
     load = load_law(p)
-    coupling = _coupling_input(p, bare, model)
+    coupling = _CouplingInput(p, bare, model)
 
     def inputs(t: float, z: Array, zd: Array) -> Array:
         wm, wd = float(motor @ zd), float(disk @ zd)
@@ -100,14 +100,14 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
         static = motor * motor_law(0.0, spin) + disk * load(0.0, spin)
         tangent = -slope(motor_law, spin) * np.outer(motor, motor) - slope(load, spin) * np.outer(disk, disk)
         once = me * spin * spin * (lateral[0] - 1j * lateral[1])
-        z0, zd0 = steady_orbit(model, spin, static, once, tangent, disk)
+        z0, zd0 = steady_orbit(model, spin, static, once, tangent, disk, coupling if coupling.active else None)
     t, z, zd = integrate(model, t_end, dt, z0, zd0, inputs, output_every)
     q, qd = full_state(model, z, zd)
     return t, q, qd
 
 
-def _coupling_input(p: Mapping[str, float], bare: Rig, model: SweepModel):
-    """``z -> f`` (n,): the coupling's turning anisotropy as a nonlinear input of the sweep.
+class _CouplingInput:
+    """The coupling's turning anisotropy as a nonlinear input of the sweep: ``f(z)`` (n,).
 
     The coupling's force on the hub is ``K(theta) s`` with ``K(theta) = K_mean + dK(theta)``
     (:func:`~ddgsa.models.hss_rig.faults.anisotropy`, ``theta`` the hub's spin angle) and ``s``
@@ -115,24 +115,31 @@ def _coupling_input(p: Mapping[str, float], bare: Rig, model: SweepModel):
     ``+-dK(theta) s`` on the hub and the shaft end, with ``s = s_sag + J z`` the stretch at the sag
     (:func:`~ddgsa.models.hss_rig.faults.coupling_stretch`) plus its linear change with the
     state, so it carries the static stretch along the sweep (the gravity sag's lift of the
-    overhang, a misalignment, the twist the torque winds up, the vibration) and the parametric
-    term the steady path drops. Zero without anisotropy.
+    overhang, the twist the torque winds up, the vibration) and the parametric term the steady
+    path drops.
 
     ``J`` is the marker rows' difference (velocity rows) without its columns on the spin angles:
     a spinning hub or shaft tilted by the sag has an angular velocity across the spin axis (the
     tilt times the spin), which integrated over the hundreds of radians a sweep turns would read
-    as a growing angular stretch (0.3 rad after 1 s at the nominal point), while turning both
-    ends together leaves the stretch unchanged. The force keeps the full rows (virtual work)."""
-    if p["coupling_asymmetry"] == 0.0:
-        return lambda z: 0.0
-    lin = model.lin
-    hub = marker_rows(bare.system, lin, bare.markers["hub"])
-    rows = marker_rows(bare.system, lin, bare.markers["coupling"]) - hub     # d(stretch rate) / dz'
-    jac = np.where(model.rates != 0.0, 0.0, rows)                             # d(stretch) / dz
-    sag = coupling_stretch(bare, lin.q0)
-    angle = hub[3]                           # the hub's spin angle (0 at the sag, as the rig's hub frame)
+    as a growing angular stretch (0.3 rad after 1 s at the nominal point, which put the housings'
+    2x 2.5x off), while turning both ends together leaves the stretch unchanged. The force keeps
+    the full rows (virtual work).
+    """
 
-    def force(z: Array) -> Array:
+    def __init__(self, p: Mapping[str, float], bare: Rig, model: SweepModel) -> None:
+        self.p, lin = p, model.lin
+        hub = marker_rows(bare.system, lin, bare.markers["hub"])
+        self.rows = marker_rows(bare.system, lin, bare.markers["coupling"]) - hub   # d(stretch rate) / dz'
+        self.jac = np.where(model.rates != 0.0, 0.0, self.rows)                     # d(stretch) / dz
+        self.sag = coupling_stretch(bare, lin.q0)
+        self.angle = hub[3]                  # the hub's spin angle (0 at the sag, as the rig's hub frame)
+        self.active = p["coupling_asymmetry"] > 0.0
+
+    def _force(self, theta: float, stretch: Array) -> Array:
         # the wrench on the hub, reversed on the shaft end (coincident markers: no couple)
-        return -rows.T @ (anisotropy(p, float(angle @ z)) @ (sag + jac @ z))
-    return force
+        return -self.rows.T @ (anisotropy(self.p, theta) @ stretch)
+
+    def __call__(self, z: Array) -> Array | float:
+        if not self.active:
+            return 0.0
+        return self._force(float(self.angle @ z), self.sag + self.jac @ z)
