@@ -20,11 +20,13 @@ Fidelities (the motor's, "model no more than a scene needs"):
     inputs, a coast-down starting from its periodic steady state; within 0.3 % of the nonlinear
     ``kloss`` rig on the vibration outputs at a tenth of its cost. The coupling's turning stiffness
     anisotropy would make the steady rig periodic rather than time-invariant: the linear fidelity
-    averages it out of the rig and, in steady scenes, carries its action on the coupling's static
-    stretch (a misalignment, the gravity sag's lift of the overhang, the torque's twist) as an
-    external 2x load on the coupling (:mod:`ddgsa.models.hss_rig.faults`; refused where the
-    coupling's 2x vibration is not small against the stretch). Start-up and coast-down average it
-    out and refuse a misalignment.
+    builds the rig with the mean coupling and, in steady scenes, carries its action on the
+    coupling's static stretch (a misalignment, the gravity sag's lift of the overhang, the torque's
+    twist) as an external 2x load on the coupling (:mod:`ddgsa.models.hss_rig.faults`; refused
+    where the coupling's 2x vibration is not small against the stretch); in start-up and
+    coast-down the sweep carries ``dK(theta)`` on the stretch along the sweep as a nonlinear
+    input (within 0.25 % of the nonlinear ``kloss`` rig with the nominal coupling). Transients
+    refuse a misalignment (not checked against the nonlinear rig).
 
 ``fidelity: auto`` pilots ``linear`` against ``kloss`` (:attr:`HssRig.pilot_fidelities`): the
 ``dq`` machine's flux transients are a motor study's concern, and its steady runs start from the
@@ -193,11 +195,12 @@ class HssRig(Model):
         return build(eff, parts, spin=spin, extra=extra), drive, spin
 
     def effective(self, p: Mapping[str, float]) -> dict[str, float]:
-        """The parameters the fidelity builds the rig with: ``linear`` averages the coupling's
-        anisotropy out (``coupling_asymmetry = 0``); in steady scenes :meth:`assemble` adds its
-        action on the coupling's static stretch (misalignment, gravity sag) as an external 2x load
-        (:mod:`ddgsa.models.hss_rig.faults`), and :meth:`simulate` refuses a misalignment in the
-        other scenes (a speed sweep has no one operating point to load)."""
+        """The parameters the fidelity builds the rig with: ``linear`` takes the coupling at its
+        mean stiffness (``coupling_asymmetry = 0``); in steady scenes :meth:`assemble` adds the
+        anisotropy's action on the coupling's static stretch (misalignment, gravity sag) as an
+        external 2x load (:mod:`ddgsa.models.hss_rig.faults`), in start-up and coast-down the
+        sweep carries it as a turning input (:mod:`ddgsa.models.hss_rig.transient`), and
+        :meth:`simulate` refuses a misalignment there (not checked against the nonlinear rig)."""
         if self.fidelity != "linear":
             return dict(p)
         return {**p, "coupling_asymmetry": 0.0}

@@ -1,23 +1,28 @@
 """Start-up and coast-down of the ``linear`` fidelity: the rig as a speed sweep (:mod:`ddgsa.mbs.sweep`).
 
-The rig without its motor, load and eccentric mass is linear about its static sag and, with the
-coupling's anisotropy averaged out (what the ``linear`` fidelity builds), axisymmetric: in the
-non-rotating bending coordinates its matrices depend on the spin only through the gyroscopic
-term and a small spin softening. It is linearised twice, at rest and spinning at the supply's
-synchronous speed (the fastest a scene reaches), and run as the linear parameter-varying system
-of :func:`ddgsa.mbs.sweep.integrate` with three nonlinear inputs evaluated at every iteration
-exactly as the ``kloss`` rig's elements do:
+The rig without its motor, load and eccentric mass, its coupling at its mean stiffness, is linear
+about its static sag and axisymmetric: in the non-rotating bending coordinates its matrices
+depend on the spin only through the gyroscopic term and a small spin softening. It is
+linearised twice, at rest and spinning at the supply's synchronous speed (the fastest a scene
+reaches), and run as the linear parameter-varying system of :func:`ddgsa.mbs.sweep.integrate`
+with four nonlinear inputs evaluated at every iteration as the ``kloss`` rig's elements do:
 
 * the ``kloss`` motor torque (:func:`~ddgsa.models.hss_rig.drive.kloss_torque_at`) at the motor
   rotor's spin, on its angle;
 * the load torque law (:func:`~ddgsa.models.hss_rig.rig.load_law`) at the disk's spin;
 * the eccentric mass's centrifugal force ``m_u e W^2`` at the disk, along the disk's actual angle
-  (its tangential part left out, as :class:`~ddgsa.models.hss_rig.elements.EccentricMass` does).
+  (its tangential part left out, as :class:`~ddgsa.models.hss_rig.elements.EccentricMass` does);
+* the coupling's turning anisotropy ``dK(theta)`` (:func:`~ddgsa.models.hss_rig.faults.anisotropy`,
+  the steady path's formulation) on the coupling's stretch along the sweep (:class:`_CouplingInput`):
+  the 2x the gravity sag's lift of the overhang makes, and the anisotropy acting on the vibration.
 
-A coast-down starts from the periodic state at the steady speed (:func:`ddgsa.mbs.sweep.steady_orbit`:
-the shafts wound up by the steady torque, the unbalance orbit with the motor's and load's slopes
-damping the spin). Against the nonlinear ``kloss`` rig by generalised-alpha the outputs agree to
-the tolerances ``tests/models/test_hss_rig_transient.py`` states.
+A run starts from the sag of the rig with its anisotropic coupling standing at hub angle 0 (as
+the nonlinear rig does); a coast-down from the periodic orbit at the steady speed
+(:func:`ddgsa.mbs.sweep.steady_orbit`: the shafts wound up by the steady torque, the unbalance
+orbit and the anisotropy's harmonics, the motor's and load's slopes damping the spin). Against
+the nonlinear ``kloss`` rig by generalised-alpha the outputs agree to the tolerances
+``tests/models/test_hss_rig_transient.py`` states. A misalignment would enter through the
+stretch as well, but is refused in transients until it is checked against the nonlinear rig.
 """
 
 from __future__ import annotations
