@@ -25,8 +25,10 @@ record back to the system's coordinates with the actual spin angles (for sensors
 :func:`steady_orbit` gives the periodic state a coast-down starts from.
 
 What it leaves out (the caller's model must allow it): the dependence of the matrices on the
-spin angle (an anisotropic rotor or support turning with it), geometric nonlinearity about the
-sag, and any state dependence of the inputs other than what ``f`` computes.
+spin angle (an anisotropic rotor or support turning with it: the caller carries it in ``f`` as
+a turning input, as the test rig does with its coupling; :func:`steady_orbit` takes its
+harmonics), geometric nonlinearity about the sag, and any state dependence of the inputs other
+than what ``f`` computes.
 """
 
 from __future__ import annotations
