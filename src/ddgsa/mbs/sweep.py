@@ -25,8 +25,10 @@ record back to the system's coordinates with the actual spin angles (for sensors
 :func:`steady_orbit` gives the periodic state a coast-down starts from.
 
 What it leaves out (the caller's model must allow it): the dependence of the matrices on the
-spin angle (an anisotropic rotor or support turning with it), geometric nonlinearity about the
-sag, and any state dependence of the inputs other than what ``f`` computes.
+spin angle (an anisotropic rotor or support turning with it: the caller carries it in ``f`` as
+a turning input, as the test rig does with its coupling; :func:`steady_orbit` takes its
+harmonics), geometric nonlinearity about the sag, and any state dependence of the inputs other
+than what ``f`` computes.
 """
 
 from __future__ import annotations
@@ -226,11 +228,17 @@ def full_state(model: SweepModel, z: Array, zd: Array) -> tuple[Array, Array]:
 
 
 def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.complex128], tangent: Array,
-                 gauge: Array) -> tuple[Array, Array]:
+                 gauge: Array, turning: Callable[[Array], Array] | None = None, samples: int = 16,
+                 rtol: float = 1e-9, max_iter: int = 30) -> tuple[Array, Array]:
     """State ``(z, z')`` at ``t = 0`` of the periodic response at constant spin ``w`` [rad/s].
 
-    ``z(t) = z_s + Re(Z exp(i w t))`` with ``K z_s = r + static`` (least squares: the rigid spin
-    direction carries no static load) and ``(K - w^2 M + i w (C(w) + tangent)) Z = once``.
+    ``z(t) = z_s + w t rates + Re(sum_j Z_j exp(i j w t))`` with ``K z_s = r + static + F_0``
+    (least squares: the rigid spin direction carries no static load, ``gauge @ z_s = 0``) and
+    ``(K - (j w)^2 M + i j w (C(w) + tangent)) Z_j = F_j`` (plus ``once`` at ``j = 1``), ``F_j``
+    the harmonics of ``turning(z(t))`` over one revolution (``samples`` points, harmonics below
+    ``samples / 2``), iterated to a fixed point (the turning input's dependence on the state, a
+    parametric stiffness, must be small against the rig's: the iteration stops when the orbit
+    changes by less than ``rtol`` of its size).
 
     Parameters
     ----------
@@ -242,13 +250,36 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
         ``-d f / d z'`` of the inputs at the operating point (a torque law's slope damps the spin).
     gauge : (n,)
         Row fixing the free common angle: ``gauge @ z_s = 0`` (e.g. the angle the unbalance turns with).
+    turning : callable, optional
+        ``turning(z) -> f`` (n,): an input that repeats with the revolution on the orbit (a turning
+        anisotropy acting on the state), evaluated on the orbit including its spin angle.
     """
     k = model.k(w)
-    zs = np.linalg.lstsq(k, model.r(w) + static, rcond=RIGID_RCOND)[0]
     rigid = null_space(k, rcond=RIGID_RCOND)
-    if rigid.size:
-        g = gauge @ rigid
-        zs = zs - rigid @ (np.linalg.lstsq(g[None, :], np.atleast_1d(gauge @ zs), rcond=None)[0])
-    amp = np.linalg.solve(k - w * w * model.m + 1j * w * (model.c(w) + tangent), once)
-    z = zs + amp.real
-    return z, (1j * w * amp).real + w * model.rates
+    n_h = samples // 2
+    ops = [k - (j * w) ** 2 * model.m + 1j * j * w * (model.c(w) + tangent) for j in range(1, n_h)]
+    tau = 2 * np.pi / w * np.arange(samples) / samples
+    phase = np.exp(1j * w * np.outer(tau, np.arange(1, n_h)))               # (samples, n_h - 1)
+    f_hat = np.zeros((n_h, k.shape[0]), dtype=complex)
+    last = None
+    for _ in range(max_iter):
+        zs = np.linalg.lstsq(k, model.r(w) + static + f_hat[0].real, rcond=RIGID_RCOND)[0]
+        if rigid.size:
+            g = gauge @ rigid
+            zs = zs - rigid @ (np.linalg.lstsq(g[None, :], np.atleast_1d(gauge @ zs), rcond=None)[0])
+        amps = np.array([np.linalg.solve(op, f_hat[j] + (once if j == 1 else 0.0))
+                         for j, op in enumerate(ops, start=1)])                # (n_h - 1, n)
+        if turning is None:
+            break
+        orbit = zs + (phase @ amps).real + np.outer(w * tau, model.rates)
+        f_hat = np.fft.fft(np.array([turning(z) for z in orbit]), axis=0)[:n_h] / samples
+        f_hat[1:] *= 2.0                                                       # Re(F_j exp(i j w t)) form
+        state = np.concatenate([zs, amps.ravel().view(float)])
+        if last is not None and np.linalg.norm(state - last) <= rtol * np.linalg.norm(state):
+            break
+        last = state
+    else:
+        raise ModelError(f"steady orbit: the turning input's harmonics did not settle in {max_iter} iterations")
+    z = zs + amps.sum(axis=0).real
+    zd = (1j * w * np.arange(1, n_h)[:, None] * amps).sum(axis=0).real + w * model.rates
+    return z, zd

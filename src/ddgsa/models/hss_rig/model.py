@@ -20,11 +20,13 @@ Fidelities (the motor's, "model no more than a scene needs"):
     inputs, a coast-down starting from its periodic steady state; within 0.3 % of the nonlinear
     ``kloss`` rig on the vibration outputs at a tenth of its cost. The coupling's turning stiffness
     anisotropy would make the steady rig periodic rather than time-invariant: the linear fidelity
-    averages it out of the rig and, in steady scenes, carries its action on the coupling's static
-    stretch (a misalignment, the gravity sag's lift of the overhang, the torque's twist) as an
-    external 2x load on the coupling (:mod:`ddgsa.models.hss_rig.faults`; refused where the
-    coupling's 2x vibration is not small against the stretch). Start-up and coast-down average it
-    out and refuse a misalignment.
+    builds the rig with the mean coupling and, in steady scenes, carries its action on the
+    coupling's static stretch (a misalignment, the gravity sag's lift of the overhang, the torque's
+    twist) as an external 2x load on the coupling (:mod:`ddgsa.models.hss_rig.faults`; refused
+    where the coupling's 2x vibration is not small against the stretch); in start-up and
+    coast-down the sweep carries ``dK(theta)`` on the stretch along the sweep as a nonlinear
+    input (within 0.25 % of the nonlinear ``kloss`` rig with the nominal coupling). Transients
+    refuse a misalignment (not checked against the nonlinear rig).
 
 ``fidelity: auto`` pilots ``linear`` against ``kloss`` (:attr:`HssRig.pilot_fidelities`): the
 ``dq`` machine's flux transients are a motor study's concern, and its steady runs start from the
@@ -193,11 +195,12 @@ class HssRig(Model):
         return build(eff, parts, spin=spin, extra=extra), drive, spin
 
     def effective(self, p: Mapping[str, float]) -> dict[str, float]:
-        """The parameters the fidelity builds the rig with: ``linear`` averages the coupling's
-        anisotropy out (``coupling_asymmetry = 0``); in steady scenes :meth:`assemble` adds its
-        action on the coupling's static stretch (misalignment, gravity sag) as an external 2x load
-        (:mod:`ddgsa.models.hss_rig.faults`), and :meth:`simulate` refuses a misalignment in the
-        other scenes (a speed sweep has no one operating point to load)."""
+        """The parameters the fidelity builds the rig with: ``linear`` takes the coupling at its
+        mean stiffness (``coupling_asymmetry = 0``); in steady scenes :meth:`assemble` adds the
+        anisotropy's action on the coupling's static stretch (misalignment, gravity sag) as an
+        external 2x load (:mod:`ddgsa.models.hss_rig.faults`), in start-up and coast-down the
+        sweep carries it as a turning input (:mod:`ddgsa.models.hss_rig.transient`), and
+        :meth:`simulate` refuses a misalignment there (not checked against the nonlinear rig)."""
         if self.fidelity != "linear":
             return dict(p)
         return {**p, "coupling_asymmetry": 0.0}
@@ -209,7 +212,7 @@ class HssRig(Model):
         raw = self.resolve(params).iloc[0].to_dict()
         if self.fidelity == "linear" and sc.kind != "steady" and misaligned(raw):
             raise ModelError("model 'hss_rig': fidelity 'linear' carries a coupling misalignment in steady scenes "
-                             f"only (a {sc.kind} has no one operating point); got misalignment_parallel = "
+                             f"only (not verified in a {sc.kind}); got misalignment_parallel = "
                              f"{raw['misalignment_parallel']} m, misalignment_angular = {raw['misalignment_angular']} "
                              "rad; use 'kloss' or 'dq'")
         rig, drive, spin = self.assemble(raw, sc)
@@ -224,10 +227,13 @@ class HssRig(Model):
             if every < 1 or abs(every * self.time_step - h) > 1e-9 * h:
                 raise ModelError(f"model 'hss_rig': the sensor interval 1/sample_rate = {h:.6g} s must be a multiple "
                                  f"of time_step = {self.time_step:g} s")
-            q0, qd0 = self.initial_state(rig, p)
             if self.fidelity == "linear":
-                t, q, qd = transient.run(drive, p, q0, sc.kind, spin, sc.duration, self.time_step, every)
+                # the sweep carries the coupling's anisotropy and misalignment itself, from the sag of
+                # the anisotropic rig standing at hub angle 0 (as the nonlinear rig starts)
+                q0, _ = self.initial_state(rig, raw)
+                t, q, qd = transient.run(drive, raw, q0, sc.kind, spin, sc.duration, self.time_step, every)
             else:
+                q0, qd0 = self.initial_state(rig, p)
                 if sc.kind != "startup" and self.fidelity == "kloss":
                     q0, qd0 = self.periodic_state(rig, q0, qd0, spin)
                 run = genalpha.simulate(rig.system, sc.duration, self.time_step, q0=q0, qd0=qd0,

@@ -1,23 +1,28 @@
 """Start-up and coast-down of the ``linear`` fidelity: the rig as a speed sweep (:mod:`ddgsa.mbs.sweep`).
 
-The rig without its motor, load and eccentric mass is linear about its static sag and, with the
-coupling's anisotropy averaged out (what the ``linear`` fidelity builds), axisymmetric: in the
-non-rotating bending coordinates its matrices depend on the spin only through the gyroscopic
-term and a small spin softening. It is linearised twice, at rest and spinning at the supply's
-synchronous speed (the fastest a scene reaches), and run as the linear parameter-varying system
-of :func:`ddgsa.mbs.sweep.integrate` with three nonlinear inputs evaluated at every iteration
-exactly as the ``kloss`` rig's elements do:
+The rig without its motor, load and eccentric mass, its coupling at its mean stiffness, is linear
+about its static sag and axisymmetric: in the non-rotating bending coordinates its matrices
+depend on the spin only through the gyroscopic term and a small spin softening. It is
+linearised twice, at rest and spinning at the supply's synchronous speed (the fastest a scene
+reaches), and run as the linear parameter-varying system of :func:`ddgsa.mbs.sweep.integrate`
+with four nonlinear inputs evaluated at every iteration as the ``kloss`` rig's elements do:
 
 * the ``kloss`` motor torque (:func:`~ddgsa.models.hss_rig.drive.kloss_torque_at`) at the motor
   rotor's spin, on its angle;
 * the load torque law (:func:`~ddgsa.models.hss_rig.rig.load_law`) at the disk's spin;
 * the eccentric mass's centrifugal force ``m_u e W^2`` at the disk, along the disk's actual angle
-  (its tangential part left out, as :class:`~ddgsa.models.hss_rig.elements.EccentricMass` does).
+  (its tangential part left out, as :class:`~ddgsa.models.hss_rig.elements.EccentricMass` does);
+* the coupling's turning anisotropy ``dK(theta)`` (:func:`~ddgsa.models.hss_rig.faults.anisotropy`,
+  the steady path's formulation) on the coupling's stretch along the sweep (:class:`_CouplingInput`):
+  the 2x the gravity sag's lift of the overhang makes, and the anisotropy acting on the vibration.
 
-A coast-down starts from the periodic state at the steady speed (:func:`ddgsa.mbs.sweep.steady_orbit`:
-the shafts wound up by the steady torque, the unbalance orbit with the motor's and load's slopes
-damping the spin). Against the nonlinear ``kloss`` rig by generalised-alpha the outputs agree to
-the tolerances ``tests/models/test_hss_rig_transient.py`` states.
+A run starts from the sag of the rig with its anisotropic coupling standing at hub angle 0 (as
+the nonlinear rig does); a coast-down from the periodic orbit at the steady speed
+(:func:`ddgsa.mbs.sweep.steady_orbit`: the shafts wound up by the steady torque, the unbalance
+orbit and the anisotropy's harmonics, the motor's and load's slopes damping the spin). Against
+the nonlinear ``kloss`` rig by generalised-alpha the outputs agree to the tolerances
+``tests/models/test_hss_rig_transient.py`` states. A misalignment would enter through the
+stretch as well, but is refused in transients until it is checked against the nonlinear rig.
 """
 
 from __future__ import annotations
@@ -31,6 +36,7 @@ from numpy.typing import NDArray
 from ddgsa.mbs import nonrotating
 from ddgsa.mbs.sweep import SweepModel, full_state, integrate, marker_rows, steady_orbit, sweep_model
 from ddgsa.models.hss_rig.drive import Drive, kloss_torque_at
+from ddgsa.models.hss_rig.faults import anisotropy, coupling_stretch
 from ddgsa.models.hss_rig.rig import Rig, build, load_law
 
 Array = NDArray[np.float64]
@@ -39,9 +45,11 @@ SLOPE_STEP = 1e-6
 
 
 def structure(p: Mapping[str, float], q0: Array, synchronous: float) -> tuple[Rig, SweepModel]:
-    """The rig without motor, load and eccentric mass, and its sweep model about the sag ``q0``
-    (the positions of :meth:`HssRig.initial_state`) with reference spin ``synchronous`` [rad/s]."""
-    bare = build({**p, "eccentric_mass": 0.0, "load_torque": 0.0}, lambda marker: ([], []), spin=synchronous)
+    """The rig without motor, load and eccentric mass, with the coupling's mean stiffness
+    (``coupling_asymmetry`` 0), and its sweep model about the sag ``q0`` (the positions of
+    :meth:`HssRig.initial_state`) with reference spin ``synchronous`` [rad/s]."""
+    bare = build({**p, "eccentric_mass": 0.0, "load_torque": 0.0, "coupling_asymmetry": 0.0},
+                 lambda marker: ([], []), spin=synchronous)
     system = bare.system
     rest = nonrotating.linearise(system, q0, np.zeros(system.n))
     spinning = nonrotating.linearise(system, q0, system.qd0)
@@ -57,8 +65,11 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     ----------
     drive : Drive
         The motor and supply of the scene.
+    p : mapping
+        The rig's parameters, the coupling's anisotropy and misalignment included (see the module).
     q0 : (n,)
-        Positions at the static sag [m, rad].
+        Positions at the static sag [m, rad] (of the rig with its anisotropic coupling standing at
+        hub angle 0, as the nonlinear rig starts).
     kind : str
         ``startup`` or ``coastdown``.
     dt : float
@@ -72,11 +83,12 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     disk, lateral = disk_rows[3], disk_rows[1:3]
     me = p["eccentric_mass"] * p["eccentric_radius"]
     load = load_law(p)
+    coupling = _CouplingInput(p, bare, model)
 
     def inputs(t: float, z: Array, zd: Array) -> Array:
         wm, wd = float(motor @ zd), float(disk @ zd)
         th = float(disk @ z)                         # the mass starts along +y, as in the rig
-        f = motor * kloss_torque_at(drive, t, wm) + disk * load(t, wd)
+        f = motor * kloss_torque_at(drive, t, wm) + disk * load(t, wd) + coupling(z)
         return f + me * wd * wd * (math.cos(th) * lateral[0] + math.sin(th) * lateral[1])
 
     n = lin.q0.size
@@ -93,7 +105,46 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
         static = motor * motor_law(0.0, spin) + disk * load(0.0, spin)
         tangent = -slope(motor_law, spin) * np.outer(motor, motor) - slope(load, spin) * np.outer(disk, disk)
         once = me * spin * spin * (lateral[0] - 1j * lateral[1])
-        z0, zd0 = steady_orbit(model, spin, static, once, tangent, disk)
+        z0, zd0 = steady_orbit(model, spin, static, once, tangent, disk, coupling if coupling.active else None)
     t, z, zd = integrate(model, t_end, dt, z0, zd0, inputs, output_every)
     q, qd = full_state(model, z, zd)
     return t, q, qd
+
+
+class _CouplingInput:
+    """The coupling's turning anisotropy as a nonlinear input of the sweep: ``f(z)`` (n,).
+
+    The coupling's force on the hub is ``K(theta) s`` with ``K(theta) = K_mean + dK(theta)``
+    (:func:`~ddgsa.models.hss_rig.faults.anisotropy`, ``theta`` the hub's spin angle) and ``s``
+    its stretch (misalignment included); the sweep model holds ``K_mean s``. The input is the rest,
+    ``+-dK(theta) s`` on the hub and the shaft end, with ``s = s_sag + J z`` the stretch at the sag
+    (:func:`~ddgsa.models.hss_rig.faults.coupling_stretch`) plus its linear change with the
+    state, so it carries the static stretch along the sweep (the gravity sag's lift of the
+    overhang, the twist the torque winds up, the vibration) and the parametric term the steady
+    path drops.
+
+    ``J`` is the marker rows' difference (velocity rows) without its columns on the spin angles:
+    a spinning hub or shaft tilted by the sag has an angular velocity across the spin axis (the
+    tilt times the spin), which integrated over the hundreds of radians a sweep turns would read
+    as a growing angular stretch (0.3 rad after 1 s at the nominal point, which put the housings'
+    2x 2.5x off), while turning both ends together leaves the stretch unchanged. The force keeps
+    the full rows (virtual work).
+    """
+
+    def __init__(self, p: Mapping[str, float], bare: Rig, model: SweepModel) -> None:
+        self.p, lin = p, model.lin
+        hub = marker_rows(bare.system, lin, bare.markers["hub"])
+        self.rows = marker_rows(bare.system, lin, bare.markers["coupling"]) - hub   # d(stretch rate) / dz'
+        self.jac = np.where(model.rates != 0.0, 0.0, self.rows)                     # d(stretch) / dz
+        self.sag = coupling_stretch(bare, lin.q0)
+        self.angle = hub[3]                  # the hub's spin angle (0 at the sag, as the rig's hub frame)
+        self.active = p["coupling_asymmetry"] > 0.0
+
+    def _force(self, theta: float, stretch: Array) -> Array:
+        # the wrench on the hub, reversed on the shaft end (coincident markers: no couple)
+        return -self.rows.T @ (anisotropy(self.p, theta) @ stretch)
+
+    def __call__(self, z: Array) -> Array | float:
+        if not self.active:
+            return 0.0
+        return self._force(float(self.angle @ z), self.sag + self.jac @ z)
