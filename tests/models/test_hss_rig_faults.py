@@ -110,3 +110,22 @@ def test_envelope_bpfo_of_an_amplitude_modulated_carrier() -> None:
     modulated = (1 + depth * np.cos(2 * math.pi * f_b * t)) * carrier
     assert abs(_envelope_bpfo(t, modulated, angle) - depth**2 / 2) <= 0.02 * depth**2 / 2
     assert _envelope_bpfo(t, carrier, angle) <= 1e-6 * depth**2 / 2
+
+
+def test_mean_and_2x_separates_a_large_1x_orbit():
+    """A 1x orbit 100x the 2x part, over 7.3 revolutions sampled at 37 points a revolution: the fit
+    returns the mean and the 2x amplitudes exactly (1e-12); a mean-and-2x fit alone, as the
+    parametric-resonance guard used before, reads ~1e-2 of the 1x as 2x."""
+    import numpy as np
+
+    from ddgsa.models.hss_rig.faults import mean_and_2x
+
+    angle = np.linspace(0.0, 7.3 * 2 * np.pi, int(7.3 * 37))
+    x = np.column_stack([3.0 + 100.0 * np.cos(angle + 0.4) + 0.7 * np.cos(2 * angle) - 0.2 * np.sin(2 * angle)
+                         + 5.0 * np.sin(3 * angle), -1.0 + 0.3 * np.sin(2 * angle)])
+    mean, twice = mean_and_2x(x, angle)
+    np.testing.assert_allclose(mean, [3.0, -1.0], atol=1e-12)
+    np.testing.assert_allclose(twice, [[0.7, 0.0], [-0.2, 0.3]], atol=1e-12)
+    naive = np.linalg.lstsq(np.column_stack([np.ones_like(angle), np.cos(2 * angle), np.sin(2 * angle)]), x,
+                            rcond=None)[0]
+    assert np.max(np.abs(naive[1:, 0] - [0.7, -0.2])) > 1e-2

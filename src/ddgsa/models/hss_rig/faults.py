@@ -111,6 +111,19 @@ def anisotropy_loads(p: Mapping[str, float], stretch: Array, spin: float, durati
     return loads
 
 
+def mean_and_2x(x: Array, angle: Array) -> tuple[Array, Array]:
+    """Mean ``(m,)`` and 2x cosine/sine amplitudes ``(2, m)`` of the columns of ``x`` ``(n, m)``
+    against the shaft ``angle`` ``(n,)`` [rad].
+
+    The 1x and 3x parts are fitted with them (least squares): a large 1x orbit, such as an
+    unbalance response near the critical speed, would otherwise leak into the 2x estimate of a
+    record that is no whole number of revolutions.
+    """
+    basis = np.column_stack([np.ones_like(angle)] + [f(k * angle) for k in (1, 2, 3) for f in (np.cos, np.sin)])
+    coef = np.linalg.lstsq(basis, x, rcond=None)[0]
+    return coef[0], coef[3:5]
+
+
 def check_small(rig: Rig, q: Array, t: Array, spin: float) -> None:
     """Refuse a record whose coupling vibrates at 2x by more than :data:`MAX_VIBRATION_RATIO` of its stretch.
 
@@ -130,13 +143,11 @@ def check_small(rig: Rig, q: Array, t: Array, spin: float) -> None:
     """
     every = max(1, q.shape[0] // 256)
     d = np.array([coupling_stretch(rig, qi) for qi in q[::every]])
-    phase = 2.0 * spin * t[::every]
-    basis = np.column_stack([np.ones_like(phase), np.cos(phase), np.sin(phase)])
-    coef = np.linalg.lstsq(basis, d, rcond=None)[0]                   # mean and the 2x part of each component
+    mean, twice = mean_and_2x(d, spin * t[::every])
     for idx, what in (((1, 2), "lateral [m]"), ((4, 5), "angular [rad]")):
         cols = list(idx)
-        s0 = float(np.hypot(*coef[0, cols]))
-        vib = float(np.sqrt(np.sum(coef[1:, cols] ** 2)))
+        s0 = float(np.hypot(*mean[cols]))
+        vib = float(np.sqrt(np.sum(twice[:, cols] ** 2)))
         if vib > MAX_VIBRATION_RATIO * s0:
             raise ModelError(f"model 'hss_rig': fidelity 'linear' carries the coupling's anisotropy as an external 2x "
                              f"load only while the coupling's 2x vibration is small against its static stretch; here "
