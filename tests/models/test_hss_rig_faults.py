@@ -116,8 +116,6 @@ def test_mean_and_2x_separates_a_large_1x_orbit():
     """A 1x orbit 100x the 2x part, over 7.3 revolutions sampled at 37 points a revolution: the fit
     returns the mean and the 2x amplitudes exactly (1e-12); a mean-and-2x fit alone, as the
     parametric-resonance guard used before, reads ~1e-2 of the 1x as 2x."""
-    import numpy as np
-
     from ddgsa.models.hss_rig.faults import mean_and_2x
 
     angle = np.linspace(0.0, 7.3 * 2 * np.pi, int(7.3 * 37))

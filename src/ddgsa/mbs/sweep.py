@@ -257,15 +257,17 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
     k = model.k(w)
     rigid = null_space(k, rcond=RIGID_RCOND)
     n_h = samples // 2
-    ops = [k - (j * w) ** 2 * model.m + 1j * j * w * (model.c(w) + tangent) for j in range(1, n_h)]
+    damping = model.c(w) + tangent
+    ops = [k - (j * w) ** 2 * model.m + 1j * j * w * damping for j in range(1, n_h)]
+    r = model.r(w)
+    g = gauge @ rigid
     tau = 2 * np.pi / w * np.arange(samples) / samples
     phase = np.exp(1j * w * np.outer(tau, np.arange(1, n_h)))               # (samples, n_h - 1)
     f_hat = np.zeros((n_h, k.shape[0]), dtype=complex)
     last = None
     for _ in range(max_iter):
-        zs = np.linalg.lstsq(k, model.r(w) + static + f_hat[0].real, rcond=RIGID_RCOND)[0]
+        zs = np.linalg.lstsq(k, r + static + f_hat[0].real, rcond=RIGID_RCOND)[0]
         if rigid.size:
-            g = gauge @ rigid
             zs = zs - rigid @ (np.linalg.lstsq(g[None, :], np.atleast_1d(gauge @ zs), rcond=None)[0])
         amps = np.array([np.linalg.solve(op, f_hat[j] + (once if j == 1 else 0.0))
                          for j, op in enumerate(ops, start=1)])                # (n_h - 1, n)

@@ -51,10 +51,16 @@ def misaligned(p: Mapping[str, float]) -> bool:
     return bool(p["misalignment_parallel"] or p["misalignment_angular"])
 
 
-def coupling_stretch(rig: Rig, q: Array) -> Array:
-    """The coupling's stretch ``d + delta`` (6,) [m, rad] in the global frame at the rig's state ``q``."""
+def coupling_of(rig: Rig) -> MisalignedCoupling:
+    """The rig's coupling element."""
+    return next(e for e in rig.system.elements if isinstance(e, MisalignedCoupling))
+
+
+def coupling_stretch(rig: Rig, q: Array, coupling: MisalignedCoupling | None = None) -> Array:
+    """The coupling's stretch ``d + delta`` (6,) [m, rad] in the global frame at the rig's state ``q``
+    (``coupling``: the rig's coupling element, :func:`coupling_of`, when the caller has it)."""
     system = rig.system
-    coupling = next(e for e in system.elements if isinstance(e, MisalignedCoupling))
+    coupling = coupling_of(rig) if coupling is None else coupling
     states = [system.marker_state(m, q, np.zeros_like(q), 0.0) for m in coupling.markers]
     return coupling._deflection(states)[0]
 
@@ -142,7 +148,8 @@ def check_small(rig: Rig, q: Array, t: Array, spin: float) -> None:
         The steady shaft speed [rad/s].
     """
     every = max(1, q.shape[0] // 256)
-    d = np.array([coupling_stretch(rig, qi) for qi in q[::every]])
+    coupling = coupling_of(rig)
+    d = np.array([coupling_stretch(rig, qi, coupling) for qi in q[::every]])
     mean, twice = mean_and_2x(d, spin * t[::every])
     for idx, what in (((1, 2), "lateral [m]"), ((4, 5), "angular [rad]")):
         cols = list(idx)

@@ -27,6 +27,7 @@ stretch as well, but is refused in transients until it is checked against the no
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
 
@@ -99,9 +100,7 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
             h = SLOPE_STEP * max(1.0, abs(w))
             return (law(0.0, w + h) - law(0.0, w - h)) / (2 * h)
 
-        def motor_law(t: float, w: float) -> float:
-            return kloss_torque_at(drive, t, w)
-
+        motor_law = functools.partial(kloss_torque_at, drive)
         static = motor * motor_law(0.0, spin) + disk * load(0.0, spin)
         tangent = -slope(motor_law, spin) * np.outer(motor, motor) - slope(load, spin) * np.outer(disk, disk)
         once = me * spin * spin * (lateral[0] - 1j * lateral[1])
