@@ -212,7 +212,7 @@ def select_fidelities(study: Study, runs: Runs) -> list[dict[str, Any]]:
     """
     auto = study.spec.model.auto
     model = get_model(study.spec.model.name)
-    fidelities = list(model.pilot_fidelities or model.fidelities)
+    fidelities = list(model.pilot_pool())
     space = study.space
     names = space.names if space is not None else ()
     pilot = np.zeros((1, 0)) if space is None else np.vstack(

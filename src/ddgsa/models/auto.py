@@ -106,7 +106,7 @@ class AutoFidelity(Model):
             raise ModelError(f"model {name!r}: fidelity 'auto' needs a positive tolerance, got {tolerance!r}")
         if not (isinstance(pilot, int) and pilot >= 0):
             raise ModelError(f"model {name!r}: fidelity 'auto' needs pilot >= 0 points, got {pilot!r}")
-        pool = cls.pilot_fidelities or cls.fidelities
+        pool = cls.pilot_pool()
         self.variants = {fid: get(name, fidelity=fid, **options) for fid in pool}
         richest = self.variants[pool[0]]
         # the wrapped model's identity, per instance (one wrapper class serves every model)

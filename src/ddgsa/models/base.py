@@ -149,6 +149,11 @@ class Model(ABC):
     options_note: ClassVar[str] = ""                   # how options change parameters/outputs (``ddgsa models``)
     fidelity: str = ""
 
+    @classmethod
+    def pilot_pool(cls) -> tuple[str, ...]:
+        """The fidelities ``fidelity: auto`` pilots: :attr:`pilot_fidelities`, else all of :attr:`fidelities`."""
+        return cls.pilot_fidelities or cls.fidelities
+
     def fidelity_cost(self, fidelity: str) -> float:
         """Relative cost of one evaluation at ``fidelity`` [-], the deterministic cost model that
         ``fidelity: auto`` ranks by (never measured time, so a choice does not depend on the

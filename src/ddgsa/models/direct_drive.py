@@ -377,7 +377,7 @@ class DirectDrive(Model):
         blocks: list[NDArray[np.float64]] = []
         names: list[str] = []
         if self.fidelity == "linear":
-            res = self._linear_response(asm, q_st, p, inputs, scene.dt, states)
+            res = self._linear_response(asm, q_st, to_u, inputs, scene.dt, states)
             ends, bearings = res["ends"], res["spring_forces"]
         else:
             q0 = self.static(asm, forces[0], moments[0], q_guess=q_st)      # start at rest under the first loads
@@ -440,7 +440,7 @@ class DirectDrive(Model):
         check_interval(self.time_step, float(self.nominal_modes["frequency_hz"].min()),
                        "direct_drive integration step", refuse=False, warn_below=NYQUIST)
 
-    def _linear_response(self, asm: Assembly, q_st: NDArray[np.float64], p: Mapping[str, float],
+    def _linear_response(self, asm: Assembly, q_st: NDArray[np.float64], to_u: NDArray[np.float64],
                          inputs: SceneInputs, dt: float, states: bool) -> dict[str, Any]:
         """The flexible model linearised about the scene's mean operating point, integrated exactly.
 
@@ -453,11 +453,10 @@ class DirectDrive(Model):
         ``L theta^2 ~ 1e-7 m``, 1e-5 of the deflections), so the response is one modal pass
         that forms only the rows asked for (``states``: also the coordinates and velocities).
 
-        The inputs ``u = channels @ input_map(p)`` are linear in the scene's load channels, so the
-        modal drive of every point is one product with the channels' sample windows, which a
-        batch of points of one scene shares (:class:`SceneInputs`).
+        The inputs ``u = channels @ to_u`` (``to_u = input_map(p)``, built by the caller) are linear
+        in the scene's load channels, so the modal drive of every point is one product with the
+        channels' sample windows, which a batch of points of one scene shares (:class:`SceneInputs`).
         """
-        to_u = input_map(p)
         u0 = inputs.mean @ to_u
         spin = float(u0[6] + u0[3] / asm.system.c_torque)            # torque balance: T = -M_x
         pairs = [(self.fields.index(f"bending_y_{k}"), self.fields.index(f"bending_z_{k}"))
@@ -500,9 +499,10 @@ class DirectDrive(Model):
         """Objectives of the linear fidelity straight from the response arrays (no time-series frame)."""
         asm = assembled(tuple(p.items()), self.fields)
         inputs = self._scene_inputs(scene)
-        u0 = inputs.mean @ input_map(p)
+        to_u = input_map(p)
+        u0 = inputs.mean @ to_u
         q_st = self.static(asm, u0[0:3], u0[3:6])
-        res = self._linear_response(asm, q_st, p, inputs, scene.dt, states=False)
+        res = self._linear_response(asm, q_st, to_u, inputs, scene.dt, states=False)
         ends, static = res["ends"], res["static_ends"]     # the operating point is the static state
         return objective_values(ends[:, 0:3] - static[0:3], ends[:, 3:6] - static[3:6],
                                 res["speed"], *res["spring_forces"], p, self.rule)
