@@ -43,7 +43,7 @@ from scipy.linalg import null_space
 from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import Marker
-from ddgsa.mbs.integrate.genalpha import coefficients
+from ddgsa.mbs.integrate.genalpha import coefficients, next_aux, primed
 from ddgsa.mbs.nonrotating import RIGID_RCOND, SpinLinearisation
 
 Array = NDArray[np.float64]
@@ -165,8 +165,7 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
         raise ModelError(f"sweep: output_every = {output_every} must divide the {n_steps} steps")
     am, af, gamma, beta = coefficients(rho_inf)
     h = dt
-    bp = beta * (1.0 - af) / (1.0 - am)
-    gp = gamma * (1.0 - af) / (1.0 - am)
+    bp, gp = primed(am, af, gamma, beta)
     m = model.m
     z, zd = np.array(z0, dtype=float), np.array(zd0, dtype=float)
 
@@ -202,7 +201,7 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
                              f"(step {dt} s); reduce the step")
         if not np.all(np.isfinite(z)):
             raise ModelError(f"sweep: the state is not finite at t = {t:.6g} s")
-        aux = (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
+        aux = next_aux(acc, aux, acc_new, am, af)
         acc = acc_new
         if step % output_every == 0:
             z_out[slot], zd_out[slot] = z, zd

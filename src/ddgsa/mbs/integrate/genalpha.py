@@ -38,6 +38,18 @@ def coefficients(rho_inf: float) -> tuple[float, float, float, float]:
     return am, af, gamma, beta
 
 
+def primed(am: float, af: float, gamma: float, beta: float) -> tuple[float, float]:
+    """``(beta', gamma')``: the position and velocity change per unit change of the new
+    acceleration within a step, in units of ``h^2`` and ``h`` (the iteration matrix is
+    ``M + gamma' h C + beta' h^2 K``)."""
+    return beta * (1.0 - af) / (1.0 - am), gamma * (1.0 - af) / (1.0 - am)
+
+
+def next_aux(acc: Array, aux: Array, acc_new: Array, am: float, af: float) -> Array:
+    """The auxiliary acceleration of the next step from the step's old and new accelerations."""
+    return (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
+
+
 def simulate(system: System, t_end: float, dt: float, q0: Array | None = None, qd0: Array | None = None,
              t0: float = 0.0, rho_inf: float = 0.8, tol: float = 1e-10, max_iter: int = 20,
              output_every: int = 1, compiled: bool | None = None) -> Trajectory:
@@ -93,8 +105,7 @@ def simulate(system: System, t_end: float, dt: float, q0: Array | None = None, q
                           {"method": "generalised-alpha (compiled)", "rho_inf": rho_inf, "dt": dt, "steps": n_steps,
                            "newton_max": int(status), "newton_mean": total / n_steps})
     h = dt
-    bp = beta * (1.0 - af) / (1.0 - am)
-    gp = gamma * (1.0 - af) / (1.0 - am)
+    bp, gp = primed(am, af, gamma, beta)
     q, qd = np.array(q0, dtype=float), np.array(qd0, dtype=float)
     acc, lam = accelerations(system, q, qd, t0)
     aux = acc.copy()
@@ -156,7 +167,7 @@ def simulate(system: System, t_end: float, dt: float, q0: Array | None = None, q
         if not np.all(np.isfinite(q)):
             raise ModelError(f"generalised-alpha: the state is not finite at t = {t:.6g} s")
         iters.append(it + 1)
-        aux = (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
+        aux = next_aux(acc, aux, acc_new, am, af)
         acc = acc_new
         if step % output_every == 0:
             record(slot, t)
