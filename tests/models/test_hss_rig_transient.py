@@ -129,9 +129,11 @@ def test_coastdown_starts_in_its_periodic_orbit():
 
 
 def test_sweep_model_reproduces_a_third_linearisation():
-    """C(W) linear and K(W) = K0 + W K1 (skew) + W^2 K2 (symmetric) fitted at rest and at W1
-    predict the linearisation at W1 / 2 (measured: 1e-6 of the change for K, 1e-7 for C), all
-    blind to the common spin angle as the sweep model makes them."""
+    """C(W) linear, K(W) = K0 + W K1 (skew) + W^2 K2 (symmetric) and the static force
+    r(W) = r0 - (W K1 + W^2 K2) s + W^2 r2 fitted at rest and at W1 predict the linearisation at
+    W1 / 2 (measured: 1e-6 of the change for K, 1e-7 for C, 7e-9 for r; without ``r2`` the spin
+    rows' torque, second order in the sag, is off by half: 1.7e-4 of the change), all blind to the
+    common spin angle as the sweep model makes them."""
     model = models.get("hss_rig", fidelity="linear")
     p = model.effective(model.resolve(None).iloc[0].to_dict())
     p = {**p, "eccentric_mass": 0.0, "load_torque": 0.0}

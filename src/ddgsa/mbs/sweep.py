@@ -7,11 +7,13 @@ the internal damping of its turning bending coordinates (a skew-symmetric circul
 linear in ``W``) and the spin softening an FFR shaft's bending coordinates keep (symmetric,
 quadratic in ``W``). A run-up or coast-down is then the linear parameter-varying system
 
-``M z'' + (C_0 + W C_1) z' + (K_0 + W K_1 + W^2 K_2) z = r_0 - (W K_1 + W^2 K_2) s + f(t, z, z')``,
+``M z'' + (C_0 + W C_1) z' + (K_0 + W K_1 + W^2 K_2) z = r_0 - (W K_1 + W^2 K_2) s + W^2 r_2 + f(t, z, z')``,
 
 with ``s`` the static displacement of the operating positions from the unloaded ones (the sag the
-spin-dependent forces act on) and ``f`` the few nonlinear inputs the caller names (torque laws of
-a spin speed, a turning unbalance). :func:`sweep_model` builds it from two linearisations of the
+spin-dependent forces act on), ``r_2`` the part of the static force second order in the sag (a
+torque on the spin rows from the sag's centrifugal force on the bent shape: the linear
+extrapolation ``-(W K_1 + W^2 K_2) s`` gives half of it) and ``f`` the few nonlinear inputs the
+caller names (torque laws of a spin speed, a turning unbalance). :func:`sweep_model` builds it from two linearisations of the
 system without those inputs, at rest and at a reference spin ``W_1``: ``C_1`` from their
 difference, ``K_1`` and ``K_2`` from the skew and symmetric parts of the stiffness difference
 (for the test rig this split reproduces a third linearisation at ``W_1 / 2`` to 1e-6 of the change,
@@ -52,7 +54,7 @@ Inputs = Callable[[float, Array, Array], Array]
 
 @dataclass(frozen=True)
 class SweepModel:
-    """``M z'' + (C_0 + W C_1) z' + (K_0 + W K_1 + W^2 K_2) z = r_0 - (W K_1 + W^2 K_2) s + f``
+    """``M z'' + (C_0 + W C_1) z' + (K_0 + W K_1 + W^2 K_2) z = r_0 - (W K_1 + W^2 K_2) s + W^2 r_2 + f``
     (see the module).
 
     Attributes
@@ -65,6 +67,9 @@ class SweepModel:
         Static generalised force at the operating positions at rest [N, N m].
     sag : (n,)
         Static displacement ``s`` of the operating positions from the unloaded ones [m, rad].
+    r2 : (n,)
+        Remainder of the static force per unit spin squared [N s^2, N m s^2]: the reference
+        linearisation's static force less the extrapolation through ``s``, so ``r(W_1)`` is exact.
     spin : (n,)
         Row giving the spin ``W = spin @ z'`` [rad/s] the matrices are evaluated at.
     rates : (n,)
@@ -81,6 +86,7 @@ class SweepModel:
     k2: Array
     r0: Array
     sag: Array
+    r2: Array
     spin: Array
     rates: Array
     lin: SpinLinearisation
@@ -95,7 +101,7 @@ class SweepModel:
 
     def r(self, w: float) -> Array:
         """Static generalised force at spin ``w`` [rad/s]."""
-        return self.r0 - (w * self.k1 + w * w * self.k2) @ self.sag
+        return self.r0 - (w * self.k1 + w * w * self.k2) @ self.sag + w * w * self.r2
 
 
 def sweep_model(rest: SpinLinearisation, spinning: SpinLinearisation, spin_index: int, sag: Array) -> SweepModel:
@@ -126,9 +132,11 @@ def sweep_model(rest: SpinLinearisation, spinning: SpinLinearisation, spin_index
     # spin-dependent force, not a damping (times the spin itself it would add that force twice)
     free = np.eye(rates.size) - np.outer(rates, rates) / (rates @ rates)
     dk = spinning.k - rest.k
-    return SweepModel(rest.m, rest.c @ free, (spinning.c - rest.c) @ free / w1, rest.k @ free,
-                      (dk - dk.T) @ free / (2 * w1), (dk + dk.T) @ free / (2 * w1**2), rest.r0,
-                      np.asarray(sag, dtype=float), row, rates, rest)
+    k1, k2 = (dk - dk.T) @ free / (2 * w1), (dk + dk.T) @ free / (2 * w1**2)
+    sag = np.asarray(sag, dtype=float)
+    r2 = (spinning.r0 - rest.r0 + (w1 * k1 + w1 * w1 * k2) @ sag) / w1**2
+    return SweepModel(rest.m, rest.c @ free, (spinning.c - rest.c) @ free / w1, rest.k @ free, k1, k2, rest.r0,
+                      sag, r2, row, rates, rest)
 
 
 def marker_rows(system: System, lin: SpinLinearisation, marker: Marker) -> Array:
