@@ -271,7 +271,7 @@ def lti_response(a: NDArray[np.float64], bw: NDArray[np.float64], w: NDArray[np.
         return _recurrence(phi, _drive(w, gains, n_sub), x0) @ c_out.T
     lam, vec, vinv = basis
     drive = _drive(w, gains, n_sub, np.hstack([vinv.real.T, vinv.imag.T]))     # [Re | Im] of the modal drive
-    z = _modal_recurrence(np.exp(lam * dt / n_sub), drive, vinv @ x0)          # [Re | Im] of z
+    z = _modal_recurrence(np.exp(lam * dt / n_sub), drive, vinv @ x0, np.zeros(drive.shape[1]))  # [Re | Im]
     return z @ modal_output_matrix(vec, lam, c_out)
 
 
@@ -327,22 +327,26 @@ class ModalStep:
     lam: NDArray[np.complex128]
 
     def outputs(self, window: NDArray[np.float64], x0: NDArray[np.float64], out: NDArray[np.float64],
-                channel_map: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+                channel_map: NDArray[np.float64] | None = None,
+                constant: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
         """Outputs (n_t, n_out) from the input ``window`` (n_t - 1, 4 k) (:func:`input_window`), the
         initial state ``x0`` and the output matrix ``out`` (2 m, n_out) of :func:`modal_output_matrix`.
 
         With ``channel_map`` (k_c, k) the window is that of channels ``c`` (n_t, k_c) with inputs
-        ``w = c @ channel_map``: the taps are mapped instead of the samples, so inputs that are
-        linear in channels shared by many systems need one window for all.
+        ``w = c @ channel_map (+ constant)``: the taps are mapped instead of the samples, so inputs
+        that are linear in channels shared by many systems need one window for all. ``constant``
+        (k,): a part of the inputs that does not change in time, whose drive is the same every step
+        (added in the recurrence, not a channel of the window).
         """
         taps = self.taps
+        k = taps.shape[0] // 4
         if channel_map is not None:
-            k = channel_map.shape[1]
             taps = np.einsum("dc,clm->dlm", channel_map, taps.reshape(k, 4, -1)).reshape(-1, taps.shape[1])
+        steady = np.zeros(taps.shape[1]) if constant is None else constant @ self.taps.reshape(k, 4, -1).sum(axis=1)
         drive = np.empty((window.shape[0] + 1, taps.shape[1]))
         np.matmul(window, taps, out=drive[:-1])
         drive[-1] = 0.0
-        z = _modal_recurrence(self.mu, drive, self.vinv @ x0)
+        z = _modal_recurrence(self.mu, drive, self.vinv @ x0, steady)
         return (out.T @ z.T).T           # column-major (n_t, n_out): each output's series contiguous
 
 
@@ -400,9 +404,9 @@ def input_window(w: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 @njit(cache=True)
-def _modal_recurrence(mu, drive, z0):  # pragma: no cover (compiled)
-    """``z[k+1] = mu z[k] + drive[k]`` per mode from ``z0``; ``drive`` and the result hold the real
-    parts in the first half of the columns and the imaginary parts in the second."""
+def _modal_recurrence(mu, drive, z0, steady):  # pragma: no cover (compiled)
+    """``z[k+1] = mu z[k] + drive[k] + steady`` per mode from ``z0``; ``drive``, ``steady`` and the
+    result hold the real parts in the first half of the columns and the imaginary parts in the second."""
     n, m = drive.shape[0], mu.size
     out = np.empty((n, 2 * m))
     zr, zi = z0.real.copy(), z0.imag.copy()
@@ -411,8 +415,8 @@ def _modal_recurrence(mu, drive, z0):  # pragma: no cover (compiled)
         for r in range(m):
             out[i, r] = zr[r]
             out[i, m + r] = zi[r]
-            re = mr[r] * zr[r] - mi[r] * zi[r] + drive[i, r]
-            zi[r] = mr[r] * zi[r] + mi[r] * zr[r] + drive[i, m + r]
+            re = mr[r] * zr[r] - mi[r] * zi[r] + (drive[i, r] + steady[r])
+            zi[r] = mr[r] * zi[r] + mi[r] * zr[r] + (drive[i, m + r] + steady[m + r])
             zr[r] = re
     return out
 
