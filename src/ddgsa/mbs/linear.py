@@ -271,7 +271,7 @@ def lti_response(a: NDArray[np.float64], bw: NDArray[np.float64], w: NDArray[np.
         return _recurrence(phi, _drive(w, gains, n_sub), x0) @ c_out.T
     lam, vec, vinv = basis
     drive = _drive(w, gains, n_sub, np.hstack([vinv.real.T, vinv.imag.T]))     # [Re | Im] of the modal drive
-    z = _modal_recurrence(np.exp(lam * dt / n_sub), drive, vinv @ x0, np.zeros(drive.shape[1]))  # [Re | Im]
+    z = _modal_recurrence(np.exp(lam * dt / n_sub), drive, vinv @ x0)          # [Re | Im] of z
     return z @ modal_output_matrix(vec, lam, c_out)
 
 
@@ -343,11 +343,9 @@ class ModalStep:
         if channel_map is not None:
             taps = np.einsum("dc,clm->dlm", channel_map, taps.reshape(k, 4, -1)).reshape(-1, taps.shape[1])
         steady = np.zeros(taps.shape[1]) if constant is None else constant @ self.taps.reshape(k, 4, -1).sum(axis=1)
-        drive = np.empty((window.shape[0] + 1, taps.shape[1]))
-        np.matmul(window, taps, out=drive[:-1])
-        drive[-1] = 0.0
-        z = _modal_recurrence(self.mu, drive, self.vinv @ x0, steady)
-        return (out.T @ z.T).T           # column-major (n_t, n_out): each output's series contiguous
+        # column-major (n_t, n_out): each output's series contiguous
+        return _modal_outputs(np.ascontiguousarray(window), np.ascontiguousarray(taps), self.mu, self.vinv @ x0,
+                              steady, np.ascontiguousarray(out.T), STEP_BLOCK)
 
 
 def modal_step(a: NDArray[np.float64], bw: NDArray[np.float64], dt: float) -> ModalStep | None:
@@ -404,9 +402,9 @@ def input_window(w: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 @njit(cache=True)
-def _modal_recurrence(mu, drive, z0, steady):  # pragma: no cover (compiled)
-    """``z[k+1] = mu z[k] + drive[k] + steady`` per mode from ``z0``; ``drive``, ``steady`` and the
-    result hold the real parts in the first half of the columns and the imaginary parts in the second."""
+def _modal_recurrence(mu, drive, z0):  # pragma: no cover (compiled)
+    """``z[k+1] = mu z[k] + drive[k]`` per mode from ``z0``; ``drive`` and the result hold the real
+    parts in the first half of the columns and the imaginary parts in the second."""
     n, m = drive.shape[0], mu.size
     out = np.empty((n, 2 * m))
     zr, zi = z0.real.copy(), z0.imag.copy()
@@ -415,10 +413,48 @@ def _modal_recurrence(mu, drive, z0, steady):  # pragma: no cover (compiled)
         for r in range(m):
             out[i, r] = zr[r]
             out[i, m + r] = zi[r]
-            re = mr[r] * zr[r] - mi[r] * zi[r] + (drive[i, r] + steady[r])
-            zi[r] = mr[r] * zi[r] + mi[r] * zr[r] + (drive[i, m + r] + steady[m + r])
+            re = mr[r] * zr[r] - mi[r] * zi[r] + drive[i, r]
+            zi[r] = mr[r] * zi[r] + mi[r] * zr[r] + drive[i, m + r]
             zr[r] = re
     return out
+
+
+STEP_BLOCK = 512
+"""Steps per block of :meth:`ModalStep.outputs`: a block's window rows, drive and modal states
+(~0.3 MB) stay in the core's cache between the drive product, the recurrence and the output
+product (one pass of each over the whole record streamed ~10 MB through memory: 25 % slower)."""
+
+
+@njit(cache=True)
+def _modal_outputs(window, taps, mu, z0, steady, out_t, block):  # pragma: no cover (compiled)
+    """:meth:`ModalStep.outputs` block by block: ``drive = window @ taps`` (BLAS), ``z[k+1] = mu z[k] +
+    drive[k] + steady``, ``y = out_t @ z`` (BLAS). ``z`` as ``[Re | Im]``; returns (n_t, n_out),
+    column-major."""
+    n = window.shape[0] + 1
+    m2 = taps.shape[1]
+    m = m2 // 2
+    y = np.empty((out_t.shape[0], n))
+    z = np.empty(m2)
+    z[:m] = z0.real
+    z[m:] = z0.imag
+    mr, mi = mu.real.copy(), mu.imag.copy()
+    drive = np.empty((block, m2))
+    zb = np.empty((block, m2))
+    for start in range(0, n, block):
+        stop = min(start + block, n)
+        driven = min(stop, n - 1) - start               # the last sample has no interval after it
+        if driven > 0:
+            drive[:driven] = np.dot(window[start:start + driven], taps)
+        for i in range(stop - start):
+            for r in range(m2):
+                zb[i, r] = z[r]
+            if i < driven:
+                for r in range(m):
+                    re = mr[r] * z[r] - mi[r] * z[m + r] + (drive[i, r] + steady[r])
+                    z[m + r] = mr[r] * z[m + r] + mi[r] * z[r] + (drive[i, m + r] + steady[m + r])
+                    z[r] = re
+        y[:, start:stop] = np.dot(out_t, zb[:stop - start].T)
+    return y.T
 
 
 @njit(cache=True)
