@@ -24,7 +24,8 @@ pair counted once) and only the requested outputs ``C x`` are formed; the dense
 trust (:data:`MAX_MODAL_CONDITION`). :func:`modal_step` gives the same step with each mode's
 cubic-input gains in closed form (no matrix exponential) and takes the inputs as windows of
 channels shared by many systems (a batch of parameter points of one scene), so that the drive of
-every point is one product with the same window.
+every point is one product with the same window; it runs block by block (:data:`STEP_BLOCK`
+samples), so the drive, the modal states and the outputs of a block never leave the core's cache.
 """
 
 from __future__ import annotations
