@@ -375,3 +375,29 @@ def test_modal_basis_refuses_defective_and_keeps_normal_matrices() -> None:
     assert lam.shape == (1,)
     assert abs(lam[0] - complex(-zeta * w, w * np.sqrt(1 - zeta ** 2))) <= 1e-12
     assert np.allclose(vinv @ vec, 1.0, atol=1e-12)
+
+
+def test_end_jacobian_closed_form_matches_central_differences_of_the_end_positions() -> None:
+    """The linear fidelity's shaft-end Jacobian (closed form) against central differences of
+    :func:`shaft_ends` (the flexible path's end positions) at rotations of 1e-4 and 1e-2 rad.
+    Tolerance 1e-7 of the largest entry (~6 m/rad): the differences' round-off at a 1e-6 step.
+    Scaling the first bending shape at the hub (entry 1) by 1 + 1e-6 moves its column by 1e-6: it fails."""
+    from ddgsa.models.direct_drive import _end_jacobian, shaft_ends
+
+    model = models.get("direct_drive", fidelity="flexible")
+    asm = model.assemble()
+    rng = np.random.default_rng(3)
+    for scale in (1e-4, 1e-2):
+        p0 = rng.normal(size=11) * scale
+        ends, jac = _end_jacobian(asm, p0)
+        q = np.insert(p0, 3, 0.0)[None, :]
+        np.testing.assert_allclose(ends, shaft_ends(q, asm)[0], rtol=0, atol=1e-14)
+        h = 1e-6
+        fd = np.empty_like(jac)
+        for i in range(p0.size):
+            up, down = p0.copy(), p0.copy()
+            up[i] += h
+            down[i] -= h
+            fd[:, i] = (shaft_ends(np.insert(up, 3, 0.0)[None, :], asm)[0]
+                        - shaft_ends(np.insert(down, 3, 0.0)[None, :], asm)[0]) / (2 * h)
+        assert np.abs(jac - fd).max() <= 1e-7 * np.abs(fd).max(), np.abs(jac - fd).max()

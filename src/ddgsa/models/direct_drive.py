@@ -68,7 +68,8 @@ from ddgsa.mbs.modal import linearise, modal_analysis
 from ddgsa.mbs.linear import (initial_state, input_window, linearise_spinning, lti_response,
                               modal_output_matrix, modal_step, state_matrices)
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
-from ddgsa.mbs.system import SystemArrays, evaluate_terms, integrate, integrate_reference, single_body_arrays
+from ddgsa.mbs.system import (SystemArrays, evaluate_terms, integrate, integrate_reference, single_body_arrays,
+                              static_state)
 from ddgsa.models.base import Model, ModelOutput, ModelParameter, controller_row, register_model
 from ddgsa.objectives import damage_rate
 
@@ -201,8 +202,10 @@ class SceneInputs:
 
     ``channels`` (n_t, 10): hub force ``Fx, Fy, Fz`` [N] and moment ``Mx, My, Mz`` [N m] (aerodynamic),
     the loads model's rotor acceleration [rad/s^2] and speed [rad/s], its controller torque [N m] and
-    a column of ones; ``mean`` their time means; ``window`` their four-sample windows around each
-    interval (:func:`ddgsa.mbs.linear.input_window`), which the linear fidelity's modal drive multiplies.
+    a column of ones; ``mean`` their time means; ``window`` the four-sample windows around each
+    interval (:func:`ddgsa.mbs.linear.input_window`) of all but the column of ones (a constant
+    input's drive is the same every step: :meth:`ddgsa.mbs.linear.ModalStep.outputs`), which the
+    linear fidelity's modal drive multiplies.
     """
 
     scene: Scene
@@ -216,7 +219,7 @@ class SceneInputs:
         raw = generate_columns(scene, ["Fx", "Fy", "Fz", "Mx", "My", "Mz", "rotor_speed", "gen_torque"])
         channels = np.column_stack([raw[:, :6], np.gradient(raw[:, 6], scene.dt), raw[:, 6], raw[:, 7],
                                     np.ones(len(raw))])
-        return cls(scene, channels, channels.mean(axis=0), input_window(channels))
+        return cls(scene, channels, channels.mean(axis=0), input_window(channels[:, :_ONE]))
 
 
 def input_map(p: Mapping[str, float]) -> NDArray[np.float64]:
@@ -330,20 +333,10 @@ class DirectDrive(Model):
         """Static equilibrium under constant hub loads and gravity (spin angle held at 0).
 
         The generator holds the aerodynamic torque (``T0 = -M_x``). Newton iterations with the
-        tangent stiffness; converged when the coordinate update is below ``tol`` (m or rad).
+        tangent stiffness (:func:`~ddgsa.mbs.system.static_state`); converged when the coordinate
+        update is below ``tol`` (m or rad).
         """
-        n = asm.system.n_dof
-        keep = np.array([i for i in range(n) if i != 3])
-        q = np.zeros(n) if q_guess is None else q_guess.copy()
-        qd = np.zeros(n)
-        for _ in range(50):
-            _, f, kt, *_ = evaluate_terms(asm.system, q, qd, force, moment, 0.0, torque0=-float(moment[0]))
-            f_kept = f[keep]
-            step = np.linalg.solve(kt[np.ix_(keep, keep)], f_kept)
-            q[keep] += step
-            if np.max(np.abs(step)) < tol:
-                return q
-        raise RuntimeError("static equilibrium did not converge in 50 Newton iterations")
+        return static_state(asm.system, force, moment, torque0=-float(moment[0]), q_guess=q_guess, tol=tol)
 
     def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         """Time series of the scene: coordinates, rotor speed, end-point displacements, bearing forces, loads.
@@ -378,7 +371,7 @@ class DirectDrive(Model):
         names: list[str] = []
         if self.fidelity == "linear":
             res = self._linear_response(asm, q_st, to_u, inputs, scene.dt, states)
-            ends, bearings = res["ends"], res["spring_forces"]
+            ends, bearings = res["deflections"] + res["static_ends"], res["spring_forces"]
         else:
             q0 = self.static(asm, forces[0], moments[0], q_guess=q_st)      # start at rest under the first loads
             qd0 = np.zeros_like(q0)
@@ -469,7 +462,6 @@ class DirectDrive(Model):
         c_out[0, npos + 3] = 1.0
         c_out[1:7, :npos] = d_ends
         c_out[7:, :npos], c_out[7:, npos:] = springs.d_p, springs.d_v
-        y0 = np.concatenate([[spin], ends0, springs.y0])
         if states:
             c_out = np.vstack([c_out, np.eye(npos + nvel)])
         # LTI inputs w = [u - u0, 1] = channels @ to_w
@@ -483,15 +475,24 @@ class DirectDrive(Model):
         if step is None:                                  # eigenvectors too ill-conditioned: dense recurrence
             y = lti_response(a, bw, inputs.channels @ to_w, dt, x0, c_out=c_out)
         else:
-            y = step.outputs(inputs.window, x0, modal_output_matrix(step.vec, step.lam, c_out), channel_map=to_w)
-        y[:, :y0.size] += y0
-        y[:, 7:y0.size] += inputs.channels @ (to_w[:, :-1] @ springs.d_u.T)
+            y = step.outputs(inputs.window, x0, modal_output_matrix(step.vec, step.lam, c_out),
+                             channel_map=to_w[:_ONE], constant=to_w[_ONE])
+        # y holds C x: the end displacements' part is their deflection about the operating point
+        # (the objectives' reference); speed and spring forces get their operating values
+        # and the forces' feed-through (none for springs between body points and the bedplate)
+        deflections = y[:, 1:7]
+        y[:, 0] += spin
+        y[:, 7:7 + springs.y0.size] += springs.y0
+        if springs.d_u.any():
+            y[:, 7:7 + springs.y0.size] += inputs.channels @ (to_w[:, :-1] @ springs.d_u.T)
         speed = y[:, 0]
-        res = {"speed": speed, "ends": y[:, 1:7], "spring_forces": [y[:, 7 + 3 * b:10 + 3 * b] for b in range(2)],
-               "static_ends": ends0, "max_iterations": 0}
+        res = {"speed": speed, "deflections": deflections,
+               "spring_forces": [y[:, 7 + 3 * b:10 + 3 * b] for b in range(2)], "static_ends": ends0,
+               "max_iterations": 0}
         if states:
             res["torque"] = asm.system.c_torque * (inputs.channels @ to_u[:, 6] - speed)
-            pos = lin.p0 + y[:, y0.size:y0.size + npos]
+            first = 7 + springs.y0.size
+            pos = lin.p0 + y[:, first:first + npos]
             res["q"] = np.insert(pos, 3, 0.0, axis=1)                     # axis points do not see the spin angle
         return res
 
@@ -503,9 +504,8 @@ class DirectDrive(Model):
         u0 = inputs.mean @ to_u
         q_st = self.static(asm, u0[0:3], u0[3:6])
         res = self._linear_response(asm, q_st, to_u, inputs, scene.dt, states=False)
-        ends, static = res["ends"], res["static_ends"]     # the operating point is the static state
-        return objective_values(ends[:, 0:3] - static[0:3], ends[:, 3:6] - static[3:6],
-                                res["speed"], *res["spring_forces"], p, self.rule)
+        ends = res["deflections"]            # about the operating point, which is the static state
+        return objective_values(ends[:, 0:3], ends[:, 3:6], res["speed"], *res["spring_forces"], p, self.rule)
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
         if self.fidelity == "linear":
@@ -562,16 +562,31 @@ def shaft_ends(q: NDArray[np.float64], asm: Assembly) -> NDArray[np.float64]:
     return out
 
 
-def _end_jacobian(asm: Assembly, p0: NDArray[np.float64],
-                  step: float = 1e-7) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Shaft-end displacements ``[hub (3), gen (3)]`` [m] at positions ``p0`` (no spin angle) and their
-    central-difference Jacobian (6, n_p), from one vectorised :func:`shaft_ends` call."""
-    n = p0.size
-    p = np.repeat(p0[None, :], 2 * n + 1, axis=0)
-    p[1:n + 1] += step * np.eye(n)
-    p[n + 1:] -= step * np.eye(n)
-    e = shaft_ends(np.insert(p, 3, 0.0, axis=1), asm)
-    return e[0], ((e[1:n + 1] - e[n + 1:]) / (2 * step)).T
+def _end_jacobian(asm: Assembly, p0: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Shaft-end displacements ``[hub (3), gen (3)]`` [m] at positions ``p0`` (no spin angle: ``[R,
+    theta, psi, q_f]``) and their Jacobian (6, n_p), in closed form.
+
+    An end at ``x0`` with shapes ``S`` sits at ``R + A(0, theta, psi) (x0 e_x + S q_f)`` (``A`` of
+    :func:`_rotations` at spin angle 0), so its derivatives are ``I`` along ``R``, ``dA/dtheta u`` and
+    ``dA/dpsi u`` along the tilts and ``A S`` along the elastic coordinates.
+    """
+    theta, psi, qf = p0[3], p0[4], p0[5:]
+    ct, st, cp, sp = math.cos(theta), math.sin(theta), math.cos(psi), math.sin(psi)
+    a = np.array([[cp * ct, -sp, cp * st], [sp * ct, cp, sp * st], [-st, 0.0, ct]])
+    a_theta = np.array([[-cp * st, 0.0, cp * ct], [-sp * st, 0.0, sp * ct], [-ct, 0.0, -st]])
+    a_psi = np.array([[-sp * ct, -cp, -sp * st], [cp * ct, -sp, cp * st], [0.0, 0.0, 0.0]])
+    ends = np.empty(6)
+    jac = np.zeros((6, p0.size))
+    for rows, x0, shapes in ((slice(0, 3), 0.0, asm.hub_s), (slice(3, 6), asm.length, asm.gen_s)):
+        u = shapes @ qf
+        u[0] += x0
+        ends[rows] = p0[0:3] + a @ u
+        jac[rows, 0:3] = np.eye(3)
+        jac[rows, 3] = a_theta @ u
+        jac[rows, 4] = a_psi @ u
+        jac[rows, 5:] = a @ shapes
+    ends[3] -= asm.length
+    return ends, jac
 
 
 def objectives(sim: pd.DataFrame, params: Mapping[str, float], rule: str, length: float) -> dict[str, float]:
