@@ -24,8 +24,11 @@ nominal coupling (``coupling_asymmetry`` 0.2) that start rings into the band: he
 ``bpfo_housing_2_z`` 1.9e-8 m^2/s^4 at kloss against 2.5e-16 linear (housing 1: 1.5e-7), 5 % of a
 10 N defect's 3.6e-7. The comparison therefore uses ``coupling_asymmetry: 0`` (the defect's
 response does not involve the coupling: the linear fidelity carries the anisotropy as a separate
-2x input). Tolerances: the BPFO band 2 % (measured 0.3 %), the envelope 6 % (measured 3 %, the
-integrator's remaining period error at the 1849 Hz mode, above).
+2x input). So run (kloss at 2.5e-5 s against linear): the BPFO band's increase 3.588e-7 / 3.580e-7
+(10 N) and 1.435e-4 / 1.432e-4 (200 N), 0.2 %; the envelope's 0.0583 / 0.0566 and 23.31 / 22.62,
+3.1 %; healthy 3.4e-19 and 2.2e-15 (kloss), 1.7e-30 and 1.3e-23 (linear); 200 N over 10 N 399.9-400.0.
+Tolerances: the BPFO band 2 %, the envelope 6 % (its 3 % is the integrator's remaining period error
+at the 1849 Hz mode, above).
 """
 
 from __future__ import annotations
