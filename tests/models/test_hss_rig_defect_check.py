@@ -14,7 +14,7 @@ order in the step to the linear value (0.3 % at 2.5e-5 s). The envelope band (50
 impacts' ringing of the 1849 Hz shaft-tilt / housing-2 mode (2.5 % damped), whose BPFO harmonics
 (88 Hz apart, about the mode's half-power bandwidth) it reads: generalised-alpha's period error at
 that mode (about 2.8 % at 5e-5 s, 0.7 % at 2.5e-5 s) moves the resonance among the harmonics, 14 %
-off at 5e-5 s, 3 % at 2.5e-5 s, 0.7 % at 1.25e-5 s. At the study's default 2e-4 s step the ``kloss`` rig cannot be the
+off at 5e-5 s, 3 % at 2.5e-5 s, 0.7 % at 1.25e-5 s. At its default 2e-4 s step the ``kloss`` rig cannot be the
 reference for these outputs; the linear path is exact for its linearisation, and the nonlinear
 rig converges to it. Both are quadratic in the amplitude: 200 N over 10 N gives 400.0 (linear)
 and 399.7-400.1 (kloss) against (200/10)^2 = 400.
