@@ -5,14 +5,22 @@ module. At the nominal point the coupling's two-fold anisotropy (``coupling_asym
 turns against the gravity sag's stretch of the coupling and excites a 2x in the housings; the
 ``linear`` fidelity now carries it in every scene (steady: an external 2x load; transients: a
 turning input of the sweep). Measured on the pilot's 0.45 s steady record at 1500 rpm (this
-round): ``order2x_housing_1_y`` 5.4e-3 apart (before: 0.128 m/s^2 at kloss against 2e-9), the
-disk's 1x 6.4 %, housing RMS 8-43 %. The pilot still keeps ``kloss``, for three reasons none of
-which is the anisotropy: the steady ``linear`` path's ``order1x_motor_torque`` and
-``current_sideband_1x`` are 12-33x the nonlinear rig's (its spinning linearisation's
-lateral-to-torsion terms, docs/hss_rig.md; errors 1.05), the band energies are noise-level numbers
-(relative errors ~1), and the ``kloss`` steady run starts from a periodic state without the
-anisotropy's orbit, so its 0.45 s record still rings (the 2 %-damped bending mode: the disk and
-housing 1x and RMS differences above).
+round): ``order2x_housing_1_y`` 5.4e-3 apart (before: 0.128 m/s^2 at kloss against 2e-9). Measured after
+the spinning linearisation's fix (commit 69f788c), ``linear`` against ``kloss`` (5e-4 s), relative
+errors: the pilot keeps ``kloss`` (largest error 1.0), decided by
+- the band energies (``bpfo_``, ``bpfi_``, ``envbpfo_``: 0.99-1.0): noise-level numbers at the healthy
+  point, ``kloss``'s start ringing in (``bpfo_housing_2_z`` 2.3e-8 against 2.8e-14 m^2/s^4);
+- the motor torque and current (``torque_2f`` 0.96, ``peak_``/``rms_motor_torque`` 0.94/0.93,
+  ``order2x_motor_torque`` 0.93, ``order1x_motor_torque`` 0.90, ``current_sideband_1x`` 0.89): now
+  ``kloss`` carries ~10x more (1x torque 7.2e-5 against 7.5e-6 N m, 2x 5.9e-5 against 4.2e-6), also
+  on a 1.2 s record (7.4e-5, 6.1e-5): the anisotropic coupling turning against its stretch and the
+  unbalance orbit exerts a torque (2x from the stretch, 1x and 3x from stretch x orbit) that the
+  ``linear`` fidelity's external 2x load does not carry. With ``coupling_asymmetry`` 0 they are
+  2.6e-6 (kloss) against 7.7e-6 (linear) for the 1x and 5.1e-6 against 2e-13 for the 2x;
+- the housings' RMS and peaks (0.43-0.73; 0.12-0.36 on the 1.2 s record: ``kloss``'s start without
+  the anisotropy's orbit rings, the 2 %-damped bending mode) and the 1x orders (housing 1 0.155,
+  disk 0.064, also on the 1.2 s record: the parametric term ``dK (q - q_0)`` the linear fidelity
+  drops moves part of the unbalance orbit's 1x; with ``coupling_asymmetry`` 0 they agree within 4e-4).
 """
 
 from __future__ import annotations

@@ -61,6 +61,7 @@ fits and mean little (use ``peak_*``, the peak through resonance, and the order 
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping
 from typing import Any, ClassVar
 
@@ -71,6 +72,7 @@ from ddgsa.errors import ModelError, SceneError
 from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
 from ddgsa.mbs.campbell import CampbellDiagram, mode_row, tracked_frame
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
+from ddgsa.mbs.sampling import AliasingWarning
 from ddgsa.models.base import Model, ModelOutput, register_model
 from ddgsa.models.hss_rig import transient
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
@@ -128,6 +130,11 @@ ENVELOPE_BAND = (500.0, 2000.0)
 around the housings' vertical resonance on bearing and support (about 900 Hz at the nominal values);
 below a 4.4 kHz sample rate its upper end is 0.45 of the rate (500-900 Hz at 2 kHz)."""
 POLE_PAIRS = 2
+_SHOWN: set[tuple[str, str]] = set()
+"""Warnings of :meth:`HssRig.sampling_checks` already issued in this process, as (category, message).
+A study checks every batch's scene and the runner resets Python's own once-per-place memory
+around each batch, so the same aliasing note came once per batch and worker; forked workers
+inherit this set from the study's process, which checks the first scene before forking them."""
 
 
 @register_model("hss_rig")
@@ -411,12 +418,26 @@ class HssRig(Model):
         return figs
 
     def sampling_checks(self, scene: Any) -> list[dict[str, Any]]:
-        """The sensor sample interval against the frequencies the outputs read (at the synchronous speed)."""
+        """The sensor sample interval against the frequencies the outputs read (at the synchronous speed).
+
+        Refuses an aliased record (:class:`~ddgsa.errors.ModelError`) at every call; each distinct
+        :class:`~ddgsa.mbs.sampling.AliasingWarning` is issued once per process (:data:`_SHOWN`;
+        the caller's warning filters then apply as usual), so a study's batches and workers do not
+        repeat it (its sampling table keeps every row).
+        """
         sc = self._scene(scene)
         f_r = sc.speed_hz
-        return sc.sampling_checks({"2 x supply frequency": 2 * POLE_PAIRS * f_r,
-                                   "3 x BPFI": 3 * float(BEARING_GEOMETRY.bpfi(f_r)),
-                                   "2x order": 2 * f_r})
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", AliasingWarning)
+            rows = sc.sampling_checks({"2 x supply frequency": 2 * POLE_PAIRS * f_r,
+                                       "3 x BPFI": 3 * float(BEARING_GEOMETRY.bpfi(f_r)),
+                                       "2x order": 2 * f_r})
+        for w in caught:
+            key = (w.category.__name__, str(w.message))
+            if key not in _SHOWN:
+                _SHOWN.add(key)
+                warnings.warn(w.message, stacklevel=2)
+        return rows
 
 
 def _defect_loads(p: Mapping[str, float], scene: RigScene, spin: float):
