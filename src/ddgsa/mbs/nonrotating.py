@@ -14,7 +14,7 @@ on non-rotating supports gives time-invariant equations
 ``q(z, t)``, projected with ``T = dq/dz`` taken at the perturbed state: the operating point (a
 static sag at speed) is not an equilibrium, and the Galerkin term ``(dT/dz)^T r`` of its residual
 ``r`` belongs in the spin rows (frozen at the operating point, it put a false once-per-revolution
-torque into the test rig's steady runs: 1.2e-4 against 7.7e-6 N m). Inputs (the listed
+torque into the test rig's steady runs: 1.2e-4 N m, now 7.7e-6, the nonlinear rig's 2.6-3.6e-6). Inputs (the listed
 time-varying elements) are projected with ``T(t)`` at every sample; the run is exact for their C1
 cubic interpolant (:func:`ddgsa.mbs.linear.lti_response`), from the periodic steady state of one
 revolution (the cyclic spin angles excluded: nothing depends on them, they drift with any
@@ -88,7 +88,8 @@ class SpinLinearisation:
         return q, qd, qdd
 
     def projection(self, t: float, z: Array | None = None) -> Array:
-        """``T = dq/dz`` (n, n) at time ``t`` and perturbation ``z`` (default: on the operating trajectory)."""
+        """``T = dq/dz`` (n, n) at time ``t`` [s] and perturbation ``z`` (default: on the operating trajectory);
+        dimensionless but for the bending rows' spin column [m/rad, or the bending coordinates' unit per rad]."""
         tmat = np.eye(self.q0.size)
         for k, (iy, iz, isp) in enumerate(self.pairs):
             phi = self.q0[isp] + self.qd0[isp] * (t - self.t0)

@@ -457,7 +457,8 @@ class DirectDrive(Model):
         lin, springs = linearise_spinning(asm.system, np.delete(q_st, 3), spin, u0, pairs)
         npos, nvel = lin.k.shape[1], lin.m.shape[0]
         ends0, d_ends = _end_jacobian(asm, lin.p0)
-        # outputs = y0 + C x + D du with x = [dp, dv]: speed, end displacements, spring forces
+        # outputs C x with x = [dp, dv] (+ the operating speed and spring forces, + D du): speed, end
+        # deflections about the operating point, spring forces
         c_out = np.zeros((1 + 6 + springs.y0.size, npos + nvel))
         c_out[0, npos + 3] = 1.0
         c_out[1:7, :npos] = d_ends

@@ -422,7 +422,7 @@ class HssRig(Model):
 
         Refuses an aliased record (:class:`~ddgsa.errors.ModelError`) at every call; each distinct
         :class:`~ddgsa.mbs.sampling.AliasingWarning` is issued once per process (:data:`_SHOWN`;
-        the caller's warning filters then apply as usual), so a study's batches and workers do not
+        the caller's warning filters then apply as usual, and a message they hide counts as issued), so a study's batches and workers do not
         repeat it (its sampling table keeps every row).
         """
         sc = self._scene(scene)
@@ -434,7 +434,9 @@ class HssRig(Model):
                                        "2x order": 2 * f_r})
         for w in caught:
             key = (w.category.__name__, str(w.message))
-            if key not in _SHOWN:
+            if not issubclass(w.category, AliasingWarning):
+                warnings.warn(w.message, stacklevel=2)          # anything else: as it came
+            elif key not in _SHOWN:
                 _SHOWN.add(key)
                 warnings.warn(w.message, stacklevel=2)
         return rows
