@@ -31,7 +31,7 @@ from scipy.signal import butter, hilbert, periodogram, sosfiltfilt
 
 from ddgsa.errors import DdgsaError
 
-__all__ = ["SignalError", "band_energy", "envelope", "harmonic_amplitudes", "order_amplitudes",
+__all__ = ["SignalError", "angle_amplitudes", "band_energy", "envelope", "harmonic_amplitudes", "order_amplitudes",
            "order_map", "order_spectrum", "plot_order_map", "plot_spectrum", "resample_to_angle",
            "shaft_angle", "slip_sidebands"]
 
@@ -102,8 +102,20 @@ def order_amplitudes(t: ArrayLike, x: ArrayLike, angle: ArrayLike, orders: Seque
     >>> np.round(order_amplitudes(t, x, ang, [1, 2]), 4)
     array([0.5, 0.1])
     """
-    phi, y = resample_to_angle(t, x, angle, samples_per_rev)
-    return _lsq_amplitudes(phi, y, np.asarray(orders, float))
+    return angle_amplitudes(*resample_to_angle(t, x, angle, samples_per_rev), orders)
+
+
+def angle_amplitudes(phi: ArrayLike, y: ArrayLike, orders: Sequence[float]) -> NDArray[np.float64]:
+    """Peak amplitudes of the given ``orders`` in an angle-domain signal ``y`` at uniform shaft
+    angles ``phi`` [rad] (from :func:`resample_to_angle`, when a caller reuses the resampled record).
+
+    Examples
+    --------
+    >>> phi = np.linspace(0, 8 * np.pi, 256, endpoint=False)
+    >>> np.round(angle_amplitudes(phi, 0.3 * np.cos(2 * phi), [1, 2]), 4)
+    array([0. , 0.3])
+    """
+    return _lsq_amplitudes(np.asarray(phi, float), np.asarray(y, float), np.asarray(orders, float))
 
 
 def _lsq_amplitudes(phase: NDArray[np.float64], y: NDArray[np.float64], k: NDArray[np.float64]) -> NDArray[np.float64]:

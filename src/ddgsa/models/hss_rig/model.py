@@ -50,7 +50,8 @@ first three multiples of the ball-pass orders of the 6205, in the order domain s
 covered too) and ``envbpfo_<s>`` (the same BPFO band of the envelope of the record band-passed
 to :data:`ENVELOPE_BAND`: envelope analysis); steady records are low-passed before the angle
 resampling (:data:`ANTI_ALIAS`), so impacts do not fold into the low orders; ``torque_2f``
-(motor torque at twice the supply frequency: supply unbalance), ``current_line`` (current at the supply frequency), ``current_sideband_1x`` (mean of the current
+(motor torque at twice the supply frequency: supply unbalance), ``current_line`` (current at the
+supply frequency), ``current_sideband_1x`` (mean of the current
 at ``f -+ f_r``: mechanical 1x load modulation), ``current_sideband_2s`` (mean at
 ``f (1 -+ 2 s)``: the broken-bar band; no broken bars are modelled, it measures leakage) and
 ``mean_speed_rpm``. Steady records are stationary, so the frequency-domain outputs read exact
@@ -67,6 +68,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
+from scipy.signal import butter, sosfiltfilt
 
 from ddgsa.errors import ModelError, SceneError
 from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
@@ -83,9 +85,7 @@ from ddgsa.models.hss_rig.motor import sequence_phasors
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, build
 from ddgsa.models.hss_rig.scenes import RigScene
-from scipy.signal import butter, sosfiltfilt
-
-from ddgsa.signals import (band_energy, envelope, harmonic_amplitudes, order_amplitudes, order_map, plot_order_map,
+from ddgsa.signals import (angle_amplitudes, band_energy, envelope, harmonic_amplitudes, order_map, plot_order_map,
                            plot_spectrum, resample_to_angle)
 
 ACCELEROMETERS = ("housing_1_y", "housing_1_z", "housing_2_y", "housing_2_z")
@@ -422,8 +422,9 @@ class HssRig(Model):
 
         Refuses an aliased record (:class:`~ddgsa.errors.ModelError`) at every call; each distinct
         :class:`~ddgsa.mbs.sampling.AliasingWarning` is issued once per process (:data:`_SHOWN`;
-        the caller's warning filters then apply as usual, and a message they hide counts as issued), so a study's batches and workers do not
-        repeat it (its sampling table keeps every row).
+        the caller's warning filters then apply as usual, and a message they hide counts as
+        issued), so a study's batches and workers do not repeat it (its sampling table keeps every
+        row); other warnings pass as they come.
         """
         sc = self._scene(scene)
         f_r = sc.speed_hz
@@ -516,20 +517,20 @@ def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str,
     out: dict[str, float] = {}
     f_r = float(np.mean(s["speed"])) / (2 * math.pi)
     smooth = _anti_alias(t, f_r) if scene.kind == "steady" else (lambda x: x)
+    bpfo, bpfi = float(BEARING_GEOMETRY.bpfo()), float(BEARING_GEOMETRY.bpfi())
     for name in SENSORS:
         x = s[name].to_numpy()
         dev = x - x.mean()
         out[f"rms_{name}"] = float(np.sqrt(np.mean(dev**2)))
         out[f"peak_{name}"] = float(np.max(np.abs(dev)))
-        a1, a2 = order_amplitudes(t, smooth(x), angle, [1.0, 2.0], SAMPLES_PER_REV)
+        phi, y = resample_to_angle(t, smooth(x), angle, SAMPLES_PER_REV)     # once: orders and bands
+        a1, a2 = angle_amplitudes(phi, y, [1.0, 2.0])
         out[f"order1x_{name}"], out[f"order2x_{name}"] = float(a1), float(a2)
-    bpfo, bpfi = float(BEARING_GEOMETRY.bpfo()), float(BEARING_GEOMETRY.bpfi())
-    for name in ACCELEROMETERS:
-        phi, y = resample_to_angle(t, smooth(s[name].to_numpy()), angle, SAMPLES_PER_REV)
-        revs = phi / (2 * math.pi)
-        out[f"bpfo_{name}"] = band_energy(revs, y, bpfo, 0.25, harmonics=3)
-        out[f"bpfi_{name}"] = band_energy(revs, y, bpfi, 0.25, harmonics=3)
-        out[f"envbpfo_{name}"] = _envelope_bpfo(t, s[name].to_numpy(), angle)
+        if name in ACCELEROMETERS:
+            revs = phi / (2 * math.pi)
+            out[f"bpfo_{name}"] = band_energy(revs, y, bpfo, 0.25, harmonics=3)
+            out[f"bpfi_{name}"] = band_energy(revs, y, bpfi, 0.25, harmonics=3)
+            out[f"envbpfo_{name}"] = _envelope_bpfo(t, x, angle)
     f = drive.motor.supply_frequency
     slip = 1.0 - f_r * drive.motor.pole_pairs / f
     out["torque_2f"] = float(harmonic_amplitudes(t, s["motor_torque"].to_numpy(), [2 * f])[0])
