@@ -1,4 +1,4 @@
-"""The ``ddgsa`` command: ``run``, ``validate``, ``models``, ``report``, ``bench``, ``modes``.
+"""The ``ddgsa`` command: ``run``, ``validate``, ``models``, ``report``, ``html``, ``export``, ``bench``, ``modes``.
 
 Exit codes: 0 success; 1 a failure while running (also: the output folder is busy with
 another run); 2 invalid input (study file, options, an output folder of another study);
@@ -62,6 +62,15 @@ def _parser() -> argparse.ArgumentParser:
     rep = sub.add_parser("report", help="rebuild tables and plots from a run's stored evaluations", parents=[common])
     rep.add_argument("dir", type=Path)
     rep.add_argument("--allow-untrusted", action="store_true", help="exit 0 even with untrusted results")
+    htm = sub.add_parser("html", help="write report.html into each results folder from the files stored there "
+                                      "(no evaluation store needed)", parents=[common])
+    htm.add_argument("dirs", type=Path, nargs="+", metavar="DIR")
+    exp = sub.add_parser("export", help="a results folder's indices, bounds, flags, moments and fault statistics as "
+                                        "labelled arrays (xarray; NetCDF, Zarr or tidy CSV)", parents=[common])
+    exp.add_argument("dir", type=Path)
+    exp.add_argument("--format", choices=["netcdf", "zarr", "csv"], default="netcdf")
+    exp.add_argument("--out", type=Path, help="where to write (default DIR/indices.nc, DIR/indices.zarr or "
+                                              "DIR/indices_long.csv)")
     ben = sub.add_parser("bench", help="speed of each fidelity (default), accuracy against cost of each method, "
                                        "the calibration of every method's trusted flag, scaling, or the indirect drive",
                          parents=[common])
@@ -136,6 +145,21 @@ def _dispatch(args: argparse.Namespace) -> int:
         return _report(args)
     if args.command == "bench":
         return _bench(args)
+    if args.command == "html":
+        from ddgsa.html_report import write_html
+
+        for folder in args.dirs:
+            path = write_html(folder)
+            if not args.quiet:
+                print(f"wrote {path} ({path.stat().st_size / 1e3:.0f} kB)")
+        return EXIT_OK
+    if args.command == "export":
+        from ddgsa.export import export_folder
+
+        path = export_folder(args.dir, args.format, args.out)
+        if not args.quiet:
+            print(f"wrote {path}")
+        return EXIT_OK
     if args.command == "modes":
         return _modes(args)
     return EXIT_INPUT  # pragma: no cover (argparse requires a command)
@@ -184,12 +208,15 @@ def _modes(args: argparse.Namespace) -> int:
                          "without --campbell gives its modes)")
     diagram.to_frame().to_csv(out / "campbell.csv", index=False)
     diagram.plot().figure.savefig(out / "campbell.png", dpi=120, bbox_inches="tight")
+    from ddgsa.html_report import write_html
+
+    write_html(out)
     if not args.quiet:
         for order in args.orders:
             cross = diagram.crossings(order)
             for _, row in cross.iterrows():
                 print(f"{order:g}P crosses mode {row['mode']} at {row['speed_rpm']:.2f} rpm ({row['frequency_hz']:.3g} Hz)")
-        print(f"wrote {out / 'campbell.csv'} and {out / 'campbell.png'}")
+        print(f"wrote {out / 'campbell.csv'}, {out / 'campbell.png'} and {out / 'report.html'}")
     return EXIT_OK
 
 

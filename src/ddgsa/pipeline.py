@@ -60,6 +60,30 @@ class StudyResult:
     moments: pd.DataFrame | None = None
     """Per scene and output: ``mean``, ``std``, ``cv`` (std / |mean|) and their ``source``."""
 
+    def to_xarray(self) -> Any:
+        """Indices, bounds, flags, moments and fault statistics as an :class:`xarray.Dataset` with
+        dimensions (scene, output, parameter, method[, fault_level]), the scene fields as coordinates
+        and CF-style units and meanings (:func:`ddgsa.export.to_dataset`)."""
+        from ddgsa.export import to_dataset
+
+        model = self.study.make_model()
+        units = {o: model.output(o).unit for o in self.study.outputs if o in model.outputs}
+        return to_dataset(self.indices, self.study.scene_fields, self.moments, self.fault, self.fault_indices,
+                          self.diagnostics, {"study": self.study.name, "model": self.study.spec.model.name}, units)
+
+    def _repr_html_(self) -> str:
+        """The study's indices as an HTML table in Jupyter (untrusted rows shaded)."""
+        from ddgsa.notebook import result_html
+
+        ev = self.provenance.get("evaluations", {})
+        facts = [f"model {self.study.spec.model.name} ({self.study.spec.model.fidelity}), "
+                 f"{ev.get('total', '?')} evaluations, {ev.get('failed', '?')} failed"]
+        if len(self.indices):
+            bad = self.indices[~self.indices["trusted"].astype(bool)]
+            facts.append("every row trusted" if bad.empty else
+                         f"{len(bad)} of {len(self.indices)} rows untrusted (outputs: {', '.join(bad['output'].unique())})")
+        return result_html(f"study {self.study.name}", facts, self.indices)
+
 
 SAMPLE_DESIGNS = ("saltelli", "fast", "rbd_fast", "pce")
 """Methods whose every design point is a draw from the input distribution (pce unless fitted by quadrature)."""

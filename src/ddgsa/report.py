@@ -5,6 +5,7 @@ opens with what each output is, its mean and coefficient of variation, then rank
 by S1 and ST with a sentence per output naming what dominates, and lists every problem (refused
 or untrusted outputs, failure reasons, implausible values). Files an earlier report wrote that
 this one does not are removed (:mod:`ddgsa.outdir`). PNGs carry no software/date metadata.
+``report.html`` (:mod:`ddgsa.html_report`) is written last, from the files written here.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import pandas as pd  # noqa: E402
 
 from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.result import draw_index_bars  # noqa: E402
+from ddgsa.html_report import HTML_NAME, write_html  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.outdir import previous_files, remove_stale  # noqa: E402
 from ddgsa.pipeline import StudyResult  # noqa: E402
@@ -95,10 +97,11 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     path.write_text(summary_markdown(result, info))
     written.append(path)
     path = out / "provenance.json"
-    names = sorted({p.name for p in written} | {path.name})
+    names = sorted({p.name for p in written} | {path.name, HTML_NAME})
     result.provenance["files"] = names
     path.write_text(json.dumps(result.provenance, indent=2, default=str))
     written.append(path)
+    written.append(write_html(out))
     remove_stale(out, before, names)
     return written
 

@@ -126,6 +126,17 @@ class SobolResult:
         out["n_evals"] = self.n_evals
         return out
 
+    def _repr_html_(self) -> str:
+        """The indices as an HTML table in Jupyter, untrusted rows shaded, with the diagnostics that fired."""
+        from ddgsa.notebook import result_html
+
+        facts = [f"{self.n_evals} model evaluations",
+                 "every row trusted" if self.trusted else f"{int((~self.indices['trusted']).sum())} rows untrusted"]
+        facts += [f"{d.name} ({d.severity}): {d.message}" for d in self.diagnostics[:5]]
+        if len(self.diagnostics) > 5:
+            facts.append(f"... and {len(self.diagnostics) - 5} more diagnostics (result.diagnostics)")
+        return result_html(f"Sobol indices, method {self.method}", facts, self.indices)
+
     def diagnostics_frame(self) -> pd.DataFrame:
         """Diagnostics as a table (one row each)."""
         cols = ["name", "severity", "output", "parameter", "value", "message"]

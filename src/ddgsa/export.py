@@ -1,0 +1,191 @@
+"""A study's indices, bounds, flags, moments and fault statistics as labelled arrays (xarray).
+
+:func:`to_dataset` turns the report's tables (the same ones ``indices.csv``, ``output_moments.csv``,
+``fault_verdicts.csv`` ... hold) into one :class:`xarray.Dataset`:
+
+=====================  ================================================  ===========================
+variable               dimensions                                        meaning
+=====================  ================================================  ===========================
+S1, ST                 scene, output, parameter, method                  Sobol indices [1]
+S1_conf, ST_conf       scene, output, parameter, method                  error estimate (bound or
+                                                                         bootstrap half-width) [1]
+trusted                scene, output, parameter, method                  1: within ``tolerance``
+n_evals                scene, output, method                             model runs spent
+mean, std, cv          scene, output                                     output moments [output_unit]
+pod, auc, ...          scene, output, fault_level                        fault detectability
+ST_faulty ...          scene, output, parameter, method, fault_level     indices with the fault
+diagnostic_*           diagnostic                                        one row per diagnostic
+=====================  ================================================  ===========================
+
+The scene fields (``wind_speed``, ``speed_rpm`` ...) are coordinates along ``scene``; each output's
+unit is the coordinate ``output_unit``. Attributes follow CF conventions where they apply
+(``units``, ``long_name``, ``flag_values``/``flag_meanings``; ``1`` for dimensionless). A
+missing combination (a method that did not run in a scene) is NaN. :func:`export_folder` writes
+a results folder's dataset as NetCDF (``h5netcdf``), Zarr (when ``zarr`` is installed) or one tidy
+CSV.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ddgsa.errors import OutputFolderError
+
+INDEX_VARS = {"S1": "first-order Sobol index", "ST": "total Sobol index",
+              "S1_conf": "error estimate of S1 (bound or bootstrap half-width)",
+              "ST_conf": "error estimate of ST (bound or bootstrap half-width)"}
+FAULT_VARS = {"pod": "probability of detection at the false-alarm rate", "pod_low": "lower end of the POD interval",
+              "pod_high": "upper end of the POD interval", "auc": "ROC area under the curve",
+              "auc_low": "lower end of the AUC interval", "auc_high": "upper end of the AUC interval",
+              "effect_size": "standardised mean shift between the faulty and healthy populations",
+              "threshold": "alarm threshold", "ST_fault": "total index of the fault parameter"}
+FORMATS = ("netcdf", "zarr", "csv")
+
+
+def _xr() -> Any:
+    try:
+        import xarray
+    except ImportError:     # pragma: no cover -- a runtime dependency
+        raise OutputFolderError("labelled arrays need xarray: pip install xarray h5netcdf") from None
+    return xarray
+
+
+def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataFrame | None = None,
+               fault: pd.DataFrame | None = None, fault_indices: pd.DataFrame | None = None,
+               diagnostics: pd.DataFrame | None = None, attrs: dict[str, Any] | None = None,
+               units: dict[str, str] | None = None) -> Any:
+    """The tables of a study as one :class:`xarray.Dataset` (see the module docstring).
+
+    Parameters
+    ----------
+    indices : DataFrame
+        One row per (scene, method, output, parameter): ``S1, S1_conf, ST, ST_conf, trusted, n_evals``
+        and the scene fields.
+    scene_fields : list of str
+        The columns of ``indices`` that label a scene (coordinates along ``scene``).
+    moments, fault, fault_indices, diagnostics : DataFrame, optional
+        ``output_moments``, ``fault_verdicts``, ``fault_indices`` and ``diagnostics`` tables.
+    attrs : dict, optional
+        Global attributes (study name, model, provenance summary).
+    units : dict of str to str, optional
+        Unit of each output (else ``indices["output_unit"]`` where present).
+    """
+    xr = _xr()
+    idx = indices.copy()
+    idx["trusted"] = idx["trusted"].astype(str).str.lower().eq("true").astype("int8")
+    key = ["scene", "output", "parameter", "method"]
+    cube = idx.set_index(key)[[*INDEX_VARS, "trusted"]]
+    ds = xr.Dataset.from_dataframe(cube)
+    ds["n_evals"] = xr.DataArray.from_series(idx.groupby(["scene", "output", "method"])["n_evals"].first())
+    for name, meaning in INDEX_VARS.items():
+        ds[name].attrs = {"units": "1", "long_name": meaning}
+    ds["n_evals"].attrs = {"units": "1", "long_name": "model evaluations the method spent in the scene"}
+    scenes = idx.groupby("scene")[scene_fields].first() if scene_fields else None
+    if scenes is not None:
+        ds = ds.assign_coords({f: ("scene", scenes[f].reindex(ds["scene"].values).to_numpy()) for f in scene_fields})
+    if moments is not None and len(moments):
+        mom = xr.Dataset.from_dataframe(moments.set_index(["scene", "output"])[["mean", "std", "cv"]])
+        ds = ds.merge(mom, join="outer")
+        ds["mean"].attrs = {"long_name": "mean of the output", "units_from": "output_unit"}
+        ds["std"].attrs = {"long_name": "standard deviation of the output", "units_from": "output_unit"}
+        ds["cv"].attrs = {"units": "1", "long_name": "coefficient of variation std / |mean|"}
+    if fault is not None and len(fault):
+        fv = fault.rename(columns={"faulty": "fault_level"}).set_index(["scene", "output", "fault_level"])
+        cols = [c for c in FAULT_VARS if c in fv]
+        fv = fv.assign(detectable=fv["detectable"].astype(str).map({"True": 1.0, "False": 0.0}))
+        ds = ds.merge(xr.Dataset.from_dataframe(fv[[*cols, "detectable"]]), join="outer")
+        for c in cols:
+            ds[c].attrs = {"long_name": FAULT_VARS[c], **({"units": "1"} if c != "threshold" else {})}
+        ds["fault_level"].attrs = {"long_name": f"level of the fault parameter {fault['fault'].iloc[0]}"}
+        ds.attrs.update(fault=str(fault["fault"].iloc[0]), fault_healthy=float(fault["healthy"].iloc[0]),
+                        false_alarm=float(fault["false_alarm"].iloc[0]))
+    if fault_indices is not None and len(fault_indices):
+        fi = fault_indices.rename(columns={"level": "fault_level"}).set_index(
+            ["scene", "output", "parameter", "method", "fault_level"])
+        sub = fi[["S1", "ST", "dS1", "dST"]].add_suffix("_faulty")
+        ds = ds.merge(xr.Dataset.from_dataframe(sub), join="outer")
+        for c in sub.columns:
+            ds[c].attrs = {"units": "1", "long_name": f"{c[:-7]} of the other parameters with the fault at fault_level"
+                           + (" minus healthy" if c.startswith("d") else "")}
+    if diagnostics is not None and len(diagnostics):
+        d = diagnostics.reset_index(drop=True).astype({c: str for c in ("method", "name", "severity", "output",
+                                                                          "parameter", "message") if c in diagnostics})
+        for c in d.columns:
+            ds[f"diagnostic_{c}"] = ("diagnostic", d[c].to_numpy())
+        ds["diagnostic_value"].attrs = {"long_name": "the number the diagnostic checked"}
+    # after the merges, which may add outputs (the fault's ``combined`` discriminant) and levels
+    ds["trusted"] = ds["trusted"].fillna(-1).astype("int8")
+    ds["trusted"].attrs = {"long_name": "every index of the row within the method's tolerance of the truth",
+                           "flag_values": np.array([-1, 0, 1], "int8"), "flag_meanings": "not_computed untrusted trusted"}
+    if "detectable" in ds:
+        ds["detectable"] = ds["detectable"].fillna(-1).astype("int8")
+        ds["detectable"].attrs = {"flag_values": np.array([-1, 0, 1], "int8"),
+                                  "flag_meanings": "refused_or_not_assessed not_detectable detectable"}
+    unit_of = dict(units or {})
+    if "output_unit" in idx:
+        unit_of.update(idx.groupby("output")["output_unit"].first().dropna().to_dict())
+    ds = ds.assign_coords({c: ds[c].astype(str) for c in ("output", "parameter", "method") if c in ds.coords})
+    ds = ds.assign_coords(output_unit=("output", [str(unit_of.get(o, "")) for o in ds["output"].values]))
+    ds["output_unit"].attrs = {"long_name": "unit of the output (UDUNITS where it applies; empty: dimensionless "
+                                            "score or not declared)"}
+    for c in ("scene", "output", "parameter", "method"):
+        if c in ds.coords:
+            ds[c].attrs.setdefault("long_name", c)
+    ds.attrs.update({"Conventions": "CF-1.10", "title": "Sobol sensitivity indices (ddgsa)", **(attrs or {})})
+    return ds
+
+
+def folder_dataset(folder: Path) -> Any:
+    """The dataset of a results folder, from its ``indices.csv`` and the other tables beside it."""
+    import json
+
+    folder = Path(folder)
+    path = folder / "indices.csv"
+    if not path.is_file():
+        raise OutputFolderError(f"{folder}: no indices.csv (export needs a GSA or fault study's results folder)")
+    indices = pd.read_csv(path)
+
+    def table(name: str) -> pd.DataFrame | None:
+        p = folder / name
+        return pd.read_csv(p) if p.is_file() and p.stat().st_size else None
+
+    meta = {"study", "scene", "method", "output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted",
+            "n_evals", "output_unit", "source"}
+    fields = [c for c in indices.columns if c not in meta]
+    prov = json.loads((folder / "provenance.json").read_text()) if (folder / "provenance.json").is_file() else {}
+    attrs = {k: v for k, v in {"study": prov.get("study") or folder.name,
+                               "model": (prov.get("model") or {}).get("name"),
+                               "fidelity": (prov.get("model") or {}).get("fidelity"),
+                               "created_utc": prov.get("created_utc"),
+                               "ddgsa_commit": (prov.get("code") or {}).get("commit"),
+                               "source": str(folder)}.items() if v}
+    return to_dataset(indices, fields, table("output_moments.csv"), table("fault_verdicts.csv"),
+                      table("fault_indices.csv"), table("diagnostics.csv"), attrs)
+
+
+def export_folder(folder: Path, fmt: str = "netcdf", out: Path | None = None) -> Path:
+    """Write a results folder's dataset: NetCDF 4 (``indices.nc``), Zarr (``indices.zarr``) or a tidy
+    CSV of the index cube (``indices_long.csv``); returns the path written."""
+    if fmt not in FORMATS:
+        raise OutputFolderError(f"--format {fmt!r}: allowed {', '.join(FORMATS)}")
+    ds = folder_dataset(folder)
+    folder = Path(folder)
+    if fmt == "netcdf":
+        path = out or folder / "indices.nc"
+        ds.to_netcdf(path, engine="h5netcdf")
+    elif fmt == "zarr":
+        try:
+            import zarr  # noqa: F401
+        except ImportError:
+            raise OutputFolderError("--format zarr needs the zarr package: pip install zarr") from None
+        path = out or folder / "indices.zarr"
+        ds.to_zarr(path, mode="w", zarr_format=2)     # v2: string arrays readable by every Zarr library
+    else:
+        path = out or folder / "indices_long.csv"
+        cube = ds[[*INDEX_VARS, "trusted"]].to_dataframe().reset_index()
+        cube[cube["trusted"] >= 0].to_csv(path, index=False, float_format="%.6g")
+    return Path(path)
