@@ -63,7 +63,7 @@ def test_sampling_is_reproducible_and_in_distribution() -> None:
 def test_roundtrip_and_salib_export() -> None:
     space = ParameterSpace.from_dict(SPECS)
     assert ParameterSpace.from_dict(space.to_dict()) == space
-    prob = space.to_salib_problem()
+    prob = space.to_salib()
     assert prob["dists"] == ["unif", "norm", "lognorm", "truncnorm", "triang"]
     assert prob["bounds"][4] == pytest.approx([0.0, 1.0, 0.3])
 

@@ -365,12 +365,71 @@ class ParameterSpace:
         """Points (n, dim) as a DataFrame with one column per parameter."""
         return pd.DataFrame(np.atleast_2d(points), columns=list(self.names))
 
-    def to_salib_problem(self) -> dict[str, Any]:
-        """The space as a SALib problem dict (``num_vars``, ``names``, ``bounds``, ``dists``).
+    def to_salib(self, groups: Mapping[str, str] | None = None) -> dict[str, Any]:
+        """The space as a SALib problem dict (``num_vars``, ``names``, ``bounds``, ``dists``, and
+        ``groups`` when given), which ``SALib.ProblemSpec(space.to_salib())`` accepts.
 
         ddgsa's own SALib methods sample the unit hypercube and map it with :meth:`ppf`;
         this export is for users who want to call SALib directly.
+
+        Parameters
+        ----------
+        groups : mapping of str to str, optional
+            Group name of every parameter (SALib's grouped indices).
         """
         entries = [p.salib_entry() for p in self.parameters]
-        return {"num_vars": self.dim, "names": list(self.names),
-                "dists": [d for d, _ in entries], "bounds": [b for _, b in entries]}
+        problem: dict[str, Any] = {"num_vars": self.dim, "names": list(self.names),
+                                   "dists": [d for d, _ in entries], "bounds": [b for _, b in entries]}
+        if groups is not None:
+            missing = [n for n in self.names if n not in groups]
+            if missing:
+                raise SpaceError(f"groups: no group for parameter(s) {missing}")
+            problem["groups"] = [str(groups[n]) for n in self.names]
+        return problem
+
+    @classmethod
+    def from_salib(cls, problem: Mapping[str, Any]) -> "ParameterSpace":
+        """The space of a SALib problem dict or ``ProblemSpec`` (``names``, ``bounds``, ``dists``;
+        no ``dists``: all uniform). SALib's ``unif``, ``norm``, ``lognorm`` (of log X), ``truncnorm``
+        and ``triang`` (low, high, peak as a fraction of the width) map to ddgsa's distributions;
+        ``groups`` are SALib's grouping of the indices and are not part of the space.
+
+        Raises
+        ------
+        SpaceError
+            Naming the entry: missing keys, lengths that disagree, a distribution ddgsa lacks
+            (``logunif``, ``weibull``) or invalid bounds.
+        """
+        if not isinstance(problem, Mapping):
+            raise SpaceError(f"a SALib problem is a mapping with names, bounds and dists, got {type(problem).__name__}")
+        missing = [k for k in ("names", "bounds") if k not in problem]
+        if missing:
+            raise SpaceError(f"SALib problem: missing key(s) {missing} (a problem has names, bounds, dists)")
+        names, bounds = list(problem["names"]), list(problem["bounds"])
+        dists = list(problem.get("dists") or ["unif"] * len(names))
+        if not len(names) == len(bounds) == len(dists) or problem.get("num_vars", len(names)) != len(names):
+            raise SpaceError(f"SALib problem: names ({len(names)}), bounds ({len(bounds)}), dists ({len(dists)}) "
+                             f"and num_vars ({problem.get('num_vars', len(names))}) must agree")
+        return cls(tuple(Parameter.from_spec(n, _salib_spec(n, d, b)) for n, d, b in zip(names, dists, bounds)))
+
+
+_SALIB_ARGS = {"unif": ("uniform", ("low", "high")), "norm": ("normal", ("mean", "std")),
+               "lognorm": ("lognormal", ("mu", "sigma")), "truncnorm": ("truncnormal", ("low", "high", "mean", "std"))}
+
+
+def _salib_spec(name: str, dist: str, bounds: Any) -> dict[str, Any]:
+    """ddgsa's specification of one SALib ``(dist, bounds)`` entry (inverse of :meth:`Parameter.salib_entry`)."""
+    b = list(bounds) if isinstance(bounds, Iterable) and not isinstance(bounds, str) else [bounds]
+    if dist == "triang":
+        if len(b) not in (2, 3):
+            raise SpaceError(f"SALib problem: parameter {name!r}: triang needs [low, high, peak fraction], got {b}")
+        low, high, c = (b if len(b) == 3 else [0.0, *b])
+        low, high, c = (_as_float(name, k, v) for k, v in zip(("low", "high", "peak"), (low, high, c)))
+        return {"dist": "triangular", "low": low, "high": high, "mode": low + c * (high - low)}
+    if dist not in _SALIB_ARGS:
+        raise SpaceError(f"SALib problem: parameter {name!r}: dist {dist!r} has no ddgsa counterpart; allowed: "
+                         f"{', '.join([*_SALIB_ARGS, 'triang'])}")
+    ours, keys = _SALIB_ARGS[dist]
+    if len(b) != len(keys):
+        raise SpaceError(f"SALib problem: parameter {name!r}: {dist} needs bounds [{', '.join(keys)}], got {b}")
+    return {"dist": ours, **dict(zip(keys, b))}

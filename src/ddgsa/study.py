@@ -28,6 +28,7 @@ measurement noise per output, the false-alarm rate, POD target and confidence le
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 import hashlib
 import itertools
@@ -424,12 +425,32 @@ def load_study(path: str | Path) -> Study:
     return validate_study(data, p, text)
 
 
+def salib_parameters(file: str, path: Path | None = None) -> dict[str, dict[str, Any]]:
+    """``parameters: FILE``: the study's parameters from a SALib problem, a JSON or YAML mapping
+    (``names``, ``bounds``, ``dists``) or SALib's text parameter file (``name,low,high[,group[,dist]]``
+    per line), relative to the study file's folder (:meth:`ParameterSpace.from_salib`)."""
+    from SALib.util import read_param_file
+
+    src = (path.parent if path is not None else Path.cwd()) / file
+    field = f"{_where(path)}: field 'parameters'"
+    if not src.is_file():
+        raise StudyError(f"{field}: SALib problem file {src} not found (a mapping of parameters, or a file name)")
+    try:
+        problem = (YAML(typ="safe", pure=True).load(src.read_text()) if src.suffix in (".json", ".yaml", ".yml")
+                   else read_param_file(str(src)))
+        return ParameterSpace.from_salib(problem).to_dict()
+    except (DdgsaError, ValueError, KeyError, YAMLError, csv.Error) as exc:
+        raise StudyError(f"{field}: SALib problem file {src}: {exc}") from None
+
+
 def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study:
     """Validate a study given as data (see :func:`load_study`)."""
     where = _where(path)
     if not isinstance(data, dict):
         raise StudyError(f"{where}: a study is a mapping of fields (name, model, parameters, ...), "
                          f"got {type(data).__name__}")
+    if isinstance(data.get("parameters"), str):
+        data = {**data, "parameters": salib_parameters(data["parameters"], path)}
     try:
         spec = StudySpec.model_validate(data)
     except ValidationError as exc:
