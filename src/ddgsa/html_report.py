@@ -387,11 +387,12 @@ def _convergence(folder: Path) -> str:
     if ac is None or not len(ac):
         return ""
     parts = []
+    color = {m: k for k, m in enumerate(sorted(ac["method"].unique()))}     # a method's colour on every chart
     for fn, g in ac.groupby("function", sort=False):
         med = g.groupby(["method", "options"], sort=False)[["n_evals", "err_ST"]].median().reset_index()
         lines = [Line(str(m), gm["n_evals"].to_numpy(float), np.maximum(gm["err_ST"].to_numpy(float), 1e-16),
-                      notes=list(gm["options"].astype(str)))
-                 for m, gm in med.sort_values("n_evals").groupby("method", sort=False)]
+                      notes=list(gm["options"].astype(str)), color=color[m])
+                 for m, gm in med.sort_values(["method", "n_evals"]).groupby("method", sort=True)]
         parts.append(_figure(xy_chart(lines, "model runs [runs]", "median max |ST error| [-]", str(fn),
                                       xlog=True, ylog=True),
                              f"{fn}: median over seeds of the largest ST error against the runs spent", "convergence"))

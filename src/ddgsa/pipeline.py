@@ -71,6 +71,10 @@ class StudyResult:
         return to_dataset(self.indices, self.study.scene_fields, self.moments, self.fault, self.fault_indices,
                           self.diagnostics, {"study": self.study.name, "model": self.study.spec.model.name}, units)
 
+    def __repr__(self) -> str:
+        return (f"StudyResult(study={self.study.name!r}, {len(self.indices)} index rows, "
+                f"{len(self.evaluations)} evaluations)")
+
     def _repr_html_(self) -> str:
         """The study's indices as an HTML table in Jupyter (untrusted rows shaded)."""
         from ddgsa.notebook import result_html

@@ -64,7 +64,9 @@ class Scale:
     def ticks(self, n: int = 5) -> list[float]:
         """Round tick values inside the range (decades on a log scale)."""
         if self.log:
-            return [10.0 ** k for k in range(math.ceil(self.lo - 1e-9), math.floor(self.hi + 1e-9) + 1)]
+            first, last = math.ceil(self.lo - 1e-9), math.floor(self.hi + 1e-9)
+            step = max(1, math.ceil((last - first + 1) / (n + 2)))     # at most ~n + 2 decades labelled
+            return [10.0 ** k for k in range(first, last + 1, step)]
         step = 10 ** math.floor(math.log10((self.hi - self.lo) / n))
         step *= next(m for m in (1, 2, 2.5, 5, 10) if (self.hi - self.lo) / (step * m) <= n)
         first = math.ceil(self.lo / step - 1e-9)
@@ -89,15 +91,15 @@ def _svg(height: float, body: list[str], label: str) -> str:
             f'aria-label="{escape(label)}" font-family="sans-serif">' + "".join(body) + "</svg>")
 
 
-def _legend(labels: Sequence[str], x: float, y: float, styles: Sequence[str] | None = None) -> list[str]:
-    """Legend entries in a row from (x, y), wrapping at the chart width; ``styles``: each swatch's
-    SVG attributes (default: filled with the series colour)."""
+def _legend(labels: Sequence[str], x: float, y: float, colors: Sequence[str] | None = None) -> list[str]:
+    """Legend entries in a row from (x, y), wrapping at the chart width; ``colors``: each swatch's
+    colour (default: :data:`COLORS` in order)."""
     out, cx, cy = [], x, y
     for k, lab in enumerate(labels):
         w = 22 + 6.2 * len(lab)
         if cx + w > WIDTH - 10 and cx > x:
             cx, cy = x, cy + 16
-        style = styles[k] if styles else f'fill="{COLORS[k % len(COLORS)]}"'
+        style = f'fill="{colors[k] if colors else COLORS[k % len(COLORS)]}"'
         out.append(f'<g class="legend-item" data-series="{k}"><rect x="{_f(cx)}" y="{_f(cy - 9)}" width="12" '
                    f'height="10" {style}/>' + _text(cx + 16, cy, lab) + "</g>")
         cx += w
@@ -205,6 +207,8 @@ class Line:
     hollow: Sequence[bool] | None = None
     notes: Sequence[str] | None = None
     dashed: bool = False
+    color: int | None = None
+    """Index into :data:`COLORS` (default: the series' position), so a name keeps its colour across charts."""
 
 
 @dataclass
@@ -229,7 +233,8 @@ def xy_chart(series: Sequence[Line], xlabel: str, ylabel: str, title: str = "", 
     x = Scale(*(xlim or _range(xs, xlog)), 60.0, WIDTH - 14, xlog)
     y = Scale(*(ylim or _range(ys, ylog)), bottom, top, ylog)
     body = [_text(WIDTH / 2, 14, title, "middle", 12, ' font-weight="bold"')] if title else []
-    body += _legend(labels, 60.0, top - legend_height(labels) + 4)
+    colors = [COLORS[(k if s.color is None else s.color) % len(COLORS)] for k, s in enumerate(series)]
+    body += _legend(labels, 60.0, top - legend_height(labels) + 4, colors)
     body += _x_axis(x, top, bottom, xlabel) + _y_axis(y, 60.0, WIDTH - 14, ylabel)
     ok_x = (lambda v: np.isfinite(v) and (v > 0 or not xlog))
     ok_y = (lambda v: np.isfinite(v) and (v > 0 or not ylog))
@@ -240,8 +245,7 @@ def xy_chart(series: Sequence[Line], xlabel: str, ylabel: str, title: str = "", 
     for g in guides:
         body.append(f'<path d="M{_f(x(g.x[0]))} {_f(y(g.y[0]))}L{_f(x(g.x[1]))} {_f(y(g.y[1]))}" stroke="#999" '
                     f'stroke-dasharray="4 3"><title>{escape(g.label)}</title></path>')
-    for k, s in enumerate(series):
-        color = COLORS[k % len(COLORS)]
+    for k, (s, color) in enumerate(zip(series, colors)):
         marks = [f'<g class="series" data-series="{k}" stroke="{color}" fill="{color}">']
         idx = [i for i in range(len(s.x)) if ok_x(s.x[i]) and ok_y(s.y[i])]
         if s.band is not None:
