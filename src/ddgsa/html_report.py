@@ -311,9 +311,10 @@ def _fault(folder: Path, units: dict[str, str]) -> str:
             g = g.assign(row=g["output"].astype(str) + ": " + g["parameter"].astype(str))
             rows = list(dict.fromkeys(g["row"]))
             levels = sorted(g["level"].unique())
-            st = g.pivot_table(index="row", columns="level", values="ST", aggfunc="first").reindex(rows)[levels]
+            st = g.pivot_table(index="row", columns="level", values="ST", aggfunc="first", dropna=False)
             tr = g.assign(t=g["trusted"].astype(str).str.lower().eq("true")).pivot_table(
-                index="row", columns="level", values="t", aggfunc="first").reindex(rows)[levels]
+                index="row", columns="level", values="t", aggfunc="first", dropna=False)
+            st, tr = st.reindex(index=rows, columns=levels), tr.reindex(index=rows, columns=levels)
             parts.append(_figure(heatmap(rows, [f"{fault}={v:g}" for v in levels],
                                          Heat(st.to_numpy(float), ~tr.fillna(False).to_numpy(bool)), "ST [-]",
                                          f"indices of the other parameters against the fault level ({meth})"),
