@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+import xarray as xr
 
 from ddgsa.errors import OutputFolderError
 
@@ -46,18 +47,10 @@ FAULT_VARS = {"pod": "probability of detection at the false-alarm rate", "pod_lo
 FORMATS = ("netcdf", "zarr", "csv")
 
 
-def _xr() -> Any:
-    try:
-        import xarray
-    except ImportError:     # pragma: no cover -- a runtime dependency
-        raise OutputFolderError("labelled arrays need xarray: pip install xarray h5netcdf") from None
-    return xarray
-
-
 def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataFrame | None = None,
                fault: pd.DataFrame | None = None, fault_indices: pd.DataFrame | None = None,
                diagnostics: pd.DataFrame | None = None, attrs: dict[str, Any] | None = None,
-               units: dict[str, str] | None = None) -> Any:
+               units: dict[str, str] | None = None) -> xr.Dataset:
     """The tables of a study as one :class:`xarray.Dataset` (see the module docstring).
 
     Parameters
@@ -74,7 +67,6 @@ def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataF
     units : dict of str to str, optional
         Unit of each output (else ``indices["output_unit"]`` where present).
     """
-    xr = _xr()
     idx = indices.copy()
     idx["trusted"] = idx["trusted"].astype(str).str.lower().eq("true").astype("int8")
     key = ["scene", "output", "parameter", "method"]
@@ -112,8 +104,10 @@ def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataF
             ds[c].attrs = {"units": "1", "long_name": f"{c[:-7]} of the other parameters with the fault at fault_level"
                            + (" minus healthy" if c.startswith("d") else "")}
     if diagnostics is not None and len(diagnostics):
-        d = diagnostics.reset_index(drop=True).astype({c: str for c in ("method", "name", "severity", "output",
-                                                                          "parameter", "message") if c in diagnostics})
+        d = diagnostics.reset_index(drop=True)
+        for c in ("method", "name", "severity", "output", "parameter", "message"):
+            if c in d:
+                d[c] = d[c].fillna("").astype(str)      # no output / parameter: empty
         for c in d.columns:
             ds[f"diagnostic_{c}"] = ("diagnostic", d[c].to_numpy())
         ds["diagnostic_value"].attrs = {"long_name": "the number the diagnostic checked"}
@@ -139,7 +133,7 @@ def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataF
     return ds
 
 
-def folder_dataset(folder: Path) -> Any:
+def folder_dataset(folder: Path) -> xr.Dataset:
     """The dataset of a results folder, from its ``indices.csv`` and the other tables beside it."""
     import json
 

@@ -27,10 +27,14 @@ from importlib.resources import files
 from pathlib import Path
 from typing import Any
 
+import markdown
 import numpy as np
 import pandas as pd
+from PIL import Image
+from ruamel.yaml import YAML
 
 from ddgsa.errors import DdgsaError, OutputFolderError
+from ddgsa.models import get as get_model
 from ddgsa.svgplot import Bars, Guide, Heat, Line, bar_chart, heatmap, num, xy_chart
 
 HTML_NAME = "report.html"
@@ -137,8 +141,6 @@ def _csv(folder: Path, name: str) -> pd.DataFrame | None:
 
 
 def _study_yaml(folder: Path) -> dict[str, Any]:
-    from ruamel.yaml import YAML
-
     path = folder / "study.yaml"
     data = YAML(typ="safe").load(path.read_text()) if path.is_file() else None
     return data if isinstance(data, dict) else {}
@@ -147,8 +149,6 @@ def _study_yaml(folder: Path) -> dict[str, Any]:
 def _units(folder: Path, prov: dict[str, Any]) -> dict[str, str]:
     """Units by column name: scene fields, the model's parameters and outputs (when the model of the
     provenance is registered), then the units the folder's tables state."""
-    from ddgsa.models import get as get_model
-
     units = dict(FIELD_UNITS)
     model = prov.get("model") or {}
     if model.get("name"):
@@ -178,8 +178,6 @@ def _label(name: str, units: dict[str, str]) -> str:
 
 
 def _markdown(text: str) -> str:
-    import markdown
-
     out = markdown.markdown(text, extensions=["tables"])
     return out.replace("<table>", '<div class="scroll"><table class="sortable">').replace("</table>", "</table></div>")
 
@@ -422,8 +420,6 @@ def _other_tables(folder: Path) -> str:
 
 def _figures(folder: Path) -> str:
     """The folder's PNGs that the page does not redraw, re-encoded with a :data:`PNG_COLORS` palette."""
-    from PIL import Image
-
     parts = []
     for path in sorted(folder.glob("*.png")):
         if REDRAWN.match(path.name):

@@ -26,7 +26,7 @@ LOCK_NAME = ".ddgsa.lock"
 STORE_NAME = "evaluations.sqlite"
 KEPT = {LOCK_NAME, "study.yaml", STORE_NAME, f"{STORE_NAME}-wal", f"{STORE_NAME}-shm", f"{STORE_NAME}-journal"}
 """Files of a ddgsa folder that are not report artefacts."""
-REPORT_SUFFIXES = (".png", ".csv", ".md", ".json")
+REPORT_SUFFIXES = (".png", ".csv", ".md", ".json", ".html")
 """What a report writes (used for folders written before the ``files`` list existed)."""
 
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from html import escape
 
 import numpy as np
@@ -126,7 +126,6 @@ class Bars:
     values: Sequence[float]
     errors: Sequence[float] | None = None
     faded: Sequence[bool] | None = None
-    notes: Sequence[str] | None = None
 
 
 def bar_chart(categories: Sequence[str], series: Sequence[Bars], xlabel: str, title: str = "",
@@ -161,7 +160,7 @@ def bar_chart(categories: Sequence[str], series: Sequence[Bars], xlabel: str, ti
             faded = bool(s.faded[i]) if s.faded is not None else False
             err = s.errors[i] if s.errors is not None else float("nan")
             tip = f"{categories[i]}, {s.label}: {num(v)}" + (f" ± {num(err)}" if np.isfinite(err) else "") \
-                + (" (untrusted)" if faded else "") + (f"; {s.notes[i]}" if s.notes else "")
+                + (" (untrusted)" if faded else "")
             style = ' fill-opacity="0.3" stroke-dasharray="3 2"' if faded else ' stroke-width="0"'
             marks.append(f'<rect x="{_f(x0)}" y="{_f(y0)}" width="{_f(max(x1 - x0, 0.8))}" height="{_f(bar_h - 1)}"'
                          f'{style}><title>{escape(tip)}</title></rect>')
@@ -206,7 +205,6 @@ class Line:
     points: bool = False
     hollow: Sequence[bool] | None = None
     notes: Sequence[str] | None = None
-    dashed: bool = False
     color: int | None = None
     """Index into :data:`COLORS` (default: the series' position), so a name keeps its colour across charts."""
 
@@ -256,9 +254,8 @@ def xy_chart(series: Sequence[Line], xlabel: str, ylabel: str, title: str = "", 
                       [f"{_f(x(s.x[i]))},{_f(y(lo[i]))}" for i in reversed(bi)]
                 marks.append(f'<polygon points="{" ".join(pts)}" fill-opacity="0.18" stroke="none"/>')
         if not s.points and len(idx) > 1:
-            dash = ' stroke-dasharray="5 3"' if s.dashed else ""
             marks.append(f'<polyline points="{" ".join(f"{_f(x(s.x[i]))},{_f(y(s.y[i]))}" for i in idx)}" '
-                         f'fill="none" stroke-width="1.5"{dash}/>')
+                         'fill="none" stroke-width="1.5"/>')
         for i in idx:
             px, py = x(s.x[i]), y(s.y[i])
             if not inside(px, py):
@@ -290,7 +287,6 @@ class Heat:
 
     values: np.ndarray
     marked: np.ndarray | None = None
-    notes: list[list[str]] = field(default_factory=list)
 
 
 def heatmap(rows: Sequence[str], cols: Sequence[str], heat: Heat, label: str, title: str = "",
@@ -315,8 +311,7 @@ def heatmap(rows: Sequence[str], cols: Sequence[str], heat: Heat, label: str, ti
         for j, c in enumerate(cols):
             v = float(heat.values[i, j])
             mark = bool(heat.marked[i, j]) if heat.marked is not None else False
-            note = heat.notes[i][j] if heat.notes else ""
-            tip = f"{r}, {c}: {num(v)}" + (" (untrusted)" if mark else "") + (f"; {note}" if note else "")
+            tip = f"{r}, {c}: {num(v)}" + (" (untrusted)" if mark else "")
             px = left + j * cw
             body.append(f'<rect x="{_f(px)}" y="{_f(cy)}" width="{_f(cw - 1)}" height="{_f(ch - 1)}" '
                         f'fill="{_color(v, vmin, vmax)}"><title>{escape(tip)}</title></rect>')

@@ -1,4 +1,4 @@
-"""``ddgsa modes``: mode tables and Campbell diagrams written as CSV + PNG; clear errors."""
+"""``ddgsa modes``: mode tables and Campbell diagrams written as CSV + PNG (+ report.html); clear errors."""
 
 from __future__ import annotations
 
@@ -21,6 +21,8 @@ def test_campbell_of_a_spinning_model(tmp_path, capsys) -> None:
     assert sorted(fr["speed_rpm"].round(9).unique()) == [0.0, 7.5, 15.0]
     assert (tmp_path / "campbell.png").stat().st_size > 1000
     assert "campbell.csv" in capsys.readouterr().out
+    html = (tmp_path / "report.html").read_text()      # the diagram as a page, axes with their units
+    assert ">shaft speed [rpm]<" in html and ">natural frequency [Hz]<" in html
 
 
 def test_campbell_of_a_model_without_rotor_speed_is_an_input_error(tmp_path, capsys) -> None:

@@ -5,6 +5,7 @@ is installed (CI installs Debian's ``chromium``)."""
 
 from __future__ import annotations
 
+import base64
 import fcntl
 import json
 import os
@@ -180,7 +181,7 @@ def test_report_opens_offline_in_chromium_with_every_plot_drawn(browser: Chromiu
         wide = browser.js(WIDEST)
         assert wide["scroll"] <= wide["inner"] and not wide["outside"], (width, wide)
         shot = tmp_path / f"screenshot_{width}.png"
-        shot.write_bytes(__import__("base64").b64decode(browser.call("Page.captureScreenshot", format="png")["data"]))
+        shot.write_bytes(base64.b64decode(browser.call("Page.captureScreenshot", format="png")["data"]))
         assert _png_size(shot) == (width, 900)
     from PIL import Image
 
