@@ -14,7 +14,7 @@ _RATED_SPEED_RAD_S = 12.1 * math.pi / 30.0
 #: loads fidelities a scene may name (``auto`` resolves to one of the others)
 LOADS_FIDELITIES = ("table", "bem", "auto")
 #: inclination from which ``loads_fidelity: auto`` chooses the BEM rotor [deg] (see docs/loads.md)
-AUTO_BEM_INCLINATION_DEG = 5.0
+AUTO_BEM_INCLINATION_DEG = 2.5
 
 
 @dataclass(frozen=True)
