@@ -18,8 +18,9 @@ rotor samples it and linear in radius between the hub centre and the grid's ring
   residual, as CCBlade and AeroDyn's BEMT do (unique, no iteration history, no spurious
   ``a = 1`` fixed point);
 - skewed wake (Glauert / Pitt-Peters, AeroDyn's ``SkewRedistr_Mod = 1``): after the solve, the
-  axial induction is redistributed ``S = (15 pi / 32) (r / R) tan(chi / 2) cos(psi - psi_w)``, with ``psi_w`` the
-  azimuth of the disc-averaged in-plane wind and ``chi`` the wake skew angle of the disc-averaged
+  axial induction is redistributed by ``S = (15 pi / 32) (r / R) tan(chi / 2) cos(psi - psi_w)``,
+  with ``psi_w`` the azimuth of the disc-averaged in-plane wind and ``chi`` the wake skew angle of
+  the disc-averaged
   wind plus the mean axial induced velocity of the elements in 0.5-0.8 R (previous step), and
   the loads come from the redistributed velocity triangle;
 - tower shadow: potential flow around the tower (AeroDyn ``TwrPotent = 1``) for blade points below
