@@ -44,6 +44,7 @@ TARGETS = (
     ("flexible_speedup", "flexible: bench scene, speed-up vs Radau, CPU", 250.0, "x", True),
     ("flexible_error", "flexible: max objective error vs Radau", 0.01, "rel", False),
     ("loads_600s", "loads: one turbulent realisation of the bench scene, CPU", 0.1, "s", False),
+    ("loads_600s_bem", "loads, BEM rotor (issue 32): one turbulent realisation, CPU", 1.0, "s", False),
     ("loads_generations", "loads: generations per scene and realisation in a study", 1.0, "count", False),
     ("paper_c_wall", "paper_c_structural, 2 jobs, empty cache: wall time", 15.0, "s", False),
     ("paper_c_memory", "paper_c_structural: peak memory, all processes", 1.0, "GiB", False),
@@ -174,14 +175,14 @@ def _fidelities(scene: Scene, ref_seconds: float) -> tuple[dict[str, Any], list[
     return reference, rows
 
 
-def _loads_time(duration: float) -> tuple[float, float]:
+def _loads_time(duration: float, fidelity: str = "table") -> tuple[float, float]:
     """Best wall and CPU seconds of one turbulent realisation, computed afresh (no cache)."""
     from ddgsa.loads import NREL5MW, _compute
 
-    _compute(Scene(wind_speed=8.0, duration=10.0, seed=99), NREL5MW)            # compile outside the timing
+    _compute(Scene(wind_speed=8.0, duration=10.0, seed=99, loads_fidelity=fidelity), NREL5MW)   # compile first
     seeds = iter(range(10_000))
     wall, cpu, _ = timed(lambda: _compute(Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=duration,
-                                                seed=next(seeds)), NREL5MW))
+                                                seed=next(seeds), loads_fidelity=fidelity), NREL5MW))
     return wall, cpu
 
 
@@ -288,6 +289,7 @@ def _speed(ref_seconds: float, quick: bool, study: Path | None) -> dict[str, Any
     scene = FULL.replace(duration=60.0) if quick else FULL
     reference, fidelities = _fidelities(scene, 1.0 if quick else ref_seconds)
     loads_wall, loads_cpu = _loads_time(scene.duration)
+    bem_wall, bem_cpu = _loads_time(scene.duration, "bem")
     overhead = [_runner_overhead(scene, 40 if quick else 400, jobs) for jobs in (1, 2)]
     by = {r["fidelity"]: r for r in fidelities}
     batch, kept = by["linear, per point of a 64-point batch"], by["linear, per point of a 64-point batch, systems kept"]
@@ -302,6 +304,7 @@ def _speed(ref_seconds: float, quick: bool, study: Path | None) -> dict[str, Any
                              f"CPU a {by['flexible']['time_step_s'] * 1e3:g} ms step"),
         "flexible_error": (by["flexible"]["max_rel_error"], ""),
         "loads_600s": (loads_cpu, f"wall {loads_wall:.3f} s"),
+        "loads_600s_bem": (bem_cpu, f"wall {bem_wall:.3f} s; {bem_cpu / loads_cpu:.1f}x the table rotor's CPU"),
         "runner_overhead": (overhead[1]["overhead"], f"1 job: {overhead[0]['overhead']:.1%}"),
     }
     out: dict[str, Any] = {

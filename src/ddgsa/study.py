@@ -84,6 +84,15 @@ class ModelSpec(BaseModel):
         default_factory=list, description="option overrides, one sweep per entry (kind: sweep only)")
 
 
+class LoadsSpec(BaseModel):
+    """``scenes.loads:`` -- how the wind scenes' hub loads are computed (:mod:`ddgsa.loads`)."""
+
+    model_config = _STRICT
+    fidelity: Literal["table", "bem", "auto"] = Field(
+        Scene.loads_fidelity, description="rotor aerodynamics: quasi-steady Cp/Ct table, blade-element "
+        "momentum, or auto (bem where |inclination_deg| >= ddgsa.loads.scene.AUTO_BEM_INCLINATION_DEG)")
+
+
 class ScenesSpec(BaseModel):
     """``scenes:`` -- a grid over the list-valued fields; every grid point has ``realisations`` seeds."""
 
@@ -98,6 +107,7 @@ class ScenesSpec(BaseModel):
     realisations: int = Field(1, ge=1, le=1000)
     seed: int = Field(Scene.seed, ge=0)
     aggregate: Literal["mean", "median", "max"] = "mean"
+    loads: LoadsSpec = Field(default_factory=LoadsSpec)
 
     @field_validator("wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent")
     @classmethod
@@ -115,7 +125,8 @@ class ScenesSpec(BaseModel):
 
     def scene(self, fields: dict[str, float], realisation: int) -> Scene:
         """The scene of one grid point and realisation (turbulence seed ``seed + realisation``)."""
-        return Scene(**fields, duration=self.duration, dt=self.dt, seed=self.seed + realisation)
+        return Scene(**fields, duration=self.duration, dt=self.dt, seed=self.seed + realisation,
+                     loads_fidelity=self.loads.fidelity)
 
 
 WIND_LABEL_FIELDS = ("wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent")

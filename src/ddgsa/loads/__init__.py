@@ -15,6 +15,7 @@ import numpy as np
 import pandas as pd
 
 from ddgsa.loads import cache
+from ddgsa.loads.bem import simulate_bem
 from ddgsa.loads.hubloads import LOAD_COLUMNS, grid_points, inflow_in_shaft_frame, simulate_rotor
 from ddgsa.loads.rotor import NREL5MW, PerformanceTable, Turbine
 from ddgsa.loads.scene import Scene, max_time_step
@@ -58,8 +59,9 @@ COLUMNS = ("wind_hub", *LOAD_COLUMNS, "rotor_speed", "pitch", "gen_torque", "azi
 def _compute(scene: Scene, turbine: Turbine) -> np.ndarray:
     """The realisation as an (n_t, len(COLUMNS)) array."""
     inflow = wind_field(scene, turbine)
-    res = simulate_rotor(turbine, inflow, scene.dt, turbine.steady_state(scene.wind_speed),
-                         spinup=int(round(SPINUP_S / scene.dt)))
+    rotor = simulate_bem if scene.loads_fidelity == "bem" else simulate_rotor
+    res = rotor(turbine, inflow, scene.dt, turbine.steady_state(scene.wind_speed),
+                spinup=int(round(SPINUP_S / scene.dt)))
     speed, torque = res[:, 6], res[:, 8]
     return np.column_stack([inflow[0, :, 0], res[:, :6], speed, res[:, 7], torque, res[:, 9],
                             speed - torque / C_GEN_DEFAULT, torque * speed])

@@ -72,9 +72,8 @@ def inflow_in_shaft_frame(turbine: Turbine, wind_speed: float, shear_exponent: f
 def _simulate(inflow: NDArray[np.float64], spinup: int, n_az: int, dt: float, radius: NDArray[np.float64],
               area: NDArray[np.float64], big_r: float, rho: float, inertia: float,
               tsr: NDArray[np.float64], pitch: NDArray[np.float64], ct: NDArray[np.float64],
-              cq: NDArray[np.float64], torque_law: NDArray[np.float64], omega0: float, beta0: float,
-              rated_speed: float, rated_torque: float, kp: float, ki: float, knee: float,
-              rate: float, beta_max: float) -> NDArray[np.float64]:  # pragma: no cover (compiled)
+              cq: NDArray[np.float64], law: NDArray[np.float64], omega0: float, beta0: float,
+              ctl: NDArray[np.float64]) -> NDArray[np.float64]:  # pragma: no cover (compiled)
     """Time loop: rotor speed, azimuth, pitch PI and element loads over ``spinup`` steps taken from
     the end of the (periodic) inflow, then the whole record. Returns (spinup + n_t, 10).
 
@@ -83,9 +82,7 @@ def _simulate(inflow: NDArray[np.float64], spinup: int, n_az: int, dt: float, ra
     n_r = radius.size
     out = np.empty((spinup + n_t, 10))
     omega, psi, beta = omega0, 0.0, beta0
-    gk0 = 1.0 / (1.0 + beta0 / knee)
-    integ = beta0 / (gk0 * ki) if ki > 0 else 0.0
-    w_tab, q_tab = torque_law[0], torque_law[1]
+    integ = ctl[6]
     for n in range(spinup + n_t):
         ti = (n_t - spinup + n) % n_t
         fx = fy = fz = mx = my = mz = 0.0
@@ -115,22 +112,44 @@ def _simulate(inflow: NDArray[np.float64], spinup: int, n_az: int, dt: float, ra
                 mx += dq
                 my += radius[j] * dt_ * c
                 mz += radius[j] * dt_ * s
-        # controller: generator torque law, rated torque once pitching; gain-scheduled PI pitch
-        if beta >= 0.0175:
-            q_gen = rated_torque
-        else:
-            q_gen = np.interp(omega, w_tab, q_tab)
-        err = omega - rated_speed
-        gk = 1.0 / (1.0 + beta / knee)
-        integ = min(max(integ + err * dt, 0.0), beta_max / (gk * ki))
-        cmd = min(max(gk * (kp * err + ki * integ), 0.0), beta_max)
-        beta += min(max(cmd - beta, -rate * dt), rate * dt)
+        q_gen, beta, integ = controller_step(omega, beta, integ, dt, law, ctl)
         out[n, 0], out[n, 1], out[n, 2] = fx, fy, fz
         out[n, 3], out[n, 4], out[n, 5] = mx, my, mz
         out[n, 6], out[n, 7], out[n, 8], out[n, 9] = omega, beta, q_gen, psi
         omega += dt * (mx - q_gen) / inertia
         psi += dt * omega
     return out
+
+
+@njit(cache=True)
+def controller_step(omega: float, beta: float, integ: float, dt: float, law: NDArray[np.float64],
+                    ctl: NDArray[np.float64]) -> tuple[float, float, float]:  # pragma: no cover (compiled)
+    """One controller step at rotor speed ``omega`` [rad/s]: generator torque demand (the torque law
+    ``law``, rated torque once pitching) and the gain-scheduled PI pitch within its rate limit.
+    ``ctl`` holds rated speed, rated torque, K_P, K_I, gain knee, pitch rate, the integrator's start
+    and the largest pitch (:func:`torque_law`). Returns torque [N m], pitch [rad], integrator [rad s]."""
+    rated_speed, rated_torque, kp, ki, knee, rate, beta_max = ctl[0], ctl[1], ctl[2], ctl[3], ctl[4], ctl[5], ctl[7]
+    if beta >= 0.0175:
+        q_gen = rated_torque
+    else:
+        q_gen = np.interp(omega, law[0], law[1])
+    err = omega - rated_speed
+    gk = 1.0 / (1.0 + beta / knee)
+    integ = min(max(integ + err * dt, 0.0), beta_max / (gk * ki))
+    cmd = min(max(gk * (kp * err + ki * integ), 0.0), beta_max)
+    beta += min(max(cmd - beta, -rate * dt), rate * dt)
+    return q_gen, beta, integ
+
+
+def torque_law(turbine: Turbine, beta0: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The controller's tabulated torque law (2, 2001) and its constants for :func:`controller_step`,
+    the PI integrator set to hold pitch ``beta0`` [rad]."""
+    w_tab = np.linspace(0.0, 1.5 * turbine.rated_speed, 2001)
+    gk0 = 1.0 / (1.0 + beta0 / turbine.gain_knee)
+    integ = beta0 / (gk0 * turbine.ki) if turbine.ki > 0 else 0.0
+    ctl = np.array([turbine.rated_speed, turbine.rated_torque, turbine.kp, turbine.ki, turbine.gain_knee,
+                    turbine.pitch_rate, integ, float(turbine.table.pitch[-1])])
+    return np.vstack([w_tab, turbine.generator_torque(w_tab)]), ctl
 
 
 @njit(cache=True)
@@ -174,12 +193,9 @@ def simulate_rotor(turbine: Turbine, inflow: NDArray[np.float64], dt: float,
     """
     r, area = turbine.stations
     spinup = min(int(spinup), inflow.shape[1])
-    w_tab = np.linspace(0.0, 1.5 * turbine.rated_speed, 2001)
-    law = np.vstack([w_tab, turbine.generator_torque(w_tab)])
+    law, ctl = torque_law(turbine, initial["pitch"])
     tab = turbine.table
     out = _simulate(np.ascontiguousarray(inflow), spinup, N_AZIMUTH, dt, r, area, turbine.rotor_radius,
                     turbine.air_density, turbine.rotor_inertia, tab.tsr, tab.pitch, tab.ct,
-                    np.ascontiguousarray(tab.cq), law, initial["rotor_speed"], initial["pitch"], turbine.rated_speed,
-                    turbine.rated_torque, turbine.kp, turbine.ki, turbine.gain_knee, turbine.pitch_rate,
-                    float(tab.pitch[-1]))
+                    np.ascontiguousarray(tab.cq), law, initial["rotor_speed"], initial["pitch"], ctl)
     return out[spinup:]

@@ -11,6 +11,10 @@ from ddgsa.errors import SceneError
 #: samples per period of the highest rotor harmonic the loads must resolve (3P at rated speed)
 SAMPLES_PER_3P = 8
 _RATED_SPEED_RAD_S = 12.1 * math.pi / 30.0
+#: loads fidelities a scene may name (``auto`` resolves to one of the others)
+LOADS_FIDELITIES = ("table", "bem", "auto")
+#: inclination from which ``loads_fidelity: auto`` chooses the BEM rotor [deg] (see docs/loads.md)
+AUTO_BEM_INCLINATION_DEG = 2.5
 
 
 @dataclass(frozen=True)
@@ -35,6 +39,11 @@ class Scene:
     seed : int
         Seed of the turbulence realisation (>= 0); all parameter points of a scene see the
         same realisation (common random numbers).
+    loads_fidelity : str
+        Rotor aerodynamics of the loads: ``table`` (quasi-steady Cp/Ct table rotor,
+        :mod:`ddgsa.loads.hubloads`), ``bem`` (blade-element momentum, :mod:`ddgsa.loads.bem`) or
+        ``auto`` (``bem`` where ``|inclination_deg| >= AUTO_BEM_INCLINATION_DEG``, else ``table``;
+        resolved on construction, so the scene and its cache key name the fidelity used).
 
     Examples
     --------
@@ -49,8 +58,12 @@ class Scene:
     duration: float = 600.0
     dt: float = 0.05
     seed: int = 1
+    loads_fidelity: str = "table"
 
     def __post_init__(self) -> None:
+        if self.loads_fidelity not in LOADS_FIDELITIES:
+            raise SceneError(f"scene field 'loads_fidelity' must be one of {', '.join(LOADS_FIDELITIES)}, "
+                             f"got {self.loads_fidelity!r}")
         for name in ("wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent",
                      "duration", "dt"):
             value = getattr(self, name)
@@ -75,6 +88,9 @@ class Scene:
             raise SceneError(f"scene field 'dt' = {self.dt} s is too coarse for the rotor's 3P frequency "
                              f"({3 * _RATED_SPEED_RAD_S / (2 * math.pi):.3f} Hz at rated speed): need "
                              f"dt <= {dt_max:.3f} s ({SAMPLES_PER_3P} samples per 3P period)")
+        if self.loads_fidelity == "auto":
+            chosen = "bem" if abs(self.inclination_deg) >= AUTO_BEM_INCLINATION_DEG else "table"
+            object.__setattr__(self, "loads_fidelity", chosen)
         if self.duration < 10 * self.dt:
             raise SceneError(f"scene field 'duration' = {self.duration} s holds fewer than 10 steps of "
                              f"dt = {self.dt} s")
