@@ -72,8 +72,8 @@ from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
 from ddgsa.mbs.system import (SystemArrays, evaluate_terms, integrate, integrate_reference, single_body_arrays,
                               static_state)
 from ddgsa.models.base import Model, ModelOutput, ModelParameter, controller_row, register_model
-from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, bearing_damping,
-                                        bending_damping, checked)
+from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE,
+                                        bearing_damping, bending_damping, checked)
 from ddgsa.objectives import damage_rate
 
 GRAVITY = 9.81
@@ -307,6 +307,10 @@ class DirectDrive(Model):
         What the deflection objectives (and ``simulate``'s ``hub_d*``, ``gen_d*`` columns) measure:
         the shaft-end point's whole displacement, its floating frame's part (rigid-body motion)
         or its elastic part.
+    deflection_reference : {"static", "mean"}
+        Seed eq. (28)'s reference: the static equilibrium under the scene's mean loads (shaft not
+        turning) or the record's time mean (the turning shaft's steady state; the two differ where
+        the shaft's damping turns with it, as under the printed Rayleigh law).
     """
 
     parameters = PARAMETERS
@@ -321,7 +325,8 @@ class DirectDrive(Model):
     def __init__(self, fidelity: str = "flexible", axial: bool = True, second_bending: bool = True,
                  time_step: float | None = None, rho_inf: float = 0.8, equivalent_load: str = "iso281",
                  integrator: str = "gen_alpha", bending_rayleigh: str = "physical",
-                 bearing_damping: str = "modal", deflection: str = "total") -> None:
+                 bearing_damping: str = "modal", deflection: str = "total",
+                 deflection_reference: str = "static") -> None:
         if fidelity not in self.fidelities:
             raise ModelError(f"model 'direct_drive': unknown fidelity {fidelity!r}; known: {', '.join(self.fidelities)}")
         if equivalent_load not in ("iso281", "seed"):
@@ -337,6 +342,7 @@ class DirectDrive(Model):
         self.damping = (checked("bending_rayleigh", bending_rayleigh, BENDING_RAYLEIGH),
                         checked("bearing_damping", bearing_damping, BEARING_DAMPING))
         self.deflection = checked("deflection", deflection, DEFLECTION)
+        self.reference = checked("deflection_reference", deflection_reference, DEFLECTION_REFERENCE)
         self.fidelity = fidelity
         self._inputs: SceneInputs | None = None
         self.time_step = float(time_step)
@@ -373,8 +379,9 @@ class DirectDrive(Model):
         ``rotor_speed`` [rad/s], ``hub_dx, hub_dy, hub_dz`` and ``gen_dx, gen_dy, gen_dz`` (shaft-end
         displacements [m] of the ``deflection`` reading), ``front_Fx ... rear_Fz`` (forces on the bearings, shaft frame [N]),
         ``gen_torque`` [N m] and the hub loads ``Fx ... Mz`` applied (``Mx`` net of the blades'
-        inertial torque). ``attrs`` carries the shaft-end displacements of the static
-        solution for the mean loads (``static_hub``, ``static_gen``) and integrator statistics.
+        inertial torque). ``attrs`` carries the deflection objectives' reference
+        (``static_hub``, ``static_gen``: the shaft-end displacements of the static solution for the
+        mean loads, or the record's mean under ``deflection_reference="mean"``) and integrator statistics.
         """
         return self._simulate(scene, self.resolve(params).iloc[0].to_dict(), states=True)
 
@@ -393,7 +400,7 @@ class DirectDrive(Model):
         # and the linear fidelity's operating point
         u0 = inputs.mean @ to_u
         q_st = self.static(asm, u0[0:3], u0[3:6])
-        static_ends = deflection_ends(q_st[None, :], asm, self.deflection)[0]
+        reference = deflection_ends(q_st[None, :], asm, self.deflection)[0]
         blocks: list[NDArray[np.float64]] = []
         names: list[str] = []
         if self.fidelity == "linear":
@@ -426,7 +433,9 @@ class DirectDrive(Model):
         names += ["gen_torque", "Fx", "Fy", "Fz", "Mx", "My", "Mz"]
         index = pd.Index(np.arange(len(u)) * scene.dt, name="time")
         out = pd.DataFrame(np.hstack(blocks), index=index, columns=names)   # one block: no per-column inserts
-        out.attrs.update(static_hub=static_ends[:3], static_gen=static_ends[3:], max_newton_iterations=res.get("max_iterations", 0),
+        if self.reference == "mean":
+            reference = ends.mean(axis=0)
+        out.attrs.update(static_hub=reference[:3], static_gen=reference[3:], max_newton_iterations=res.get("max_iterations", 0),
                          mean_newton_iterations=res.get("mean_iterations", 0.0), fidelity=self.fidelity,
                          fields=self.fields)
         return out
@@ -533,6 +542,8 @@ class DirectDrive(Model):
         q_st = self.static(asm, u0[0:3], u0[3:6])
         res = self._linear_response(asm, q_st, to_u, inputs, scene.dt, states=False)
         ends = res["deflections"]            # about the operating point, which is the static state
+        if self.reference == "mean":
+            ends = ends - ends.mean(axis=0)
         return objective_values(ends[:, 0:3], ends[:, 3:6], res["speed"], *res["spring_forces"], p, self.rule)
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
