@@ -154,6 +154,23 @@ def test_printed_rayleigh_turns_and_shrinks_the_running_shaft_sag() -> None:
                                mean_ref[["hub_dx", "hub_dy", "hub_dz"]].to_numpy().mean(axis=0), rtol=1e-12)
 
 
+def test_linear_fidelity_follows_the_flexible_model_under_the_printed_readings() -> None:
+    """The printed readings' studies run ``linear``: on a 600 s record at 11 m/s it is within 0.1 %
+    of the flexible model on damage and 2 % on the deflections (0.73 % and 1.35 % measured; the
+    frame deflection exactly). Not about the running mean (``deflection_reference="mean"``): there
+    it is 9-12 % low at 11 and 18 m/s, so that reading's paper-C excitation study runs ``flexible``
+    (docs/seed000_readings.md)."""
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=600.0, seed=1)
+    printed = {"bending_rayleigh": "printed", "bearing_damping": "stiffness_proportional"}
+    for options in ({}, {"deflection": "frame"}):
+        lin, flex = (models.get("direct_drive", fidelity=f, **printed, **options).evaluate(None, scene).iloc[0]
+                     for f in ("linear", "flexible"))
+        for out in ("damage_front", "damage_rear"):
+            assert lin[out] == pytest.approx(flex[out], rel=1e-3)
+        for out in ("rms_deflection_hub", "rms_deflection_gen"):
+            assert lin[out] == pytest.approx(flex[out], rel=2e-2)
+
+
 def test_bad_reading_is_refused_naming_option_and_choices(tmp_path: Path) -> None:
     """An unknown reading is a ModelError naming the option and its allowed values; in a study, a
     StudyError naming the file and field."""

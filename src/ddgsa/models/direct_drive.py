@@ -31,7 +31,10 @@ Parameter choices (seed 000 Table 2 is not self-consistent; each value is a para
   flexibility decouples most of that inertia from the shaft.) Generator rotor: Table 2's
   R2 = 0.5 m read the same way, J = m2 R2^2 = 7.5e3 kg m^2, diametral half.
 - Bearing damping: Table 2's ratio 0.01 as ``C_i = 2 zeta sqrt(K_i m / 2)`` per direction
-  (m the total mass); shaft damping Rayleigh (seed 000 eq. 43-44) with ratio 0.01.
+  (m the total mass); shaft damping Rayleigh (seed 000 eq. 43-44) with ratio 0.01. These are the
+  physical readings; the seed's printed ones (eq. 44a's ``delta = 2 zeta (w1 + w2)``, Table 2's
+  zeta in seconds) and two readings of the deflection objective are options
+  (:mod:`ddgsa.models.seed_readings`, ``docs/seed000_readings.md``).
 - Dynamic load ratings ``bearing_C_front/rear`` 1e7 N (spherical roller main bearings of this
   size: 5e6-2e7 N); damage indices are usually reported scaled by their maximum (seed 000 §4).
 - The shaft's own rotary inertia (~450 kg m^2 polar) is neglected in the dynamics (its mass is
