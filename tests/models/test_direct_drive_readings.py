@@ -120,7 +120,8 @@ def test_printed_reading_makes_full_and_simplified_models_agree() -> None:
     damage is within 0.3 % of the rigid model's and its frame deflection within 1 % (physical
     reading: 7 % and 16 % below on damage, 30 % above on the frame deflection at 11 m/s, 60 s)."""
     def run(fidelity: str, **options: str) -> dict[str, float]:
-        return models.get("direct_drive", fidelity=fidelity, deflection="frame", **options).evaluate(None, SCENE).iloc[0]
+        model = models.get("direct_drive", fidelity=fidelity, deflection="frame", **options)
+        return model.evaluate(None, SCENE).iloc[0]
 
     rigid = run("rigid")
     printed, physical = run("flexible", bending_rayleigh="printed"), run("flexible")

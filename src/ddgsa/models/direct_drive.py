@@ -380,7 +380,8 @@ class DirectDrive(Model):
 
         Columns: the coordinates (``R_x`` ... ``psi`` [m, rad] and elastic coordinates),
         ``rotor_speed`` [rad/s], ``hub_dx, hub_dy, hub_dz`` and ``gen_dx, gen_dy, gen_dz`` (shaft-end
-        displacements [m] of the ``deflection`` reading), ``front_Fx ... rear_Fz`` (forces on the bearings, shaft frame [N]),
+        displacements [m] of the ``deflection`` reading), ``front_Fx ... rear_Fz`` (forces on the
+        bearings, shaft frame [N]),
         ``gen_torque`` [N m] and the hub loads ``Fx ... Mz`` applied (``Mx`` net of the blades'
         inertial torque). ``attrs`` carries the deflection objectives' reference
         (``static_hub``, ``static_gen``: the shaft-end displacements of the static solution for the
@@ -438,7 +439,8 @@ class DirectDrive(Model):
         out = pd.DataFrame(np.hstack(blocks), index=index, columns=names)   # one block: no per-column inserts
         if self.reference == "mean":
             reference = ends.mean(axis=0)
-        out.attrs.update(static_hub=reference[:3], static_gen=reference[3:], max_newton_iterations=res.get("max_iterations", 0),
+        out.attrs.update(static_hub=reference[:3], static_gen=reference[3:],
+                         max_newton_iterations=res.get("max_iterations", 0),
                          mean_newton_iterations=res.get("mean_iterations", 0.0), fidelity=self.fidelity,
                          fields=self.fields)
         return out
