@@ -159,8 +159,7 @@ def test_linear_fidelity_follows_the_flexible_model_under_the_printed_readings()
     """The printed readings' studies run ``linear``: on a 600 s record at 11 m/s it is within 0.1 %
     of the flexible model on damage and 2 % on the deflections (0.73 % and 1.35 % measured; the
     frame deflection exactly). Not about the running mean (``deflection_reference="mean"``): there
-    it is 9-12 % low at 11 and 18 m/s, so that reading's paper-C excitation study runs ``flexible``
-    (docs/seed000_readings.md)."""
+    it is 9-12 % low at 11 and 18 m/s, which the studies of that reading say (docs/seed000_readings.md)."""
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=600.0, seed=1)
     printed = {"bending_rayleigh": "printed", "bearing_damping": "stiffness_proportional"}
     for options in ({}, {"deflection": "frame"}):
