@@ -218,7 +218,7 @@ def test_linear_batch_path_matches_its_time_series_and_the_dense_recurrence(monk
                            {**NOM, "c_gen": 1.2e6, "tilt_moment_factor": 0.7, "k_rear_y": 4e9, "rear_bearing_x": 4.6}])
     model = models.get("direct_drive", fidelity="linear")
     batch = model.evaluate(points, scene)
-    frames = pd.DataFrame([objectives(model.simulate(scene, p), p, "iso281", p["shaft_length"])
+    frames = pd.DataFrame([objectives(model.simulate(scene, p), p, "iso281")
                            for p in points.to_dict("records")])
     monkeypatch.setattr(linear, "MAX_MODAL_CONDITION", 0.0)
     dense = models.get("direct_drive", fidelity="linear").evaluate(points, scene)

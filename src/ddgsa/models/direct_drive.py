@@ -31,7 +31,10 @@ Parameter choices (seed 000 Table 2 is not self-consistent; each value is a para
   flexibility decouples most of that inertia from the shaft.) Generator rotor: Table 2's
   R2 = 0.5 m read the same way, J = m2 R2^2 = 7.5e3 kg m^2, diametral half.
 - Bearing damping: Table 2's ratio 0.01 as ``C_i = 2 zeta sqrt(K_i m / 2)`` per direction
-  (m the total mass); shaft damping Rayleigh (seed 000 eq. 43-44) with ratio 0.01.
+  (m the total mass); shaft damping Rayleigh (seed 000 eq. 43-44) with ratio 0.01. These are the
+  physical readings; the seed's printed ones (eq. 44a's ``delta = 2 zeta (w1 + w2)``, Table 2's
+  zeta in seconds) and two readings of the deflection objective are options
+  (:mod:`ddgsa.models.seed_readings`, ``docs/seed000_readings.md``).
 - Dynamic load ratings ``bearing_C_front/rear`` 1e7 N (spherical roller main bearings of this
   size: 5e6-2e7 N); damage indices are usually reported scaled by their maximum (seed 000 §4).
 - The shaft's own rotary inertia (~450 kg m^2 polar) is neglected in the dynamics (its mass is
@@ -47,6 +50,7 @@ Damage rate (Palmgren-Miner with ``L10 = (C/P)^(10/3)`` million revolutions):
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from collections.abc import Mapping
@@ -71,6 +75,8 @@ from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
 from ddgsa.mbs.system import (SystemArrays, evaluate_terms, integrate, integrate_reference, single_body_arrays,
                               static_state)
 from ddgsa.models.base import Model, ModelOutput, ModelParameter, controller_row, register_model
+from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE,
+                                        bearing_damping, bending_damping, checked)
 from ddgsa.objectives import damage_rate
 
 GRAVITY = 9.81
@@ -154,8 +160,12 @@ def bearing_order_problem(p: Mapping[str, float]) -> str:
             f"< shaft_length ({length:g}) [m]")
 
 
-def assemble(p: Mapping[str, float], fields: tuple[str, ...]) -> Assembly:
+def assemble(p: Mapping[str, float], fields: tuple[str, ...],
+             damping: tuple[str, str] = ("physical", "modal")) -> Assembly:
     """Build the system for one parameter set and the retained elastic fields.
+
+    ``damping``: the readings of seed 000's bending Rayleigh law and bearing damping
+    (:mod:`ddgsa.models.seed_readings`: ``bending_rayleigh``, ``bearing_damping``).
 
     Written on the kernel's parts (:mod:`ddgsa.mbs`): the shaft is a
     :meth:`~ddgsa.mbs.bodies.FlexibleBody.shaft` on its FE modes with the hub and generator as end
@@ -177,10 +187,10 @@ def assemble(p: Mapping[str, float], fields: tuple[str, ...]) -> Assembly:
                     end_masses=((0.0, p["hub_mass"], p["hub_inertia_x"], p["hub_inertia_yz"]),
                                 (length, p["generator_mass"], p["generator_inertia_x"], p["generator_inertia_yz"])),
                     supports=(l1, l2), axial_support=l1)
-    shaft = _shaft(spec, fields, p["shaft_damping_ratio"])
+    shaft = _shaft(spec, fields, p["shaft_damping_ratio"], damping[0])
     bedplate = Ground("bedplate")                           # its motion is an input of the integrators
     k_sp = np.array([[p["k_front_x"], p["k_front_y"], p["k_front_z"]], [p["k_rear_x"], p["k_rear_y"], p["k_rear_z"]]])
-    c_sp = 2.0 * p["bearing_damping_ratio"] * np.sqrt(k_sp * shaft.mass / 2.0)
+    c_sp = bearing_damping(k_sp, shaft.mass, p["bearing_damping_ratio"], damping[1])
     bearings = [SpringDamper3(shaft.marker((x, 0.0, 0.0)), bedplate.marker((x, 0.0, 0.0)), k, c, name=name)
                 for x, k, c, name in ((l1, k_sp[0], c_sp[0], "front"), (l2, k_sp[1], c_sp[1], "rear"))]
     hub = AppliedLoad(shaft.marker(), [0.0, 1.0], name="hub")                  # the scene's loads act here
@@ -242,17 +252,25 @@ def input_map(p: Mapping[str, float]) -> NDArray[np.float64]:
 
 
 @functools.lru_cache(maxsize=16)
-def _shaft(spec: BeamSpec, fields: tuple[str, ...], damping_ratio: float) -> FlexibleBody:
+def _shaft(spec: BeamSpec, fields: tuple[str, ...], damping_ratio: float, rayleigh: str) -> FlexibleBody:
     """The FE shaft body of ``spec`` (its modes are ~60 % of a linear point's set-up). Kept for the
     last specs seen: points that differ only in bearing stiffnesses, damping, C_gen, ratings or
     excitation (half of an M-DRM design, all of paper C's excitation study) share it; the body is
-    never modified by the systems built on it, so sharing it is exact."""
-    return FlexibleBody.shaft("shaft", spec, fields=fields, damping_ratio=damping_ratio,
+    never modified by the systems built on it, so sharing it is exact. ``rayleigh``: the bending
+    Rayleigh reading (:func:`ddgsa.models.seed_readings.rayleigh_coefficients`)."""
+    body = FlexibleBody.shaft("shaft", spec, fields=fields, damping_ratio=damping_ratio,
                               rotary_inertia=False)        # shaft rotary inertia neglected (module notes)
+    if rayleigh != "physical" and any(f.startswith("bending") for f in fields):
+        pm, _, ps = body.points
+        w1, w2 = 2.0 * np.pi * body.modes.freq_bending[:2]
+        body.cff = bending_damping(fields, np.einsum("j,jai,jak->ik", pm, ps, ps), body.kff, body.cff,
+                                   w1, w2, damping_ratio, rayleigh)
+    return body
 
 
 @functools.lru_cache(maxsize=256)
-def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...]) -> Assembly:
+def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...],
+              damping: tuple[str, str] = ("physical", "modal")) -> Assembly:
     """:func:`assemble` kept per exact parameter point (~30 % of a linear point's cost).
 
     A study evaluates every point in each scene and realisation (paper C: 60 times), and a
@@ -260,7 +278,7 @@ def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...]) ->
     system depends on the parameters only (loads are inputs) and nothing modifies it, so
     sharing it is exact. 256 systems of ~30 kB: more than a batch's points.
     """
-    return assemble(dict(params), fields)
+    return assemble(dict(params), fields, damping)
 
 
 @register_model("direct_drive")
@@ -283,6 +301,19 @@ class DirectDrive(Model):
         equations (the reference path, ``rtol`` 1e-6; slow).
     equivalent_load : {"iso281", "seed"}
         Bearing equivalent-load rule for the damage indices.
+    bending_rayleigh : {"physical", "printed"}
+        Shaft bending Rayleigh law: ``delta = 2 zeta / (w1 + w2)`` or seed eq. (44a) as printed,
+        ``2 zeta (w1 + w2)`` (:mod:`ddgsa.models.seed_readings`; ``docs/seed000_readings.md``).
+    bearing_damping : {"modal", "stiffness_proportional"}
+        Bearing dampers ``2 zeta sqrt(K m / 2)`` (zeta a ratio) or ``zeta K`` (Table 2's zeta in s).
+    deflection : {"total", "frame", "elastic"}
+        What the deflection objectives (and ``simulate``'s ``hub_d*``, ``gen_d*`` columns) measure:
+        the shaft-end point's whole displacement, its floating frame's part (rigid-body motion)
+        or its elastic part.
+    deflection_reference : {"static", "mean"}
+        Seed eq. (28)'s reference: the static equilibrium under the scene's mean loads (shaft not
+        turning) or the record's time mean (the turning shaft's steady state; the two differ where
+        the shaft's damping turns with it, as under the printed Rayleigh law).
     """
 
     parameters = PARAMETERS
@@ -296,7 +327,9 @@ class DirectDrive(Model):
 
     def __init__(self, fidelity: str = "flexible", axial: bool = True, second_bending: bool = True,
                  time_step: float | None = None, rho_inf: float = 0.8, equivalent_load: str = "iso281",
-                 integrator: str = "gen_alpha") -> None:
+                 integrator: str = "gen_alpha", bending_rayleigh: str = "physical",
+                 bearing_damping: str = "modal", deflection: str = "total",
+                 deflection_reference: str = "static") -> None:
         if fidelity not in self.fidelities:
             raise ModelError(f"model 'direct_drive': unknown fidelity {fidelity!r}; known: {', '.join(self.fidelities)}")
         if equivalent_load not in ("iso281", "seed"):
@@ -309,6 +342,10 @@ class DirectDrive(Model):
             raise ModelError(f"model 'direct_drive': integrator must be gen_alpha, Radau or BDF (the linear "
                              f"fidelity has its own exact discretisation); got {integrator!r}")
         self.integrator = integrator
+        self.damping = (checked("bending_rayleigh", bending_rayleigh, BENDING_RAYLEIGH),
+                        checked("bearing_damping", bearing_damping, BEARING_DAMPING))
+        self.deflection = checked("deflection", deflection, DEFLECTION)
+        self.reference = checked("deflection_reference", deflection_reference, DEFLECTION_REFERENCE)
         self.fidelity = fidelity
         self._inputs: SceneInputs | None = None
         self.time_step = float(time_step)
@@ -326,7 +363,7 @@ class DirectDrive(Model):
 
     def assemble(self, params: Mapping[str, float] | None = None) -> Assembly:
         """The system for ``params`` (missing -> nominal)."""
-        return assemble(self.resolve(params).iloc[0].to_dict(), self.fields)
+        return assemble(self.resolve(params).iloc[0].to_dict(), self.fields, self.damping)
 
     def static(self, asm: Assembly, force: NDArray[np.float64], moment: NDArray[np.float64],
                q_guess: NDArray[np.float64] | None = None, tol: float = 1e-12) -> NDArray[np.float64]:
@@ -343,17 +380,19 @@ class DirectDrive(Model):
 
         Columns: the coordinates (``R_x`` ... ``psi`` [m, rad] and elastic coordinates),
         ``rotor_speed`` [rad/s], ``hub_dx, hub_dy, hub_dz`` and ``gen_dx, gen_dy, gen_dz`` (shaft-end
-        displacements [m]), ``front_Fx ... rear_Fz`` (forces on the bearings, shaft frame [N]),
+        displacements [m] of the ``deflection`` reading), ``front_Fx ... rear_Fz`` (forces on the
+        bearings, shaft frame [N]),
         ``gen_torque`` [N m] and the hub loads ``Fx ... Mz`` applied (``Mx`` net of the blades'
-        inertial torque). ``attrs`` carries the static
-        solution for the mean loads (``static_hub``, ``static_gen``) and integrator statistics.
+        inertial torque). ``attrs`` carries the deflection objectives' reference
+        (``static_hub``, ``static_gen``: the shaft-end displacements of the static solution for the
+        mean loads, or the record's mean under ``deflection_reference="mean"``) and integrator statistics.
         """
         return self._simulate(scene, self.resolve(params).iloc[0].to_dict(), states=True)
 
     def _simulate(self, scene: Scene, p: Mapping[str, float], states: bool) -> pd.DataFrame:
         """:meth:`simulate` for resolved parameters ``p``; ``states=False`` lets the linear fidelity
         skip the coordinate columns (the objective functions do not read them)."""
-        asm = assemble(p, self.fields)
+        asm = assemble(p, self.fields, self.damping)
         inputs = self._scene_inputs(scene)
         to_u = input_map(p)
         u = inputs.channels @ to_u
@@ -365,8 +404,7 @@ class DirectDrive(Model):
         # and the linear fidelity's operating point
         u0 = inputs.mean @ to_u
         q_st = self.static(asm, u0[0:3], u0[3:6])
-        static_hub = end_positions(q_st[None, :], asm.hub_s, 0.0)[0]
-        static_gen = end_positions(q_st[None, :], asm.gen_s, asm.length)[0]
+        reference = deflection_ends(q_st[None, :], asm, self.deflection)[0]
         blocks: list[NDArray[np.float64]] = []
         names: list[str] = []
         if self.fidelity == "linear":
@@ -385,7 +423,7 @@ class DirectDrive(Model):
             if res["failed_at"] >= 0:
                 raise RuntimeError(f"integrator diverged at t = {res['failed_at'] * scene.dt:.3f} s "
                                    f"(step {self.time_step} s)")
-            ends = shaft_ends(res["q"], asm)
+            ends = deflection_ends(res["q"], asm, self.deflection)
             bearings = [res["spring_forces"][:, b, :] for b in range(2)]
         if "q" in res:
             blocks.append(res["q"])
@@ -399,7 +437,10 @@ class DirectDrive(Model):
         names += ["gen_torque", "Fx", "Fy", "Fz", "Mx", "My", "Mz"]
         index = pd.Index(np.arange(len(u)) * scene.dt, name="time")
         out = pd.DataFrame(np.hstack(blocks), index=index, columns=names)   # one block: no per-column inserts
-        out.attrs.update(static_hub=static_hub, static_gen=static_gen, max_newton_iterations=res.get("max_iterations", 0),
+        if self.reference == "mean":
+            reference = ends.mean(axis=0)
+        out.attrs.update(static_hub=reference[:3], static_gen=reference[3:],
+                         max_newton_iterations=res.get("max_iterations", 0),
                          mean_newton_iterations=res.get("mean_iterations", 0.0), fidelity=self.fidelity,
                          fields=self.fields)
         return out
@@ -456,7 +497,7 @@ class DirectDrive(Model):
                  for k in (1, 2) if f"bending_y_{k}" in self.fields]
         lin, springs = linearise_spinning(asm.system, np.delete(q_st, 3), spin, u0, pairs)
         npos, nvel = lin.k.shape[1], lin.m.shape[0]
-        ends0, d_ends = _end_jacobian(asm, lin.p0)
+        ends0, d_ends = deflection_jacobian(asm, lin.p0, self.deflection)
         # outputs C x with x = [dp, dv] (+ the operating speed and spring forces, + D du): speed, end
         # deflections about the operating point, spring forces
         c_out = np.zeros((1 + 6 + springs.y0.size, npos + nvel))
@@ -499,20 +540,22 @@ class DirectDrive(Model):
 
     def _evaluate_linear(self, p: dict[str, float], scene: Scene) -> dict[str, float]:
         """Objectives of the linear fidelity straight from the response arrays (no time-series frame)."""
-        asm = assembled(tuple(p.items()), self.fields)
+        asm = assembled(tuple(p.items()), self.fields, self.damping)
         inputs = self._scene_inputs(scene)
         to_u = input_map(p)
         u0 = inputs.mean @ to_u
         q_st = self.static(asm, u0[0:3], u0[3:6])
         res = self._linear_response(asm, q_st, to_u, inputs, scene.dt, states=False)
         ends = res["deflections"]            # about the operating point, which is the static state
+        if self.reference == "mean":
+            ends = ends - ends.mean(axis=0)
         return objective_values(ends[:, 0:3], ends[:, 3:6], res["speed"], *res["spring_forces"], p, self.rule)
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
         if self.fidelity == "linear":
             return self._evaluate_linear(params, scene)
         sim = self._simulate(scene, params, states=False)
-        return objectives(sim, params, self.rule, length=params["shaft_length"])
+        return objectives(sim, params, self.rule)
 
     def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
         """Natural frequencies [Hz], damping ratios and labels about the static state under gravity.
@@ -563,6 +606,33 @@ def shaft_ends(q: NDArray[np.float64], asm: Assembly) -> NDArray[np.float64]:
     return out
 
 
+def frame_points(asm: Assembly) -> Assembly:
+    """``asm`` with the end points' elastic shapes zeroed: its shaft ends are the floating frame's points."""
+    return dataclasses.replace(asm, hub_s=np.zeros_like(asm.hub_s), gen_s=np.zeros_like(asm.gen_s))
+
+
+def deflection_ends(q: NDArray[np.float64], asm: Assembly, reading: str) -> NDArray[np.float64]:
+    """Shaft-end displacements (n_t, 6) [m] at coordinates ``q`` as the deflection ``reading`` takes
+    them (:mod:`ddgsa.models.seed_readings`): :func:`shaft_ends` (``total``), its floating frame's
+    part (``frame``) or the difference, the elastic part ``A S q_f`` (``elastic``)."""
+    if reading == "total":
+        return shaft_ends(q, asm)
+    frame = shaft_ends(q, frame_points(asm))
+    return frame if reading == "frame" else shaft_ends(q, asm) - frame
+
+
+def deflection_jacobian(asm: Assembly, p0: NDArray[np.float64],
+                        reading: str) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`_end_jacobian` of the deflection ``reading`` (as :func:`deflection_ends`)."""
+    if reading == "total":
+        return _end_jacobian(asm, p0)
+    frame = _end_jacobian(frame_points(asm), p0)
+    if reading == "frame":
+        return frame
+    total = _end_jacobian(asm, p0)
+    return total[0] - frame[0], total[1] - frame[1]
+
+
 def _end_jacobian(asm: Assembly, p0: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Shaft-end displacements ``[hub (3), gen (3)]`` [m] at positions ``p0`` (no spin angle: ``[R,
     theta, psi, q_f]``) and their Jacobian (6, n_p), in closed form.
@@ -590,10 +660,11 @@ def _end_jacobian(asm: Assembly, p0: NDArray[np.float64]) -> tuple[NDArray[np.fl
     return ends, jac
 
 
-def objectives(sim: pd.DataFrame, params: Mapping[str, float], rule: str, length: float) -> dict[str, float]:
-    """Objective functions of a simulation (seed 000 §3.2.1 plus force statistics)."""
+def objectives(sim: pd.DataFrame, params: Mapping[str, float], rule: str) -> dict[str, float]:
+    """Objective functions of a simulation (seed 000 §3.2.1 plus force statistics); the shaft-end
+    displacement columns and their static values (``attrs``) are those of the model's deflection reading."""
     hub = sim[["hub_dx", "hub_dy", "hub_dz"]].to_numpy()
-    gen = sim[["gen_dx", "gen_dy", "gen_dz"]].to_numpy() + np.array([length, 0.0, 0.0])
+    gen = sim[["gen_dx", "gen_dy", "gen_dz"]].to_numpy()
     front, rear = (sim[[f"{b}_F{c}" for c in "xyz"]].to_numpy() for b in ("front", "rear"))
     return objective_values(hub - sim.attrs["static_hub"], gen - sim.attrs["static_gen"], sim["rotor_speed"].to_numpy(),
                             front, rear, params, rule)
