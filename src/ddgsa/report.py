@@ -36,7 +36,7 @@ PNG_METADATA = {"Software": None}
 def output_info(result: StudyResult) -> dict[str, ModelOutput]:
     """The declared outputs of the study's model (undeclared names get no unit)."""
     model = result.study.make_model()
-    return {o: model.output(o) if o in model.outputs else declared(o) for o in result.study.outputs}
+    return {o: result.study.output_declaration(model, o) for o in result.study.outputs}
 
 
 def write_report(result: StudyResult, out: Path) -> list[Path]:

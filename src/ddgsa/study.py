@@ -53,6 +53,8 @@ from ddgsa.loads.scene import Scene
 from ddgsa.models import MODELS
 from ddgsa.models import get as get_model
 from ddgsa.space import ParameterSpace
+from ddgsa.models.base import ModelOutput, declared
+from ddgsa.units import UnitError, convert, factor, has_unit, parameter_in
 
 _STRICT = ConfigDict(extra="forbid")
 
@@ -232,6 +234,8 @@ class FaultSpec(BaseModel):
     parameter: str
     healthy: float
     faulty: list[float] | FaultRange = Field(description="faulty levels: a list, or {start, stop, num}")
+    unit: str | None = Field(None, exclude=True, description="unit of healthy and faulty (default: the parameter's "
+                                                             "SI unit; converted on validation)")
     samples: int = Field(64, ge=8, le=4096, description="points over the other uncertainties per fault level")
     noise: dict[str, NoiseSpec] = Field(default_factory=dict, description="measurement noise per output")
     combine: list[str] | None = Field(None, min_length=2, description="outputs of the combined detector "
@@ -292,14 +296,38 @@ class StudySpec(BaseModel):
     kind: Literal["gsa", "sweep", "fault"] = "gsa"
     model: ModelSpec
     parameters: dict[str, dict[str, Any]] = Field(default_factory=dict)
-    fixed: dict[str, float] = Field(default_factory=dict)
-    grid: dict[str, list[float]] = Field(
-        default_factory=dict, description="parameter values to sweep, full factorial (kind: sweep only)")
+    fixed: dict[str, float | str | dict[str, Any]] = Field(
+        default_factory=dict, description="parameter values held fixed: a number in the model's unit, a quantity "
+                                          "('12 kN/m') or {value, unit}")
+    grid: dict[str, list[float | str] | dict[str, Any]] = Field(
+        default_factory=dict, description="parameter values to sweep, full factorial (kind: sweep only); "
+                                          "numbers, quantities or {value: [...], unit}")
     scenes: ScenesSpec | ModelScenesSpec = Field(default_factory=ScenesSpec)
-    outputs: list[str] = Field(default_factory=list)
+    outputs: list[str] = Field(default_factory=list, description="output names; an entry {name, unit} reports "
+                                                                "that output in another unit")
+    output_units: dict[str, str] = Field(default_factory=dict, exclude=True,
+                                         description="the units of outputs given as {name, unit} (filled from "
+                                                     "'outputs'; display only, so not part of the digest)")
     methods: list[MethodSpec] = Field(default_factory=list)
     fault: FaultSpec | None = None
     run: RunSpec = Field(default_factory=RunSpec)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _output_units(cls, data: Any) -> Any:
+        """``outputs: [{name: x, unit: mm}]`` -> ``outputs: [x]`` and ``output_units: {x: mm}``."""
+        if not isinstance(data, dict) or not isinstance(data.get("outputs"), list):
+            return data
+        names, units = [], dict(data.get("output_units") or {})
+        for i, entry in enumerate(data["outputs"]):
+            if isinstance(entry, dict):
+                if set(entry) != {"name", "unit"}:
+                    raise ValueError(f"outputs[{i}]: an output with a unit is {{name, unit}}, got keys {sorted(entry)}")
+                names.append(entry["name"])
+                units[str(entry["name"])] = str(entry["unit"])
+            else:
+                names.append(entry)
+        return {**data, "outputs": names, "output_units": units}
 
     @field_validator("scenes", mode="wrap")
     @classmethod
@@ -309,6 +337,7 @@ class StudySpec(BaseModel):
             return v
         model = info.data.get("model")
         scene_type = scene_type_of(model.name) if isinstance(model, ModelSpec) else Scene
+        v = scene_units(scene_type, v)
         if scene_type is Scene:
             return ScenesSpec.model_validate(v)
         return ModelScenesSpec.for_type(scene_type, model.name, v)
@@ -325,11 +354,33 @@ class StudySpec(BaseModel):
             raise ValueError("a 'fault' block needs kind: fault")
         if self.kind != "sweep" and (self.grid or self.model.variants):
             raise ValueError("'grid' and 'model.variants' need kind: sweep")
-        if any(not values for values in self.grid.values()):
+        if any(not (values.get("value") if isinstance(values, dict) else values) for values in self.grid.values()):
             raise ValueError("every 'grid' entry needs at least one value")
         if self.model.variants and self.model.fidelity == "auto":
             raise ValueError("'model.variants' cannot be combined with fidelity: auto")
         return self
+
+
+def scene_units(scene_type: type, data: Any) -> Any:
+    """The raw ``scenes:`` mapping with every value written with a unit converted to the scene
+    type's (its ``units``; :mod:`ddgsa.units`).
+
+    Raises
+    ------
+    ValueError
+        At field ``scenes.<key>`` for a unit of another dimension or one that cannot be read.
+    """
+    if not isinstance(data, dict):
+        return data
+    units = getattr(scene_type, "units", {})
+    out = dict(data)
+    for key, value in data.items():
+        if units.get(key) and has_unit(value):
+            try:
+                out[key] = convert(value, units[key])
+            except UnitError as exc:
+                _refuse(key, value, f"{exc} (field {key!r} is in {units[key]})")
+    return out
 
 
 def scene_type_of(model: str) -> type:
@@ -387,6 +438,23 @@ class Study:
     def outputs(self) -> list[str]:
         """Outputs to analyse (all of the model's when the study lists none)."""
         return self.spec.outputs or list(self.make_model().outputs)
+
+    def output_factors(self, outputs: list[str]) -> np.ndarray:
+        """Per output, the factor from the model's SI unit to the unit the study reports it in (1 by default)."""
+        if not self.spec.output_units:
+            return np.ones(len(outputs))
+        model = self.make_model()
+        return np.array([factor(model.output(o).unit, self.spec.output_units[o])
+                         if o in self.spec.output_units else 1.0 for o in outputs])
+
+    def output_declaration(self, model: Any, name: str) -> ModelOutput:
+        """The declaration of output ``name`` in the unit the study reports it in (range scaled)."""
+        decl = model.output(name) if name in model.outputs else declared(name)
+        unit = self.spec.output_units.get(name)
+        if unit is None:
+            return decl
+        f = factor(decl.unit, unit)
+        return ModelOutput(name, unit, decl.description, decl.low * f, decl.high * f)
 
 
 def _where(path: Path | None) -> str:
@@ -462,11 +530,13 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             if key not in names:
                 raise StudyError(f"{where}: field '{section}.{key}': not a parameter of model "
                                  f"{spec.model.name!r}: {_unknown_parameter(key, names)}")
+    _convert_units(where, spec, model)
     for key, values in spec.grid.items():
         if key not in names:
             raise StudyError(f"{where}: field 'grid.{key}': not a parameter of model {spec.model.name!r}: "
                              f"{_unknown_parameter(key, names)}")
         decl = model.parameter(key)
+        assert isinstance(values, list)
         bad = [v for v in values if not decl.low <= v <= decl.high]
         if bad:
             raise StudyError(f"{where}: field 'grid.{key}': value {bad[0]:g} leaves the allowed range "
@@ -476,8 +546,18 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         raise StudyError(f"{where}: field 'fixed': {sorted(overlap)} are also uncertain 'parameters' or 'grid' entries")
     for i, out in enumerate(spec.outputs):
         if out not in model.outputs and not spec.model.variants:
-            raise StudyError(f"{where}: field 'outputs[{i}]': unknown output {out!r} of model "
-                             f"{spec.model.name!r}; known: {', '.join(model.outputs)}")
+            raise StudyError(f"{where}: field 'outputs[{i}]': "
+                             + unknown_name_message(f"output of model {spec.model.name!r}", out, list(model.outputs),
+                                                    where=f"ddgsa models {spec.model.name}"))
+    for key, unit in spec.output_units.items():
+        if key not in spec.outputs:
+            raise StudyError(f"{where}: field 'output_units.{key}': not an output of the study; "
+                             f"known: {', '.join(spec.outputs)}")
+        try:
+            factor(unit, model.output(key).unit)
+        except UnitError as exc:
+            raise StudyError(f"{where}: field 'outputs[{spec.outputs.index(key)}].unit': output {key!r}: "
+                             f"{exc}") from None
     space = None
     if spec.parameters:
         try:
@@ -516,6 +596,40 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
     if spec.fault is not None:
         _validate_fault(where, spec, model)
     return Study(spec=spec, space=space, path=path, text=text)
+
+
+def _convert_units(where: str, spec: StudySpec, model: Any) -> None:
+    """Convert, in place, every parameter specification, fixed value, grid value and fault level
+    written with a unit to the unit model ``model`` declares (see :mod:`ddgsa.units`).
+
+    Raises
+    ------
+    StudyError
+        Naming the file, the field, the unit given and the dimension expected.
+    """
+    names = {p.name for p in model.parameters}
+    try:
+        for key, value in spec.parameters.items():
+            if key in names and isinstance(value, dict) and "unit" in value:
+                field = f"parameters.{key}.unit"
+                spec.parameters[key] = parameter_in(value, model.parameter(key).unit)
+        for section in ("fixed", "grid"):
+            values = getattr(spec, section)
+            for key, value in values.items():
+                plain = isinstance(value, (int, float)) or (
+                    isinstance(value, list) and all(isinstance(v, (int, float)) for v in value))
+                if key in names and not plain:                # plain numbers stay as written (digest)
+                    field = f"{section}.{key}"
+                    values[key] = convert(value, model.parameter(key).unit)
+        fault = spec.fault
+        if fault is not None and fault.unit is not None and fault.parameter in names:
+            field = "fault.unit"
+            unit = model.parameter(fault.parameter).unit
+            fault.healthy = convert({"value": fault.healthy, "unit": fault.unit}, unit)
+            fault.faulty = convert({"value": fault.levels, "unit": fault.unit}, unit)
+            fault.unit = unit
+    except UnitError as exc:
+        raise StudyError(f"{where}: field '{field}': {exc}") from None
 
 
 def scene_text(values: Mapping[str, Any]) -> str:

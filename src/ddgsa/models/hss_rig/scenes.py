@@ -78,6 +78,9 @@ class RigScene:
     seed: int = 1
     label_fields: ClassVar[tuple[str, ...]] = ("kind", "speed_rpm")
     """The fields that label a rig scene in study tables and plots."""
+    units: ClassVar[dict[str, str]] = {"kind": "", "speed_rpm": "rpm", "duration": "s", "sample_rate": "Hz",
+                                       "settle": "s", "ramp_time": "s"}
+    """The unit of each field (a study may write another unit, :mod:`ddgsa.units`; ``kind`` is a word)."""
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
