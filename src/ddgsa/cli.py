@@ -97,6 +97,8 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     args.quiet, args.verbose = getattr(args, "quiet", False), getattr(args, "verbose", False)
     logging.basicConfig(level=logging.DEBUG if args.verbose else logging.WARNING, format="%(message)s")
+    shown = warnings.showwarning
+    warnings.showwarning = _show_warning(args.quiet)
     try:
         return _dispatch(args)
     except DdgsaError as exc:
@@ -113,21 +115,26 @@ def main(argv: list[str] | None = None) -> int:
         print(f"ddgsa: failed: {type(exc).__name__}: {exc} (rerun with --verbose for the traceback)",
               file=sys.stderr)
         return EXIT_FAILURE
+    finally:
+        warnings.showwarning = shown
 
 
 def _dispatch(args: argparse.Namespace) -> int:
     if args.command == "validate":
-        study = _load(args.study)
+        from ddgsa.checks import SAMPLE, support_points
+
+        study = _load(args.study, args.quiet)
         sc = study.spec.scenes
         print(f"{args.study}: valid ({study.spec.kind} study '{study.name}', model {study.spec.model.name}, "
               f"{plural(len(study.spec.parameters), 'parameter')}, {plural(len(sc.grid()), 'scene')} x "
-              f"{plural(sc.realisations, 'realisation')})")
+              f"{plural(sc.realisations, 'realisation')}; checked the sampling of every scene and "
+              f"{len(support_points(study))} points of the support, {SAMPLE} of them sampled)")
         return EXIT_OK
     if args.command == "models":
         _print_models()
         return EXIT_OK
     if args.command == "run":
-        study = _load(args.study)
+        study = _load(args.study, args.quiet)
         if args.jobs is not None and args.jobs < 1:
             print("ddgsa: error: --jobs must be >= 1", file=sys.stderr)
             return EXIT_INPUT
@@ -193,9 +200,20 @@ def _modes(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _load(path: Path) -> "Study":
-    """Load and validate a study; its warnings (e.g. a nominal point outside the model's valid
-    region) are printed as ``ddgsa: warning: ...``."""
+def _load(path: Path, quiet: bool = False) -> "Study":
+    """Load and validate a study and run the model's own checks over it (:mod:`ddgsa.checks`).
+
+    Warnings (e.g. a nominal point outside the model's valid region, part of the support that
+    will fail) print as ``ddgsa: warning: ...``; notes and hints (a sampling remark, a number
+    that looks written in another unit) as ``ddgsa: note/hint: ...`` unless ``quiet``.
+
+    Raises
+    ------
+    StudyError
+        Listing every error of the checks (e.g. a scene the model refuses as aliased).
+    """
+    from ddgsa.checks import study_findings
+    from ddgsa.errors import StudyError
     from ddgsa.study import StudyWarning, load_study
 
     with warnings.catch_warnings(record=True) as caught:
@@ -203,7 +221,35 @@ def _load(path: Path) -> "Study":
         study = load_study(path)
     for w in caught:
         print(f"ddgsa: warning: {w.message}", file=sys.stderr)
+    findings = study_findings(study)
+    errors = [f for f in findings if f.level == "error"]
+    if errors:
+        raise StudyError("\n".join(f"{path}: {f}" for f in errors))
+    for f in findings:
+        if f.level == "warning" or not quiet:
+            print(f"ddgsa: {f.level}: {path}: {f}", file=sys.stderr)
     return study
+
+
+def _show_warning(quiet: bool):  # noqa: ANN202 -- returns warnings.showwarning's signature
+    """``warnings.showwarning`` for the CLI: ddgsa's own warnings print as one line without the
+    source line (``ddgsa: note: ...`` for sampling notes, which ``-q`` hides; ``ddgsa: warning:``
+    otherwise); others as Python prints them. Forked workers inherit it."""
+    from ddgsa.mbs.sampling import AliasingWarning
+
+    original = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):  # type: ignore[no-untyped-def]
+        if not category.__module__.startswith("ddgsa"):
+            return original(message, category, filename, lineno, file, line)
+        if issubclass(category, AliasingWarning):
+            if not quiet:
+                print(f"ddgsa: note: {message}", file=sys.stderr)
+            return None
+        print(f"ddgsa: warning: {message}", file=sys.stderr)
+        return None
+
+    return show
 
 
 def plural(n: int, noun: str) -> str:

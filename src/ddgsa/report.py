@@ -141,11 +141,22 @@ def problems(result: StudyResult) -> list[str]:
             names = sorted(set(d[(d["output"].isin([output, None]) | d["output"].isna())
                                  & (d["severity"] == "untrusted") & d["scene"].isin(scenes)]["name"])) if len(d) else []
             out.append(f"output {output!r}: no method's indices are trusted in {_scenes(scenes)}"
-                       + (f" ({', '.join(names)})" if names else ""))
+                       + (f" ({', '.join(names)})" if names else "") + _first_failure(result, scenes))
     if result.sweep is not None and result.sweep["error"].notna().any():
         n = int(result.sweep["error"].notna().sum())
         out.append(f"{n} of {len(result.sweep)} sweep evaluations failed (their values are refused)")
     return out
+
+
+def _first_failure(result: StudyResult, scenes: list[int]) -> str:
+    """``; N evaluations failed, the first: <reason>`` for the failed evaluations of ``scenes`` (any
+    scene where they carry no index), so the console names the cause, not only its symptom."""
+    fails = result.provenance.get("failures", []) if result.provenance else []
+    fields = result.study.scene_fields
+    grid = {i: f for i, f in enumerate(result.study.spec.scenes.grid())}
+    mine = [f for f in fails if any(all(f["scene"].get(k) == grid[s].get(k) for k in fields) for s in scenes
+                                    if s in grid)] or fails
+    return f"; {len(mine)} evaluations failed, the first: {mine[0]['error']}" if mine else ""
 
 
 def _scenes(scenes: list[int]) -> str:

@@ -54,7 +54,7 @@ from ddgsa.models import MODELS
 from ddgsa.models import get as get_model
 from ddgsa.space import ParameterSpace
 from ddgsa.models.base import ModelOutput, declared
-from ddgsa.units import UnitError, convert, factor, has_unit, parameter_in
+from ddgsa.units import UnitError, convert, factor, has_unit, parameter_in, scene_hints
 
 _STRICT = ConfigDict(extra="forbid")
 
@@ -592,7 +592,9 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         try:
             spec.scenes.scene(fields, 0)
         except (DdgsaError, TypeError) as exc:
-            raise StudyError(f"{where}: field 'scenes' (scene {k}: {scene_text(fields)}): {exc}") from None
+            values = {key: [v] for key, v in {**getattr(spec.scenes, "fields", {}), **fields}.items()}
+            hints = "".join(f" (hint: {h})" for _, h in scene_hints(scene_type_of(spec.model.name), values))
+            raise StudyError(f"{where}: field 'scenes' (scene {k}: {scene_text(fields)}): {exc}{hints}") from None
     if spec.fault is not None:
         _validate_fault(where, spec, model)
     return Study(spec=spec, space=space, path=path, text=text)

@@ -206,3 +206,24 @@ def parameter_in(spec: Mapping[str, Any], expected: str) -> dict[str, Any]:
             out[key] = value
     out["unit"] = expected
     return out
+
+
+def scene_hints(scene_type: type, values: dict[str, list[Any]]) -> list[tuple[str, str]]:
+    """``(field, hint)`` for scene values that look written in another unit: a field in rpm below
+    60 (Hz?), in Hz below 100 (kHz?), a wind speed above 30 m/s (km/h?)."""
+    units = getattr(scene_type, "units", {})
+    out = []
+    for key, vals in values.items():
+        nums = [v for v in vals if isinstance(v, (int, float)) and not isinstance(v, bool)]
+        if not nums:
+            continue
+        unit, low, high = units.get(key), min(nums), max(nums)
+        if unit == "rpm" and low < 60:
+            out.append((key, f"{low:g} rpm is less than one revolution per second; if you meant Hz write "
+                             f"'{low:g} Hz' (= {60 * low:g} rpm)"))
+        elif unit == "Hz" and low < 100:
+            out.append((key, f"{low:g} Hz is a low rate; if you meant kHz write '{low:g} kHz'"))
+        elif unit == "m/s" and key == "wind_speed" and high > 30:
+            out.append((key, f"{high:g} m/s is above storm speed; if you meant km/h write '{high:g} km/h' "
+                             f"(= {high / 3.6:.3g} m/s)"))
+    return out
