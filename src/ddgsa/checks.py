@@ -11,6 +11,8 @@ without asking the model is checked here, over everything the study would run:
   values, through :meth:`~ddgsa.models.base.Model.point_problems` (e.g. the direct drive's
   bearings that must not cross). Every checked point invalid is an error; some invalid is a
   warning that says how many and the first reason (those evaluations fail and are never imputed).
+* **parameters without effect** at the study's fidelity
+  (:meth:`~ddgsa.models.base.Model.unused_parameters`), warned by name with the reason.
 * **unit hints**: a number that looks written in another unit (a ``speed_rpm`` of 25 that reads
   like Hz; a parameter 1000x its model's nominal value).
 """
@@ -56,7 +58,8 @@ class Finding:
 def study_findings(study: Study, sample: int = SAMPLE) -> list[Finding]:
     """Every finding of the checks above, errors first."""
     model = study.make_model()
-    found = [*_sampling(study, model), *_region(study, model, sample), *_unit_hints(study, model)]
+    found = [*_sampling(study, model), *_region(study, model, sample), *_unused(study, model),
+             *_unit_hints(study, model)]
     order = {"error": 0, "warning": 1, "note": 2, "hint": 3}
     return sorted(found, key=lambda f: order[f.level])
 
@@ -109,6 +112,14 @@ def _region(study: Study, model: Any, sample: int) -> list[Finding]:
         return [Finding("error", "parameters", text + "; every evaluation would fail")]
     return [Finding("warning", "parameters", text + "; evaluations there will fail (never imputed) and the methods "
                                                     "that need them will be refused: narrow the support")]
+
+
+def _unused(study: Study, model: Any) -> list[Finding]:
+    """Uncertain parameters the model ignores at the study's fidelity (their indices are 0 by construction)."""
+    unused = model.unused_parameters()
+    return [Finding("warning", f"parameters.{name}", f"{unused[name]}: its indices are 0 by construction and "
+                                                    "its evaluations are spent for nothing")
+            for name in study.spec.parameters if name in unused]
 
 
 def _unit_hints(study: Study, model: Any) -> list[Finding]:

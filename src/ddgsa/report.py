@@ -495,6 +495,25 @@ def _fault_markdown(result: StudyResult) -> list[str]:
     return lines
 
 
+RANKED = 5
+"""Parameters a ranking row of ``summary.md`` names (it says how many more ``indices.csv`` holds)."""
+
+
+def no_effect_lines(result: StudyResult) -> list[str]:
+    """``summary.md``'s list of the uncertain parameters without effect, by name with the reason:
+    those the model ignores at the study's fidelity (:meth:`~ddgsa.models.base.Model.unused_parameters`)
+    and those whose ST is exactly 0 for every output, scene and method of the run."""
+    unused = result.study.make_model().unused_parameters()
+    st = result.indices.groupby("parameter", sort=False)["ST"].agg(lambda v: bool((v.fillna(1.0) == 0.0).all()))
+    reasons = {name: unused[name] for name in result.study.spec.parameters if name in unused}
+    reasons.update({name: "ST = 0 for every output, scene and method (no effect in this study)"
+                    for name, zero in st.items() if zero and name not in reasons})
+    if not reasons:
+        return []
+    return (["## Parameters without effect", "", "Their indices are 0 (by construction, or in this run); they rank last everywhere:", ""]
+            + [f"- `{name}`: {why}" for name, why in reasons.items()] + [""])
+
+
 def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = None) -> str:
     """A short Markdown summary: what ran, the outputs (unit, meaning, mean, CV), problems, then
     per scene and output a sentence on what dominates and parameters ranked by ST with S1."""
@@ -543,13 +562,15 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
             lines.append("| method | tolerance | trusted | ranking: parameter ST (S1) |")
             lines.append("|---|---|---|---|")
             for meth, gm in g.groupby("method", sort=False):
-                top = gm.sort_values("ST", ascending=False, na_position="last").head(5)
+                top = gm.sort_values("ST", ascending=False, na_position="last").head(RANKED)
                 rank = ", ".join(f"{r.parameter} {r.ST:.2f} ({r.S1:.2f})" for r in top.itertuples())
+                rank += f"; {len(gm) - len(top)} more in indices.csv" if len(gm) > len(top) else ""
                 label = f"{meth} (from {gm['source'].iloc[0]})" if meth == "auto" else meth
                 tol = tols.get(meth)
                 lines.append(f"| {label} | {'' if tol is None else f'±{tol:g}'} | "
                              f"{'yes' if gm['trusted'].all() else '**no**'} | {rank} |")
             lines.append("")
+        lines += no_effect_lines(result)
         logs = [(ps, res) for ps, res in result.results if res.method == "auto"]
         if logs:
             lines += ["## `method: auto` decisions", ""]

@@ -547,7 +547,7 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
     for i, out in enumerate(spec.outputs):
         if out not in model.outputs and not spec.model.variants:
             raise StudyError(f"{where}: field 'outputs[{i}]': "
-                             + unknown_name_message(f"output of model {spec.model.name!r}", out, list(model.outputs),
+                             + unknown_name_message("output", out, list(model.outputs),
                                                     where=f"ddgsa models {spec.model.name}"))
     for key, unit in spec.output_units.items():
         if key not in spec.outputs:

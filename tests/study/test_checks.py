@@ -6,12 +6,17 @@ from __future__ import annotations
 
 import warnings
 from pathlib import Path
+from types import SimpleNamespace
 
+import pandas as pd
 import pytest
 
 from ddgsa.checks import study_findings, support_points
 from ddgsa.cli import main
+from ddgsa.loads.scene import Scene
+from ddgsa.models import get as get_model
 from ddgsa.models.hss_rig.model import BEARING_GEOMETRY
+from ddgsa.report import no_effect_lines
 from ddgsa.study import StudyWarning, load_study
 
 RIG = """\
@@ -107,3 +112,32 @@ def test_the_console_names_the_first_failure_reason(write_study, tmp_path: Path,
     err = capsys.readouterr().err
     assert "output 'y': no method's indices are trusted" in err
     assert "evaluations failed, the first: RuntimeError: x1 = " in err and "above fail_above = 2.5" in err
+
+
+def test_the_rigid_direct_drive_names_exactly_the_parameters_without_effect() -> None:
+    # independent check: change each parameter by 30 % and compare the outputs bit for bit
+    model = get_model("direct_drive", fidelity="rigid")
+    unused = model.unused_parameters()
+    scene = Scene(wind_speed=11.0, duration=10.0, seed=1)
+    names = ["k_front_z", "hub_mass", *unused]
+    rows = [model.nominal] + [{**model.nominal, n: 1.3 * model.nominal[n]} for n in names]
+    y = model.evaluate(pd.DataFrame(rows), scene).to_numpy()
+    changed = {n: bool((y[i + 1] != y[0]).any()) for i, n in enumerate(names)}
+    assert changed == {n: n in ("k_front_z", "hub_mass") for n in names}
+    assert set(unused) == {"shaft_bending_stiffness", "shaft_torsional_stiffness", "shaft_axial_stiffness",
+                           "shaft_damping_ratio", "shaft_radius"}
+    assert get_model("direct_drive", fidelity="flexible").unused_parameters() == {}
+
+
+def test_parameters_without_effect_are_warned_and_listed_in_the_summary(tmp_path: Path, capsys) -> None:
+    path = _write(tmp_path, DD.format(low=4, high=5, k=1e10).replace(
+        "parameters:\n", "parameters:\n  shaft_bending_stiffness: {nominal: 1e9, spread: 0.2}\n"))
+    assert main(["validate", str(path)]) == 0
+    assert ("field 'parameters.shaft_bending_stiffness': has no effect at fidelity rigid"
+            in capsys.readouterr().err)
+    study = load_study(path)
+    indices = pd.DataFrame({"parameter": ["rear_bearing_x", "k_front_z", "shaft_bending_stiffness"] * 2,
+                            "ST": [0.7, 0.3, 0.0, 0.6, 0.0, 0.0]})
+    lines = no_effect_lines(SimpleNamespace(study=study, indices=indices))
+    assert "- `shaft_bending_stiffness`: has no effect at fidelity rigid" in "\n".join(lines)
+    assert not any("k_front_z" in line for line in lines)      # 0 in one row only: it has an effect
