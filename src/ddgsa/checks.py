@@ -147,3 +147,28 @@ def _scene_values(study: Study) -> dict[str, list[Any]]:
         for key, value in ps.scenes[0].to_dict().items():
             out.setdefault(key, []).append(value)
     return out
+
+
+def evaluation_plan(study: Study) -> str:
+    """What the study will evaluate, per method and in total, with every sample a method adds of
+    its own (e.g. M-DRM's check sample, option ``check``, default 32) named; methods share equal
+    points, which run once. Empty for a study without methods or with ``method: auto``."""
+    from ddgsa.gsa.base import get_method
+
+    space = study.space
+    if space is None or not study.spec.methods or any(m.method == "auto" for m in study.spec.methods):
+        return ""
+    parts, blocks = [], []
+    for m in study.spec.methods:
+        design = get_method(m.method).design(space, **m.options)
+        blocks.append(design.points)
+        check = design.options.get("check")
+        extra = f" (its {check}-point check sample, option check, included)" if check else ""
+        parts.append(f"{m.method} {len(design.points)}{extra}")
+    distinct = len(np.unique(np.vstack(blocks), axis=0))
+    sc = study.spec.scenes
+    runs = distinct * len(sc.grid()) * sc.realisations
+    n_scenes = len(sc.grid())
+    return (f"evaluations per scene and realisation: {', '.join(parts)}; {distinct} distinct points (methods share "
+            f"equal points) x {n_scenes} scene{'s' * (n_scenes != 1)} x {sc.realisations} "
+            f"realisation{'s' * (sc.realisations != 1)} = {runs} model runs")

@@ -52,13 +52,15 @@ def _parser() -> argparse.ArgumentParser:
                      help="write into a folder that holds another study's results (its stale files are removed)")
     run.add_argument("--allow-untrusted", action="store_true",
                      help="exit 0 even when an output's indices are refused or untrusted (default: exit 3)")
-    run.add_argument("--jobs", type=int, help="parallel workers (default from the study, else 1)")
+    run.add_argument("--jobs", type=int, help="parallel workers (default from the study's run.jobs, else the "
+                                              "number of cores)")
     run.add_argument("--backend", choices=["loky", "dask"], help="joblib loky (default) or a Dask cluster")
     run.add_argument("--address", help="Dask scheduler HOST:PORT (default: a LocalCluster)")
     val = sub.add_parser("validate", help="check a study file; exit 0 or 2", parents=[common])
     val.add_argument("study", type=Path)
-    sub.add_parser("models", help="list models, fidelities, parameters and outputs (units, meanings)",
-                   parents=[common])
+    mods = sub.add_parser("models", help="list models, fidelities, parameters and outputs (units, meanings)",
+                          parents=[common])
+    mods.add_argument("name", nargs="?", help="one model (default: all)")
     rep = sub.add_parser("report", help="rebuild tables and plots from a run's stored evaluations", parents=[common])
     rep.add_argument("dir", type=Path)
     rep.add_argument("--allow-untrusted", action="store_true", help="exit 0 even with untrusted results")
@@ -88,7 +90,7 @@ def _parser() -> argparse.ArgumentParser:
     mod.add_argument("--max-rpm", type=float, default=20.0, help="highest rotor speed of the Campbell diagram [rpm]")
     mod.add_argument("--points", type=int, default=11, help="rotor speeds from 0 to --max-rpm")
     mod.add_argument("--orders", type=float, nargs="+", default=[1.0, 3.0], help="excitation orders (1P, 3P ...)")
-    mod.add_argument("--out", type=Path, help="output folder (default results/modes_<name>)")
+    mod.add_argument("--out", type=Path, help="output folder (default runs/modes_<name>)")
     return p
 
 
@@ -131,13 +133,15 @@ def _dispatch(args: argparse.Namespace) -> int:
               f"{len(support_points(study))} points of the support, {SAMPLE} of them sampled)")
         return EXIT_OK
     if args.command == "models":
-        _print_models()
+        _print_models(args.name)
         return EXIT_OK
     if args.command == "run":
         study = _load(args.study, args.quiet)
         if args.jobs is not None and args.jobs < 1:
             print("ddgsa: error: --jobs must be >= 1", file=sys.stderr)
             return EXIT_INPUT
+        if args.jobs is None and "jobs" not in study.spec.run.model_fields_set:
+            args.jobs = default_jobs()
         return _run(study, args)
     if args.command == "report":
         return _report(args)
@@ -169,7 +173,7 @@ def _modes(args: argparse.Namespace) -> int:
         model, name = study.make_model(), study.name
     else:
         model, name = models.get(args.target), args.target
-    out = args.out or Path("results") / f"modes_{name}"
+    out = args.out or Path("runs") / f"modes_{name}"
     out.mkdir(parents=True, exist_ok=True)
     if not args.campbell:
         table = model.modes()
@@ -212,7 +216,7 @@ def _load(path: Path, quiet: bool = False) -> "Study":
     StudyError
         Listing every error of the checks (e.g. a scene the model refuses as aliased).
     """
-    from ddgsa.checks import study_findings
+    from ddgsa.checks import evaluation_plan, study_findings
     from ddgsa.errors import StudyError
     from ddgsa.study import StudyWarning, load_study
 
@@ -228,6 +232,9 @@ def _load(path: Path, quiet: bool = False) -> "Study":
     for f in findings:
         if f.level == "warning" or not quiet:
             print(f"ddgsa: {f.level}: {path}: {f}", file=sys.stderr)
+    plan = evaluation_plan(study)
+    if plan and not quiet:
+        print(f"ddgsa: note: {plan}", file=sys.stderr)
     return study
 
 
@@ -250,6 +257,13 @@ def _show_warning(quiet: bool):  # noqa: ANN202 -- returns warnings.showwarning'
         return None
 
     return show
+
+
+def default_jobs() -> int:
+    """Workers when neither ``--jobs`` nor the study's ``run.jobs`` says: the cores this process may use."""
+    import os
+
+    return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
 
 
 def plural(n: int, noun: str) -> str:
@@ -365,12 +379,22 @@ def _bench(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _print_models() -> None:
+def _print_models(only: str | None = None) -> None:
+    """``ddgsa models [NAME]``: each model's fidelities, scene fields, parameters and outputs with
+    units and meanings; an unknown NAME is refused with the known ones."""
+    import dataclasses
+
+    from ddgsa.errors import ModelError, unknown_name_message
     from ddgsa.models import MODELS, get
 
-    for name in sorted(MODELS):
+    if only is not None and only not in MODELS:
+        raise ModelError(unknown_name_message("model", only, list(MODELS)))
+    for name in sorted(MODELS) if only is None else [only]:
         model = get(name)
-        print(f"{name}: fidelities {', '.join(model.fidelities)}")
+        print(f"{name}: fidelities {', '.join(model.fidelities)} (the first is the default)")
+        units = getattr(model.scene_type, "units", {})
+        fields = [f.name for f in dataclasses.fields(model.scene_type) if f.name != "seed"]
+        print("scene fields (scenes:): " + ", ".join(f"{f} [{units.get(f) or '-'}]" for f in fields))
         print("parameters:")
         print(model.parameter_table().to_string(index=False, formatters={"nominal": "{:.4g}".format}))
         print("outputs (a value outside the plausible range is warned about):")

@@ -553,7 +553,9 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
         lines += ["## Parameters ranked by total index (ST, with S1)", "",
                   "trusted = every index of the row (S1 and ST) within ±tolerance (absolute) of the truth, "
                   "by the method's own error estimate (README: \"When M-DRM is not to be trusted\"); "
-                  "a method is `yes` when all its rows are.", ""]
+                  "a method is `yes` when all its rows are. A method's runs (indices.csv `n_evals`) count its "
+                  "whole design, any check sample of its own included; the evaluation count above counts each "
+                  "distinct point once, as methods share equal points.", ""]
         for (scene, out), g in result.indices.groupby(["scene", "output"]):
             fields = scene_text({f: g[f].iloc[0] for f in result.study.scene_fields})
             lines.append(f"### scene {scene} ({fields}) - `{out}` [{info.get(out, declared(out)).unit or '?'}]")
@@ -566,6 +568,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                 rank = ", ".join(f"{r.parameter} {r.ST:.2f} ({r.S1:.2f})" for r in top.itertuples())
                 rank += f"; {len(gm) - len(top)} more in indices.csv" if len(gm) > len(top) else ""
                 label = f"{meth} (from {gm['source'].iloc[0]})" if meth == "auto" else meth
+                label += f", {int(gm['n_evals'].iloc[0])} runs" if "n_evals" in gm and gm["n_evals"].notna().all() else ""
                 tol = tols.get(meth)
                 lines.append(f"| {label} | {'' if tol is None else f'±{tol:g}'} | "
                              f"{'yes' if gm['trusted'].all() else '**no**'} | {rank} |")

@@ -32,6 +32,7 @@ import dataclasses
 import hashlib
 import itertools
 import json
+import re
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -676,6 +677,25 @@ def _validate_fault(where: str, spec: StudySpec, model: Any) -> None:
                          f"need >= {int(np.ceil(1 / fault.false_alarm))}")
 
 
+def _known_fields(loc: tuple[Any, ...]) -> list[str]:
+    """The fields of the schema part at ``loc`` (a pydantic error location), for unknown-field messages."""
+    node: Any = StudySpec
+    for key in loc:
+        if isinstance(key, int) or not (isinstance(node, type) and issubclass(node, BaseModel)):
+            continue                                 # a list index or a dict key: the same part
+        field = node.model_fields.get(str(key))
+        if field is None:
+            return []
+        parts = [a for a in (*getattr(field.annotation, "__args__", ()), field.annotation)
+                 if isinstance(a, type) and issubclass(a, BaseModel)]
+        if not parts:
+            return []
+        node = next((a for a in parts if a is not ModelScenesSpec), parts[0])
+    if node is StudySpec:
+        return [k for k in node.model_fields if k != "output_units"]
+    return list(node.model_fields) if isinstance(node, type) and issubclass(node, BaseModel) else []
+
+
 def _pydantic_message(where: str, exc: ValidationError) -> str:
     """One line per problem: file, field path, message and the value given."""
     lines = []
@@ -683,10 +703,14 @@ def _pydantic_message(where: str, exc: ValidationError) -> str:
         loc = ".".join(f"[{x}]" if isinstance(x, int) else str(x) for x in err["loc"]).replace(".[", "[")
         msg = err["msg"]
         if err["type"] == "extra_forbidden":
-            msg = "unknown field (check its spelling)"
+            known = _known_fields(err["loc"][:-1])
+            msg = unknown_name_message("field", err["loc"][-1], known) if known else "unknown field"
+        elif err["type"] == "literal_error":
+            allowed = re.findall(r"'([^']*)'", str(err.get("ctx", {}).get("expected", "")))
+            msg = unknown_name_message("value", err["input"], allowed)
         elif err["type"] == "missing":
             msg = "required field is missing"
-        given = f" (given: {err['input']!r})" if err["type"] not in ("missing", "extra_forbidden") \
+        given = f" (given: {err['input']!r})" if err["type"] not in ("missing", "extra_forbidden", "literal_error") \
             and not isinstance(err.get("input"), dict) else ""
         lines.append(f"{where}: field '{loc or '<top>'}': {msg}{given}")
     return "\n".join(lines)
