@@ -552,7 +552,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
         tols = {res.method: res.options.get("tolerance") for _, res in result.results}
         lines += ["## Parameters ranked by total index (ST, with S1)", "",
                   "trusted = every index of the row (S1 and ST) within ±tolerance (absolute) of the truth, "
-                  "by the method's own error estimate (README: \"When M-DRM is not to be trusted\"); "
+                  "by the method's own error estimate (docs/methods.md: \"When M-DRM is not to be trusted\"); "
                   "a method is `yes` when all its rows are. A method's runs (indices.csv `n_evals`) count its "
                   "whole design, any check sample of its own included; the evaluation count above counts each "
                   "distinct point once, as methods share equal points.", ""]

@@ -58,9 +58,10 @@ def test_jeffcott_gyroscopic_splitting_closed_form() -> None:
     np.testing.assert_allclose(crossings["speed_rad_s"], np.sqrt(midspan_stiffness()[0] / MASS), rtol=1e-6)
 
 
+@pytest.mark.slow        # ROSS imports in ~20 s; the closed-form Jeffcott test above is the fast check of the same rotor
 def test_jeffcott_against_ross() -> None:
     """Same rotor in ROSS (Euler-Bernoulli shaft elements of 1e-5 steel density, 0.15 g): frequencies within 1e-5."""
-    rs = pytest.importorskip("ross", reason="ross-rotordynamics (optional test dependency) is not installed")
+    rs = pytest.importorskip("ross", reason="ROSS is the optional oracle: pip install -e '.[oracles]'")
     material = rs.Material(name="light_steel", rho=0.0781, E=E, G_s=G_SHEAR)
     shaft = [rs.ShaftElement(L=LENGTH / 2, idl=0.0, odl=DIAMETER, material=material, shear_effects=False,
                              rotary_inertia=False, gyroscopic=False) for _ in range(2)]
