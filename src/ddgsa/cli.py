@@ -129,8 +129,10 @@ def _dispatch(args: argparse.Namespace) -> int:
         sc = study.spec.scenes
         print(f"{args.study}: valid ({study.spec.kind} study '{study.name}', model {study.spec.model.name}, "
               f"{plural(len(study.spec.parameters), 'parameter')}, {plural(len(sc.grid()), 'scene')} x "
-              f"{plural(sc.realisations, 'realisation')}; checked the sampling of every scene and "
-              f"{len(support_points(study))} points of the support, {SAMPLE} of them sampled)")
+              f"{plural(sc.realisations, 'realisation')})")
+        if not args.quiet:
+            print(f"checked: the sampling of every scene, {len(support_points(study))} points of the parameters' "
+                  f"support ({SAMPLE} of them sampled), parameters without effect, units")
         return EXIT_OK
     if args.command == "models":
         _print_models(args.name)

@@ -305,7 +305,8 @@ class _Plan:
                 else:
                     rows.append([o.outputs[name] for name in outputs])
             per_real.append(rows)
-        return np.asarray(per_real, dtype=float) * self.study.output_factors(outputs)   # (n_real, n_points, n_out)
+        values = np.asarray(per_real, dtype=float).reshape(len(per_real), len(pts), len(outputs))
+        return values * self.study.output_factors(outputs)            # (n_real, n_points, n_out)
 
 
 def _designs(study: Study, space: ParameterSpace | None = None) -> list[tuple[str, Design]]:

@@ -151,7 +151,9 @@ def problems(result: StudyResult) -> list[str]:
 def _first_failure(result: StudyResult, scenes: list[int]) -> str:
     """``; N evaluations failed, the first: <reason>`` for the failed evaluations of ``scenes`` (any
     scene where they carry no index), so the console names the cause, not only its symptom."""
-    fails = result.provenance.get("failures", []) if result.provenance else []
+    fails = (getattr(result, "provenance", None) or {}).get("failures", [])
+    if not fails:
+        return ""
     fields = result.study.scene_fields
     grid = {i: f for i, f in enumerate(result.study.spec.scenes.grid())}
     mine = [f for f in fails if any(all(f["scene"].get(k) == grid[s].get(k) for k in fields) for s in scenes
@@ -561,6 +563,10 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
             lines.append(f"### scene {scene} ({fields}) - `{out}` [{info.get(out, declared(out)).unit or '?'}]")
             lines.append("")
             lines += [_dominance(g, out, mom.get((scene, out))), ""]
+            if "n_evals" in g and g["n_evals"].notna().all():
+                runs = g.groupby("method", sort=False)["n_evals"].first()
+                lines += ["runs per method (indices.csv `n_evals`): " + ", ".join(f"{m} {int(n)}" for m, n in runs.items()),
+                          ""]
             lines.append("| method | tolerance | trusted | ranking: parameter ST (S1) |")
             lines.append("|---|---|---|---|")
             for meth, gm in g.groupby("method", sort=False):
@@ -568,7 +574,6 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                 rank = ", ".join(f"{r.parameter} {r.ST:.2f} ({r.S1:.2f})" for r in top.itertuples())
                 rank += f"; {len(gm) - len(top)} more in indices.csv" if len(gm) > len(top) else ""
                 label = f"{meth} (from {gm['source'].iloc[0]})" if meth == "auto" else meth
-                label += f", {int(gm['n_evals'].iloc[0])} runs" if "n_evals" in gm and gm["n_evals"].notna().all() else ""
                 tol = tols.get(meth)
                 lines.append(f"| {label} | {'' if tol is None else f'±{tol:g}'} | "
                              f"{'yes' if gm['trusted'].all() else '**no**'} | {rank} |")

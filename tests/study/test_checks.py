@@ -66,7 +66,8 @@ def test_a_coarse_rig_scene_is_a_note_that_minus_q_hides(tmp_path: Path, capsys)
         warnings.simplefilter("error")                        # the note is not a raw Python warning
         assert main(["validate", str(path)]) == 0
         err = capsys.readouterr().err
-        assert err.count("ddgsa: note:") == 1 and "4.9 samples per period" in err and "warnings.warn" not in err
+        assert err.count("samples per period") == 1 and "ddgsa: note: " in err and "4.9 samples per period" in err
+        assert "warnings.warn" not in err
         assert main(["-q", "validate", str(path)]) == 0
     assert capsys.readouterr().err == ""
 
