@@ -84,7 +84,7 @@ def _parser() -> argparse.ArgumentParser:
     ben.add_argument("--ref-seconds", type=float, default=20.0, help="scene seconds the slow reference integrates")
     ben.add_argument("--no-study", action="store_true", help="speed: skip the paper_c_structural study rows")
     mod = sub.add_parser("modes", help="natural frequencies of a model or a study's model (CSV + PNG); "
-                                       "--campbell: against rotor speed")
+                                       "--campbell: against rotor speed", parents=[common])
     mod.add_argument("target", help="a model name (see ddgsa models) or a study YAML file")
     mod.add_argument("--campbell", action="store_true", help="modes against rotor speed with order lines")
     mod.add_argument("--max-rpm", type=float, default=20.0, help="highest rotor speed of the Campbell diagram [rpm]")
@@ -180,8 +180,12 @@ def _modes(args: argparse.Namespace) -> int:
     if not args.campbell:
         table = model.modes()
         table.to_csv(out / "modes.csv", index=False)
-        plot_modes(table).figure.savefig(out / "modes.png", dpi=120, bbox_inches="tight")
+        what = f"{name}, fidelity {getattr(model, 'fidelity', '') or '-'}, nominal parameters, standing still"
+        ax = plot_modes(table)
+        ax.set_title(f"natural frequencies: {what}", fontsize=9)
+        ax.figure.savefig(out / "modes.png", dpi=120, bbox_inches="tight")
         if not args.quiet:
+            print(f"modes of {what}:")
             print(table[["frequency_hz", "damping_ratio", "label"]].to_string(index=False))
             print(f"wrote {out / 'modes.csv'} and {out / 'modes.png'}")
         return EXIT_OK
@@ -196,7 +200,9 @@ def _modes(args: argparse.Namespace) -> int:
         raise ModelError(f"model {name!r} has no rotor speed to sweep: no Campbell diagram (ddgsa modes {args.target} "
                          "without --campbell gives its modes)")
     diagram.to_frame().to_csv(out / "campbell.csv", index=False)
-    diagram.plot().figure.savefig(out / "campbell.png", dpi=120, bbox_inches="tight")
+    ax = diagram.plot()
+    ax.set_title(f"{ax.get_title()}: {name}, fidelity {getattr(model, 'fidelity', '') or '-'}", fontsize=9)
+    ax.figure.savefig(out / "campbell.png", dpi=120, bbox_inches="tight")
     if not args.quiet:
         for order in args.orders:
             cross = diagram.crossings(order)

@@ -78,8 +78,8 @@ def test_campbell_plot_and_table(tmp_path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     diagram = campbell(jeffcott(), np.linspace(0, 400, 5), spin="disc.rx", orders=(1, 2))
-    ax = diagram.plot()
     fr = diagram.to_frame()
+    ax = diagram.plot(max_frequency_hz=1.1 * fr["frequency_hz"].max())      # every mode (by default: the orders' range)
     assert fr["mode"].nunique() == 5                               # lateral pair, tilt pair, axial
     assert len(ax.lines) == 5 + 2                                  # one line per mode, two order lines
     assert set(fr.columns) >= {"speed_rpm", "mode", "frequency_hz", "whirl", "label"}
