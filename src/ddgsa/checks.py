@@ -169,6 +169,6 @@ def evaluation_plan(study: Study) -> str:
     sc = study.spec.scenes
     runs = distinct * len(sc.grid()) * sc.realisations
     n_scenes = len(sc.grid())
-    return (f"evaluations per scene and realisation: {', '.join(parts)}; {distinct} distinct points (methods share "
-            f"equal points) x {n_scenes} scene{'s' * (n_scenes != 1)} x {sc.realisations} "
+    return (f"evaluations per scene and realisation: {', '.join(parts)}; {distinct} distinct points (equal points "
+            f"run once) x {n_scenes} scene{'s' * (n_scenes != 1)} x {sc.realisations} "
             f"realisation{'s' * (sc.realisations != 1)} = {runs} model runs")
