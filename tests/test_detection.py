@@ -171,7 +171,7 @@ def test_assess_curve_and_smallest_detectable_fault() -> None:
     assert sm.loc["a", "level_at_target_lower"] >= sm.loc["a", "level_at_target"]
     assert math.isnan(sm.loc["b", "level_at_target"]) and "does not reach" in sm.loc["b", "reason"]
     assert det.deciding_output() == "a"
-    assert det.plot_curve() is not None and det.plot_histograms(3.0).get_xlabel() == "a"
+    assert det.plot_curve() is not None and det.plot_histograms(3.0).get_xlabel() == "a [-]"
     import matplotlib.pyplot as plt
     plt.close("all")
 

@@ -52,13 +52,15 @@ def _parser() -> argparse.ArgumentParser:
                      help="write into a folder that holds another study's results (its stale files are removed)")
     run.add_argument("--allow-untrusted", action="store_true",
                      help="exit 0 even when an output's indices are refused or untrusted (default: exit 3)")
-    run.add_argument("--jobs", type=int, help="parallel workers (default from the study, else 1)")
+    run.add_argument("--jobs", type=int, help="parallel workers (default from the study's run.jobs, else the "
+                                              "number of cores)")
     run.add_argument("--backend", choices=["loky", "dask"], help="joblib loky (default) or a Dask cluster")
     run.add_argument("--address", help="Dask scheduler HOST:PORT (default: a LocalCluster)")
     val = sub.add_parser("validate", help="check a study file; exit 0 or 2", parents=[common])
     val.add_argument("study", type=Path)
-    sub.add_parser("models", help="list models, fidelities, parameters and outputs (units, meanings)",
-                   parents=[common])
+    mods = sub.add_parser("models", help="list models, fidelities, parameters and outputs (units, meanings)",
+                          parents=[common])
+    mods.add_argument("name", nargs="?", help="one model (default: all)")
     rep = sub.add_parser("report", help="rebuild tables and plots from a run's stored evaluations", parents=[common])
     rep.add_argument("dir", type=Path)
     rep.add_argument("--allow-untrusted", action="store_true", help="exit 0 even with untrusted results")
@@ -91,13 +93,13 @@ def _parser() -> argparse.ArgumentParser:
     ben.add_argument("--ref-seconds", type=float, default=20.0, help="scene seconds the slow reference integrates")
     ben.add_argument("--no-study", action="store_true", help="speed: skip the paper_c_structural study rows")
     mod = sub.add_parser("modes", help="natural frequencies of a model or a study's model (CSV + PNG); "
-                                       "--campbell: against rotor speed")
+                                       "--campbell: against rotor speed", parents=[common])
     mod.add_argument("target", help="a model name (see ddgsa models) or a study YAML file")
     mod.add_argument("--campbell", action="store_true", help="modes against rotor speed with order lines")
     mod.add_argument("--max-rpm", type=float, default=20.0, help="highest rotor speed of the Campbell diagram [rpm]")
     mod.add_argument("--points", type=int, default=11, help="rotor speeds from 0 to --max-rpm")
     mod.add_argument("--orders", type=float, nargs="+", default=[1.0, 3.0], help="excitation orders (1P, 3P ...)")
-    mod.add_argument("--out", type=Path, help="output folder (default results/modes_<name>)")
+    mod.add_argument("--out", type=Path, help="output folder (default runs/modes_<name>)")
     return p
 
 
@@ -106,6 +108,8 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     args.quiet, args.verbose = getattr(args, "quiet", False), getattr(args, "verbose", False)
     logging.basicConfig(level=logging.DEBUG if args.verbose else logging.WARNING, format="%(message)s")
+    shown = warnings.showwarning
+    warnings.showwarning = _show_warning(args.quiet)
     try:
         return _dispatch(args)
     except DdgsaError as exc:
@@ -122,24 +126,33 @@ def main(argv: list[str] | None = None) -> int:
         print(f"ddgsa: failed: {type(exc).__name__}: {exc} (rerun with --verbose for the traceback)",
               file=sys.stderr)
         return EXIT_FAILURE
+    finally:
+        warnings.showwarning = shown
 
 
 def _dispatch(args: argparse.Namespace) -> int:
     if args.command == "validate":
-        study = _load(args.study)
+        from ddgsa.checks import SAMPLE, support_points
+
+        study = _load(args.study, args.quiet)
         sc = study.spec.scenes
         print(f"{args.study}: valid ({study.spec.kind} study '{study.name}', model {study.spec.model.name}, "
               f"{plural(len(study.spec.parameters), 'parameter')}, {plural(len(sc.grid()), 'scene')} x "
               f"{plural(sc.realisations, 'realisation')})")
+        if not args.quiet:
+            print(f"checked: the sampling of every scene, {len(support_points(study))} points of the parameters' "
+                  f"support ({SAMPLE} of them sampled), parameters without effect, units")
         return EXIT_OK
     if args.command == "models":
-        _print_models()
+        _print_models(args.name)
         return EXIT_OK
     if args.command == "run":
-        study = _load(args.study)
+        study = _load(args.study, args.quiet)
         if args.jobs is not None and args.jobs < 1:
             print("ddgsa: error: --jobs must be >= 1", file=sys.stderr)
             return EXIT_INPUT
+        if args.jobs is None and "jobs" not in study.spec.run.model_fields_set:
+            args.jobs = default_jobs()
         return _run(study, args)
     if args.command == "report":
         return _report(args)
@@ -186,13 +199,17 @@ def _modes(args: argparse.Namespace) -> int:
         model, name = study.make_model(), study.name
     else:
         model, name = models.get(args.target), args.target
-    out = args.out or Path("results") / f"modes_{name}"
+    out = args.out or Path("runs") / f"modes_{name}"
     out.mkdir(parents=True, exist_ok=True)
     if not args.campbell:
         table = model.modes()
         table.to_csv(out / "modes.csv", index=False)
-        plot_modes(table).figure.savefig(out / "modes.png", dpi=120, bbox_inches="tight")
+        what = f"{name}, fidelity {getattr(model, 'fidelity', '') or '-'}, nominal parameters, standing still"
+        ax = plot_modes(table)
+        ax.set_title(f"natural frequencies: {what}", fontsize=9)
+        ax.figure.savefig(out / "modes.png", dpi=120, bbox_inches="tight")
         if not args.quiet:
+            print(f"modes of {what}:")
             print(table[["frequency_hz", "damping_ratio", "label"]].to_string(index=False))
             print(f"wrote {out / 'modes.csv'} and {out / 'modes.png'}")
         return EXIT_OK
@@ -207,7 +224,9 @@ def _modes(args: argparse.Namespace) -> int:
         raise ModelError(f"model {name!r} has no rotor speed to sweep: no Campbell diagram (ddgsa modes {args.target} "
                          "without --campbell gives its modes)")
     diagram.to_frame().to_csv(out / "campbell.csv", index=False)
-    diagram.plot().figure.savefig(out / "campbell.png", dpi=120, bbox_inches="tight")
+    ax = diagram.plot()
+    ax.set_title(f"{ax.get_title()}: {name}, fidelity {getattr(model, 'fidelity', '') or '-'}", fontsize=9)
+    ax.figure.savefig(out / "campbell.png", dpi=120, bbox_inches="tight")
     from ddgsa.html_report import write_html
 
     write_html(out)
@@ -220,9 +239,20 @@ def _modes(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _load(path: Path) -> "Study":
-    """Load and validate a study; its warnings (e.g. a nominal point outside the model's valid
-    region) are printed as ``ddgsa: warning: ...``."""
+def _load(path: Path, quiet: bool = False) -> "Study":
+    """Load and validate a study and run the model's own checks over it (:mod:`ddgsa.checks`).
+
+    Warnings (e.g. a nominal point outside the model's valid region, part of the support that
+    will fail) print as ``ddgsa: warning: ...``; notes and hints (a sampling remark, a number
+    that looks written in another unit) as ``ddgsa: note/hint: ...`` unless ``quiet``.
+
+    Raises
+    ------
+    StudyError
+        Listing every error of the checks (e.g. a scene the model refuses as aliased).
+    """
+    from ddgsa.checks import evaluation_plan, study_findings
+    from ddgsa.errors import StudyError
     from ddgsa.study import StudyWarning, load_study
 
     with warnings.catch_warnings(record=True) as caught:
@@ -230,7 +260,45 @@ def _load(path: Path) -> "Study":
         study = load_study(path)
     for w in caught:
         print(f"ddgsa: warning: {w.message}", file=sys.stderr)
+    findings = study_findings(study)
+    errors = [f for f in findings if f.level == "error"]
+    if errors:
+        raise StudyError("\n".join(f"{path}: {f}" for f in errors))
+    for f in findings:
+        if f.level == "warning" or not quiet:
+            print(f"ddgsa: {f.level}: {path}: {f}", file=sys.stderr)
+    plan = evaluation_plan(study)
+    if plan and not quiet:
+        print(f"ddgsa: note: {plan}", file=sys.stderr)
     return study
+
+
+def _show_warning(quiet: bool):  # noqa: ANN202 -- returns warnings.showwarning's signature
+    """``warnings.showwarning`` for the CLI: ddgsa's own warnings print as one line without the
+    source line (``ddgsa: note: ...`` for sampling notes, which ``-q`` hides; ``ddgsa: warning:``
+    otherwise); others as Python prints them. Forked workers inherit it."""
+    from ddgsa.mbs.sampling import AliasingWarning
+
+    original = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):  # type: ignore[no-untyped-def]
+        if not category.__module__.startswith("ddgsa"):
+            return original(message, category, filename, lineno, file, line)
+        if issubclass(category, AliasingWarning):
+            if not quiet:
+                print(f"ddgsa: note: {message}", file=sys.stderr)
+            return None
+        print(f"ddgsa: warning: {message}", file=sys.stderr)
+        return None
+
+    return show
+
+
+def default_jobs() -> int:
+    """Workers when neither ``--jobs`` nor the study's ``run.jobs`` says: the cores this process may use."""
+    import os
+
+    return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
 
 
 def plural(n: int, noun: str) -> str:
@@ -346,12 +414,22 @@ def _bench(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _print_models() -> None:
+def _print_models(only: str | None = None) -> None:
+    """``ddgsa models [NAME]``: each model's fidelities, scene fields, parameters and outputs with
+    units and meanings; an unknown NAME is refused with the known ones."""
+    import dataclasses
+
+    from ddgsa.errors import ModelError, unknown_name_message
     from ddgsa.models import MODELS, get
 
-    for name in sorted(MODELS):
+    if only is not None and only not in MODELS:
+        raise ModelError(unknown_name_message("model", only, list(MODELS)))
+    for name in sorted(MODELS) if only is None else [only]:
         model = get(name)
-        print(f"{name}: fidelities {', '.join(model.fidelities)}")
+        print(f"{name}: fidelities {', '.join(model.fidelities)} (the first is the default)")
+        units = getattr(model.scene_type, "units", {})
+        fields = [f.name for f in dataclasses.fields(model.scene_type) if f.name != "seed"]
+        print("scene fields (scenes:): " + ", ".join(f"{f} [{units.get(f) or '-'}]" for f in fields))
         print("parameters:")
         print(model.parameter_table().to_string(index=False, formatters={"nominal": "{:.4g}".format}))
         print("outputs (a value outside the plausible range is warned about):")

@@ -467,8 +467,11 @@ class FaultDetectability:
             rows.append(row)
         return pd.DataFrame(rows)
 
-    def plot_curve(self, ax: "Axes | None" = None) -> "Axes":
-        """The detectability curve: POD (with its interval) against fault level per sensor."""
+    def plot_curve(self, ax: "Axes | None" = None, level_label: str = "fault level") -> "Axes":
+        """The detectability curve: POD (with its interval) against fault level per sensor.
+
+        ``level_label`` names the fault level's axis, with its unit (e.g. ``"k_front_z [N/m]"``);
+        the legend stands right of the axes (a curve per sensor covers the plot otherwise)."""
         import matplotlib.pyplot as plt
 
         if ax is None:
@@ -488,14 +491,17 @@ class FaultDetectability:
                    label=f"false-alarm rate {self.settings.false_alarm:g}")
         ax.axvline(self.healthy_level, color="0.5", lw=0.6)
         ax.set_ylim(-0.02, 1.02)
-        ax.set_xlabel("fault level (healthy: grey line)")
+        ax.set_xlabel(f"{level_label} (healthy {self.healthy_level:g}: grey line)")
         ax.set_ylabel("probability of detection [-]")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
         return ax
 
-    def plot_histograms(self, level: float, output: str | None = None, ax: "Axes | None" = None) -> "Axes":
-        """Healthy and faulty measurements of one sensor (default: the best at ``level``) with the threshold."""
+    def plot_histograms(self, level: float, output: str | None = None, ax: "Axes | None" = None,
+                        unit: str = "") -> "Axes":
+        """Healthy and faulty measurements of one sensor (default: the best at ``level``) with the
+        threshold; bars are each population's share of measurements per bin [-] (not a density,
+        whose value would carry the inverse of the output's unit); ``unit``: the output's."""
         import matplotlib.pyplot as plt
 
         if ax is None:
@@ -512,8 +518,9 @@ class FaultDetectability:
         both = np.r_[h, f]
         both = both[np.isfinite(both)]
         bins = np.histogram_bin_edges(both, bins=30) if np.ptp(both) > 0 else 10
-        ax.hist(h[np.isfinite(h)], bins=bins, alpha=0.55, density=True, label="healthy")
-        ax.hist(f[np.isfinite(f)], bins=bins, alpha=0.55, density=True, label=f"faulty {level:g}")
+        for values, label in ((h[np.isfinite(h)], "healthy"), (f[np.isfinite(f)], f"faulty {level:g}")):
+            ax.hist(values, bins=bins, alpha=0.55, weights=np.full(len(values), 1.0 / max(len(values), 1)),
+                    label=label)
         if np.isfinite(row["threshold"]):
             ax.axvline(row["threshold"], color="k", ls="--", lw=0.9,
                        label=f"threshold (false alarms {row['false_alarm']:.3f})")
@@ -521,8 +528,8 @@ class FaultDetectability:
         ax.set_title(f"level {level:g}: {verdict}\nPOD {row['pod']:.2f} [{row['pod_low']:.2f}, {row['pod_high']:.2f}], "
                      f"AUC {row['auc']:.2f}", fontsize=8)
         ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 4), useOffset=False)
-        ax.set_xlabel("Fisher score [-]" if out == COMBINED else str(out))
-        ax.set_ylabel("density")
+        ax.set_xlabel("Fisher score [-]" if out == COMBINED else f"{out} [{unit or '-'}]")
+        ax.set_ylabel("share of measurements [-]")
         ax.legend(fontsize=7)
         return ax
 

@@ -71,21 +71,27 @@ def remove_stale(folder: Path, before: Iterable[str], written: Iterable[str]) ->
 def _locked(folder: Path) -> Iterator[None]:
     """An exclusive, non-blocking OS lock on ``folder/.ddgsa.lock`` (released when the process ends)."""
     path = folder / LOCK_NAME
-    handle: IO[str] = open(path, "a+")              # noqa: SIM115 -- held for the whole run
-    try:
+    for _ in range(3):
+        handle: IO[str] = open(path, "a+")          # noqa: SIM115 -- held for the whole run
         try:
             _lock_file(handle)
         except OSError:
             handle.seek(0)
             holder = handle.read().strip() or "unknown"
+            handle.close()
             raise FolderBusyError(f"{folder}: another ddgsa run (pid {holder}) is writing to this folder; "
                                   "wait for it to finish or choose another --out") from None
+        if path.exists() and os.path.samestat(os.fstat(handle.fileno()), os.stat(path)):
+            break
+        handle.close()                               # its holder removed the file as we opened it: again
+    try:
         handle.seek(0)
         handle.truncate()
         handle.write(str(os.getpid()))
         handle.flush()
         yield
     finally:
+        path.unlink(missing_ok=True)                 # no stale lock file is left behind (the lock held it)
         handle.close()                               # closing the file releases the lock
 
 

@@ -333,7 +333,8 @@ class _Plan:
                 else:
                     rows.append([o.outputs[name] for name in outputs])
             per_real.append(rows)
-        return np.asarray(per_real, dtype=float)                   # (n_real, n_points, n_out)
+        values = np.asarray(per_real, dtype=float).reshape(len(per_real), len(pts), len(outputs))
+        return values * self.study.output_factors(outputs)            # (n_real, n_points, n_out)
 
 
 def _designs(study: Study, space: ParameterSpace | None = None) -> list[tuple[str, Design]]:
@@ -494,7 +495,8 @@ def _sweep_table(plan: _Plan, store: EvaluationStore, outputs: list[str]) -> pd.
                 if not o:
                     raise StudyError("sweep evaluations are not in the store; run the study first (ddgsa run)")
                 out = next(iter(o.values()))
-                vals = out.outputs or {name: np.nan for name in outputs}
+                vals = dict(zip(outputs, np.array([(out.outputs or {}).get(name, np.nan) for name in outputs])
+                                * plan.study.output_factors(outputs)))
                 rows.append({"scene": ps.index, **ps.fields, **dict(zip(names, row)), "realisation": r,
                              "seed": scene.seed, **{name: vals[name] for name in outputs}, "error": out.error})
     return pd.DataFrame(rows)

@@ -38,7 +38,7 @@ PNG_METADATA = {"Software": None}
 def output_info(result: StudyResult) -> dict[str, ModelOutput]:
     """The declared outputs of the study's model (undeclared names get no unit)."""
     model = result.study.make_model()
-    return {o: model.output(o) if o in model.outputs else declared(o) for o in result.study.outputs}
+    return {o: result.study.output_declaration(model, o) for o in result.study.outputs}
 
 
 def write_report(result: StudyResult, out: Path) -> list[Path]:
@@ -144,11 +144,24 @@ def problems(result: StudyResult) -> list[str]:
             names = sorted(set(d[(d["output"].isin([output, None]) | d["output"].isna())
                                  & (d["severity"] == "untrusted") & d["scene"].isin(scenes)]["name"])) if len(d) else []
             out.append(f"output {output!r}: no method's indices are trusted in {_scenes(scenes)}"
-                       + (f" ({', '.join(names)})" if names else ""))
+                       + (f" ({', '.join(names)})" if names else "") + _first_failure(result, scenes))
     if result.sweep is not None and result.sweep["error"].notna().any():
         n = int(result.sweep["error"].notna().sum())
         out.append(f"{n} of {len(result.sweep)} sweep evaluations failed (their values are refused)")
     return out
+
+
+def _first_failure(result: StudyResult, scenes: list[int]) -> str:
+    """``; N evaluations failed, the first: <reason>`` for the failed evaluations of ``scenes`` (any
+    scene where they carry no index), so the console names the cause, not only its symptom."""
+    fails = (getattr(result, "provenance", None) or {}).get("failures", [])
+    if not fails:
+        return ""
+    fields = result.study.scene_fields
+    grid = {i: f for i, f in enumerate(result.study.spec.scenes.grid())}
+    mine = [f for f in fails if any(all(f["scene"].get(k) == grid[s].get(k) for k in fields) for s in scenes
+                                    if s in grid)] or fails
+    return f"; {len(mine)} evaluations failed, the first: {mine[0]['error']}" if mine else ""
 
 
 def _scenes(scenes: list[int]) -> str:
@@ -191,7 +204,7 @@ def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None
     if summary[x].nunique() == 1 and others:      # nothing to sweep along: one bar per case, real units
         labels = [_case_label(others, row) for row in summary[others].itertuples(index=False)]
         for o in outputs:
-            fig, ax = plt.subplots(figsize=(6.5, 0.45 * len(labels) + 1.2))
+            fig, ax = plt.subplots(figsize=(6.5, 0.45 * len(labels) + 1.2), layout="constrained")
             ax.barh(labels, summary[f"{o}_mean"], xerr=summary[f"{o}_std"], color="tab:blue")
             for k, v in enumerate(summary[f"{o}_mean"]):
                 ax.annotate(f"{v:.4g}", (v, k), xytext=(3, 0), textcoords="offset points", va="center", fontsize=8)
@@ -201,7 +214,7 @@ def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None
             figs.append((fig, f"sweep_{o}.png"))
         return figs
     for o in outputs:
-        fig, ax = plt.subplots(figsize=(6, 3.6))
+        fig, ax = plt.subplots(figsize=(7.5 if others else 6, 3.6), layout="constrained")
         groups = summary.groupby(others, sort=False) if others else [((), summary)]
         scale = 1.0 if grid else (summary[f"{o}_mean"].abs().max() or 1.0)   # signed outputs: scale by |max|
         for key, g in groups:
@@ -214,8 +227,8 @@ def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None
         ax.set_xlabel(x if grid or x != "wind_speed" else "mean wind speed [m/s]")
         ax.set_ylabel(label_of[o] if grid else f"{o} / max [-]")
         ax.grid(alpha=0.3)
-        if others:
-            ax.legend(fontsize=8)
+        if others:                                  # outside the axes: a line per case covers the data otherwise
+            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
         figs.append((fig, f"sweep_{o}.png"))
     return figs
 
@@ -283,28 +296,36 @@ def plot_agreement(indices: pd.DataFrame) -> Any:
 
 def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None,
                     fields: Sequence[str] = WIND_LABEL_FIELDS) -> Any:
-    """S1/ST bars with confidence bars where a method gives an interval: one row per output
-    (titled with its unit), one column per method; hatched bars are untrusted (said in the
-    legend only when some are); the title names the scene by its label ``fields``."""
+    """S1/ST bars, parameters down the y axis, with confidence bars where a method gives an
+    interval: one panel per output and method (titled with the output's unit), at most three
+    panels a row; an output whose indices are refused says so in its panel; hatched bars are
+    untrusted (said in the legend, above the panels, only when some are); the title names the
+    scene by its label ``fields``."""
     from matplotlib.patches import Patch
 
     outputs, methods = list(scene_rows["output"].unique()), list(scene_rows["method"].unique())
-    width = max(3.8, 0.25 * scene_rows["parameter"].nunique())          # room for many parameters' labels
-    fig, axes = plt.subplots(len(outputs), len(methods), figsize=(width * len(methods), 2.6 * len(outputs)),
-                             squeeze=False)
-    for i, out in enumerate(outputs):
-        for j, meth in enumerate(methods):
-            t = scene_rows[(scene_rows["output"] == out) & (scene_rows["method"] == meth)]
-            ax = axes[i, j]
-            draw_index_bars(ax, t, fontsize=7, rotation=60)
-            ax.set_title(f"{(info or {}).get(out, declared(out)).label} - {meth}", fontsize=9)
-            ax.set_ylim(min(-0.05, float(np.nanmin(t[["S1", "ST"]].to_numpy(float), initial=0))), 1.05)
+    panels = [(out, meth) for out in outputs for meth in methods]
+    ncols = len(methods) if len(methods) > 1 else min(3, len(outputs))
+    nrows = -(-len(panels) // ncols)
+    n_par = scene_rows["parameter"].nunique()
+    fig, axes = plt.subplots(nrows, ncols, figsize=(3.6 * ncols + 1.2, (0.28 * n_par + 1.0) * nrows + 0.8),
+                             squeeze=False, sharey=True, layout="constrained")
+    for ax, (out, meth) in zip(axes.flat, panels):
+        t = scene_rows[(scene_rows["output"] == out) & (scene_rows["method"] == meth)]
+        draw_index_bars(ax, t, fontsize=7, horizontal=True)
+        ax.set_title(f"{(info or {}).get(out, declared(out)).label} - {meth}", fontsize=8)
+        ax.set_xlim(min(-0.05, float(np.nanmin(t[["S1", "ST"]].to_numpy(float), initial=0))), 1.05)
+        ax.tick_params(axis="x", labelsize=7)
+        if not np.isfinite(t[["S1", "ST"]].to_numpy(float)).any():
+            ax.text(0.5, 0.5, "indices refused\n(failed evaluations;\nsee summary.md)", transform=ax.transAxes,
+                    ha="center", va="center", fontsize=8, color="0.3")
+    for ax in list(axes.flat)[len(panels):]:
+        ax.set_visible(False)
     handles, _ = axes[0, 0].get_legend_handles_labels()
     if not scene_rows["trusted"].astype(bool).all():
-        handles.append(Patch(facecolor="white", edgecolor="0.3", hatch="//", label="untrusted"))
-    axes[0, 0].legend(handles=handles, fontsize=7)
+        handles.append(Patch(facecolor="tab:blue", edgecolor="white", hatch="///", label="untrusted"))
+    fig.legend(handles=handles, fontsize=7, loc="outside upper right", ncols=len(handles))
     fig.suptitle("Sobol indices, " + scene_text({f: scene_rows[f].iloc[0] for f in fields}), fontsize=9)
-    fig.tight_layout()
     return fig
 
 
@@ -350,28 +371,30 @@ def _write_fault(result: StudyResult, save_csv: Any, save_fig: Any) -> None:
     save_csv(result.fault_indices, "fault_indices.csv")
     fault = result.study.spec.fault
     assert fault is not None
+    model = result.study.make_model()
+    units = {o: d.unit for o, d in output_info(result).items()}
     for ps, det in result.fault_detection:
         title = scene_text(ps.fields)
-        fig, ax = plt.subplots(figsize=(7, 4.2))
-        det.plot_curve(ax=ax)
-        ax.set_xlabel(f"{fault.parameter} (healthy {fault.healthy:g}: grey line)")
+        fig, ax = plt.subplots(figsize=(8.5, 4.2))
+        det.plot_curve(ax=ax, level_label=f"{fault.parameter} [{model.parameter(fault.parameter).unit or '-'}]")
         ax.set_title(f"detectability curve, {title}\nshaded: POD interval at confidence {fault.confidence:g}",
                      fontsize=9)
+        fig.tight_layout()
         save_fig(fig, f"fault_detectability_scene{ps.index}.png")
-        save_fig(plot_fault_histograms(det, title), f"fault_histograms_scene{ps.index}.png")
+        save_fig(plot_fault_histograms(det, title, units), f"fault_histograms_scene{ps.index}.png")
         save_fig(plot_fault_indices(result.fault_indices[result.fault_indices["scene"] == ps.index], fault.parameter,
                                     title), f"fault_indices_scene{ps.index}.png")
 
 
-def plot_fault_histograms(det: FaultDetectability, title: str) -> Any:
-    """Healthy/faulty histograms of the deciding output, one panel per faulty level."""
+def plot_fault_histograms(det: FaultDetectability, title: str, units: dict[str, str] | None = None) -> Any:
+    """Healthy/faulty histograms of the deciding output, one panel per faulty level (``units``: per output)."""
     levels = sorted(det.faulty, key=lambda v: abs(v - det.healthy_level))
     out = det.deciding_output()
     ncols = min(3, len(levels))
     nrows = -(-len(levels) // ncols)
     fig, axes = plt.subplots(nrows, ncols, figsize=(4.2 * ncols, 3.3 * nrows), squeeze=False)
     for ax, level in zip(axes.flat, levels):
-        det.plot_histograms(level, output=out, ax=ax)
+        det.plot_histograms(level, output=out, ax=ax, unit=(units or {}).get(str(out), ""))
     for ax in axes.flat[len(levels):]:
         ax.set_visible(False)
     fig.suptitle(f"deciding output {out}, {title}", fontsize=9)
@@ -487,6 +510,25 @@ def _fault_markdown(result: StudyResult) -> list[str]:
     return lines
 
 
+RANKED = 5
+"""Parameters a ranking row of ``summary.md`` names (it says how many more ``indices.csv`` holds)."""
+
+
+def no_effect_lines(result: StudyResult) -> list[str]:
+    """``summary.md``'s list of the uncertain parameters without effect, by name with the reason:
+    those the model ignores at the study's fidelity (:meth:`~ddgsa.models.base.Model.unused_parameters`)
+    and those whose ST is exactly 0 for every output, scene and method of the run."""
+    unused = result.study.make_model().unused_parameters()
+    st = result.indices.groupby("parameter", sort=False)["ST"].agg(lambda v: bool((v.fillna(1.0) == 0.0).all()))
+    reasons = {name: unused[name] for name in result.study.spec.parameters if name in unused}
+    reasons.update({name: "ST = 0 for every output, scene and method (no effect in this study)"
+                    for name, zero in st.items() if zero and name not in reasons})
+    if not reasons:
+        return []
+    return (["## Parameters without effect", "", "Their indices are 0 (by construction, or in this run); they rank last everywhere:", ""]
+            + [f"- `{name}`: {why}" for name, why in reasons.items()] + [""])
+
+
 def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = None) -> str:
     """A short Markdown summary: what ran, the outputs (unit, meaning, mean, CV), problems, then
     per scene and output a sentence on what dominates and parameters ranked by ST with S1."""
@@ -525,23 +567,31 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
         tols = {res.method: res.options.get("tolerance") for _, res in result.results}
         lines += ["## Parameters ranked by total index (ST, with S1)", "",
                   "trusted = every index of the row (S1 and ST) within ±tolerance (absolute) of the truth, "
-                  "by the method's own error estimate (README: \"When M-DRM is not to be trusted\"); "
-                  "a method is `yes` when all its rows are.", ""]
+                  "by the method's own error estimate (docs/methods.md: \"When M-DRM is not to be trusted\"); "
+                  "a method is `yes` when all its rows are. A method's runs (indices.csv `n_evals`) count its "
+                  "whole design, any check sample of its own included; the evaluation count above counts each "
+                  "distinct point once, as methods share equal points.", ""]
         for (scene, out), g in result.indices.groupby(["scene", "output"]):
             fields = scene_text({f: g[f].iloc[0] for f in result.study.scene_fields})
             lines.append(f"### scene {scene} ({fields}) - `{out}` [{info.get(out, declared(out)).unit or '?'}]")
             lines.append("")
             lines += [_dominance(g, out, mom.get((scene, out))), ""]
+            if "n_evals" in g and g["n_evals"].notna().all():
+                runs = g.groupby("method", sort=False)["n_evals"].first()
+                lines += ["runs per method (indices.csv `n_evals`): " + ", ".join(f"{m} {int(n)}" for m, n in runs.items()),
+                          ""]
             lines.append("| method | tolerance | trusted | ranking: parameter ST (S1) |")
             lines.append("|---|---|---|---|")
             for meth, gm in g.groupby("method", sort=False):
-                top = gm.sort_values("ST", ascending=False, na_position="last").head(5)
+                top = gm.sort_values("ST", ascending=False, na_position="last").head(RANKED)
                 rank = ", ".join(f"{r.parameter} {r.ST:.2f} ({r.S1:.2f})" for r in top.itertuples())
+                rank += f"; {len(gm) - len(top)} more in indices.csv" if len(gm) > len(top) else ""
                 label = f"{meth} (from {gm['source'].iloc[0]})" if meth == "auto" else meth
                 tol = tols.get(meth)
                 lines.append(f"| {label} | {'' if tol is None else f'±{tol:g}'} | "
                              f"{'yes' if gm['trusted'].all() else '**no**'} | {rank} |")
             lines.append("")
+        lines += no_effect_lines(result)
         logs = [(ps, res) for ps, res in result.results if res.method == "auto"]
         if logs:
             lines += ["## `method: auto` decisions", ""]

@@ -258,11 +258,16 @@ def plot_spectrum(t: ArrayLike, x: ArrayLike, marks: Mapping[str, float] | None 
     amp = np.abs(np.fft.rfft((x - x.mean()) * w)) * 2.0 / w.sum()
     f = np.fft.rfftfreq(len(x), dt)
     keep = f <= (max_hz if max_hz is not None else f[-1])
+    peak = float(amp[keep].max()) if keep.any() and amp[keep].max() > 0 else 1.0
     ax.semilogy(f[keep], np.maximum(amp[keep], 1e-300), lw=0.8)
+    ax.set_ylim(peak * 1e-6, peak * 3.0)                 # six decades below the peak, room for the labels
+    ax.set_xlim(0.0, f[keep][-1])
     for label, fm in (marks or {}).items():
+        if not 0.0 <= fm <= f[keep][-1]:
+            continue
         ax.axvline(fm, color="C3", ls="--", lw=0.7)
-        ax.annotate(label, (fm, 1.0), xycoords=("data", "axes fraction"), rotation=90, va="top", ha="right",
-                    fontsize=8, color="C3")
+        ax.annotate(label, (fm, 0.98), xycoords=("data", "axes fraction"), xytext=(2, 0), textcoords="offset points",
+                    rotation=90, va="top", ha="left", fontsize=8, color="C3", annotation_clip=True)
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel(f"peak amplitude {unit}".strip())
     return ax

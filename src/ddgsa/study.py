@@ -33,6 +33,7 @@ import dataclasses
 import hashlib
 import itertools
 import json
+import re
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -54,6 +55,8 @@ from ddgsa.loads.scene import Scene
 from ddgsa.models import MODELS
 from ddgsa.models import get as get_model
 from ddgsa.space import ParameterSpace
+from ddgsa.models.base import ModelOutput, declared
+from ddgsa.units import UnitError, convert, factor, has_unit, parameter_in, scene_hints
 
 _STRICT = ConfigDict(extra="forbid")
 
@@ -244,6 +247,8 @@ class FaultSpec(BaseModel):
     parameter: str
     healthy: float
     faulty: list[float] | FaultRange = Field(description="faulty levels: a list, or {start, stop, num}")
+    unit: str | None = Field(None, exclude=True, description="unit of healthy and faulty (default: the parameter's "
+                                                             "SI unit; converted on validation)")
     samples: int = Field(64, ge=8, le=4096, description="points over the other uncertainties per fault level")
     noise: dict[str, NoiseSpec] = Field(default_factory=dict, description="measurement noise per output")
     combine: list[str] | None = Field(None, min_length=2, description="outputs of the combined detector "
@@ -304,14 +309,38 @@ class StudySpec(BaseModel):
     kind: Literal["gsa", "sweep", "fault"] = "gsa"
     model: ModelSpec
     parameters: dict[str, dict[str, Any]] = Field(default_factory=dict)
-    fixed: dict[str, float] = Field(default_factory=dict)
-    grid: dict[str, list[float]] = Field(
-        default_factory=dict, description="parameter values to sweep, full factorial (kind: sweep only)")
+    fixed: dict[str, float | str | dict[str, Any]] = Field(
+        default_factory=dict, description="parameter values held fixed: a number in the model's unit, a quantity "
+                                          "('12 kN/m') or {value, unit}")
+    grid: dict[str, list[float | str] | dict[str, Any]] = Field(
+        default_factory=dict, description="parameter values to sweep, full factorial (kind: sweep only); "
+                                          "numbers, quantities or {value: [...], unit}")
     scenes: ScenesSpec | ModelScenesSpec = Field(default_factory=ScenesSpec)
-    outputs: list[str] = Field(default_factory=list)
+    outputs: list[str] = Field(default_factory=list, description="output names; an entry {name, unit} reports "
+                                                                "that output in another unit")
+    output_units: dict[str, str] = Field(default_factory=dict, exclude=True,
+                                         description="the units of outputs given as {name, unit} (filled from "
+                                                     "'outputs'; display only, so not part of the digest)")
     methods: list[MethodSpec] = Field(default_factory=list)
     fault: FaultSpec | None = None
     run: RunSpec = Field(default_factory=RunSpec)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _output_units(cls, data: Any) -> Any:
+        """``outputs: [{name: x, unit: mm}]`` -> ``outputs: [x]`` and ``output_units: {x: mm}``."""
+        if not isinstance(data, dict) or not isinstance(data.get("outputs"), list):
+            return data
+        names, units = [], dict(data.get("output_units") or {})
+        for i, entry in enumerate(data["outputs"]):
+            if isinstance(entry, dict):
+                if set(entry) != {"name", "unit"}:
+                    raise ValueError(f"outputs[{i}]: an output with a unit is {{name, unit}}, got keys {sorted(entry)}")
+                names.append(entry["name"])
+                units[str(entry["name"])] = str(entry["unit"])
+            else:
+                names.append(entry)
+        return {**data, "outputs": names, "output_units": units}
 
     @field_validator("scenes", mode="wrap")
     @classmethod
@@ -321,6 +350,7 @@ class StudySpec(BaseModel):
             return v
         model = info.data.get("model")
         scene_type = scene_type_of(model.name) if isinstance(model, ModelSpec) else Scene
+        v = scene_units(scene_type, v)
         if scene_type is Scene:
             return ScenesSpec.model_validate(v)
         return ModelScenesSpec.for_type(scene_type, model.name, v)
@@ -337,11 +367,33 @@ class StudySpec(BaseModel):
             raise ValueError("a 'fault' block needs kind: fault")
         if self.kind != "sweep" and (self.grid or self.model.variants):
             raise ValueError("'grid' and 'model.variants' need kind: sweep")
-        if any(not values for values in self.grid.values()):
+        if any(not (values.get("value") if isinstance(values, dict) else values) for values in self.grid.values()):
             raise ValueError("every 'grid' entry needs at least one value")
         if self.model.variants and self.model.fidelity == "auto":
             raise ValueError("'model.variants' cannot be combined with fidelity: auto")
         return self
+
+
+def scene_units(scene_type: type, data: Any) -> Any:
+    """The raw ``scenes:`` mapping with every value written with a unit converted to the scene
+    type's (its ``units``; :mod:`ddgsa.units`).
+
+    Raises
+    ------
+    ValueError
+        At field ``scenes.<key>`` for a unit of another dimension or one that cannot be read.
+    """
+    if not isinstance(data, dict):
+        return data
+    units = getattr(scene_type, "units", {})
+    out = dict(data)
+    for key, value in data.items():
+        if units.get(key) and has_unit(value):
+            try:
+                out[key] = convert(value, units[key])
+            except UnitError as exc:
+                _refuse(key, value, f"{exc} (field {key!r} is in {units[key]})")
+    return out
 
 
 def scene_type_of(model: str) -> type:
@@ -399,6 +451,23 @@ class Study:
     def outputs(self) -> list[str]:
         """Outputs to analyse (all of the model's when the study lists none)."""
         return self.spec.outputs or list(self.make_model().outputs)
+
+    def output_factors(self, outputs: list[str]) -> np.ndarray:
+        """Per output, the factor from the model's SI unit to the unit the study reports it in (1 by default)."""
+        if not self.spec.output_units:
+            return np.ones(len(outputs))
+        model = self.make_model()
+        return np.array([factor(model.output(o).unit, self.spec.output_units[o])
+                         if o in self.spec.output_units else 1.0 for o in outputs])
+
+    def output_declaration(self, model: Any, name: str) -> ModelOutput:
+        """The declaration of output ``name`` in the unit the study reports it in (range scaled)."""
+        decl = model.output(name) if name in model.outputs else declared(name)
+        unit = self.spec.output_units.get(name)
+        if unit is None:
+            return decl
+        f = factor(decl.unit, unit)
+        return ModelOutput(name, unit, decl.description, decl.low * f, decl.high * f)
 
 
 def _where(path: Path | None) -> str:
@@ -494,11 +563,13 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             if key not in names:
                 raise StudyError(f"{where}: field '{section}.{key}': not a parameter of model "
                                  f"{spec.model.name!r}: {_unknown_parameter(key, names)}")
+    _convert_units(where, spec, model)
     for key, values in spec.grid.items():
         if key not in names:
             raise StudyError(f"{where}: field 'grid.{key}': not a parameter of model {spec.model.name!r}: "
                              f"{_unknown_parameter(key, names)}")
         decl = model.parameter(key)
+        assert isinstance(values, list)
         bad = [v for v in values if not decl.low <= v <= decl.high]
         if bad:
             raise StudyError(f"{where}: field 'grid.{key}': value {bad[0]:g} leaves the allowed range "
@@ -508,8 +579,18 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         raise StudyError(f"{where}: field 'fixed': {sorted(overlap)} are also uncertain 'parameters' or 'grid' entries")
     for i, out in enumerate(spec.outputs):
         if out not in model.outputs and not spec.model.variants:
-            raise StudyError(f"{where}: field 'outputs[{i}]': unknown output {out!r} of model "
-                             f"{spec.model.name!r}; known: {', '.join(model.outputs)}")
+            raise StudyError(f"{where}: field 'outputs[{i}]': "
+                             + unknown_name_message("output", out, list(model.outputs),
+                                                    where=f"ddgsa models {spec.model.name}"))
+    for key, unit in spec.output_units.items():
+        if key not in spec.outputs:
+            raise StudyError(f"{where}: field 'output_units.{key}': not an output of the study; "
+                             f"known: {', '.join(spec.outputs)}")
+        try:
+            factor(unit, model.output(key).unit)
+        except UnitError as exc:
+            raise StudyError(f"{where}: field 'outputs[{spec.outputs.index(key)}].unit': output {key!r}: "
+                             f"{exc}") from None
     space = None
     if spec.parameters:
         try:
@@ -544,10 +625,46 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         try:
             spec.scenes.scene(fields, 0)
         except (DdgsaError, TypeError) as exc:
-            raise StudyError(f"{where}: field 'scenes' (scene {k}: {scene_text(fields)}): {exc}") from None
+            values = {key: [v] for key, v in {**getattr(spec.scenes, "fields", {}), **fields}.items()}
+            hints = "".join(f" (hint: {h})" for _, h in scene_hints(scene_type_of(spec.model.name), values))
+            raise StudyError(f"{where}: field 'scenes' (scene {k}: {scene_text(fields)}): {exc}{hints}") from None
     if spec.fault is not None:
         _validate_fault(where, spec, model)
     return Study(spec=spec, space=space, path=path, text=text)
+
+
+def _convert_units(where: str, spec: StudySpec, model: Any) -> None:
+    """Convert, in place, every parameter specification, fixed value, grid value and fault level
+    written with a unit to the unit model ``model`` declares (see :mod:`ddgsa.units`).
+
+    Raises
+    ------
+    StudyError
+        Naming the file, the field, the unit given and the dimension expected.
+    """
+    names = {p.name for p in model.parameters}
+    try:
+        for key, value in spec.parameters.items():
+            if key in names and isinstance(value, dict) and "unit" in value:
+                field = f"parameters.{key}.unit"
+                spec.parameters[key] = parameter_in(value, model.parameter(key).unit)
+        for section in ("fixed", "grid"):
+            values = getattr(spec, section)
+            for key, value in values.items():
+                plain = isinstance(value, (int, float)) or (
+                    isinstance(value, list) and all(isinstance(v, (int, float)) for v in value))
+                if key in names and not plain:                # plain numbers stay as written (digest)
+                    field = f"{section}.{key}"
+                    values[key] = convert(value, model.parameter(key).unit)
+        fault = spec.fault
+        if fault is not None and fault.unit is not None and fault.parameter in names:
+            field = "fault.unit"
+            unit = model.parameter(fault.parameter).unit
+            fault.healthy = convert({"value": fault.healthy, "unit": fault.unit}, unit)
+            fault.faulty = convert({"value": fault.levels, "unit": fault.unit}, unit)
+            fault.unit = unit
+    except UnitError as exc:
+        raise StudyError(f"{where}: field '{field}': {exc}") from None
 
 
 def scene_text(values: Mapping[str, Any]) -> str:
@@ -592,6 +709,25 @@ def _validate_fault(where: str, spec: StudySpec, model: Any) -> None:
                          f"need >= {int(np.ceil(1 / fault.false_alarm))}")
 
 
+def _known_fields(loc: tuple[Any, ...]) -> list[str]:
+    """The fields of the schema part at ``loc`` (a pydantic error location), for unknown-field messages."""
+    node: Any = StudySpec
+    for key in loc:
+        if isinstance(key, int) or not (isinstance(node, type) and issubclass(node, BaseModel)):
+            continue                                 # a list index or a dict key: the same part
+        field = node.model_fields.get(str(key))
+        if field is None:
+            return []
+        parts = [a for a in (*getattr(field.annotation, "__args__", ()), field.annotation)
+                 if isinstance(a, type) and issubclass(a, BaseModel)]
+        if not parts:
+            return []
+        node = next((a for a in parts if a is not ModelScenesSpec), parts[0])
+    if node is StudySpec:
+        return [k for k in node.model_fields if k != "output_units"]
+    return list(node.model_fields) if isinstance(node, type) and issubclass(node, BaseModel) else []
+
+
 def _pydantic_message(where: str, exc: ValidationError) -> str:
     """One line per problem: file, field path, message and the value given."""
     lines = []
@@ -599,10 +735,14 @@ def _pydantic_message(where: str, exc: ValidationError) -> str:
         loc = ".".join(f"[{x}]" if isinstance(x, int) else str(x) for x in err["loc"]).replace(".[", "[")
         msg = err["msg"]
         if err["type"] == "extra_forbidden":
-            msg = "unknown field (check its spelling)"
+            known = _known_fields(err["loc"][:-1])
+            msg = unknown_name_message("field", err["loc"][-1], known) if known else "unknown field"
+        elif err["type"] == "literal_error":
+            allowed = re.findall(r"'([^']*)'", str(err.get("ctx", {}).get("expected", "")))
+            msg = unknown_name_message("value", err["input"], allowed)
         elif err["type"] == "missing":
             msg = "required field is missing"
-        given = f" (given: {err['input']!r})" if err["type"] not in ("missing", "extra_forbidden") \
+        given = f" (given: {err['input']!r})" if err["type"] not in ("missing", "extra_forbidden", "literal_error") \
             and not isinstance(err.get("input"), dict) else ""
         lines.append(f"{where}: field '{loc or '<top>'}': {msg}{given}")
     return "\n".join(lines)

@@ -58,9 +58,10 @@ def test_jeffcott_gyroscopic_splitting_closed_form() -> None:
     np.testing.assert_allclose(crossings["speed_rad_s"], np.sqrt(midspan_stiffness()[0] / MASS), rtol=1e-6)
 
 
+@pytest.mark.slow        # ROSS imports in ~20 s; the closed-form Jeffcott test above is the fast check of the same rotor
 def test_jeffcott_against_ross() -> None:
     """Same rotor in ROSS (Euler-Bernoulli shaft elements of 1e-5 steel density, 0.15 g): frequencies within 1e-5."""
-    rs = pytest.importorskip("ross", reason="ross-rotordynamics (optional test dependency) is not installed")
+    rs = pytest.importorskip("ross", reason="ROSS is the optional oracle: pip install -e '.[oracles]'")
     material = rs.Material(name="light_steel", rho=0.0781, E=E, G_s=G_SHEAR)
     shaft = [rs.ShaftElement(L=LENGTH / 2, idl=0.0, odl=DIAMETER, material=material, shear_effects=False,
                              rotary_inertia=False, gyroscopic=False) for _ in range(2)]
@@ -77,8 +78,8 @@ def test_campbell_plot_and_table(tmp_path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     diagram = campbell(jeffcott(), np.linspace(0, 400, 5), spin="disc.rx", orders=(1, 2))
-    ax = diagram.plot()
     fr = diagram.to_frame()
+    ax = diagram.plot(max_frequency_hz=1.1 * fr["frequency_hz"].max())      # every mode (by default: the orders' range)
     assert fr["mode"].nunique() == 5                               # lateral pair, tilt pair, axial
     assert len(ax.lines) == 5 + 2                                  # one line per mode, two order lines
     assert set(fr.columns) >= {"speed_rpm", "mode", "frequency_hz", "whirl", "label"}

@@ -40,7 +40,7 @@ def _ross_rotor(rs, span, disc_at, mass, k1, k2, c_disc, n=20):
 def test_jeffcott_critical_speed_and_unbalance_response_against_ross(disc_at, k1, k2):
     """Critical speed (1e-4) and synchronous unbalance response amplitude and phase (1e-3) at the disc,
     for a mid-span disc on stiff supports and an off-centre disc on soft, unequal ones."""
-    rs = pytest.importorskip("ross", reason="ROSS (ross-rotordynamics) is the optional oracle; pip install '.[test]'")
+    rs = pytest.importorskip("ross", reason="ROSS is the optional oracle: pip install -e '.[oracles]'")
     span, mass, c_disc, unbalance = 1.0, 15.0, 60.0, 1e-3
     ei = 210e9 * math.pi * 0.025**4 / 64
     k = jeffcott_stiffness(ei, span, disc_at * span, k1, k2)

@@ -47,7 +47,8 @@ def test_aliasing_guard_refuses_below_nyquist_and_warns_below_ten_samples():
         warnings.simplefilter("error")
         rows = scene.sampling_checks({"2x": 50.0})
     assert rows[0]["verdict"] == "ok" and rows[0]["samples_per_period"] == pytest.approx(40.0)
-    with pytest.warns(AliasingWarning, match="5 samples per period of the 400 Hz mode"):
+    with pytest.warns(AliasingWarning, match="5 samples per period of the bearing defect frequency BPFI harmonic at "
+                                             "400 Hz .more than 800 Hz avoids aliasing; at least 4000 Hz resolves"):
         assert scene.sampling_checks({"BPFI harmonic": 400.0})[0]["verdict"] == "coarse"
     with pytest.raises(ModelError, match="would alias"):
         scene.sampling_checks({"bending mode": 1500.0})

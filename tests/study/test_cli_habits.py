@@ -133,7 +133,8 @@ def test_a_second_live_run_is_refused_and_ctrl_c_exits_130(write_study, tmp_path
 
 
 def test_validate_warns_when_the_nominal_point_is_outside_the_valid_region(write_study, capsys) -> None:
-    """Front bearing fixed at 6 m behind the rear one at 5 m: valid fields, an impossible shaft."""
+    """Front bearing fixed at 6 m behind the rear one at 5 m: valid fields, an impossible shaft; every
+    point of the support is outside too, so the study is refused (ddgsa.checks)."""
     text = """\
 name: crossed
 model: {name: direct_drive, fidelity: rigid}
@@ -142,9 +143,10 @@ parameters:
 fixed: {front_bearing_x: 6.0}
 methods: [{method: mdrm}]
 """
-    assert main(["validate", str(write_study("crossed", text=text))]) == 0
+    assert main(["validate", str(write_study("crossed", text=text))]) == 2
     err = capsys.readouterr().err
     assert "ddgsa: warning: " in err and "nominal point is outside model 'direct_drive'" in err
+    assert "66 of 66 checked points" in err and "every evaluation would fail" in err
     assert "0 < front_bearing_x (6) < rear_bearing_x (5) < shaft_length" in err
     assert main(["validate", str(write_study("fine", text=text.replace("fixed: {front_bearing_x: 6.0}\n", "")))]) == 0
     assert "warning" not in capsys.readouterr().err

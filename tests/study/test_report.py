@@ -113,14 +113,14 @@ def test_bars_have_a_y_label_and_error_bars_only_where_there_is_an_interval() ->
     info = {"y": get("analytic").output("y")}
     fig = plot_scene_bars(_rows({"pce": np.nan, "saltelli": 0.05}), info)
     no_interval, interval = fig.axes[0], fig.axes[1]
-    assert no_interval.get_ylabel() == "Sobol index [-]"
+    assert no_interval.get_xlabel() == "Sobol index [-]"                 # horizontal bars: parameters down y
     assert not [c for c in no_interval.containers if isinstance(c, ErrorbarContainer)]
     assert len([c for c in interval.containers if isinstance(c, ErrorbarContainer)]) == 2     # S1 and ST
     assert no_interval.get_title() == "y [-] - pce"
-    legend = [t.get_text() for t in no_interval.get_legend().get_texts()]
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]            # one legend, outside the panels
     assert legend == ["S1", "ST"] and "untrusted" not in fig._suptitle.get_text()
     fig = plot_scene_bars(pd.concat([_rows({"pce": np.nan}), _rows({"mdrm": np.nan}, trusted=False)]), info)
-    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == ["S1", "ST", "untrusted"]
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == ["S1", "ST", "untrusted"]
 
 
 def test_heatmap_tick_labels_overlap_no_neighbouring_panel() -> None:

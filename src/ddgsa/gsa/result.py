@@ -157,23 +157,35 @@ class SobolResult:
         return ax
 
 
-def draw_index_bars(ax: "Axes", table: pd.DataFrame, fontsize: float = 10.0, rotation: float = 45.0) -> None:
+def draw_index_bars(ax: "Axes", table: pd.DataFrame, fontsize: float = 10.0, rotation: float = 45.0,
+                    horizontal: bool = False) -> None:
     """S1 and ST bars of one output's rows, confidence half-widths as error bars (none where the
-    method gives no interval), untrusted hatched."""
+    method gives no interval), untrusted hatched in white over the bar's colour; ``horizontal``:
+    parameters down the y axis (long names read without rotation)."""
     x = np.arange(len(table))
     w = 0.38
     for k, (q, color) in enumerate((("S1", "tab:blue"), ("ST", "tab:orange"))):
         conf = table[f"{q}_conf"].to_numpy(float)
         has = np.isfinite(conf)
-        bars = ax.bar(x + (k - 0.5) * w, table[q].to_numpy(float), w, label=q, color=color)
+        pos, val = x + (k - 0.5) * w, table[q].to_numpy(float)
+        bars = (ax.barh(pos, val, w, label=q, color=color) if horizontal
+                else ax.bar(pos, val, w, label=q, color=color))
         if has.any():
-            ax.errorbar((x + (k - 0.5) * w)[has], table[q].to_numpy(float)[has], yerr=conf[has], fmt="none",
+            err = {"xerr" if horizontal else "yerr": conf[has]}
+            ax.errorbar(*((val[has], pos[has]) if horizontal else (pos[has], val[has])), **err, fmt="none",
                         ecolor="0.2", elinewidth=0.8, capsize=2)
         for bar, ok in zip(bars, table["trusted"].to_numpy(bool)):
             if not ok:
-                bar.set_hatch("//")
-    ax.set_xticks(x, table["parameter"].to_list(), rotation=rotation, ha="right", fontsize=fontsize)
-    ax.set_ylabel("Sobol index [-]", fontsize=fontsize)
+                bar.set_hatch("///")
+                bar.set_edgecolor("white")
+                bar.set_linewidth(0.0)
+    if horizontal:
+        ax.set_yticks(x, table["parameter"].to_list(), fontsize=fontsize)
+        ax.invert_yaxis()
+        ax.set_xlabel("Sobol index [-]", fontsize=fontsize)
+    else:
+        ax.set_xticks(x, table["parameter"].to_list(), rotation=rotation, ha="right", fontsize=fontsize)
+        ax.set_ylabel("Sobol index [-]", fontsize=fontsize)
 
 
 def trusted_mask(table: pd.DataFrame, diagnostics: list[Diagnostic]) -> NDArray[np.bool_]:

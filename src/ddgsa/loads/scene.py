@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 from ddgsa.errors import SceneError
 
@@ -59,6 +59,9 @@ class Scene:
     dt: float = 0.05
     seed: int = 1
     loads_fidelity: str = "table"
+    units: ClassVar[dict[str, str]] = {"wind_speed": "m/s", "turbulence_intensity": "-", "inclination_deg": "deg",
+                                       "shear_exponent": "-", "duration": "s", "dt": "s"}
+    """The SI unit of each field (a study may write another unit, :mod:`ddgsa.units`)."""
 
     def __post_init__(self) -> None:
         if self.loads_fidelity not in LOADS_FIDELITIES:

@@ -72,31 +72,55 @@ class CampbellDiagram:
         return pd.DataFrame(rows, columns=["mode", "speed_rad_s", "speed_rpm", "frequency_hz", "whirl"])
 
     def plot(self, ax: Any = None, max_frequency_hz: float | None = None) -> Any:
-        """Frequencies against speed [rpm] per mode (forward solid, backward dashed) with the order lines.
+        """Frequencies against speed [rpm] per mode (forward solid, backward dashed, mixed or not
+        known solid) with the order lines labelled inside the axes and the legend outside them.
+
+        The frequency axis ends (unless ``max_frequency_hz``) at the larger of 1.5 times the highest
+        order line and the lowest mode's highest frequency plus 10 %, so the order lines and their
+        crossings fill the plot; modes above it are counted in the title. Colours run through the
+        ten hues of a 20-colour map before its lighter shades, so up to 20 modes have distinct colours.
 
         Returns the matplotlib ``Axes``; the library never shows the figure.
         """
         import matplotlib.pyplot as plt
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(7, 4.5))
+            _, ax = plt.subplots(figsize=(8.5, 4.5))
         fr = self.frame
-        for mode, grp in fr.groupby("mode"):
-            grp = grp.sort_values("speed_rad_s")
-            whirl = grp["whirl"].mode().iloc[0]
-            style = {"forward": "-", "backward": "--"}.get(whirl, ":")
-            ax.plot(grp["speed_rpm"], grp["frequency_hz"], style, marker=".", label=f"{mode}: {grp['label'].iloc[0]}"
-                    f" ({whirl})")
         rpm = np.array([fr["speed_rpm"].min(), fr["speed_rpm"].max()])
+        order_top = max(self.orders, default=1.0) * rpm[1] / 60.0
+        lowest = fr.groupby("mode")["frequency_hz"].max().min()
+        top = (max_frequency_hz if max_frequency_hz is not None
+               else min(max(1.5 * order_top, 1.1 * lowest), 1.05 * fr["frequency_hz"].max()))
+        colours = plt.get_cmap("tab20")
+        hidden = 0
+        for k, (mode, grp) in enumerate(fr.groupby("mode")):
+            grp = grp.sort_values("speed_rad_s")
+            if grp["frequency_hz"].min() > top:
+                hidden += 1
+                continue
+            moving = grp.loc[grp["speed_rad_s"] > 0, "whirl"]
+            whirl = (moving if len(moving) else grp["whirl"]).mode().iloc[0]
+            style = {"forward": "-", "backward": "--"}.get(whirl, "-")
+            known = whirl in ("forward", "backward", "mixed")
+            ax.plot(grp["speed_rpm"], grp["frequency_hz"], style, marker=".", color=colours((2 * k) % 20 + (k // 10) % 2),
+                    label=f"{mode}: {grp['label'].iloc[0]}" + (f" ({whirl})" if known else ""))
         for n in self.orders:
             ax.plot(rpm, n * rpm / 60.0, color="0.5", lw=0.8)
-            ax.annotate(f"{n:g}P", (rpm[1], n * rpm[1] / 60.0), fontsize=8, color="0.4")
-        top = max_frequency_hz if max_frequency_hz is not None else 1.1 * fr["frequency_hz"].max()
+            x = min(rpm[1], 0.95 * top * 60.0 / n)               # where the line leaves the axes, inside
+            ax.annotate(f"{n:g}P", (x, n * x / 60.0), xytext=(-4, 2), textcoords="offset points", ha="right",
+                        va="bottom", fontsize=8, color="0.3")
+        ax.set_xlim(rpm[0], rpm[1])
         ax.set_ylim(0.0, top)
         ax.set_xlabel("rotor speed [rpm]")
         ax.set_ylabel("frequency [Hz]")
-        ax.set_title("Campbell diagram")
-        ax.legend(fontsize=7, loc="upper left")
+        ax.set_title("Campbell diagram" + (f" ({hidden} modes above {top:.3g} Hz not shown)" if hidden else ""),
+                     fontsize=9)
+        if not (fr["whirl"].isin(["forward", "backward", "mixed"])).any():
+            ax.text(0.01, 0.98, "whirl not known: modes from tables", transform=ax.transAxes, fontsize=7,
+                    va="top", color="0.4")
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+        ax.figure.tight_layout()
         return ax
 
 

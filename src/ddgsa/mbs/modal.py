@@ -221,7 +221,7 @@ def plot_modes(table: pd.DataFrame, ax: Any = None) -> Any:
     import matplotlib.pyplot as plt
 
     if ax is None:
-        _, ax = plt.subplots(figsize=(7, 0.35 * max(len(table), 4) + 1.0))
+        _, ax = plt.subplots(figsize=(7, 0.35 * max(len(table), 4) + 1.0), layout="constrained")
     y = np.arange(len(table))
     ax.barh(y, table["frequency_hz"], color="tab:blue")
     ax.set_yticks(y, [f"{lab} ({f:.3g} Hz)" for lab, f in zip(table["label"], table["frequency_hz"])], fontsize=8)

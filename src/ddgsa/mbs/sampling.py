@@ -39,7 +39,7 @@ def samples_per_period(interval_s: float, frequency_hz: float) -> float:
 
 
 def check_interval(interval_s: float, frequency_hz: float, what: str, *, refuse: bool,
-                   warn_below: float = RESOLVED) -> str | None:
+                   warn_below: float = RESOLVED, component: str = "mode", rate: bool = False) -> str | None:
     """Check that ``interval_s`` [s] resolves a mode at ``frequency_hz`` [Hz].
 
     Parameters
@@ -51,6 +51,11 @@ def check_interval(interval_s: float, frequency_hz: float, what: str, *, refuse:
         otherwise warn.
     warn_below : float
         Samples per period below which to warn (default :data:`RESOLVED`).
+    component : str
+        What oscillates at ``frequency_hz``: ``"mode"`` (default), or e.g. ``"2x order"``.
+    rate : bool
+        Where the user sets a sampling rate (not an interval): the message gives the limit as a
+        rate [Hz] and leaves the interval out (``what`` then names the rate).
 
     Returns
     -------
@@ -65,8 +70,14 @@ def check_interval(interval_s: float, frequency_hz: float, what: str, *, refuse:
     n = samples_per_period(interval_s, frequency_hz)
     if n >= warn_below:
         return None
-    msg = (f"{what} {interval_s:.4g} s gives {n:.2g} samples per period of the {frequency_hz:.4g} Hz mode "
-           f"(Nyquist needs > {NYQUIST:g}, peaks need >= {RESOLVED:g}: at most {1 / (RESOLVED * frequency_hz):.3g} s)")
+    if rate:
+        msg = (f"{what} gives {n:.2g} samples per period of the {component} at {frequency_hz:.4g} Hz (more than "
+               f"{NYQUIST * frequency_hz:.4g} Hz avoids aliasing; at least {RESOLVED * frequency_hz:.4g} Hz "
+               f"resolves its peaks)")
+    else:
+        msg = (f"{what} {interval_s:.4g} s gives {n:.2g} samples per period of the {frequency_hz:.4g} Hz {component} "
+               f"(Nyquist needs > {NYQUIST:g}, peaks need >= {RESOLVED:g}: at most "
+               f"{1 / (RESOLVED * frequency_hz):.3g} s)")
     if n < NYQUIST and refuse:
         raise ModelError(f"{msg}; the sampled signal would alias")
     warnings.warn(msg, AliasingWarning, stacklevel=3)

@@ -211,6 +211,11 @@ class Model(ABC):
                             f"plausible range [{o.low:g}, {o.high:g}] (e.g. {worst:.4g}); check the inputs")
         return msgs
 
+    def unused_parameters(self) -> dict[str, str]:
+        """Parameters that have no effect on any output at this fidelity and options, with the reason
+        (e.g. ``"has no effect at fidelity rigid: ..."``); studies warn and reports list them by name."""
+        return {}
+
     def point_problems(self, params: Mapping[str, float]) -> list[str]:
         """Why a parameter point (missing names nominal) lies outside the model's valid region,
         beyond each parameter's own range (e.g. bearings that cross); empty when valid."""

@@ -320,6 +320,16 @@ class DirectDrive(Model):
     outputs = OUTPUTS
     fidelities = ("flexible", "rigid", "linear")
 
+    def unused_parameters(self) -> dict[str, str]:
+        """The shaft's elasticity, damping and radius at fidelity ``rigid`` (no elastic coordinates;
+        the radius enters only the shaft's polar inertia, which the rigid body lumps)."""
+        if self.fidelity != "rigid":
+            return {}
+        why = "has no effect at fidelity rigid (the shaft has no elastic coordinates{})"
+        return {"shaft_bending_stiffness": why.format(""), "shaft_torsional_stiffness": why.format(""),
+                "shaft_axial_stiffness": why.format(""), "shaft_damping_ratio": why.format(""),
+                "shaft_radius": why.format("; the radius enters only the elastic shaft's polar inertia")}
+
     def point_problems(self, params: Mapping[str, float]) -> list[str]:
         """Why ``params`` (missing ones nominal) lie outside the valid region: crossing bearings."""
         problem = bearing_order_problem({**self.nominal, **params})

@@ -411,7 +411,8 @@ class HssRig(Model):
                  "motor_current": {"f": supply, "f-fr": supply - f_r, "f+fr": supply + f_r}}
         for sensor, mark in marks.items():
             fig, ax = plt.subplots(figsize=(7, 4))
-            plot_spectrum(t, s[sensor].to_numpy(), mark, max_hz=1.3 * max(mark.values()), ax=ax,
+            reads = ENVELOPE_BAND[1] if sensor.startswith("housing") else 1.3 * max(mark.values())
+            plot_spectrum(t, s[sensor].to_numpy(), mark, max_hz=min(0.5 * sc.sample_rate, reads), ax=ax,
                           unit=f"[{_sensor_unit(sensor)[0]}]")
             ax.set_title(f"{sensor}, {title}", fontsize=9)
             figs.append((fig, f"spectrum_{sensor}"))

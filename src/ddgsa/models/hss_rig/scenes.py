@@ -78,6 +78,9 @@ class RigScene:
     seed: int = 1
     label_fields: ClassVar[tuple[str, ...]] = ("kind", "speed_rpm")
     """The fields that label a rig scene in study tables and plots."""
+    units: ClassVar[dict[str, str]] = {"kind": "", "speed_rpm": "rpm", "duration": "s", "sample_rate": "Hz",
+                                       "settle": "s", "ramp_time": "s"}
+    """The unit of each field (a study may write another unit, :mod:`ddgsa.units`; ``kind`` is a word)."""
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -148,7 +151,9 @@ class RigScene:
         h = 1.0 / self.sample_rate
         rows = []
         for label, f_hz in frequencies.items():
-            check_interval(h, f_hz, f"rig scene sample interval (sample_rate {self.sample_rate:g} Hz)", refuse=True)
+            what = label if "order" in label or "frequency" in label else f"bearing defect frequency {label}"
+            check_interval(h, f_hz, f"rig scene sample_rate {self.sample_rate:g} Hz", refuse=True, component=what,
+                           rate=True)
             rows.append(sampling_row("sensor sample interval", h, f_hz, label,
                                      "peaks of this component are under-resolved in the recorded signals"))
         return rows

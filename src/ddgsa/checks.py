@@ -1,0 +1,174 @@
+"""The model's own checks over a whole study, before anything runs (``ddgsa validate`` and ``ddgsa run``).
+
+:func:`ddgsa.study.load_study` checks the schema, names, ranges and units. What it cannot see
+without asking the model is checked here, over everything the study would run:
+
+* **sampling** of every scene: the model's :meth:`~ddgsa.models.base.Model.sampling_checks`
+  (e.g. the rig's sensor sample rate against its orders and defect frequencies). A scene the
+  model refuses (an aliased record) is an error; a coarse one gives the model's note.
+* **the valid region** over the parameters' support: the corners of the support (at most
+  :data:`MAX_CORNERS` of them) and a :data:`SAMPLE`-point Sobol' sample, with the study's fixed
+  values, through :meth:`~ddgsa.models.base.Model.point_problems` (e.g. the direct drive's
+  bearings that must not cross). Every checked point invalid is an error; some invalid is a
+  warning that says how many and the first reason (those evaluations fail and are never imputed).
+* **parameters without effect** at the study's fidelity
+  (:meth:`~ddgsa.models.base.Model.unused_parameters`), warned by name with the reason.
+* **unit hints**: a number that looks written in another unit (a ``speed_rpm`` of 25 that reads
+  like Hz; a parameter 1000x its model's nominal value).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import warnings
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+
+from ddgsa.errors import DdgsaError
+from ddgsa.mbs.sampling import AliasingWarning
+from ddgsa.study import Study, plan_scenes, scene_text
+from ddgsa.units import scene_hints
+
+SAMPLE = 64
+"""Sobol' points of the support checked against the model's valid region."""
+MAX_CORNERS = 1024
+"""Corners of the support checked (all of them up to 10 parameters)."""
+TAIL = 1e-3
+"""Probability cut from each tail of an unbounded distribution to give its "corners"."""
+SLIP = 100.0
+"""A value this many times above or below its model's nominal value gets a unit hint."""
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One result of a check: an ``error`` refuses the study, a ``warning`` says what will fail,
+    a ``hint`` what may be meant (and a ``note`` passes on a model's sampling remark)."""
+
+    level: Literal["error", "warning", "hint", "note"]
+    field: str
+    message: str
+
+    def __str__(self) -> str:
+        return f"field '{self.field}': {self.message}"
+
+
+def study_findings(study: Study, sample: int = SAMPLE) -> list[Finding]:
+    """Every finding of the checks above, errors first."""
+    model = study.make_model()
+    found = [*_sampling(study, model), *_region(study, model, sample), *_unused(study, model),
+             *_unit_hints(study, model)]
+    order = {"error": 0, "warning": 1, "note": 2, "hint": 3}
+    return sorted(found, key=lambda f: order[f.level])
+
+
+def _sampling(study: Study, model: Any) -> list[Finding]:
+    """The model's sampling checks for every scene of the grid (its first realisation)."""
+    out: list[Finding] = []
+    seen: set[str] = set()
+    for ps in plan_scenes(study):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", AliasingWarning)
+            try:
+                model.sampling_checks(ps.scenes[0])
+            except DdgsaError as exc:
+                out.append(Finding("error", "scenes", f"scene {ps.index} ({scene_text(ps.fields)}): {exc}; every "
+                                                      "evaluation of this scene would fail"))
+        for w in caught:
+            if issubclass(w.category, AliasingWarning) and str(w.message) not in seen:
+                seen.add(str(w.message))
+                out.append(Finding("note", "scenes", f"scene {ps.index} ({scene_text(ps.fields)}): {w.message}"))
+    return out
+
+
+def support_points(study: Study, sample: int = SAMPLE) -> list[dict[str, float]]:
+    """The checked points: the support's corners (tails cut at :data:`TAIL` where unbounded) and a
+    Sobol' sample, each with the study's fixed values."""
+    space = study.space
+    fixed = {k: float(v) for k, v in study.spec.fixed.items()}
+    if space is None:
+        return [fixed]
+    ends = [(p.ppf(np.array([TAIL]))[0] if not math.isfinite(p.support[0]) else p.support[0],
+             p.ppf(np.array([1 - TAIL]))[0] if not math.isfinite(p.support[1]) else p.support[1])
+            for p in space.parameters]
+    corners = itertools.islice(itertools.product(*ends), MAX_CORNERS)
+    points = [dict(zip(space.names, map(float, c))) for c in corners]
+    points += [dict(zip(space.names, map(float, row))) for row in space.sample(sample, seed=0)]
+    return [{**fixed, **p} for p in points]
+
+
+def _region(study: Study, model: Any, sample: int) -> list[Finding]:
+    points = support_points(study, sample)
+    bad = [(p, problems) for p in points if (problems := model.point_problems(p))]
+    if not bad or study.space is None:
+        return []
+    point, problems = bad[0]
+    at = ", ".join(f"{k}={point[k]:.4g}" for k in study.space.names)
+    text = (f"{len(bad)} of {len(points)} checked points of the parameters' support (its corners and a {sample}-point "
+            f"sample) lie outside the valid region of model {study.spec.model.name!r}; first at {at}: {problems[0]}")
+    if len(bad) == len(points):
+        return [Finding("error", "parameters", text + "; every evaluation would fail")]
+    return [Finding("warning", "parameters", text + "; evaluations there will fail (never imputed) and the methods "
+                                                    "that need them will be refused: narrow the support")]
+
+
+def _unused(study: Study, model: Any) -> list[Finding]:
+    """Uncertain parameters the model ignores at the study's fidelity (their indices are 0 by construction)."""
+    unused = model.unused_parameters()
+    return [Finding("warning", f"parameters.{name}", f"{unused[name]}: its indices are 0 by construction and "
+                                                    "its evaluations are spent for nothing")
+            for name in study.spec.parameters if name in unused]
+
+
+def _unit_hints(study: Study, model: Any) -> list[Finding]:
+    out = [Finding("hint", f"scenes.{k}", h) for k, h in scene_hints(type(plan_scenes(study)[0].scenes[0]),
+                                                                      _scene_values(study))]
+    values = {**{k: float(v) for k, v in study.spec.fixed.items()},
+              **(study.space.nominal if study.space is not None else {})}
+    section = {k: "fixed" for k in study.spec.fixed} | {k: "parameters" for k in study.spec.parameters}
+    for name, value in values.items():
+        decl = model.parameter(name)
+        if decl.nominal > 0 and value > 0:
+            ratio = value / decl.nominal
+            if ratio >= SLIP or ratio <= 1 / SLIP:
+                example = f" (e.g. unit: k{decl.unit} for thousands)" if ratio < 1 and decl.unit not in ("", "-") else ""
+                out.append(Finding("hint", f"{section[name]}.{name}",
+                                   f"{value:.4g} {decl.unit} is {max(ratio, 1 / ratio):,.0f}x "
+                                   f"{'above' if ratio > 1 else 'below'} the model's nominal {decl.nominal:.4g} "
+                                   f"{decl.unit}; numbers are in {decl.unit} unless a unit is written{example}"))
+    return out
+
+
+def _scene_values(study: Study) -> dict[str, list[Any]]:
+    out: dict[str, list[Any]] = {}
+    for ps in plan_scenes(study):
+        for key, value in ps.scenes[0].to_dict().items():
+            out.setdefault(key, []).append(value)
+    return out
+
+
+def evaluation_plan(study: Study) -> str:
+    """What the study will evaluate, per method and in total, with every sample a method adds of
+    its own (e.g. M-DRM's check sample, option ``check``, default 32) named; methods share equal
+    points, which run once. Empty for a study without methods or with ``method: auto``."""
+    from ddgsa.gsa.base import get_method
+
+    space = study.space
+    if space is None or not study.spec.methods or any(m.method == "auto" for m in study.spec.methods):
+        return ""
+    parts, blocks = [], []
+    for m in study.spec.methods:
+        design = get_method(m.method).design(space, **m.options)
+        blocks.append(design.points)
+        check = design.options.get("check")
+        extra = f" (its {check}-point check sample, option check, included)" if check else ""
+        parts.append(f"{m.method} {len(design.points)}{extra}")
+    distinct = len(np.unique(np.vstack(blocks), axis=0))
+    sc = study.spec.scenes
+    runs = distinct * len(sc.grid()) * sc.realisations
+    n_scenes = len(sc.grid())
+    return (f"evaluations per scene and realisation: {', '.join(parts)}; {distinct} distinct points (equal points "
+            f"run once) x {n_scenes} scene{'s' * (n_scenes != 1)} x {sc.realisations} "
+            f"realisation{'s' * (sc.realisations != 1)} = {runs} model runs")

@@ -1,0 +1,144 @@
+"""``ddgsa validate`` runs the model's own checks over the whole study (:mod:`ddgsa.checks`): the
+rig's sampling of every scene, the valid region over the support, unit hints; and the run's
+console names the first failure reason of an output whose indices are refused."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+from types import SimpleNamespace
+
+import pandas as pd
+import pytest
+
+from ddgsa.checks import study_findings, support_points
+from ddgsa.cli import main
+from ddgsa.loads.scene import Scene
+from ddgsa.models import get as get_model
+from ddgsa.models.hss_rig.model import BEARING_GEOMETRY
+from ddgsa.report import no_effect_lines
+from ddgsa.study import StudyWarning, load_study
+
+RIG = """\
+name: rig
+model: {{name: hss_rig, fidelity: linear}}
+parameters:
+  disk_mass: {{nominal: 15.0, spread: 0.1}}
+scenes: {{kind: steady, speed_rpm: {speeds}, duration: 1.0, sample_rate: {rate}, settle: 0.1}}
+outputs: [order1x_disk_y]
+methods:
+  - {{method: mdrm, points: 3}}
+"""
+DD = """\
+name: dd
+model: {{name: direct_drive, fidelity: rigid}}
+parameters:
+  rear_bearing_x: {{low: {low}, high: {high}}}
+  k_front_z: {{nominal: {k}, spread: 0.2}}
+scenes: {{wind_speed: 11, duration: 60}}
+outputs: [damage_front]
+methods:
+  - {{method: mdrm, points: 3}}
+"""
+
+
+def _write(tmp_path: Path, text: str) -> Path:
+    path = tmp_path / "s.yaml"
+    path.write_text(text)
+    return path
+
+
+def test_an_aliased_rig_scene_is_refused_by_validate_with_the_limit_as_a_rate(tmp_path: Path, capsys) -> None:
+    # the second scene (1500 rpm) at 500 Hz: 3 x BPFI = 406 Hz gets 1.2 samples a period; the first (600 rpm) is fine
+    path = _write(tmp_path, RIG.format(speeds="[600, 1500]", rate=500))
+    assert main(["validate", str(path)]) == 2
+    err = capsys.readouterr().err
+    bpfi3 = 3 * float(BEARING_GEOMETRY.bpfi(25.0))
+    assert "scene 1 (kind=steady, speed_rpm=1500)" in err and "scene 0" not in err
+    assert f"bearing defect frequency 3 x BPFI at {bpfi3:.4g} Hz" in err
+    assert f"more than {2 * bpfi3:.4g} Hz avoids aliasing" in err and " mode" not in err
+    assert "Traceback" not in err
+
+
+def test_a_coarse_rig_scene_is_a_note_that_minus_q_hides(tmp_path: Path, capsys) -> None:
+    path = _write(tmp_path, RIG.format(speeds=1500, rate=2000))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                        # the note is not a raw Python warning
+        assert main(["validate", str(path)]) == 0
+        err = capsys.readouterr().err
+        assert err.count("samples per period") == 1 and "ddgsa: note: " in err and "4.9 samples per period" in err
+        assert "warnings.warn" not in err
+        assert main(["-q", "validate", str(path)]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_a_speed_that_reads_like_hz_gets_a_hint(tmp_path: Path, capsys) -> None:
+    path = _write(tmp_path, RIG.format(speeds=25, rate=2000))
+    assert main(["validate", str(path)]) == 2
+    assert "if you meant Hz write '25 Hz' (= 1500 rpm)" in capsys.readouterr().err
+
+
+def test_the_support_is_checked_against_the_valid_region(tmp_path: Path, capsys) -> None:
+    # rear bearing from 0.5 to 7 m: it crosses the front bearing (1 m) below 1 m and leaves the 6 m shaft above 6 m,
+    # so a share (1 - 0.5) / 6.5 + (7 - 6) / 6.5 = 23 % of the uniform support is invalid
+    study = load_study(_write(tmp_path, DD.format(low=0.5, high=7, k=1e10)))
+    points = support_points(study)
+    assert len(points) == 4 + 64
+    (found,) = [f for f in study_findings(study) if f.field == "parameters"]
+    bad = sum(p["rear_bearing_x"] < 1 or p["rear_bearing_x"] > 6 for p in points)   # the closed form of the region
+    assert found.level == "warning" and found.message.startswith(f"{bad} of 68 checked points")
+    assert "bearing positions must satisfy" in found.message
+    sampled = [p["rear_bearing_x"] for p in points[4:]]
+    assert sum(x < 1 or x > 6 for x in sampled) / 64 == pytest.approx(1.5 / 6.5, abs=0.06)
+    # wholly outside: refused
+    with pytest.warns(StudyWarning, match="nominal point is outside"):
+        study = load_study(_write(tmp_path, DD.format(low=6.5, high=7, k=1e10)))
+    assert [f.level for f in study_findings(study) if f.field == "parameters"] == ["error"]
+    assert main(["validate", str(tmp_path / "s.yaml")]) == 2
+    assert "every evaluation would fail" in capsys.readouterr().err
+
+
+def test_a_parameter_1000x_off_its_nominal_gets_a_unit_hint(tmp_path: Path, capsys) -> None:
+    path = _write(tmp_path, DD.format(low=4, high=5, k=1e7))
+    assert main(["validate", str(path)]) == 0
+    err = capsys.readouterr().err
+    assert "field 'parameters.k_front_z': 1e+07 N/m is 1,000x below the model's nominal 1e+10 N/m" in err
+    assert "unit: kN/m" in err
+    assert main(["-q", "validate", str(path)]) == 0 and "hint" not in capsys.readouterr().err
+
+
+def test_the_console_names_the_first_failure_reason(write_study, tmp_path: Path, capsys) -> None:
+    path = write_study("failing", options="{fail_above: 2.5}")
+    assert main(["-q", "run", str(path), "--out", str(tmp_path / "out")]) == 3
+    err = capsys.readouterr().err
+    assert "output 'y': no method's indices are trusted" in err
+    assert "evaluations failed, the first: RuntimeError: x1 = " in err and "above fail_above = 2.5" in err
+
+
+def test_the_rigid_direct_drive_names_exactly_the_parameters_without_effect() -> None:
+    # independent check: change each parameter by 30 % and compare the outputs bit for bit
+    model = get_model("direct_drive", fidelity="rigid")
+    unused = model.unused_parameters()
+    scene = Scene(wind_speed=11.0, duration=10.0, seed=1)
+    names = ["k_front_z", "hub_mass", *unused]
+    rows = [model.nominal] + [{**model.nominal, n: 1.3 * model.nominal[n]} for n in names]
+    y = model.evaluate(pd.DataFrame(rows), scene).to_numpy()
+    changed = {n: bool((y[i + 1] != y[0]).any()) for i, n in enumerate(names)}
+    assert changed == {n: n in ("k_front_z", "hub_mass") for n in names}
+    assert set(unused) == {"shaft_bending_stiffness", "shaft_torsional_stiffness", "shaft_axial_stiffness",
+                           "shaft_damping_ratio", "shaft_radius"}
+    assert get_model("direct_drive", fidelity="flexible").unused_parameters() == {}
+
+
+def test_parameters_without_effect_are_warned_and_listed_in_the_summary(tmp_path: Path, capsys) -> None:
+    path = _write(tmp_path, DD.format(low=4, high=5, k=1e10).replace(
+        "parameters:\n", "parameters:\n  shaft_bending_stiffness: {nominal: 1e9, spread: 0.2}\n"))
+    assert main(["validate", str(path)]) == 0
+    assert ("field 'parameters.shaft_bending_stiffness': has no effect at fidelity rigid"
+            in capsys.readouterr().err)
+    study = load_study(path)
+    indices = pd.DataFrame({"parameter": ["rear_bearing_x", "k_front_z", "shaft_bending_stiffness"] * 2,
+                            "ST": [0.7, 0.3, 0.0, 0.6, 0.0, 0.0]})
+    lines = no_effect_lines(SimpleNamespace(study=study, indices=indices))
+    assert "- `shaft_bending_stiffness`: has no effect at fidelity rigid" in "\n".join(lines)
+    assert not any("k_front_z" in line for line in lines)      # 0 in one row only: it has an effect

@@ -1,0 +1,164 @@
+"""Every plot kind reads at a glance: its axis labels carry units, no text lies outside the figure
+(nothing is clipped when it is saved as it is), and where a plot is dense its legend stands
+outside every axes (it covers no data). Each kind is drawn from small synthetic inputs."""
+
+from __future__ import annotations
+
+import re
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+import pytest  # noqa: E402
+
+from ddgsa.detection import DetectionSettings, assess  # noqa: E402
+from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables  # noqa: E402
+from ddgsa.mbs.modal import plot_modes  # noqa: E402
+from ddgsa.models import get  # noqa: E402
+from ddgsa.report import plot_fault_histograms, plot_heatmap, plot_scene_bars, plot_sweep, sweep_summary  # noqa: E402
+from ddgsa.signals import plot_order_map, plot_spectrum  # noqa: E402
+
+UNIT = re.compile(r"\[[^\]]+\]")
+
+
+def _check(fig, dense_legend: bool = False) -> None:
+    """Units on every labelled axis, every text inside the figure, a dense plot's legends off the axes."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    box = fig.bbox
+    for ax in fig.axes:
+        for label in (ax.get_xlabel(), ax.get_ylabel()):
+            assert not label or UNIT.search(label), f"axis label without a unit: {label!r}"
+    texts = [t for ax in fig.axes for t in (ax.title, ax.xaxis.label, ax.yaxis.label, *ax.texts)]
+    texts += [t for leg in [ax.get_legend() for ax in fig.axes] + list(fig.legends) if leg for t in leg.get_texts()]
+    texts += list(fig.texts) + ([fig._suptitle] if fig._suptitle is not None else [])
+    for t in texts:                                           # titles, labels, annotations, legends (not ticks)
+        if t.get_visible() and t.get_text().strip() and (t.axes is None or t.axes.get_visible()):
+            b = t.get_window_extent(renderer)
+            assert box.x0 - 1 <= b.x0 and b.x1 <= box.x1 + 1 and box.y0 - 1 <= b.y0 and b.y1 <= box.y1 + 1, \
+                f"text {t.get_text()!r} leaves the figure"
+    if dense_legend:
+        legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None] + list(fig.legends)
+        assert legends
+        for leg in legends:
+            lb = leg.get_window_extent(renderer)
+            for ax in fig.axes:
+                assert not lb.overlaps(ax.get_window_extent(renderer)), "a legend covers an axes"
+    plt.close(fig)
+
+
+def _ticks_inside(ax) -> None:
+    renderer = ax.figure.canvas.get_renderer()
+    for t in ax.get_xticklabels() + ax.get_yticklabels() + [ax.title]:
+        if t.get_visible() and t.get_text():
+            b = t.get_window_extent(renderer)
+            assert ax.figure.bbox.x0 - 1 <= b.x0 and b.x1 <= ax.figure.bbox.x1 + 1, t.get_text()
+
+
+def _campbell(n_modes: int, spacing: float = 0.07) -> CampbellDiagram:
+    speeds = np.linspace(0.0, 20.0 * np.pi / 30.0, 5)
+    tables = {s: pd.DataFrame({"frequency_hz": [0.2 + spacing * k + 0.01 * s for k in range(n_modes)],
+                               "damping_ratio": 0.01, "label": [f"mode_with_a_long_name_{k}" for k in range(n_modes)]})
+              for s in speeds}
+    return campbell_from_tables(tables, orders=(1.0, 3.0))
+
+
+def test_campbell() -> None:
+    diagram = _campbell(14)
+    ax = diagram.plot()
+    fig = ax.figure
+    colours = [line.get_color() for line in ax.get_lines()[:14]]
+    assert len({tuple(np.atleast_1d(c)) if not isinstance(c, str) else c for c in colours}) == 14   # none repeats
+    assert all("(unknown)" not in t.get_text() for t in ax.get_legend().get_texts())
+    # the axis ends at 1.5 x the 3P line at 20 rpm (1 Hz), or just above the highest mode where that is lower
+    top, highest = ax.get_ylim()[1], diagram.frame["frequency_hz"].max()
+    assert top == pytest.approx(min(1.5, 1.05 * highest), rel=1e-9)
+    wide = _campbell(14, spacing=0.7).plot()                 # modes up to 9 Hz: those above 1.5 Hz are counted
+    assert wide.get_ylim()[1] == pytest.approx(1.5) and "12 modes above 1.5 Hz not shown" in wide.get_title()
+    plt.close(wide.figure)
+    texts = [t.get_text() for t in ax.texts]
+    assert "1P" in texts and "3P" in texts
+    _check(fig, dense_legend=True)
+
+
+def test_mode_bars() -> None:
+    table = pd.DataFrame({"frequency_hz": [1.0, 3.0, 30.0], "damping_ratio": 0.01,
+                          "label": ["a_long_mode_label_1", "b", "c"]})
+    _check(plot_modes(table).figure)
+
+
+def _indices(outputs: list[str], methods: list[str], params: list[str]) -> pd.DataFrame:
+    rng = np.random.default_rng(0)
+    return pd.DataFrame([{"scene": s, "wind_speed": w, "turbulence_intensity": 0.12, "inclination_deg": 0.0,
+                          "shear_exponent": 0.2, "output": o, "method": m, "parameter": p,
+                          "S1": rng.random() / 3, "S1_conf": 0.02, "ST": rng.random() / 2, "ST_conf": 0.02,
+                          "trusted": p != params[0], "n_evals": 10}
+                         for s, w in enumerate((6.0, 11.0)) for o in outputs for m in methods for p in params])
+
+
+def test_scene_bars_and_heatmap() -> None:
+    model = get("direct_drive", fidelity="rigid")
+    outputs = ["damage_front", "damage_rear", "rms_deflection_hub", "front_Fr_mean"]
+    params = [p.name for p in model.parameters[:11]]
+    rows = _indices(outputs, ["mdrm"], params)
+    rows.loc[rows["output"] == "front_Fr_mean", ["S1", "ST"]] = np.nan            # refused: said in the panel
+    info = {o: model.output(o) for o in outputs}
+    fig = plot_scene_bars(rows[rows["scene"] == 0], info)
+    assert any("refused" in t.get_text() for ax in fig.axes for t in ax.texts)
+    assert len({round(ax.get_position().x0, 3) for ax in fig.axes if ax.get_visible()}) == 3   # three panels a row
+    _check(fig, dense_legend=True)
+    _check(plot_heatmap(rows, info))
+
+
+def test_sweep() -> None:
+    sweep = pd.DataFrame([{"scene": s, "wind_speed": w, "turbulence_intensity": ti, "inclination_deg": 0.0,
+                           "shear_exponent": 0.2, "realisation": r, "damage_front": 1e-9 * w * (1 + r),
+                           "error": None} for s, (w, ti) in enumerate([(6.0, 0.1), (11.0, 0.1), (6.0, 0.2), (11.0, 0.2)])
+                          for r in range(2)])
+    summary = sweep_summary(sweep, ["damage_front"])
+    model = get("direct_drive", fidelity="rigid")
+    for fig, _ in plot_sweep(summary, ["damage_front"], info={"damage_front": model.output("damage_front")}):
+        _check(fig)
+
+
+def test_detectability_curve_and_histograms() -> None:
+    rng = np.random.default_rng(1)
+    healthy = pd.DataFrame({f"s{k}": rng.normal(0.0, 1e-4, 200) for k in range(6)})
+    faulty = {lv: pd.DataFrame({f"s{k}": rng.normal(lv * 1e-5 * (k + 1), 1e-4, 200) for k in range(6)})
+              for lv in (2.0, 5.0, 10.0)}
+    det = assess(healthy, faulty, 0.0, DetectionSettings(bootstrap=100))
+    fig, ax = plt.subplots(figsize=(8.5, 4.2))
+    det.plot_curve(ax=ax, level_label="k_front_z [N/m]")
+    assert ax.get_xlabel().startswith("k_front_z [N/m]")
+    fig.tight_layout()
+    _check(fig, dense_legend=True)
+    fig = plot_fault_histograms(det, "scene", {f"s{k}": "m" for k in range(6)})
+    hist = fig.axes[0]
+    assert hist.get_ylabel() == "share of measurements [-]" and re.search(r"\[m\]|\[-\]", hist.get_xlabel())
+    heights = [p.get_height() for p in hist.patches[:30]]
+    assert sum(heights) == pytest.approx(1.0)                # each population's bars sum to one: no 1/unit density
+    _check(fig)
+
+
+def test_spectrum_and_order_map() -> None:
+    t = np.arange(0.0, 2.0, 1 / 5000)
+    x = 1e-5 * np.sin(2 * np.pi * 25 * t) + 1e-7 * np.sin(2 * np.pi * 406 * t)
+    fig, ax = plt.subplots(figsize=(7, 4))
+    plot_spectrum(t, x, {"1x": 25.0, "3 x BPFI": 406.0, "beyond": 3000.0}, max_hz=2000.0, ax=ax, unit="[m/s^2]")
+    assert ax.get_xlim()[1] == pytest.approx(2000.0, rel=1e-3)
+    low, high = ax.get_ylim()
+    assert high / low == pytest.approx(3e6)                  # six decades below the peak, not down to 1e-300
+    assert [t.get_text() for t in ax.texts] == ["1x", "3 x BPFI"]   # a mark beyond the range is left out
+    renderer = fig.canvas.get_renderer()
+    fig.canvas.draw()
+    for t in ax.texts:                                        # the labels sit inside the axes
+        assert ax.get_window_extent(renderer).contains(*t.get_window_extent(renderer).p1)
+    _check(fig)
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    plot_order_map(np.linspace(600, 1500, 5), np.linspace(0, 10, 41), np.abs(np.random.default_rng(0).normal(
+        size=(5, 41))) + 1e-3, max_order=8.0, ax=ax, unit="[m/s^2]")
+    _check(fig)
