@@ -60,7 +60,8 @@ class Scene:
     seed: int = 1
     loads_fidelity: str = "table"
     units: ClassVar[dict[str, str]] = {"wind_speed": "m/s", "turbulence_intensity": "-", "inclination_deg": "deg",
-                                       "shear_exponent": "-", "duration": "s", "dt": "s"}
+                                       "shear_exponent": "-", "duration": "s", "dt": "s",
+                                       "loads_fidelity": ""}
     """The SI unit of each field (a study may write another unit, :mod:`ddgsa.units`)."""
 
     def __post_init__(self) -> None:
