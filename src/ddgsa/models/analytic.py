@@ -16,7 +16,6 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
-from ddgsa.errors import ModelError
 from ddgsa.closed_forms import ishigami
 from ddgsa.loads.scene import Scene
 from ddgsa.models.base import Model, ModelOutput, ModelParameter, register_model
@@ -38,8 +37,7 @@ class Analytic(Model):
     fidelities = ("exact",)
 
     def __init__(self, fidelity: str = "exact", fail_above: float | None = None, delay_s: float = 0.0) -> None:
-        if fidelity != "exact":
-            raise ModelError(f"model 'analytic': unknown fidelity {fidelity!r}; known: exact")
+        self.check_fidelity(fidelity)
         self.fidelity = fidelity
         self.fail_above = fail_above
         self.delay_s = float(delay_s)
@@ -57,8 +55,9 @@ class Analytic(Model):
         p = self.resolve(params).iloc[0].to_dict()
         return pd.DataFrame([self._evaluate_one(p, scene)], index=pd.Index([0.0], name="time"))
 
-    def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+    def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
         """A static model has no modes: an empty table."""
+        self.standstill_only(rotor_speed)
         return pd.DataFrame(columns=["frequency_hz", "damping_ratio", "label"])
 
 
@@ -82,8 +81,7 @@ class FaultShift(Model):
     fidelities = ("exact",)
 
     def __init__(self, fidelity: str = "exact") -> None:
-        if fidelity != "exact":
-            raise ModelError(f"model 'fault_shift': unknown fidelity {fidelity!r}; known: exact")
+        self.check_fidelity(fidelity)
         self.fidelity = fidelity
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
@@ -95,6 +93,7 @@ class FaultShift(Model):
         p = self.resolve(params).iloc[0].to_dict()
         return pd.DataFrame([self._evaluate_one(p, scene)], index=pd.Index([0.0], name="time"))
 
-    def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+    def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
         """A static model has no modes: an empty table."""
+        self.standstill_only(rotor_speed)
         return pd.DataFrame(columns=["frequency_hz", "damping_ratio", "label"])
