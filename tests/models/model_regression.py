@@ -5,8 +5,8 @@ by the code as it stood before the consolidation, and ``test_model_regression.py
 consolidated code to them (1e-9 relative), so a change of numbers is seen and must be explained.
 Whether the numbers are right is for the oracle tests (Radau reference, closed forms, ROSS).
 
-``python tests/mbs/model_regression.py`` (with ``PYTHONPATH=src``) writes the tables under
-``tests/mbs/data/`` from the code as it is.
+``python tests/models/model_regression.py`` (with ``PYTHONPATH=src``) writes the tables under
+``tests/models/data/`` from the code as it is.
 """
 
 from __future__ import annotations
