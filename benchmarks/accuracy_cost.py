@@ -2,7 +2,7 @@
 
 Run: ``ddgsa bench accuracy`` (same as ``python benchmarks/accuracy_cost.py``); writes
 ``results/accuracy_cost/`` (CSV + charts, about 15 minutes on 2 cores; ``--quick``: one minute).
-See :mod:`ddgsa.accuracy_cost` for what is compared against what.
+See :mod:`ddgsa.bench.accuracy_cost` for what is compared against what.
 """
 
 from __future__ import annotations

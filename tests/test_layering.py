@@ -34,12 +34,77 @@ def test_runner_imports_neither_models_nor_scenes_nor_gsa() -> None:
 
 
 def test_models_do_not_import_the_gsa_layer_and_the_kernel_imports_no_model() -> None:
-    for path in (SRC / "models").glob("*.py"):
+    """Every file of every subpackage (``rglob``: ``models/hss_rig``, ``models/indirect_drive`` too)."""
+    assert len(list((SRC / "models").rglob("*.py"))) > len(list((SRC / "models").glob("*.py")))
+    for path in (SRC / "models").rglob("*.py"):
         assert not _uses(path, "ddgsa.gsa"), path.name
     for path in (SRC / "mbs").rglob("*.py"):
         assert not _uses(path, "ddgsa.models") and not _uses(path, "ddgsa.loads"), path.name
-    for path in (SRC / "gsa").glob("*.py"):
+    for path in (SRC / "gsa").rglob("*.py"):
         assert not _uses(path, "ddgsa.models") and not _uses(path, "ddgsa.loads"), path.name
+
+
+def test_no_core_module_imports_the_benchmarks() -> None:
+    """``ddgsa.bench`` sits on top: only the CLI reaches it (issue 24)."""
+    for path in SRC.rglob("*.py"):
+        if path.parent.name != "bench" and path.name != "cli.py":
+            assert not _uses(path, "ddgsa.bench"), path
+
+
+def _module_graph() -> dict[str, set[str]]:
+    """Module -> the modules of ``src/ddgsa`` it imports, at any depth of the file (a function's
+    ``import`` too: a deferred import hides a circle, it does not remove it). ``from a import b``
+    counts as ``a.b`` where that is a module, else as ``a``."""
+    modules = {}
+    for path in SRC.rglob("*.py"):
+        parts = ("ddgsa", *path.relative_to(SRC).with_suffix("").parts)
+        modules[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    graph = {}
+    for name, path in modules.items():
+        out = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                out |= {a.name for a in node.names}
+            elif isinstance(node, ast.ImportFrom) and node.module:
+                subs = {f"{node.module}.{a.name}" for a in node.names} & modules.keys()
+                out |= subs or {node.module}
+        graph[name] = (out & modules.keys()) - {name}
+    return graph
+
+
+def _circle(graph: dict[str, set[str]]) -> list[str]:
+    """One import circle of ``graph`` (depth-first search for a back edge), empty when there is none."""
+    state: dict[str, int] = {}                          # 1: on the current path, 2: done
+    path: list[str] = []
+
+    def visit(node: str) -> list[str]:
+        state[node] = 1
+        path.append(node)
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == 1:
+                return path[path.index(nxt):] + [nxt]
+            if nxt not in state and (found := visit(nxt)):
+                return found
+        state[node] = 2
+        path.pop()
+        return []
+
+    for node in sorted(graph):
+        if node not in state and (found := visit(node)):
+            return found
+    return []
+
+
+def test_the_circle_finder_finds_a_circle() -> None:
+    assert _circle({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": set()}) == ["a", "b", "c", "a"]
+    assert _circle({"a": {"b"}, "b": set()}) == []
+
+
+def test_no_import_circles_in_src() -> None:
+    """No module of ``src/ddgsa`` reaches itself through imports (issue 24)."""
+    graph = _module_graph()
+    assert {"ddgsa.mbs.assembly", "ddgsa.models.hss_rig.model", "ddgsa.models.indirect_drive.linear"} <= graph.keys()
+    assert _circle(graph) == []
 
 
 def test_the_kernels_sampling_table_carries_only_the_callers_words() -> None:

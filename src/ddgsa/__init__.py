@@ -6,13 +6,13 @@ The public API is what ``__all__`` lists; everything else is internal.
 from __future__ import annotations
 
 from ddgsa import loads, models
+from ddgsa._version import __version__
 from ddgsa.errors import DdgsaError, MethodError, ModelError, SceneError, SpaceError, StudyError
 from ddgsa.gsa import SobolResult, sobol
 from ddgsa.gsa.result import Diagnostic
 from ddgsa.loads.scene import Scene
 from ddgsa.space import Parameter, ParameterSpace
 
-__version__ = "0.2.0"
 
 __all__ = [
     "DdgsaError",

@@ -179,17 +179,13 @@ def _dispatch(args: argparse.Namespace) -> int:
 
 
 def _modes(args: argparse.Namespace) -> int:
-    """``ddgsa modes``: the model's mode table, or its Campbell diagram (from ``model.campbell`` or
-    from ``model.modes(rotor_speed=...)`` at each speed), as CSV and PNG."""
-    import inspect
-
+    """``ddgsa modes``: the model's mode table, or its Campbell diagram (``model.campbell``), as CSV and PNG."""
     import matplotlib
     import numpy as np
 
     matplotlib.use("Agg")
     from ddgsa import models
     from ddgsa.errors import ModelError
-    from ddgsa.mbs.campbell import campbell_from_tables
     from ddgsa.mbs.modal import plot_modes
     from ddgsa.study import load_study
 
@@ -216,13 +212,7 @@ def _modes(args: argparse.Namespace) -> int:
     if args.points < 2 or args.max_rpm <= 0:
         raise ModelError(f"--points ({args.points}) must be >= 2 and --max-rpm ({args.max_rpm}) > 0")
     speeds = np.linspace(0.0, args.max_rpm * np.pi / 30.0, args.points)
-    if hasattr(model, "campbell"):
-        diagram = model.campbell(speeds=speeds, orders=args.orders)
-    elif "rotor_speed" in inspect.signature(model.modes).parameters:
-        diagram = campbell_from_tables({s: model.modes(rotor_speed=s) for s in speeds}, args.orders)
-    else:
-        raise ModelError(f"model {name!r} has no rotor speed to sweep: no Campbell diagram (ddgsa modes {args.target} "
-                         "without --campbell gives its modes)")
+    diagram = model.campbell(speeds=speeds, orders=args.orders)
     diagram.to_frame().to_csv(out / "campbell.csv", index=False)
     ax = diagram.plot()
     ax.set_title(f"{ax.get_title()}: {name}, fidelity {getattr(model, 'fidelity', '') or '-'}", fontsize=9)
@@ -373,23 +363,23 @@ def _report(args: argparse.Namespace) -> int:
 def _bench(args: argparse.Namespace) -> int:
     import json
 
-    from ddgsa.bench import format_speed, speed
+    from ddgsa.bench.speed import format_speed, speed
 
     if args.what == "trust":
-        from ddgsa.gsa.calibration import OUT, bench
+        from ddgsa.bench.calibration import OUT, bench
 
         head = bench(args.out or OUT, quick=args.quick)
         print(json.dumps(head, indent=2))
         return EXIT_OK
     if args.what == "accuracy":
-        from ddgsa.accuracy_cost import OUT as ACC_OUT, run
+        from ddgsa.bench.accuracy_cost import OUT as ACC_OUT, run
 
         kw = {"max_log2": 10, "seeds": (0, 1), "drive_train": False} if args.quick else {}
         for path in run(args.out or ACC_OUT, **kw):
             print(f"wrote {path}")
         return EXIT_OK
     if args.what == "indirect":
-        from ddgsa.bench import format_indirect_speed, indirect_speed
+        from ddgsa.bench.speed import format_indirect_speed, indirect_speed
 
         res = indirect_speed()
         print(format_indirect_speed(res))
@@ -398,12 +388,12 @@ def _bench(args: argparse.Namespace) -> int:
             args.json.write_text(json.dumps(res, indent=2))
         return EXIT_OK
     if args.what == "scaling":
-        from ddgsa.scaling import format_scaling, scaling
+        from ddgsa.bench.scaling import format_scaling, scaling
 
         res = scaling(args.out or Path("results") / "scaling", quick=args.quick)
         print(format_scaling(res))
     else:
-        from ddgsa.bench import PAPER_C
+        from ddgsa.bench.speed import PAPER_C
 
         res = speed(ref_seconds=args.ref_seconds, quick=args.quick,
                     study=None if args.no_study or not PAPER_C.exists() else PAPER_C)

@@ -33,7 +33,7 @@ from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.result import SobolResult
 from ddgsa.models import ImplausibleOutputWarning
 from ddgsa.models import get as get_model
-from ddgsa.models.auto import choose_fidelity, pilot_scene
+from ddgsa.models.auto import pilot_choice, pilot_scene
 from ddgsa.runner import EvaluationStore, Evaluator, ModelId, Outcome, Task, local_workers, run_tasks, task_key
 from ddgsa.space import ParameterSpace
 from ddgsa.loads import cache as loads_cache
@@ -264,9 +264,7 @@ def select_fidelities(study: Study, runs: Runs) -> list[dict[str, Any]]:
         table = {fid: [got[t.key] for t in ts] for p_, fid, ts in plan if p_.index == ps.index}
         values = {fid: np.array([[o.outputs[n] if o.outputs else np.nan for n in outputs] for o in table[fid]])
                   for fid in fidelities}
-        costs = {fid: model.fidelity_cost(fid) for fid in fidelities}
-        entry = {"scene": ps.index, **ps.fields, **choose_fidelity(values, costs, outputs, auto.tolerance,
-                                                                 ignore=model.numerical_outputs),
+        entry = {"scene": ps.index, **ps.fields, **pilot_choice(model, values, outputs, auto.tolerance),
                  "pilot_duration_s": pilot_scene(ps.scenes[0]).duration}
         entry.update({f"measured_s_per_eval_{fid}": round(float(np.mean([o.seconds for o in table[fid]])), 4)
                       for fid in fidelities})

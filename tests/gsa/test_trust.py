@@ -255,7 +255,7 @@ def test_oakley_ohagan_variance_matches_a_sample() -> None:
 
 
 def test_calibration_smoke_has_no_false_trust() -> None:
-    from ddgsa.gsa.calibration import run
+    from ddgsa.bench.calibration import run
 
     settings = [("mdrm", {}), ("saltelli", {"n": 256}), ("rbd_fast", {"n": 256}), ("pce", {"order": 3})]
     rows = run(seeds=1, functions=["product", "steps"], jobs=1, settings=settings, progress=lambda _: None)
@@ -278,7 +278,7 @@ def test_pce_basis_of_a_heavy_lognormal_input_stays_orthonormal() -> None:
 
 
 def test_borehole_pce_is_right_where_it_is_trusted() -> None:
-    from ddgsa.gsa.calibration import _borehole
+    from ddgsa.bench.calibration import _borehole
 
     case = _borehole()
     res = ddgsa.sobol(case.f, case.space, "pce", order=4)

@@ -11,7 +11,7 @@ from ddgsa.mbs import (AppliedLoad, Bushing6, FlexibleBody, GearContact, Ground,
                        genalpha)
 from ddgsa.mbs.beam import BeamSpec, mesh
 from ddgsa.mbs.compiled import evaluate, pack
-from ddgsa.mbs.elements import Series
+from ddgsa.mbs.series import Series
 
 
 def every_part() -> System:

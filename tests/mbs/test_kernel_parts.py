@@ -11,7 +11,7 @@ from ddgsa.mbs import (AppliedLoad, Bushing6, FlexibleBody, Ground, PrescribedBo
                        genalpha)
 from ddgsa.mbs.assembly import static_equilibrium
 from ddgsa.mbs.beam import BeamSpec, mesh
-from ddgsa.mbs.elements import Series
+from ddgsa.mbs.series import Series
 
 K, M = 4.0e4, 10.0                      # spring [N/m] and mass [kg]: w_n = 63.2 rad/s
 W_N = np.sqrt(K / M)

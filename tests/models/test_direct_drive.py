@@ -233,7 +233,7 @@ def test_bench_quick_variant_produces_every_target_row() -> None:
     bench, never here; the only numbers checked are ones that do not depend on the machine."""
     import json as json_module
 
-    from ddgsa.bench import TARGETS, format_speed, speed
+    from ddgsa.bench.speed import TARGETS, format_speed, speed
 
     res = speed(quick=True)
     assert [t["key"] for t in res["targets"]] == [t[0] for t in TARGETS]

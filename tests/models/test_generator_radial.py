@@ -13,7 +13,7 @@ from ddgsa import models
 from ddgsa.errors import ModelError
 from ddgsa.loads import generate
 from ddgsa.loads.scene import Scene
-from ddgsa.mbs.linear import catmull_rom_coefficients
+from ddgsa.mbs.series import catmull_rom_coefficients
 from ddgsa.mbs.sampling import AliasingWarning
 from ddgsa.models.electromagnetic import MU_0, PMGenerator, linear_stiffness, pull_vector
 from ddgsa.models.generator_radial import TOTAL_MASS_TABLE3, magnetic_pull

@@ -15,7 +15,7 @@ per row and distrusts the rows whose estimate exceeds the tolerance:
   difference between the estimates from half and all of the sample.
 
 The constants that turn an observation into a bound with a stated confidence are calibrated by
-``ddgsa bench trust`` (:mod:`ddgsa.gsa.calibration`, results in ``results/trust_calibration/``).
+``ddgsa bench trust`` (:mod:`ddgsa.bench.calibration`, results in ``results/trust_calibration/``).
 """
 
 from __future__ import annotations

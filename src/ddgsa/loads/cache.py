@@ -24,6 +24,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ddgsa._version import __version__
+
 LOG = "generated.log"
 _directory: Path | None = None
 
@@ -65,8 +67,6 @@ def _content(obj: Any, digest: Any) -> None:
 
 def key(scene: Any, turbine: Any) -> str:
     """File key of a realisation: SHA-256 of the scene fields, the turbine's fields and the version."""
-    from ddgsa import __version__
-
     digest = hashlib.sha256(json.dumps(scene.to_dict(), sort_keys=True).encode() + __version__.encode())
     _content(turbine, digest)
     return digest.hexdigest()[:32]

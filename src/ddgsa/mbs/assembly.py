@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 from ddgsa.errors import ModelError
 from ddgsa.mbs.bodies import Body, Marker, MarkerState
 from ddgsa.mbs.constraints import Constraint
+from ddgsa.mbs.derivatives import central_jacobian
 from ddgsa.mbs.elements import Element
 
 Array = NDArray[np.float64]
@@ -293,8 +294,6 @@ def static_equilibrium(system: System, q: Array | None = None, t: float = 0.0, t
     q : (n,) equilibrium coordinates
     lam : (n_c,) multipliers (holonomic first), see each constraint's ``reaction``
     """
-    from ddgsa.mbs.modal import central_jacobian
-
     q_start = (system.q0 if q is None else np.asarray(q, dtype=float)).copy()
     n, nc, nh = system.n, system.n_constraints, system.n_holonomic
     zero = np.zeros(n)

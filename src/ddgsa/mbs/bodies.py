@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 from ddgsa.errors import ModelError
 from ddgsa.mbs.beam import BeamSpec, ShaftModes, shaft_modes
 from ddgsa.mbs.ffr import Invariants, body_terms_inv, g_bar, inertia_points, rotation
+from ddgsa.mbs.series import Series
 
 Array = NDArray[np.float64]
 
@@ -162,7 +163,7 @@ class PrescribedBody(Body):
         origin velocity [m/s] and angular velocity [rad/s], global frame.
     """
 
-    #: the sampled translation of :meth:`translating` (a :class:`~ddgsa.mbs.elements.Series`), else None
+    #: the sampled translation of :meth:`translating` (a :class:`~ddgsa.mbs.series.Series`), else None
     series = None
     #: fixed pose ``(R, A)`` of a body that does not move (the ground), else None
     fixed_pose: tuple[Array, Array] | None = None
@@ -178,7 +179,6 @@ class PrescribedBody(Body):
         Between samples the motion is the C1 cubic (Catmull-Rom) the integrators use for every
         input; velocity is its derivative.
         """
-        from ddgsa.mbs.elements import Series
         series = Series(times, displacement)
         eye = np.eye(3)
         body = cls(name, lambda t: (series(t), eye, series.derivative(t), np.zeros(3)))

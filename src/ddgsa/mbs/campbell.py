@@ -17,7 +17,6 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from ddgsa.errors import ModelError
 from ddgsa.mbs.modal import damped_eigen, linearise_system
 
 if TYPE_CHECKING:
@@ -131,14 +130,18 @@ def whirl_index(system: "System", shape: NDArray[np.complex128], m_full: Array) 
     ``2 Im(Y conj(Z)) / (|Y|^2 + |Z|^2)`` (+1: circular, counter-clockwise about +x); the index is
     their average weighted by kinetic energy.
     """
+    return orbit_average(shape, np.abs(shape) ** 2 * np.diag(m_full), orbit_pairs(system))
+
+
+def orbit_pairs(system: "System") -> list[tuple[int, int]]:
+    """Indices of every body's lateral ``(y, z)`` and tilt ``(ry, rz)`` coordinate pairs (those it has)."""
     pairs = []
     for b in system.bodies:
         for cy, cz in (("y", "z"), ("ry", "rz")):
-            try:
-                pairs.append((system.index(f"{b.name}.{cy}"), system.index(f"{b.name}.{cz}")))
-            except ModelError:
-                continue
-    return orbit_average(shape, np.abs(shape) ** 2 * np.diag(m_full), pairs)
+            names = (f"{b.name}.{cy}", f"{b.name}.{cz}")
+            if all(n in system.coord_names for n in names):
+                pairs.append((system.index(names[0]), system.index(names[1])))
+    return pairs
 
 
 def orbit_average(shape: NDArray[np.complex128], energy: Array,

@@ -26,12 +26,14 @@ from numba import njit
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
+from ddgsa.mbs.alpha import predict
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody, PrescribedBody
 from ddgsa.mbs.constraints import GearContact, PrescribedSpeed, Spherical, TransverseBearing
-from ddgsa.mbs.elements import AppliedLoad, Series, TorqueLaw, _Connector
+from ddgsa.mbs.elements import AppliedLoad, TorqueLaw, _Connector
 from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rotation
 from ddgsa.mbs.ffr import cross as _cross
+from ddgsa.mbs.series import Series
 
 Array = NDArray[np.float64]
 
@@ -214,6 +216,10 @@ def pack(system: System) -> Packed:
 
 # ---------------------------------------------------------------------------------------------------
 # compiled kernels
+
+
+_predict = njit(cache=True)(predict)
+"""The generalised-alpha predictor (:func:`ddgsa.mbs.alpha.predict`), compiled for :func:`_gen_alpha`."""
 
 
 @njit(cache=True)
@@ -647,10 +653,7 @@ def _gen_alpha(q0, qd0, t0, dt, n_steps, output_every, am, af, gamma, beta, tol,
     rhs = np.zeros(n + nc)
     for step in range(1, n_steps + 1):
         t = t0 + step * h
-        acc_new = acc.copy()
-        aux_new = (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
-        q = q + h * qd + h * h * ((0.5 - beta) * aux + beta * aux_new)
-        qd = qd + h * ((1.0 - gamma) * aux + gamma * aux_new)
+        acc_new, q, qd = _predict(q, qd, acc, aux, h, am, af, gamma, beta)
         converged = False
         it = 0
         for it in range(max_iter):

@@ -316,7 +316,7 @@ class PrescribedCoordinate(_RelativeCoordinates):
         One of ``x, y, z, rx, ry, rz``.
     value : float or callable
         Constant [m or rad], or ``value(t)``; a callable needs ``rate(t)`` too (a
-        :class:`~ddgsa.mbs.elements.Series` is both: ``value(t)`` and ``value.derivative(t)``).
+        :class:`~ddgsa.mbs.series.Series` is both: ``value(t)`` and ``value.derivative(t)``).
     rate : callable, optional
         ``d value / dt`` [m/s or rad/s].
     reference : Marker, optional

@@ -23,52 +23,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs.bodies import Marker, MarkerState, cross, rotation_vector, skew
-from ddgsa.mbs.linear import catmull_rom_coefficients
+from ddgsa.mbs.series import Series
 
 Array = NDArray[np.float64]
-
-
-class Series:
-    """A uniformly sampled signal with the C1 cubic (Catmull-Rom) interpolation of the integrators.
-
-    Parameters
-    ----------
-    times : (n_t,) uniformly spaced sample times [s]
-    values : (n_t,) or (n_t, k) samples
-
-    Examples
-    --------
-    >>> s = Series([0.0, 1.0, 2.0, 3.0], [0.0, 1.0, 2.0, 3.0])
-    >>> float(s(1.5)), float(s.derivative(1.5))
-    (1.5, 1.0)
-    """
-
-    def __init__(self, times: ArrayLike, values: ArrayLike) -> None:
-        t = np.asarray(times, dtype=float)
-        v = np.asarray(values, dtype=float)
-        self.scalar = v.ndim == 1
-        v = v.reshape(t.size, -1)
-        if t.size < 2 or not np.allclose(np.diff(t), t[1] - t[0], rtol=1e-9, atol=0.0) or t[1] <= t[0]:
-            raise ModelError(f"a time series needs >= 2 increasing, uniformly spaced times; got {t.size} samples")
-        self.t0, self.dt, self.n = float(t[0]), float(t[1] - t[0]), t.size
-        self.coef = np.stack(catmull_rom_coefficients(v))           # (4, n_t - 1, k)
-
-    def _locate(self, t: float) -> tuple[int, float]:
-        k = min(max(int((t - self.t0) / self.dt), 0), self.n - 2)
-        return k, (t - self.t0) / self.dt - k
-
-    def __call__(self, t: float) -> Array:
-        k, s = self._locate(t)
-        c = self.coef[:, k]
-        out = c[0] + s * (c[1] + s * (c[2] + s * c[3]))
-        return out[0] if self.scalar else out
-
-    def derivative(self, t: float) -> Array:
-        """Time derivative of the interpolant [unit/s]."""
-        k, s = self._locate(t)
-        c = self.coef[:, k]
-        out = (c[1] + s * (2 * c[2] + 3 * s * c[3])) / self.dt
-        return out[0] if self.scalar else out
 
 
 class Element(ABC):

@@ -31,6 +31,7 @@ samples), so the drive, the modal states and the outputs of a block never leave 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Protocol
 from math import comb
 
 import numpy as np
@@ -39,6 +40,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 from numpy.typing import NDArray
 from scipy.linalg import expm
 
+from ddgsa.mbs.series import CATMULL_ROM, _padded
 from ddgsa.mbs.system import SystemArrays, terms
 
 MAX_MODAL_CONDITION = 1e8
@@ -58,6 +60,15 @@ class LinearSystem:
     p0: NDArray[np.float64]
     v0: NDArray[np.float64]
     u0: NDArray[np.float64]
+
+    @property
+    def velocity_map(self) -> NDArray[np.float64]:
+        """``T`` of ``dp_dot = T dv``: positions skip the spin angle, velocities include its rate."""
+        nq, npos = self.k.shape
+        t = np.zeros((npos, nq))
+        t[:3, :3] = np.eye(3)
+        t[3:, 4:] = np.eye(npos - 3)
+        return t
 
 
 @dataclass(frozen=True)
@@ -169,15 +180,28 @@ def linearise_spinning(sys: SystemArrays, p0: NDArray[np.float64], spin: float, 
     return lin, LinearOutputs(y0=y0, d_p=jac[0][1], d_v=jac[1][1], d_u=jac[3][1])
 
 
-def state_matrices(lin: LinearSystem) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """First-order form ``x_dot = A x + B_w w`` with ``x = [dp, dv]`` and ``w = [du, 1]``."""
-    nq, npos = lin.k.shape
+class SecondOrder(Protocol):
+    """A linearisation ``M v_dot + C v + K p = B u + r0``, ``p_dot = T v`` (what :func:`state_matrices` reads)."""
+
+    m: NDArray[np.float64]
+    c: NDArray[np.float64]
+    k: NDArray[np.float64]
+    r0: NDArray[np.float64]
+
+    @property
+    def b(self) -> NDArray[np.float64]: ...
+
+    @property
+    def velocity_map(self) -> NDArray[np.float64]: ...
+
+
+def state_matrices(lin: SecondOrder) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """First-order form ``x_dot = A x + B_w w`` with ``x = [p, v]`` and ``w = [u, 1]``: the one
+    first-order form of every linearisation (:class:`LinearSystem` of the single-body kernel,
+    :class:`~ddgsa.mbs.modal.ConstrainedLinearisation` of any System)."""
+    npos = lin.k.shape[1]
     minv = np.linalg.inv(lin.m)
-    # dp_dot = T dv: positions skip the spin angle, velocities include its rate
-    t = np.zeros((npos, nq))
-    t[:3, :3] = np.eye(3)
-    t[3:, 4:] = np.eye(npos - 3)
-    a = np.block([[np.zeros((npos, npos)), t], [-minv @ lin.k, -minv @ lin.c]])
+    a = np.block([[np.zeros((npos, npos)), lin.velocity_map], [-minv @ lin.k, -minv @ lin.c]])
     bw = np.vstack([np.zeros((npos, lin.b.shape[1] + 1)), minv @ np.column_stack([lin.b, lin.r0])])
     return a, bw
 
@@ -200,23 +224,6 @@ def discretise_cubic(a: NDArray[np.float64], bw: NDArray[np.float64],
     e = expm(big)
     factorial = (1.0, 1.0, 2.0, 6.0)
     return e[:ns, :ns], [factorial[j] * e[:ns, ns + j * ni:ns + (j + 1) * ni] for j in range(4)]
-
-
-CATMULL_ROM = np.array([[0.0, 1.0, 0.0, 0.0], [-0.5, 0.0, 0.5, 0.0], [1.0, -2.5, 2.0, -0.5],
-                        [-0.5, 1.5, -1.5, 0.5]])
-"""``c_j = sum_l CATMULL_ROM[j, l] w[k - 1 + l]``: the C1 cubic (Catmull-Rom) on interval k from
-its four neighbouring samples (the end samples repeated at the ends)."""
-
-
-def _padded(w: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Samples with the first and last repeated: ``w[k - 1 + l]`` of interval k is row ``k + l``."""
-    return np.concatenate([w[:1], w, w[-1:], w[-1:]])
-
-
-def catmull_rom_coefficients(w: NDArray[np.float64]) -> list[NDArray[np.float64]]:
-    """Cubic coefficients ``c_0..c_3`` per interval (n_t - 1, k) of the C1 interpolant the integrators use."""
-    wp, n = _padded(w), w.shape[0] - 1
-    return [sum(CATMULL_ROM[j, l] * wp[l:l + n] for l in range(4)) for j in range(4)]
 
 
 def initial_state(lin: LinearSystem, w0: NDArray[np.float64]) -> NDArray[np.float64]:

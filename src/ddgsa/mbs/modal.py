@@ -12,15 +12,16 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 from scipy.linalg import eig, null_space
 
-if TYPE_CHECKING:
-    from ddgsa.mbs.assembly import System
+from ddgsa.mbs.assembly import System, accelerations
+from ddgsa.mbs.compiled import evaluate, pack
+from ddgsa.mbs.derivatives import central_jacobian
 
 Terms = Callable[[NDArray[np.float64], NDArray[np.float64]], tuple[NDArray[np.float64], NDArray[np.float64]]]
 
@@ -55,23 +56,6 @@ def linearise(terms: Terms, q0: NDArray[np.float64], qd0: NDArray[np.float64],
         hv = rel_step * max(1e-3, abs(qd0[i]))
         c[:, col] = -(terms(q0, qd0 + dq * hv / h)[1] - terms(q0, qd0 - dq * hv / h)[1])[idx] / (2 * hv)
     return m0[np.ix_(idx, idx)], c, k
-
-
-def central_jacobian(fun: Callable[..., NDArray[np.float64]], args: list[NDArray[np.float64]], which: int,
-                     scale: float, rel_step: float = 1e-6) -> NDArray[np.float64]:
-    """Central-difference Jacobian of ``fun(*args)`` with respect to ``args[which]``.
-
-    The step of entry ``i`` is ``rel_step * max(scale, |x_i|)``.
-    """
-    x0 = args[which]
-    cols = []
-    for i in range(x0.size):
-        h = rel_step * max(scale, abs(x0[i]))
-        plus, minus = [a.copy() for a in args], [a.copy() for a in args]
-        plus[which][i] += h
-        minus[which][i] -= h
-        cols.append((fun(*plus) - fun(*minus)) / (2 * h))
-    return np.column_stack(cols)
 
 
 def damped_eigen(m: NDArray[np.float64], c: NDArray[np.float64],
@@ -161,48 +145,68 @@ class ConstrainedLinearisation:
     lam0: NDArray[np.float64]
     r0: NDArray[np.float64]
 
+    @property
+    def b(self) -> NDArray[np.float64]:
+        """The input matrix: the input is ``N^T dQ`` itself (identity)."""
+        return np.eye(self.m.shape[0])
 
-def linearise_system(system: "System", q0: NDArray[np.float64] | None = None, qd0: NDArray[np.float64] | None = None,
-                     t0: float = 0.0, rel_step: float = 1e-6, analytic: bool = False) -> ConstrainedLinearisation:
+    @property
+    def velocity_map(self) -> NDArray[np.float64]:
+        """``T`` of ``z_dot = T v``: identity (the velocities are the rates of ``z``)."""
+        return np.eye(self.m.shape[0])
+
+
+def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0: NDArray[np.float64] | None = None,
+                     t0: float = 0.0, rel_step: float = 1e-6, analytic: bool = False,
+                     compiled: bool = False) -> ConstrainedLinearisation:
     """Linearise a constrained system about ``(q0, qd0, t0)`` and reduce it on the null space of ``C_q``.
 
-    The full matrices are central differences (:func:`central_jacobian`) of the
+    The full matrices are central differences (:func:`~ddgsa.mbs.derivatives.central_jacobian`) of the
     residual ``M(q) q_ddot - Q(q, q_dot, t0) + C_q(q)^T lambda_0``; ``q0, qd0`` default to the
     system's (consistent) initial state. ``analytic=True`` takes ``K`` and ``C`` from the parts'
     own tangents (:meth:`~ddgsa.mbs.assembly.System.terms`): exact for a system at rest whose
     elements give exact tangents and whose multipliers add no geometric stiffness (no spin, no
-    gyroscopic terms); one evaluation instead of ``4 n``.
+    gyroscopic terms); one evaluation instead of ``4 n``. ``compiled=True`` takes every residual
+    from the packed system (:func:`ddgsa.mbs.compiled.evaluate`: the same terms to round-off, about
+    13x faster; every part must pack).
     """
-    from ddgsa.mbs.assembly import accelerations
-
     if q0 is None or qd0 is None:
         q0, qd0 = system.consistent_state(q0, qd0, t0)
     q0, qd0 = np.asarray(q0, dtype=float), np.asarray(qd0, dtype=float)
     qdd0, lam0 = accelerations(system, q0, qd0, t0)
+    if compiled:
+        packed = pack(system)
+
+        def mass_force_jacobian(q: NDArray[np.float64], qd: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+            m, f, *_, jac, _ = evaluate(packed, q, qd, t0)
+            return m, f, jac
+    else:
+        def mass_force_jacobian(q: NDArray[np.float64], qd: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+            tm = system.terms(q, qd, t0)
+            jac = system.constraint_jacobian(q, qd, t0) if system.n_constraints else np.zeros((0, system.n))
+            return tm.m, tm.q, jac
 
     def residual(q: NDArray[np.float64], qd: NDArray[np.float64], qdd: NDArray[np.float64]) -> NDArray[np.float64]:
-        tm = system.terms(q, qd, t0)
-        out = tm.m @ qdd - tm.q
+        m, f, jac = mass_force_jacobian(q, qd)
+        out = m @ qdd - f
         if lam0.size:
-            out = out + system.constraint_jacobian(q, qd, t0).T @ lam0
+            out = out + jac.T @ lam0
         return out
 
-    tm = system.terms(q0, qd0, t0)
+    m0, f0, jac0 = mass_force_jacobian(q0, qd0)
     if analytic:
+        tm = system.terms(q0, qd0, t0)
         k_full, c_full = tm.k, tm.c
     else:
         args = [q0, qd0, qdd0]
         k_full = central_jacobian(residual, args, 0, 1e-3, rel_step)
         c_full = central_jacobian(residual, args, 1, 1e-3, rel_step)
-    if system.n_constraints:
-        basis = null_space(system.constraint_jacobian(q0, qd0, t0))
-    else:
-        basis = np.eye(system.n)
-    return ConstrainedLinearisation(basis.T @ tm.m @ basis, basis.T @ c_full @ basis, basis.T @ k_full @ basis,
-                                    basis, tm.m, c_full, k_full, q0, qd0, t0, qdd0, lam0, basis.T @ tm.q)
+    basis = null_space(jac0) if system.n_constraints else np.eye(system.n)
+    return ConstrainedLinearisation(basis.T @ m0 @ basis, basis.T @ c_full @ basis, basis.T @ k_full @ basis,
+                                    basis, m0, c_full, k_full, q0, qd0, t0, qdd0, lam0, basis.T @ f0)
 
 
-def modes(system: "System", q0: NDArray[np.float64] | None = None, qd0: NDArray[np.float64] | None = None,
+def modes(system: System, q0: NDArray[np.float64] | None = None, qd0: NDArray[np.float64] | None = None,
           t0: float = 0.0) -> pd.DataFrame:
     """Damped modes of a constrained system about an operating state, labelled by body and direction.
 

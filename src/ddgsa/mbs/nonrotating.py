@@ -33,10 +33,10 @@ from scipy.linalg import expm, null_space
 from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody
-from ddgsa.mbs.campbell import orbit_average
+from ddgsa.mbs.campbell import orbit_average, orbit_pairs
 from ddgsa.mbs.elements import Element
 from ddgsa.mbs.linear import lti_response
-from ddgsa.mbs.modal import central_jacobian
+from ddgsa.mbs.derivatives import central_jacobian
 
 Array = NDArray[np.float64]
 RIGID_RCOND = 1e-12
@@ -249,10 +249,4 @@ def whirl_index(system: System, lin: SpinLinearisation, shape: NDArray[np.comple
     positive spin).
     """
     energy = np.abs(shape) ** 2 * np.abs(np.diag(lin.m))
-    pairs = [(iy, iz) for iy, iz, _ in lin.pairs]
-    for b in system.bodies:
-        for cy, cz in (("y", "z"), ("ry", "rz")):
-            names = (f"{b.name}.{cy}", f"{b.name}.{cz}")
-            if all(n in system.coord_names for n in names):
-                pairs.append((system.index(names[0]), system.index(names[1])))
-    return orbit_average(shape, energy, pairs)
+    return orbit_average(shape, energy, [(iy, iz) for iy, iz, _ in lin.pairs] + orbit_pairs(system))

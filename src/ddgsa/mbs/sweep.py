@@ -45,7 +45,7 @@ from scipy.linalg import null_space
 from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import Marker
-from ddgsa.mbs.integrate.genalpha import coefficients, next_aux, primed
+from ddgsa.mbs.alpha import coefficients, next_aux, predict, primed
 from ddgsa.mbs.nonrotating import RIGID_RCOND, SpinLinearisation
 
 Array = NDArray[np.float64]
@@ -189,10 +189,7 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
     slot = 1
     for step in range(1, n_steps + 1):
         t = step * h
-        acc_new = acc.copy()
-        aux_new = (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
-        z = z + h * zd + h * h * ((0.5 - beta) * aux + beta * aux_new)
-        zd = zd + h * ((1.0 - gamma) * aux + gamma * aux_new)
+        acc_new, z, zd = predict(z, zd, acc, aux, h, am, af, gamma, beta)
         lu = None
         for _ in range(max_iter):
             res, w_now = residual(t, z, zd, acc_new)

@@ -30,17 +30,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 from scipy.integrate import solve_ivp
 
+from ddgsa.errors import ModelError
+from ddgsa.mbs.assembly import System
+from ddgsa.mbs.bodies import FlexibleBody
+from ddgsa.mbs.elements import AppliedLoad, SpringDamper3, TorqueLaw
 from ddgsa.mbs.ffr import Invariants, body_terms_into, g_bar, rotation
-
-if TYPE_CHECKING:
-    from ddgsa.mbs.assembly import System
 
 
 @dataclass(frozen=True)
@@ -505,10 +505,6 @@ def single_body_arrays(system: System) -> SystemArrays:
     :class:`~ddgsa.mbs.elements.TorqueLaw.linear` (its damping ``c``; ``torque0`` and the set speed
     are inputs), and no constraints. Anything else raises :class:`~ddgsa.errors.ModelError`.
     """
-    from ddgsa.errors import ModelError
-    from ddgsa.mbs.bodies import FlexibleBody
-    from ddgsa.mbs.elements import AppliedLoad, SpringDamper3, TorqueLaw
-
     if len(system.bodies) != 1 or not isinstance(system.bodies[0], FlexibleBody) or system.constraints:
         raise ModelError("the single-body kernel runs one FlexibleBody on elements, without constraints")
     body = system.bodies[0]

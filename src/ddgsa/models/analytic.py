@@ -16,14 +16,27 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
-from ddgsa.errors import ModelError
 from ddgsa.closed_forms import ishigami
 from ddgsa.loads.scene import Scene
 from ddgsa.models.base import Model, ModelOutput, ModelParameter, register_model
 
 
+class _Static(Model):
+    """A static model: its time series is one sample, it has no modes."""
+
+    def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+        """A one-sample 'time series' of the outputs (the model is static)."""
+        p = self.resolve(params).iloc[0].to_dict()
+        return pd.DataFrame([self._evaluate_one(p, scene)], index=pd.Index([0.0], name="time"))
+
+    def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
+        """A static model has no modes: an empty table."""
+        self.standstill_only(rotor_speed)
+        return pd.DataFrame(columns=["frequency_hz", "damping_ratio", "label"])
+
+
 @register_model("analytic")
-class Analytic(Model):
+class Analytic(_Static):
     """Ishigami test model: parameters ``x1, x2, x3`` on [-pi, pi]; outputs ``y`` and ``y_positive``.
 
     ``y_positive`` is ``y + 12`` (never negative: M-DRM's sign diagnostics stay quiet, its
@@ -38,8 +51,7 @@ class Analytic(Model):
     fidelities = ("exact",)
 
     def __init__(self, fidelity: str = "exact", fail_above: float | None = None, delay_s: float = 0.0) -> None:
-        if fidelity != "exact":
-            raise ModelError(f"model 'analytic': unknown fidelity {fidelity!r}; known: exact")
+        self.check_fidelity(fidelity)
         self.fidelity = fidelity
         self.fail_above = fail_above
         self.delay_s = float(delay_s)
@@ -52,18 +64,9 @@ class Analytic(Model):
         y = float(ishigami(np.array([[params["x1"], params["x2"], params["x3"]]]))[0]) * scene.wind_speed / 11.0
         return {"y": y, "y_positive": y + 12.0}
 
-    def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
-        """A one-sample 'time series' of the outputs (the model is static)."""
-        p = self.resolve(params).iloc[0].to_dict()
-        return pd.DataFrame([self._evaluate_one(p, scene)], index=pd.Index([0.0], name="time"))
-
-    def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
-        """A static model has no modes: an empty table."""
-        return pd.DataFrame(columns=["frequency_hz", "damping_ratio", "label"])
-
 
 @register_model("fault_shift")
-class FaultShift(Model):
+class FaultShift(_Static):
     """Fault test model: a known shift on known spread, for detection statistics.
 
     Parameters ``fault`` (the shift ``Delta`` [-]) and ``x1``, ``x2`` [-] (give them a
@@ -82,19 +85,9 @@ class FaultShift(Model):
     fidelities = ("exact",)
 
     def __init__(self, fidelity: str = "exact") -> None:
-        if fidelity != "exact":
-            raise ModelError(f"model 'fault_shift': unknown fidelity {fidelity!r}; known: exact")
+        self.check_fidelity(fidelity)
         self.fidelity = fidelity
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
         d = params["fault"]
         return {"full": params["x1"] + d, "half_1": params["x1"] + d / 2, "half_2": params["x2"] + d / 2}
-
-    def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
-        """A one-sample 'time series' of the outputs (the model is static)."""
-        p = self.resolve(params).iloc[0].to_dict()
-        return pd.DataFrame([self._evaluate_one(p, scene)], index=pd.Index([0.0], name="time"))
-
-    def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
-        """A static model has no modes: an empty table."""
-        return pd.DataFrame(columns=["frequency_hz", "damping_ratio", "label"])

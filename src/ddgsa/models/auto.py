@@ -25,7 +25,8 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
 from ddgsa.loads.scene import Scene
-from ddgsa.models.base import Model
+from ddgsa.mbs.campbell import CampbellDiagram
+from ddgsa.models.base import MODELS, Model
 
 PILOT_DURATION_S = 120.0
 """Longest pilot record [s]. The pilot estimates each fidelity's error; it need not be run at the
@@ -95,19 +96,29 @@ def choose_fidelity(values: Mapping[str, NDArray[np.float64]], costs: Mapping[st
     return entry
 
 
+def pilot_choice(model: Model, values: Mapping[str, NDArray[np.float64]], outputs: list[str],
+                 tolerance: float) -> dict[str, Any]:
+    """The one ``fidelity: auto`` decision of the Python API and of studies: :func:`choose_fidelity`
+    on pilot ``values`` ({fidelity: (n_points, n_outputs)}, the richest first) with ``model``'s
+    deterministic costs (:meth:`~ddgsa.models.Model.fidelity_cost`), its ``numerical_outputs``
+    reported but not judged. The pilot points are the caller's: the nominal point plus the first
+    points of an ``evaluate`` call (:class:`AutoFidelity`), or plus scrambled-Sobol' points of a
+    study's space (``ddgsa.pipeline.select_fidelities``)."""
+    costs = {fid: model.fidelity_cost(fid) for fid in values}
+    return choose_fidelity(values, costs, outputs, tolerance, ignore=model.numerical_outputs)
+
+
 class AutoFidelity(Model):
     """A model that runs each scene at the cheapest adequate fidelity of ``base`` (see the module)."""
 
     def __init__(self, name: str, tolerance: float = 0.02, pilot: int = 4, **options: Any) -> None:
-        from ddgsa.models.base import MODELS, get
-
         cls = MODELS.lookup(name)
         if not (isinstance(tolerance, (int, float)) and tolerance > 0):
             raise ModelError(f"model {name!r}: fidelity 'auto' needs a positive tolerance, got {tolerance!r}")
         if not (isinstance(pilot, int) and pilot >= 0):
             raise ModelError(f"model {name!r}: fidelity 'auto' needs pilot >= 0 points, got {pilot!r}")
         pool = cls.pilot_pool()
-        self.variants = {fid: get(name, fidelity=fid, **options) for fid in pool}
+        self.variants = {fid: cls(fidelity=fid, **options) for fid in pool}
         richest = self.variants[pool[0]]
         # the wrapped model's identity, per instance (one wrapper class serves every model)
         self.name = name  # type: ignore[misc]
@@ -124,9 +135,8 @@ class AutoFidelity(Model):
             pilot = pd.concat([self.resolve(None), params.iloc[: self.pilot]], ignore_index=True)
             values = {fid: model.evaluate(pilot, pilot_scene(scene)).to_numpy(float)
                       for fid, model in self.variants.items()}
-            costs = {fid: model.fidelity_cost(fid) for fid, model in self.variants.items()}
-            self.choices[scene] = choose_fidelity(values, costs, list(self.outputs), self.tolerance,
-                                                 ignore=self.variants[self.fidelities[0]].numerical_outputs)
+            self.choices[scene] = pilot_choice(self.variants[self.fidelities[0]], values, list(self.outputs),
+                                               self.tolerance)
         return self.choices[scene]
 
     def evaluate(self, points: pd.DataFrame | Mapping[str, Any] | None, scene: Scene) -> pd.DataFrame:
@@ -143,6 +153,11 @@ class AutoFidelity(Model):
         """The chosen fidelity's time series."""
         return self.variants[self.choice(scene, params)["chosen"]].simulate(scene, params)
 
-    def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
+    def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
         """The richest fidelity's modes."""
-        return self.variants[self.fidelities[0]].modes(params)
+        return self.variants[self.fidelities[0]].modes(params, rotor_speed)
+
+    def campbell(self, speeds: Any, orders: Any = (1.0,), params: Mapping[str, float] | None = None,
+                 max_frequency_hz: float = np.inf) -> CampbellDiagram:
+        """The richest fidelity's Campbell diagram."""
+        return self.variants[self.fidelities[0]].campbell(speeds, orders, params, max_frequency_hz)

@@ -15,31 +15,12 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError, unknown_name_message
 from ddgsa.loads.scene import Scene
+from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables
 from ddgsa.mbs.sampling import sampling_row
 from ddgsa.registry import Registry
 
 MODELS: Registry[type["Model"]] = Registry("model", ModelError)
 register_model = MODELS.register
-
-
-def get(name: str, **options: Any) -> "Model":
-    """An instance of the registered model ``name`` with ``options`` (e.g. ``fidelity="rigid"``).
-
-    ``fidelity="auto"`` (with optional ``tolerance``, default 0.02, and ``pilot``, default 4)
-    returns a :class:`ddgsa.models.auto.AutoFidelity` that picks the cheapest adequate fidelity
-    per scene.
-
-    Raises
-    ------
-    ModelError
-        For an unknown model name (the message lists the known ones) or invalid options.
-    """
-    if options.get("fidelity") == "auto":
-        from ddgsa.models.auto import AutoFidelity
-
-        rest = {k: v for k, v in options.items() if k != "fidelity"}
-        return AutoFidelity(name, **rest)
-    return MODELS.lookup(name)(**options)
 
 
 @dataclass(frozen=True)
@@ -283,8 +264,44 @@ class Model(ABC):
         """Time series (indexed by time [s]) of states, bearing forces and loads."""
 
     @abstractmethod
-    def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
-        """Natural frequencies [Hz] and labels."""
+    def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
+        """Natural frequencies [Hz], damping ratios and labels at ``params``, the rotor turning at
+        ``rotor_speed`` [rad/s] (a model without a rotor speed refuses a nonzero one,
+        :meth:`standstill_only`)."""
+
+    def campbell(self, speeds: Any, orders: Any = (1.0,), params: Mapping[str, float] | None = None,
+                 max_frequency_hz: float = math.inf) -> CampbellDiagram:
+        """Campbell diagram: :meth:`modes` at each rotor speed of ``speeds`` [rad/s], those at or
+        below ``max_frequency_hz`` [Hz], with the order lines ``orders``. A model that classifies
+        whirl or tracks branches by shape overrides it with the same signature (the rig)."""
+        tables = {}
+        for w in np.asarray(speeds, dtype=float):
+            table = self.modes(params, rotor_speed=float(w))
+            tables[float(w)] = table[table["frequency_hz"] <= max_frequency_hz]
+        return campbell_from_tables(tables, tuple(float(o) for o in orders))
+
+    def check_fidelity(self, fidelity: str) -> None:
+        """The one fidelity check of every model: ``fidelity`` must be one of :attr:`fidelities`.
+
+        Raises
+        ------
+        ModelError
+            Naming the model, the fidelity given and the known ones.
+        """
+        if fidelity not in self.fidelities:
+            raise ModelError(f"model {self.name!r}: unknown fidelity {fidelity!r}; known: {', '.join(self.fidelities)}")
+
+    def standstill_only(self, rotor_speed: float) -> None:
+        """Refuse a nonzero ``rotor_speed`` [rad/s] for a model whose modes have no rotor speed.
+
+        Raises
+        ------
+        ModelError
+            When ``rotor_speed`` is not 0.
+        """
+        if rotor_speed != 0.0:
+            raise ModelError(f"model {self.name!r} has no rotor speed to sweep (its modes are at standstill; "
+                             f"got rotor_speed = {rotor_speed:g} rad/s): no Campbell diagram")
 
     def scene_figures(self, scene: Any, params: Mapping[str, float] | None = None) -> list[tuple[Any, str]]:
         """The model's own signal plots of one run at ``params`` as ``(figure, name)`` pairs (a

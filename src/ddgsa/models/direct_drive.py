@@ -75,12 +75,11 @@ from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
 from ddgsa.mbs.system import (SystemArrays, evaluate_terms, integrate, integrate_reference, single_body_arrays,
                               static_state)
 from ddgsa.models.base import Model, ModelOutput, ModelParameter, controller_row, register_model
+from ddgsa.models.constants import tilted_gravity
 from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE,
                                         bearing_damping, bending_damping, checked)
 from ddgsa.objectives import damage_rate
 
-GRAVITY = 9.81
-TILT_DEG = 4.0
 _E_STEEL = 210e9
 _NU_STEEL = 0.3
 _BORE = 0.2686
@@ -195,9 +194,7 @@ def assemble(p: Mapping[str, float], fields: tuple[str, ...],
                 for x, k, c, name in ((l1, k_sp[0], c_sp[0], "front"), (l2, k_sp[1], c_sp[1], "rear"))]
     hub = AppliedLoad(shaft.marker(), [0.0, 1.0], name="hub")                  # the scene's loads act here
     generator = TorqueLaw.linear(shaft.marker((length, 0.0, 0.0)), damping=p["c_gen"], name="generator")
-    tau = math.radians(TILT_DEG)
-    system = System([shaft], [*bearings, hub, generator],
-                    gravity=(GRAVITY * math.sin(tau), 0.0, -GRAVITY * math.cos(tau)))
+    system = System([shaft], [*bearings, hub, generator], gravity=tilted_gravity())
     return Assembly(single_body_arrays(system), fields, hub.markers[0].shapes.copy(),
                     generator.markers[0].shapes.copy(), length, system)
 
@@ -340,8 +337,7 @@ class DirectDrive(Model):
                  integrator: str = "gen_alpha", bending_rayleigh: str = "physical",
                  bearing_damping: str = "modal", deflection: str = "total",
                  deflection_reference: str = "static") -> None:
-        if fidelity not in self.fidelities:
-            raise ModelError(f"model 'direct_drive': unknown fidelity {fidelity!r}; known: {', '.join(self.fidelities)}")
+        self.check_fidelity(fidelity)
         if equivalent_load not in ("iso281", "seed"):
             raise ModelError(f"model 'direct_drive': equivalent_load must be 'iso281' or 'seed', got {equivalent_load!r}")
         if time_step is None:

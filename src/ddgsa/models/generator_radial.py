@@ -64,16 +64,14 @@ from ddgsa.loads.scene import Scene
 from ddgsa.mbs import AppliedLoad, Ground, Lock, RadialForce, RigidBody, SpringDamper3, System
 from ddgsa.mbs.assembly import static_equilibrium
 from ddgsa.mbs.constraints import AXES
-from ddgsa.mbs.integrate.exact import state_matrices
-from ddgsa.mbs.linear import lti_response
+from ddgsa.mbs.linear import lti_response, state_matrices
 from ddgsa.mbs.modal import ConstrainedLinearisation, linearise_system, modal_analysis
 from ddgsa.mbs.sampling import RESOLVED, AliasingWarning, check_interval, sampling_row
 from ddgsa.models.base import Model, ModelOutput, ModelParameter, controller_row, register_model
+from ddgsa.models.constants import GRAVITY
 from ddgsa.models.electromagnetic import PMGenerator, pull_jacobian, pull_vector, radial_pull
 
 CONFIGS = ("one_mass", "substructure", "tower_side_to_side", "tower_torsion")
-GRAVITY = 9.81
-"""Gravitational acceleration [m/s^2]."""
 TOTAL_MASS_TABLE3 = 2446e3
 """``m_1 + m_2`` of seed 003 Table 3 [kg]."""
 TOWER_STIFFNESS = {"tower_side_to_side": 3.48e6, "tower_torsion": 2.55e9}
@@ -193,8 +191,7 @@ class GeneratorRadial(Model):
                  output_step: float | None = None, generator: Mapping[str, float] | None = None) -> None:
         if config not in CONFIGS:
             raise ModelError("model 'generator_radial': " + unknown_name_message("config", config, CONFIGS))
-        if fidelity not in self.fidelities:
-            raise ModelError(f"model 'generator_radial': unknown fidelity {fidelity!r}; known: linearised")
+        self.check_fidelity(fidelity)
         if not isinstance(magnetic, bool):
             raise ModelError(f"model 'generator_radial': magnetic must be true or false, got {magnetic!r}")
         if output_step is not None and not (isinstance(output_step, (int, float)) and output_step > 0):
@@ -298,12 +295,14 @@ class GeneratorRadial(Model):
                          lin.basis.T @ js_r.jac[rows].T * p["hub_force_factor"], tower_row)
 
     # -- Model interface -----------------------------------------------------------------
-    def modes(self, params: Mapping[str, float] | None = None) -> pd.DataFrame:
-        """Natural frequencies [Hz], damping ratios and labels about the static state under gravity.
+    def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
+        """Natural frequencies [Hz], damping ratios and labels about the static state under gravity
+        (at standstill: a nonzero ``rotor_speed`` is refused).
 
         Labels: ``bearing_radial`` (horizontal rotor mode; with a tower, the out-of-phase coupled
         mode), ``bearing_radial_vertical`` and the tower configuration's name for the tower mode.
         """
+        self.standstill_only(rotor_speed)
         op = self.operating(params)
         names = {"tower_y": self.config, "rotor_y": "bearing_radial", "rotor_z": "bearing_radial_vertical"}
         groups = {c.replace("_", "."): names[c] for c in self.coordinates}

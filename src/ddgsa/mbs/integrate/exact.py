@@ -19,19 +19,10 @@ from numpy.typing import NDArray
 from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.integrate.trajectory import Trajectory
-from ddgsa.mbs.linear import lti_response
+from ddgsa.mbs.linear import lti_response, state_matrices
 from ddgsa.mbs.modal import ConstrainedLinearisation, linearise_system
 
 Array = NDArray[np.float64]
-
-
-def state_matrices(lin: ConstrainedLinearisation) -> tuple[Array, Array]:
-    """``x_dot = A x + B_w w`` with ``x = [z, z_dot]`` and ``w = [N^T dQ (n_z), 1]``."""
-    nz = lin.m.shape[0]
-    minv = np.linalg.inv(lin.m)
-    a = np.block([[np.zeros((nz, nz)), np.eye(nz)], [-minv @ lin.k, -minv @ lin.c]])
-    bw = np.vstack([np.zeros((nz, nz + 1)), minv @ np.column_stack([np.eye(nz), lin.r0])])
-    return a, bw
 
 
 def simulate(system: System, t_end: float, dt: float, lin: ConstrainedLinearisation | None = None,

@@ -21,33 +21,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
+from ddgsa.mbs.alpha import coefficients, next_aux, predict, primed
 from ddgsa.mbs.assembly import System, accelerations
 from ddgsa.mbs.integrate.trajectory import Trajectory
 
 Array = NDArray[np.float64]
-
-
-def coefficients(rho_inf: float) -> tuple[float, float, float, float]:
-    """``(alpha_m, alpha_f, gamma, beta)`` of generalised-alpha for spectral radius ``rho_inf``."""
-    if not 0.0 <= rho_inf <= 1.0:
-        raise ModelError(f"rho_inf = {rho_inf} not allowed; 0 <= rho_inf <= 1")
-    am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
-    af = rho_inf / (rho_inf + 1.0)
-    gamma = 0.5 - am + af
-    beta = 0.25 * (1.0 - am + af) ** 2
-    return am, af, gamma, beta
-
-
-def primed(am: float, af: float, gamma: float, beta: float) -> tuple[float, float]:
-    """``(beta', gamma')``: the position and velocity change per unit change of the new
-    acceleration within a step, in units of ``h^2`` and ``h`` (the iteration matrix is
-    ``M + gamma' h C + beta' h^2 K``)."""
-    return beta * (1.0 - af) / (1.0 - am), gamma * (1.0 - af) / (1.0 - am)
-
-
-def next_aux(acc: Array, aux: Array, acc_new: Array, am: float, af: float) -> Array:
-    """The auxiliary acceleration of the next step from the step's old and new accelerations."""
-    return (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
 
 
 def simulate(system: System, t_end: float, dt: float, q0: Array | None = None, qd0: Array | None = None,
@@ -133,10 +111,7 @@ def simulate(system: System, t_end: float, dt: float, q0: Array | None = None, q
     big = np.zeros((n + nc, n + nc))
     for step in range(1, n_steps + 1):
         t = t0 + step * h
-        acc_new = acc.copy()
-        aux_new = (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
-        q = q + h * qd + h * h * ((0.5 - beta) * aux + beta * aux_new)
-        qd = qd + h * ((1.0 - gamma) * aux + gamma * aux_new)
+        acc_new, q, qd = predict(q, qd, acc, aux, h, am, af, gamma, beta)
         for it in range(max_iter):
             states = system.marker_states(q, qd, t)
             tm = system.terms(q, qd, t, states)

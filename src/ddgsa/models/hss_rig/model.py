@@ -161,8 +161,7 @@ class HssRig(Model):
     scene_type = RigScene
 
     def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False) -> None:
-        if fidelity not in self.fidelities:
-            raise ModelError(f"model 'hss_rig': unknown fidelity {fidelity!r}; known: {', '.join(self.fidelities)}")
+        self.check_fidelity(fidelity)
         if not (isinstance(time_step, (int, float)) and 0 < time_step <= 1e-2):
             raise ModelError(f"model 'hss_rig': time_step must be in (0, 0.01] s, got {time_step!r}")
         if not isinstance(noise, bool):

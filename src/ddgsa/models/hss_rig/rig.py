@@ -41,11 +41,12 @@ from ddgsa.mbs import Bushing6, FlexibleBody, Ground, Marker, RigidBody, SpringD
 from ddgsa.mbs.beam import BeamSpec, mesh
 from ddgsa.mbs.bodies import Body
 from ddgsa.mbs.elements import Element
+from ddgsa.models.constants import tilted_gravity
 from ddgsa.models.hss_rig.elements import EccentricMass, MisalignedCoupling
 from ddgsa.models.hss_rig.parameters import RATED_SPEED
 
-GRAVITY = (0.0, 0.0, -9.81)
-"""Gravity [m/s^2], global frame (z up)."""
+GRAVITY = tilted_gravity(0.0)
+"""Gravity [m/s^2], global frame (z up): the rig's shaft is level."""
 HOUSING_ROTATIONAL_STIFFNESS = 1e5
 """Rotational stiffness of each housing support [N m/rad] (assumption: the bearings put no moment on it)."""
 HOUSING_ROTATIONAL_DAMPING = 3.0

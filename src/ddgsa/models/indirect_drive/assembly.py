@@ -38,7 +38,6 @@ with ``w_set,HSS = -N w_set`` (seed 000 eq. 25 referred through the gear; the HS
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -50,9 +49,10 @@ from ddgsa.mbs.assembly import System
 from ddgsa.mbs.beam import BeamSpec, mesh
 from ddgsa.mbs.bodies import Body, FlexibleBody, Ground, Marker, RigidBody
 from ddgsa.mbs.constraints import PrescribedSpeed, Spherical, TransverseBearing
-from ddgsa.mbs.elements import AppliedLoad, Bushing6, Series, TorqueLaw, TorsionalSpring
+from ddgsa.mbs.elements import AppliedLoad, Bushing6, TorqueLaw, TorsionalSpring
+from ddgsa.mbs.series import Series
 from ddgsa.mbs.gear_mesh import GearMesh
-from ddgsa.models.direct_drive import GRAVITY, TILT_DEG
+from ddgsa.models.constants import tilted_gravity
 from ddgsa.models.indirect_drive.closed_form import MeshGeometry, mesh_geometry
 
 Array = NDArray[np.float64]
@@ -226,8 +226,7 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
         TorqueLaw.linear(hss.marker((0.0, 0.0, 0.0), "generator"), 0.0, c_hss, w_set, name="generator"),
         AppliedLoad(rotor.marker((0.0, 0.0, 0.0), "hub_load"), times, hub_force, hub_moment, name="hub"),
     ]
-    tau = math.radians(TILT_DEG)
-    gravity = np.array([GRAVITY * math.sin(tau), 0.0, -GRAVITY * math.cos(tau)])
+    gravity = np.array(tilted_gravity())
     system = System([rotor, wheel, lss, hss, housing], elements, constraints, gravity=gravity)
     return Assembly(system, rotor, wheel, lss, hss, housing, x0, geo, np.array([gx, 0.0, 0.0]), mounts, gravity,
                     spin_inertia(p), n, c_hss)

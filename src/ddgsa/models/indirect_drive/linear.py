@@ -40,16 +40,18 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.linalg import null_space
 
-from ddgsa.mbs.assembly import System, accelerations
+from ddgsa.mbs.assembly import System
 from ddgsa.mbs.compiled import evaluate, pack
 from ddgsa.mbs.linear import lti_response
-from ddgsa.mbs.modal import ConstrainedLinearisation, central_jacobian
+from ddgsa.mbs.derivatives import central_jacobian
+from ddgsa.mbs.modal import ConstrainedLinearisation, linearise_system
 from ddgsa.models.indirect_drive.assembly import Assembly
 
 Array = NDArray[np.float64]
 
 
-#: relative central-difference step of :func:`linearise`: the step of a coordinate near zero is
+#: relative central-difference step of the linearisation (:func:`ddgsa.mbs.modal.linearise_system`,
+#: compiled): the step of a coordinate near zero is
 #: 1e-3 x this, 1e-6 m (the kernel's default gives 1e-9 m, where round-off of the ~1e6 N constant
 #: forces leaves ~1 N/m in K; responses agree to 1e-9 between 1e-4 and 1e-2)
 LINEARISATION_STEP = 1e-3
@@ -59,29 +61,6 @@ CURVATURE_STEP = 1e-3
 #: relative singular-value cut-off of the reduced stiffness: the spin directions have none, and
 #: central differences leave them ~1e-13 of the largest
 RCOND = 1e-9
-
-
-def linearise(system: System, q: Array, qd: Array, rel_step: float = LINEARISATION_STEP) -> ConstrainedLinearisation:
-    """:func:`ddgsa.mbs.modal.linearise_system` at ``(q, qd, t = 0)`` on the compiled kernel.
-
-    The same central differences of ``M q_ddot0 - Q + C_q^T lambda0`` and the same null-space
-    reduction, with every residual from :func:`ddgsa.mbs.compiled.evaluate` (identical to the
-    Python terms to round-off; 13x faster, the linear fidelity's largest cost otherwise).
-    """
-    packed = pack(system)
-    qdd0, lam0 = accelerations(system, q, qd, 0.0)
-
-    def residual(x: Array, xd: Array, xdd: Array) -> Array:
-        m, f, *_, jac, _ = evaluate(packed, x, xd, 0.0)
-        return m @ xdd - f + jac.T @ lam0
-
-    args = [np.asarray(q, dtype=float), np.asarray(qd, dtype=float), qdd0]
-    k_full = central_jacobian(residual, args, 0, 1e-3, rel_step)
-    c_full = central_jacobian(residual, args, 1, 1e-3, rel_step)
-    m, f, *_, jac, _ = evaluate(packed, q, qd, 0.0)
-    basis = null_space(jac)
-    return ConstrainedLinearisation(basis.T @ m @ basis, basis.T @ c_full @ basis, basis.T @ k_full @ basis, basis,
-                                    m, c_full, k_full, args[0], args[1], 0.0, qdd0, lam0, basis.T @ f)
 
 
 def operating_state(system: System, q: Array, qd: Array, free_rate: int, iterations: int = 30,
@@ -103,13 +82,13 @@ def operating_state(system: System, q: Array, qd: Array, free_rate: int, iterati
     """
     keep = [i for i in range(system.n) if i != free_rate]
     q, qd = system.consistent_state(q, qd, 0.0, keep=keep)
-    lin = linearise(system, q, qd)
+    lin = linearise_system(system, q, qd, rel_step=LINEARISATION_STEP, compiled=True)
     basis, k_r, r0 = lin.basis, lin.k, lin.r0
     for _ in range(iterations):
         step = basis @ np.linalg.lstsq(k_r, r0, rcond=RCOND)[0]
         q, qd = system.consistent_state(q + step, qd, 0.0, keep=keep)
         if np.max(np.abs(step)) < tol:
-            return q, qd, linearise(system, q, qd)
+            return q, qd, linearise_system(system, q, qd, rel_step=LINEARISATION_STEP, compiled=True)
         basis = null_space(system.constraint_jacobian(q, qd, 0.0))
         k_r, r0 = basis.T @ lin.k_full @ basis, basis.T @ system.terms(q, qd, 0.0).q
     raise RuntimeError(f"operating state: no convergence in {iterations} modified-Newton steps (last step "

@@ -14,7 +14,7 @@ from scipy.spatial.transform import Rotation
 from ddgsa.errors import ModelError
 from ddgsa.loads import EXCITATION_FACTORS, NREL5MW, apply_excitation, generate
 from ddgsa.loads.scene import Scene
-from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables
+from ddgsa.mbs.campbell import CampbellDiagram
 from ddgsa.mbs.integrate import genalpha, reference
 from ddgsa.mbs.modal import modes as system_modes
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
@@ -132,8 +132,7 @@ class IndirectDrive(Model):
                  integrator: str = "gen_alpha", equivalent_load: str = "iso281",
                  housing_point: tuple[float, float, float] | list[float] = HOUSING_POINT,
                  fluctuation_scale: float = 1.0) -> None:
-        if fidelity not in self.fidelities:
-            raise ModelError(f"model 'indirect_drive': unknown fidelity {fidelity!r}; known: {', '.join(self.fidelities)}")
+        self.check_fidelity(fidelity)
         if time_step is None:
             time_step = 0.005
         if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not 0 < time_step <= 0.05:
@@ -242,17 +241,14 @@ class IndirectDrive(Model):
         asm, q, qd = self.assemble(params, rotor_speed, lss_torque)
         return system_modes(asm.system, q, qd)
 
-    def campbell(self, params: Mapping[str, float] | None = None, speeds: Any = None,
-                 orders: Any = (1.0, 3.0), max_frequency_hz: float = CAMPBELL_MAX_HZ) -> CampbellDiagram:
-        """Campbell diagram: :meth:`modes` below ``max_frequency_hz`` at each rotor speed of ``speeds``
-        [rad/s] (default 0 to 15 rpm), every body spinning at its operating speed (rotor and wheel at
-        the rotor speed, the HSS at -N times it), no load. Whirl directions are not classified."""
-        speeds = np.linspace(0.0, 15.0 * np.pi / 30.0, 11) if speeds is None else np.asarray(speeds, dtype=float)
-        tables = {}
-        for w in speeds:
-            table = self.modes(params, rotor_speed=float(w))
-            tables[float(w)] = table[table["frequency_hz"] <= max_frequency_hz]
-        return campbell_from_tables(tables, tuple(float(o) for o in orders))
+    def campbell(self, speeds: Any = None, orders: Any = (1.0, 3.0), params: Mapping[str, float] | None = None,
+                 max_frequency_hz: float = CAMPBELL_MAX_HZ) -> CampbellDiagram:
+        """Campbell diagram (:meth:`Model.campbell`): :meth:`modes` below ``max_frequency_hz`` at each
+        rotor speed of ``speeds`` [rad/s] (default 0 to 15 rpm), every body spinning at its operating
+        speed (rotor and wheel at the rotor speed, the HSS at -N times it), no load. Whirl directions
+        are not classified."""
+        speeds = np.linspace(0.0, 15.0 * np.pi / 30.0, 11) if speeds is None else speeds
+        return super().campbell(speeds, orders, params, max_frequency_hz)
 
     @functools.cached_property
     def nominal_modes(self) -> pd.DataFrame:

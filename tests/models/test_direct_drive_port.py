@@ -1,4 +1,6 @@
-"""The direct drive written on the kernel's parts reproduces the table committed before its port."""
+"""The direct drive written on the kernel's parts reproduces the table committed before its port
+(1e-6), and today's tables (1e-9): regression guards of the kernel's consolidation (issue 24), not
+oracles."""
 
 from __future__ import annotations
 
@@ -6,6 +8,7 @@ import numpy as np
 import pandas as pd
 
 from ddgsa import models
+from model_regression import DIRECT_MODES_TODAY, DIRECT_TODAY
 from port_regression import TABLE, objectives
 
 
@@ -16,12 +19,18 @@ def test_objectives_unchanged_by_the_port() -> None:
     assert list(after.columns) == list(before.columns) and len(after) == len(before) == 27
     outputs = before.columns[3:]
     np.testing.assert_allclose(after[outputs].to_numpy(float), before[outputs].to_numpy(float), rtol=1e-6, atol=0)
+    today = pd.read_csv(DIRECT_TODAY)
+    np.testing.assert_allclose(after[outputs].to_numpy(float), today[outputs].to_numpy(float), rtol=1e-9, atol=0)
 
 
 def test_modes_unchanged_by_the_port() -> None:
     before = pd.read_csv(TABLE.parent / "direct_drive_modes.csv")
+    today = pd.read_csv(DIRECT_MODES_TODAY)
     for fidelity, table in before.groupby("fidelity"):
         now = models.get("direct_drive", fidelity=fidelity).modes()
         np.testing.assert_allclose(now["frequency_hz"], table["frequency_hz"], rtol=1e-6)
         np.testing.assert_allclose(now["damping_ratio"], table["damping_ratio"], rtol=1e-6, atol=1e-9)
         assert list(now["label"]) == list(table["label"])
+        held = today[today["fidelity"] == fidelity]
+        np.testing.assert_allclose(now["frequency_hz"], held["frequency_hz"], rtol=1e-9)
+        np.testing.assert_allclose(now["damping_ratio"], held["damping_ratio"], rtol=1e-9, atol=1e-12)

@@ -33,7 +33,7 @@ from ddgsa.loads.scene import Scene
 
 FULL = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=600.0, seed=1)
 MIN_TIMED_S = 1.0
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 PAPER_C = REPO / "studies" / "paper_c_structural.yaml"
 
 #: (key, what, goal, unit, higher_is_better). Speed-ups and the loads time are CPU times (a shared
@@ -150,7 +150,7 @@ def _fidelities(scene: Scene, ref_seconds: float) -> tuple[dict[str, Any], list[
         err = max(abs(short[c].iloc[0] / ref[c].iloc[0] - 1) for c in nonzero)
         rows.append({"fidelity": fidelity, "wall_s": wall, "cpu_s": cpu, "speedup": w_ref * scale / wall,
                      "speedup_cpu": c_ref * scale / cpu, "max_rel_error": err, "time_step_s": model.time_step})
-    from ddgsa.scaling import _points
+    from ddgsa.bench.scaling import _points
 
     from ddgsa.models.direct_drive import assembled
 

@@ -9,7 +9,7 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from ddgsa.accuracy_cost import analytic_rows, errors, plot_fidelity, plot_function  # noqa: E402
+from ddgsa.bench.accuracy_cost import analytic_rows, errors, plot_fidelity, plot_function  # noqa: E402
 from ddgsa.gsa.result import SobolResult  # noqa: E402
 
 

@@ -1,4 +1,6 @@
-"""``generator_radial`` written on the kernel's parts reproduces the tables committed before its port."""
+"""``generator_radial`` written on the kernel's parts reproduces the tables committed before its port
+(1e-6), and today's tables (1e-9): regression guards of the kernel's consolidation (issue 24), not
+oracles."""
 
 from __future__ import annotations
 
@@ -6,6 +8,7 @@ import numpy as np
 import pandas as pd
 
 from generator_port_regression import MODES, OBJECTIVES, modes, objectives
+from model_regression import GENERATOR_MODES_TODAY, GENERATOR_TODAY
 
 
 def test_objectives_unchanged_by_the_port() -> None:
@@ -15,6 +18,8 @@ def test_objectives_unchanged_by_the_port() -> None:
     assert list(after.columns) == list(before.columns) and len(after) == len(before) == 64
     outputs = before.columns[4:]
     np.testing.assert_allclose(after[outputs].to_numpy(float), before[outputs].to_numpy(float), rtol=1e-6, atol=0)
+    today = pd.read_csv(GENERATOR_TODAY)
+    np.testing.assert_allclose(after[outputs].to_numpy(float), today[outputs].to_numpy(float), rtol=1e-9, atol=0)
 
 
 def test_modes_unchanged_by_the_port() -> None:
@@ -33,3 +38,7 @@ def test_modes_unchanged_by_the_port() -> None:
     assert 0 < repeated.sum() < len(before) / 4
     np.testing.assert_allclose(after.loc[~repeated, shares].to_numpy(float),
                                before.loc[~repeated, shares].to_numpy(float), atol=1e-6)
+    today = pd.read_csv(GENERATOR_MODES_TODAY)
+    assert list(after["label"]) == list(today["label"])
+    np.testing.assert_allclose(after["frequency_hz"], today["frequency_hz"], rtol=1e-9)
+    np.testing.assert_allclose(after["damping_ratio"], today["damping_ratio"], rtol=1e-9, atol=1e-12)

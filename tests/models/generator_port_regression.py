@@ -1,7 +1,7 @@
 """Objectives and modes of ``generator_radial`` on fixed points and scenes: its port's regression table.
 
-``python tests/mbs/generator_port_regression.py`` (with ``PYTHONPATH=src``) writes
-``tests/mbs/data/generator_radial_objectives.csv`` and ``generator_radial_modes.csv`` from the code
+``python tests/models/generator_port_regression.py`` (with ``PYTHONPATH=src``) writes
+``tests/models/data/generator_radial_objectives.csv`` and ``generator_radial_modes.csv`` from the code
 as it is. The tables committed before the model moved onto ``ddgsa.mbs`` are what
 ``test_generator_radial_port.py`` holds the ported model to (1e-6 relative). The scenes are those of
 the committed studies (``seed003_*``: 10 m/s, I 0.05, 10 s; ``seed003_generator_gsa`` and

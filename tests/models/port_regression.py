@@ -1,7 +1,7 @@
 """Objectives of the direct drive on a fixed set of points and scenes: the port's regression table.
 
-``python tests/mbs/port_regression.py`` (with ``PYTHONPATH=src``) writes
-``tests/mbs/data/direct_drive_objectives.csv`` from the code as it is; the table committed before
+``python tests/models/port_regression.py`` (with ``PYTHONPATH=src``) writes
+``tests/models/data/direct_drive_objectives.csv`` from the code as it is; the table committed before
 the direct drive moved onto ``ddgsa.mbs``'s System is what ``test_direct_drive_port.py`` holds the
 ported model to (1e-6 relative).
 """

@@ -1,0 +1,37 @@
+"""What every model shares through ``ddgsa.models.base.Model`` (issue 24): one fidelity check, and
+``modes`` and ``campbell`` with one signature."""
+
+from __future__ import annotations
+
+import inspect
+
+import pytest
+
+from ddgsa import models
+from ddgsa.errors import ModelError
+from ddgsa.models.base import Model
+
+
+@pytest.mark.parametrize("name", sorted(models.MODELS))
+def test_modes_and_campbell_have_the_bases_signature(name: str) -> None:
+    """The base's parameters, in its order, first (a model may add its own keywords after them:
+    the geared drive's ``lss_torque``)."""
+    cls = models.MODELS[name]
+    for method in ("modes", "campbell"):
+        names = list(inspect.signature(getattr(cls, method)).parameters)
+        base = list(inspect.signature(getattr(Model, method)).parameters)
+        assert names[:len(base)] == base, (name, method, names)
+
+
+@pytest.mark.parametrize("name, known", [("hss_rig", "dq, kloss, linear"), ("direct_drive", "flexible, rigid, linear"),
+                                         ("generator_radial", "linearised"), ("analytic", "exact")])
+def test_one_fidelity_check_names_the_model_and_the_known_fidelities(name: str, known: str) -> None:
+    with pytest.raises(ModelError, match=f"model '{name}': unknown fidelity 'stiff'; known: {known}$"):
+        models.get(name, fidelity="stiff")
+
+
+def test_a_model_without_rotor_speed_refuses_a_campbell_diagram() -> None:
+    model = models.get("analytic")
+    assert model.modes(rotor_speed=0.0).empty
+    with pytest.raises(ModelError, match="no rotor speed to sweep"):
+        model.campbell([0.0, 1.0])

@@ -1,0 +1,68 @@
+"""Regression guards of ``hss_rig`` and ``indirect_drive`` for the kernel's consolidation (issue 24).
+
+These are regression guards, not oracles: the tables in ``data/`` were written by the code before
+the consolidation (``model_regression.py``), and every number must come back to 1e-9 relative, so
+that a move of code that changes a result is seen. Whether the numbers are right is checked
+elsewhere against independent answers (Radau reference, closed forms, ROSS, seed 000 Table 1).
+Slow (about two minutes together): run them with ``-m slow`` before merging a kernel change.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from model_regression import (GEARED_MODES, GEARED_OBJECTIVES, RIG_MODES, RIG_OBJECTIVES, geared_modes,
+                              geared_objectives, rig_modes, rig_objectives)
+
+RTOL = 1e-9
+
+
+def same_table(path: Path, make: Callable[[], pd.DataFrame], keys: int) -> None:
+    """``make()`` has ``path``'s columns, key columns (the first ``keys``) and labels, and its
+    numbers within :data:`RTOL` relative (absolute ``RTOL`` times the column's scale for zeros)."""
+    before, after = pd.read_csv(path), make().reset_index(drop=True)
+    assert list(after.columns) == list(before.columns) and len(after) == len(before)
+    for col in before.columns[:keys]:
+        if pd.api.types.is_numeric_dtype(before[col]):
+            assert np.array_equal(after[col].to_numpy(float), before[col].to_numpy(float)), col
+        else:
+            assert list(after[col].astype(str)) == list(before[col].astype(str)), col
+    if "label" in before.columns:
+        assert list(after["label"]) == list(before["label"])
+    for col in before.columns[keys:]:
+        if col == "label":
+            continue
+        b, a = before[col].to_numpy(float), after[col].to_numpy(float)
+        scale = np.nanmax(np.abs(b), initial=0.0)
+        np.testing.assert_allclose(a, b, rtol=RTOL, atol=RTOL * scale * 1e-3, equal_nan=True, err_msg=col)
+
+
+@pytest.mark.slow
+@pytest.mark.filterwarnings("ignore")
+def test_rig_objectives_unchanged() -> None:
+    """52 outputs of 7 rig cases (every fidelity, steady and transient scenes) x 2 points."""
+    same_table(RIG_OBJECTIVES, rig_objectives, keys=3)
+
+
+@pytest.mark.slow
+def test_rig_modes_unchanged() -> None:
+    """Frequencies, damping ratios and labels of the rig's modes at 2 points x 2 speeds."""
+    same_table(RIG_MODES, rig_modes, keys=3)
+
+
+@pytest.mark.slow
+@pytest.mark.filterwarnings("ignore")
+def test_geared_drive_objectives_unchanged() -> None:
+    """All outputs of 4 geared-drive cases (flexible, rigid, linear in two scenes) x 2 points."""
+    same_table(GEARED_OBJECTIVES, geared_objectives, keys=3)
+
+
+@pytest.mark.slow
+def test_geared_drive_modes_unchanged() -> None:
+    """Frequencies, damping ratios and labels of the geared drive (flexible, rigid) at 2 points x 2 speeds."""
+    same_table(GEARED_MODES, geared_modes, keys=3)
