@@ -108,6 +108,10 @@ def test_false_rank_claims_against_the_truth() -> None:
     claims = np.array([[SEPARATED, SEPARATED, SEPARATED, NEGLIGIBLE]])
     ok = false_rank_claims(est, np.array([[0.5, 0.35, 0.04, 0.0]]), claims, 0.02)
     assert not ok.any()
-    # p1 and p2 swapped in truth, p3 not negligible
+    # p1 and p2 swapped in truth, p3 not negligible; p0 is still above all
     bad = false_rank_claims(est, np.array([[0.5, 0.04, 0.35, 0.03]]), claims, 0.02)
-    assert bad.tolist() == [[True, True, True, True]]
+    assert bad.tolist() == [[False, True, True, True]]
+    # a true tie with a row it claims to be above, a true zero
+    assert false_rank_claims(est, np.array([[0.5, 0.5, 0.04, 0.0]]), claims, 0.02)[0, :2].tolist() == [True, True]
+    assert false_rank_claims(np.array([[0.6, 0.3]]), np.array([[0.5, 0.0]]), np.array([[SEPARATED, SEPARATED]]),
+                             0.02).tolist() == [[False, True]]

@@ -198,21 +198,18 @@ def false_rank_claims(st: NDArray[np.float64], true_st: NDArray[np.float64], cla
                       tolerance: float) -> NDArray[np.bool_]:
     """Rank confirmations (:func:`~ddgsa.gsa.result.rank_claims`, arrays (k, d)) the exact total
     indices contradict: a negligible row whose true ST exceeds ``tolerance``; a separated row whose
-    true ST is zero, or whose order against either neighbour in the estimated order is not the
-    true one (a true tie counts as wrong: the claim is a strict order)."""
+    true ST is zero, or whose order against any other row of the output is not the estimated one
+    (a true tie counts as wrong: the claim is a strict order)."""
     wrong = np.zeros(claims.shape, dtype=bool)
-    for j in range(st.shape[0]):
-        order = np.argsort(-np.where(np.isfinite(st[j]), st[j], -np.inf), kind="stable")
-        for pos, i in enumerate(order):
-            if claims[j, i] == NEGLIGIBLE:
-                wrong[j, i] = true_st[j, i] > tolerance
-            elif claims[j, i] == SEPARATED:
-                bad = true_st[j, i] <= 1e-12
-                if pos > 0:
-                    bad |= not true_st[j, order[pos - 1]] > true_st[j, i]
-                if pos < len(order) - 1:
-                    bad |= not true_st[j, order[pos + 1]] < true_st[j, i]
-                wrong[j, i] = bad
+    for j, i in zip(*np.nonzero(claims)):
+        if claims[j, i] == NEGLIGIBLE:
+            wrong[j, i] = true_st[j, i] > tolerance
+            continue
+        others = np.arange(st.shape[1]) != i
+        above = st[j, others] > st[j, i]
+        truly_above = true_st[j, others] > true_st[j, i]
+        truly_below = true_st[j, others] < true_st[j, i]
+        wrong[j, i] = true_st[j, i] <= 1e-12 or bool(np.any(np.where(above, ~truly_above, ~truly_below)))
     return wrong
 
 
@@ -352,7 +349,7 @@ def write(rows: pd.DataFrame, out: Path, tolerance: float) -> dict[str, Any]:
             f"{head['false_trust_rows_at_default_settings']}; held-out false trust "
             f"{head['held_out_false_trust_rate']:.3%}.", "",
             "`rank_confirmed`: the row's ST interval (estimate ± error bound) lies within [0, tolerance] "
-            "(negligible) or excludes zero and is disjoint from both neighbours' in the estimated order; "
+            "(negligible) or excludes zero and is disjoint from every other row's of the output; "
             "`false_rank`: such a row whose claim the exact indices contradict; `confirmed`: trusted or "
             f"rank-confirmed. All rows: rank-confirmed {head['rank_confirmed_share']:.1%}, false rank "
             f"confirmation {head['false_rank_rate']:.3%} (held out {head['held_out_false_rank_rate']:.3%}), "

@@ -213,9 +213,8 @@ def rank_claims(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics:
 
     * its interval lies within ``[0, tolerance]``: the parameter is confirmed negligible (the
       order among negligible parameters is not claimed; code :data:`NEGLIGIBLE`), or
-    * its interval excludes zero and is disjoint from the intervals of both neighbours in the
-      output's order by estimated ``ST``: it matters, and it is above the next one and below the
-      previous one (code :data:`SEPARATED`).
+    * its interval excludes zero and is disjoint from the interval of every other row of the
+      output: it matters, and its place in the order by ``ST`` is certain (code :data:`SEPARATED`).
 
     Returns the code per row (0: not confirmed). ``ddgsa bench trust`` scores the claims against
     the exact indices (false rank-confirmation).
@@ -228,14 +227,10 @@ def rank_claims(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics:
     hi = np.where(usable, np.clip(st + err, 0.0, 1.0), 1.0)
     out = np.zeros(len(table), dtype=np.int8)
     for _, idx in table.groupby("output", sort=False).indices.items():
-        order = idx[np.argsort(-np.where(usable[idx], st[idx], -np.inf), kind="stable")]
-        for k, i in enumerate(order):
-            if not usable[i]:
-                continue
+        for i in idx[usable[idx]]:
+            others = idx[idx != i]
             if hi[i] <= tolerance:
                 out[i] = NEGLIGIBLE
-                continue
-            above = k == 0 or lo[order[k - 1]] > hi[i]
-            below = k == len(order) - 1 or hi[order[k + 1]] < lo[i]
-            out[i] = SEPARATED if lo[i] > 0.0 and above and below else 0
+            elif lo[i] > 0.0 and np.all((lo[others] > hi[i]) | (hi[others] < lo[i])):
+                out[i] = SEPARATED
     return out
