@@ -97,6 +97,15 @@ def moments(space: ParameterSpace, name: str, design: Design, y: np.ndarray, res
              "source": source, "n": len(sample)} for j, o in enumerate(outputs)]
 
 
+def auto_moments(res: SobolResult, outputs: list[str]) -> list[dict[str, Any]]:
+    """Mean and standard deviation of each output over the points ``method: auto`` drew from the
+    input distribution (its check sample, PCE and Saltelli points; :mod:`ddgsa.gsa.auto`)."""
+    m = res.extras["moments"]
+    return [{"output": o, "mean": float(m["mean"][j]), "std": float(m["std"][j]),
+             "source": f"auto sample ({m['n']} of {m['drawn']} points)" if m["n"] < m["drawn"]
+             else f"auto sample ({m['n']} points)", "n": m["n"]} for j, o in enumerate(outputs)]
+
+
 def _count(finite: np.ndarray) -> str:
     """``64 points``, or ``50 of 64 points (failed ones left out)``."""
     n, ok = len(finite), int(finite.sum())
@@ -419,6 +428,7 @@ def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Desig
                          for (name, design), yd in zip(designs, ys)]
         found = [m for m in (moments(study.space, name, design, yd, res, outputs)
                              for (name, design), yd, res in zip(designs, ys, scene_results)) if m]
+        found += [auto_moments(per_scene[k], outputs) for per_scene in auto]
         for m in max(found, key=lambda ms: ms[0]["n"], default=[]):          # the largest sample
             m["cv"] = m["std"] / abs(m["mean"]) if m["mean"] else float("inf")
             moment_rows.append({"scene": ps.index, **m})

@@ -115,3 +115,15 @@ def test_false_rank_claims_against_the_truth() -> None:
     assert false_rank_claims(est, np.array([[0.5, 0.5, 0.04, 0.0]]), claims, 0.02)[0, :2].tolist() == [True, True]
     assert false_rank_claims(np.array([[0.6, 0.3]]), np.array([[0.5, 0.0]]), np.array([[SEPARATED, SEPARATED]]),
                              0.02).tolist() == [[False, True]]
+
+
+def test_saltelli_size_to_confirm_by_hand() -> None:
+    """Error bound 2 / sqrt(N) (``SALTELLI_C``); each row needs max(tolerance, half its distance
+    to zero and to the nearest other row)."""
+    from ddgsa.confirm import SALTELLI_C, saltelli_n_to_confirm
+
+    assert SALTELLI_C == 2.0
+    assert saltelli_n_to_confirm(np.array([0.6, 0.3]), 0.02) == 256          # 0.15 each: (2 / 0.15)^2 = 178
+    assert saltelli_n_to_confirm(np.array([0.6, 0.3, 0.0]), 0.02) == 16384   # the zero row: 0.02, 10 000
+    assert saltelli_n_to_confirm(np.array([0.6, np.nan]), 0.02) == 16384     # unknown: as for a value
+    assert saltelli_n_to_confirm(np.array([0.9, 0.89]), 0.05) == 2048        # 0.05: 1 600

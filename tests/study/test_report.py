@@ -201,11 +201,19 @@ def test_a_constant_output_is_not_a_problem_but_an_untrusted_varying_one_is() ->
     from ddgsa.report import problems
 
     idx = pd.DataFrame({"output": ["flat", "flat", "wavy", "wavy"], "scene": 0, "method": "mdrm",
-                        "parameter": ["a", "b", "a", "b"], "trusted": False})
+                        "parameter": ["a", "b", "a", "b"], "trusted": False, "rank_confirmed": False,
+                        "ST": [np.nan, np.nan, 0.7, 0.3]})
     diags = pd.DataFrame({"output": ["flat", "wavy"], "scene": 0, "severity": "untrusted",
                           "name": ["mdrm_zero_variance", "mdrm_index_error"]})
     mom = pd.DataFrame({"scene": [0, 0], "output": ["flat", "wavy"], "mean": [0.0, 1.0], "std": [0.0, 0.3]})
-    res = SimpleNamespace(indices=idx, diagnostics=diags, moments=mom, sweep=None)
-    assert problems(res) == ["output 'wavy': no method's indices are trusted in scene 0 (mdrm_index_error)"]
+    study = SimpleNamespace(spec=SimpleNamespace(scenes=SimpleNamespace(realisations=2)))
+    res = SimpleNamespace(indices=idx, diagnostics=diags, moments=mom, sweep=None, results=[], study=study,
+                          evaluations=pd.DataFrame({"seconds": [0.5, 1.5]}))
+    # ST 0.3 is 0.3 from zero (0.7 is 0.4 from it): an error of 0.15 places it, 2 / sqrt(N) <= 0.15
+    # at N = 178 -> 256; 256 x (2 + 2) points x 2 realisations = 2 048 runs at 1 s each
+    assert problems(res) == ["output 'wavy': no method's indices are confirmed (trusted or rank-confirmed) in "
+                             "scene 0 (mdrm_index_error); to confirm it add `saltelli` with n: 256 (2 048 runs, "
+                             "~34 min of model time at 1 s per run measured here), or `auto` with budget: 2 048 "
+                             "(per scene; it stops early where cheaper stages are trusted)"]
     res.moments = mom.assign(std=[1e-3, 0.3])                            # varies a little: counted
     assert len(problems(res)) == 2

@@ -158,7 +158,8 @@ class SobolResult:
 
 def draw_index_bars(ax: "Axes", table: pd.DataFrame, fontsize: float = 10.0, rotation: float = 45.0) -> None:
     """S1 and ST bars of one output's rows, confidence half-widths as error bars (none where the
-    method gives no interval), untrusted hatched."""
+    method gives no interval), untrusted hatched: dotted where the row's place is rank-confirmed,
+    striped where it is neither."""
     x = np.arange(len(table))
     w = 0.38
     for k, (q, color) in enumerate((("S1", "tab:blue"), ("ST", "tab:orange"))):
@@ -168,9 +169,10 @@ def draw_index_bars(ax: "Axes", table: pd.DataFrame, fontsize: float = 10.0, rot
         if has.any():
             ax.errorbar((x + (k - 0.5) * w)[has], table[q].to_numpy(float)[has], yerr=conf[has], fmt="none",
                         ecolor="0.2", elinewidth=0.8, capsize=2)
-        for bar, ok in zip(bars, table["trusted"].to_numpy(bool)):
+        ranked = table["rank_confirmed"].to_numpy(bool) if "rank_confirmed" in table else np.zeros(len(table), bool)
+        for bar, ok, placed in zip(bars, table["trusted"].to_numpy(bool), ranked):
             if not ok:
-                bar.set_hatch("//")
+                bar.set_hatch(".." if placed else "//")
     ax.set_xticks(x, table["parameter"].to_list(), rotation=rotation, ha="right", fontsize=fontsize)
     ax.set_ylabel("Sobol index [-]", fontsize=fontsize)
 
