@@ -118,12 +118,34 @@ def test_false_rank_claims_against_the_truth() -> None:
 
 
 def test_saltelli_size_to_confirm_by_hand() -> None:
-    """Error bound 2 / sqrt(N) (``SALTELLI_C``); each row needs max(tolerance, half its distance
+    """Error bound 3.3 sqrt(ST / N) (``SALTELLI_K``); each row needs max(tolerance, half its distance
     to zero and to the nearest other row)."""
-    from ddgsa.confirm import SALTELLI_C, saltelli_n_to_confirm
+    from ddgsa.confirm import SALTELLI_K, saltelli_n_to_confirm
 
-    assert SALTELLI_C == 2.0
-    assert saltelli_n_to_confirm(np.array([0.6, 0.3]), 0.02) == 256          # 0.15 each: (2 / 0.15)^2 = 178
-    assert saltelli_n_to_confirm(np.array([0.6, 0.3, 0.0]), 0.02) == 16384   # the zero row: 0.02, 10 000
-    assert saltelli_n_to_confirm(np.array([0.6, np.nan]), 0.02) == 16384     # unknown: as for a value
-    assert saltelli_n_to_confirm(np.array([0.9, 0.89]), 0.05) == 2048        # 0.05: 1 600
+    assert SALTELLI_K == 3.3
+    # 0.6 needs 0.15: 3.3^2 0.6 / 0.15^2 = 290 -> 512 (0.3: 145)
+    assert saltelli_n_to_confirm(np.array([0.6, 0.3]), 0.02) == 512
+    # a zero row needs 0.02 at ST 0.001: 27 -> the others still decide
+    assert saltelli_n_to_confirm(np.array([0.6, 0.3, 0.0]), 0.02) == 512
+    assert saltelli_n_to_confirm(np.array([0.6, np.nan]), 0.02) == 32768     # unknown: ST 1 within 0.02, 27 225
+    assert saltelli_n_to_confirm(np.array([0.9, 0.89]), 0.05) == 4096        # 0.05 at 0.9: 3 920
+
+
+def test_pooled_pce_on_mdrm_points_matches_the_closed_form() -> None:
+    """Zero extra runs: a sparse PCE on M-DRM's cut lines and check sample recovers a cubic
+    product's indices (closed form) and trusts them (leave-one-out error ~ round-off). (With a
+    16-point check sample it selects wrong terms, off by 0.10, and says so: bounds 0.33.)"""
+    from ddgsa.gsa import get_method
+    from ddgsa.gsa.pooled import pooled_order, pooled_pce
+
+    assert pooled_order(3, 37) == 5          # 56 terms <= 2 x 37
+    assert pooled_order(10, 83) == 2         # 66 <= 166 < 286
+    assert pooled_order(50, 10) == 0         # 51 terms > 20
+    space = ParameterSpace.from_dict({f"x{i + 1}": {"low": 0.0, "high": 1.0} for i in range(3)})
+    tf = product(space, [0.5, 0.4, 0.3])
+    x = get_method("mdrm").design(space, points=5, check=32).points
+    res = pooled_pce(space, x, tf.f(x)[:, None], ["y"])
+    assert res is not None and res.method == "pooled_pce" and res.n_evals == len(x) == 3 * 5 + 1 + 32
+    np.testing.assert_allclose(res.indices["S1"], tf.S1, atol=1e-8)
+    np.testing.assert_allclose(res.indices["ST"], tf.ST, atol=1e-8)
+    assert res.trusted

@@ -24,11 +24,18 @@ model evaluations and reusing every evaluation already made:
 Every stage judges its rows against the same ``tolerance`` (default 0.02, see
 :mod:`ddgsa.gsa.trust`).
 
-Each output's indices come from the first stage that trusted them (column ``source``); an
-output no stage trusted keeps the numbers of the stage that used the most evaluations, marked
-untrusted with ``auto_budget_exhausted`` (every row of it: row-level ``trusted`` is recomputed
-from the final diagnostics, so it always agrees with them). Every escalation is an ``auto_escalated`` info diagnostic naming the
-diagnostics that caused it, and ``extras["auto_log"]`` keeps the decisions in words.
+Each row (output, parameter) keeps the trusted estimate with the smallest error bound of any
+stage (column ``source``); the stages go on while some row is trusted by none. A row no stage
+trusted comes from the output's *home* stage (the one trusting most of its rows, so one
+surrogate's indices stay together) unless that stage's row is not finite, then from the finite
+stage that passes every rule but the error estimate with the smallest estimate: a non-finite
+row is never preferred to a finite one. Untrusted findings are carried to exactly the rows taken
+from the stage that made them (so row-level ``trusted`` always agrees with the final
+diagnostics); ``auto_budget_exhausted`` (warning) names the rows no stage trusted, every
+escalation is an ``auto_escalated`` info diagnostic naming the diagnostics that caused it, and
+``extras["auto_log"]`` keeps the decisions in words. ``extras["moments"]`` holds each output's
+mean and standard deviation over the points drawn from the input distribution (not the cut
+lines).
 
 The driver is a small state machine so that the caller owns the evaluations (a Python function
 in :func:`ddgsa.sobol`, the parallel runner with its cache in a study)::
