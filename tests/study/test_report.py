@@ -57,7 +57,7 @@ def test_summary_mean_cv_ranking_and_sentence_against_closed_forms(write_study, 
     assert "| `y_positive` | - | y + 12" in summary
     assert "`y_positive`: shared by `x1` (ST 0.56, S1 0.31), `x2` (ST 0.44, S1 0.44), `x3` (ST 0.24, S1 0.00), " \
            "by pce. ST - S1 shows interactions." in summary
-    assert "| pce | ±0.02 | yes | x1 0.56 (0.31), x2 0.44 (0.44), x3 0.24 (0.00) |" in summary
+    assert "| pce | ±0.02 | yes | yes | x1 0.56 (0.31), x2 0.44 (0.44), x3 0.24 (0.00) |" in summary
     prov = json.loads((out / "provenance.json").read_text())
     assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\+00:00", prov["created_utc"])
     assert prov["code"]["ddgsa"] and "commit" in prov["code"] and prov["study_file"] == "pce.yaml"
