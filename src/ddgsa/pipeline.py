@@ -30,6 +30,8 @@ from ddgsa.detection import DetectionSettings, FaultDetectability, add_noise, as
 from ddgsa.errors import DdgsaError, StudyError
 from ddgsa.gsa.auto import AutoSobol
 from ddgsa.gsa.base import Design, get_method
+from ddgsa.gsa.pooled import pooled_pce
+from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.gsa.result import SobolResult
 from ddgsa.models import ImplausibleOutputWarning
 from ddgsa.models import get as get_model
@@ -123,6 +125,15 @@ def moments(space: ParameterSpace, name: str, design: Design, y: np.ndarray, res
         return None
     return [{"output": o, "mean": float(sample[:, j].mean()), "std": float(sample[:, j].std(ddof=1)),
              "source": source, "n": len(sample)} for j, o in enumerate(outputs)]
+
+
+def auto_moments(res: SobolResult, outputs: list[str]) -> list[dict[str, Any]]:
+    """Mean and standard deviation of each output over the points ``method: auto`` drew from the
+    input distribution (its check sample, PCE and Saltelli points; :mod:`ddgsa.gsa.auto`)."""
+    m = res.extras["moments"]
+    return [{"output": o, "mean": float(m["mean"][j]), "std": float(m["std"][j]),
+             "source": f"auto sample ({m['n']} of {m['drawn']} points)" if m["n"] < m["drawn"]
+             else f"auto sample ({m['n']} points)", "n": m["n"]} for j, o in enumerate(outputs)]
 
 
 def _count(finite: np.ndarray) -> str:
@@ -444,8 +455,10 @@ def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Desig
         ys = [y[_row_index(pooled, design.points)] for _, design in designs]
         scene_results = [get_method(name).analyze(study.space, design, yd, outputs=outputs)
                          for (name, design), yd in zip(designs, ys)]
+        scene_results += pooled_crosscheck(study, designs, pooled, y, outputs)
         found = [m for m in (moments(study.space, name, design, yd, res, outputs)
                              for (name, design), yd, res in zip(designs, ys, scene_results)) if m]
+        found += [auto_moments(per_scene[k], outputs) for per_scene in auto]
         for m in max(found, key=lambda ms: ms[0]["n"], default=[]):          # the largest sample
             m["cv"] = m["std"] / abs(m["mean"]) if m["mean"] else float("inf")
             moment_rows.append({"scene": ps.index, **m})
@@ -467,6 +480,19 @@ def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Desig
     result.diagnostics = (pd.concat(diag_rows, ignore_index=True) if diag_rows else
                           pd.DataFrame(columns=["scene", "method", "name", "severity", "output", "parameter",
                                                 "value", "message"]))
+
+
+def pooled_crosscheck(study: Study, designs: list[tuple[str, Design]], x: np.ndarray, y: np.ndarray,
+                      outputs: list[str]) -> list[SobolResult]:
+    """The sparse PCE on every point of the scene (:mod:`ddgsa.gsa.pooled`), when it is not one of
+    the study's own methods again: the study has M-DRM (whose cut lines no sampling method uses)
+    or several designs."""
+    if not designs or (len(designs) == 1 and designs[0][0] != "mdrm"):
+        return []
+    assert study.space is not None
+    tol = min(d.options.get("tolerance", DEFAULT_TOLERANCE) for _, d in designs)
+    res = pooled_pce(study.space, x, y, outputs, tol)
+    return [res] if res is not None else []
 
 
 def _row_index(pooled: np.ndarray, points: np.ndarray) -> np.ndarray:

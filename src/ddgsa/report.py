@@ -23,6 +23,7 @@ from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from ddgsa.confirm import advice as confirm_advice, pair_status  # noqa: E402
 from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.result import draw_index_bars  # noqa: E402
 from ddgsa.html_report import HTML_NAME, write_html  # noqa: E402
@@ -126,13 +127,16 @@ def evaluation_line(provenance: dict[str, Any]) -> str:
 
 
 def problems(result: StudyResult) -> list[str]:
-    """What makes the run's answer incomplete: an output with no trusted method in some scene
-    (its indices refused or untrusted; an output that is constant there -- zero spread in the
+    """What makes the run's answer incomplete: an output with no confirmed method in some scene
+    (its indices refused, or neither trusted nor rank-confirmed; with the cheapest way to confirm
+    it, :func:`ddgsa.confirm.advice`; an output that is constant there -- zero spread in the
     study's sample -- has nothing to rank and is not counted), failed sweep evaluations. Empty
     when all is well."""
     out = []
     if len(result.indices):
-        ok = result.indices.groupby(["output", "scene", "method"], sort=False)["trusted"].all()
+        rows = result.indices.assign(ok=result.indices["trusted"].astype(bool)
+                                     | result.indices.get("rank_confirmed", False))
+        ok = rows.groupby(["output", "scene", "method"], sort=False)["ok"].all()
         any_ok = ok.groupby(level=["output", "scene"], sort=False).any()
         mom = result.moments
         if mom is not None and len(mom):     # a constant output has no sensitivity to rank: not a problem
@@ -143,8 +147,10 @@ def problems(result: StudyResult) -> list[str]:
             d = result.diagnostics
             names = sorted(set(d[(d["output"].isin([output, None]) | d["output"].isna())
                                  & (d["severity"] == "untrusted") & d["scene"].isin(scenes)]["name"])) if len(d) else []
-            out.append(f"output {output!r}: no method's indices are trusted in {_scenes(scenes)}"
-                       + (f" ({', '.join(names)})" if names else "") + _first_failure(result, scenes))
+            out.append(f"output {output!r}: no method's indices are confirmed (trusted or rank-confirmed) in "
+                       f"{_scenes(scenes)}" + (f" ({', '.join(names)})" if names else "")
+                       + _first_failure(result, scenes) + "; "
+                       + confirm_advice(result, output, scenes, _tolerance(result)))
     if result.sweep is not None and result.sweep["error"].notna().any():
         n = int(result.sweep["error"].notna().sum())
         out.append(f"{n} of {len(result.sweep)} sweep evaluations failed (their values are refused)")
@@ -162,6 +168,12 @@ def _first_failure(result: StudyResult, scenes: list[int]) -> str:
     mine = [f for f in fails if any(all(f["scene"].get(k) == grid[s].get(k) for k in fields) for s in scenes
                                     if s in grid)] or fails
     return f"; {len(mine)} evaluations failed, the first: {mine[0]['error']}" if mine else ""
+
+
+def _tolerance(result: StudyResult) -> float:
+    """The study's trust tolerance (the smallest of its methods')."""
+    tols = [res.options.get("tolerance") for _, res in result.results]
+    return min([t for t in tols if t is not None], default=0.02)
 
 
 def _scenes(scenes: list[int]) -> str:
@@ -322,7 +334,11 @@ def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | Non
     for ax in list(axes.flat)[len(panels):]:
         ax.set_visible(False)
     handles, _ = axes[0, 0].get_legend_handles_labels()
-    if not scene_rows["trusted"].astype(bool).all():
+    untrusted = ~scene_rows["trusted"].astype(bool)
+    placed = scene_rows["rank_confirmed"].astype(bool) if "rank_confirmed" in scene_rows else untrusted & False
+    if (untrusted & placed).any():
+        handles.append(Patch(facecolor="tab:blue", edgecolor="white", hatch="..", label="untrusted, rank confirmed"))
+    if (untrusted & ~placed).any():
         handles.append(Patch(facecolor="tab:blue", edgecolor="white", hatch="///", label="untrusted"))
     fig.legend(handles=handles, fontsize=7, loc="outside upper right", ncols=len(handles))
     fig.suptitle("Sobol indices, " + scene_text({f: scene_rows[f].iloc[0] for f in fields}), fontsize=9)
@@ -423,12 +439,31 @@ def _outputs_section(result: StudyResult, info: dict[str, ModelOutput]) -> list[
     return lines + [""]
 
 
+def _mark(trusted: bool, rank_confirmed: bool) -> str:
+    """``""`` for a trusted value, ``*`` for an untrusted one whose place is confirmed, ``?`` else."""
+    return "" if trusted else "*" if rank_confirmed else "?"
+
+
+def _confirmed_section(result: StudyResult) -> list[str]:
+    """The share of (scene, output) pairs confirmed and the runs spent on them."""
+    st = pair_status(result.indices)
+    n_runs = result.provenance.get("evaluations", {}).get("total", len(result.evaluations))
+    return [f"Confirmed: {int(st['confirmed'].sum())} of {len(st)} (scene, output) pairs "
+            f"({int(st['trusted'].sum())} with every value trusted, the rest rank-confirmed) at a cost of "
+            f"{n_runs} model runs" + (" (unconfirmed ones: see Problems)." if not st["confirmed"].all() else "."), ""]
+
+
 def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None) -> str:
     """One sentence on what drives ``output`` in one scene, from its first trusted method."""
     trusted = [(m, gm) for m, gm in g.groupby("method", sort=False) if gm["trusted"].all()]
+    ranked = [(m, gm) for m, gm in g.groupby("method", sort=False)
+              if (gm["trusted"] | gm.get("rank_confirmed", False)).all()]
+    if not trusted and not ranked:
+        return (f"`{output}`: no method's indices are trusted or rank-confirmed here; do not rank its parameters "
+                "(see Problems for what would confirm them).")
+    meth, gm = (trusted or ranked)[0]
     if not trusted:
-        return f"`{output}`: no method's indices are trusted here; do not rank its parameters (see Problems)."
-    meth, gm = trusted[0]
+        meth += " (order confirmed by its error bounds; values not within the tolerance)"
     top = gm.sort_values("ST", ascending=False)
     first = top.iloc[0]
     quiet = f" It hardly varies (CV {moment['cv']:.2%}), so this ranks small differences." \
@@ -568,9 +603,12 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
         lines += ["## Parameters ranked by total index (ST, with S1)", "",
                   "trusted = every index of the row (S1 and ST) within ±tolerance (absolute) of the truth, "
                   "by the method's own error estimate (docs/methods.md: \"When M-DRM is not to be trusted\"); "
-                  "a method is `yes` when all its rows are. A method's runs (indices.csv `n_evals`) count its "
-                  "whole design, any check sample of its own included; the evaluation count above counts each "
-                  "distinct point once, as methods share equal points.", ""]
+                  "a method is `yes` when all its rows are. rank confirmed = every row trusted or placed by its "
+                  "error bounds (negligible, or apart from zero and from every other row). In the ranking `*` marks "
+                  "an untrusted value whose place is confirmed, `?` one that is neither. A method's runs (indices.csv "
+                  "`n_evals`) count its whole design, any check sample of its own included; the evaluation count "
+                  "above counts each distinct point once, as methods share equal points.", ""]
+        lines += _confirmed_section(result)
         for (scene, out), g in result.indices.groupby(["scene", "output"]):
             fields = scene_text({f: g[f].iloc[0] for f in result.study.scene_fields})
             lines.append(f"### scene {scene} ({fields}) - `{out}` [{info.get(out, declared(out)).unit or '?'}]")
@@ -580,16 +618,18 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                 runs = g.groupby("method", sort=False)["n_evals"].first()
                 lines += ["runs per method (indices.csv `n_evals`): " + ", ".join(f"{m} {int(n)}" for m, n in runs.items()),
                           ""]
-            lines.append("| method | tolerance | trusted | ranking: parameter ST (S1) |")
-            lines.append("|---|---|---|---|")
+            lines.append("| method | tolerance | trusted | rank confirmed | ranking: parameter ST (S1) |")
+            lines.append("|---|---|---|---|---|")
             for meth, gm in g.groupby("method", sort=False):
                 top = gm.sort_values("ST", ascending=False, na_position="last").head(RANKED)
-                rank = ", ".join(f"{r.parameter} {r.ST:.2f} ({r.S1:.2f})" for r in top.itertuples())
+                rank = ", ".join(f"{r.parameter} {r.ST:.2f} ({r.S1:.2f}){_mark(r.trusted, r.rank_confirmed)}"
+                                 for r in top.itertuples())
                 rank += f"; {len(gm) - len(top)} more in indices.csv" if len(gm) > len(top) else ""
-                label = f"{meth} (from {gm['source'].iloc[0]})" if meth == "auto" else meth
+                label = (f"{meth} (from {', '.join(gm['source'].drop_duplicates())})" if meth == "auto" else meth)
                 tol = tols.get(meth)
                 lines.append(f"| {label} | {'' if tol is None else f'±{tol:g}'} | "
-                             f"{'yes' if gm['trusted'].all() else '**no**'} | {rank} |")
+                             f"{'yes' if gm['trusted'].all() else '**no**'} | "
+                             f"{'yes' if (gm['trusted'] | gm['rank_confirmed']).all() else '**no**'} | {rank} |")
             lines.append("")
         lines += no_effect_lines(result)
         logs = [(ps, res) for ps, res in result.results if res.method == "auto"]

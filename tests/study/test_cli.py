@@ -239,7 +239,7 @@ def test_method_auto_in_a_study_reports_its_decisions(write_study, tmp_path: Pat
         assert np.abs(got["ST"].to_numpy() - tf.ST).max() < 0.02
     summary = (out / "summary.md").read_text()
     assert "auto (from pce)" in summary and "## `method: auto` decisions" in summary
-    assert "mdrm (48 runs): untrusted for y" in summary
+    assert "mdrm (48 runs): untrusted rows: y [x1, x2, x3]" in summary
     # the report rebuilds from the store without model runs; a rerun evaluates nothing
     assert main(["-q", "report", str(out)]) == 0
     assert main(["-q", "run", str(write_study("auto", text=text)), "--out", str(out)]) == 0

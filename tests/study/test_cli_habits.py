@@ -37,7 +37,8 @@ def test_exit_codes_untrusted_and_allowed(write_study, tmp_path: Path, capsys) -
     bad = write_study("bad")
     assert main(["run", str(bad), "--out", str(tmp_path / "bad")]) == EXIT_UNTRUSTED == 3
     err = capsys.readouterr().err
-    assert "output 'y': no method's indices are trusted in scenes 0, 1" in err and "--allow-untrusted" in err
+    assert "output 'y': no method's indices are confirmed (trusted or rank-confirmed) in scenes 0, 1" in err
+    assert "--allow-untrusted" in err and "to confirm it add `saltelli` with n: " in err
     assert "## Problems" in (tmp_path / "bad" / "summary.md").read_text()
     assert main(["report", str(tmp_path / "bad"), "--allow-untrusted"]) == 0
     assert "ddgsa: warning: output 'y'" in capsys.readouterr().err

@@ -57,7 +57,7 @@ def test_summary_mean_cv_ranking_and_sentence_against_closed_forms(write_study, 
     assert "| `y_positive` | - | y + 12" in summary
     assert "`y_positive`: shared by `x1` (ST 0.56, S1 0.31), `x2` (ST 0.44, S1 0.44), `x3` (ST 0.24, S1 0.00), " \
            "by pce. ST - S1 shows interactions." in summary
-    assert "| pce | ±0.02 | yes | x1 0.56 (0.31), x2 0.44 (0.44), x3 0.24 (0.00) |" in summary
+    assert "| pce | ±0.02 | yes | yes | x1 0.56 (0.31), x2 0.44 (0.44), x3 0.24 (0.00) |" in summary
     prov = json.loads((out / "provenance.json").read_text())
     assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\+00:00", prov["created_utc"])
     assert prov["code"]["ddgsa"] and "commit" in prov["code"] and prov["study_file"] == "pce.yaml"
@@ -201,11 +201,19 @@ def test_a_constant_output_is_not_a_problem_but_an_untrusted_varying_one_is() ->
     from ddgsa.report import problems
 
     idx = pd.DataFrame({"output": ["flat", "flat", "wavy", "wavy"], "scene": 0, "method": "mdrm",
-                        "parameter": ["a", "b", "a", "b"], "trusted": False})
+                        "parameter": ["a", "b", "a", "b"], "trusted": False, "rank_confirmed": False,
+                        "ST": [np.nan, np.nan, 0.7, 0.3]})
     diags = pd.DataFrame({"output": ["flat", "wavy"], "scene": 0, "severity": "untrusted",
                           "name": ["mdrm_zero_variance", "mdrm_index_error"]})
     mom = pd.DataFrame({"scene": [0, 0], "output": ["flat", "wavy"], "mean": [0.0, 1.0], "std": [0.0, 0.3]})
-    res = SimpleNamespace(indices=idx, diagnostics=diags, moments=mom, sweep=None)
-    assert problems(res) == ["output 'wavy': no method's indices are trusted in scene 0 (mdrm_index_error)"]
+    study = SimpleNamespace(spec=SimpleNamespace(scenes=SimpleNamespace(realisations=2)))
+    res = SimpleNamespace(indices=idx, diagnostics=diags, moments=mom, sweep=None, results=[], study=study,
+                          evaluations=pd.DataFrame({"seconds": [0.5, 1.5]}))
+    # ST 0.7 is 0.4 from 0.3 and 0.3 is 0.3 from zero: errors 3.3 sqrt(ST / N) <= 0.2 and 0.15 at
+    # N = 191 and 145 -> 256; 256 x (2 + 2) points x 2 realisations = 2 048 runs at 1 s each
+    assert problems(res) == ["output 'wavy': no method's indices are confirmed (trusted or rank-confirmed) in "
+                             "scene 0 (mdrm_index_error); to confirm it add `saltelli` with n: 256 (2 048 runs, "
+                             "~34 min of model time at 1 s per run measured here), or `auto` with budget: 2 048 "
+                             "(per scene; it stops early where cheaper stages are trusted)"]
     res.moments = mom.assign(std=[1e-3, 0.3])                            # varies a little: counted
     assert len(problems(res)) == 2

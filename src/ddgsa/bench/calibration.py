@@ -4,7 +4,9 @@ Every method at two settings (the first is its default) runs on 15 reference fun
 known indices, 20 seeds each. Each row of each result is scored against the truth:
 
 * **false trust** -- the row is ``trusted`` but an index in it is off by more than the tolerance;
-* **false alarm** -- the row is untrusted although every index in it is within the tolerance.
+* **false alarm** -- the row is untrusted although every index in it is within the tolerance;
+* **false rank confirmation** -- the row is ``rank_confirmed`` (:func:`~ddgsa.gsa.result.rank_claims`)
+  but the exact total indices contradict its claim (negligible, or above and below its neighbours).
 
 Seeds 0-9 of the *training* functions are where the rules' constants (``_CHECK_CONFIDENCE`` of
 M-DRM, ``_CONVERGENCE_FACTOR`` of SALib, ``_LOO_FACTOR`` of PCE) were chosen; seeds 10-19 and the
@@ -33,7 +35,7 @@ from numpy.typing import NDArray
 from ddgsa.errors import MethodError
 from ddgsa.gsa.testfunctions import (bratley_k, ishigami, linear, oakley_ohagan, product, sobol_g,
                                      tensor_indices)
-from ddgsa.gsa.result import trusted_mask
+from ddgsa.gsa.result import NEGLIGIBLE, SEPARATED, trusted_mask
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.space import ParameterSpace
 
@@ -179,11 +181,36 @@ def score(case: Case, res: Any, tolerance: float) -> pd.DataFrame:
         est = np.full((k, d), np.nan)
     other = [g for g in res.diagnostics if not g.name.endswith("index_error")]
     passes_others = trusted_mask(t, other).reshape(k, d)
+    claims = np.asarray(res.extras["rank_claims"]).reshape(k, d)
+    wrong = false_rank_claims(st, case.ST, claims, tolerance)
+    confirmed = trusted | (claims > 0)
     return pd.DataFrame({"output": np.repeat(np.arange(k), d), "parameter": np.tile(case.space.names, k),
                          "error": err.ravel(), "trusted": trusted.ravel(), "estimate": np.ravel(est),
                          "passes_other_rules": passes_others.ravel(),
                          "false_trust": (trusted & (err > tolerance)).ravel(),
-                         "false_alarm": (~trusted & (err <= tolerance)).ravel()})
+                         "false_alarm": (~trusted & (err <= tolerance)).ravel(),
+                         "rank_confirmed": (claims > 0).ravel(), "false_rank": wrong.ravel(),
+                         "confirmed": confirmed.ravel(),
+                         "false_confirmed": ((trusted & (err > tolerance)) | wrong).ravel()})
+
+
+def false_rank_claims(st: NDArray[np.float64], true_st: NDArray[np.float64], claims: NDArray[np.int8],
+                      tolerance: float) -> NDArray[np.bool_]:
+    """Rank confirmations (:func:`~ddgsa.gsa.result.rank_claims`, arrays (k, d)) the exact total
+    indices contradict: a negligible row whose true ST exceeds ``tolerance``; a separated row whose
+    true ST is zero, or whose order against any other row of the output is not the estimated one
+    (a true tie counts as wrong: the claim is a strict order)."""
+    wrong = np.zeros(claims.shape, dtype=bool)
+    for j, i in zip(*np.nonzero(claims)):
+        if claims[j, i] == NEGLIGIBLE:
+            wrong[j, i] = true_st[j, i] > tolerance
+            continue
+        others = np.arange(st.shape[1]) != i
+        above = st[j, others] > st[j, i]
+        truly_above = true_st[j, others] > true_st[j, i]
+        truly_below = true_st[j, others] < true_st[j, i]
+        wrong[j, i] = true_st[j, i] <= 1e-12 or bool(np.any(np.where(above, ~truly_above, ~truly_below)))
+    return wrong
 
 
 def _run_one(name: str, seed: int, tolerance: float,
@@ -249,6 +276,10 @@ def summarize(rows: pd.DataFrame, by: list[str], tolerance: float) -> pd.DataFra
         "false_trust": g["false_trust"].mean(),
         "false_trust_n": g["false_trust"].sum(),
         "false_alarm": g["false_alarm"].mean(),
+        "rank_confirmed": g["rank_confirmed"].mean(),
+        "false_rank": g["false_rank"].mean(),
+        "false_rank_n": g["false_rank"].sum(),
+        "confirmed": g["confirmed"].mean(),
         "margin": g.apply(lambda t: float(t.loc[t["trusted"], "error"].max() / tolerance)
                           if t["trusted"].any() else np.nan, include_groups=False),
         "median_evals": g["n_evals"].median(),
@@ -288,8 +319,13 @@ def write(rows: pd.DataFrame, out: Path, tolerance: float) -> dict[str, Any]:
             "false_alarm_rate": float(ran["false_alarm"].mean()),
             "false_trust_rows_at_default_settings": int(worst_default.sum()),
             "functions_with_false_trust_at_default": sorted(worst_default[worst_default > 0].index.tolist()),
-            "held_out_false_trust_rate": float(ran.loc[ran["split"] == "held-out", "false_trust"].mean())}
+            "held_out_false_trust_rate": float(ran.loc[ran["split"] == "held-out", "false_trust"].mean()),
+            "false_rank_rate": float(ran["false_rank"].mean()),
+            "held_out_false_rank_rate": float(ran.loc[ran["split"] == "held-out", "false_rank"].mean()),
+            "rank_confirmed_share": float(ran["rank_confirmed"].mean()),
+            "confirmed_share": float(ran["confirmed"].mean())}
     fmt = {"trusted": "{:.1%}", "false_trust": "{:.2%}", "false_alarm": "{:.1%}", "margin": "{:.2f}",
+           "rank_confirmed": "{:.1%}", "false_rank": "{:.2%}", "confirmed": "{:.1%}",
            "median_evals": "{:.0f}", "median_wall_s": "{:.3f}"}
 
     def md(df: pd.DataFrame) -> str:
@@ -312,6 +348,12 @@ def write(rows: pd.DataFrame, out: Path, tolerance: float) -> dict[str, Any]:
             f"{head['false_alarm_rate']:.1%}; false-trust rows at default settings: "
             f"{head['false_trust_rows_at_default_settings']}; held-out false trust "
             f"{head['held_out_false_trust_rate']:.3%}.", "",
+            "`rank_confirmed`: the row's ST interval (estimate ± error bound) lies within [0, tolerance] "
+            "(negligible) or excludes zero and is disjoint from every other row's of the output; "
+            "`false_rank`: such a row whose claim the exact indices contradict; `confirmed`: trusted or "
+            f"rank-confirmed. All rows: rank-confirmed {head['rank_confirmed_share']:.1%}, false rank "
+            f"confirmation {head['false_rank_rate']:.3%} (held out {head['held_out_false_rank_rate']:.3%}), "
+            f"confirmed {head['confirmed_share']:.1%}.", "",
             "## By method and setting", "", md(by_setting), "",
             "## Training (seeds 0-9 of the training functions) against held out", "", md(by_split), "",
             "## How much room the error estimates leave", "",

@@ -24,11 +24,18 @@ model evaluations and reusing every evaluation already made:
 Every stage judges its rows against the same ``tolerance`` (default 0.02, see
 :mod:`ddgsa.gsa.trust`).
 
-Each output's indices come from the first stage that trusted them (column ``source``); an
-output no stage trusted keeps the numbers of the stage that used the most evaluations, marked
-untrusted with ``auto_budget_exhausted`` (every row of it: row-level ``trusted`` is recomputed
-from the final diagnostics, so it always agrees with them). Every escalation is an ``auto_escalated`` info diagnostic naming the
-diagnostics that caused it, and ``extras["auto_log"]`` keeps the decisions in words.
+Each row (output, parameter) keeps the trusted estimate with the smallest error bound of any
+stage (column ``source``); the stages go on while some row is trusted by none. A row no stage
+trusted comes from the output's *home* stage (the one trusting most of its rows, so one
+surrogate's indices stay together) unless that stage's row is not finite, then from the finite
+stage that passes every rule but the error estimate with the smallest estimate: a non-finite
+row is never preferred to a finite one. Untrusted findings are carried to exactly the rows taken
+from the stage that made them (so row-level ``trusted`` always agrees with the final
+diagnostics); ``auto_budget_exhausted`` (warning) names the rows no stage trusted, every
+escalation is an ``auto_escalated`` info diagnostic naming the diagnostics that caused it, and
+``extras["auto_log"]`` keeps the decisions in words. ``extras["moments"]`` holds each output's
+mean and standard deviation over the points drawn from the input distribution (not the cut
+lines).
 
 The driver is a small state machine so that the caller owns the evaluations (a Python function
 in :func:`ddgsa.sobol`, the parallel runner with its cache in a study)::
@@ -42,7 +49,7 @@ in :func:`ddgsa.sobol`, the parallel runner with its cache in a study)::
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -52,7 +59,7 @@ from numpy.typing import NDArray
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, as_value_matrix, check_int, get_method
 from ddgsa.gsa.pce import _MAX_MATRIX_ENTRIES, n_terms
-from ddgsa.gsa.result import Diagnostic, SobolResult, trusted_mask
+from ddgsa.gsa.result import Diagnostic, SobolResult, index_error_rule, rank_claims, trusted_mask
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance
 from ddgsa.space import ParameterSpace
 
@@ -107,6 +114,7 @@ class AutoSobol:
         self._pending: _Pending | None = None
         self._sparse_done = False
         self._next_order = max(self.options["pce_orders"])
+        self._drawn = np.zeros(0, dtype=bool)                    # rows of x drawn from the input distribution
 
     # -- driver ---------------------------------------------------------------------------
     def start(self) -> NDArray[np.float64]:
@@ -127,6 +135,10 @@ class AutoSobol:
         self.names = names
         self.x = np.vstack([self.x, stage.points])
         self.y = y if self.y.size == 0 else np.vstack([self.y, y])
+        drawn = np.ones(len(stage.points), dtype=bool)       # every point a draw from the inputs' law...
+        if stage.kind == "mdrm":
+            drawn[:len(stage.points) - self.options["check"]] = False      # ...but M-DRM's cut lines
+        self._drawn = np.concatenate([self._drawn, drawn])
         if stage.kind == "pce":
             design = Design("pce", self.x, {**get_method("pce").defaults, "order": stage.order, "fit": stage.fit,
                                             "n": self.x.shape[0], "seed": self.options["seed"],
@@ -142,22 +154,25 @@ class AutoSobol:
         return self._next()
 
     # -- stages ---------------------------------------------------------------------------
-    def _untrusted_outputs(self) -> list[str]:
-        trusted = set()
+    def _untrusted_rows(self) -> dict[str, list[str]]:
+        """Per output, the parameters whose row no stage so far has trusted."""
+        trusted: set[tuple[str, str]] = set()
         for res, _ in self.stages:
-            ok = res.indices.groupby("output")["trusted"].all()
-            trusted |= set(ok[ok].index)
-        return [o for o in self.names or [] if o not in trusted]
+            t = res.indices[res.indices["trusted"]]
+            trusted |= set(zip(t["output"], t["parameter"]))
+        bad = {o: [p for p in self.space.names if (o, p) not in trusted] for o in self.names or []}
+        return {o: ps for o, ps in bad.items() if ps}
 
     def _record(self, res: SobolResult, label: str) -> None:
         self.stages.append((res, label))
-        bad = self._untrusted_outputs()
+        bad = self._untrusted_rows()
         fired = sorted({d.name for d in res.diagnostics if d.severity == "untrusted"})
+        rows = "; ".join(f"{o} [{', '.join(ps)}]" for o, ps in bad.items())
         self.log.append(f"{label}: " + ("all outputs trusted" if not bad else
-                                        f"untrusted for {', '.join(bad)} ({', '.join(fired)})"))
+                                        f"untrusted rows: {rows} ({', '.join(fired)})"))
 
     def _next(self) -> NDArray[np.float64] | None:
-        if not self._untrusted_outputs():
+        if not self._untrusted_rows():
             self._finish()
             return None
         left = self.options["budget"] - self.x.shape[0]
@@ -219,43 +234,87 @@ class AutoSobol:
         return self._pending.points
 
     def _finish(self) -> None:
-        """Per output, the first stage that trusted it (else the last stage), with the decisions."""
-        tables, diags = [], []
+        """Per row, the stage that trusted it with the smallest error estimate; a row no stage
+        trusted comes from the output's home stage (the one trusting most of its rows) when finite
+        there, else from the finite stage passing every rule but the error estimate with the
+        smallest estimate (then the most runs). A non-finite row is never preferred to a finite one."""
+        scored = [_row_scores(res) for res, _ in self.stages]
+        tables, diags, st_err = [], [], []
         for out in self.names or []:
-            k = next((i for i, (r, _) in enumerate(self.stages)
-                      if r.indices.loc[r.indices["output"] == out, "trusted"].all()), None)
-            if k is None:       # nothing trusted: the smallest estimated index error, then the most runs
-                k = min(range(len(self.stages)), key=lambda i: (_worst_error(self.stages[i][0], out),
-                                                                -self.stages[i][0].n_evals, -i))
-            res, label = self.stages[k]
-            table = res.indices[res.indices["output"] == out].copy()
-            table["source"] = res.method
-            tables.append(table)
-            diags += [d for d in res.diagnostics if d.output in (None, out)]
-            for r, lab in self.stages[:k]:
+            used: set[int] = set()
+            # the output's home stage, for its untrusted rows (one surrogate's indices hang together):
+            # the most trusted rows, then every row finite, then the smallest worst error, the most runs
+            home = min(range(len(self.stages)), key=lambda i: (
+                -int(scored[i].loc[out, "trusted"].sum()), not scored[i].loc[out, "finite"].all(),
+                scored[i].loc[out, "error"].max(), -self.stages[i][0].n_evals, -i))
+            for par in self.space.names:
+                keys = []
+                for i, ((res, _), sc) in enumerate(zip(self.stages, scored)):
+                    r = sc.loc[(out, par)]
+                    keys.append((not r["trusted"], r["trusted"] and r["error"], not r["finite"], i != home,
+                                 not r["passes_other"], r["error"], -res.n_evals, -i))
+                k = min(range(len(self.stages)), key=lambda i: keys[i])
+                used.add(k)
+                res, _ = self.stages[k]
+                t = res.indices
+                row = t[(t["output"] == out) & (t["parameter"] == par)].copy()
+                row["source"] = res.method
+                tables.append(row)
+                st_err.append(scored[k].loc[(out, par), "st_error"])
+                for d in res.diagnostics:
+                    if d.output not in (None, out) or d.parameter not in (None, par):
+                        continue
+                    # an untrusted finding is about this row only: other rows of the output may come
+                    # from a stage it does not concern
+                    diags.append(replace(d, output=out, parameter=par) if d.severity == "untrusted" else d)
+            for r, lab in self.stages[:max(used)]:
                 fired = sorted({d.name for d in r.diagnostics if d.severity == "untrusted" and d.output in (None, out)})
-                diags.append(Diagnostic("auto_escalated", f"output {out!r}: {lab} untrusted ({', '.join(fired)}); "
-                                        "escalated", "info", output=out))
-            if not table["trusted"].all():
-                diags.append(Diagnostic("auto_budget_exhausted", f"output {out!r}: no stage trusted within the "
-                                        f"budget of {self.options['budget']} runs; the numbers are {label}'s",
-                                        "untrusted", output=out))
+                if fired:
+                    diags.append(Diagnostic("auto_escalated", f"output {out!r}: {lab} untrusted "
+                                            f"({', '.join(fired)}); escalated", "info", output=out))
         indices = pd.concat(tables, ignore_index=True)
         diags = _dedupe(diags)
         indices["trusted"] = indices["trusted"].to_numpy(bool) & trusted_mask(indices, diags)
+        for out, g in indices[~indices["trusted"]].groupby("output", sort=False):
+            diags.append(Diagnostic("auto_budget_exhausted", f"output {out!r}: no stage trusted "
+                                    f"{', '.join(g['parameter'])} within the budget of {self.options['budget']} "
+                                    "runs; those rows are the best untrusted stage's (column source)", "warning",
+                                    output=out, value=float(len(g))))
+        claims = rank_claims(indices, np.asarray(st_err, dtype=float), diags, self.options["tolerance"])
+        indices["rank_confirmed"] = claims > 0
         self.result = SobolResult(indices, n_evals=self.x.shape[0], method="auto", options=dict(self.options),
                                   diagnostics=diags,
-                                  extras={"auto_log": list(self.log), "stages": [lab for _, lab in self.stages]})
+                                  extras={"auto_log": list(self.log), "stages": [lab for _, lab in self.stages],
+                                          "moments": self._moments(), "rank_claims": claims})
         self._pending = None
 
+    def _moments(self) -> dict[str, Any]:
+        """Mean and standard deviation of each output over the points drawn from the input
+        distribution (M-DRM's check sample, the PCE and Saltelli points; not the cut lines)."""
+        y = self.y[self._drawn]
+        y = y[np.isfinite(y).all(axis=1)]
+        n = len(y)
+        nan = np.full(self.y.shape[1], np.nan)
+        return {"mean": y.mean(axis=0) if n else nan, "std": y.std(axis=0, ddof=1) if n > 1 else nan, "n": n,
+                "drawn": int(self._drawn.sum())}
 
-def _worst_error(res: SobolResult, output: str) -> float:
-    """Largest estimated index error of ``output``'s rows (inf if another diagnostic distrusts them)."""
-    worst = 0.0
-    for d in res.diagnostics:
-        if d.severity == "untrusted" and d.output in (None, output):
-            worst = max(worst, d.value if d.name.endswith("index_error") and np.isfinite(d.value) else np.inf)
-    return worst
+
+def _row_scores(res: SobolResult) -> pd.DataFrame:
+    """Per (output, parameter) of one stage: trusted, finite, passes the rules other than the error
+    estimate, the estimated index error (max of S1's and ST's; inf when unknown) and ST's alone."""
+    t = res.indices
+    if "S1_error" in res.extras:                                   # SALib: bootstrap and half sample
+        e1 = np.asarray(res.extras["S1_error"], dtype=float).ravel()
+        et = np.asarray(res.extras["ST_error"], dtype=float).ravel()
+    else:
+        e1, et = t["S1_conf"].to_numpy(float), t["ST_conf"].to_numpy(float)
+    with np.errstate(invalid="ignore"):
+        err = np.fmax(e1, et)
+    finite = np.isfinite(t["S1"].to_numpy(float)) & np.isfinite(t["ST"].to_numpy(float))
+    return pd.DataFrame({"trusted": t["trusted"].to_numpy(bool), "finite": finite,
+                         "passes_other": trusted_mask(t, [d for d in res.diagnostics if not index_error_rule(d.name)]),
+                         "error": np.where(np.isfinite(err), err, np.inf), "st_error": et},
+                        index=pd.MultiIndex.from_arrays([t["output"], t["parameter"]]))
 
 
 def _dedupe(diags: list[Diagnostic]) -> list[Diagnostic]:

@@ -95,17 +95,22 @@ class GsaMethod(ABC):
         Parameters
         ----------
         values : array (n_points,) or (n_points, n_outputs), or DataFrame
-            Model outputs, row ``k`` at ``design.points[k]``. Non-finite values mark
-            failed evaluations: an output with any is refused (NaN indices, diagnostic
-            ``nonfinite_values``, untrusted), never imputed.
+            Model outputs, row ``k`` at ``design.points[k]``, in any units: each output is
+            standardised (:func:`standardise`) before the method sees it, so the indices and
+            flags do not depend on its scale. Non-finite values mark failed evaluations: an
+            output with any is refused (NaN indices, diagnostic ``nonfinite_values``,
+            untrusted), never imputed; a constant one has undefined indices (``zero_variance``).
         outputs : sequence of str, optional
             Output names (DataFrame columns are used when given a DataFrame).
         """
         y, names = as_value_matrix(values, design.n_points, outputs)
         finite = np.isfinite(y).all(axis=0)
+        with np.errstate(invalid="ignore"):
+            constant = finite & (np.nanmax(y, axis=0) == np.nanmin(y, axis=0)) if len(y) else finite
         n_out, d = len(names), space.dim
         S1, ST = np.full((n_out, d), np.nan), np.full((n_out, d), np.nan)
         S1c, STc = np.full((n_out, d), np.nan), np.full((n_out, d), np.nan)
+        st_err = np.full((n_out, d), np.nan)
         diags: list[Diagnostic] = []
         extras: dict[str, Any] = {}
         for j in np.flatnonzero(~finite):
@@ -115,17 +120,35 @@ class GsaMethod(ABC):
                 f"output {names[j]!r}: {bad} of {design.n_points} evaluations failed or are not finite; "
                 "its indices are not computed (failures are never imputed)",
                 "untrusted", output=names[j], value=float(bad)))
-        if finite.any():
-            cols = np.flatnonzero(finite)
-            part = self._analyze(space, design, y[:, cols], [names[j] for j in cols])
+        for j in np.flatnonzero(constant):
+            diags.append(Diagnostic("zero_variance", f"output {names[j]!r} is constant ({y[0, j]:.6g}) at all "
+                                    f"{design.n_points} points; its Sobol indices are undefined", "untrusted",
+                                    output=names[j], value=float(y[0, j])))
+        usable = finite & ~constant
+        if usable.any():
+            cols = np.flatnonzero(usable)
+            shift, scale = standardise(y[:, cols], centre=self.centre)
+            part = self._analyze(space, design, (y[:, cols] - shift) / scale, [names[j] for j in cols])
             S1[cols], ST[cols] = part.S1, part.ST
             S1c[cols], STc[cols] = part.S1_conf, part.ST_conf
+            st_err[cols] = part.extras.get("ST_error", part.ST_conf)
             diags += part.diagnostics
-            extras = part.extras
+            extras = self.unscale_extras(part.extras, shift, scale)
+        diags += undefined_index_diagnostics(names, space.names, S1, ST, diags, self.gives_st)
         return SobolResult.from_arrays(outputs=names, parameters=space.names, S1=S1, ST=ST,
                                        S1_conf=S1c, ST_conf=STc, n_evals=design.n_points,
                                        method=self.name, options=design.options,
-                                       diagnostics=diags, extras=extras)
+                                       diagnostics=diags, extras=extras, ST_error=st_err)
+
+    centre: ClassVar[bool] = True
+    """Whether ``_analyze`` may see centred outputs (M-DRM may not: its surrogate is a product)."""
+    gives_st: ClassVar[bool] = True
+    """Whether the method estimates ``ST`` (RBD-FAST does not)."""
+
+    def unscale_extras(self, extras: dict[str, Any], shift: NDArray[np.float64],
+                       scale: NDArray[np.float64]) -> dict[str, Any]:
+        """``extras`` of the standardised outputs in the outputs' own units (override where any has units)."""
+        return extras
 
     def check_options(self, space: ParameterSpace, opts: dict[str, Any]) -> None:
         """Raise :class:`MethodError` for invalid option values (override to add checks)."""
@@ -150,6 +173,42 @@ class PartialIndices:
     ST_conf: NDArray[np.float64] | float = np.nan
     diagnostics: list[Diagnostic] = field(default_factory=list)
     extras: dict[str, Any] = field(default_factory=dict)
+
+
+def standardise(y: NDArray[np.float64], centre: bool = True) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Shift and scale (each (n_outputs,)) that make every column of ``y`` order one.
+
+    With ``centre`` the columns are centred on their mean and scaled by their standard deviation;
+    without, only scaled by their largest magnitude (the sign and the ratios between values are
+    kept). Sobol indices are invariant under both maps, and estimators that difference or fit
+    values (sparse PCE's least-angle path, Saltelli's products) then see the same numbers for an
+    output in N m and in MN m, or a damage rate of 1e-9 1/s: the scale-free estimators of the
+    module docstring. Non-constant finite columns give positive, finite scales.
+    """
+    if centre:
+        shift = y.mean(axis=0)
+        scale = y.std(axis=0)
+    else:
+        shift = np.zeros(y.shape[1])
+        scale = np.abs(y).max(axis=0)
+    return shift, np.where(scale > 0, scale, 1.0)
+
+
+def undefined_index_diagnostics(outputs: Sequence[str], parameters: Sequence[str], S1: NDArray[np.float64],
+                                ST: NDArray[np.float64], diagnostics: list[Diagnostic],
+                                gives_st: bool = True) -> list[Diagnostic]:
+    """An ``undefined_index`` diagnostic for each row whose index is NaN with no ``untrusted``
+    diagnostic explaining it (no NaN is ever shown without a reason)."""
+    explained = {(d.output, d.parameter) for d in diagnostics if d.severity == "untrusted"}
+    out = []
+    missing = ~np.isfinite(S1) | (~np.isfinite(ST) if gives_st else False)
+    for j, i in zip(*np.nonzero(missing)):
+        o, p = outputs[j], parameters[i]
+        if {(None, None), (o, None), (None, p), (o, p)} & explained:
+            continue
+        out.append(Diagnostic("undefined_index", f"output {o!r}: {p}: the estimator gave no finite index "
+                              "(0/0: no variance in its fit or sample)", "untrusted", output=o, parameter=p))
+    return out
 
 
 def as_value_matrix(values: NDArray[np.float64] | pd.DataFrame | pd.Series, n_points: int,

@@ -102,6 +102,17 @@ class MDRM(GsaMethod):
     defaults = {"points": 5, "cut": None, "check": 32, "seed": 0, "tolerance": DEFAULT_TOLERANCE,
                 "near_zero": 0.01, "resolution_tol": 0.01}
 
+    centre = False
+
+    def unscale_extras(self, extras: dict[str, Any], shift: NDArray[np.float64],
+                       scale: NDArray[np.float64]) -> dict[str, Any]:
+        """``rho``, ``theta`` and ``h_cut`` back in the output's units (the rest is relative)."""
+        out = dict(extras)
+        out["rho"] = extras["rho"] * scale[:, None]
+        out["theta"] = extras["theta"] * scale[:, None] ** 2
+        out["h_cut"] = extras["h_cut"] * scale
+        return out
+
     def check_options(self, space: ParameterSpace, opts: dict[str, Any]) -> None:
         check_int(self.name, "points", opts["points"], 2, 40)
         check_int(self.name, "check", opts["check"], 0)

@@ -229,9 +229,6 @@ def _sparse_fit(psi: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArr
     x = psi[:, 1:] - psi[:, 1:].mean(axis=0)
     for k in range(y.shape[1]):
         yk = y[:, k]
-        if np.var(yk) == 0.0:
-            coef[0, k], loo[k] = yk.mean(), 0.0
-            continue
         _, active, _ = lars_path(x, yk - yk.mean(), method="lar", max_iter=min(p - 1, n // 3))
         cols = np.concatenate([[0], np.asarray(active, dtype=int) + 1])
         q, r = np.linalg.qr(psi[:, cols])

@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-INDEX_COLUMNS = ["output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted"]
+INDEX_COLUMNS = ["output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted", "rank_confirmed"]
 Severity = Literal["info", "warning", "untrusted"]
 
 
@@ -59,7 +59,7 @@ class SobolResult:
     ----------
     indices : pandas.DataFrame
         One row per (output, parameter): ``output, parameter, S1, S1_conf, ST, ST_conf,
-        trusted``. NaN where the method does not give a quantity (e.g. ``ST`` for
+        trusted, rank_confirmed`` (:func:`rank_claims`). NaN where the method does not give a quantity (e.g. ``ST`` for
         RBD-FAST) or where the result was refused (see ``diagnostics``).
     n_evals : int
         Model evaluations the method spent.
@@ -87,8 +87,10 @@ class SobolResult:
                     ST_conf: NDArray[np.float64] | None = None,
                     n_evals: int, method: str, options: dict[str, Any] | None = None,
                     diagnostics: list[Diagnostic] | None = None,
-                    extras: dict[str, Any] | None = None) -> "SobolResult":
-        """Build the tidy table from ``(n_outputs, n_params)`` arrays and mark distrust."""
+                    extras: dict[str, Any] | None = None,
+                    ST_error: NDArray[np.float64] | None = None) -> "SobolResult":
+        """Build the tidy table from ``(n_outputs, n_params)`` arrays and mark distrust and rank
+        confirmation (``ST_error``: the method's estimate of each ST's error, default ``ST_conf``)."""
         shape = (len(outputs), len(parameters))
         nan = np.full(shape, np.nan)
 
@@ -103,8 +105,16 @@ class SobolResult:
         })
         diags = list(diagnostics or [])
         table["trusted"] = trusted_mask(table, diags)
+        err = arr(ST_conf if ST_error is None else ST_error).ravel()
+        claims = rank_claims(table, err, diags, (options or {}).get("tolerance", 0.02))
+        table["rank_confirmed"] = claims > 0
         return cls(indices=table, n_evals=int(n_evals), method=method, options=dict(options or {}),
-                   diagnostics=diags, extras=dict(extras or {}))
+                   diagnostics=diags, extras={**(extras or {}), "rank_claims": claims})
+
+    @property
+    def confirmed(self) -> bool:
+        """True when every row is ``trusted`` or ``rank_confirmed``."""
+        return bool((self.indices["trusted"] | self.indices["rank_confirmed"]).all())
 
     @property
     def trusted(self) -> bool:
@@ -160,8 +170,9 @@ class SobolResult:
 def draw_index_bars(ax: "Axes", table: pd.DataFrame, fontsize: float = 10.0, rotation: float = 45.0,
                     horizontal: bool = False) -> None:
     """S1 and ST bars of one output's rows, confidence half-widths as error bars (none where the
-    method gives no interval), untrusted hatched in white over the bar's colour; ``horizontal``:
-    parameters down the y axis (long names read without rotation)."""
+    method gives no interval), untrusted hatched in white over the bar's colour: dotted where the
+    row's place is rank-confirmed, striped where it is neither; ``horizontal``: parameters down the
+    y axis (long names read without rotation)."""
     x = np.arange(len(table))
     w = 0.38
     for k, (q, color) in enumerate((("S1", "tab:blue"), ("ST", "tab:orange"))):
@@ -174,9 +185,10 @@ def draw_index_bars(ax: "Axes", table: pd.DataFrame, fontsize: float = 10.0, rot
             err = {"xerr" if horizontal else "yerr": conf[has]}
             ax.errorbar(*((val[has], pos[has]) if horizontal else (pos[has], val[has])), **err, fmt="none",
                         ecolor="0.2", elinewidth=0.8, capsize=2)
-        for bar, ok in zip(bars, table["trusted"].to_numpy(bool)):
+        ranked = table["rank_confirmed"].to_numpy(bool) if "rank_confirmed" in table else np.zeros(len(table), bool)
+        for bar, ok, placed in zip(bars, table["trusted"].to_numpy(bool), ranked):
             if not ok:
-                bar.set_hatch("///")
+                bar.set_hatch(".." if placed else "///")
                 bar.set_edgecolor("white")
                 bar.set_linewidth(0.0)
     if horizontal:
@@ -202,3 +214,48 @@ def trusted_mask(table: pd.DataFrame, diagnostics: list[Diagnostic]) -> NDArray[
             hit &= (table["parameter"] == d.parameter).to_numpy()
         ok &= ~hit
     return ok
+
+
+def index_error_rule(name: str) -> bool:
+    """Whether diagnostic ``name`` is an error-estimate rule (``*_index_error``): the rules a rank
+    confirmation may pass although the value is not within the tolerance."""
+    return name.endswith("index_error")
+
+
+NEGLIGIBLE, SEPARATED = 1, 2
+"""Codes of :func:`rank_claims` (0: no claim)."""
+
+
+def rank_claims(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics: list[Diagnostic],
+                tolerance: float) -> NDArray[np.int8]:
+    """Rows whose place in their output's ranking by ``ST`` the error bounds guarantee, and how.
+
+    Each row's total index lies in ``[ST - e, ST + e]`` (``e`` = ``st_error``, the method's
+    calibrated estimate) when no other ``untrusted`` rule (one that is not an error-estimate rule:
+    sign change, unresolved cut function, failed evaluations...) hits it; a row that such a rule
+    hits, or without a finite ``ST`` and ``e``, may hold anything in [0, 1]. A row is
+    **rank-confirmed** when either
+
+    * its interval lies within ``[0, tolerance]``: the parameter is confirmed negligible (the
+      order among negligible parameters is not claimed; code :data:`NEGLIGIBLE`), or
+    * its interval excludes zero and is disjoint from the interval of every other row of the
+      output: it matters, and its place in the order by ``ST`` is certain (code :data:`SEPARATED`).
+
+    Returns the code per row (0: not confirmed). ``ddgsa bench trust`` scores the claims against
+    the exact indices (false rank-confirmation).
+    """
+    st = table["ST"].to_numpy(float)
+    err = np.asarray(st_error, dtype=float)
+    usable = trusted_mask(table, [d for d in diagnostics if not index_error_rule(d.name)]) \
+        & np.isfinite(st) & np.isfinite(err)
+    lo = np.where(usable, np.clip(st - err, 0.0, 1.0), 0.0)
+    hi = np.where(usable, np.clip(st + err, 0.0, 1.0), 1.0)
+    out = np.zeros(len(table), dtype=np.int8)
+    for _, idx in table.groupby("output", sort=False).indices.items():
+        for i in idx[usable[idx]]:
+            others = idx[idx != i]
+            if hi[i] <= tolerance:
+                out[i] = NEGLIGIBLE
+            elif lo[i] > 0.0 and np.all((lo[others] > hi[i]) | (hi[others] < lo[i])):
+                out[i] = SEPARATED
+    return out

@@ -68,11 +68,7 @@ class _SalibMethod(GsaMethod):
         S1c, STc = np.full((k, d), np.nan), np.full((k, d), np.nan)
         err1, errT = np.full((k, d), np.nan), np.full((k, d), np.nan)
         diags: list[Diagnostic] = []
-        for j, out in enumerate(outputs):
-            if np.var(y[:, j]) == 0.0:
-                diags.append(Diagnostic("zero_variance", f"output {out!r} is constant over the sample; "
-                                        "its Sobol indices are undefined", "untrusted", output=out))
-                continue
+        for j in range(len(outputs)):
             rng = np.random.default_rng(design.options["seed"])
             res = self._salib_analyze(design, y[:, j], rng)
             S1[j] = res["S1"]
@@ -187,6 +183,7 @@ class RbdFast(_SalibMethod):
 
     defaults = {"n": 1024, "M": 10, **_COMMON}
     nested = True
+    gives_st = False
 
     def check_options(self, space: ParameterSpace, opts: dict[str, Any]) -> None:
         super().check_options(space, opts)

@@ -1,0 +1,151 @@
+"""Issue 25: ``auto`` never hides a finite answer, scale-free estimators, ``rank_confirmed``.
+
+Every number is compared with a closed form (``product``, ``linear``: :mod:`ddgsa.gsa.testfunctions`)
+or with the same method on the unscaled output.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import ddgsa
+from ddgsa.gsa.calibration import false_rank_claims
+from ddgsa.gsa.result import NEGLIGIBLE, SEPARATED, Diagnostic, rank_claims
+from ddgsa.gsa.testfunctions import linear, product
+from ddgsa.space import ParameterSpace
+
+UNIT3 = ParameterSpace.from_dict({f"x{i + 1}": {"low": 0.0, "high": 1.0} for i in range(3)})
+
+
+def _three(x: np.ndarray) -> np.ndarray:
+    """The calibration's ``several_outputs``: a product, an interacting sum, an exponential."""
+    return np.column_stack([(1 + x[:, 0]) * (2 + x[:, 1]) * (3 + x[:, 2]),
+                            5.0 + x[:, 0] + 2.0 * x[:, 1] ** 2 + x[:, 0] * x[:, 2],
+                            np.exp(x[:, 0] * x[:, 1]) + x[:, 2]])
+
+
+@pytest.mark.parametrize("method, opts", [("mdrm", {}), ("pce", {"order": 4}), ("pce", {"fit": "sparse", "order": 5}),
+                                          ("saltelli", {"n": 256}), ("fast", {"n": 256}), ("rbd_fast", {"n": 256}),
+                                          ("auto", {"budget": 300})])
+def test_every_method_is_scale_free(method: str, opts: dict) -> None:
+    """The same indices and flags for an output in any units (x 1e-12, x 1e12)."""
+    base = ddgsa.sobol(_three, UNIT3, method, **opts).indices
+    for c in (1e-12, 1e12):
+        got = ddgsa.sobol(lambda x, c=c: c * _three(x), UNIT3, method, **opts).indices
+        np.testing.assert_allclose(got[["S1", "ST"]].to_numpy(float), base[["S1", "ST"]].to_numpy(float),
+                                   atol=1e-9, rtol=0)
+        pd.testing.assert_frame_equal(got[["trusted", "rank_confirmed"]], base[["trusted", "rank_confirmed"]])
+
+
+def test_sparse_pce_of_a_damage_rate_sized_output_is_finite() -> None:
+    """Audit: a sparse PCE of an output ~1e-9 gave NaN indices with no diagnostic (the least-angle
+    path selected no term); standardised first, it matches the closed form like the output x 1."""
+    space = ParameterSpace.from_dict({f"x{i + 1}": {"low": 1.0, "high": 2.0} for i in range(4)})
+    tf = linear(space, [1.0, 0.8, 0.5, 0.2], offset=3.0)
+    res = ddgsa.sobol(lambda x: 1e-9 * tf.f(x), space, "pce", fit="sparse", order=3)
+    np.testing.assert_allclose(res.indices["S1"], tf.S1, atol=1e-6)
+    np.testing.assert_allclose(res.indices["ST"], tf.ST, atol=1e-6)
+    assert res.trusted
+
+
+def test_auto_keeps_the_rows_mdrm_trusted_on_a_heavy_tailed_product() -> None:
+    """Audit: on a product of lognormal inputs M-DRM (exact on products) trusted two of three rows,
+    ``auto`` threw the stage away (one row untrusted) and answered NaN (the last sparse PCE,
+    preferred with an error scored 0). Now every index is finite and the trusted rows are M-DRM's."""
+    space = ParameterSpace.from_dict({f"x{i + 1}": {"dist": "lognormal", "mu": 0.0, "sigma": s}
+                                      for i, s in enumerate((1.0, 0.8, 0.5))})
+    tf = product(space, [1.0, 1.0, 1.0])
+    res = ddgsa.sobol(tf.f, space, "auto", budget=300)
+    t = res.indices
+    assert np.isfinite(t[["S1", "ST"]].to_numpy(float)).all()
+    assert t["trusted"].tolist() == [False, True, True]              # x1: 56 % beyond the outer nodes
+    assert set(t.loc[t["trusted"], "source"]) == {"mdrm"}
+    np.testing.assert_allclose(t["S1"], tf.S1, atol=1e-9)           # the untrusted row: M-DRM's too
+    np.testing.assert_allclose(t["ST"], tf.ST, atol=1e-9)
+    assert "auto_budget_exhausted" in res.diagnostic_names()
+    # every untrusted row is explained by an untrusted diagnostic on that row
+    for row in t[~t["trusted"]].itertuples():
+        assert any(d.severity == "untrusted" and d.output in (None, row.output) and d.parameter in (None, row.parameter)
+                   for d in res.diagnostics)
+
+
+def test_auto_reports_moments_of_its_sampled_points() -> None:
+    space = ParameterSpace.from_dict({f"x{i + 1}": {"low": 0.0, "high": 1.0} for i in range(3)})
+    tf = linear(space, [1.0, 2.0, 3.0], offset=1.0)
+    res = ddgsa.sobol(tf.f, space, "auto", budget=300)
+    m = res.extras["moments"]
+    assert m["n"] == res.n_evals - (3 * 5 + 1)                         # every point but the cut lines
+    assert m["mean"][0] == pytest.approx(1.0 + 3.0, abs=0.02)          # E = 1 + (1 + 2 + 3) / 2
+    assert m["std"][0] == pytest.approx(np.sqrt(14 / 12), rel=0.05)    # Var = (1 + 4 + 9) / 12
+
+
+def _table(st: list[float], output: str = "y") -> pd.DataFrame:
+    return pd.DataFrame({"output": output, "parameter": [f"p{i}" for i in range(len(st))], "S1": st, "ST": st})
+
+
+def test_rank_claims_by_hand() -> None:
+    t = _table([0.6, 0.3, 0.05, 0.01])
+    # intervals [0.55, 0.65], [0.25, 0.35], [0.03, 0.07], [0.005, 0.015]: all apart, the last within [0, 0.02]
+    got = rank_claims(t, np.array([0.05, 0.05, 0.02, 0.005]), [], 0.02)
+    assert got.tolist() == [SEPARATED, SEPARATED, SEPARATED, NEGLIGIBLE]
+    # p2's interval [0.005, 0.095] overlaps p3's [0.005, 0.015]: p2 no longer placed, p3 still negligible
+    got = rank_claims(t, np.array([0.05, 0.05, 0.045, 0.005]), [], 0.02)
+    assert got.tolist() == [SEPARATED, SEPARATED, 0, NEGLIGIBLE]
+    # p1 hit by a rule other than the error estimate: it may be anywhere in [0, 1]; its neighbours
+    # cannot be placed against it, p3 is still negligible
+    sign = [Diagnostic("mdrm_sign_change", "", "untrusted", output="y", parameter="p1")]
+    got = rank_claims(t, np.array([0.05, 0.05, 0.02, 0.005]), sign, 0.02)
+    assert got.tolist() == [0, 0, 0, NEGLIGIBLE]
+    # an error-estimate rule does not stop a rank claim (that is its point)
+    err = [Diagnostic("pce_index_error", "", "untrusted", output="y", parameter="p0")]
+    assert rank_claims(t, np.array([0.05, 0.05, 0.02, 0.005]), err, 0.02)[0] == SEPARATED
+
+
+def test_false_rank_claims_against_the_truth() -> None:
+    est = np.array([[0.6, 0.3, 0.05, 0.01]])
+    claims = np.array([[SEPARATED, SEPARATED, SEPARATED, NEGLIGIBLE]])
+    ok = false_rank_claims(est, np.array([[0.5, 0.35, 0.04, 0.0]]), claims, 0.02)
+    assert not ok.any()
+    # p1 and p2 swapped in truth, p3 not negligible; p0 is still above all
+    bad = false_rank_claims(est, np.array([[0.5, 0.04, 0.35, 0.03]]), claims, 0.02)
+    assert bad.tolist() == [[False, True, True, True]]
+    # a true tie with a row it claims to be above, a true zero
+    assert false_rank_claims(est, np.array([[0.5, 0.5, 0.04, 0.0]]), claims, 0.02)[0, :2].tolist() == [True, True]
+    assert false_rank_claims(np.array([[0.6, 0.3]]), np.array([[0.5, 0.0]]), np.array([[SEPARATED, SEPARATED]]),
+                             0.02).tolist() == [[False, True]]
+
+
+def test_saltelli_size_to_confirm_by_hand() -> None:
+    """Error bound 3.3 sqrt(ST / N) (``SALTELLI_K``); each row needs max(tolerance, half its distance
+    to zero and to the nearest other row)."""
+    from ddgsa.confirm import SALTELLI_K, saltelli_n_to_confirm
+
+    assert SALTELLI_K == 3.3
+    # 0.6 needs 0.15: 3.3^2 0.6 / 0.15^2 = 290 -> 512 (0.3: 145)
+    assert saltelli_n_to_confirm(np.array([0.6, 0.3]), 0.02) == 512
+    # a zero row needs 0.02 at ST 0.001: 27 -> the others still decide
+    assert saltelli_n_to_confirm(np.array([0.6, 0.3, 0.0]), 0.02) == 512
+    assert saltelli_n_to_confirm(np.array([0.6, np.nan]), 0.02) == 32768     # unknown: ST 1 within 0.02, 27 225
+    assert saltelli_n_to_confirm(np.array([0.9, 0.89]), 0.05) == 4096        # 0.05 at 0.9: 3 920
+
+
+def test_pooled_pce_on_mdrm_points_matches_the_closed_form() -> None:
+    """Zero extra runs: a sparse PCE on M-DRM's cut lines and check sample recovers a cubic
+    product's indices (closed form) and trusts them (leave-one-out error ~ round-off). (With a
+    16-point check sample it selects wrong terms, off by 0.10, and says so: bounds 0.33.)"""
+    from ddgsa.gsa import get_method
+    from ddgsa.gsa.pooled import pooled_order, pooled_pce
+
+    assert pooled_order(3, 37) == 5          # 56 terms <= 2 x 37
+    assert pooled_order(10, 83) == 2         # 66 <= 166 < 286
+    assert pooled_order(50, 10) == 0         # 51 terms > 20
+    space = ParameterSpace.from_dict({f"x{i + 1}": {"low": 0.0, "high": 1.0} for i in range(3)})
+    tf = product(space, [0.5, 0.4, 0.3])
+    x = get_method("mdrm").design(space, points=5, check=32).points
+    res = pooled_pce(space, x, tf.f(x)[:, None], ["y"])
+    assert res is not None and res.method == "pooled_pce" and res.n_evals == len(x) == 3 * 5 + 1 + 32
+    np.testing.assert_allclose(res.indices["S1"], tf.S1, atol=1e-8)
+    np.testing.assert_allclose(res.indices["ST"], tf.ST, atol=1e-8)
+    assert res.trusted
