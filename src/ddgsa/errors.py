@@ -8,6 +8,7 @@ Messages name the thing, the offending value and what is allowed.
 from __future__ import annotations
 
 import difflib
+import reprlib
 
 
 class DdgsaError(Exception):
@@ -40,6 +41,37 @@ class OutputFolderError(DdgsaError, ValueError):
 
 class FolderBusyError(DdgsaError, RuntimeError):
     """An output folder that another live ddgsa process is writing to."""
+
+
+class StoreCorruptError(OutputFolderError):
+    """An evaluation store SQLite cannot read; the message names the file and the way out (``--force``)."""
+
+
+class StoreLostError(DdgsaError, RuntimeError):
+    """The evaluation store or the folder's lock was deleted or replaced while a run held it."""
+
+
+class StoreWriteError(DdgsaError, RuntimeError):
+    """The evaluation store cannot be written (disk full, read-only folder, I/O error)."""
+
+
+MESSAGE_INPUT_CHARS = 200
+"""At most this many characters of a user's input are echoed in one error message."""
+_BOUNDED = reprlib.Repr()
+"""A repr of nested data that stops after a few levels and items (an alias bomb's repr is exponential)."""
+_BOUNDED.maxlevel, _BOUNDED.maxlist, _BOUNDED.maxdict, _BOUNDED.maxstring, _BOUNDED.maxother = 2, 4, 4, 60, 60
+
+
+def clip(value: object, limit: int = MESSAGE_INPUT_CHARS) -> str:
+    """``repr(value)`` cut to ``limit`` characters (a hostile input never floods a message).
+
+    Examples
+    --------
+    >>> clip("x" * 1000, 12)
+    "'xxxxxxxx... (1002 characters)"
+    """
+    text = repr(value) if isinstance(value, (str, bytes, int, float)) else _BOUNDED.repr(value)
+    return text if len(text) <= limit else f"{text[:limit - 3]}... ({len(text)} characters)"
 
 
 LIST_AT_MOST = 12
