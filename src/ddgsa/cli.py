@@ -230,6 +230,7 @@ def _run(study: "Study", args: argparse.Namespace) -> int:
     from ddgsa.runner import EvaluationStore, set_aside
 
     out = args.out or default_out(study)
+    _check_disk(study, out)
     try:
         with claim(out, study.name, force=args.force):
             if study.path is not None and study.path.resolve() != (out / "study.yaml").resolve():
@@ -252,6 +253,20 @@ def _run(study: "Study", args: argparse.Namespace) -> int:
             return _finish(result, out, args, "wrote")
     except OSError as exc:
         raise StoreWriteError(_os_failure(exc, out / STORE_NAME)) from None
+
+
+def _check_disk(study: "Study", out: Path) -> None:
+    """Refuse a run whose evaluation store would not fit on the output folder's disk (exit 2)."""
+    from ddgsa.errors import StudyError
+    from ddgsa.study_limits import gib, run_size
+
+    size = run_size(study.spec, study.space, len(study.outputs))
+    where = next(p for p in (out.absolute(), *out.absolute().parents) if p.exists())
+    store = out / "evaluations.sqlite"
+    free = shutil.disk_usage(where).free + (store.stat().st_size if store.exists() else 0)
+    if size.store_bytes > free:
+        raise StudyError(f"{study.path}: field '{size.largest}': the study asks for {size.describe()}; {where} has "
+                         f"{gib(free)} free: reduce {size.largest} or choose another --out")
 
 
 def _os_failure(exc: OSError, store: Path) -> str:

@@ -43,8 +43,6 @@ import numpy as np
 from pydantic import (BaseModel, ConfigDict, Field, PrivateAttr, ValidationError, ValidationInfo,
                       field_validator, model_validator)
 from pydantic_core import InitErrorDetails, PydanticCustomError
-from ruamel.yaml import YAML
-from ruamel.yaml.error import YAMLError
 
 from ddgsa.errors import DdgsaError, StudyError, unknown_name_message
 from ddgsa.gsa.auto import resolve_auto_options
@@ -53,6 +51,7 @@ from ddgsa.loads.scene import Scene
 from ddgsa.models import MODELS
 from ddgsa.models import get as get_model
 from ddgsa.space import ParameterSpace
+from ddgsa.study_limits import check_run_size, load_yaml, scenes_to_check  # bounded input and run size
 
 _STRICT = ConfigDict(extra="forbid")
 
@@ -393,24 +392,6 @@ def _where(path: Path | None) -> str:
     return str(path) if path is not None else "<study>"
 
 
-def load_yaml(path: Path) -> tuple[Any, str]:
-    """Read a YAML 1.2 file (``1e10`` is a number); errors name the file and line."""
-    try:
-        text = path.read_text()
-    except FileNotFoundError:
-        raise StudyError(f"{path}: no such study file") from None
-    except OSError as exc:
-        raise StudyError(f"{path}: cannot read: {exc.strerror}") from None
-    try:
-        data = YAML(typ="safe", pure=True).load(text)
-    except YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise StudyError(f"{path}: YAML syntax error{where}: {problem}") from None
-    return data, text
-
-
 def load_study(path: str | Path) -> Study:
     """Read and validate a study file.
 
@@ -490,6 +471,7 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             if lo < decl.low or hi > decl.high:
                 raise StudyError(f"{where}: field 'parameters.{p.name}': support [{lo:g}, {hi:g}] leaves the "
                                  f"allowed range [{decl.low:g}, {decl.high:g}] {decl.unit}")
+    check_run_size(where, spec, space, len(spec.outputs or model.outputs))     # before any design is built
     nominal = {**dict(spec.fixed), **(space.nominal if space is not None else {})}
     for problem in model.point_problems(nominal):
         warnings.warn(f"{where}: the study's nominal point is outside model {spec.model.name!r}'s valid region: "
@@ -508,7 +490,7 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             get_method(m.method).design(space, **m.options) if space is not None else None
         except DdgsaError as exc:
             raise StudyError(f"{where}: field 'methods[{i}]': {exc}") from None
-    for k, fields in enumerate(spec.scenes.grid()):
+    for k, fields in enumerate(scenes_to_check(spec.scenes)):
         try:
             spec.scenes.scene(fields, 0)
         except (DdgsaError, TypeError) as exc:
