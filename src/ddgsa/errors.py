@@ -99,9 +99,9 @@ def unknown_name_message(kind: str, name: object, known: "list[str] | tuple[str,
     "unknown model 'drect'; known: analytic, direct_drive; did you mean 'direct_drive'?"
     """
     names = sorted(known)
-    close = difflib.get_close_matches(str(name), names, n=3, cutoff=0.5)
+    close = difflib.get_close_matches(str(name), names, n=3, cutoff=0.5) if len(str(name)) <= 200 else []
     hint = f"did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
     if len(names) <= LIST_AT_MOST or not close:
-        return f"unknown {kind} {name!r}; known: {', '.join(names)}" + (f"; {hint}" if hint else "")
+        return f"unknown {kind} {clip(name)}; known: {', '.join(names)}" + (f"; {hint}" if hint else "")
     see = f"`{where}` lists all {len(names)}" if where else f"{len(names)} known"
-    return f"unknown {kind} {name!r}; {hint} ({see})"
+    return f"unknown {kind} {clip(name)}; {hint} ({see})"

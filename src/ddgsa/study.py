@@ -44,14 +44,15 @@ from pydantic import (BaseModel, ConfigDict, Field, PrivateAttr, ValidationError
                       field_validator, model_validator)
 from pydantic_core import InitErrorDetails, PydanticCustomError
 
-from ddgsa.errors import DdgsaError, StudyError, unknown_name_message
+from ddgsa.errors import DdgsaError, StudyError, clip, unknown_name_message
 from ddgsa.gsa.auto import resolve_auto_options
 from ddgsa.gsa.base import METHODS, get_method
 from ddgsa.loads.scene import Scene
 from ddgsa.models import MODELS
 from ddgsa.models import get as get_model
 from ddgsa.space import ParameterSpace
-from ddgsa.study_limits import check_run_size, load_yaml, scenes_to_check  # bounded input and run size
+from ddgsa.study_limits import (MAX_NAME_CHARS, check_names, check_run_size, load_yaml,  # bounded input, run size
+                                scenes_to_check)
 
 _STRICT = ConfigDict(extra="forbid")
 
@@ -286,7 +287,7 @@ class StudySpec(BaseModel):
     """A whole study file."""
 
     model_config = _STRICT
-    name: str = Field(pattern=r"^[A-Za-z0-9_.-]+$")
+    name: str = Field(pattern=r"^[A-Za-z0-9_.-]+$", max_length=MAX_NAME_CHARS)
     description: str = ""
     kind: Literal["gsa", "sweep", "fault"] = "gsa"
     model: ModelSpec
@@ -415,11 +416,16 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         spec = StudySpec.model_validate(data)
     except ValidationError as exc:
         raise StudyError(_pydantic_message(where, exc)) from None
+    check_names(where, spec)
     # model-aware checks
     if spec.model.name not in MODELS:
         raise StudyError(f"{where}: field 'model.name': {unknown_name_message('model', spec.model.name, list(MODELS))}")
     if spec.model.fidelity is None:
         spec.model.fidelity = MODELS.lookup(spec.model.name).fidelities[0]
+    try:
+        MODELS.lookup(spec.model.name).check_options(spec.model.options)     # each option as declared
+    except DdgsaError as exc:
+        raise StudyError(f"{where}: field 'model.options': {exc}") from None
     try:
         fidelities = MODELS.lookup(spec.model.name).fidelities
         for fid in (fidelities if spec.model.fidelity == "auto" else [spec.model.fidelity]):
@@ -552,7 +558,7 @@ def _pydantic_message(where: str, exc: ValidationError) -> str:
             msg = "unknown field (check its spelling)"
         elif err["type"] == "missing":
             msg = "required field is missing"
-        given = f" (given: {err['input']!r})" if err["type"] not in ("missing", "extra_forbidden") \
+        given = f" (given: {clip(err['input'])})" if err["type"] not in ("missing", "extra_forbidden") \
             and not isinstance(err.get("input"), dict) else ""
         lines.append(f"{where}: field '{loc or '<top>'}': {msg}{given}")
     return "\n".join(lines)

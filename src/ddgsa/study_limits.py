@@ -332,3 +332,42 @@ def check_run_size(where: str, spec: Any, space: Any, n_outputs: int,
         raise StudyError(f"{where}: field '{size.largest}': the study asks for {size.describe()}; this machine "
                          f"has {gib(total)} of memory: reduce {size.largest}")
     return size
+
+
+MAX_NAME_CHARS = 64
+"""A study's name is one safe path component (it names the output folder ``runs/<name>``)."""
+
+
+def check_names(where: str, spec: Any) -> None:
+    """Refuse a study name that is not a single safe path component (``.``, ``..``, a dot name)
+    and lists that name one thing twice (outputs, combined outputs, methods, scene or grid values).
+
+    Raises
+    ------
+    StudyError
+        Naming ``where``, the field and the repeated value.
+    """
+    if set(spec.name) == {"."}:
+        raise StudyError(f"{where}: field 'name': {spec.name!r} is not a folder name (it names the output folder "
+                         "runs/<name>); use letters, digits, '_', '-' and '.'")
+    _once(where, "outputs", spec.outputs)
+    if spec.fault is not None and spec.fault.combine:
+        _once(where, "fault.combine", spec.fault.combine)
+    if spec.fault is not None and isinstance(spec.fault.faulty, list):
+        _once(where, "fault.faulty", spec.fault.levels)
+    _once(where, "methods", [repr(sorted(m.model_dump().items())) for m in spec.methods], "an identical entry")
+    for key, values in scene_axes(spec.scenes).items():
+        _once(where, f"scenes.{key}", values)
+    for key, values in spec.grid.items():
+        _once(where, f"grid.{key}", values)
+    _once(where, "model.variants", [repr(sorted(v.items())) for v in spec.model.variants], "an identical entry")
+
+
+def _once(where: str, field: str, values: list[Any], what: str | None = None) -> None:
+    seen: dict[Any, int] = {}
+    for i, v in enumerate(values):
+        key = repr(v) if not isinstance(v, (str, int, float)) else v
+        if key in seen:
+            raise StudyError(f"{where}: field '{field}[{i}]': {what or clip(v)} is listed twice (also at "
+                             f"[{seen[key]}]); list each once")
+        seen[key] = i

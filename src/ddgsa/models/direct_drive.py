@@ -70,7 +70,7 @@ from ddgsa.mbs.linear import (initial_state, input_window, linearise_spinning, l
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
 from ddgsa.mbs.system import (SystemArrays, evaluate_terms, integrate, integrate_reference, single_body_arrays,
                               static_state)
-from ddgsa.models.base import Model, ModelOutput, ModelParameter, controller_row, register_model
+from ddgsa.models.base import Model, ModelOption, ModelOutput, ModelParameter, controller_row, register_model
 from ddgsa.objectives import damage_rate
 
 GRAVITY = 9.81
@@ -288,6 +288,14 @@ class DirectDrive(Model):
     parameters = PARAMETERS
     outputs = OUTPUTS
     fidelities = ("flexible", "rigid", "linear")
+    options = (ModelOption("axial", "bool", "axial elastic coordinate"),
+               ModelOption("second_bending", "bool", "second bending mode per plane"),
+               ModelOption("time_step", "number", "integration step (default 0.01 rigid, else 0.005)", 0.0, 0.1, "s",
+                           low_open=True, optional=True),
+               ModelOption("rho_inf", "number", "generalised-alpha spectral radius at infinity", 0.0, 1.0),
+               ModelOption("equivalent_load", "choice", "bearing equivalent-load rule", choices=("iso281", "seed")),
+               ModelOption("integrator", "choice", "time integrator (linear: its exact discretisation only)",
+                           choices=("gen_alpha", "Radau", "BDF")))
 
     def point_problems(self, params: Mapping[str, float]) -> list[str]:
         """Why ``params`` (missing ones nominal) lie outside the valid region: crossing bearings."""
