@@ -26,7 +26,7 @@ from typing import Any
 from ruamel.yaml import YAML
 from ruamel.yaml.error import YAMLError
 
-from ddgsa.errors import StudyError, clip
+from ddgsa.errors import MESSAGE_INPUT_CHARS, StudyError, clip
 
 MAX_FILE_BYTES = 1 << 20
 """A study file is at most 1 MiB (the committed studies are under 10 kB)."""
@@ -154,7 +154,8 @@ def load_yaml(path: Path) -> tuple[Any, str]:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
         problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise StudyError(f"{path}: YAML syntax error{where}: {clip(problem)}") from None
+        problem = problem if len(problem) <= MESSAGE_INPUT_CHARS else problem[:MESSAGE_INPUT_CHARS] + "..."
+        raise StudyError(f"{path}: YAML syntax error{where}: {problem}") from None
     except RecursionError:                               # not reached past text_depth; kept as a last guard
         raise StudyError(f"{path}: nesting deeper than {MAX_DEPTH} levels; a study needs at most a few") from None
     size, depth = _expanded_size(data, path)
