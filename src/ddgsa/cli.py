@@ -124,7 +124,8 @@ def bounded(message: str) -> str:
     last line says how many more problems there were): a hostile input never floods the terminal."""
     lines = message.splitlines() or [""]
     more = len(lines) - MESSAGE_LINES
-    lines = [ln if len(ln) <= MESSAGE_LINE_CHARS else ln[:MESSAGE_LINE_CHARS - 3] + "..." for ln in lines[:MESSAGE_LINES]]
+    cut = MESSAGE_LINE_CHARS - 3
+    lines = [ln if len(ln) <= MESSAGE_LINE_CHARS else ln[:cut] + "..." for ln in lines[:MESSAGE_LINES]]
     return "\n".join(lines + ([f"... and {more} more lines"] if more > 0 else []))
 
 
@@ -276,8 +277,12 @@ def _os_failure(exc: OSError, store: Path) -> str:
 
     what = f"{exc.filename}: {exc.strerror}" if exc.filename and exc.strerror else f"{type(exc).__name__}: {exc}"
     try:
-        with sqlite3.connect(f"file:{store}?mode=ro", uri=True) as db:
-            kept = f"the {db.execute('SELECT COUNT(*) FROM evaluations').fetchone()[0]} evaluations stored in {store} are kept"
+        db = sqlite3.connect(f"file:{store}?mode=ro", uri=True)
+        try:
+            n = db.execute("SELECT COUNT(*) FROM evaluations").fetchone()[0]
+        finally:
+            db.close()
+        kept = f"the {n} evaluations stored in {store} are kept"
     except sqlite3.Error:
         kept = f"no evaluation store is kept ({store} cannot be read)"
     fix = {errno.ENOSPC: "free disk space", errno.EDQUOT: "free disk space", errno.EROFS: "make the folder writable",

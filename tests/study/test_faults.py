@@ -150,3 +150,17 @@ def test_a_full_disk_stops_with_one_line_and_the_rerun_completes_identically(tmp
     clean = tmp_path / "clean"
     assert main(["run", str(study), "--out", str(clean), "-q", "--allow-untrusted"]) == 0
     pd.testing.assert_frame_equal(pd.read_csv(out / "indices.csv"), pd.read_csv(clean / "indices.csv"))
+
+
+def test_an_output_folder_that_cannot_be_written_is_one_line_saying_what_is_kept(tmp_path: Path, write_study,
+                                                                                  capsys) -> None:
+    """A folder that cannot be created (here: under a file; a read-only folder fails the same way
+    for a non-root user) is exit 1 with one line: the file, the cause, what is kept, how to resume."""
+    study = write_study("demo", n=16)
+    (tmp_path / "plain").write_text("a file, not a folder")
+    out = tmp_path / "plain" / "out"
+    assert main(["run", str(study), "--out", str(out), "-q"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("ddgsa: error: cannot write the run's files: ") and "Traceback" not in err
+    assert "no evaluation store is kept" in err and "rerun the same command to resume" in err
+    assert len(err.strip().splitlines()) == 1

@@ -186,7 +186,8 @@ class GeneratorRadial(Model):
     fidelities: ClassVar[tuple[str, ...]] = ("linearised",)
     options = (ModelOption("config", "choice", "configuration", choices=CONFIGS),
                ModelOption("magnetic", "bool", "magnetic pull on"),
-               ModelOption("output_step", "number", "output interval", 0.0, math.inf, "s", low_open=True, optional=True),
+               ModelOption("output_step", "number", "output interval", 0.0, math.inf, "s", low_open=True,
+                           optional=True),
                ModelOption("generator", "mapping", "generator air-gap fields to change", optional=True))
     options_note: ClassVar[str] = ("options: config one_mass | substructure (default) | tower_side_to_side | "
                                    "tower_torsion, magnetic true | false, output_step [s], generator {field: value}; "
