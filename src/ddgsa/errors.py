@@ -51,6 +51,10 @@ class StoreLostError(DdgsaError, RuntimeError):
     """The evaluation store or the folder's lock was deleted or replaced while a run held it."""
 
 
+class SchedulerLostError(DdgsaError, RuntimeError):
+    """The Dask scheduler a run used stopped answering."""
+
+
 class StoreWriteError(DdgsaError, RuntimeError):
     """The evaluation store cannot be written (disk full, read-only folder, I/O error)."""
 

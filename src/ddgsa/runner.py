@@ -30,10 +30,11 @@ import os
 import signal
 import sqlite3
 import sys
+import threading
 import time
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from concurrent.futures import Future, ProcessPoolExecutor, as_completed
-from contextlib import closing, contextmanager
+from contextlib import closing, contextmanager, suppress
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -43,7 +44,7 @@ import joblib
 import pandas as pd
 from tqdm import tqdm
 
-from ddgsa.errors import StoreCorruptError, StoreLostError, StoreWriteError
+from ddgsa.errors import SchedulerLostError, StoreCorruptError, StoreLostError, StoreWriteError
 
 Evaluator = Callable[[pd.DataFrame, Mapping[str, Any]], pd.DataFrame]
 """``f(points, scene)``: one row of outputs per point; failed rows NaN with reasons in ``attrs["failures"]``."""
@@ -282,13 +283,44 @@ def _backend(backend: str, jobs: int, address: str | None) -> Iterator[None]:
     cluster = None if address else LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
                                                 dashboard_address=None)
     client = Client(address) if address else Client(cluster)
+    lost = threading.Event()
+    stop = threading.Event()
+    watch = threading.Thread(target=_watch_scheduler, args=(client, lost, stop), daemon=True)
+    watch.start()
     try:
         with joblib.parallel_config(backend="dask"):
             yield
+    except KeyboardInterrupt:
+        if lost.is_set():
+            raise SchedulerLostError(f"lost the Dask scheduler at {address or 'the local cluster'} (no answer "
+                                     f"for {SCHEDULER_GRACE_S:g} s)") from None
+        raise
     finally:
-        client.close()
+        stop.set()
+        with suppress(Exception):
+            client.close(timeout=5)
         if cluster is not None:
-            cluster.close()
+            with suppress(Exception):
+                cluster.close(timeout=5)
+
+
+SCHEDULER_GRACE_S = 20.0
+"""A Dask client not connected for this long [s] means the scheduler is lost: the run stops."""
+
+
+def _watch_scheduler(client: Any, lost: threading.Event, stop: threading.Event) -> None:
+    """Interrupt the run (SIGINT to this process, which wakes a blocked wait) when ``client`` has
+    not been connected for :data:`SCHEDULER_GRACE_S`; ``lost`` tells the interrupt from Ctrl-C."""
+    since: float | None = None
+    while not stop.wait(1.0):
+        if client.status == "running":
+            since = None
+            continue
+        since = since if since is not None else time.monotonic()
+        if time.monotonic() - since > SCHEDULER_GRACE_S:
+            lost.set()
+            os.kill(os.getpid(), signal.SIGINT)
+            return
 
 
 def run_tasks(tasks: list[Task], store: EvaluationStore, factory: ModelFactory, jobs: int = 1,
@@ -323,11 +355,16 @@ def run_tasks(tasks: list[Task], store: EvaluationStore, factory: ModelFactory, 
             with closing(_forked(jobs, factory, batches, setup)) as finished:   # stopped here, not when collected
                 failed = _consume(finished, store, bar)
         else:
-            with _backend(backend, jobs, address):
-                ret = "generator_unordered" if backend == "loky" else "generator"
-                par = joblib.Parallel(n_jobs=jobs, return_as=ret)
-                results = par(joblib.delayed(_batch_job)(factory, b, setup) for b in batches)
-                failed = _consume(results, store, bar)
+            try:
+                with _backend(backend, jobs, address):
+                    ret = "generator_unordered" if backend == "loky" else "generator"
+                    par = joblib.Parallel(n_jobs=jobs, return_as=ret)
+                    results = par(joblib.delayed(_batch_job)(factory, b, setup) for b in batches)
+                    failed = _consume(results, store, bar)
+            except SchedulerLostError as exc:
+                raise SchedulerLostError(f"{exc}; the {store.count()} evaluations committed before are kept in "
+                                         f"{store.path}; restart the scheduler and its workers, then rerun the same "
+                                         "command to resume") from None
     store.check()
     return {"total": len(unique), "cached": len(done), "evaluated": len(todo), "failed": failed}
 

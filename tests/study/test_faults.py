@@ -164,3 +164,35 @@ def test_an_output_folder_that_cannot_be_written_is_one_line_saying_what_is_kept
     assert err.startswith("ddgsa: error: cannot write the run's files: ") and "Traceback" not in err
     assert "no evaluation store is kept" in err and "rerun the same command to resume" in err
     assert len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.slow
+def test_a_lost_dask_scheduler_stops_the_run_with_one_line_and_the_batches_are_kept(tmp_path: Path) -> None:
+    """Before: a run whose scheduler was killed waited with no output (over 4 minutes by hand).
+    Now exit 1 after ``SCHEDULER_GRACE_S`` with one line: what happened, what is kept, how to resume."""
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    scheduler = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--port", str(port), "--no-dashboard"],
+                                 env=_env(), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", f"tcp://127.0.0.1:{port}", "--nthreads", "1",
+                               "--no-dashboard"], env=_env(), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        study = tmp_path / "dask.yaml"
+        study.write_text(SLOW_STUDY.format(name="dask", delay=0.02, n=256, jobs=1))     # 5120 runs, ~100 s
+        out = tmp_path / "out"
+        proc = _start(study, out, "--backend", "dask", "--address", f"127.0.0.1:{port}")
+        _wait_for_rows(proc, out / "evaluations.sqlite", rows=64, timeout=240)
+        scheduler.kill()
+        stdout, stderr = proc.communicate(timeout=240)
+    finally:
+        for p in (scheduler, worker):
+            p.kill()
+            p.wait()
+    assert proc.returncode == 1, (stdout, stderr)
+    assert "Traceback" not in stderr and len(stderr.strip().splitlines()) == 1, stderr
+    kept = _stored(out / "evaluations.sqlite")
+    assert f"lost the Dask scheduler at 127.0.0.1:{port}" in stderr
+    assert f"the {kept} evaluations committed before are kept" in stderr and 64 <= kept < 5120
