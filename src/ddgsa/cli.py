@@ -19,7 +19,7 @@ import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ddgsa.errors import DdgsaError
+from ddgsa.errors import DdgsaError, StoreCorruptError, StoreWriteError
 
 if TYPE_CHECKING:                      # the CLI imports the heavy modules only when a command needs them
     from ddgsa.pipeline import StudyResult
@@ -115,7 +115,7 @@ def main(argv: list[str] | None = None) -> int:
     except DdgsaError as exc:
         if args.verbose:
             traceback.print_exc()
-        print(f"ddgsa: error: {exc}", file=sys.stderr)
+        print(f"ddgsa: error: {bounded(str(exc))}", file=sys.stderr)
         return EXIT_INPUT if isinstance(exc, ValueError) else EXIT_FAILURE
     except KeyboardInterrupt:
         print("ddgsa: interrupted; finished batches are stored, rerun to resume", file=sys.stderr)
@@ -123,11 +123,25 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as exc:  # noqa: BLE001 -- the CLI reports, it does not crash
         if args.verbose:
             traceback.print_exc()
-        print(f"ddgsa: failed: {type(exc).__name__}: {exc} (rerun with --verbose for the traceback)",
+        print(f"ddgsa: failed: {type(exc).__name__}: {bounded(str(exc))} (rerun with --verbose for the traceback)",
               file=sys.stderr)
         return EXIT_FAILURE
     finally:
         warnings.showwarning = shown
+
+
+MESSAGE_LINES, MESSAGE_LINE_CHARS = 20, 600
+"""An error message prints at most this many lines of at most this many characters."""
+
+
+def bounded(message: str) -> str:
+    """``message`` cut to :data:`MESSAGE_LINES` lines of :data:`MESSAGE_LINE_CHARS` characters (the
+    last line says how many more problems there were): a hostile input never floods the terminal."""
+    lines = message.splitlines() or [""]
+    more = len(lines) - MESSAGE_LINES
+    cut = MESSAGE_LINE_CHARS - 3
+    lines = [ln if len(ln) <= MESSAGE_LINE_CHARS else ln[:cut] + "..." for ln in lines[:MESSAGE_LINES]]
+    return "\n".join(lines + ([f"... and {more} more lines"] if more > 0 else []))
 
 
 def _dispatch(args: argparse.Namespace) -> int:
@@ -297,21 +311,70 @@ def plural(n: int, noun: str) -> str:
 
 
 def _run(study: "Study", args: argparse.Namespace) -> int:
-    from ddgsa.outdir import claim
+    from ddgsa.outdir import LOCK_NAME, STORE_NAME, claim
     from ddgsa.pipeline import default_out, execute
-    from ddgsa.runner import EvaluationStore
+    from ddgsa.runner import EvaluationStore, set_aside
 
     out = args.out or default_out(study)
-    with claim(out, study.name, force=args.force):
-        if study.path is not None and study.path.resolve() != (out / "study.yaml").resolve():
-            shutil.copyfile(study.path, out / "study.yaml")
-        store = EvaluationStore(out / "evaluations.sqlite")
+    _check_disk(study, out)
+    try:
+        with claim(out, study.name, force=args.force):
+            if study.path is not None and study.path.resolve() != (out / "study.yaml").resolve():
+                shutil.copyfile(study.path, out / "study.yaml")
+            try:
+                store = EvaluationStore(out / STORE_NAME, watch=[out / LOCK_NAME])
+            except StoreCorruptError:
+                if not args.force:
+                    raise
+                aside = set_aside(out / STORE_NAME)
+                print(f"ddgsa: warning: the corrupt evaluation store is kept as {aside}; rebuilding {out / STORE_NAME}",
+                      file=sys.stderr)
+                store = EvaluationStore(out / STORE_NAME, watch=[out / LOCK_NAME])
+            try:
+                result = execute(study, store, jobs=args.jobs, backend=args.backend, address=args.address,
+                                 quiet=args.quiet)
+                store.check()                       # the store that holds the results is still the folder's
+            finally:
+                store.close()
+            return _finish(result, out, args, "wrote")
+    except OSError as exc:
+        raise StoreWriteError(_os_failure(exc, out / STORE_NAME)) from None
+
+
+def _check_disk(study: "Study", out: Path) -> None:
+    """Refuse a run whose evaluation store would not fit on the output folder's disk (exit 2)."""
+    from ddgsa.errors import StudyError
+    from ddgsa.study_limits import gib, run_size
+
+    size = run_size(study.spec, study.space, len(study.outputs))
+    where = next(p for p in (out.absolute(), *out.absolute().parents) if p.exists())
+    store = out / "evaluations.sqlite"
+    free = shutil.disk_usage(where).free + (store.stat().st_size if store.exists() else 0)
+    if size.store_bytes > free:
+        raise StudyError(f"{study.path}: field '{size.largest}': the study asks for {size.describe()}; {where} has "
+                         f"{gib(free)} free: reduce {size.largest} or choose another --out")
+
+
+def _os_failure(exc: OSError, store: Path) -> str:
+    """One line for a failed write: what happened, what is kept, how to resume."""
+    import errno
+    import sqlite3
+
+    what = f"{exc.filename}: {exc.strerror}" if exc.filename and exc.strerror else f"{type(exc).__name__}: {exc}"
+    try:
+        db = sqlite3.connect(f"file:{store}?mode=ro", uri=True)
         try:
-            result = execute(study, store, jobs=args.jobs, backend=args.backend, address=args.address,
-                             quiet=args.quiet)
+            n = db.execute("SELECT COUNT(*) FROM evaluations").fetchone()[0]
         finally:
-            store.close()
-        return _finish(result, out, args, "wrote")
+            db.close()
+        kept = f"the {n} evaluations stored in {store} are kept"
+    except sqlite3.Error:
+        kept = f"no evaluation store is kept ({store} cannot be read)"
+    fix = {errno.ENOSPC: "free disk space", errno.EDQUOT: "free disk space", errno.EROFS: "make the folder writable",
+           errno.EACCES: "make the folder writable (or choose another --out)",
+           errno.EPERM: "make the folder writable (or choose another --out)",
+           errno.ENOENT: "check that the output folder exists"}.get(exc.errno or 0, "fix the cause")
+    return f"cannot write the run's files: {what}; {kept}; {fix}, then rerun the same command to resume"
 
 
 def _finish(result: "StudyResult", out: Path, args: argparse.Namespace, verb: str) -> int:

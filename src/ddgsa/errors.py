@@ -8,6 +8,7 @@ Messages name the thing, the offending value and what is allowed.
 from __future__ import annotations
 
 import difflib
+import reprlib
 
 
 class DdgsaError(Exception):
@@ -42,6 +43,41 @@ class FolderBusyError(DdgsaError, RuntimeError):
     """An output folder that another live ddgsa process is writing to."""
 
 
+class StoreCorruptError(OutputFolderError):
+    """An evaluation store SQLite cannot read; the message names the file and the way out (``--force``)."""
+
+
+class StoreLostError(DdgsaError, RuntimeError):
+    """The evaluation store or the folder's lock was deleted or replaced while a run held it."""
+
+
+class SchedulerLostError(DdgsaError, RuntimeError):
+    """The Dask scheduler a run used stopped answering."""
+
+
+class StoreWriteError(DdgsaError, RuntimeError):
+    """The evaluation store cannot be written (disk full, read-only folder, I/O error)."""
+
+
+MESSAGE_INPUT_CHARS = 200
+"""At most this many characters of a user's input are echoed in one error message."""
+_BOUNDED = reprlib.Repr()
+"""A repr of nested data that stops after a few levels and items (an alias bomb's repr is exponential)."""
+_BOUNDED.maxlevel, _BOUNDED.maxlist, _BOUNDED.maxdict, _BOUNDED.maxstring, _BOUNDED.maxother = 2, 4, 4, 60, 60
+
+
+def clip(value: object, limit: int = MESSAGE_INPUT_CHARS) -> str:
+    """``repr(value)`` cut to ``limit`` characters (a hostile input never floods a message).
+
+    Examples
+    --------
+    >>> clip("x" * 1000, 12)
+    "'xxxxxxxx... (1002 characters)"
+    """
+    text = repr(value) if isinstance(value, (str, bytes, int, float)) else _BOUNDED.repr(value)
+    return text if len(text) <= limit else f"{text[:limit - 3]}... ({len(text)} characters)"
+
+
 LIST_AT_MOST = 12
 """Known names listed in full in an unknown-name message; longer lists give only close matches."""
 
@@ -67,9 +103,9 @@ def unknown_name_message(kind: str, name: object, known: "list[str] | tuple[str,
     "unknown model 'drect'; known: analytic, direct_drive; did you mean 'direct_drive'?"
     """
     names = sorted(known)
-    close = difflib.get_close_matches(str(name), names, n=3, cutoff=0.5)
+    close = difflib.get_close_matches(str(name), names, n=3, cutoff=0.5) if len(str(name)) <= 200 else []
     hint = f"did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
     if len(names) <= LIST_AT_MOST or not close:
-        return f"unknown {kind} {name!r}; known: {', '.join(names)}" + (f"; {hint}" if hint else "")
+        return f"unknown {kind} {clip(name)}; known: {', '.join(names)}" + (f"; {hint}" if hint else "")
     see = f"`{where}` lists all {len(names)}" if where else f"{len(names)} known"
-    return f"unknown {kind} {name!r}; {hint} ({see})"
+    return f"unknown {kind} {clip(name)}; {hint} ({see})"

@@ -30,10 +30,11 @@ import os
 import signal
 import sqlite3
 import sys
+import threading
 import time
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from concurrent.futures import Future, ProcessPoolExecutor, as_completed
-from contextlib import contextmanager
+from contextlib import closing, contextmanager, suppress
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -42,6 +43,8 @@ from typing import Any
 import joblib
 import pandas as pd
 from tqdm import tqdm
+
+from ddgsa.errors import SchedulerLostError, StoreCorruptError, StoreLostError, StoreWriteError
 
 Evaluator = Callable[[pd.DataFrame, Mapping[str, Any]], pd.DataFrame]
 """``f(points, scene)``: one row of outputs per point; failed rows NaN with reasons in ``attrs["failures"]``."""
@@ -89,20 +92,88 @@ def task_key(model: ModelId, scene: Mapping[str, Any], point: dict[str, float], 
     return hashlib.sha256(blob.encode()).hexdigest()
 
 
-class EvaluationStore:
-    """SQLite table of evaluations keyed by :func:`task_key` (WAL mode; one writer)."""
+_CORRUPT = {"SQLITE_CORRUPT", "SQLITE_NOTADB"}
+"""SQLite error names of a damaged file (everything else is a write or I/O failure)."""
 
-    def __init__(self, path: Path) -> None:
+
+def file_identity(path: Path) -> tuple[int, int] | None:
+    """``(device, inode)`` of ``path``, or None when it does not exist: a file deleted, or
+    replaced by another, no longer has the identity it had when opened."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return st.st_dev, st.st_ino
+
+
+class EvaluationStore:
+    """SQLite table of evaluations keyed by :func:`task_key` (WAL mode; one writer).
+
+    The store is the truth of a run, and it is checked: before every commit, :meth:`check`
+    compares the store file (and the ``watch`` files, e.g. the folder's lock) with the files
+    it opened (device and inode); one deleted or replaced stops the run with
+    :class:`~ddgsa.errors.StoreLostError`, saying how many evaluations went with it. A file
+    SQLite cannot read raises :class:`~ddgsa.errors.StoreCorruptError` (see :func:`set_aside`);
+    one it cannot write, :class:`~ddgsa.errors.StoreWriteError`.
+    """
+
+    def __init__(self, path: Path, watch: Iterable[Path] = ()) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
         self.path = path
-        self._db = sqlite3.connect(str(path))
-        self._db.execute("PRAGMA journal_mode=WAL")
-        # WAL with synchronous=NORMAL: a commit survives a killed process (no fsync per batch, which
-        # cost ~10 % of a fast model's time); only an OS crash could lose the last batches
-        self._db.execute("PRAGMA synchronous=NORMAL")
-        self._db.execute("CREATE TABLE IF NOT EXISTS evaluations (key TEXT PRIMARY KEY, scene TEXT, point TEXT, "
-                         "outputs TEXT, error TEXT, seconds REAL)")
-        self._db.commit()
+        with self._sqlite("open"):
+            self._db = sqlite3.connect(str(path))
+            try:
+                self._db.execute("PRAGMA journal_mode=WAL")
+                # WAL with synchronous=NORMAL: a commit survives a killed process (no fsync per batch, which
+                # cost ~10 % of a fast model's time); only an OS crash could lose the last batches
+                self._db.execute("PRAGMA synchronous=NORMAL")
+                verdict = self._db.execute("PRAGMA quick_check(1)").fetchone()[0]
+                if verdict != "ok":
+                    raise StoreCorruptError(corrupt_message(path, str(verdict)))
+                self._db.execute("CREATE TABLE IF NOT EXISTS evaluations (key TEXT PRIMARY KEY, scene TEXT, "
+                                 "point TEXT, outputs TEXT, error TEXT, seconds REAL)")
+                self._db.commit()
+            except BaseException:
+                self._db.close()
+                raise
+        self._identity = {p: file_identity(p) for p in (path, *watch)}
+        self.opened_with = self.count()
+        """Evaluations the store held when opened."""
+
+    @contextmanager
+    def _sqlite(self, doing: str) -> Iterator[None]:
+        """SQLite's errors as ddgsa's, naming the file and the way out."""
+        try:
+            yield
+        except sqlite3.DatabaseError as exc:
+            if getattr(exc, "sqlite_errorname", "") in _CORRUPT or "malformed" in str(exc):
+                raise StoreCorruptError(corrupt_message(self.path, str(exc))) from None
+            kept = "" if doing == "open" else f"; the {self._safe_count()} evaluations committed before are kept in it"
+            raise StoreWriteError(f"{self.path}: cannot {doing} the evaluation store: {exc}{kept}; free disk "
+                                  "space or make the folder writable, then rerun the same command to resume") from None
+
+    def _safe_count(self) -> str:
+        try:
+            return str(self.count())
+        except sqlite3.Error:
+            return "unknown number of"
+
+    def check(self) -> None:
+        """Raise :class:`~ddgsa.errors.StoreLostError` when the store or a watched file is no
+        longer the file opened (deleted, or replaced by another run)."""
+        for path, ident in self._identity.items():
+            if file_identity(path) == ident:
+                continue
+            held = self._safe_count()
+            if path == self.path:
+                raise StoreLostError(
+                    f"{path}: the evaluation store was deleted or replaced while this run was writing to it; its "
+                    f"{held} evaluations ({held if held == 'unknown number of' else int(held) - self.opened_with} "
+                    "of them from this run) are lost and nothing more is stored; rerun to start again")
+            raise StoreLostError(
+                f"{path}: deleted or replaced while this run held it, so another run may write to the same store; "
+                f"this run stops here. Its {held} evaluations are kept in {self.path}; rerun the same command "
+                "to resume once no other run uses the folder")
 
     def close(self) -> None:
         """Close the database."""
@@ -112,28 +183,31 @@ class EvaluationStore:
         """The subset of ``keys`` already stored."""
         keys = list(keys)
         found: set[str] = set()
-        for i in range(0, len(keys), 500):
-            chunk = keys[i:i + 500]
-            rows = self._db.execute(f"SELECT key FROM evaluations WHERE key IN ({','.join('?' * len(chunk))})",
-                                    chunk).fetchall()
-            found.update(r[0] for r in rows)
+        with self._sqlite("read"):
+            for i in range(0, len(keys), 500):
+                chunk = keys[i:i + 500]
+                rows = self._db.execute(f"SELECT key FROM evaluations WHERE key IN ({','.join('?' * len(chunk))})",
+                                        chunk).fetchall()
+                found.update(r[0] for r in rows)
         return found
 
     def get(self, keys: Iterable[str]) -> dict[str, Outcome]:
         """Stored outcomes of ``keys`` (missing keys are absent from the result)."""
         keys = list(keys)
         out: dict[str, Outcome] = {}
-        for i in range(0, len(keys), 500):
-            chunk = keys[i:i + 500]
-            rows = self._db.execute("SELECT key, outputs, error, seconds FROM evaluations WHERE key IN "
-                                    f"({','.join('?' * len(chunk))})", chunk).fetchall()
-            for key, outputs, error, seconds in rows:
-                out[key] = Outcome(None if outputs is None else json.loads(outputs), error, seconds)
+        with self._sqlite("read"):
+            for i in range(0, len(keys), 500):
+                chunk = keys[i:i + 500]
+                rows = self._db.execute("SELECT key, outputs, error, seconds FROM evaluations WHERE key IN "
+                                        f"({','.join('?' * len(chunk))})", chunk).fetchall()
+                for key, outputs, error, seconds in rows:
+                    out[key] = Outcome(None if outputs is None else json.loads(outputs), error, seconds)
         return out
 
     def put(self, tasks: list[Task], outcomes: list[Outcome]) -> None:
-        """Store a finished batch atomically."""
-        with self._db:
+        """Store a finished batch atomically, after :meth:`check`."""
+        self.check()
+        with self._sqlite("write"), self._db:
             self._db.executemany(
                 "INSERT OR REPLACE INTO evaluations VALUES (?, ?, ?, ?, ?, ?)",
                 [(t.key, json.dumps(t.scene), json.dumps(t.point),
@@ -143,6 +217,28 @@ class EvaluationStore:
     def count(self) -> int:
         """Number of stored evaluations."""
         return int(self._db.execute("SELECT COUNT(*) FROM evaluations").fetchone()[0])
+
+
+def corrupt_message(path: Path, reason: str) -> str:
+    """What a corrupt store is and the way out."""
+    return (f"{path}: the evaluation store is corrupt ({reason}); rerun with --force to move it aside to "
+            f"{path.name}.corrupt (kept, never deleted) and rebuild the store by evaluating again")
+
+
+def set_aside(path: Path) -> Path:
+    """Rename a corrupt store (and its ``-wal``/``-shm`` files) to ``<name>.corrupt`` (``.corrupt.1``,
+    ... when taken) beside it; returns the new path of the store file. Nothing is deleted."""
+    k = 0
+    while True:
+        aside = path.with_name(f"{path.name}.corrupt" + (f".{k}" if k else ""))
+        if not any(aside.with_name(aside.name + s).exists() for s in ("", "-wal", "-shm")):
+            break
+        k += 1
+    for suffix in ("-wal", "-shm", ""):
+        side = path.with_name(path.name + suffix)
+        if side.exists():
+            side.rename(aside.with_name(aside.name + suffix))
+    return aside
 
 
 @lru_cache(maxsize=8)
@@ -187,13 +283,44 @@ def _backend(backend: str, jobs: int, address: str | None) -> Iterator[None]:
     cluster = None if address else LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
                                                 dashboard_address=None)
     client = Client(address) if address else Client(cluster)
+    lost = threading.Event()
+    stop = threading.Event()
+    watch = threading.Thread(target=_watch_scheduler, args=(client, lost, stop), daemon=True)
+    watch.start()
     try:
         with joblib.parallel_config(backend="dask"):
             yield
+    except KeyboardInterrupt:
+        if lost.is_set():
+            raise SchedulerLostError(f"lost the Dask scheduler at {address or 'the local cluster'} (no answer "
+                                     f"for {SCHEDULER_GRACE_S:g} s)") from None
+        raise
     finally:
-        client.close()
+        stop.set()
+        with suppress(Exception):
+            client.close(timeout=5)
         if cluster is not None:
-            cluster.close()
+            with suppress(Exception):
+                cluster.close(timeout=5)
+
+
+SCHEDULER_GRACE_S = 20.0
+"""A Dask client not connected for this long [s] means the scheduler is lost: the run stops."""
+
+
+def _watch_scheduler(client: Any, lost: threading.Event, stop: threading.Event) -> None:
+    """Interrupt the run (SIGINT to this process, which wakes a blocked wait) when ``client`` has
+    not been connected for :data:`SCHEDULER_GRACE_S`; ``lost`` tells the interrupt from Ctrl-C."""
+    since: float | None = None
+    while not stop.wait(1.0):
+        if client.status == "running":
+            since = None
+            continue
+        since = since if since is not None else time.monotonic()
+        if time.monotonic() - since > SCHEDULER_GRACE_S:
+            lost.set()
+            os.kill(os.getpid(), signal.SIGINT)
+            return
 
 
 def run_tasks(tasks: list[Task], store: EvaluationStore, factory: ModelFactory, jobs: int = 1,
@@ -225,13 +352,20 @@ def run_tasks(tasks: list[Task], store: EvaluationStore, factory: ModelFactory, 
             results: Iterable[tuple[list[Task], list[Outcome]]] = (_batch_job(factory, b, setup) for b in batches)
             failed = _consume(results, store, bar)
         elif backend == "loky" and FORK_WORKERS:
-            failed = _consume(_forked(jobs, factory, batches, setup), store, bar)
+            with closing(_forked(jobs, factory, batches, setup)) as finished:   # stopped here, not when collected
+                failed = _consume(finished, store, bar)
         else:
-            with _backend(backend, jobs, address):
-                ret = "generator_unordered" if backend == "loky" else "generator"
-                par = joblib.Parallel(n_jobs=jobs, return_as=ret)
-                results = par(joblib.delayed(_batch_job)(factory, b, setup) for b in batches)
-                failed = _consume(results, store, bar)
+            try:
+                with _backend(backend, jobs, address):
+                    ret = "generator_unordered" if backend == "loky" else "generator"
+                    par = joblib.Parallel(n_jobs=jobs, return_as=ret)
+                    results = par(joblib.delayed(_batch_job)(factory, b, setup) for b in batches)
+                    failed = _consume(results, store, bar)
+            except SchedulerLostError as exc:
+                raise SchedulerLostError(f"{exc}; the {store.count()} evaluations committed before are kept in "
+                                         f"{store.path}; restart the scheduler and its workers, then rerun the same "
+                                         "command to resume") from None
+    store.check()
     return {"total": len(unique), "cached": len(done), "evaluated": len(todo), "failed": failed}
 
 
@@ -293,7 +427,7 @@ def _forked(jobs: int, factory: ModelFactory, batches: list[list[Task]],
         if not clean:                     # interrupted or failed: stop the batches still running too
             for future in futures:
                 future.cancel()
-            for proc in list(getattr(pool, "_processes", {}).values()):   # no public way to stop running calls
+            for proc in list((getattr(pool, "_processes", None) or {}).values()):   # no public way to stop them
                 proc.terminate()
         if not (clean and scoped):
             pool.shutdown(wait=True, cancel_futures=True)

@@ -45,10 +45,8 @@ import numpy as np
 from pydantic import (BaseModel, ConfigDict, Field, PrivateAttr, ValidationError, ValidationInfo,
                       field_validator, model_validator)
 from pydantic_core import InitErrorDetails, PydanticCustomError
-from ruamel.yaml import YAML
-from ruamel.yaml.error import YAMLError
 
-from ddgsa.errors import DdgsaError, StudyError, unknown_name_message
+from ddgsa.errors import DdgsaError, StudyError, clip, unknown_name_message
 from ddgsa.gsa.auto import resolve_auto_options
 from ddgsa.gsa.base import METHODS, get_method
 from ddgsa.loads.scene import Scene
@@ -57,6 +55,8 @@ from ddgsa.models import get as get_model
 from ddgsa.space import ParameterSpace
 from ddgsa.models.base import ModelOutput, declared
 from ddgsa.units import UnitError, convert, factor, has_unit, parameter_in, scene_hints
+from ddgsa.study_limits import (MAX_NAME_CHARS, check_names, check_run_size, load_yaml,  # bounded input, run size
+                                scenes_to_check)
 
 _STRICT = ConfigDict(extra="forbid")
 
@@ -304,7 +304,7 @@ class StudySpec(BaseModel):
     """A whole study file."""
 
     model_config = _STRICT
-    name: str = Field(pattern=r"^[A-Za-z0-9_.-]+$")
+    name: str = Field(pattern=r"^[A-Za-z0-9_.-]+$", max_length=MAX_NAME_CHARS)
     description: str = ""
     kind: Literal["gsa", "sweep", "fault"] = "gsa"
     model: ModelSpec
@@ -474,24 +474,6 @@ def _where(path: Path | None) -> str:
     return str(path) if path is not None else "<study>"
 
 
-def load_yaml(path: Path) -> tuple[Any, str]:
-    """Read a YAML 1.2 file (``1e10`` is a number); errors name the file and line."""
-    try:
-        text = path.read_text()
-    except FileNotFoundError:
-        raise StudyError(f"{path}: no such study file") from None
-    except OSError as exc:
-        raise StudyError(f"{path}: cannot read: {exc.strerror}") from None
-    try:
-        data = YAML(typ="safe", pure=True).load(text)
-    except YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise StudyError(f"{path}: YAML syntax error{where}: {problem}") from None
-    return data, text
-
-
 def load_study(path: str | Path) -> Study:
     """Read and validate a study file.
 
@@ -535,11 +517,16 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         spec = StudySpec.model_validate(data)
     except ValidationError as exc:
         raise StudyError(_pydantic_message(where, exc)) from None
+    check_names(where, spec)
     # model-aware checks
     if spec.model.name not in MODELS:
         raise StudyError(f"{where}: field 'model.name': {unknown_name_message('model', spec.model.name, list(MODELS))}")
     if spec.model.fidelity is None:
         spec.model.fidelity = MODELS.lookup(spec.model.name).fidelities[0]
+    try:
+        MODELS.lookup(spec.model.name).check_options(spec.model.options)     # each option as declared
+    except DdgsaError as exc:
+        raise StudyError(f"{where}: field 'model.options': {exc}") from None
     try:
         fidelities = MODELS.lookup(spec.model.name).fidelities
         for fid in (fidelities if spec.model.fidelity == "auto" else [spec.model.fidelity]):
@@ -603,6 +590,7 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             if lo < decl.low or hi > decl.high:
                 raise StudyError(f"{where}: field 'parameters.{p.name}': support [{lo:g}, {hi:g}] leaves the "
                                  f"allowed range [{decl.low:g}, {decl.high:g}] {decl.unit}")
+    check_run_size(where, spec, space, len(spec.outputs or model.outputs))     # before any design is built
     nominal = {**dict(spec.fixed), **(space.nominal if space is not None else {})}
     for problem in model.point_problems(nominal):
         warnings.warn(f"{where}: the study's nominal point is outside model {spec.model.name!r}'s valid region: "
@@ -621,7 +609,7 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             get_method(m.method).design(space, **m.options) if space is not None else None
         except DdgsaError as exc:
             raise StudyError(f"{where}: field 'methods[{i}]': {exc}") from None
-    for k, fields in enumerate(spec.scenes.grid()):
+    for k, fields in enumerate(scenes_to_check(spec.scenes)):
         try:
             spec.scenes.scene(fields, 0)
         except (DdgsaError, TypeError) as exc:
@@ -742,7 +730,7 @@ def _pydantic_message(where: str, exc: ValidationError) -> str:
             msg = unknown_name_message("value", err["input"], allowed)
         elif err["type"] == "missing":
             msg = "required field is missing"
-        given = f" (given: {err['input']!r})" if err["type"] not in ("missing", "extra_forbidden", "literal_error") \
+        given = f" (given: {clip(err['input'])})" if err["type"] not in ("missing", "extra_forbidden", "literal_error") \
             and not isinstance(err.get("input"), dict) else ""
         lines.append(f"{where}: field '{loc or '<top>'}': {msg}{given}")
     return "\n".join(lines)

@@ -33,9 +33,9 @@ def test_registry_options_and_errors() -> None:
             "position_drift", "gear_drift"} <= set(m.outputs)
     with pytest.raises(ModelError, match="unknown fidelity 'stiff'"):
         models.get("indirect_drive", fidelity="stiff")
-    with pytest.raises(ModelError, match=r"time_step must be in \(0, 0.05\] s"):
+    with pytest.raises(ModelError, match=r"option .time_step. must be a finite number in \(0, 0.05\] s, got 0.2"):
         models.get("indirect_drive", time_step=0.2)
-    with pytest.raises(ModelError, match="housing_point must be three finite numbers"):
+    with pytest.raises(ModelError, match=r"option .housing_point. must be 3 finite numbers"):
         models.get("indirect_drive", housing_point=(1.0, 2.0))
     with pytest.raises(ModelError, match="linear fidelity has its own exact discretisation"):
         models.get("indirect_drive", fidelity="linear", integrator="Radau")

@@ -87,6 +87,17 @@ class GsaMethod(ABC):
         self.check_options(space, opts)
         return self._design(space, opts)
 
+    def n_points(self, space: ParameterSpace, **options: Any) -> int:
+        """How many points :meth:`design` would return, without building it (options checked):
+        a study's run size is estimated from it before any large design is allocated."""
+        opts = self.resolve_options(options)
+        self.check_options(space, opts)
+        return self._n_points(space, opts)
+
+    def _n_points(self, space: ParameterSpace, opts: dict[str, Any]) -> int:
+        """The design's size from checked options (default: build it; methods override with the count)."""
+        return self._design(space, opts).n_points
+
     def analyze(self, space: ParameterSpace, design: Design,
                 values: NDArray[np.float64] | pd.DataFrame | pd.Series,
                 outputs: Sequence[str] | None = None) -> SobolResult:

@@ -122,6 +122,9 @@ class MDRM(GsaMethod):
             check_fraction(self.name, key, opts[key], 0.0, 1e9)
         opts["cut"] = _resolve_cut(space, opts["cut"])
 
+    def _n_points(self, space: ParameterSpace, opts: dict[str, Any]) -> int:
+        return 1 + space.dim * opts["points"] + opts["check"]
+
     def _design(self, space: ParameterSpace, opts: dict[str, Any]) -> Design:
         n_nodes = opts["points"]
         cut = np.asarray(opts["cut"], dtype=float)

@@ -155,6 +155,11 @@ class PCE(GsaMethod):
             n = check_int(self.name, "n", opts["n"], 2) if opts["n"] is not None else default_n(space.dim, order, fit)
             check_size(space.dim, order, n, fit)
 
+    def _n_points(self, space: ParameterSpace, opts: dict[str, Any]) -> int:
+        if opts["fit"] == "quadrature":
+            return (opts["order"] + 1) ** space.dim
+        return int(opts["n"]) if opts["n"] is not None else default_n(space.dim, opts["order"], opts["fit"])
+
     def _design(self, space: ParameterSpace, opts: dict[str, Any]) -> Design:
         if opts["fit"] == "quadrature":
             nodes, weights = chaospy.generate_quadrature(opts["order"], space.joint, rule="gaussian")

@@ -121,6 +121,9 @@ class Saltelli(_SalibMethod):
         if n & (n - 1):
             raise MethodError(f"method 'saltelli': option 'n' must be a power of two (Sobol' balance), got {n}")
 
+    def _n_points(self, space: ParameterSpace, opts: dict[str, Any]) -> int:
+        return opts["n"] * (space.dim + 2)
+
     def _design(self, space: ParameterSpace, opts: dict[str, Any]) -> Design:
         u = sobol_sample.sample(unit_problem(space.dim), opts["n"], calc_second_order=False,
                                 scramble=True, seed=np.random.default_rng(opts["seed"]))
@@ -154,6 +157,9 @@ class Fast(_SalibMethod):
         super().check_options(space, opts)
         m = check_int(self.name, "M", opts["M"], 1)
         check_int(self.name, "n", opts["n"], 4 * m * m + 1)
+
+    def _n_points(self, space: ParameterSpace, opts: dict[str, Any]) -> int:
+        return opts["n"] * space.dim
 
     def _design(self, space: ParameterSpace, opts: dict[str, Any]) -> Design:
         u = fast_sampler.sample(unit_problem(space.dim), opts["n"], M=opts["M"],
@@ -189,6 +195,9 @@ class RbdFast(_SalibMethod):
         super().check_options(space, opts)
         m = check_int(self.name, "M", opts["M"], 1)
         check_int(self.name, "n", opts["n"], 2 * m + 1)
+
+    def _n_points(self, space: ParameterSpace, opts: dict[str, Any]) -> int:
+        return int(opts["n"])
 
     def _design(self, space: ParameterSpace, opts: dict[str, Any]) -> Design:
         u = latin.sample(unit_problem(space.dim), opts["n"], seed=np.random.default_rng(opts["seed"]))

@@ -33,4 +33,6 @@ def get(name: str, **options: Any) -> "Model":
     if options.get("fidelity") == "auto":
         rest = {k: v for k, v in options.items() if k != "fidelity"}
         return AutoFidelity(name, **rest)
-    return MODELS.lookup(name)(**options)
+    cls = MODELS.lookup(name)
+    cls.check_options(options)
+    return cls(**options)

@@ -18,7 +18,7 @@ import pandas as pd
 
 from ddgsa.closed_forms import ishigami
 from ddgsa.loads.scene import Scene
-from ddgsa.models.base import Model, ModelOutput, ModelParameter, register_model
+from ddgsa.models.base import Model, ModelOption, ModelOutput, ModelParameter, register_model
 
 
 class _Static(Model):
@@ -49,6 +49,8 @@ class Analytic(_Static):
     outputs = (ModelOutput("y", "-", "Ishigami function times wind_speed / 11", -100.0, 100.0),
                ModelOutput("y_positive", "-", "y + 12 (positive for wind speeds up to 11 m/s)", -88.0, 112.0))
     fidelities = ("exact",)
+    options = (ModelOption("fail_above", "number", "raise for x1 above this value", optional=True),
+               ModelOption("delay_s", "number", "sleep per point", 0.0, 60.0, "s"))
 
     def __init__(self, fidelity: str = "exact", fail_above: float | None = None, delay_s: float = 0.0) -> None:
         self.check_fidelity(fidelity)
@@ -83,6 +85,7 @@ class FaultShift(_Static):
                ModelOutput("half_1", "-", "x1 plus half the fault shift (first half-sensor)", -100.0, 100.0),
                ModelOutput("half_2", "-", "x2 plus half the fault shift (second half-sensor)", -100.0, 100.0))
     fidelities = ("exact",)
+    options = ()
 
     def __init__(self, fidelity: str = "exact") -> None:
         self.check_fidelity(fidelity)

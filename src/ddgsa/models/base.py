@@ -13,7 +13,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from ddgsa.errors import ModelError, unknown_name_message
+from ddgsa.errors import ModelError, clip, unknown_name_message
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables
 from ddgsa.mbs.sampling import sampling_row
@@ -44,6 +44,83 @@ class ModelParameter:
     description: str
     low: float = -math.inf
     high: float = math.inf
+
+
+@dataclass(frozen=True)
+class ModelOption:
+    """A declared model option (like :class:`ModelParameter`, OpenMDAO's ``options.declare``):
+    its kind and allowed values, checked by :meth:`Model.check_options` before a model is built.
+
+    Attributes
+    ----------
+    name : str
+    kind : {"number", "integer", "bool", "choice", "numbers", "mapping"}
+        ``numbers``: a list of ``length`` finite numbers; ``mapping``: field -> value (the model
+        checks the fields).
+    description : str
+    low, high : float
+        Allowed range of a number [unit]; ``low`` excluded when ``low_open``.
+    unit : str
+    choices : tuple of str
+        The allowed values of a ``choice``.
+    optional : bool
+        ``None`` (null) allowed: the model's default.
+    length : int
+        Length of ``numbers``.
+
+    Examples
+    --------
+    >>> ModelOption("time_step", "number", "integration step", 0.0, 0.1, "s", low_open=True).check("m", float("nan"))
+    Traceback (most recent call last):
+    ...
+    ddgsa.errors.ModelError: model 'm': option 'time_step' must be a finite number in (0, 0.1] s, got nan
+    """
+
+    name: str
+    kind: str
+    description: str
+    low: float = -math.inf
+    high: float = math.inf
+    unit: str = ""
+    low_open: bool = False
+    choices: tuple[str, ...] = ()
+    optional: bool = False
+    length: int = 0
+
+    def allowed(self) -> str:
+        """What the option allows, in words."""
+        if self.kind == "bool":
+            return "true or false"
+        if self.kind == "choice":
+            return f"one of {', '.join(self.choices)}"
+        if self.kind == "mapping":
+            return "a mapping of field: value"
+        rng = f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}]"
+        unit = f" {self.unit}" if self.unit else ""
+        what = "an integer" if self.kind == "integer" else "a finite number"
+        return f"{self.length} finite numbers in {rng}{unit}" if self.kind == "numbers" else f"{what} in {rng}{unit}"
+
+    def check(self, model: str, value: Any) -> None:
+        """Raise :class:`ModelError` naming the model, the option, what it allows and the value given."""
+        if value is None and self.optional:
+            return
+        if self.kind == "bool":
+            ok = isinstance(value, bool)
+        elif self.kind == "choice":
+            ok = isinstance(value, str) and value in self.choices
+        elif self.kind == "mapping":
+            ok = isinstance(value, Mapping)
+        elif self.kind == "numbers":
+            ok = isinstance(value, (list, tuple)) and len(value) == self.length and all(map(self._number, value))
+        else:
+            ok = self._number(value) and (self.kind != "integer" or isinstance(value, int))
+        if not ok:
+            raise ModelError(f"model {model!r}: option {self.name!r} must be {self.allowed()}, got {clip(value)}")
+
+    def _number(self, v: Any) -> bool:
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            return False
+        return (self.low < v if self.low_open else self.low <= v) and v <= self.high
 
 
 class ModelOutput(str):
@@ -128,7 +205,32 @@ class Model(ABC):
     #: but ``fidelity: auto`` does not compare them between fidelities
     numerical_outputs: ClassVar[tuple[str, ...]] = ()
     options_note: ClassVar[str] = ""                   # how options change parameters/outputs (``ddgsa models``)
+    #: the options the constructor takes besides ``fidelity`` (None: not declared, not checked)
+    options: ClassVar[tuple[ModelOption, ...] | None] = None
     fidelity: str = ""
+
+    @classmethod
+    def check_options(cls, given: Mapping[str, Any]) -> None:
+        """Check options against the declared :attr:`options` (and ``fidelity`` against
+        :attr:`fidelities`) before the model is built.
+
+        Raises
+        ------
+        ModelError
+            For an unknown option (close names listed) or a value the declaration does not allow.
+        """
+        if given.get("fidelity") is not None and cls.fidelities and given["fidelity"] not in cls.fidelities:
+            raise ModelError(f"model {cls.name!r}: " + unknown_name_message("fidelity", given["fidelity"],
+                                                                             list(cls.fidelities)))
+        if cls.options is None:
+            return
+        declared = {o.name: o for o in cls.options}
+        for key, value in given.items():
+            if key == "fidelity":
+                continue
+            if key not in declared:
+                raise ModelError(f"model {cls.name!r}: " + unknown_name_message("option", key, list(declared)))
+            declared[key].check(cls.name, value)
 
     @classmethod
     def pilot_pool(cls) -> tuple[str, ...]:

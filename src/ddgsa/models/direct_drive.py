@@ -74,7 +74,7 @@ from ddgsa.mbs.linear import (initial_state, input_window, linearise_spinning, l
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
 from ddgsa.mbs.system import (SystemArrays, evaluate_terms, integrate, integrate_reference, single_body_arrays,
                               static_state)
-from ddgsa.models.base import Model, ModelOutput, ModelParameter, controller_row, register_model
+from ddgsa.models.base import Model, ModelOption, ModelOutput, ModelParameter, controller_row, register_model
 from ddgsa.models.constants import tilted_gravity
 from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE,
                                         bearing_damping, bending_damping, checked)
@@ -316,6 +316,21 @@ class DirectDrive(Model):
     parameters = PARAMETERS
     outputs = OUTPUTS
     fidelities = ("flexible", "rigid", "linear")
+    options = (ModelOption("axial", "bool", "axial elastic coordinate"),
+               ModelOption("second_bending", "bool", "second bending mode per plane"),
+               ModelOption("time_step", "number", "integration step (default 0.01 rigid, else 0.005)", 0.0, 0.1, "s",
+                           low_open=True, optional=True),
+               ModelOption("rho_inf", "number", "generalised-alpha spectral radius at infinity", 0.0, 1.0),
+               ModelOption("equivalent_load", "choice", "bearing equivalent-load rule", choices=("iso281", "seed")),
+               ModelOption("integrator", "choice", "time integrator (linear: its exact discretisation only)",
+                           choices=("gen_alpha", "Radau", "BDF")),
+               ModelOption("bending_rayleigh", "choice", "shaft bending damping: seed eq. 44a physical or as printed",
+                           choices=BENDING_RAYLEIGH),
+               ModelOption("bearing_damping", "choice", "bearing damping: modal 2 zeta sqrt(k m) or Table 2's C = zeta K",
+                           choices=BEARING_DAMPING),
+               ModelOption("deflection", "choice", "what the deflection outputs measure", choices=DEFLECTION),
+               ModelOption("deflection_reference", "choice", "the deflection's quasi-static reference",
+                           choices=DEFLECTION_REFERENCE))
 
     def unused_parameters(self) -> dict[str, str]:
         """The shaft's elasticity, damping and radius at fidelity ``rigid`` (no elastic coordinates;

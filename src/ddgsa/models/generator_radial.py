@@ -67,7 +67,7 @@ from ddgsa.mbs.constraints import AXES
 from ddgsa.mbs.linear import lti_response, state_matrices
 from ddgsa.mbs.modal import ConstrainedLinearisation, linearise_system, modal_analysis
 from ddgsa.mbs.sampling import RESOLVED, AliasingWarning, check_interval, sampling_row
-from ddgsa.models.base import Model, ModelOutput, ModelParameter, controller_row, register_model
+from ddgsa.models.base import Model, ModelOption, ModelOutput, ModelParameter, controller_row, register_model
 from ddgsa.models.constants import GRAVITY
 from ddgsa.models.electromagnetic import PMGenerator, pull_jacobian, pull_vector, radial_pull
 
@@ -182,6 +182,11 @@ class GeneratorRadial(Model):
     """
 
     fidelities: ClassVar[tuple[str, ...]] = ("linearised",)
+    options = (ModelOption("config", "choice", "configuration", choices=CONFIGS),
+               ModelOption("magnetic", "bool", "magnetic pull on"),
+               ModelOption("output_step", "number", "output interval", 0.0, math.inf, "s", low_open=True,
+                           optional=True),
+               ModelOption("generator", "mapping", "generator air-gap fields to change", optional=True))
     options_note: ClassVar[str] = ("options: config one_mass | substructure (default) | tower_side_to_side | "
                                    "tower_torsion, magnetic true | false, output_step [s], generator {field: value}; "
                                    "tower_* configs add tower_mass [kg], tower_stiffness [N/m], "

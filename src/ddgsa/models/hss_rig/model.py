@@ -75,7 +75,7 @@ from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
 from ddgsa.mbs.campbell import CampbellDiagram, mode_row, tracked_frame
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.mbs.sampling import AliasingWarning
-from ddgsa.models.base import Model, ModelOutput, register_model
+from ddgsa.models.base import Model, ModelOption, ModelOutput, register_model
 from ddgsa.models.hss_rig import transient
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligned, operating_stretch
@@ -159,6 +159,8 @@ class HssRig(Model):
     parameters = PARAMETERS
     outputs = OUTPUTS
     scene_type = RigScene
+    options = (ModelOption("time_step", "number", "generalised-alpha step", 0.0, 1e-2, "s", low_open=True),
+               ModelOption("noise", "bool", "seeded measurement noise on the sensors"))
 
     def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False) -> None:
         self.check_fidelity(fidelity)

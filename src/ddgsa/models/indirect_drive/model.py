@@ -18,7 +18,7 @@ from ddgsa.mbs.campbell import CampbellDiagram
 from ddgsa.mbs.integrate import genalpha, reference
 from ddgsa.mbs.modal import modes as system_modes
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
-from ddgsa.models.base import Model, ModelOutput, controller_row, register_model
+from ddgsa.models.base import Model, ModelOption, ModelOutput, controller_row, register_model
 from ddgsa.models.indirect_drive.assembly import FLEXIBLE_FIELDS, Assembly, build, spin_inertia
 from ddgsa.models.indirect_drive.linear import linear_response, operating_state
 from ddgsa.models.indirect_drive.outputs import (bearing_outputs, constraint_drift, gear_force_outputs,
@@ -127,6 +127,15 @@ class IndirectDrive(Model):
     outputs = OUTPUTS
     fidelities = ("flexible", "rigid", "linear")
     numerical_outputs = ("position_drift", "gear_drift")
+    options = (ModelOption("time_step", "number", "integration step (default 0.005)", 0.0, 0.05, "s", low_open=True,
+                           optional=True),
+               ModelOption("rho_inf", "number", "generalised-alpha spectral radius at infinity", 0.0, 1.0),
+               ModelOption("integrator", "choice", "time integrator (linear: its exact discretisation only)",
+                           choices=("gen_alpha", "Radau", "BDF")),
+               ModelOption("equivalent_load", "choice", "bearing equivalent-load rule", choices=("iso281", "seed")),
+               ModelOption("housing_point", "numbers", "observed housing point from its centre of mass", unit="m",
+                           length=3),
+               ModelOption("fluctuation_scale", "number", "scale of the inputs' fluctuations", 0.0, 1.0, low_open=True))
 
     def __init__(self, fidelity: str = "flexible", time_step: float | None = None, rho_inf: float = 0.8,
                  integrator: str = "gen_alpha", equivalent_load: str = "iso281",
