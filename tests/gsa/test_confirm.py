@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 
 import ddgsa
-from ddgsa.gsa.calibration import false_rank_claims
+from ddgsa.bench.calibration import false_rank_claims
 from ddgsa.gsa.result import NEGLIGIBLE, SEPARATED, Diagnostic, rank_claims
 from ddgsa.gsa.testfunctions import linear, product
 from ddgsa.space import ParameterSpace
