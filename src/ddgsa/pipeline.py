@@ -565,7 +565,8 @@ def _fault_design(study: Study, pops: dict[float, pd.DataFrame]) -> tuple[np.nda
         return np.column_stack([point, real]), pops
     nxt = point * n_real + (real + 1) % n_real              # row of the same point's next record
     base = pops[fault.healthy].to_numpy(float)
-    paired = {lev: pd.DataFrame(frame.to_numpy(float)[nxt] - base, columns=frame.columns) for lev, frame in pops.items()}
+    paired = {lev: pd.DataFrame(frame.to_numpy(float)[nxt] - base, columns=frame.columns)
+              for lev, frame in pops.items()}
     return np.column_stack([point, real, (real + 1) % n_real]), paired
 
 
