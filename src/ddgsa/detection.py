@@ -211,7 +211,7 @@ def clopper_pearson(k: float, n: float, confidence: float) -> tuple[float, float
     return lo, hi
 
 
-@dataclass(frozen=True)
+@dataclass
 class _Layout:
     """Which random units (parameter points, wind records) each measurement of both populations rests on.
 
@@ -224,9 +224,21 @@ class _Layout:
     point_f: NDArray[np.intp]
     real_h: NDArray[np.intp]
     real_f: NDArray[np.intp]
+    _cache: dict[str, NDArray[Any]] = field(default_factory=dict, repr=False, compare=False)
+
+    def keep_f32(self) -> NDArray[np.float32]:
+        """:meth:`keep` of healthy against faulty as float32 (cached)."""
+        if "hf32" not in self._cache:
+            self._cache["hf32"] = self.keep("h", "f").astype(np.float32)
+        return self._cache["hf32"]
 
     def keep(self, a: str, b: str) -> NDArray[np.bool_]:
-        """Pairs (rows of ``a``, columns of ``b``; ``"h"`` or ``"f"``) that share no unit: independent draws."""
+        """Pairs (rows of ``a``, columns of ``b``; ``"h"`` or ``"f"``) that share no unit: independent draws (cached)."""
+        if a + b not in self._cache:
+            self._cache[a + b] = self._keep(a, b)
+        return self._cache[a + b]
+
+    def _keep(self, a: str, b: str) -> NDArray[np.bool_]:
         pa, pb = getattr(self, f"point_{a}"), getattr(self, f"point_{b}")
         ra, rb = getattr(self, f"real_{a}"), getattr(self, f"real_{b}")
         out = pa[:, None] != pb[None, :]
@@ -315,37 +327,37 @@ def _alarms(below: NDArray[np.floating], total: NDArray[np.floating], false_alar
 class _Pairs:
     """Comparison matrices of oriented values on the pairs that share no unit (see :class:`_Layout`)."""
 
-    less: NDArray[np.float32]       # (n_h, n_f): h < f on kept pairs
-    half: NDArray[np.float32]       # (n_h, n_f): 1[h < f] + 1/2 1[h = f] on kept pairs
-    keep: NDArray[np.float32]       # (n_h, n_f): kept pairs
-    less_hh: NDArray[np.float32]    # (n_h, n_h): h_i < h_j on kept pairs
-    keep_hh: NDArray[np.float32]
+    ho: NDArray[np.float64]
+    less: NDArray[np.float32]           # (n_h, n_f): h < f on kept pairs
+    ties: NDArray[np.float32] | None    # (n_h, n_f): h = f on kept pairs; None when there is none
+    keep: NDArray[np.float32]           # (n_h, n_f): kept pairs
+    keep_hh: NDArray[np.bool_]          # (n_h, n_h): healthy pairs that share no unit
 
     @classmethod
     def of(cls, ho: NDArray[np.float64], fo: NDArray[np.float64], lay: _Layout) -> "_Pairs":
-        k, khh = lay.keep("h", "f"), lay.keep("h", "h")
-        lt, eq = ho[:, None] < fo[None, :], ho[:, None] == fo[None, :]
-        f32 = np.float32
-        return cls((lt & k).astype(f32), ((lt + 0.5 * eq) * k).astype(f32), k.astype(f32),
-                   ((ho[:, None] < ho[None, :]) & khh).astype(f32), khh.astype(f32))
+        k = lay.keep("h", "f")
+        lt, eq = (ho[:, None] < fo[None, :]) & k, (ho[:, None] == fo[None, :]) & k
+        return cls(ho, lt.astype(np.float32), eq.astype(np.float32) if eq.any() else None,
+                   lay.keep_f32(), lay.keep("h", "h"))
 
-    def stats(self, wh: NDArray[np.float32], wf: NDArray[np.float32], false_alarm: float) -> NDArray[np.float64]:
+    def stats(self, wh: NDArray[np.float32], wf: NDArray[np.float32], false_alarm: float,
+              with_false_alarm: bool = True) -> NDArray[np.float64]:
         """(B, 3) AUC, POD and false-alarm rate for B rows of multiplicities (``wh`` (B, n_h), ``wf`` (B, n_f)).
 
         AUC: Mann-Whitney over the kept pairs; POD: each faulty value against the threshold of the
-        healthy values it shares no unit with; false alarms: each healthy value likewise (out of sample).
+        healthy values it shares no unit with; false alarms (NaN unless ``with_false_alarm``): each
+        healthy value likewise, out of sample.
         """
-        tot = wh @ self.keep
         with np.errstate(invalid="ignore", divide="ignore"):      # a re-draw may miss a population: NaN
-            return self._stats(wh, wf, tot, false_alarm)
-
-    def _stats(self, wh: NDArray[np.float32], wf: NDArray[np.float32], tot: NDArray[np.float32],
-               false_alarm: float) -> NDArray[np.float64]:
-        auc = np.sum((wh @ self.half) * wf, axis=1) / np.sum(tot * wf, axis=1)
-        hit = _alarms(wh @ self.less, tot, false_alarm)
-        pod = np.sum(hit * wf, axis=1) / np.sum(wf, axis=1)
-        fa_hit = _alarms(wh @ self.less_hh, wh @ self.keep_hh, false_alarm)
-        fa = np.sum(fa_hit * wh, axis=1) / np.sum(wh, axis=1)
+            tot, below = wh @ self.keep, wh @ self.less
+            num = below if self.ties is None else below + 0.5 * (wh @ self.ties)
+            auc = np.sum(num * wf, axis=1) / np.sum(tot * wf, axis=1)
+            pod = np.sum(_alarms(below, tot, false_alarm) * wf, axis=1) / np.sum(wf, axis=1)
+            fa = np.full(len(wh), np.nan)
+            if with_false_alarm:
+                less_hh = ((self.ho[:, None] < self.ho[None, :]) & self.keep_hh).astype(np.float32)
+                hit = _alarms(wh @ less_hh, wh @ self.keep_hh.astype(np.float32), false_alarm)
+                fa = np.sum(hit * wh, axis=1) / np.sum(wh, axis=1)
         return np.column_stack([auc, pod, fa]).astype(float)
 
 
@@ -366,8 +378,9 @@ class _Independent:
         return cls(ho, order, np.searchsorted(hs, fo, "left"), np.searchsorted(hs, fo, "right"),
                    np.searchsorted(hs, ho, "left"))
 
-    def stats(self, wh: NDArray[np.float32], wf: NDArray[np.float32], false_alarm: float) -> NDArray[np.float64]:
-        """As :meth:`_Pairs.stats`."""
+    def stats(self, wh: NDArray[np.float32], wf: NDArray[np.float32], false_alarm: float,
+              with_false_alarm: bool = True) -> NDArray[np.float64]:
+        """As :meth:`_Pairs.stats` (the false-alarm rate costs nothing extra here)."""
         cum = np.zeros((len(wh), len(self.ho) + 1))
         cum[:, 1:] = np.cumsum(wh[:, self.order], axis=1, dtype=float)
         tot = cum[:, -1:]
@@ -468,14 +481,15 @@ def detect(healthy: ArrayLike, faulty: ArrayLike, output: str = "y",
                         "(state measurement noise for this output)")
     pairs = _pairs(h, f, lay)
     ones_h, ones_f = np.ones((1, len(h)), np.float32), np.ones((1, len(f)), np.float32)
-    auc_raw = float(pairs.stats(ones_h, ones_f, s.false_alarm)[0, 0])
+    auc_raw = float(pairs.stats(ones_h, ones_f, s.false_alarm, False)[0, 0])
     d = direction if direction is not None else (1 if auc_raw >= 0.5 else -1)
     if d not in (1, -1):
         raise DetectionError(f"direction must be +1 or -1, got {direction!r}")
     if d == -1:
         pairs = _pairs(-h, -f, lay)
     wh, wf = lay.weights(s.bootstrap, _rng(seed))
-    boot = np.vstack([pairs.stats(wh[i:i + 100], wf[i:i + 100], s.false_alarm) for i in range(0, s.bootstrap, 100)])
+    boot = np.vstack([pairs.stats(wh[i:i + 100], wf[i:i + 100], s.false_alarm, with_false_alarm=False)
+                      for i in range(0, s.bootstrap, 100)])
     return _verdict(base, moments, d, threshold_at(d * h, s.false_alarm) * d,
                     pairs.stats(ones_h, ones_f, s.false_alarm)[0], boot, d * h, d * f, lay, wh, wf, s)
 
@@ -485,7 +499,7 @@ def _verdict(base: Detection, moments: dict[str, float], d: int, threshold: floa
              wh: NDArray[np.float32], wf: NDArray[np.float32], s: DetectionSettings) -> Detection:
     """Intervals, effective sizes and the verdict from the estimates (AUC, POD, false alarms) and re-draws."""
     auc, pod, fa = (float(v) for v in est)
-    boot = boot[np.isfinite(boot).all(axis=1)]      # re-draws that missed a whole population say nothing
+    boot = boot[np.isfinite(boot[:, :2]).all(axis=1)]      # re-draws that missed a whole population say nothing
     ne_h, ne_f = _effective_n(ho, wh), _effective_n(fo, wf)
     a_lo, a_hi = _interval(auc, boot[:, 0], s.confidence, min(ne_h, ne_f))
     p_lo, p_hi = _interval(pod, boot[:, 1], s.confidence, min(ne_h, ne_f))
@@ -625,7 +639,7 @@ def _combined(h: NDArray[np.float64], f: NDArray[np.float64], settings: Detectio
         with np.errstate(invalid="ignore", divide="ignore"):
             bh, bf = fisher_scores(h, f, split, units_h, units_f, (wh[b].astype(float), wf[b].astype(float)))
         ok = np.isfinite(bh).all() and np.isfinite(bf).all()      # a re-draw that misses a training half: none
-        reps[b] = _pairs(bh, bf, lay).stats(wh[b:b + 1], wf[b:b + 1], s.false_alarm)[0] if ok else np.nan
+        reps[b] = _pairs(bh, bf, lay).stats(wh[b:b + 1], wf[b:b + 1], s.false_alarm, False)[0] if ok else np.nan
     ones = _pairs(sh, sf, lay).stats(np.ones((1, len(h)), np.float32), np.ones((1, len(f)), np.float32),
                                         s.false_alarm)[0]
     moments = {"mean_healthy": point.mean_healthy, "mean_faulty": point.mean_faulty, "std_healthy": point.std_healthy}
@@ -679,7 +693,7 @@ def select_sensors(healthy: pd.DataFrame, faulty: pd.DataFrame, settings: Detect
 
     def auc(cols: list[int]) -> float:
         sh, sf = fisher_scores(h[sel_h][:, cols], f[sel_f][:, cols], inner, sub(uh, sel_h), sub(uf, sel_f))
-        return float(_pairs(sh, sf, lay_sel).stats(*ones, s.false_alarm)[0, 0])
+        return float(_pairs(sh, sf, lay_sel).stats(*ones, s.false_alarm, False)[0, 0])
 
     chosen: list[int] = []
     path: list[float] = []
