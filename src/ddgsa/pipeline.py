@@ -58,6 +58,7 @@ class StudyResult:
     fault_smallest: pd.DataFrame | None = None
     fault_indices: pd.DataFrame | None = None
     fault_detection: list[tuple[PlannedScene, FaultDetectability]] = field(default_factory=list)
+    fault_subsets: pd.DataFrame | None = None
     fidelity: pd.DataFrame | None = None
     moments: pd.DataFrame | None = None
     """Per scene and output: ``mean``, ``std``, ``cv`` (std / |mean|) and their ``source``."""
@@ -601,6 +602,28 @@ def _fault_measurements(plan: _Plan, store: EvaluationStore, ps: PlannedScene, l
     return pd.DataFrame(y, columns=outputs)
 
 
+def _fault_design(study: Study, pops: dict[float, pd.DataFrame]) -> tuple[np.ndarray, dict[float, pd.DataFrame]]:
+    """The measurements each level's statistics compare, and their units (point, wind records).
+
+    ``population`` (default): each (point, realisation) is one measurement; every level rests on
+    the same points and records (common random numbers), which :mod:`ddgsa.detection` never
+    compares with each other. ``paired`` (one turbine against its own baseline): each measurement
+    is the change of a point's output from its healthy record ``r`` to its record ``r + 1`` (mod the
+    realisations) -- healthy in the healthy population, faulty in the faulty ones.
+    """
+    fault = study.spec.fault
+    assert fault is not None
+    n_points, n_real = fault.samples, study.spec.scenes.realisations
+    point, real = np.repeat(np.arange(n_points), n_real), np.tile(np.arange(n_real), n_points)
+    if fault.design == "population":
+        return np.column_stack([point, real]), pops
+    nxt = point * n_real + (real + 1) % n_real              # row of the same point's next record
+    base = pops[fault.healthy].to_numpy(float)
+    paired = {lev: pd.DataFrame(frame.to_numpy(float)[nxt] - base, columns=frame.columns)
+              for lev, frame in pops.items()}
+    return np.column_stack([point, real, (real + 1) % n_real]), paired
+
+
 def _fault_verdicts(plan: _Plan, store: EvaluationStore, outputs: list[str], result: StudyResult) -> None:
     """Detection statistics per scene, fault level and output (and combined), the smallest detectable
     fault, and paper A's view: Sobol indices of the other parameters per fault level."""
@@ -609,16 +632,20 @@ def _fault_verdicts(plan: _Plan, store: EvaluationStore, outputs: list[str], res
     assert fault is not None
     settings = DetectionSettings(fault.false_alarm, fault.pod_target, fault.confidence, fault.bootstrap)
     levels = _fault_levels(study)
-    n_points, n_real = fault.samples, study.spec.scenes.realisations
-    groups = np.repeat(np.arange(n_points), n_real)
     indices = result.indices
-    rows, smallest = [], []
+    rows, smallest, subsets = [], [], []
     for ps in plan.scenes:
         pops = {lev: _fault_measurements(plan, store, ps, lev, k, outputs) for k, lev in enumerate(levels)}
-        det = assess(pops.pop(fault.healthy), pops, fault.healthy, settings, _fault_stream(study, 2, ps.index), groups,
+        units, pops = _fault_design(study, pops)
+        det = assess(pops.pop(fault.healthy), pops, fault.healthy, settings, _fault_stream(study, 2, ps.index), units,
                      fault.combine)
         result.fault_detection.append((ps, det))
+        if len(det.subsets):
+            chosen = det.subsets.rename(columns={"level": "faulty"})
+            chosen.insert(0, "scene", ps.index)
+            subsets.append(chosen)
         table = det.to_frame().rename(columns={"level": "faulty"})
+        table.insert(1, "design", fault.design)
         st = indices[(indices["scene"] == ps.index) & (indices["parameter"] == fault.parameter)]
         first = st.drop_duplicates("output").set_index("output")
         table.insert(0, "healthy", fault.healthy)
@@ -636,6 +663,7 @@ def _fault_verdicts(plan: _Plan, store: EvaluationStore, outputs: list[str], res
         smallest.append(sm)
     result.fault = pd.concat(rows, ignore_index=True)
     result.fault_smallest = pd.concat(smallest, ignore_index=True)
+    result.fault_subsets = pd.concat(subsets, ignore_index=True) if subsets else None
     result.fault_indices = _fault_indices(plan, store, outputs)
 
 

@@ -385,6 +385,8 @@ def _write_fault(result: StudyResult, save_csv: Any, save_fig: Any) -> None:
     save_csv(result.fault, "fault_verdicts.csv")
     save_csv(result.fault_smallest, "fault_smallest.csv")
     save_csv(result.fault_indices, "fault_indices.csv")
+    if result.fault_subsets is not None:
+        save_csv(result.fault_subsets, "fault_sensor_choice.csv")
     fault = result.study.spec.fault
     assert fault is not None
     model = result.study.make_model()
@@ -510,23 +512,40 @@ def _fault_markdown(result: StudyResult) -> list[str]:
     assert fault is not None
     n = fault.samples * result.study.spec.scenes.realisations
     noise = ", ".join(f"{o}: {v.absolute:g} abs, {v.relative:g} rel" for o, v in fault.noise.items()) or "none"
+    design = ("population: healthy and faulty measurements compared only where they share no parameter point "
+              "and no wind record (what a monitoring system faces; the levels share points and records only to "
+              "keep the curves smooth)" if fault.design == "population" else
+              "paired: each measurement is a point's change from its own healthy record r to its record r + 1 "
+              "(one turbine against its own baseline, in other wind); compared only where no point or record is "
+              "shared")
     lines = ["## Fault detectability", "",
              f"Fault `{fault.parameter}`: healthy {fault.healthy:g}, "
              f"faulty {', '.join(f'{v:g}' for v in fault.levels)}. "
              f"Each population: {fault.samples} points of the other parameters x "
              f"{result.study.spec.scenes.realisations} realisations = {n} measurements (not averaged); "
-             f"measurement noise (std): {noise}. Alarm threshold at false-alarm rate {fault.false_alarm:g}; "
-             f"detectable when the lower end of the POD interval (Clopper-Pearson union bootstrap, confidence "
-             f"{fault.confidence:g}) reaches {fault.pod_target:g}. `combined`: Fisher discriminant of the outputs, "
-             "trained on one half and scored on the other.", "",
-             "| scene | output | faulty | ST fault | effect size | AUC [interval] | POD [interval] | detectable |",
-             "|---|---|---|---|---|---|---|---|"]
+             f"measurement noise (std): {noise}. Design {design}. Alarm threshold at false-alarm rate "
+             f"{fault.false_alarm:g} (`false alarms`: the rate measured out of sample); "
+             f"detectable when the lower end of the POD interval (two-way bootstrap over points and records, "
+             f"union Clopper-Pearson on the effective count, confidence {fault.confidence:g}) reaches "
+             f"{fault.pod_target:g}; refused when the measurements are worth fewer than 1/false-alarm independent "
+             "ones. `combined`: Fisher discriminant of the outputs, trained on one half of the points and scored "
+             "on the other; its interval re-trains on every bootstrap re-draw.", "",
+             "| scene | output | faulty | ST fault | effect size | AUC [interval] | POD [interval] | false alarms "
+             "| n eff | detectable |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for r in result.fault.itertuples():
         verdict = {True: "yes", False: "no"}.get(r.detectable, f"refused: {r.reason}")
         st = "-" if pd.isna(r.ST_fault) else f"{r.ST_fault:.2f}"
         lines.append(f"| {r.scene} | {r.output} | {r.faulty:g} | {st} | {r.effect_size:.2f} | "
                      f"{r.auc:.2f} [{r.auc_low:.2f}, {r.auc_high:.2f}] | {r.pod:.2f} [{r.pod_low:.2f}, "
-                     f"{r.pod_high:.2f}] | {verdict} |")
+                     f"{r.pod_high:.2f}] | {r.false_alarm:.3f} | {r.n_eff_healthy:.0f} | {verdict} |")
+    if result.fault_subsets is not None:
+        lines += ["", "### Sensor choice (greedy forward on the Fisher detector, validated on held-out points)", "",
+                  "| scene | faulty | chosen sensors | selection AUC | validation AUC [interval] | validation POD "
+                  "[interval] | all sensors, validation AUC / POD |", "|---|---|---|---|---|---|---|"]
+        lines += [f"| {r.scene} | {r.faulty:g} | {r.sensors} | {r.selection_auc:.3f} | {r.auc:.2f} [{r.auc_low:.2f}, "
+                  f"{r.auc_high:.2f}] | {r.pod:.2f} [{r.pod_low:.2f}, {r.pod_high:.2f}] | {r.all_auc:.2f} / "
+                  f"{r.all_pod:.2f} |" for r in result.fault_subsets.itertuples()]
     lines += ["", f"### Smallest detectable fault (POD {fault.pod_target:g} at false-alarm rate "
                   f"{fault.false_alarm:g}, interpolated)", "",
               "| scene | output | level (POD) | level (POD lower bound) | note |", "|---|---|---|---|---|"]

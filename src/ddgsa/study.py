@@ -250,6 +250,10 @@ class FaultSpec(BaseModel):
     unit: str | None = Field(None, exclude=True, description="unit of healthy and faulty (default: the parameter's "
                                                              "SI unit; converted on validation)")
     samples: int = Field(64, ge=8, le=4096, description="points over the other uncertainties per fault level")
+    design: Literal["population", "paired"] = Field(
+        "population", description="population: a monitoring system's healthy and faulty fleets (measurements "
+                                  "compared only where they share no point or wind record); paired: each turbine "
+                                  "against its own healthy baseline in another wind record")
     noise: dict[str, NoiseSpec] = Field(default_factory=dict, description="measurement noise per output")
     combine: list[str] | None = Field(None, min_length=2, description="outputs of the combined detector "
                                                                       "(default: every output with healthy spread)")
@@ -689,6 +693,10 @@ def _validate_fault(where: str, spec: StudySpec, model: Any) -> None:
         if key not in outputs:
             raise StudyError(f"{where}: field 'fault.combine[{i}]': not an output of the study; "
                              f"known: {', '.join(outputs)}")
+    if fault.design == "paired" and spec.scenes.realisations < 4:
+        raise StudyError(f"{where}: field 'fault.design': paired compares each point's record r with its own "
+                         "healthy record r - 1; two such changes are independent only on four distinct records: "
+                         f"needs scenes.realisations >= 4, got {spec.scenes.realisations}")
     n = fault.samples * spec.scenes.realisations
     if n * fault.false_alarm < 1:
         raise StudyError(f"{where}: field 'fault.samples': {fault.samples} samples x "
