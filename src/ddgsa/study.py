@@ -60,6 +60,11 @@ from ddgsa.study_limits import (MAX_NAME_CHARS, check_names, check_run_size, loa
 
 _STRICT = ConfigDict(extra="forbid")
 
+_LATER_DEFAULTS: dict[tuple[str, str], Any] = {("scenes", "loads"): {"fidelity": "table"},
+                                               ("fault", "design"): "population"}
+"""Study fields added in the third stage, with their defaults: left out of :attr:`Study.digest` at
+the default (the scene's rotor aerodynamics; the fault study's design)."""
+
 
 class StudyWarning(UserWarning):
     """A valid study that will probably not give what its author wants."""
@@ -335,7 +340,11 @@ class StudySpec(BaseModel):
         """``outputs: [{name: x, unit: mm}]`` -> ``outputs: [x]`` and ``output_units: {x: mm}``."""
         if not isinstance(data, dict) or not isinstance(data.get("outputs"), list):
             return data
-        names, units = [], dict(data.get("output_units") or {})
+        given = data.get("output_units") or {}
+        if not isinstance(given, dict):
+            raise ValueError(f"output_units: a mapping of output name to unit (better: outputs: [{{name, unit}}]), "
+                             f"got {type(given).__name__}")
+        names, units = [], dict(given)
         for i, entry in enumerate(data["outputs"]):
             if isinstance(entry, dict):
                 if set(entry) != {"name", "unit"}:
@@ -421,8 +430,14 @@ class Study:
 
     @property
     def digest(self) -> str:
-        """SHA-256 of the validated study (canonical JSON), for provenance."""
-        return hashlib.sha256(json.dumps(self.spec.model_dump(mode="json"), sort_keys=True).encode()).hexdigest()
+        """SHA-256 of the validated study (canonical JSON), for provenance. Fields added after
+        studies were committed (:data:`_LATER_DEFAULTS`) count only when they differ from their
+        default, so a study written before them keeps its digest."""
+        data = self.spec.model_dump(mode="json")
+        for (part, field), default in _LATER_DEFAULTS.items():
+            if isinstance(data.get(part), dict) and data[part].get(field) == default:
+                del data[part][field]
+        return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()
 
     def make_model(self) -> Any:
         """The model instance the study runs (its richest fidelity under ``auto``)."""
@@ -502,10 +517,10 @@ def salib_parameters(file: str, path: Path | None = None) -> dict[str, dict[str,
     if not src.is_file():
         raise StudyError(f"{field}: SALib problem file {src} not found (a mapping of parameters, or a file name)")
     try:
-        problem = (YAML(typ="safe", pure=True).load(src.read_text()) if src.suffix in (".json", ".yaml", ".yml")
+        problem = (load_yaml(src)[0] if src.suffix in (".json", ".yaml", ".yml")
                    else read_param_file(str(src)))
         return ParameterSpace.from_salib(problem).to_dict()
-    except (DdgsaError, ValueError, KeyError, YAMLError, csv.Error) as exc:
+    except (DdgsaError, ValueError, KeyError, csv.Error) as exc:
         raise StudyError(f"{field}: SALib problem file {src}: {exc}") from None
 
 

@@ -83,7 +83,7 @@ def test_a_long_bad_value_is_echoed_clipped(tmp_path: Path) -> None:
     rc, err = validate(write(tmp_path, BASE.replace("name: demo", "name: [" + ",".join(["1"] * 2000) + "]")))
     assert rc == 2 and "field 'name': Input should be a valid string (given: [1, 1, 1, 1, ...])" in err
     rc, err = validate(write(tmp_path, BASE + "kind: " + "x" * 100_000 + "\n"))
-    assert rc == 2 and "field 'kind'" in err and "... (100002 characters))" in err
+    assert rc == 2 and "field 'kind'" in err and "... (100002 characters)" in err and len(err) < 2000
 
 
 @pytest.mark.parametrize("text, field", [

@@ -111,7 +111,7 @@ def test_the_console_names_the_first_failure_reason(write_study, tmp_path: Path,
     path = write_study("failing", options="{fail_above: 2.5}")
     assert main(["-q", "run", str(path), "--out", str(tmp_path / "out")]) == 3
     err = capsys.readouterr().err
-    assert "output 'y': no method's indices are trusted" in err
+    assert "output 'y': no method's indices are confirmed" in err
     assert "evaluations failed, the first: RuntimeError: x1 = " in err and "above fail_above = 2.5" in err
 
 

@@ -219,9 +219,8 @@ class Model(ABC):
         ModelError
             For an unknown option (close names listed) or a value the declaration does not allow.
         """
-        if given.get("fidelity") is not None and cls.fidelities and given["fidelity"] not in cls.fidelities:
-            raise ModelError(f"model {cls.name!r}: " + unknown_name_message("fidelity", given["fidelity"],
-                                                                             list(cls.fidelities)))
+        if given.get("fidelity") is not None and cls.fidelities:
+            cls.check_fidelity(given["fidelity"])
         if cls.options is None:
             return
         declared = {o.name: o for o in cls.options}
@@ -382,7 +381,8 @@ class Model(ABC):
             tables[float(w)] = table[table["frequency_hz"] <= max_frequency_hz]
         return campbell_from_tables(tables, tuple(float(o) for o in orders))
 
-    def check_fidelity(self, fidelity: str) -> None:
+    @classmethod
+    def check_fidelity(cls, fidelity: str) -> None:
         """The one fidelity check of every model: ``fidelity`` must be one of :attr:`fidelities`.
 
         Raises
@@ -390,8 +390,8 @@ class Model(ABC):
         ModelError
             Naming the model, the fidelity given and the known ones.
         """
-        if fidelity not in self.fidelities:
-            raise ModelError(f"model {self.name!r}: unknown fidelity {fidelity!r}; known: {', '.join(self.fidelities)}")
+        if fidelity not in cls.fidelities:
+            raise ModelError(f"model {cls.name!r}: unknown fidelity {fidelity!r}; known: {', '.join(cls.fidelities)}")
 
     def standstill_only(self, rotor_speed: float) -> None:
         """Refuse a nonzero ``rotor_speed`` [rad/s] for a model whose modes have no rotor speed.
