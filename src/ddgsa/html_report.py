@@ -38,6 +38,8 @@ from ddgsa.models import get as get_model
 from ddgsa.svgplot import Bars, Guide, Heat, Line, bar_chart, heatmap, num, xy_chart
 
 HTML_NAME = "report.html"
+RESULTS_MARKERS = ("provenance.json", "summary.md", "campbell.csv")
+"""One of these files makes a folder a results folder (a study's, or ``ddgsa modes``')."""
 TABLE_ROWS = 400
 """Tables longer than this show their first rows and name the CSV file that holds all of them."""
 DIAGNOSTIC_ROWS = 60
@@ -98,6 +100,9 @@ def render(folder: Path) -> str:
     """The report page of a results folder, as HTML text."""
     if not folder.is_dir():
         raise OutputFolderError(f"{folder}: not a folder (ddgsa html takes results folders, e.g. results/quickstart)")
+    if not any((folder / m).is_file() for m in RESULTS_MARKERS):
+        raise OutputFolderError(f"{folder}: not a results folder (none of {', '.join(RESULTS_MARKERS)}; "
+                                f"ddgsa html takes the folders ddgsa run and ddgsa modes write)")
     prov = _json(folder / "provenance.json")
     units = _units(folder, prov)
     title = str(prov.get("study") or folder.resolve().name)
