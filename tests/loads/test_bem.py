@@ -142,6 +142,23 @@ def test_study_scenes_loads_fidelity() -> None:
         ScenesSpec.model_validate({"loads": {"fidelity": "cfd"}})
 
 
+@pytest.mark.parametrize(("fidelity", "line"), [("table", None), ("bem", "- loads: `bem` (blade-element momentum"),
+                                                 ("auto", "- loads: `auto` (blade-element momentum rotor where "
+                                                          "|inclination_deg| >= 2.5, else")])
+def test_summary_names_the_rotor_of_non_default_loads(fidelity: str, line: str | None) -> None:
+    """summary.md (and so report.html) says which rotor made the hub loads where it is not the default
+    table rotor; a table-rotor study's summary has no such line (the committed ones are unchanged)."""
+    from types import SimpleNamespace
+
+    from ddgsa.report import _loads_line
+    from ddgsa.study import validate_study
+
+    study = validate_study({"name": "s", "kind": "sweep", "model": {"name": "direct_drive", "fidelity": "linear"},
+                            "scenes": {"wind_speed": [8.0], "duration": 60, "loads": {"fidelity": fidelity}}})
+    got = _loads_line(SimpleNamespace(study=study))
+    assert got == [] if line is None else (len(got) == 1 and got[0].startswith(line))
+
+
 # -- welib's BEM (an independent implementation, PyPI `welib`) -------------------------------------
 
 def _welib_hub(v: float, rpm: float, pitch_deg: float, direction: tuple[float, float, float],
