@@ -488,10 +488,17 @@ def _fault_markdown(result: StudyResult) -> list[str]:
     return lines
 
 
-LOADS_MEANING = {"bem": "blade-element momentum rotor (docs/loads.md)",
+LOADS_MEANING = {"bem": "blade-element momentum rotor; docs/loads.md",
                  "auto": "blade-element momentum rotor where |inclination_deg| >= "
-                         f"{AUTO_BEM_INCLINATION_DEG:g}, else the Cp/Ct table rotor (docs/loads.md)"}
+                         f"{AUTO_BEM_INCLINATION_DEG:g}, else the Cp/Ct table rotor; docs/loads.md"}
 """The summary's line on a wind study's hub loads where they are not the default table rotor's."""
+
+
+def _model_words(model: dict[str, Any]) -> str:
+    """``fidelity`` and the study's model options (``linear; bending_rayleigh=printed``): a reader of
+    the summary sees which variant ran (seed 000's printed readings are options, not fidelities)."""
+    options = model.get("options") or {}
+    return "; ".join([str(model["fidelity"]), *(f"{k}={v}" for k, v in options.items())])
 
 
 def _loads_line(result: StudyResult) -> list[str]:
@@ -509,7 +516,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
     info = info if info is not None else output_info(result)
     code = p.get("code", {})
     lines = [f"# {result.study.name}", "", result.study.spec.description or "", "",
-             f"- model: `{p['model']['name']}` ({p['model']['fidelity']})", *_loads_line(result),
+             f"- model: `{p['model']['name']}` ({_model_words(p['model'])})", *_loads_line(result),
              f"- evaluations: {evaluation_line(p)}",
              f"- ddgsa {code.get('ddgsa', '?')}" + (f", commit {code['commit'][:12]}"
                                                    + (" (modified)" if code.get("modified") else "")
