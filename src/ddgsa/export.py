@@ -78,7 +78,12 @@ def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataF
     ds["n_evals"].attrs = {"units": "1", "long_name": "model evaluations the method spent in the scene"}
     scenes = idx.groupby("scene")[scene_fields].first() if scene_fields else None
     if scenes is not None:
+        from ddgsa.html_report import FIELD_UNITS
+
         ds = ds.assign_coords({f: ("scene", scenes[f].reindex(ds["scene"].values).to_numpy()) for f in scene_fields})
+        for f in scene_fields:           # CF: "1" for dimensionless; a field without a known unit gets none
+            if f in FIELD_UNITS:
+                ds[f].attrs["units"] = "1" if FIELD_UNITS[f] == "-" else FIELD_UNITS[f]
     if moments is not None and len(moments):
         mom = xr.Dataset.from_dataframe(moments.set_index(["scene", "output"])[["mean", "std", "cv"]])
         ds = ds.merge(mom, join="outer")
@@ -168,6 +173,8 @@ def export_folder(folder: Path, fmt: str = "netcdf", out: Path | None = None) ->
         raise OutputFolderError(f"--format {fmt!r}: allowed {', '.join(FORMATS)}")
     ds = folder_dataset(folder)
     folder = Path(folder)
+    if out is not None:
+        Path(out).parent.mkdir(parents=True, exist_ok=True)
     if fmt == "netcdf":
         path = out or folder / "indices.nc"
         ds.to_netcdf(path, engine="h5netcdf")
