@@ -97,5 +97,9 @@ def test_a_study_reads_its_parameters_from_a_salib_problem_file(tmp_path: Path) 
         load_study(tmp_path / "bad.yaml")
     (tmp_path / "garbage.txt").write_text("x1 -3 3\nx2\n")
     (tmp_path / "bad.yaml").write_text(STUDY.format(file="garbage.txt"))
-    with pytest.raises(StudyError, match=r"bad.yaml: field 'parameters': SALib problem file .*garbage.txt: "):
+    with pytest.raises(StudyError, match=r"bad.yaml: field 'parameters': SALib problem file .*garbage.txt: .*name,low,high"):
+        load_study(tmp_path / "bad.yaml")
+    (tmp_path / "short.txt").write_text("x1,-3\n")            # no upper bound: SALib's reader raises TypeError
+    (tmp_path / "bad.yaml").write_text(STUDY.format(file="short.txt"))
+    with pytest.raises(StudyError, match=r"bad.yaml: field 'parameters': SALib problem file .*short.txt: .*name,low,high"):
         load_study(tmp_path / "bad.yaml")
