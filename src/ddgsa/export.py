@@ -140,13 +140,17 @@ def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataF
 
 def folder_dataset(folder: Path) -> xr.Dataset:
     """The dataset of a results folder, from its ``indices.csv`` and the other tables beside it."""
-    import json
+    from ddgsa.html_report import read_json
 
     folder = Path(folder)
     path = folder / "indices.csv"
     if not path.is_file():
         raise OutputFolderError(f"{folder}: no indices.csv (export needs a GSA or fault study's results folder)")
     indices = pd.read_csv(path)
+    missing = [c for c in ("scene", "output", "parameter", "method", *INDEX_VARS, "trusted", "n_evals")
+               if c not in indices]
+    if missing:
+        raise OutputFolderError(f"{path}: not an indices table ddgsa wrote (no column(s) {', '.join(missing)})")
 
     def table(name: str) -> pd.DataFrame | None:
         p = folder / name
@@ -155,7 +159,7 @@ def folder_dataset(folder: Path) -> xr.Dataset:
     meta = {"study", "scene", "method", "output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted",
             "n_evals", "output_unit", "source"}
     fields = [c for c in indices.columns if c not in meta]
-    prov = json.loads((folder / "provenance.json").read_text()) if (folder / "provenance.json").is_file() else {}
+    prov = read_json(folder / "provenance.json")
     attrs = {k: v for k, v in {"study": prov.get("study") or folder.name,
                                "model": (prov.get("model") or {}).get("name"),
                                "fidelity": (prov.get("model") or {}).get("fidelity"),

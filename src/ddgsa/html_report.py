@@ -103,7 +103,7 @@ def render(folder: Path) -> str:
     if not any((folder / m).is_file() for m in RESULTS_MARKERS):
         raise OutputFolderError(f"{folder}: not a results folder (none of {', '.join(RESULTS_MARKERS)}; "
                                 f"ddgsa html takes the folders ddgsa run and ddgsa modes write)")
-    prov = _json(folder / "provenance.json")
+    prov = read_json(folder / "provenance.json")
     units = _units(folder, prov)
     title = str(prov.get("study") or folder.resolve().name)
     sections: list[tuple[str, str, str]] = []       # (anchor, heading, html)
@@ -136,8 +136,15 @@ def render(folder: Path) -> str:
 # --- reading the folder -------------------------------------------------------------------------------------
 
 
-def _json(path: Path) -> dict[str, Any]:
-    return json.loads(path.read_text()) if path.is_file() else {}
+def read_json(path: Path) -> dict[str, Any]:
+    """The JSON file at ``path`` ({} where there is none); :class:`OutputFolderError` where it is not JSON."""
+    if not path.is_file():
+        return {}
+    try:
+        return json.loads(path.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise OutputFolderError(f"{path}: not a JSON file ddgsa wrote ({exc}); rerun the study or "
+                                f"`ddgsa report` its folder to rewrite it") from None
 
 
 def _csv(folder: Path, name: str) -> pd.DataFrame | None:
@@ -195,7 +202,7 @@ def _summary(folder: Path) -> str:
 def _problems(folder: Path) -> str:
     """Each untrusting diagnostic with where it fired and its remedy; failed evaluations."""
     diag = _csv(folder, "diagnostics.csv")
-    prov = _json(folder / "provenance.json")
+    prov = read_json(folder / "provenance.json")
     items = []
     if diag is not None and len(diag):
         bad = diag[diag["severity"] == "untrusted"]

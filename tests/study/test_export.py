@@ -4,6 +4,7 @@ the results objects' HTML in Jupyter."""
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -116,6 +117,15 @@ def test_export_writes_into_a_new_folder_and_scene_fields_carry_cf_units(tmp_pat
 def test_export_refuses_a_folder_without_indices(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["export", str(tmp_path)]) == 2
     assert "no indices.csv" in capsys.readouterr().err
+    (tmp_path / "indices.csv").write_text("a,b\n1,2\n")         # a CSV of another tool: named, exit 2
+    assert main(["export", str(tmp_path)]) == 2
+    assert "not an indices table ddgsa wrote (no column(s) scene, output" in capsys.readouterr().err
+    shutil.copytree(Path(__file__).parents[2] / "results" / "quickstart", tmp_path / "q")
+    (tmp_path / "q" / "provenance.json").write_text("{")       # truncated JSON: named, exit 2, no traceback
+    for command in ("export", "html"):
+        assert main([command, str(tmp_path / "q")]) == 2
+        err = capsys.readouterr().err
+        assert "provenance.json: not a JSON file ddgsa wrote" in err and "Traceback" not in err
 
 
 def test_results_render_as_html_tables_in_jupyter(run: tuple[object, Path]) -> None:
