@@ -38,8 +38,6 @@ from ddgsa.models import get as get_model
 from ddgsa.svgplot import Bars, Guide, Heat, Line, bar_chart, heatmap, num, xy_chart
 
 HTML_NAME = "report.html"
-RESULTS_MARKERS = ("provenance.json", "summary.md", "campbell.csv")
-"""One of these files makes a folder a results folder (a study's, or ``ddgsa modes``')."""
 TABLE_ROWS = 400
 """Tables longer than this show their first rows and name the CSV file that holds all of them."""
 DIAGNOSTIC_ROWS = 60
@@ -100,9 +98,6 @@ def render(folder: Path) -> str:
     """The report page of a results folder, as HTML text."""
     if not folder.is_dir():
         raise OutputFolderError(f"{folder}: not a folder (ddgsa html takes results folders, e.g. results/quickstart)")
-    if not any((folder / m).is_file() for m in RESULTS_MARKERS):
-        raise OutputFolderError(f"{folder}: not a results folder (none of {', '.join(RESULTS_MARKERS)}; "
-                                f"ddgsa html takes the folders ddgsa run and ddgsa modes write)")
     prov = read_json(folder / "provenance.json")
     units = _units(folder, prov)
     title = str(prov.get("study") or folder.resolve().name)
@@ -122,6 +117,9 @@ def render(folder: Path) -> str:
     add("tables", "Other tables", _other_tables(folder))
     add("figures", "Figures", _figures(folder))
     add("provenance", "Provenance", _provenance(prov))
+    if not sections:
+        raise OutputFolderError(f"{folder}: not a results folder (no summary, tables, figures or provenance to "
+                                f"report; ddgsa html takes the folders ddgsa run, modes and bench write)")
     nav = " · ".join(f'<a href="#{a}">{escape(h)}</a>' for a, h, _ in sections)
     body = "".join(f'<section id="{a}"><h2 class="section">{escape(h)}</h2>{b}</section>' for a, h, b in sections)
     asset = files("ddgsa") / "data"

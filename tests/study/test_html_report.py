@@ -240,7 +240,7 @@ def test_cli_html_rebuilds_committed_folders_and_refuses_a_file(tmp_path: Path, 
     assert "not a folder" in capsys.readouterr().err
     stray = tmp_path / "notes"
     stray.mkdir()
-    (stray / "data.csv").write_text("a,b\n1,2\n")
+    (stray / "notes.txt").write_text("nothing a report shows\n")
     assert main(["html", str(stray)]) == 2                      # not a results folder: refused, nothing written
     assert "not a results folder" in capsys.readouterr().err
     assert not (stray / "report.html").exists()
