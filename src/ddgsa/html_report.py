@@ -447,6 +447,14 @@ def _figures(folder: Path) -> str:
     return "".join(parts)
 
 
+def model_words(model: dict[str, Any]) -> str:
+    """``fidelity`` and the study's model options (``linear; bending_rayleigh=printed``) of a
+    provenance's ``model``: a reader sees which variant ran (seed 000's printed readings are
+    options, not fidelities)."""
+    options = model.get("options") or {}
+    return "; ".join([str(model.get("fidelity", "?")), *(f"{k}={v}" for k, v in options.items())])
+
+
 def _provenance(prov: dict[str, Any]) -> str:
     if not prov:
         return ""
@@ -455,7 +463,7 @@ def _provenance(prov: dict[str, Any]) -> str:
             ("created (UTC)", prov.get("created_utc")),
             ("code", f"ddgsa {code.get('ddgsa', '?')}, commit {str(code.get('commit', '?'))[:12]}"
                      + (" (modified)" if code.get("modified") else "")),
-            ("model", f"{model.get('name', '?')} ({model.get('fidelity', '?')})" if model else None),
+            ("model", f"{model.get('name', '?')} ({model_words(model)})" if model else None),
             ("evaluations", ", ".join(f"{k} {v}" for k, v in ev.items()) if ev else None),
             ("timings [s]", ", ".join(f"{k} {v}" for k, v in (prov.get("timings_s") or {}).items()) or None),
             ("versions", ", ".join(f"{k} {v}" for k, v in (prov.get("versions") or {}).items()) or None),

@@ -25,7 +25,7 @@ import pandas as pd  # noqa: E402
 
 from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.result import draw_index_bars  # noqa: E402
-from ddgsa.html_report import HTML_NAME, write_html  # noqa: E402
+from ddgsa.html_report import HTML_NAME, model_words, write_html  # noqa: E402
 from ddgsa.loads.scene import AUTO_BEM_INCLINATION_DEG  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.outdir import previous_files, remove_stale  # noqa: E402
@@ -494,13 +494,6 @@ LOADS_MEANING = {"bem": "blade-element momentum rotor; docs/loads.md",
 """The summary's line on a wind study's hub loads where they are not the default table rotor's."""
 
 
-def _model_words(model: dict[str, Any]) -> str:
-    """``fidelity`` and the study's model options (``linear; bending_rayleigh=printed``): a reader of
-    the summary sees which variant ran (seed 000's printed readings are options, not fidelities)."""
-    options = model.get("options") or {}
-    return "; ".join([str(model["fidelity"]), *(f"{k}={v}" for k, v in options.items())])
-
-
 def _loads_line(result: StudyResult) -> list[str]:
     """``- loads: ...`` where the study's wind scenes use another rotor than the default table one
     (nothing for the default, so summaries of table-rotor studies are unchanged)."""
@@ -516,7 +509,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
     info = info if info is not None else output_info(result)
     code = p.get("code", {})
     lines = [f"# {result.study.name}", "", result.study.spec.description or "", "",
-             f"- model: `{p['model']['name']}` ({_model_words(p['model'])})", *_loads_line(result),
+             f"- model: `{p['model']['name']}` ({model_words(p['model'])})", *_loads_line(result),
              f"- evaluations: {evaluation_line(p)}",
              f"- ddgsa {code.get('ddgsa', '?')}" + (f", commit {code['commit'][:12]}"
                                                    + (" (modified)" if code.get("modified") else "")

@@ -236,12 +236,3 @@ def test_against_welib_bem(v: float) -> None:
         name = "My" if moment == 4 else "Mz"
         assert ours[moment] == pytest.approx(w[name], rel=0.20)
         assert np.sign(ours[moment]) == np.sign(w[name])
-
-
-def test_summary_model_line_names_the_model_options() -> None:
-    """A variant chosen by model options (seed 000's printed readings) is visible in the summary's model line."""
-    from ddgsa.report import _model_words
-
-    assert _model_words({"name": "direct_drive", "fidelity": "rigid", "options": {}}) == "rigid"
-    assert _model_words({"fidelity": "linear", "options": {"bending_rayleigh": "printed", "deflection": "frame"}}) \
-        == "linear; bending_rayleigh=printed; deflection=frame"
