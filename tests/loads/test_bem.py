@@ -236,3 +236,15 @@ def test_against_welib_bem(v: float) -> None:
         name = "My" if moment == 4 else "Mz"
         assert ours[moment] == pytest.approx(w[name], rel=0.20)
         assert np.sign(ours[moment]) == np.sign(w[name])
+
+
+def test_study_digest_names_a_non_default_rotor_only() -> None:
+    """The default table rotor leaves a study's digest as it was before ``scenes.loads`` existed
+    (the committed quickstart's provenance, tests/study/test_rig_scenes.py); ``bem`` changes it."""
+    from ddgsa.study import validate_study
+
+    spec = {"name": "s", "kind": "sweep", "model": {"name": "direct_drive", "fidelity": "linear"},
+            "scenes": {"wind_speed": [8.0], "duration": 60}}
+    table = validate_study(spec).digest
+    assert validate_study({**spec, "scenes": {**spec["scenes"], "loads": {"fidelity": "table"}}}).digest == table
+    assert validate_study({**spec, "scenes": {**spec["scenes"], "loads": {"fidelity": "bem"}}}).digest != table
