@@ -78,7 +78,12 @@ def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataF
     ds["n_evals"].attrs = {"units": "1", "long_name": "model evaluations the method spent in the scene"}
     scenes = idx.groupby("scene")[scene_fields].first() if scene_fields else None
     if scenes is not None:
+        from ddgsa.html_report import FIELD_UNITS
+
         ds = ds.assign_coords({f: ("scene", scenes[f].reindex(ds["scene"].values).to_numpy()) for f in scene_fields})
+        for f in scene_fields:           # CF: "1" for dimensionless; a field without a known unit gets none
+            if f in FIELD_UNITS:
+                ds[f].attrs["units"] = "1" if FIELD_UNITS[f] == "-" else FIELD_UNITS[f]
     if moments is not None and len(moments):
         mom = xr.Dataset.from_dataframe(moments.set_index(["scene", "output"])[["mean", "std", "cv"]])
         ds = ds.merge(mom, join="outer")
@@ -135,13 +140,17 @@ def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataF
 
 def folder_dataset(folder: Path) -> xr.Dataset:
     """The dataset of a results folder, from its ``indices.csv`` and the other tables beside it."""
-    import json
+    from ddgsa.html_report import read_json
 
     folder = Path(folder)
     path = folder / "indices.csv"
     if not path.is_file():
         raise OutputFolderError(f"{folder}: no indices.csv (export needs a GSA or fault study's results folder)")
     indices = pd.read_csv(path)
+    missing = [c for c in ("scene", "output", "parameter", "method", *INDEX_VARS, "trusted", "n_evals")
+               if c not in indices]
+    if missing:
+        raise OutputFolderError(f"{path}: not an indices table ddgsa wrote (no column(s) {', '.join(missing)})")
 
     def table(name: str) -> pd.DataFrame | None:
         p = folder / name
@@ -150,7 +159,7 @@ def folder_dataset(folder: Path) -> xr.Dataset:
     meta = {"study", "scene", "method", "output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted",
             "n_evals", "output_unit", "source"}
     fields = [c for c in indices.columns if c not in meta]
-    prov = json.loads((folder / "provenance.json").read_text()) if (folder / "provenance.json").is_file() else {}
+    prov = read_json(folder / "provenance.json")
     attrs = {k: v for k, v in {"study": prov.get("study") or folder.name,
                                "model": (prov.get("model") or {}).get("name"),
                                "fidelity": (prov.get("model") or {}).get("fidelity"),
@@ -168,6 +177,8 @@ def export_folder(folder: Path, fmt: str = "netcdf", out: Path | None = None) ->
         raise OutputFolderError(f"--format {fmt!r}: allowed {', '.join(FORMATS)}")
     ds = folder_dataset(folder)
     folder = Path(folder)
+    if out is not None:
+        Path(out).parent.mkdir(parents=True, exist_ok=True)
     if fmt == "netcdf":
         path = out or folder / "indices.nc"
         ds.to_netcdf(path, engine="h5netcdf")

@@ -98,7 +98,7 @@ def render(folder: Path) -> str:
     """The report page of a results folder, as HTML text."""
     if not folder.is_dir():
         raise OutputFolderError(f"{folder}: not a folder (ddgsa html takes results folders, e.g. results/quickstart)")
-    prov = _json(folder / "provenance.json")
+    prov = read_json(folder / "provenance.json")
     units = _units(folder, prov)
     title = str(prov.get("study") or folder.resolve().name)
     sections: list[tuple[str, str, str]] = []       # (anchor, heading, html)
@@ -117,6 +117,9 @@ def render(folder: Path) -> str:
     add("tables", "Other tables", _other_tables(folder))
     add("figures", "Figures", _figures(folder))
     add("provenance", "Provenance", _provenance(prov))
+    if not sections:
+        raise OutputFolderError(f"{folder}: not a results folder (no summary, tables, figures or provenance to "
+                                f"report; ddgsa html takes the folders ddgsa run, modes and bench write)")
     nav = " · ".join(f'<a href="#{a}">{escape(h)}</a>' for a, h, _ in sections)
     body = "".join(f'<section id="{a}"><h2 class="section">{escape(h)}</h2>{b}</section>' for a, h, b in sections)
     asset = files("ddgsa") / "data"
@@ -131,8 +134,15 @@ def render(folder: Path) -> str:
 # --- reading the folder -------------------------------------------------------------------------------------
 
 
-def _json(path: Path) -> dict[str, Any]:
-    return json.loads(path.read_text()) if path.is_file() else {}
+def read_json(path: Path) -> dict[str, Any]:
+    """The JSON file at ``path`` ({} where there is none); :class:`OutputFolderError` where it is not JSON."""
+    if not path.is_file():
+        return {}
+    try:
+        return json.loads(path.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise OutputFolderError(f"{path}: not a JSON file ddgsa wrote ({exc}); rerun the study or "
+                                f"`ddgsa report` its folder to rewrite it") from None
 
 
 def _csv(folder: Path, name: str) -> pd.DataFrame | None:
@@ -190,7 +200,7 @@ def _summary(folder: Path) -> str:
 def _problems(folder: Path) -> str:
     """Each untrusting diagnostic with where it fired and its remedy; failed evaluations."""
     diag = _csv(folder, "diagnostics.csv")
-    prov = _json(folder / "provenance.json")
+    prov = read_json(folder / "provenance.json")
     items = []
     if diag is not None and len(diag):
         bad = diag[diag["severity"] == "untrusted"]
@@ -437,6 +447,14 @@ def _figures(folder: Path) -> str:
     return "".join(parts)
 
 
+def model_words(model: dict[str, Any]) -> str:
+    """``fidelity`` and the study's model options (``linear; bending_rayleigh=printed``) of a
+    provenance's ``model``: a reader sees which variant ran (seed 000's printed readings are
+    options, not fidelities)."""
+    options = model.get("options") or {}
+    return "; ".join([str(model.get("fidelity", "?")), *(f"{k}={v}" for k, v in options.items())])
+
+
 def _provenance(prov: dict[str, Any]) -> str:
     if not prov:
         return ""
@@ -445,7 +463,7 @@ def _provenance(prov: dict[str, Any]) -> str:
             ("created (UTC)", prov.get("created_utc")),
             ("code", f"ddgsa {code.get('ddgsa', '?')}, commit {str(code.get('commit', '?'))[:12]}"
                      + (" (modified)" if code.get("modified") else "")),
-            ("model", f"{model.get('name', '?')} ({model.get('fidelity', '?')})" if model else None),
+            ("model", f"{model.get('name', '?')} ({model_words(model)})" if model else None),
             ("evaluations", ", ".join(f"{k} {v}" for k, v in ev.items()) if ev else None),
             ("timings [s]", ", ".join(f"{k} {v}" for k, v in (prov.get("timings_s") or {}).items()) or None),
             ("versions", ", ".join(f"{k} {v}" for k, v in (prov.get("versions") or {}).items()) or None),

@@ -26,7 +26,8 @@ import pandas as pd  # noqa: E402
 from ddgsa.confirm import advice as confirm_advice, pair_status  # noqa: E402
 from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.result import draw_index_bars  # noqa: E402
-from ddgsa.html_report import HTML_NAME, write_html  # noqa: E402
+from ddgsa.html_report import HTML_NAME, model_words, write_html  # noqa: E402
+from ddgsa.loads.scene import AUTO_BEM_INCLINATION_DEG  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.outdir import previous_files, remove_stale  # noqa: E402
 from ddgsa.pipeline import StudyResult  # noqa: E402
@@ -583,6 +584,20 @@ def no_effect_lines(result: StudyResult) -> list[str]:
             + [f"- `{name}`: {why}" for name, why in reasons.items()] + [""])
 
 
+LOADS_MEANING = {"bem": "blade-element momentum rotor; docs/loads.md",
+                 "auto": "blade-element momentum rotor where |inclination_deg| >= "
+                         f"{AUTO_BEM_INCLINATION_DEG:g}, else the Cp/Ct table rotor; docs/loads.md"}
+"""The summary's line on a wind study's hub loads where they are not the default table rotor's."""
+
+
+def _loads_line(result: StudyResult) -> list[str]:
+    """``- loads: ...`` where the study's wind scenes use another rotor than the default table one
+    (nothing for the default, so summaries of table-rotor studies are unchanged)."""
+    loads = getattr(result.study.spec.scenes, "loads", None)
+    fidelity = getattr(loads, "fidelity", "table")
+    return [f"- loads: `{fidelity}` ({LOADS_MEANING[fidelity]})"] if fidelity in LOADS_MEANING else []
+
+
 def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = None) -> str:
     """A short Markdown summary: what ran, the outputs (unit, meaning, mean, CV), problems, then
     per scene and output a sentence on what dominates and parameters ranked by ST with S1."""
@@ -590,7 +605,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
     info = info if info is not None else output_info(result)
     code = p.get("code", {})
     lines = [f"# {result.study.name}", "", result.study.spec.description or "", "",
-             f"- model: `{p['model']['name']}` ({p['model']['fidelity']})",
+             f"- model: `{p['model']['name']}` ({model_words(p['model'])})", *_loads_line(result),
              f"- evaluations: {evaluation_line(p)}",
              f"- ddgsa {code.get('ddgsa', '?')}" + (f", commit {code['commit'][:12]}"
                                                    + (" (modified)" if code.get("modified") else "")

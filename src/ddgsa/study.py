@@ -520,8 +520,10 @@ def salib_parameters(file: str, path: Path | None = None) -> dict[str, dict[str,
         problem = (load_yaml(src)[0] if src.suffix in (".json", ".yaml", ".yml")
                    else read_param_file(str(src)))
         return ParameterSpace.from_salib(problem).to_dict()
-    except (DdgsaError, ValueError, KeyError, csv.Error) as exc:
-        raise StudyError(f"{field}: SALib problem file {src}: {exc}") from None
+    except (DdgsaError, ValueError, TypeError, KeyError, csv.Error) as exc:
+        hint = " (a text problem file has one 'name,low,high[,group[,dist]]' per line)" if src.suffix not in (
+            ".json", ".yaml", ".yml") else ""
+        raise StudyError(f"{field}: SALib problem file {src}: {exc}{hint}") from None
 
 
 def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study:

@@ -43,7 +43,8 @@ def ishigami(x: np.ndarray) -> np.ndarray:
 def test_same_samples_give_the_same_indices_in_salib_and_ddgsa() -> None:
     """ddgsa's Saltelli design on the space equals SALib's own sample of the exported problem (same
     Sobol' scrambling seed; ddgsa maps through chaospy's inverse CDFs, SALib through scipy's), and SALib's
-    analysis of those model values equals ddgsa's indices to 1e-9."""
+    analysis of those model values equals ddgsa's indices to 1e-9. ddgsa's ``saltelli`` runs SALib's
+    estimator (``ddgsa.gsa.salib``): the design and the distribution mapping are the independent part."""
     space = ParameterSpace.from_salib(ProblemSpec(PROBLEM))
     method = get_method("saltelli")
     design = method.design(space, n=256, seed=3)
@@ -97,5 +98,9 @@ def test_a_study_reads_its_parameters_from_a_salib_problem_file(tmp_path: Path) 
         load_study(tmp_path / "bad.yaml")
     (tmp_path / "garbage.txt").write_text("x1 -3 3\nx2\n")
     (tmp_path / "bad.yaml").write_text(STUDY.format(file="garbage.txt"))
-    with pytest.raises(StudyError, match=r"bad.yaml: field 'parameters': SALib problem file .*garbage.txt: "):
+    with pytest.raises(StudyError, match=r"bad.yaml: field 'parameters': SALib problem file .*garbage.txt: .*name,low,high"):
+        load_study(tmp_path / "bad.yaml")
+    (tmp_path / "short.txt").write_text("x1,-3\n")            # no upper bound: SALib's reader raises TypeError
+    (tmp_path / "bad.yaml").write_text(STUDY.format(file="short.txt"))
+    with pytest.raises(StudyError, match=r"bad.yaml: field 'parameters': SALib problem file .*short.txt: .*name,low,high"):
         load_study(tmp_path / "bad.yaml")

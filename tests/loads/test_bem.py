@@ -8,7 +8,7 @@ import pytest
 
 from ddgsa import SceneError
 from ddgsa.loads import NREL5MW, Scene, Turbine, _generate, cache
-from ddgsa.loads.bem import NREL5MW_BLADE, SKEW_FACTOR, Blade, simulate_bem
+from ddgsa.loads.bem import NREL5MW_BLADE, Blade, simulate_bem
 from ddgsa.loads.hubloads import grid_points
 from ddgsa.loads.scene import AUTO_BEM_INCLINATION_DEG
 
@@ -80,7 +80,7 @@ def test_skewed_wake_first_harmonic_against_closed_form() -> None:
     for j in (9, 12, 15):
         coef_eff, *_ = np.linalg.lstsq(basis, a_eff[:, j], rcond=None)
         coef_base, *_ = np.linalg.lstsq(basis, a_base[:, j], rcond=None)
-        expected = SKEW_FACTOR * (r[j] / 63.0) * np.tan(chi / 2)
+        expected = 15 * np.pi / 32 * (r[j] / 63.0) * np.tan(chi / 2)   # the literal: not the module's constant
         assert (coef_eff[1] - coef_base[1]) / coef_base[0] == pytest.approx(expected, rel=0.02)
 
 
@@ -140,6 +140,23 @@ def test_study_scenes_loads_fidelity() -> None:
     assert spec.scene(spec.grid()[0], 0).loads_fidelity == "bem"
     with pytest.raises(ValidationError, match="fidelity"):
         ScenesSpec.model_validate({"loads": {"fidelity": "cfd"}})
+
+
+@pytest.mark.parametrize(("fidelity", "line"), [("table", None), ("bem", "- loads: `bem` (blade-element momentum"),
+                                                 ("auto", "- loads: `auto` (blade-element momentum rotor where "
+                                                          "|inclination_deg| >= 2.5, else")])
+def test_summary_names_the_rotor_of_non_default_loads(fidelity: str, line: str | None) -> None:
+    """summary.md (and so report.html) says which rotor made the hub loads where it is not the default
+    table rotor; a table-rotor study's summary has no such line (the committed ones are unchanged)."""
+    from types import SimpleNamespace
+
+    from ddgsa.report import _loads_line
+    from ddgsa.study import validate_study
+
+    study = validate_study({"name": "s", "kind": "sweep", "model": {"name": "direct_drive", "fidelity": "linear"},
+                            "scenes": {"wind_speed": [8.0], "duration": 60, "loads": {"fidelity": fidelity}}})
+    got = _loads_line(SimpleNamespace(study=study))
+    assert got == [] if line is None else (len(got) == 1 and got[0].startswith(line))
 
 
 # -- welib's BEM (an independent implementation, PyPI `welib`) -------------------------------------
@@ -219,3 +236,15 @@ def test_against_welib_bem(v: float) -> None:
         name = "My" if moment == 4 else "Mz"
         assert ours[moment] == pytest.approx(w[name], rel=0.20)
         assert np.sign(ours[moment]) == np.sign(w[name])
+
+
+def test_study_digest_names_a_non_default_rotor_only() -> None:
+    """The default table rotor leaves a study's digest as it was before ``scenes.loads`` existed
+    (the committed quickstart's provenance, tests/study/test_rig_scenes.py); ``bem`` changes it."""
+    from ddgsa.study import validate_study
+
+    spec = {"name": "s", "kind": "sweep", "model": {"name": "direct_drive", "fidelity": "linear"},
+            "scenes": {"wind_speed": [8.0], "duration": 60}}
+    table = validate_study(spec).digest
+    assert validate_study({**spec, "scenes": {**spec["scenes"], "loads": {"fidelity": "table"}}}).digest == table
+    assert validate_study({**spec, "scenes": {**spec["scenes"], "loads": {"fidelity": "bem"}}}).digest != table

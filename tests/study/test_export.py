@@ -4,6 +4,7 @@ the results objects' HTML in Jupyter."""
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -100,11 +101,33 @@ def test_fault_statistics_of_a_committed_study_as_arrays() -> None:
         r["detectable"])
     assert "combined" in ds["output"].values and ds["trusted"].sel(output="combined").max() == -1
     assert ds.attrs["fault"] == "housing_looseness" and ds["speed_rpm"].values.tolist() == [1500]
+    assert ds["speed_rpm"].attrs["units"] == "rpm"                  # scene coordinates carry their units
+
+
+def test_export_writes_into_a_new_folder_and_scene_fields_carry_cf_units(tmp_path: Path) -> None:
+    """``--out`` in a folder that does not exist yet is created (was: an h5py traceback-like failure,
+    exit 1); the wind scene's fields read back with CF units (m/s, 1)."""
+    import xarray as xr
+
+    out = tmp_path / "new" / "deeper" / "quickstart.nc"
+    assert main(["export", str(Path(__file__).parents[2] / "results" / "quickstart"), "--out", str(out), "-q"]) == 0
+    with xr.open_dataset(out) as ds:
+        assert ds["wind_speed"].attrs["units"] == "m/s" and ds["wind_speed"].values.tolist() == [11.0]
+        assert ds["turbulence_intensity"].attrs["units"] == "1"
 
 
 def test_export_refuses_a_folder_without_indices(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["export", str(tmp_path)]) == 2
     assert "no indices.csv" in capsys.readouterr().err
+    (tmp_path / "indices.csv").write_text("a,b\n1,2\n")         # a CSV of another tool: named, exit 2
+    assert main(["export", str(tmp_path)]) == 2
+    assert "not an indices table ddgsa wrote (no column(s) scene, output" in capsys.readouterr().err
+    shutil.copytree(Path(__file__).parents[2] / "results" / "quickstart", tmp_path / "q")
+    (tmp_path / "q" / "provenance.json").write_text("{")       # truncated JSON: named, exit 2, no traceback
+    for command in ("export", "html"):
+        assert main([command, str(tmp_path / "q")]) == 2
+        err = capsys.readouterr().err
+        assert "provenance.json: not a JSON file ddgsa wrote" in err and "Traceback" not in err
 
 
 def test_results_render_as_html_tables_in_jupyter(run: tuple[object, Path]) -> None:

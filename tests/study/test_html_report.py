@@ -238,3 +238,23 @@ def test_cli_html_rebuilds_committed_folders_and_refuses_a_file(tmp_path: Path, 
     assert (tmp_path / "quickstart" / "report.html").stat().st_size > 10_000
     assert main(["html", str(tmp_path / "quickstart" / "summary.md")]) == 2
     assert "not a folder" in capsys.readouterr().err
+    stray = tmp_path / "notes"
+    stray.mkdir()
+    (stray / "notes.txt").write_text("nothing a report shows\n")
+    assert main(["html", str(stray)]) == 2                      # not a results folder: refused, nothing written
+    assert "not a results folder" in capsys.readouterr().err
+    assert not (stray / "report.html").exists()
+
+
+def test_model_options_are_named_in_summary_and_provenance(tmp_path: Path) -> None:
+    """A variant chosen by model options (seed 000's printed readings) shows in the summary's model
+    line and the page's provenance, not only in study.yaml."""
+    from ddgsa.html_report import model_words
+
+    assert model_words({"name": "direct_drive", "fidelity": "rigid", "options": {}}) == "rigid"
+    assert model_words({"fidelity": "linear", "options": {"bending_rayleigh": "printed", "deflection": "frame"}}) \
+        == "linear; bending_rayleigh=printed; deflection=frame"
+    page = _report(tmp_path, "paper_c_structural_published").read_text()
+    assert "<dt>model</dt><dd>direct_drive (linear; bearing_damping=stiffness_proportional; " \
+           "bending_rayleigh=printed;" in page
+
