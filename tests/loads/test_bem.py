@@ -129,6 +129,11 @@ def test_scene_fidelity_field_and_cache_key() -> None:
         cache.key(Scene(**base, inclination_deg=10.0, loads_fidelity="bem"), NREL5MW)
     with pytest.raises(SceneError, match="loads_fidelity.*table, bem, auto"):
         Scene(**base, loads_fidelity="vortex")
+    # the default rotor's scene dict (the evaluation store's key) is the one written before the BEM rotor
+    assert set(Scene(**base).to_dict()) == {"wind_speed", "turbulence_intensity", "inclination_deg",
+                                            "shear_exponent", "duration", "dt", "seed"}
+    assert Scene(**base, loads_fidelity="bem").to_dict()["loads_fidelity"] == "bem"
+    assert Scene(**Scene(**base, loads_fidelity="bem").to_dict()) == Scene(**base, loads_fidelity="bem")
 
 
 def test_study_scenes_loads_fidelity() -> None:

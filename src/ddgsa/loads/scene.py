@@ -105,8 +105,13 @@ class Scene:
         return int(round(self.duration / self.dt))
 
     def to_dict(self) -> dict[str, Any]:
-        """The scene's fields as a plain dict."""
-        return asdict(self)
+        """The scene's fields as a plain dict; ``loads_fidelity`` only where it is not the default
+        ``table`` rotor, so the evaluation-store and loads-cache keys of scenes written before the
+        blade-element rotor existed stay what they were."""
+        fields = asdict(self)
+        if fields["loads_fidelity"] == "table":
+            del fields["loads_fidelity"]
+        return fields
 
     def replace(self, **changes: Any) -> "Scene":
         """A copy with some fields changed (validated again)."""
