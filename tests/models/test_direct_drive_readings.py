@@ -174,7 +174,7 @@ def test_linear_fidelity_follows_the_flexible_model_under_the_printed_readings()
 def test_bad_reading_is_refused_naming_option_and_choices(tmp_path: Path) -> None:
     """An unknown reading is a ModelError naming the option and its allowed values; in a study, a
     StudyError naming the file and field."""
-    with pytest.raises(ModelError, match=r"'bending_rayleigh' must be one of physical, printed; got 'literal'"):
+    with pytest.raises(ModelError, match=r"option 'bending_rayleigh' must be one of physical, printed, got 'literal'"):
         models.get("direct_drive", bending_rayleigh="literal")
     with pytest.raises(ModelError, match="'deflection' must be one of total, frame, elastic"):
         models.get("direct_drive", deflection="tip")

@@ -171,7 +171,7 @@ def test_failures_refuse_the_verdict(write_study, tmp_path: Path, fail_above: fl
     ("{parameter: fault, healthy: 0, faulty: [2000]}", r"level 2000 of 'fault' leaves the allowed range"),
     ("{parameter: fault, healthy: 0, faulty: {start: 1, stop: 2}}",
      r"field 'fault.faulty': .*a range of levels is \{start, stop, num >= 2\} \(num: Field required\)"),
-    ("{parameter: fault, healthy: 0, faulty: [1], design: pairs}", r"field 'fault.design': .*'population' or 'paired'"),
+    ("{parameter: fault, healthy: 0, faulty: [1], design: pairs}", r"field 'fault.design': unknown value 'pairs'; known: .*did you mean 'paired'"),
     ("{parameter: fault, healthy: 0, faulty: [1], design: paired}",
      r"field 'fault.design': paired .* needs scenes.realisations >= 4, got 1"),
     ("{parameter: fault, healthy: 0, faulty: [1], samples: 8}",
