@@ -45,7 +45,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from ddgsa.loads.hubloads import N_AZIMUTH, controller_step, torque_law
+from ddgsa.loads.hubloads import N_AZIMUTH, controller_step, record_and_step, torque_law
 from ddgsa.loads.rotor import Turbine
 
 #: Pitt-Peters skewed-wake redistribution constant (AeroDyn's default SkewRedistrFactor)
@@ -345,11 +345,7 @@ def _simulate_bem(inflow: NDArray[np.float64], spinup: int, n_az: int, dt: float
             q_gen = mx
         else:
             q_gen, beta, integ = controller_step(omega, beta, integ, dt, law, ctl)
-        out[n, 0], out[n, 1], out[n, 2] = fx, fy, fz
-        out[n, 3], out[n, 4], out[n, 5] = mx, my, mz
-        out[n, 6], out[n, 7], out[n, 8], out[n, 9] = omega, beta, q_gen, psi
-        omega += dt * (mx - q_gen) / inertia
-        psi += dt * omega
+        omega, psi = record_and_step(out, n, fx, fy, fz, mx, my, mz, omega, beta, q_gen, psi, dt, inertia)
     return out
 
 

@@ -113,12 +113,22 @@ def _simulate(inflow: NDArray[np.float64], spinup: int, n_az: int, dt: float, ra
                 my += radius[j] * dt_ * c
                 mz += radius[j] * dt_ * s
         q_gen, beta, integ = controller_step(omega, beta, integ, dt, law, ctl)
-        out[n, 0], out[n, 1], out[n, 2] = fx, fy, fz
-        out[n, 3], out[n, 4], out[n, 5] = mx, my, mz
-        out[n, 6], out[n, 7], out[n, 8], out[n, 9] = omega, beta, q_gen, psi
-        omega += dt * (mx - q_gen) / inertia
-        psi += dt * omega
+        omega, psi = record_and_step(out, n, fx, fy, fz, mx, my, mz, omega, beta, q_gen, psi, dt, inertia)
     return out
+
+
+@njit(cache=True)
+def record_and_step(out: NDArray[np.float64], n: int, fx: float, fy: float, fz: float, mx: float, my: float,
+                    mz: float, omega: float, beta: float, q_gen: float, psi: float, dt: float,
+                    inertia: float) -> tuple[float, float]:  # pragma: no cover - compiled
+    """Write step ``n`` of a rotor loop (hub forces [N] and moments [N m], rotor speed [rad/s],
+    pitch [rad], generator torque [N m], azimuth [rad]) into ``out`` and advance the drive-train's
+    one rotational degree of freedom by explicit Euler: the rotor speed and azimuth of step ``n + 1``."""
+    out[n, 0], out[n, 1], out[n, 2] = fx, fy, fz
+    out[n, 3], out[n, 4], out[n, 5] = mx, my, mz
+    out[n, 6], out[n, 7], out[n, 8], out[n, 9] = omega, beta, q_gen, psi
+    omega += dt * (mx - q_gen) / inertia
+    return omega, psi + dt * omega
 
 
 @njit(cache=True)
