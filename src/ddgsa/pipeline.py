@@ -440,7 +440,8 @@ def _execute(study: Study, store: EvaluationStore, jobs: int | None, backend: st
         result.provenance["seeds"]["fault"] = fault_seed(study)
     result.provenance["fidelity_selection"] = fidelity_choice
     result.provenance["sampling"] = _sampling(study)
-    result.provenance["implausible"] = study.make_model().implausible(result.evaluations)
+    asked = [c for c in result.evaluations.columns if c in outputs]     # only the outputs the study reads
+    result.provenance["implausible"] = study.make_model().implausible(result.evaluations[asked])
     result.fidelity = pd.DataFrame([{k: v for k, v in c.items() if k != "errors"} for c in fidelity_choice])
     return result
 

@@ -19,14 +19,15 @@ class Toy(Model):
 
     name = "toy"
     parameters = (ModelParameter("stiffness", 100.0, "N/m", "spring stiffness", 1.0, 1e6),)
-    outputs = (ModelOutput("deflection", "m", "static deflection under 1 N", 0.0, 0.05),)
+    outputs = (ModelOutput("deflection", "m", "static deflection under 1 N", 0.0, 0.05),
+               ModelOutput("energy", "J", "strain energy under 1 N", 0.0, 1.0))
     fidelities = ("exact",)
 
     def __init__(self, fidelity: str = "exact") -> None:
         self.fidelity = fidelity
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
-        return {"deflection": 1.0 / params["stiffness"]}
+        return {"deflection": 1.0 / params["stiffness"], "energy": 0.5 / params["stiffness"]}
 
     def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         raise NotImplementedError
@@ -89,6 +90,11 @@ methods: [{method: mdrm, points: 3, check: 0}]
     err = capsys.readouterr().err
     assert "ddgsa: warning: model 'toy':" in err and "deflection [m] outside the plausible range [0, 0.05]" in err
     assert "- implausible: model 'toy':" in (out / "summary.md").read_text()
+    # an output the study does not read is not warned about, however implausible
+    study.write_text(text + "outputs: [energy]\n")
+    main(["-q", "run", str(study), "--out", str(tmp_path / "energy"), "--allow-untrusted"])
+    assert "plausible range" not in capsys.readouterr().err
+    assert "implausible" not in (tmp_path / "energy" / "summary.md").read_text()
 
 
 def test_fidelity_choice_uses_the_cost_model_not_time() -> None:
