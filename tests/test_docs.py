@@ -19,7 +19,7 @@ from ddgsa.study import ModelScenesSpec, StudySpec
 
 ROOT = Path(__file__).resolve().parents[1]
 COMMANDS = ("pip install -e . && ddgsa run studies/quickstart.yaml",
-            "pip install -e '.[test]' && python -m pytest -q")
+            "pip install -e '.[test]' && python -m pytest -q -n auto")
 
 
 def test_readme_is_short_and_starts_with_the_two_commands() -> None:

@@ -163,7 +163,7 @@ def evaluation_plan(study: Study) -> str:
         design = get_method(m.method).design(space, **m.options)
         blocks.append(design.points)
         check = design.options.get("check")
-        extra = f" (its {check}-point check sample, option check, included)" if check else ""
+        extra = f" (including its {check}-point check sample; set by the method's `check:` option)" if check else ""
         parts.append(f"{m.method} {len(design.points)}{extra}")
     distinct = len(np.unique(np.vstack(blocks), axis=0))
     sc = study.spec.scenes

@@ -11,6 +11,7 @@ this one does not are removed (:mod:`ddgsa.outdir`). PNGs carry no software/date
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 from collections.abc import Sequence
 from typing import Any
@@ -148,10 +149,13 @@ def problems(result: StudyResult) -> list[str]:
             d = result.diagnostics
             names = sorted(set(d[(d["output"].isin([output, None]) | d["output"].isna())
                                  & (d["severity"] == "untrusted") & d["scene"].isin(scenes)]["name"])) if len(d) else []
+            failed = _first_failure(result, scenes)
+            # indices over failed evaluations are refused whatever the design: the way forward is the failures
+            way = ("no design confirms indices over failed evaluations: remove their cause (narrow the "
+                   "parameters' support away from the failing points; `ddgsa validate` checks the support)"
+                   if failed and "nonfinite_values" in names else confirm_advice(result, output, scenes, _tolerance(result)))
             out.append(f"output {output!r}: no method's indices are confirmed (trusted or rank-confirmed) in "
-                       f"{_scenes(scenes)}" + (f" ({', '.join(names)})" if names else "")
-                       + _first_failure(result, scenes) + "; "
-                       + confirm_advice(result, output, scenes, _tolerance(result)))
+                       f"{_scenes(scenes)}" + (f" ({', '.join(names)})" if names else "") + failed + "; " + way)
     if result.sweep is not None and result.sweep["error"].notna().any():
         n = int(result.sweep["error"].notna().sum())
         out.append(f"{n} of {len(result.sweep)} sweep evaluations failed (their values are refused)")
@@ -421,10 +425,23 @@ def plot_fault_histograms(det: FaultDetectability, title: str, units: dict[str, 
     return fig
 
 
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
 def _failure_reasons(failures: list[dict[str, Any]], most: int = 10) -> list[str]:
-    """Failure reasons with how often each occurred, most frequent first (the first ``most``)."""
-    counts = pd.Series([f["error"] for f in failures], dtype=object).value_counts()
-    lines = [f"- {n}x: {reason}" for reason, n in counts.head(most).items()]
+    """Failure reasons with how often each occurred, most frequent first (the first ``most``).
+
+    Reasons that differ only in their numbers (a time, a point's value) are one reason: the first
+    is shown, with how many others it stands for."""
+    errors = pd.Series([f["error"] for f in failures], dtype=object)
+    keys = errors.map(lambda e: _NUMBER.sub("#", str(e)))
+    counts = keys.value_counts()
+    first = errors.groupby(keys, sort=False).first()
+    distinct = errors.groupby(keys, sort=False).nunique()
+    lines = []
+    for key, n in counts.head(most).items():
+        alike = f" (and {distinct[key] - 1} alike, other numbers)" if distinct[key] > 1 else ""
+        lines.append(f"- {n}x: {first[key]}{alike}")
     if len(counts) > most:
         lines.append(f"- ... and {int(counts.iloc[most:].sum())} more with {len(counts) - most} other reasons")
     return lines

@@ -142,3 +142,40 @@ def test_parameters_without_effect_are_warned_and_listed_in_the_summary(tmp_path
     lines = no_effect_lines(SimpleNamespace(study=study, indices=indices))
     assert "- `shaft_bending_stiffness`: has no effect at fidelity rigid" in "\n".join(lines)
     assert not any("k_front_z" in line for line in lines)      # 0 in one row only: it has an effect
+
+
+GEARED = """\
+name: geared
+model: {{name: indirect_drive, fidelity: linear}}
+parameters:
+  k_mount_z: {{low: {low}, high: {high}}}
+scenes: {{wind_speed: 11, duration: 60}}
+outputs: [housing_rx_mean]
+methods:
+  - {{method: mdrm, points: 3}}
+"""
+
+
+def test_geared_drive_mounts_too_soft_for_the_torque_are_found_before_running(tmp_path: Path, capsys) -> None:
+    from ddgsa.loads import NREL5MW
+
+    # the check's closed form, roll = Q_rated / (2 k_z a^2), against the model's own operating state
+    # (nonlinear static equilibrium of the constrained system under the rated torque)
+    model = get_model("indirect_drive", fidelity="rigid")
+    for k in (2e7, 2e8):
+        asm, q, _ = model.assemble({"k_mount_z": k}, NREL5MW.rated_speed, NREL5MW.rated_torque)
+        assert q[asm.system.index("housing.rx")] == pytest.approx(NREL5MW.rated_torque / (2 * k * 1.2 ** 2), rel=0.02)
+    limit = NREL5MW.rated_torque / (2 * 0.1 * 1.2 ** 2)                  # k_z giving 0.1 rad: 1.37e7 N/m
+    assert model.point_problems({"k_mount_z": 1.01 * limit}) == []
+    (problem,) = model.point_problems({"k_mount_z": 0.99 * limit})
+    assert "torque-arm mounts too soft" in problem and f"k_mount_z >= {limit:.3g} N/m" in problem
+    # a support partly below the limit is warned with the share that will fail; wholly below, refused
+    study = load_study(_write(tmp_path, GEARED.format(low=1e7, high=4e7)))
+    (found,) = [f for f in study_findings(study) if f.field == "parameters"]
+    bad = sum(p["k_mount_z"] < limit for p in support_points(study))
+    assert found.level == "warning" and found.message.startswith(f"{bad} of 66 checked points")
+    with pytest.warns(StudyWarning, match="nominal point is outside"):
+        load_study(_write(tmp_path, GEARED.format(low=1e6, high=5e6)))
+    assert main(["validate", str(tmp_path / "s.yaml")]) == 2
+    err = capsys.readouterr().err
+    assert "every evaluation would fail" in err and "torque-arm mounts too soft" in err and "Traceback" not in err

@@ -88,6 +88,12 @@ def test_summary_lists_failure_reasons(write_study, tmp_path: Path) -> None:
     n = len(prov["failures"])
     assert n == prov["evaluations"]["failed"] > 0
     assert f"Failed evaluations ({n};" in summary and "RuntimeError: x1 = " in summary
+    # reasons that differ only in the failing value are one line, saying how many it stands for
+    reasons = [line for line in summary.splitlines() if line.startswith(f"- {n}x: ") or line.startswith("- 1x: ")]
+    # and the way forward is the failures' cause, not a larger design
+    assert "no design confirms indices over failed evaluations" in summary and "add `saltelli`" not in summary
+    distinct = len({f["error"] for f in prov["failures"]})
+    assert distinct > 1 and reasons == [f"- {n}x: {prov['failures'][0]['error']} (and {distinct - 1} alike, other numbers)"]
     assert f", {n} failed" in _evaluation_line(summary)
 
 

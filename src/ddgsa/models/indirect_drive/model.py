@@ -19,7 +19,8 @@ from ddgsa.mbs.integrate import genalpha, reference
 from ddgsa.mbs.modal import modes as system_modes
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
 from ddgsa.models.base import Model, ModelOption, ModelOutput, controller_row, register_model
-from ddgsa.models.indirect_drive.assembly import FLEXIBLE_FIELDS, Assembly, build, spin_inertia
+from ddgsa.models.constants import GRAVITY
+from ddgsa.models.indirect_drive.assembly import FLEXIBLE_FIELDS, Assembly, build, check_geometry, spin_inertia
 from ddgsa.models.indirect_drive.linear import linear_response, operating_state
 from ddgsa.models.indirect_drive.outputs import (bearing_outputs, constraint_drift, gear_force_outputs,
                                                   housing_motion_outputs, signal_statistics)
@@ -92,6 +93,10 @@ def scene_inputs(scene: Scene, p: Mapping[str, float], fluctuation_scale: float 
         for key in (*LOAD_KEYS, "rotor_speed", "w_set"):
             out[key] = out[key].mean() + fluctuation_scale * (out[key] - out[key].mean())
     return out
+
+
+STATIC_LIMIT = 0.1
+"""Largest static housing roll [rad] and sag [m] a point may ask of the mounts (:meth:`IndirectDrive.point_problems`)."""
 
 
 @register_model("indirect_drive")
@@ -240,6 +245,35 @@ class IndirectDrive(Model):
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
         return objectives(self.simulate(scene, params), params, self.rule)
+
+    def point_problems(self, params: Mapping[str, float]) -> list[str]:
+        """Why ``params`` (missing ones nominal) lie outside the valid region: positions out of the
+        topology's order, or torque-arm mounts so soft that the housing's static roll under the
+        rated rotor torque, or its sag under its weight, leaves the model's range.
+
+        The roll is ``Q_rated / (2 k_mount_z mount_arm^2)`` and the sag ``m_h g / (2 k_mount_z)``
+        (two mounts at +-``mount_arm``), both above :data:`STATIC_LIMIT` (0.1 rad, 0.1 m: the
+        plausible range of ``housing_rx_mean`` and ``housing_dz_mean``); the nonlinear operating
+        state stops converging near 1 rad (k_mount_z ~ 1e6 N/m)."""
+        p = {**self.nominal, **params}
+        try:
+            check_geometry(p)
+        except ModelError as exc:
+            return [str(exc)]
+        k = p["k_mount_z"]
+        roll = NREL5MW.rated_torque / (2.0 * k * p["mount_arm"] ** 2)
+        sag = p["housing_mass"] * GRAVITY / (2.0 * k)
+        problems = []
+        if roll > STATIC_LIMIT:
+            problems.append(f"indirect_drive: torque-arm mounts too soft: the rated rotor torque "
+                            f"{NREL5MW.rated_torque / 1e6:.2f} MN m would roll the housing by {roll:.3g} rad "
+                            f"(k_mount_z {k:.4g} N/m at mount_arm {p['mount_arm']:.4g} m); the model holds to "
+                            f"{STATIC_LIMIT} rad, i.e. k_mount_z >= "
+                            f"{NREL5MW.rated_torque / (2 * STATIC_LIMIT * p['mount_arm'] ** 2):.3g} N/m")
+        if sag > STATIC_LIMIT:
+            problems.append(f"indirect_drive: torque-arm mounts too soft: the housing ({p['housing_mass']:.4g} kg) "
+                            f"would sag {sag:.3g} m on k_mount_z {k:.4g} N/m; the model holds to {STATIC_LIMIT} m")
+        return problems
 
     # -- modes and sampling ---------------------------------------------------------------------
     def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0,
