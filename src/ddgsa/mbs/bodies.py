@@ -34,8 +34,21 @@ from ddgsa.mbs.series import Series
 
 Array = NDArray[np.float64]
 
-FIELDS = ("axial", "torsion", "bending_y_1", "bending_z_1", "bending_y_2", "bending_z_2",
-          "bending_y_3", "bending_z_3")
+MAX_BENDING_MODES = 12
+"""Most bending modes per plane a shaft may retain."""
+FIELDS = ("axial", "torsion", *(f"bending_{p}_{k}" for k in range(1, MAX_BENDING_MODES + 1) for p in "yz"))
+
+
+def bending_fields(n: int, order: str = "interleaved") -> tuple[str, ...]:
+    """Names of ``n`` bending modes per plane: ``interleaved`` (y_1, z_1, y_2, ...) or ``by_plane`` (y_1, y_2, ..., z_1, ...)."""
+    if order == "interleaved":
+        return tuple(f"bending_{p}_{k}" for k in range(1, n + 1) for p in "yz")
+    return tuple(f"bending_{p}_{k}" for p in "yz" for k in range(1, n + 1))
+
+
+def mode_number(field_name: str) -> int:
+    """The mode number ``k`` of a field ``bending_y_k`` / ``bending_z_k``."""
+    return int(field_name.rsplit("_", 1)[1])
 
 
 def skew(d: Array) -> Array:
@@ -285,7 +298,7 @@ class FlexibleBody(Body):
             ``spec.axial_support`` are the boundary conditions the mode shapes are computed on.
         fields : sequence of str
             Retained elastic coordinates, from ``axial``, ``torsion``, ``bending_y_k``, ``bending_z_k``
-            (k = 1, 2, 3; y and z share the shapes of the axisymmetric shaft).
+            (k = 1 .. :data:`MAX_BENDING_MODES`; y and z share the shapes of the axisymmetric shaft).
         damping_ratio : float
             Modal damping of axial and torsion coordinates; Rayleigh damping through the first
             two bending frequencies for the bending ones (seed 000 eq. 43-44) [-].
@@ -298,7 +311,7 @@ class FlexibleBody(Body):
         bad = [f for f in fields if f not in FIELDS]
         if bad:
             raise ModelError(f"body {name!r}: unknown elastic field(s) {bad}; allowed: {', '.join(FIELDS)}")
-        n_bend = max([int(f[-1]) for f in fields if f.startswith("bending")] + [1])
+        n_bend = max([mode_number(f) for f in fields if f.startswith("bending")] + [1])
         modes = shaft_modes(spec, n_axial=1, n_torsion=1, n_bending=max(n_bend, 2))
         s_tr, s_rot = _field_shapes(modes, fields)
         x = spec.x
@@ -450,7 +463,7 @@ def _field_shapes(modes: ShaftModes, fields: Sequence[str]) -> tuple[Array, Arra
         elif fld == "torsion":
             s_rot[:, 0, c] = modes.torsion[0]
         else:
-            k = int(fld[-1]) - 1
+            k = mode_number(fld) - 1
             if fld.startswith("bending_y"):
                 s_tr[:, 1, c], s_rot[:, 2, c] = modes.bending[k], modes.bending_slope[k]
             else:
@@ -479,7 +492,7 @@ def elastic_matrices(fields: Sequence[str], modes: ShaftModes, m_ff: Array, zeta
     k = np.zeros((nf, nf))
     for c, fld in enumerate(fields):
         k[c, c] = (modes.k_axial[0] if fld == "axial" else modes.k_torsion[0] if fld == "torsion"
-                   else modes.k_bending[int(fld[-1]) - 1])
+                   else modes.k_bending[mode_number(fld) - 1])
     c_mat = np.zeros((nf, nf))
     w1, w2 = 2 * np.pi * modes.freq_bending[0], 2 * np.pi * modes.freq_bending[1]
     a0, a1 = 2 * zeta * w1 * w2 / (w1 + w2), 2 * zeta / (w1 + w2)

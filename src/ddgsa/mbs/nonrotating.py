@@ -32,7 +32,7 @@ from scipy.linalg import expm, null_space
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
-from ddgsa.mbs.bodies import FlexibleBody
+from ddgsa.mbs.bodies import FlexibleBody, mode_number
 from ddgsa.mbs.campbell import orbit_average, orbit_pairs
 from ddgsa.mbs.elements import Element
 from ddgsa.mbs.linear import lti_response
@@ -118,9 +118,9 @@ def bending_pairs(system: System) -> list[tuple[int, int, int]]:
     out = []
     for b in system.bodies:
         if isinstance(b, FlexibleBody) and b.n_elastic:
-            for k in (1, 2, 3):
+            for k in sorted(mode_number(f) for f in b.fields if f.startswith("bending_y_")):
                 fy, fz = f"bending_y_{k}", f"bending_z_{k}"
-                if fy in b.fields and fz in b.fields:
+                if fz in b.fields:
                     out.append((system.index(f"{b.name}.{fy}"), system.index(f"{b.name}.{fz}"),
                                 system.index(f"{b.name}.rx")))
     return out
