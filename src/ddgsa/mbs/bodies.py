@@ -321,25 +321,52 @@ class FlexibleBody(Body):
         trib[1:] += le / 2
         node_mass = spec.mass / spec.length * trib
         pm, pu, ps = [], [], []
+        rotating: list = []
         if rotary_inertia:
             jx_node = spec.polar_inertia / spec.length * trib
             for i in range(x.size):
                 jd = 0.5 * jx_node[i] + node_mass[i] * trib[i] ** 2 / 12.0
-                _add_inertia(pm, pu, ps, node_mass[i], jx_node[i], jd, x[i], s_tr[i], s_rot[i])
+                _add_inertia(pm, pu, ps, node_mass[i], jx_node[i], jd, x[i], s_tr[i], s_rot[i], rotating)
         else:
             pm.append(node_mass)
             pu.append(np.column_stack([x, np.zeros_like(x), np.zeros_like(x)]))
             ps.append(s_tr)
         for xe, mass, jx, jd in spec.end_masses:
             i = spec.node_index(xe)
-            _add_inertia(pm, pu, ps, mass, jx, jd, x[i], s_tr[i], s_rot[i])
+            _add_inertia(pm, pu, ps, mass, jx, jd, x[i], s_tr[i], s_rot[i], rotating)
         pm_a, pu_a, ps_a = np.concatenate(pm), np.vstack(pu), np.concatenate(ps, axis=0)
         m_ff = np.einsum("j,jai,jak->ik", pm_a, ps_a, ps_a)
         k, c = elastic_matrices(fields, modes, m_ff, damping_ratio)
         body = cls(name, pm_a, pu_a, ps_a, k, c, fields, node_x=x, node_shapes=s_tr, node_rotation_shapes=s_rot,
                    **pose)
         body.modes = modes
+        body.rotating_points = rotating
         return body
+
+    def spin_stiffness(self, w: Array) -> Array:
+        """Stiffness (n_f, n_f) of the centrifugal load on the second-order motion of the rigid inertias'
+        off-axis points, for body angular velocity ``w`` (3,) [rad/s, body frame] [N/m, N m/rad].
+
+        The FFR kinematics move a point at offset ``d`` from its section by the section rotation
+        ``r = R q_f`` to first order only, ``r x d``; to second order it also moves by
+        ``1/2 r x (r x d)`` (a rigid rotation keeps its distance), on which the centrifugal force
+        ``F = m (|w|^2 u - (w . u) w)`` works: ``1/2 r^T (1/2 (F d^T + d F^T) - (F . d) I) r``. Its
+        stiffness ``-R^T (1/2 (F d^T + d F^T) - (F . d) I) R`` completes a disk's gyroscopic
+        stiffening: a section tilting about a transverse axis gets ``(J_p / 2) w^2`` (the first-order
+        terms give ``(J_p / 2 - J_d) w^2``, the rigid disk's ``(J_p - J_d) w^2`` in all), and the twist
+        loses the first-order terms' spurious ``-J_p w^2``. Zero for bodies without rigid inertias.
+        """
+        nf = self.n_elastic
+        out = np.zeros((nf, nf))
+        ww = float(w @ w)
+        for masses, positions, offsets, rot in getattr(self, "rotating_points", []):
+            for m, u, d in zip(masses, positions, offsets):
+                if not d.any():
+                    continue
+                f = m * (ww * u - float(w @ u) * w)
+                a = 0.5 * (np.outer(f, d) + np.outer(d, f)) - float(f @ d) * np.eye(3)
+                out -= rot.T @ a @ rot
+        return out
 
     def marker(self, position: ArrayLike = (0.0, 0.0, 0.0), name: str | None = None) -> Marker:
         p = np.asarray(position, dtype=float).reshape(3)
@@ -472,14 +499,16 @@ def _field_shapes(modes: ShaftModes, fields: Sequence[str]) -> tuple[Array, Arra
 
 
 def _add_inertia(pm: list, pu: list, ps: list, mass: float, jx: float, jd: float, x: float,
-                 s_tr: Array, s_rot: Array) -> None:
-    """Append the seven points of a rigid axisymmetric inertia at station ``x`` (moving with the section)."""
+                 s_tr: Array, s_rot: Array, rotating: list) -> None:
+    """Append the seven points of a rigid axisymmetric inertia at station ``x`` (moving with the section),
+    and ``(masses, positions, offsets, s_rot)`` to ``rotating`` (for :meth:`FlexibleBody.spin_stiffness`)."""
     if mass <= 0:
         return
     masses, offsets = inertia_points(mass, jx, jd)
     pm.append(masses)
     pu.append(np.array([x, 0.0, 0.0]) + offsets)
     ps.append(np.stack([s_tr - skew(d) @ s_rot for d in offsets]))
+    rotating.append((masses, np.array([x, 0.0, 0.0]) + offsets, offsets, s_rot))
 
 
 def elastic_matrices(fields: Sequence[str], modes: ShaftModes, m_ff: Array, zeta: float) -> tuple[Array, Array]:
