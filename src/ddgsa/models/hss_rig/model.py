@@ -360,13 +360,15 @@ class HssRig(Model):
         (:mod:`ddgsa.mbs.nonrotating`), so the frequencies are those seen from the frame (a
         Campbell diagram: ``ddgsa modes hss_rig --campbell``); the motor at ``kloss`` with its
         supply at the synchronous frequency of ``rotor_speed`` (its slope damps the torsion).
+        With the spin stiffening of the disk and hubs (:func:`ddgsa.mbs.nonrotating.spin_stiffness`;
+        the time-domain fidelities do not carry it, docs/physics.md gives its size).
         """
         p = self.resolve(params).iloc[0].to_dict()
         rpm = max(abs(rotor_speed) * 30.0 / math.pi, 60.0)
         drive = drive_for(p, RigScene("steady", speed_rpm=rpm, duration=10.0), POLE_PAIRS)
         rig = build(p, kloss_parts(drive), spin=rotor_speed, basis=self.basis)
         q0, qd0 = self.initial_state(rig, p)
-        lin = nonrotating.linearise(rig.system, q0, qd0)
+        lin = nonrotating.linearise(rig.system, q0, qd0, spin_stiffening=True)
         return modal_analysis(lin.m, lin.c, lin.k, rig.system.coord_names, rig.system.groups())
 
     def campbell(self, speeds: Any, orders: Any = (1.0, 2.0), params: Mapping[str, float] | None = None,
@@ -383,7 +385,7 @@ class HssRig(Model):
             rpm = max(abs(speed) * 30.0 / math.pi, 60.0)
             drive = drive_for(p, RigScene("steady", speed_rpm=rpm, duration=10.0), POLE_PAIRS)
             rig = build(p, kloss_parts(drive), spin=float(speed), basis=self.basis)
-            lin = nonrotating.linearise(rig.system, *self.initial_state(rig, p))
+            lin = nonrotating.linearise(rig.system, *self.initial_state(rig, p), spin_stiffening=True)
             lam, vec = damped_eigen(lin.m, lin.c, lin.k)
             labels = modal_analysis(lin.m, lin.c, lin.k, rig.system.coord_names, rig.system.groups())["label"]
             per_speed.append(([mode_row(speed, j + 1, lam[j], *nonrotating.whirl_index(rig.system, lin, vec[:, j]),
