@@ -53,14 +53,15 @@ def _ross_rotor(rs, model: DirectDrive):
 def test_lateral_modes_within_one_percent_of_the_recorded_ross_frequencies():
     """Timoshenko shaft, six bending modes per plane: every lateral mode below 150 Hz within 1 % of ROSS's
     (recorded; the slow test recomputes them), the first six within 0.05 %; the default Euler-Bernoulli basis
-    of two modes has the third lateral pair 17-43 % high (the two-mode limit) and the second 6 % high (shear)."""
+    of two modes has the third lateral pair 43 / 110 % high (the two-mode limit and shear) and the second 6-7 %
+    (shear)."""
     got = _lateral(DirectDrive(beam="timoshenko", bending_modes=6))
     ross = np.array(ROSS_LATERAL_HZ)
     assert got.size == ross.size
     np.testing.assert_allclose(got, ross, rtol=1e-2)
     np.testing.assert_allclose(got[:6], ross[:6], rtol=5e-4)
     default = _lateral(DirectDrive())
-    assert default[4] / ross[4] - 1 > 0.15 and default[2] / ross[2] - 1 > 0.05
+    assert default[4] / ross[4] - 1 > 0.4 and default[2] / ross[2] - 1 > 0.05
 
 
 @pytest.mark.slow                        # ROSS imports and solves in ~60 s on the shared machine
