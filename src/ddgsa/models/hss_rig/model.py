@@ -157,6 +157,8 @@ class HssRig(Model):
         The shaft's FE bending elements.
     shaft_elements : int
         FE elements per bearing span of the high-speed shaft (default 8).
+    shaft_axial : bool
+        Give the high-speed shaft an axial elastic mode (default: axially rigid, its axial mode 2.7 % high).
     """
 
     fidelities: ClassVar[tuple[str, ...]] = ("dq", "kloss", "linear")
@@ -173,22 +175,23 @@ class HssRig(Model):
                            1, MAX_BENDING_MODES),
                ModelOption("beam", "choice", "high-speed shaft FE bending elements", choices=BEAMS),
                ModelOption("shaft_elements", "integer", "high-speed shaft FE elements per bearing span (default 8)",
-                           2, 256))
+                           2, 256),
+               ModelOption("shaft_axial", "bool", "axial elastic mode of the high-speed shaft (default: axially rigid)"))
 
     def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False, bending_modes: int = 2,
-                 beam: str = "euler_bernoulli", shaft_elements: int = 8) -> None:
+                 beam: str = "euler_bernoulli", shaft_elements: int = 8, shaft_axial: bool = False) -> None:
         self.check_fidelity(fidelity)
         if not (isinstance(time_step, (int, float)) and 0 < time_step <= 1e-2):
             raise ModelError(f"model 'hss_rig': time_step must be in (0, 0.01] s, got {time_step!r}")
         if not isinstance(noise, bool):
             raise ModelError(f"model 'hss_rig': noise must be true or false, got {noise!r}")
         if (not (isinstance(bending_modes, int) and 1 <= bending_modes <= MAX_BENDING_MODES) or beam not in BEAMS
-                or not (isinstance(shaft_elements, int) and 2 <= shaft_elements <= 256)):
+                or not (isinstance(shaft_elements, int) and 2 <= shaft_elements <= 256) or not isinstance(shaft_axial, bool)):
             raise ModelError(f"model 'hss_rig': bending_modes must be an integer in 1..{MAX_BENDING_MODES}, beam one "
-                             f"of {', '.join(BEAMS)} and shaft_elements an integer in 2..256; got {bending_modes!r}, "
-                             f"{beam!r}, {shaft_elements!r}")
+                             f"of {', '.join(BEAMS)}, shaft_elements an integer in 2..256 and shaft_axial true or false; "
+                             f"got {bending_modes!r}, {beam!r}, {shaft_elements!r}, {shaft_axial!r}")
         self.fidelity, self.time_step, self.noise = fidelity, float(time_step), noise
-        self.basis = ShaftBasis(bending_modes, beam, shaft_elements)
+        self.basis = ShaftBasis(bending_modes, beam, shaft_elements, shaft_axial)
 
     # -- assembly ------------------------------------------------------------------------------
     def _scene(self, scene: Any) -> RigScene:
