@@ -1,11 +1,14 @@
-"""Finite-element Euler-Bernoulli shaft: eigenmodes used as FFR shape functions (seed 000 §2.5).
+"""Finite-element shaft: eigenmodes used as FFR shape functions (seed 000 §2.5).
 
 A shaft of length L on the x axis, meshed by :func:`mesh`, carrying point masses and
 rotary inertias at its nodes. Three independent fields:
 
 - bending (one transverse plane; the shaft is axisymmetric, so Y and Z share the shapes):
-  Hermite cubic elements, nodal (w, w'), consistent mass, pinned supports (w = 0) at the
-  bearing nodes;
+  Euler-Bernoulli Hermite cubic elements, nodal (w, w'), consistent mass, pinned supports
+  (w = 0) at the bearing nodes; with ``BeamSpec.shear_stiffness`` set, Timoshenko elements
+  instead (shear deformation and the shaft's rotary inertia; nodal (w, psi), psi the section
+  rotation; Friedman and Kosmatka's interdependent interpolation, exact for a uniform static
+  element), which tend to the Euler-Bernoulli element as the shear stiffness grows;
 - axial: linear bar elements, u = 0 at the axial (front) bearing, or free with a longitudinal
   spring there (``axial_spring``, seed 000 §2.5);
 - torsion: linear elements, free-free (the spin is the body's rigid rotation).
@@ -21,6 +24,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 from scipy.linalg import eigh
+
+
+BEAMS = ("euler_bernoulli", "timoshenko")
+"""The bending element families a model may build its shafts from (:class:`BeamSpec` ``shear_stiffness``)."""
 
 
 @dataclass(frozen=True)
@@ -49,6 +56,10 @@ class BeamSpec:
         first mode is the shaft bouncing on the spring (None: held rigidly). The spring shapes
         the modes only; the generalised stiffness ``k_axial`` is the shaft's own (a body puts
         the bearing in as an element).
+    shear_stiffness : float, optional
+        Shear stiffness ``kappa G A`` of the section [N]: Timoshenko bending elements with the
+        shaft's rotary inertia (``polar_inertia / 2`` per unit length, a circular section's
+        diametral inertia); None: Euler-Bernoulli elements without it.
     """
 
     nodes: tuple[float, ...]
@@ -61,6 +72,7 @@ class BeamSpec:
     supports: tuple[float, ...]
     axial_support: float
     axial_spring: float | None = None
+    shear_stiffness: float | None = None
 
     @property
     def x(self) -> NDArray[np.float64]:
@@ -117,14 +129,59 @@ _M_HERMITE = np.array([[[156, 0, 54, 0], [0, 0, 0, 0], [54, 0, 156, 0], [0, 0, 0
 consistent mass ``rho A le / 420 [[156, 22 le, 54, -13 le], ...]``, split by powers of ``le``."""
 
 
+def shear_coefficient(poisson: float, inner_ratio: float = 0.0) -> float:
+    """Timoshenko shear coefficient ``kappa`` of a circular tube (Cowper, J. Appl. Mech. 33, 1966).
+
+    ``6 (1 + nu) (1 + m^2)^2 / ((7 + 6 nu) (1 + m^2)^2 + (20 + 12 nu) m^2)`` for Poisson's ratio
+    ``nu`` [-] and bore-to-outer radius ratio ``m`` [-] (0: solid, 0.886 at nu = 0.3).
+    """
+    m2 = inner_ratio * inner_ratio
+    r12 = (1.0 + m2) ** 2
+    return 6.0 * (1.0 + poisson) * r12 / ((7.0 + 6.0 * poisson) * r12 + (20.0 + 12.0 * poisson) * m2)
+
+
+def timoshenko_element(ei: float, shear: float, rho_a: float, rho_i: float,
+                       le: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Stiffness and consistent mass (translational plus rotary) of a Timoshenko element, nodal (w, psi).
+
+    Friedman and Kosmatka (Computers & Structures 47, 1993) with ``phi = 12 EI / (kappa G A le^2)``;
+    ``phi = 0`` is the Euler-Bernoulli Hermite element (plus the rotary term ``rho_i``).
+
+    Parameters
+    ----------
+    ei : bending stiffness [N m^2]; ``shear`` : kappa G A [N]
+    rho_a : mass per unit length [kg/m]; ``rho_i`` : diametral inertia per unit length [kg m]
+    le : element length [m]
+    """
+    p, L = 12.0 * ei / (shear * le * le), le
+    c = ei / ((1.0 + p) * L ** 3)
+    k = c * np.array([[12.0, 6 * L, -12.0, 6 * L],
+                      [6 * L, (4 + p) * L * L, -6 * L, (2 - p) * L * L],
+                      [-12.0, -6 * L, 12.0, -6 * L],
+                      [6 * L, (2 - p) * L * L, -6 * L, (4 + p) * L * L]])
+    a11, a13 = 13 / 35 + 7 * p / 10 + p * p / 3, 9 / 70 + 3 * p / 10 + p * p / 6
+    a12, a14 = (11 / 210 + 11 * p / 120 + p * p / 24) * L, -(13 / 420 + 3 * p / 40 + p * p / 24) * L
+    a22, a24 = (1 / 105 + p / 60 + p * p / 120) * L * L, -(1 / 140 + p / 60 + p * p / 120) * L * L
+    mt = np.array([[a11, a12, a13, a14], [a12, a22, -a14, a24], [a13, -a14, a11, -a12], [a14, a24, -a12, a22]])
+    b12, b22, b24 = (0.1 - p / 2) * L, (2 / 15 + p / 6 + p * p / 3) * L * L, (-1 / 30 - p / 6 + p * p / 6) * L * L
+    mr = np.array([[1.2, b12, -1.2, b12], [b12, b22, -b12, b24], [-1.2, -b12, 1.2, -b12], [b12, b24, -b12, b22]])
+    m = rho_a * L / (1 + p) ** 2 * mt + rho_i / ((1 + p) ** 2 * L) * mr
+    return k, m
+
+
 def bending_matrices(spec: BeamSpec) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Global bending stiffness and consistent mass (nodal w, w'), end inertias included."""
+    """Global bending stiffness and consistent mass (nodal w and slope or section rotation), end inertias included."""
     n = spec.n_elements + 1
     rho_a = spec.mass / spec.length
     le = np.diff(spec.x)[:, None, None]
-    # Hermite element matrices as powers of the element length: k_e = EI sum_p le^(p-3) K_p, m_e = rho A le / 420 sum_p le^p M_p
-    k_e = spec.EI * (_K_HERMITE[0] / le ** 3 + _K_HERMITE[1] / le ** 2 + _K_HERMITE[2] / le)
-    m_e = rho_a * le / 420 * (_M_HERMITE[0] + _M_HERMITE[1] * le + _M_HERMITE[2] * le ** 2)
+    if spec.shear_stiffness is None:
+        # Hermite element matrices as powers of the element length: k_e = EI sum_p le^(p-3) K_p, m_e = rho A le / 420 sum_p le^p M_p
+        k_e = spec.EI * (_K_HERMITE[0] / le ** 3 + _K_HERMITE[1] / le ** 2 + _K_HERMITE[2] / le)
+        m_e = rho_a * le / 420 * (_M_HERMITE[0] + _M_HERMITE[1] * le + _M_HERMITE[2] * le ** 2)
+    else:
+        rho_i = 0.5 * spec.polar_inertia / spec.length
+        pairs = [timoshenko_element(spec.EI, spec.shear_stiffness, rho_a, rho_i, float(h)) for h in le[:, 0, 0]]
+        k_e, m_e = np.array([kp for kp, _ in pairs]), np.array([mp for _, mp in pairs])
     k, m = _scatter(k_e, 2, n), _scatter(m_e, 2, n)
     for x, mass, _, j_diam in spec.end_masses:
         i = spec.node_index(x)
@@ -159,7 +216,7 @@ class ShaftModes:
     torsion : ndarray (n_to, n_nodes)
         Twist shapes [rad per unit coordinate].
     bending, bending_slope : ndarray (n_be, n_nodes)
-        Transverse displacement [-] and slope [1/m] shapes (same in Y and Z).
+        Transverse displacement [-] and slope (Timoshenko: section rotation) [1/m] shapes (same in Y and Z).
     k_axial, k_torsion, k_bending : ndarray
         Diagonal generalised stiffnesses of each field [N/m, N m/rad, N/m].
     freq_axial, freq_torsion, freq_bending : ndarray

@@ -34,8 +34,21 @@ from ddgsa.mbs.series import Series
 
 Array = NDArray[np.float64]
 
-FIELDS = ("axial", "torsion", "bending_y_1", "bending_z_1", "bending_y_2", "bending_z_2",
-          "bending_y_3", "bending_z_3")
+MAX_BENDING_MODES = 12
+"""Most bending modes per plane a shaft may retain."""
+FIELDS = ("axial", "torsion", *(f"bending_{p}_{k}" for k in range(1, MAX_BENDING_MODES + 1) for p in "yz"))
+
+
+def bending_fields(n: int, order: str = "interleaved") -> tuple[str, ...]:
+    """Names of ``n`` bending modes per plane: ``interleaved`` (y_1, z_1, y_2, ...) or ``by_plane`` (y_1, y_2, ..., z_1, ...)."""
+    if order == "interleaved":
+        return tuple(f"bending_{p}_{k}" for k in range(1, n + 1) for p in "yz")
+    return tuple(f"bending_{p}_{k}" for p in "yz" for k in range(1, n + 1))
+
+
+def mode_number(field_name: str) -> int:
+    """The mode number ``k`` of a field ``bending_y_k`` / ``bending_z_k``."""
+    return int(field_name.rsplit("_", 1)[1])
 
 
 def skew(d: Array) -> Array:
@@ -285,7 +298,7 @@ class FlexibleBody(Body):
             ``spec.axial_support`` are the boundary conditions the mode shapes are computed on.
         fields : sequence of str
             Retained elastic coordinates, from ``axial``, ``torsion``, ``bending_y_k``, ``bending_z_k``
-            (k = 1, 2, 3; y and z share the shapes of the axisymmetric shaft).
+            (k = 1 .. :data:`MAX_BENDING_MODES`; y and z share the shapes of the axisymmetric shaft).
         damping_ratio : float
             Modal damping of axial and torsion coordinates; Rayleigh damping through the first
             two bending frequencies for the bending ones (seed 000 eq. 43-44) [-].
@@ -298,7 +311,7 @@ class FlexibleBody(Body):
         bad = [f for f in fields if f not in FIELDS]
         if bad:
             raise ModelError(f"body {name!r}: unknown elastic field(s) {bad}; allowed: {', '.join(FIELDS)}")
-        n_bend = max([int(f[-1]) for f in fields if f.startswith("bending")] + [1])
+        n_bend = max([mode_number(f) for f in fields if f.startswith("bending")] + [1])
         modes = shaft_modes(spec, n_axial=1, n_torsion=1, n_bending=max(n_bend, 2))
         s_tr, s_rot = _field_shapes(modes, fields)
         x = spec.x
@@ -308,25 +321,52 @@ class FlexibleBody(Body):
         trib[1:] += le / 2
         node_mass = spec.mass / spec.length * trib
         pm, pu, ps = [], [], []
+        rotating: list = []
         if rotary_inertia:
             jx_node = spec.polar_inertia / spec.length * trib
             for i in range(x.size):
                 jd = 0.5 * jx_node[i] + node_mass[i] * trib[i] ** 2 / 12.0
-                _add_inertia(pm, pu, ps, node_mass[i], jx_node[i], jd, x[i], s_tr[i], s_rot[i])
+                _add_inertia(pm, pu, ps, node_mass[i], jx_node[i], jd, x[i], s_tr[i], s_rot[i], rotating)
         else:
             pm.append(node_mass)
             pu.append(np.column_stack([x, np.zeros_like(x), np.zeros_like(x)]))
             ps.append(s_tr)
         for xe, mass, jx, jd in spec.end_masses:
             i = spec.node_index(xe)
-            _add_inertia(pm, pu, ps, mass, jx, jd, x[i], s_tr[i], s_rot[i])
+            _add_inertia(pm, pu, ps, mass, jx, jd, x[i], s_tr[i], s_rot[i], rotating)
         pm_a, pu_a, ps_a = np.concatenate(pm), np.vstack(pu), np.concatenate(ps, axis=0)
         m_ff = np.einsum("j,jai,jak->ik", pm_a, ps_a, ps_a)
         k, c = elastic_matrices(fields, modes, m_ff, damping_ratio)
         body = cls(name, pm_a, pu_a, ps_a, k, c, fields, node_x=x, node_shapes=s_tr, node_rotation_shapes=s_rot,
                    **pose)
         body.modes = modes
+        body.rotating_points = rotating
         return body
+
+    def spin_stiffness(self, w: Array) -> Array:
+        """Stiffness (n_f, n_f) of the centrifugal load on the second-order motion of the rigid inertias'
+        off-axis points, for body angular velocity ``w`` (3,) [rad/s, body frame] [N/m, N m/rad].
+
+        The FFR kinematics move a point at offset ``d`` from its section by the section rotation
+        ``r = R q_f`` to first order only, ``r x d``; to second order it also moves by
+        ``1/2 r x (r x d)`` (a rigid rotation keeps its distance), on which the centrifugal force
+        ``F = m (|w|^2 u - (w . u) w)`` works: ``1/2 r^T (1/2 (F d^T + d F^T) - (F . d) I) r``. Its
+        stiffness ``-R^T (1/2 (F d^T + d F^T) - (F . d) I) R`` completes a disk's gyroscopic
+        stiffening: a section tilting about a transverse axis gets ``(J_p / 2) w^2`` (the first-order
+        terms give ``(J_p / 2 - J_d) w^2``, the rigid disk's ``(J_p - J_d) w^2`` in all), and the twist
+        loses the first-order terms' spurious ``-J_p w^2``. Zero for bodies without rigid inertias.
+        """
+        nf = self.n_elastic
+        out = np.zeros((nf, nf))
+        ww = float(w @ w)
+        for masses, positions, offsets, rot in getattr(self, "rotating_points", []):
+            for m, u, d in zip(masses, positions, offsets):
+                if not d.any():
+                    continue
+                f = m * (ww * u - float(w @ u) * w)
+                a = 0.5 * (np.outer(f, d) + np.outer(d, f)) - float(f @ d) * np.eye(3)
+                out -= rot.T @ a @ rot
+        return out
 
     def marker(self, position: ArrayLike = (0.0, 0.0, 0.0), name: str | None = None) -> Marker:
         p = np.asarray(position, dtype=float).reshape(3)
@@ -450,7 +490,7 @@ def _field_shapes(modes: ShaftModes, fields: Sequence[str]) -> tuple[Array, Arra
         elif fld == "torsion":
             s_rot[:, 0, c] = modes.torsion[0]
         else:
-            k = int(fld[-1]) - 1
+            k = mode_number(fld) - 1
             if fld.startswith("bending_y"):
                 s_tr[:, 1, c], s_rot[:, 2, c] = modes.bending[k], modes.bending_slope[k]
             else:
@@ -459,14 +499,16 @@ def _field_shapes(modes: ShaftModes, fields: Sequence[str]) -> tuple[Array, Arra
 
 
 def _add_inertia(pm: list, pu: list, ps: list, mass: float, jx: float, jd: float, x: float,
-                 s_tr: Array, s_rot: Array) -> None:
-    """Append the seven points of a rigid axisymmetric inertia at station ``x`` (moving with the section)."""
+                 s_tr: Array, s_rot: Array, rotating: list) -> None:
+    """Append the seven points of a rigid axisymmetric inertia at station ``x`` (moving with the section),
+    and ``(masses, positions, offsets, s_rot)`` to ``rotating`` (for :meth:`FlexibleBody.spin_stiffness`)."""
     if mass <= 0:
         return
     masses, offsets = inertia_points(mass, jx, jd)
     pm.append(masses)
     pu.append(np.array([x, 0.0, 0.0]) + offsets)
     ps.append(np.stack([s_tr - skew(d) @ s_rot for d in offsets]))
+    rotating.append((masses, np.array([x, 0.0, 0.0]) + offsets, offsets, s_rot))
 
 
 def elastic_matrices(fields: Sequence[str], modes: ShaftModes, m_ff: Array, zeta: float) -> tuple[Array, Array]:
@@ -479,7 +521,7 @@ def elastic_matrices(fields: Sequence[str], modes: ShaftModes, m_ff: Array, zeta
     k = np.zeros((nf, nf))
     for c, fld in enumerate(fields):
         k[c, c] = (modes.k_axial[0] if fld == "axial" else modes.k_torsion[0] if fld == "torsion"
-                   else modes.k_bending[int(fld[-1]) - 1])
+                   else modes.k_bending[mode_number(fld) - 1])
     c_mat = np.zeros((nf, nf))
     w1, w2 = 2 * np.pi * modes.freq_bending[0], 2 * np.pi * modes.freq_bending[1]
     a0, a1 = 2 * zeta * w1 * w2 / (w1 + w2), 2 * zeta / (w1 + w2)

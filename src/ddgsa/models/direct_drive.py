@@ -65,8 +65,8 @@ from ddgsa.errors import ModelError
 from ddgsa.loads import EXCITATION_FACTORS, NREL5MW, generate_columns
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs.assembly import System
-from ddgsa.mbs.beam import BeamSpec, mesh
-from ddgsa.mbs.bodies import FlexibleBody, Ground
+from ddgsa.mbs.beam import BEAMS, BeamSpec, mesh, shear_coefficient
+from ddgsa.mbs.bodies import MAX_BENDING_MODES, FlexibleBody, Ground, bending_fields
 from ddgsa.mbs.elements import AppliedLoad, SpringDamper3, TorqueLaw
 from ddgsa.mbs.modal import linearise, modal_analysis
 from ddgsa.mbs.linear import (initial_state, input_window, linearise_spinning, lti_response,
@@ -129,12 +129,12 @@ OUTPUTS = (
     ModelOutput("front_Fa_mean", "N", "time-mean axial force magnitude on the front bearing", 0.0, 1e7),
     ModelOutput("rear_Fa_mean", "N", "time-mean axial force magnitude on the rear bearing", 0.0, 1e7),
 )
-FIELDS = ("axial", "torsion", "bending_y_1", "bending_y_2", "bending_z_1", "bending_z_2")
+FIELDS = ("axial", "torsion", *bending_fields(2, "by_plane"))
+"""The elastic coordinates of the default flexible shaft (``bending_modes`` adds ``bending_y_3`` ...)."""
 RIGID_NAMES = ("R_x", "R_y", "R_z", "phi", "theta", "psi")
 MODE_GROUPS = {"R_x": "bearing_axial", "R_y": "bearing_y", "psi": "bearing_y", "R_z": "bearing_z",
                "theta": "bearing_z", "phi": "spin", "axial": "axial_1", "torsion": "torsion_1",
-               "bending_y_1": "bending_y_1", "bending_y_2": "bending_y_2", "bending_z_1": "bending_z_1",
-               "bending_z_2": "bending_z_2"}
+               **{f: f for f in bending_fields(MAX_BENDING_MODES)}}
 
 
 @dataclass(frozen=True)
@@ -160,11 +160,14 @@ def bearing_order_problem(p: Mapping[str, float]) -> str:
 
 
 def assemble(p: Mapping[str, float], fields: tuple[str, ...],
-             damping: tuple[str, str] = ("physical", "modal")) -> Assembly:
+             damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli") -> Assembly:
     """Build the system for one parameter set and the retained elastic fields.
 
     ``damping``: the readings of seed 000's bending Rayleigh law and bearing damping
-    (:mod:`ddgsa.models.seed_readings`: ``bending_rayleigh``, ``bearing_damping``).
+    (:mod:`ddgsa.models.seed_readings`: ``bending_rayleigh``, ``bearing_damping``). ``beam``: the
+    shaft's FE bending elements (:data:`ddgsa.mbs.beam.BEAMS`); ``timoshenko`` takes the shear
+    stiffness ``kappa G A`` of the hollow section (Cowper's ``kappa``, ``G = GJ / J``, Poisson's
+    ratio from ``EI / I`` and ``G``) and gives the shaft its rotary inertia.
 
     Written on the kernel's parts (:mod:`ddgsa.mbs`): the shaft is a
     :meth:`~ddgsa.mbs.bodies.FlexibleBody.shaft` on its FE modes with the hub and generator as end
@@ -180,13 +183,14 @@ def assemble(p: Mapping[str, float], fields: tuple[str, ...],
         raise ModelError(problem)
     r_o = p["shaft_radius"]
     spec = BeamSpec(nodes=mesh([0.0, l1, l2, length], _MAX_ELEMENT), mass=p["shaft_mass"],
+                    shear_stiffness=_shear_stiffness(p) if beam == "timoshenko" else None,
                     polar_inertia=p["shaft_mass"] * (r_o ** 2 + min(_BORE, 0.8 * r_o) ** 2) / 2.0,
                     EI=p["shaft_bending_stiffness"], EA=p["shaft_axial_stiffness"],
                     GJ=p["shaft_torsional_stiffness"],
                     end_masses=((0.0, p["hub_mass"], p["hub_inertia_x"], p["hub_inertia_yz"]),
                                 (length, p["generator_mass"], p["generator_inertia_x"], p["generator_inertia_yz"])),
                     supports=(l1, l2), axial_support=l1)
-    shaft = _shaft(spec, fields, p["shaft_damping_ratio"], damping[0])
+    shaft = _shaft(spec, fields, p["shaft_damping_ratio"], damping[0], beam == "timoshenko")
     bedplate = Ground("bedplate")                           # its motion is an input of the integrators
     k_sp = np.array([[p["k_front_x"], p["k_front_y"], p["k_front_z"]], [p["k_rear_x"], p["k_rear_y"], p["k_rear_z"]]])
     c_sp = bearing_damping(k_sp, shaft.mass, p["bearing_damping_ratio"], damping[1])
@@ -248,15 +252,26 @@ def input_map(p: Mapping[str, float]) -> NDArray[np.float64]:
     return m
 
 
+def _shear_stiffness(p: Mapping[str, float]) -> float:
+    """``kappa G A`` [N] of the hollow shaft (outer radius ``shaft_radius``, bore :data:`_BORE`)."""
+    r_o = p["shaft_radius"]
+    r_i = min(_BORE, 0.8 * r_o)
+    area, j = np.pi * (r_o ** 2 - r_i ** 2), np.pi * (r_o ** 4 - r_i ** 4) / 2
+    g = p["shaft_torsional_stiffness"] / j
+    poisson = p["shaft_bending_stiffness"] / (j / 2) / (2 * g) - 1.0
+    return shear_coefficient(poisson, r_i / r_o) * g * area
+
+
 @functools.lru_cache(maxsize=16)
-def _shaft(spec: BeamSpec, fields: tuple[str, ...], damping_ratio: float, rayleigh: str) -> FlexibleBody:
+def _shaft(spec: BeamSpec, fields: tuple[str, ...], damping_ratio: float, rayleigh: str,
+           rotary_inertia: bool = False) -> FlexibleBody:
     """The FE shaft body of ``spec`` (its modes are ~60 % of a linear point's set-up). Kept for the
     last specs seen: points that differ only in bearing stiffnesses, damping, C_gen, ratings or
     excitation (half of an M-DRM design, all of paper C's excitation study) share it; the body is
     never modified by the systems built on it, so sharing it is exact. ``rayleigh``: the bending
     Rayleigh reading (:func:`ddgsa.models.seed_readings.rayleigh_coefficients`)."""
     body = FlexibleBody.shaft("shaft", spec, fields=fields, damping_ratio=damping_ratio,
-                              rotary_inertia=False)        # shaft rotary inertia neglected (module notes)
+                              rotary_inertia=rotary_inertia)   # neglected but with Timoshenko elements (module notes)
     if rayleigh != "physical" and any(f.startswith("bending") for f in fields):
         pm, _, ps = body.points
         w1, w2 = 2.0 * np.pi * body.modes.freq_bending[:2]
@@ -267,7 +282,7 @@ def _shaft(spec: BeamSpec, fields: tuple[str, ...], damping_ratio: float, raylei
 
 @functools.lru_cache(maxsize=256)
 def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...],
-              damping: tuple[str, str] = ("physical", "modal")) -> Assembly:
+              damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli") -> Assembly:
     """:func:`assemble` kept per exact parameter point (~30 % of a linear point's cost).
 
     A study evaluates every point in each scene and realisation (paper C: 60 times), and a
@@ -275,7 +290,7 @@ def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...],
     system depends on the parameters only (loads are inputs) and nothing modifies it, so
     sharing it is exact. 256 systems of ~30 kB: more than a batch's points.
     """
-    return assemble(dict(params), fields, damping)
+    return assemble(dict(params), fields, damping, beam)
 
 
 @register_model("direct_drive")
@@ -287,6 +302,12 @@ class DirectDrive(Model):
     fidelity : {"flexible", "rigid"}
     axial, second_bending : bool
         Keep the axial mode / the second bending mode per plane (flexible only).
+    bending_modes : int, optional
+        Bending modes per plane (flexible and linear; 1 .. :data:`~ddgsa.mbs.bodies.MAX_BENDING_MODES`);
+        default 2, or 1 with ``second_bending=False`` (docs/physics.md: convergence with the count).
+    beam : {"euler_bernoulli", "timoshenko"}
+        The shaft's FE bending elements (the shapes' basis); ``timoshenko`` adds shear and the
+        shaft's rotary inertia (lowers the second bending pair by ~7 %, docs/physics.md).
     time_step : float, optional
         Integration step [s]; default 0.005 (flexible) or 0.01 (rigid), where halving it changes
         the objective functions by < 0.5 % (tested). The scene's ``dt`` must be a multiple. The
@@ -318,6 +339,9 @@ class DirectDrive(Model):
     fidelities = ("flexible", "rigid", "linear")
     options = (ModelOption("axial", "bool", "axial elastic coordinate"),
                ModelOption("second_bending", "bool", "second bending mode per plane"),
+               ModelOption("bending_modes", "integer", "bending modes per plane (default 2; 1 without second_bending)",
+                           1, MAX_BENDING_MODES, optional=True),
+               ModelOption("beam", "choice", "shaft FE bending elements", choices=BEAMS),
                ModelOption("time_step", "number", "integration step (default 0.01 rigid, else 0.005)", 0.0, 0.1, "s",
                            low_open=True, optional=True),
                ModelOption("rho_inf", "number", "generalised-alpha spectral radius at infinity", 0.0, 1.0),
@@ -348,7 +372,7 @@ class DirectDrive(Model):
         return [problem] if problem else []
 
     def __init__(self, fidelity: str = "flexible", axial: bool = True, second_bending: bool = True,
-                 time_step: float | None = None, rho_inf: float = 0.8, equivalent_load: str = "iso281",
+                 bending_modes: int | None = None, beam: str = "euler_bernoulli", time_step: float | None = None, rho_inf: float = 0.8, equivalent_load: str = "iso281",
                  integrator: str = "gen_alpha", bending_rayleigh: str = "physical",
                  bearing_damping: str = "modal", deflection: str = "total",
                  deflection_reference: str = "static") -> None:
@@ -366,6 +390,12 @@ class DirectDrive(Model):
         self.damping = (checked("bending_rayleigh", bending_rayleigh, BENDING_RAYLEIGH),
                         checked("bearing_damping", bearing_damping, BEARING_DAMPING))
         self.deflection = checked("deflection", deflection, DEFLECTION)
+        self.beam = checked("beam", beam, BEAMS)
+        if bending_modes is None:
+            bending_modes = 2 if second_bending else 1
+        if not (isinstance(bending_modes, int) and 1 <= bending_modes <= MAX_BENDING_MODES):
+            raise ModelError(f"model 'direct_drive': bending_modes must be an integer in 1..{MAX_BENDING_MODES}, "
+                             f"got {bending_modes!r}")
         self.reference = checked("deflection_reference", deflection_reference, DEFLECTION_REFERENCE)
         self.fidelity = fidelity
         self._inputs: SceneInputs | None = None
@@ -375,7 +405,7 @@ class DirectDrive(Model):
         if fidelity == "rigid":
             self.fields: tuple[str, ...] = ()
         else:
-            self.fields = tuple(f for f in FIELDS if (axial or f != "axial") and (second_bending or not f.endswith("_2")))
+            self.fields = ("axial", "torsion")[0 if axial else 1:] + bending_fields(bending_modes, "by_plane")
 
     @property
     def coordinate_names(self) -> tuple[str, ...]:
@@ -384,7 +414,7 @@ class DirectDrive(Model):
 
     def assemble(self, params: Mapping[str, float] | None = None) -> Assembly:
         """The system for ``params`` (missing -> nominal)."""
-        return assemble(self.resolve(params).iloc[0].to_dict(), self.fields, self.damping)
+        return assemble(self.resolve(params).iloc[0].to_dict(), self.fields, self.damping, self.beam)
 
     def static(self, asm: Assembly, force: NDArray[np.float64], moment: NDArray[np.float64],
                q_guess: NDArray[np.float64] | None = None, tol: float = 1e-12) -> NDArray[np.float64]:
@@ -413,7 +443,7 @@ class DirectDrive(Model):
     def _simulate(self, scene: Scene, p: Mapping[str, float], states: bool) -> pd.DataFrame:
         """:meth:`simulate` for resolved parameters ``p``; ``states=False`` lets the linear fidelity
         skip the coordinate columns (the objective functions do not read them)."""
-        asm = assemble(p, self.fields, self.damping)
+        asm = assemble(p, self.fields, self.damping, self.beam)
         inputs = self._scene_inputs(scene)
         to_u = input_map(p)
         u = inputs.channels @ to_u
@@ -515,7 +545,7 @@ class DirectDrive(Model):
         u0 = inputs.mean @ to_u
         spin = float(u0[6] + u0[3] / asm.system.c_torque)            # torque balance: T = -M_x
         pairs = [(self.fields.index(f"bending_y_{k}"), self.fields.index(f"bending_z_{k}"))
-                 for k in (1, 2) if f"bending_y_{k}" in self.fields]
+                 for k in range(1, MAX_BENDING_MODES + 1) if f"bending_y_{k}" in self.fields]
         lin, springs = linearise_spinning(asm.system, np.delete(q_st, 3), spin, u0, pairs)
         npos, nvel = lin.k.shape[1], lin.m.shape[0]
         ends0, d_ends = deflection_jacobian(asm, lin.p0, self.deflection)
@@ -561,7 +591,7 @@ class DirectDrive(Model):
 
     def _evaluate_linear(self, p: dict[str, float], scene: Scene) -> dict[str, float]:
         """Objectives of the linear fidelity straight from the response arrays (no time-series frame)."""
-        asm = assembled(tuple(p.items()), self.fields, self.damping)
+        asm = assembled(tuple(p.items()), self.fields, self.damping, self.beam)
         inputs = self._scene_inputs(scene)
         to_u = input_map(p)
         u0 = inputs.mean @ to_u

@@ -73,6 +73,8 @@ from scipy.signal import butter, sosfiltfilt
 from ddgsa.errors import ModelError, SceneError
 from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
 from ddgsa.mbs.campbell import CampbellDiagram, mode_row, tracked_frame
+from ddgsa.mbs.beam import BEAMS
+from ddgsa.mbs.bodies import MAX_BENDING_MODES
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.mbs.sampling import AliasingWarning
 from ddgsa.models.base import Model, ModelOption, ModelOutput, register_model
@@ -83,7 +85,7 @@ from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts,
                                         steady_flux, steady_speed)
 from ddgsa.models.hss_rig.motor import sequence_phasors
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
-from ddgsa.models.hss_rig.rig import Rig, build
+from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build
 from ddgsa.models.hss_rig.scenes import RigScene
 from ddgsa.signals import (angle_amplitudes, band_energy, envelope, harmonic_amplitudes, order_map, plot_order_map,
                            plot_spectrum, resample_to_angle)
@@ -149,6 +151,14 @@ class HssRig(Model):
         Generalised-alpha step [s] (``dq``, ``kloss``); the sensor interval must be a multiple.
     noise : bool
         Add seeded measurement noise to the sensors.
+    bending_modes : int
+        Bending modes per plane of the high-speed shaft (default 2; docs/physics.md: convergence).
+    beam : {"euler_bernoulli", "timoshenko"}
+        The shaft's FE bending elements.
+    shaft_elements : int
+        FE elements per bearing span of the high-speed shaft (default 8).
+    shaft_axial : bool
+        Give the high-speed shaft an axial elastic mode (default: axially rigid, its axial mode 2.7 % high).
     """
 
     fidelities: ClassVar[tuple[str, ...]] = ("dq", "kloss", "linear")
@@ -160,15 +170,28 @@ class HssRig(Model):
     outputs = OUTPUTS
     scene_type = RigScene
     options = (ModelOption("time_step", "number", "generalised-alpha step", 0.0, 1e-2, "s", low_open=True),
-               ModelOption("noise", "bool", "seeded measurement noise on the sensors"))
+               ModelOption("noise", "bool", "seeded measurement noise on the sensors"),
+               ModelOption("bending_modes", "integer", "high-speed shaft bending modes per plane (default 2)",
+                           1, MAX_BENDING_MODES),
+               ModelOption("beam", "choice", "high-speed shaft FE bending elements", choices=BEAMS),
+               ModelOption("shaft_elements", "integer", "high-speed shaft FE elements per bearing span (default 8)",
+                           2, 256),
+               ModelOption("shaft_axial", "bool", "axial elastic mode of the high-speed shaft (default: axially rigid)"))
 
-    def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False) -> None:
+    def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False, bending_modes: int = 2,
+                 beam: str = "euler_bernoulli", shaft_elements: int = 8, shaft_axial: bool = False) -> None:
         self.check_fidelity(fidelity)
         if not (isinstance(time_step, (int, float)) and 0 < time_step <= 1e-2):
             raise ModelError(f"model 'hss_rig': time_step must be in (0, 0.01] s, got {time_step!r}")
         if not isinstance(noise, bool):
             raise ModelError(f"model 'hss_rig': noise must be true or false, got {noise!r}")
+        if (not (isinstance(bending_modes, int) and 1 <= bending_modes <= MAX_BENDING_MODES) or beam not in BEAMS
+                or not (isinstance(shaft_elements, int) and 2 <= shaft_elements <= 256) or not isinstance(shaft_axial, bool)):
+            raise ModelError(f"model 'hss_rig': bending_modes must be an integer in 1..{MAX_BENDING_MODES}, beam one "
+                             f"of {', '.join(BEAMS)}, shaft_elements an integer in 2..256 and shaft_axial true or false; "
+                             f"got {bending_modes!r}, {beam!r}, {shaft_elements!r}, {shaft_axial!r}")
         self.fidelity, self.time_step, self.noise = fidelity, float(time_step), noise
+        self.basis = ShaftBasis(bending_modes, beam, shaft_elements, shaft_axial)
 
     # -- assembly ------------------------------------------------------------------------------
     def _scene(self, scene: Any) -> RigScene:
@@ -196,11 +219,11 @@ class HssRig(Model):
         if self.fidelity == "linear" and scene.kind == "steady" and p["coupling_asymmetry"] > 0.0:
             # the static stretch of the rig without its turning loads (a frozen snapshot is not static)
             steady = {**eff, "eccentric_mass": 0.0, "supply_unbalance": 0.0}
-            plain = build(steady, kloss_parts(drive_for(steady, scene, POLE_PAIRS)), spin=spin)
+            plain = build(steady, kloss_parts(drive_for(steady, scene, POLE_PAIRS)), spin=spin, basis=self.basis)
             stretch = operating_stretch(plain, *self.initial_state(plain, steady))
             extras.append(anisotropy_loads(p, stretch, spin, scene.duration, 1.0 / scene.sample_rate))
         extra = (lambda markers: [e for f in extras for e in f(markers)]) if extras else None
-        return build(eff, parts, spin=spin, extra=extra), drive, spin
+        return build(eff, parts, spin=spin, extra=extra, basis=self.basis), drive, spin
 
     def effective(self, p: Mapping[str, float]) -> dict[str, float]:
         """The parameters the fidelity builds the rig with: ``linear`` takes the coupling at its
@@ -239,7 +262,8 @@ class HssRig(Model):
                 # the sweep carries the coupling's anisotropy and misalignment itself, from the sag of
                 # the anisotropic rig standing at hub angle 0 (as the nonlinear rig starts)
                 q0, _ = self.initial_state(rig, raw)
-                t, q, qd = transient.run(drive, raw, q0, sc.kind, spin, sc.duration, self.time_step, every)
+                t, q, qd = transient.run(drive, raw, q0, sc.kind, spin, sc.duration, self.time_step, every,
+                                            self.basis)
             else:
                 q0, qd0 = self.initial_state(rig, p)
                 if sc.kind != "startup" and self.fidelity == "kloss":
@@ -256,7 +280,7 @@ class HssRig(Model):
         Spin rates and flux states are the rig's own (:meth:`assemble`); the sag is solved on the
         linearised rig standing still, so a run starts without a gravity transient.
         """
-        still = build(p, lambda marker: ([], []), spin=0.0)
+        still = build(p, lambda marker: ([], []), spin=0.0, basis=rig.basis)
         lin = linearise_system(still.system)
         sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
         q0 = rig.system.q0.copy()
@@ -345,13 +369,15 @@ class HssRig(Model):
         (:mod:`ddgsa.mbs.nonrotating`), so the frequencies are those seen from the frame (a
         Campbell diagram: ``ddgsa modes hss_rig --campbell``); the motor at ``kloss`` with its
         supply at the synchronous frequency of ``rotor_speed`` (its slope damps the torsion).
+        With the spin stiffening of the disk and hubs (:func:`ddgsa.mbs.nonrotating.spin_stiffness`;
+        the time-domain fidelities do not carry it, docs/physics.md gives its size).
         """
         p = self.resolve(params).iloc[0].to_dict()
         rpm = max(abs(rotor_speed) * 30.0 / math.pi, 60.0)
         drive = drive_for(p, RigScene("steady", speed_rpm=rpm, duration=10.0), POLE_PAIRS)
-        rig = build(p, kloss_parts(drive), spin=rotor_speed)
+        rig = build(p, kloss_parts(drive), spin=rotor_speed, basis=self.basis)
         q0, qd0 = self.initial_state(rig, p)
-        lin = nonrotating.linearise(rig.system, q0, qd0)
+        lin = nonrotating.linearise(rig.system, q0, qd0, spin_stiffening=True)
         return modal_analysis(lin.m, lin.c, lin.k, rig.system.coord_names, rig.system.groups())
 
     def campbell(self, speeds: Any, orders: Any = (1.0, 2.0), params: Mapping[str, float] | None = None,
@@ -367,8 +393,8 @@ class HssRig(Model):
         for speed in np.sort(np.asarray(speeds, dtype=float)):
             rpm = max(abs(speed) * 30.0 / math.pi, 60.0)
             drive = drive_for(p, RigScene("steady", speed_rpm=rpm, duration=10.0), POLE_PAIRS)
-            rig = build(p, kloss_parts(drive), spin=float(speed))
-            lin = nonrotating.linearise(rig.system, *self.initial_state(rig, p))
+            rig = build(p, kloss_parts(drive), spin=float(speed), basis=self.basis)
+            lin = nonrotating.linearise(rig.system, *self.initial_state(rig, p), spin_stiffening=True)
             lam, vec = damped_eigen(lin.m, lin.c, lin.k)
             labels = modal_analysis(lin.m, lin.c, lin.k, rig.system.coord_names, rig.system.groups())["label"]
             per_speed.append(([mode_row(speed, j + 1, lam[j], *nonrotating.whirl_index(rig.system, lin, vec[:, j]),

@@ -38,8 +38,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ddgsa.mbs import Bushing6, FlexibleBody, Ground, Marker, RigidBody, SpringDamper3, System, TorqueLaw
-from ddgsa.mbs.beam import BeamSpec, mesh
-from ddgsa.mbs.bodies import Body
+from ddgsa.mbs.beam import BeamSpec, mesh, shear_coefficient
+from ddgsa.mbs.bodies import Body, bending_fields
 from ddgsa.mbs.elements import Element
 from ddgsa.models.constants import tilted_gravity
 from ddgsa.models.hss_rig.elements import EccentricMass, MisalignedCoupling
@@ -56,7 +56,33 @@ MOTOR_BEARING_SPAN = 0.1
 SHAFT_DAMPING_RATIO = 0.002
 """Modal damping of the high-speed shaft's elastic coordinates [-] (assumption: steel, bolted joints)."""
 ELEMENT_LENGTH = 1.0 / 8
-"""Largest FE element of the high-speed shaft as a fraction of the bearing span."""
+"""Largest FE element of the high-speed shaft as a fraction of the bearing span (the default basis)."""
+
+
+@dataclass(frozen=True)
+class ShaftBasis:
+    """The high-speed shaft's modal basis (model options ``bending_modes``, ``beam``).
+
+    Attributes
+    ----------
+    bending_modes : int
+        Bending modes per plane (default 2; docs/physics.md tabulates the frequencies against it).
+    beam : {"euler_bernoulli", "timoshenko"}
+        FE bending elements of the shapes (``timoshenko``: shear, with Cowper's solid-section
+        ``kappa`` from the shaft's E and G, and the shaft's rotary inertia in the shapes).
+    elements_per_span : int
+        FE elements per bearing span (default 8, :data:`ELEMENT_LENGTH`): the shaft's mass is lumped
+        at the nodes, so the coupling-hub modes on the 0.1 m overhang (one element at 8) need a finer
+        mesh to come within 1 % of ROSS (docs/physics.md).
+    axial : bool
+        Give the shaft an axial elastic mode (its shape on the axial bearing's spring at bearing 1);
+        without it the shaft is axially rigid and its axial mode 2.7 % high.
+    """
+
+    bending_modes: int = 2
+    beam: str = "euler_bernoulli"
+    elements_per_span: int = round(1.0 / ELEMENT_LENGTH)
+    axial: bool = False
 
 
 @dataclass
@@ -71,11 +97,14 @@ class Rig:
         ``housing_1``, ``housing_2``.
     positions : dict
         Shaft-axis positions [m] (body frame of ``hss``) of ``bearing_1``, ``disk``, ``bearing_2``.
+    basis : ShaftBasis
+        The shaft's modal basis it was built with.
     """
 
     system: System
     markers: dict[str, Marker]
     positions: dict[str, float]
+    basis: "ShaftBasis"
 
 
 def cantilever_stiffness(ei: float, length: float) -> np.ndarray:
@@ -98,7 +127,8 @@ MotorParts = Callable[[Marker], tuple[list[Body], list[Element]]]
 
 
 def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0,
-          extra: Callable[[dict[str, Marker]], list[Element]] | None = None, gravity: bool = True) -> Rig:
+          extra: Callable[[dict[str, Marker]], list[Element]] | None = None, gravity: bool = True,
+          basis: ShaftBasis = ShaftBasis()) -> Rig:
     """Assemble the rig for parameters ``p`` (all declared parameters, SI).
 
     Parameters
@@ -113,6 +143,8 @@ def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0,
         ``extra(markers) -> elements``: further elements on the rig's markers (fault loads).
     gravity : bool
         Include gravity (:data:`GRAVITY`).
+    basis : ShaftBasis
+        The high-speed shaft's bending modes per plane and element family.
     """
     steel_e, steel_g, rho = p["shaft_youngs_modulus"], p["shaft_shear_modulus"], p["shaft_density"]
     d, span, over = p["hss_diameter"], p["hss_span"], p["hss_overhang"]
@@ -121,15 +153,16 @@ def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0,
     area, ip = math.pi * d * d / 4, math.pi * d**4 / 32
     length = x2
     spec = BeamSpec(
-        nodes=mesh([0.0, x1, xd, x2], ELEMENT_LENGTH * span), mass=rho * area * length,
+        nodes=mesh([0.0, x1, xd, x2], span / basis.elements_per_span), mass=rho * area * length,
         polar_inertia=rho * area * length * d * d / 8, EI=steel_e * ip / 2, EA=steel_e * area, GJ=steel_g * ip,
         end_masses=((0.0, p["coupling_hub_mass"], p["coupling_hub_inertia"], p["coupling_hub_inertia"] / 2),
                     (xd, p["disk_mass"], p["disk_polar_inertia"], p["disk_diametral_inertia"])),
-        supports=(x1, x2), axial_support=x1)
+        supports=(x1, x2), axial_support=x1, axial_spring=p["bearing_stiffness"] if basis.axial else None,
+        shear_stiffness=(shear_coefficient(steel_e / (2 * steel_g) - 1) * steel_g * area
+                         if basis.beam == "timoshenko" else None))
     rates = (spin, 0.0, 0.0)
-    hss = FlexibleBody.shaft("hss", spec, fields=("torsion", "bending_y_1", "bending_z_1", "bending_y_2",
-                                                  "bending_z_2"), damping_ratio=SHAFT_DAMPING_RATIO,
-                             angle_rates=rates)
+    hss = FlexibleBody.shaft("hss", spec, fields=(("axial",) if basis.axial else ()) + ("torsion", *bending_fields(basis.bending_modes)),
+                             damping_ratio=SHAFT_DAMPING_RATIO, angle_rates=rates)
     lm, dm = p["motor_shaft_length"], p["motor_shaft_diameter"]
     m_rotor, j_rotor = p["motor_rotor_mass"], p["motor_inertia"]
     motor = RigidBody("motor", mass=m_rotor, inertia=(j_rotor, j_rotor / 2, j_rotor / 2), position=(-lm, 0.0, 0.0),
@@ -185,4 +218,4 @@ def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0,
     if extra is not None:
         elements += extra(mk)
     system = System(bodies, elements, gravity=GRAVITY if gravity else (0.0, 0.0, 0.0))
-    return Rig(system, mk, {"bearing_1": x1, "disk": xd, "bearing_2": x2})
+    return Rig(system, mk, {"bearing_1": x1, "disk": xd, "bearing_2": x2}, basis)

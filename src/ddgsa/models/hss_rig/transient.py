@@ -38,19 +38,20 @@ from ddgsa.mbs import nonrotating
 from ddgsa.mbs.sweep import SweepModel, full_state, integrate, marker_rows, steady_orbit, sweep_model
 from ddgsa.models.hss_rig.drive import Drive, kloss_torque_at
 from ddgsa.models.hss_rig.faults import anisotropy, coupling_stretch
-from ddgsa.models.hss_rig.rig import Rig, build, load_law
+from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, load_law
 
 Array = NDArray[np.float64]
 SLOPE_STEP = 1e-6
 """Relative speed step of the torque laws' slopes at the coast-down's operating point [-]."""
 
 
-def structure(p: Mapping[str, float], q0: Array, synchronous: float) -> tuple[Rig, SweepModel]:
+def structure(p: Mapping[str, float], q0: Array, synchronous: float,
+              basis: ShaftBasis = ShaftBasis()) -> tuple[Rig, SweepModel]:
     """The rig without motor, load and eccentric mass, with the coupling's mean stiffness
     (``coupling_asymmetry`` 0), and its sweep model about the sag ``q0`` (the positions of
     :meth:`HssRig.initial_state`) with reference spin ``synchronous`` [rad/s]."""
     bare = build({**p, "eccentric_mass": 0.0, "load_torque": 0.0, "coupling_asymmetry": 0.0},
-                 lambda marker: ([], []), spin=synchronous)
+                 lambda marker: ([], []), spin=synchronous, basis=basis)
     system = bare.system
     rest = nonrotating.linearise(system, q0, np.zeros(system.n))
     spinning = nonrotating.linearise(system, q0, system.qd0)
@@ -58,7 +59,7 @@ def structure(p: Mapping[str, float], q0: Array, synchronous: float) -> tuple[Ri
 
 
 def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float, t_end: float, dt: float,
-        output_every: int) -> tuple[Array, Array, Array]:
+        output_every: int, basis: ShaftBasis = ShaftBasis()) -> tuple[Array, Array, Array]:
     """Record ``(t, q, qd)`` of a start-up (from rest) or coast-down (from ``spin`` [rad/s]) of the
     rig of parameters ``p`` (in the coordinates of :func:`~ddgsa.models.hss_rig.rig.build`).
 
@@ -75,9 +76,11 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
         ``startup`` or ``coastdown``.
     dt : float
         Generalised-alpha step [s]; ``output_every`` steps a sample.
+    basis : ShaftBasis
+        The high-speed shaft's modal basis.
     """
     synchronous = 2 * math.pi * drive.motor.supply_frequency / drive.motor.pole_pairs
-    bare, model = structure(p, q0, synchronous)
+    bare, model = structure(p, q0, synchronous, basis)
     lin = model.lin
     motor = marker_rows(bare.system, lin, bare.markers["motor"])[3]
     disk_rows = marker_rows(bare.system, lin, bare.markers["disk"])
