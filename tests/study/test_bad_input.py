@@ -9,15 +9,11 @@ model options passed validation.
 
 from __future__ import annotations
 
-import contextlib
-import io
-import time
-import tracemalloc
 from pathlib import Path
 
 import pytest
 
-from ddgsa.cli import main
+from bounded import measured_validate
 from ddgsa.study import load_study
 
 BASE = """\
@@ -42,18 +38,9 @@ CPU_S = 10.0
 
 def validate(path: Path) -> tuple[int, str]:
     """``ddgsa validate path`` in this process: exit code and stderr, with the memory and CPU bounds checked."""
-    err = io.StringIO()
-    tracemalloc.start()
-    t0 = time.process_time()
-    try:
-        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-            rc = main(["validate", str(path)])
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
-    assert time.process_time() - t0 < CPU_S
+    rc, text, peak, cpu = measured_validate(path)
+    assert cpu < CPU_S
     assert peak < PEAK_BYTES, f"peak {peak / 2**20:.1f} MiB"
-    text = err.getvalue()
     assert "Traceback" not in text
     assert len(text) < 2000 and all(len(line) <= 620 for line in text.splitlines())
     return rc, text

@@ -22,21 +22,9 @@ import pandas as pd
 import pytest
 
 from ddgsa.cli import main
+from studytext import SALTELLI, analytic_study
 
 SRC = str(Path(__file__).resolve().parents[2] / "src")
-SLOW_STUDY = """\
-name: {name}
-model: {{name: analytic, fidelity: exact, options: {{delay_s: {delay}}}}}
-parameters:
-  x1: {{low: -3.14159, high: 3.14159}}
-  x2: {{low: -3.14159, high: 3.14159}}
-  x3: {{low: -3.14159, high: 3.14159}}
-scenes: {{wind_speed: [8.0, 11.0], turbulence_intensity: 0.0, duration: 1.0, dt: 0.05, realisations: 2}}
-outputs: [y, y_positive]
-methods:
-  - {{method: saltelli, n: {n}, seed: 0}}
-run: {{jobs: {jobs}, batch_size: 8}}
-"""
 
 
 def _env() -> dict[str, str]:
@@ -71,7 +59,7 @@ def test_a_store_or_lock_deleted_mid_run_stops_the_run_and_says_what_is_lost(tmp
     """Before: exit 0, "wrote 12 files", no store (issue 29 failure 1). Now exit 1, one line
     naming the file and how many evaluations went with it (or are kept), no report written."""
     study = tmp_path / "slow.yaml"
-    study.write_text(SLOW_STUDY.format(name="slow", delay=0.002, n=256, jobs=1))   # 5120 runs, ~10 s
+    study.write_text(analytic_study("slow", "{delay_s: 0.002}", 256, jobs=1, methods=SALTELLI))   # 5120 runs, ~10 s
     out = tmp_path / "out"
     proc = _start(study, out)
     _wait_for_rows(proc, out / "evaluations.sqlite")
@@ -137,7 +125,7 @@ def test_a_full_disk_stops_with_one_line_and_the_rerun_completes_identically(tmp
     """Before: the forked pool's cleanup printed a traceback (issue 29 failure 4). Now one line
     saying what is kept and how to resume; the rerun finishes with the indices of a clean run."""
     study = tmp_path / "full.yaml"
-    study.write_text(SLOW_STUDY.format(name="full", delay=0.0, n=128, jobs=2))   # 2560 runs, ~0.8 MB store
+    study.write_text(analytic_study("full", "{delay_s: 0.0}", 128, jobs=2, methods=SALTELLI))   # 2560 runs, ~0.8 MB store
     out = tmp_path / "out"
     proc = _start(study, out, preexec=_limit_file_size(150_000))
     stdout, stderr = proc.communicate(timeout=300)
@@ -181,7 +169,7 @@ def test_a_lost_dask_scheduler_stops_the_run_with_one_line_and_the_batches_are_k
                                "--no-dashboard"], env=_env(), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         study = tmp_path / "dask.yaml"
-        study.write_text(SLOW_STUDY.format(name="dask", delay=0.02, n=256, jobs=1))     # 5120 runs, ~100 s
+        study.write_text(analytic_study("dask", "{delay_s: 0.02}", 256, jobs=1, methods=SALTELLI))     # 5120 runs, ~100 s
         out = tmp_path / "out"
         proc = _start(study, out, "--backend", "dask", "--address", f"127.0.0.1:{port}")
         _wait_for_rows(proc, out / "evaluations.sqlite", rows=64, timeout=240)

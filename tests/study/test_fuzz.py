@@ -13,7 +13,6 @@ few run as real subprocesses under an address-space limit.
 
 from __future__ import annotations
 
-import contextlib
 import copy
 import io
 import math
@@ -22,8 +21,6 @@ import resource
 import subprocess
 import sys
 import tempfile
-import time
-import tracemalloc
 from pathlib import Path
 from typing import Any
 
@@ -32,7 +29,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from ruamel.yaml import YAML
 
-from ddgsa.cli import main
+from bounded import measured_validate
 from ddgsa.study import StudySpec
 
 VALID: dict[str, Any] = {
@@ -238,17 +235,7 @@ def test_every_malformed_study_is_exit_2_naming_the_file_and_field_in_bounded_ti
         path = folder / "study.yaml"
         path.write_bytes(raw)
         cwd_before = _listing(CWD)
-        err = io.StringIO()
-        tracemalloc.start()
-        t0 = time.process_time()
-        try:
-            with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-                rc = main(["validate", str(path)])
-            peak = tracemalloc.get_traced_memory()[1]
-        finally:
-            tracemalloc.stop()
-        cpu = time.process_time() - t0
-        text = err.getvalue()
+        rc, text, peak, cpu = measured_validate(path)
         assert rc == 2, (raw[:300], text)
         assert text.startswith(f"ddgsa: error: {path}: "), text
         if names_field:

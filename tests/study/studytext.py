@@ -1,0 +1,27 @@
+"""Study texts the study and CLI tests share (imported by ``conftest.py`` and by tests that start
+the CLI in a separate process)."""
+
+from __future__ import annotations
+
+MDRM_AND_SALTELLI = "  - {{method: mdrm, points: 5}}\n  - {{method: saltelli, n: {n}, seed: 0}}\n"
+SALTELLI = "  - {{method: saltelli, n: {n}, seed: 0}}\n"
+
+ANALYTIC = """\
+name: {name}
+model: {{name: analytic, fidelity: exact, options: {options}}}
+parameters:
+  x1: {{low: -3.14159, high: 3.14159}}
+  x2: {{low: -3.14159, high: 3.14159}}
+  x3: {{low: -3.14159, high: 3.14159}}
+scenes: {{wind_speed: [8.0, 11.0], turbulence_intensity: 0.0, duration: 1.0, dt: 0.05, realisations: 2}}
+outputs: [y, y_positive]
+methods:
+{methods}run: {{jobs: {jobs}, batch_size: {batch}}}
+"""
+
+
+def analytic_study(name: str = "demo", options: str = "{}", n: int = 64, batch: int = 8, jobs: int = 1,
+                   methods: str = MDRM_AND_SALTELLI) -> str:
+    """The analytic (Ishigami) model's study at two wind speeds with ``methods`` (a YAML list's lines
+    with ``{n}`` for the Saltelli base sample)."""
+    return ANALYTIC.format(name=name, options=options, methods=methods.format(n=n), jobs=jobs, batch=batch)
