@@ -89,6 +89,10 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
                 save_fig(plot_heatmap(result.indices[result.indices["method"] == method], info,
                                       result.study.scene_fields),
                          f"heatmap_ST_{method}.png")
+    for df, name in ((result.signal_indices, "signal_indices.csv"),
+                     (result.signal_generalised, "signal_generalised.csv"), (result.convergence, "convergence.csv")):
+        if df is not None and len(df):
+            save_csv(df, name)
     for fig, name in scene_figures(result):
         save_fig(fig, name)
     if result.fidelity is not None and len(result.fidelity):
