@@ -31,6 +31,7 @@ from ddgsa.loads.scene import AUTO_BEM_INCLINATION_DEG  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.outdir import previous_files, remove_stale  # noqa: E402
 from ddgsa.pipeline import StudyResult  # noqa: E402
+from ddgsa.signal_report import summary_lines as signal_summary_lines  # noqa: E402
 from ddgsa.study import WIND_LABEL_FIELDS, plan_scenes, scene_text  # noqa: E402
 
 PNG_METADATA = {"Software": None}
@@ -670,6 +671,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                              f"{'yes' if (gm['trusted'] | gm['rank_confirmed']).all() else '**no**'} | {rank} |")
             lines.append("")
         lines += no_effect_lines(result)
+        lines += signal_summary_lines(result.signal_generalised)
         logs = [(ps, res) for ps, res in result.results if res.method == "auto"]
         if logs:
             lines += ["## `method: auto` decisions", ""]

@@ -121,3 +121,20 @@ def convergence_section(folder: Path, figure: Figure, table: Table) -> str:
         parts.append(f"<p>{len(groups) - MAX_CURVES} more (method, output) curves in <code>convergence.csv</code>.</p>")
     parts.append(table(conv, "convergence", "convergence.csv"))
     return "".join(parts)
+
+
+def summary_lines(generalised: pd.DataFrame | None) -> list[str]:
+    """Markdown lines for ``summary.md``: per scene, signal and method the parameters ranked by
+    generalised ST (with S1 and the bound), or nothing without signals."""
+    if generalised is None or not len(generalised):
+        return []
+    lines = ["## Signals: generalised indices (variance-weighted over the bins)", "",
+             "Per bin: `signal_indices.csv` and report.html; `*` marks an untrusted row (a bin holding >= 0.1 % of "
+             "the variance is untrusted).", "", "| scene | signal | method | ranking: parameter ST (S1) +- bound |",
+             "|---|---|---|---|"]
+    for (scene, signal, method), g in generalised.groupby(["scene", "signal", "method"], sort=False):
+        top = g.sort_values("ST", ascending=False, na_position="last").head(5)
+        rank = ", ".join(f"{r.parameter} {r.ST:.2f} ({r.S1:.2f}) +-{r.ST_conf:.2g}{'' if r.trusted else '*'}"
+                         for r in top.itertuples())
+        lines.append(f"| {scene} | {signal} | {method} | {rank} |")
+    return lines + [""]

@@ -55,6 +55,18 @@ def test_signal_study_per_bin_generalised_and_convergence_into_the_report(write_
     assert "waves: ST per bin (pce)" in html and "y_positive: ST against runs (pce)" in html
 
 
+@pytest.mark.slow
+def test_a_report_rebuilt_from_the_store_reads_the_signals_back(write_study, tmp_path: Path) -> None:
+    """``ddgsa report`` runs no model: the signal vectors come back from the store's signals table."""
+    path = write_study("sig", text=STUDY.format(name="sig", signal="waves"))
+    out = tmp_path / "out"
+    assert main(["-q", "run", str(path), "--out", str(out), "--allow-untrusted"]) == 0
+    first = (out / "signal_indices.csv").read_text()
+    (out / "signal_indices.csv").unlink()
+    assert main(["-q", "report", str(out), "--allow-untrusted"]) == 0
+    assert (out / "signal_indices.csv").read_text() == first
+
+
 def test_an_unknown_signal_is_refused_with_the_known_ones(write_study, capsys) -> None:
     path = write_study("bad", text=STUDY.format(name="bad", signal="wave"))
     assert main(["validate", str(path)]) == 2
