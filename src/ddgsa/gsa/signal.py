@@ -25,7 +25,7 @@ result says what share of the variance the sums cover (``variance_covered``). A 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -91,7 +91,6 @@ class SignalResult:
     bins: pd.DataFrame
     generalised: pd.DataFrame
     result: SobolResult
-    extras: dict[str, Any] = field(default_factory=dict)
 
     @property
     def method(self) -> str:
