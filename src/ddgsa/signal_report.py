@@ -33,6 +33,11 @@ Figure = Callable[[str, str, str], str]
 Table = Callable[[pd.DataFrame, str, str], str]
 
 
+def _band(value: np.ndarray, err: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The shaded band ``value +- err`` held inside the charts' index range [-0.05, 1.05]."""
+    return np.clip(value - err, -0.05, 1.05), np.clip(value + err, -0.05, 1.05)
+
+
 def _read(folder: Path, name: str) -> pd.DataFrame | None:
     path = folder / name
     if not path.is_file():
@@ -66,7 +71,7 @@ def signals_section(folder: Path, figure: Figure, table: Table) -> str:
                 quiet.append(str(par))
                 continue
             err = np.where(np.isfinite(err), err, 0.0)
-            lines.append(Line(str(par), gp["axis"].to_numpy(float), st, band=(st - err, st + err),
+            lines.append(Line(str(par), gp["axis"].to_numpy(float), st, band=_band(st, err),
                               hollow=~gp["trusted"].to_numpy(bool), color=k))
         below = f"; ST below {SHOWN_INDEX:g} in every bin: {', '.join(quiet)}" if quiet else ""
         parts.append(figure(xy_chart(lines, xlab, "ST, total index [-]", f"{signal}: ST per bin ({method})",
@@ -109,7 +114,7 @@ def convergence_section(folder: Path, figure: Figure, table: Table) -> str:
             gp = gp.sort_values("n_evals")
             st, err = gp["ST"].to_numpy(float), gp["ST_conf"].to_numpy(float)
             err = np.where(np.isfinite(err), err, 0.0)
-            lines.append(Line(str(par), gp["n_evals"].to_numpy(float), st, band=(st - err, st + err),
+            lines.append(Line(str(par), gp["n_evals"].to_numpy(float), st, band=_band(st, err),
                               hollow=~gp["trusted"].to_numpy(bool), color=k))
         runs = g["n_evals"].to_numpy(float)
         parts.append(figure(xy_chart(lines, "model runs [runs]", "ST, total index [-]",
