@@ -10,6 +10,7 @@ from ddgsa._version import __version__
 from ddgsa.errors import DdgsaError, MethodError, ModelError, SceneError, SpaceError, StudyError
 from ddgsa.gsa import SobolResult, sobol
 from ddgsa.gsa.result import Diagnostic
+from ddgsa.gsa.signal import SignalAxis, SignalResult, sobol_signal
 from ddgsa.loads.scene import Scene
 from ddgsa.space import Parameter, ParameterSpace
 
@@ -23,6 +24,8 @@ __all__ = [
     "ParameterSpace",
     "Scene",
     "SceneError",
+    "SignalAxis",
+    "SignalResult",
     "SobolResult",
     "SpaceError",
     "StudyError",
@@ -30,4 +33,5 @@ __all__ = [
     "loads",
     "models",
     "sobol",
+    "sobol_signal",
 ]

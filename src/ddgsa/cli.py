@@ -488,6 +488,10 @@ def _print_models(only: str | None = None) -> None:
         print("outputs (a value outside the plausible range is warned about):")
         print(model.output_table().to_string(index=False, formatters={"plausible_low": "{:.3g}".format,
                                                                       "plausible_high": "{:.3g}".format}))
+        if model.signal_outputs:
+            print("signal outputs (signals: in a study; vectors on a fixed grid):")
+            for sig in model.signal_outputs:
+                print(f"  {sig.name} [{sig.unit}] against {sig.axis} [{sig.axis_unit}]: {sig.description}")
         print(f"{model.options_note}\n" if model.options_note else "")
 
 

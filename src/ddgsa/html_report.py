@@ -35,6 +35,7 @@ from ruamel.yaml import YAML
 
 from ddgsa.errors import DdgsaError, OutputFolderError
 from ddgsa.models import get as get_model
+from ddgsa.signal_report import SIGNAL_TABLES, convergence_section, signals_section
 from ddgsa.svgplot import Bars, Guide, Heat, Line, bar_chart, heatmap, num, xy_chart
 
 HTML_NAME = "report.html"
@@ -114,6 +115,8 @@ def render(folder: Path) -> str:
     add("sweep", "Sweep", _sweep(folder, units))
     add("campbell", "Campbell diagram", _campbell(folder))
     add("convergence", "Index error against cost", _convergence(folder))
+    add("signals", "Indices of signals", signals_section(folder, _figure, _table))
+    add("sample_size", "Indices against sample size", convergence_section(folder, _figure, _table))
     add("tables", "Other tables", _other_tables(folder))
     add("figures", "Figures", _figures(folder))
     add("provenance", "Provenance", _provenance(prov))
@@ -409,7 +412,8 @@ def _convergence(folder: Path) -> str:
 
 
 _SHOWN = {"indices.csv", "output_moments.csv", "accuracy.csv", "diagnostics.csv", "fidelity_selection.csv",
-          "fault_verdicts.csv", "fault_smallest.csv", "fault_indices.csv", "sweep_summary.csv", "campbell.csv"}
+          "fault_verdicts.csv", "fault_smallest.csv", "fault_indices.csv", "sweep_summary.csv", "campbell.csv",
+          *SIGNAL_TABLES}
 
 
 def _other_tables(folder: Path) -> str:

@@ -41,6 +41,7 @@ from ddgsa.space import ParameterSpace
 from ddgsa.loads import cache as loads_cache
 from ddgsa.loads.scene import Scene
 from ddgsa.study import PlannedScene, Study, plan_scenes
+from ddgsa.study_signals import analyse_convergence, analyse_signals
 
 
 @dataclass
@@ -62,6 +63,12 @@ class StudyResult:
     fidelity: pd.DataFrame | None = None
     moments: pd.DataFrame | None = None
     """Per scene and output: ``mean``, ``std``, ``cv`` (std / |mean|) and their ``source``."""
+    signal_indices: pd.DataFrame | None = None
+    """Per scene, method, signal, bin and parameter: indices and the bin's variance (:mod:`ddgsa.study_signals`)."""
+    signal_generalised: pd.DataFrame | None = None
+    """Per scene, method, signal and parameter: the variance-weighted (generalised) indices."""
+    convergence: pd.DataFrame | None = None
+    """Per scene, method, output and parameter: indices against runs on nested sub-samples."""
 
     def to_xarray(self) -> Any:
         """Indices, bounds, flags, moments and fault statistics as an :class:`xarray.Dataset` with
@@ -146,7 +153,8 @@ def _count(finite: np.ndarray) -> str:
 def model_id(study: Study, fidelity: str | None = None) -> ModelId:
     """The runner's model identity for the study (at ``fidelity`` when given)."""
     spec = study.spec.model
-    return ModelId(spec.name, fidelity or spec.fidelity, tuple(sorted(spec.options.items())))
+    return ModelId(spec.name, fidelity or spec.fidelity, tuple(sorted(spec.options.items())),
+                   tuple(study.spec.signals))
 
 
 def model_evaluator(mid: ModelId) -> Evaluator:
@@ -158,7 +166,7 @@ def model_evaluator(mid: ModelId) -> Evaluator:
     def evaluate(points: pd.DataFrame, scene: dict[str, Any]) -> pd.DataFrame:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ImplausibleOutputWarning)
-            return model.evaluate(points, scene_type(**scene))
+            return model.evaluate(points, scene_type(**scene), signals=mid.signals)
 
     return evaluate
 
@@ -430,6 +438,7 @@ def _execute(study: Study, store: EvaluationStore, jobs: int | None, backend: st
         result.sweep = _sweep_table(plan, store, outputs)
     else:
         _analyse(plan, store, designs, outputs, result, auto)
+        _signals_and_convergence(plan, store, designs, outputs, result)
         if spec.kind == "fault":
             _fault_verdicts(plan, store, outputs, result)
     result.evaluations = _evaluation_table(store, list(runs.tasks.values()))
@@ -482,6 +491,20 @@ def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Desig
     result.diagnostics = (pd.concat(diag_rows, ignore_index=True) if diag_rows else
                           pd.DataFrame(columns=["scene", "method", "name", "severity", "output", "parameter",
                                                 "value", "message"]))
+
+
+def _signals_and_convergence(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Design]],
+                             outputs: list[str], result: StudyResult) -> None:
+    """Indices of the study's signals and the convergence curves of its outputs (:mod:`ddgsa.study_signals`)."""
+    study = plan.study
+    pooled, names = plan.blocks["gsa"]
+    rows = [_row_index(pooled, d.points) for _, d in designs]
+    pts = _points(study, pooled, names)
+    result.signal_indices, result.signal_generalised = analyse_signals(
+        study, plan.scenes, lambda ps, scene: [plan.task(ps, scene, p).key for p in pts], store, designs, rows)
+    result.convergence = analyse_convergence(
+        study, plan.scenes, lambda ps: plan.values(store, "gsa", ps, outputs, study.spec.scenes.aggregate),
+        designs, rows, outputs)
 
 
 def pooled_crosscheck(study: Study, designs: list[tuple[str, Design]], x: np.ndarray, y: np.ndarray,

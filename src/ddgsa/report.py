@@ -32,6 +32,7 @@ from ddgsa.loads.scene import AUTO_BEM_INCLINATION_DEG  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.outdir import previous_files, remove_stale  # noqa: E402
 from ddgsa.pipeline import StudyResult  # noqa: E402
+from ddgsa.signal_report import summary_lines as signal_summary_lines  # noqa: E402
 from ddgsa.study import WIND_LABEL_FIELDS, plan_scenes, scene_text  # noqa: E402
 
 PNG_METADATA = {"Software": None}
@@ -90,6 +91,10 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
                 save_fig(plot_heatmap(result.indices[result.indices["method"] == method], info,
                                       result.study.scene_fields),
                          f"heatmap_ST_{method}.png")
+    for df, name in ((result.signal_indices, "signal_indices.csv"),
+                     (result.signal_generalised, "signal_generalised.csv"), (result.convergence, "convergence.csv")):
+        if df is not None and len(df):
+            save_csv(df, name)
     for fig, name in scene_figures(result):
         save_fig(fig, name)
     if result.fidelity is not None and len(result.fidelity):
@@ -683,6 +688,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                              f"{'yes' if (gm['trusted'] | gm['rank_confirmed']).all() else '**no**'} | {rank} |")
             lines.append("")
         lines += no_effect_lines(result)
+        lines += signal_summary_lines(result.signal_generalised)
         logs = [(ps, res) for ps, res in result.results if res.method == "auto"]
         if logs:
             lines += ["## `method: auto` decisions", ""]

@@ -41,7 +41,9 @@ from pathlib import Path
 from typing import Any
 
 import joblib
+import numpy as np
 import pandas as pd
+from numpy.typing import NDArray
 from tqdm import tqdm
 
 from ddgsa.errors import SchedulerLostError, StoreCorruptError, StoreLostError, StoreWriteError
@@ -59,10 +61,16 @@ class ModelId:
     name: str
     fidelity: str
     options: tuple[tuple[str, Any], ...] = ()
+    signals: tuple[str, ...] = ()
+    """Signal outputs each evaluation also computes and stores (:meth:`EvaluationStore.get_signals`)."""
 
     def as_dict(self) -> dict[str, Any]:
-        """Plain-dict form (for keys and provenance)."""
-        return {"name": self.name, "fidelity": self.fidelity, "options": dict(self.options)}
+        """Plain-dict form (for keys and provenance); ``signals`` only when asked for, so the keys of
+        evaluations without signals are those they always had."""
+        out: dict[str, Any] = {"name": self.name, "fidelity": self.fidelity, "options": dict(self.options)}
+        if self.signals:
+            out["signals"] = list(self.signals)
+        return out
 
 
 @dataclass(frozen=True)
@@ -83,6 +91,8 @@ class Outcome:
     outputs: dict[str, float] | None
     error: str | None
     seconds: float
+    signals: dict[str, Any] | None = None
+    """Signal outputs (name -> float64 vector) of a successful evaluation that computed any."""
 
 
 def task_key(model: ModelId, scene: Mapping[str, Any], point: dict[str, float], version: str) -> str:
@@ -132,6 +142,9 @@ class EvaluationStore:
                     raise StoreCorruptError(corrupt_message(path, str(verdict)))
                 self._db.execute("CREATE TABLE IF NOT EXISTS evaluations (key TEXT PRIMARY KEY, scene TEXT, "
                                  "point TEXT, outputs TEXT, error TEXT, seconds REAL)")
+                # signal outputs: one row per (evaluation, signal), the vector as little-endian float64 bytes
+                self._db.execute("CREATE TABLE IF NOT EXISTS signals (key TEXT, name TEXT, data BLOB, "
+                                 "PRIMARY KEY (key, name))")
                 self._db.commit()
             except BaseException:
                 self._db.close()
@@ -213,6 +226,22 @@ class EvaluationStore:
                 [(t.key, json.dumps(t.scene), json.dumps(t.point),
                   None if o.outputs is None else json.dumps(o.outputs), o.error, o.seconds)
                  for t, o in zip(tasks, outcomes)])
+            self._db.executemany(
+                "INSERT OR REPLACE INTO signals VALUES (?, ?, ?)",
+                [(t.key, name, np.asarray(v, dtype="<f8").tobytes()) for t, o in zip(tasks, outcomes)
+                 for name, v in (o.signals or {}).items()])
+
+    def get_signals(self, keys: Iterable[str], name: str) -> dict[str, NDArray[np.float64]]:
+        """Stored vectors of signal ``name`` at ``keys`` (keys without it are absent from the result)."""
+        keys = list(keys)
+        out: dict[str, NDArray[np.float64]] = {}
+        with self._sqlite("read"):
+            for i in range(0, len(keys), 500):
+                chunk = keys[i:i + 500]
+                rows = self._db.execute(f"SELECT key, data FROM signals WHERE name = ? AND key IN "
+                                        f"({','.join('?' * len(chunk))})", [name, *chunk]).fetchall()
+                out.update((k, np.frombuffer(data, dtype="<f8").copy()) for k, data in rows)
+        return out
 
     def count(self) -> int:
         """Number of stored evaluations."""
@@ -257,16 +286,19 @@ def evaluate_batch(factory: ModelFactory, model: ModelId, scene: Mapping[str, An
         return [Outcome(None, f"{type(exc).__name__}: {exc}", 0.0) for _ in points]
     per_point = (time.perf_counter() - t0) / max(len(points), 1)
     failures = frame.attrs.get("failures", {})
+    signals = frame.attrs.get("signals", {})
     outcomes = []
     names = list(frame.columns)
     for i, row in enumerate(dict(zip(names, values)) for values in frame.to_numpy(dtype=float).tolist()):
         bad = [k for k, v in row.items() if not math.isfinite(v)]
+        bad += [k for k, v in signals.items() if not np.isfinite(v[i]).all()]
         if i in failures:
             outcomes.append(Outcome(None, failures[i], per_point))
         elif bad:
             outcomes.append(Outcome(None, f"non-finite output(s) {bad}", per_point))
         else:
-            outcomes.append(Outcome({k: float(v) for k, v in row.items()}, None, per_point))
+            outcomes.append(Outcome({k: float(v) for k, v in row.items()}, None, per_point,
+                                    {k: v[i] for k, v in signals.items()} or None))
     return outcomes
 
 

@@ -31,7 +31,7 @@ from scipy.signal import butter, hilbert, periodogram, sosfiltfilt
 
 from ddgsa.errors import DdgsaError
 
-__all__ = ["SignalError", "angle_amplitudes", "band_energy", "envelope", "harmonic_amplitudes", "order_amplitudes",
+__all__ = ["SignalError", "angle_amplitudes", "band_energy", "band_rms_spectrum", "envelope", "harmonic_amplitudes", "order_amplitudes",
            "order_map", "order_spectrum", "plot_order_map", "plot_spectrum", "resample_to_angle",
            "shaft_angle", "slip_sidebands"]
 
@@ -221,6 +221,48 @@ def band_energy(t: ArrayLike, x: ArrayLike, center: float, half_width: float, ha
         sel = np.abs(f - h * center) <= half_width
         total += float(p[sel].sum() * df)
     return total
+
+
+def band_rms_spectrum(x: ArrayLike, dt: float, edges: ArrayLike) -> NDArray[np.float64]:
+    """RMS of ``x`` in each frequency band ``[edges[k], edges[k+1])`` [Hz], in the signal's unit.
+
+    The mean square per band from the Hann-windowed one-sided periodogram (mean removed), so the
+    squares of all bands up to Nyquist add to the record's variance (Parseval): a sinusoid of
+    amplitude ``A`` whose main lobe (``+- 2 / duration``) lies inside one band gives ``A / sqrt 2``
+    there. A fixed grid of bands (unlike FFT bins) does not depend on the record's length: a
+    spectrum that is the same output at every parameter point and in every scene.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,) or (n, m)
+        The record(s), sampled every ``dt`` [s] (columns: several signals at once).
+    dt : float
+        Sampling interval [s].
+    edges : array_like, shape (n_bands + 1,)
+        Increasing band edges [Hz], the last at most Nyquist ``1 / (2 dt)``.
+
+    Examples
+    --------
+    >>> t = np.arange(0.0, 100.0, 0.05)
+    >>> x = 3.0 * np.sin(2 * np.pi * 0.6 * t) + 1.0 * np.sin(2 * np.pi * 1.6 * t)
+    >>> np.round(band_rms_spectrum(x, 0.05, [0.0, 0.5, 1.0, 1.5, 2.0]) * np.sqrt(2), 3)
+    array([0., 3., 0., 1.])
+    """
+    x = np.asarray(x, float)
+    e = np.asarray(edges, float)
+    if x.shape[0] < 8 or np.any(np.diff(e) <= 0) or e[0] < 0 or e[-1] > 0.5 / dt * (1 + 1e-12):
+        raise SignalError(f"band edges must increase within [0, Nyquist {0.5 / dt:g} Hz] on a record of >= 8 samples; "
+                          f"got edges {e[0]:g} .. {e[-1]:g} Hz on {x.shape[0]} samples")
+    if np.diff(e).min() < 2.0 / (x.shape[0] * dt):
+        raise SignalError(f"a band of {np.diff(e).min():g} Hz is narrower than the Hann main lobe of this "
+                          f"{x.shape[0] * dt:g} s record (2 / duration = {2.0 / (x.shape[0] * dt):.3g} Hz)")
+    f, p = periodogram(x, fs=1.0 / dt, window="hann", scaling="density", detrend="constant", axis=0)
+    df = f[1] - f[0]
+    k = np.searchsorted(e, f, side="right") - 1                  # band of each frequency line
+    inside = (k >= 0) & (k < len(e) - 1)
+    power = np.zeros((len(e) - 1,) + p.shape[1:])
+    np.add.at(power, k[inside], p[inside] * df)
+    return np.sqrt(power)
 
 
 # -- plots -----------------------------------------------------------------------------------------

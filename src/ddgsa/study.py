@@ -330,6 +330,9 @@ class StudySpec(BaseModel):
     output_units: dict[str, str] = Field(default_factory=dict, exclude=True,
                                          description="the units of outputs given as {name, unit} (filled from "
                                                      "'outputs'; display only, so not part of the digest)")
+    signals: list[str] = Field(default_factory=list, description="signal outputs of the model (vectors on a fixed "
+                                                                 "grid: spectra...) to analyse per bin and "
+                                                                 "generalised (kind: gsa)")
     methods: list[MethodSpec] = Field(default_factory=list)
     fault: FaultSpec | None = None
     run: RunSpec = Field(default_factory=RunSpec)
@@ -384,6 +387,8 @@ class StudySpec(BaseModel):
             raise ValueError("every 'grid' entry needs at least one value")
         if self.model.variants and self.model.fidelity == "auto":
             raise ValueError("'model.variants' cannot be combined with fidelity: auto")
+        if self.signals and self.kind != "gsa":
+            raise ValueError("'signals' need kind: gsa")
         return self
 
 
@@ -590,6 +595,11 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             raise StudyError(f"{where}: field 'outputs[{i}]': "
                              + unknown_name_message("output", out, list(model.outputs),
                                                     where=f"ddgsa models {spec.model.name}"))
+    declared_signals = [x.name for x in model.signal_outputs]
+    for i, sig in enumerate(spec.signals):
+        if sig not in declared_signals:
+            raise StudyError(f"{where}: field 'signals[{i}]': " + unknown_name_message(
+                "signal output", sig, declared_signals, where=f"ddgsa models {spec.model.name}"))
     for key, unit in spec.output_units.items():
         if key not in spec.outputs:
             raise StudyError(f"{where}: field 'output_units.{key}': not an output of the study; "
@@ -637,6 +647,12 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             values = {key: [v] for key, v in {**getattr(spec.scenes, "fields", {}), **fields}.items()}
             hints = "".join(f" (hint: {h})" for _, h in scene_hints(scene_type_of(spec.model.name), values))
             raise StudyError(f"{where}: field 'scenes' (scene {k}: {scene_text(fields)}): {exc}{hints}") from None
+    for i, sig in enumerate(spec.signals):
+        for k, fields in enumerate(scenes_to_check(spec.scenes)):
+            try:
+                model.signal_axis(sig, spec.scenes.scene(fields, 0))
+            except DdgsaError as exc:
+                raise StudyError(f"{where}: field 'signals[{i}]' (scene {k}: {scene_text(fields)}): {exc}") from None
     if spec.fault is not None:
         _validate_fault(where, spec, model)
     return Study(spec=spec, space=space, path=path, text=text)

@@ -124,6 +124,7 @@ class GsaMethod(ABC):
         st_err = np.full((n_out, d), np.nan)
         diags: list[Diagnostic] = []
         extras: dict[str, Any] = {}
+        variance = np.where(constant, 0.0, np.nan)
         for j in np.flatnonzero(~finite):
             bad = int((~np.isfinite(y[:, j])).sum())
             diags.append(Diagnostic(
@@ -144,7 +145,10 @@ class GsaMethod(ABC):
             S1c[cols], STc[cols] = part.S1_conf, part.ST_conf
             st_err[cols] = part.extras.get("ST_error", part.ST_conf)
             diags += part.diagnostics
-            extras = self.unscale_extras(part.extras, shift, scale)
+            if "variance" in part.extras:
+                variance[cols] = part.extras["variance"] * scale ** 2
+            extras = self.unscale_extras({k: v for k, v in part.extras.items() if k != "variance"}, shift, scale)
+        extras["variance"] = variance
         diags += undefined_index_diagnostics(names, space.names, S1, ST, diags, self.gives_st)
         return SobolResult.from_arrays(outputs=names, parameters=space.names, S1=S1, ST=ST,
                                        S1_conf=S1c, ST_conf=STc, n_evals=design.n_points,
@@ -184,6 +188,10 @@ class PartialIndices:
     ST_conf: NDArray[np.float64] | float = np.nan
     diagnostics: list[Diagnostic] = field(default_factory=list)
     extras: dict[str, Any] = field(default_factory=dict)
+    """Method-specific numbers; ``variance`` (n_outputs,), the method's estimate of each output's
+    variance in the standardised units, becomes ``SobolResult.extras["variance"]`` in the output's own
+    units (NaN where the method gives none; 0 for a constant output): the weights of the generalised
+    indices of a signal (:mod:`ddgsa.gsa.signal`)."""
 
 
 def standardise(y: NDArray[np.float64], centre: bool = True) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

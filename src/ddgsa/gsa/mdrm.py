@@ -164,7 +164,8 @@ class MDRM(GsaMethod):
                                     output=outputs[k]))
         diags += _coverage_diagnostics(space, design)
         diags += _resolution_diagnostics(space, design, h, var, outputs, opts)
-        extras: dict[str, Any] = {"rho": rho.T, "theta": theta.T, "h_cut": h_c}
+        extras: dict[str, Any] = {"rho": rho.T, "theta": theta.T, "h_cut": h_c,
+                                  "variance": _surrogate_variance(h_c, rho, var)}
         err_s1 = err_st = np.full_like(S1, np.nan)
         if opts["check"] >= _MIN_CHECK:
             eps, r2 = _check_sample(space, design, y, rho, var)
@@ -319,6 +320,16 @@ def surrogate(space: ParameterSpace, design: Design, y: NDArray[np.float64],
         log_abs = log_abs + np.log(np.abs(hi))
         sign = sign * np.sign(hi)
     return sign * np.exp(log_abs)
+
+
+def _surrogate_variance(h_c: NDArray[np.float64], rho: NDArray[np.float64],
+                        var: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Variance (k,) of the multiplicative surrogate, ``(E g)^2 (prod theta_i / rho_i^2 - 1)`` with
+    ``E g = h(c)^(1-n) prod rho_i`` (exact from the quadrature; in logs, no overflow for many inputs)."""
+    n = rho.shape[0]
+    with np.errstate(all="ignore"):
+        log_mean = (1 - n) * np.log(np.abs(h_c)) + np.log(np.abs(rho)).sum(axis=0)
+        return np.exp(2.0 * log_mean) * np.expm1(np.log1p(var / rho ** 2).sum(axis=0))
 
 
 def _check_sample(space: ParameterSpace, design: Design, y: NDArray[np.float64], rho: NDArray[np.float64],

@@ -211,6 +211,7 @@ class PCE(GsaMethod):
                 why = f"leave-one-out error on {n_pts} points"
             eps = np.where(np.isfinite(rel_err2) & (rel_err2 >= 0), np.sqrt(rel_err2), np.inf)
         extras["top_order_fraction"] = frac
+        extras["variance"] = var                                                # sum of c^2 over alpha != 0
         err_s1 = surrogate_index_error(S1, eps[:, None])
         err_st = surrogate_index_error(ST, eps[:, None])
         diags += error_diagnostics("pce_index_error", why, outputs, space.names, err_s1, err_st,

@@ -89,8 +89,9 @@ class _SalibMethod(GsaMethod):
         why = ("bootstrap half-width and half-sample difference" if self.nested else "bootstrap half-width")
         diags += error_diagnostics("salib_index_error", why, outputs, space.names, err1, errT,
                                    design.options["tolerance"])
+        # every row of these designs is a draw from the input distribution: the sample variance
         return PartialIndices(S1=S1, ST=ST, S1_conf=S1c, ST_conf=STc, diagnostics=diags,
-                              extras={"S1_error": err1, "ST_error": errT})
+                              extras={"S1_error": err1, "ST_error": errT, "variance": y.var(axis=0, ddof=1)})
 
     nested = False
 

@@ -18,7 +18,10 @@ import pandas as pd
 
 from ddgsa.closed_forms import ishigami
 from ddgsa.loads.scene import Scene
-from ddgsa.models.base import Model, ModelOption, ModelOutput, ModelParameter, register_model
+from ddgsa.models.base import Model, ModelOption, ModelOutput, ModelParameter, SignalOutput, register_model
+
+WAVES_T = np.linspace(0.0, 0.5, 26)
+"""Grid of the ``waves`` signal [s]."""
 
 
 class _Static(Model):
@@ -42,12 +45,19 @@ class Analytic(_Static):
     ``y_positive`` is ``y + 12`` (never negative: M-DRM's sign diagnostics stay quiet, its
     check sample does not). Options: ``fidelity`` (only ``exact``), ``fail_above`` [-],
     ``delay_s`` [s].
+
+    Signal ``waves`` (a time series on :data:`WAVES_T`): ``(12 + x1 sin(4 pi t) + 2 x2 sin(10 pi t))
+    wind_speed / 11``: bin ``t`` has ``S1[x1] = s1^2 / (s1^2 + 4 s2^2)`` (``s1 = sin 4 pi t``,
+    ``s2 = sin 10 pi t``), ``S1[x2]`` the rest, ``x3`` none; the generalised ``S1[x1] = sum s1^2 /
+    sum (s1^2 + 4 s2^2)`` over the grid.
     """
 
     parameters = tuple(ModelParameter(f"x{i}", 0.0, "-", f"Ishigami input {i}", -math.pi, math.pi)
                        for i in (1, 2, 3))
     outputs = (ModelOutput("y", "-", "Ishigami function times wind_speed / 11", -100.0, 100.0),
                ModelOutput("y_positive", "-", "y + 12 (positive for wind speeds up to 11 m/s)", -88.0, 112.0))
+    signal_outputs = (SignalOutput("waves", "-", "12 + x1 sin(4 pi t) + 2 x2 sin(10 pi t), times wind_speed / 11",
+                                   "time", "s"),)
     fidelities = ("exact",)
     options = (ModelOption("fail_above", "number", "raise for x1 above this value", optional=True),
                ModelOption("delay_s", "number", "sleep per point", 0.0, 60.0, "s"))
@@ -65,6 +75,16 @@ class Analytic(_Static):
             raise RuntimeError(f"x1 = {params['x1']:.3f} above fail_above = {self.fail_above}")
         y = float(ishigami(np.array([[params["x1"], params["x2"], params["x3"]]]))[0]) * scene.wind_speed / 11.0
         return {"y": y, "y_positive": y + 12.0}
+
+    def signal_axis(self, name: str, scene: Scene) -> np.ndarray:
+        """The ``waves`` grid :data:`WAVES_T` [s] (any scene)."""
+        self.signal_output(name)
+        return WAVES_T
+
+    def _evaluate_signals_one(self, params: dict[str, float], scene: Scene,
+                              signals: tuple[str, ...]) -> tuple[dict[str, float], dict[str, np.ndarray]]:
+        waves = (12.0 + params["x1"] * np.sin(4 * np.pi * WAVES_T) + 2.0 * params["x2"] * np.sin(10 * np.pi * WAVES_T))
+        return self._evaluate_one(params, scene), {"waves": waves * scene.wind_speed / 11.0}
 
 
 @register_model("fault_shift")

@@ -176,6 +176,30 @@ class ModelOutput(str):
         return ~np.isfinite(v) | ((v >= self.low) & (v <= self.high))
 
 
+@dataclass(frozen=True)
+class SignalOutput:
+    """A declared signal output: a vector on a fixed grid (spectrum, order track, time series).
+
+    Attributes
+    ----------
+    name : str
+    unit : str
+        Unit of the values, e.g. ``"N"``.
+    description : str
+        What the vector is, in one line.
+    axis : str
+        What its grid measures, e.g. ``"frequency"``.
+    axis_unit : str
+        The grid's unit, e.g. ``"Hz"``; the grid itself comes from :meth:`Model.signal_axis`.
+    """
+
+    name: str
+    unit: str
+    description: str
+    axis: str
+    axis_unit: str
+
+
 class ImplausibleOutputWarning(UserWarning):
     """An output left its declared plausible range (an input or a model problem, most likely)."""
 
@@ -198,6 +222,8 @@ class Model(ABC):
     scene_type: ClassVar[type] = Scene
     parameters: tuple[ModelParameter, ...] = ()        # per class, or per instance where options change them
     outputs: tuple[str, ...] = ()                     # names; ModelOutput declarations carry unit and range
+    #: vector outputs on a fixed grid (:meth:`signal_axis`), computed only when asked for (``evaluate(signals=)``)
+    signal_outputs: ClassVar[tuple[SignalOutput, ...]] = ()
     fidelities: ClassVar[tuple[str, ...]] = ()
     #: the fidelities ``fidelity: auto`` pilots and chooses from, its reference first (default: all)
     pilot_fidelities: ClassVar[tuple[str, ...]] = ()
@@ -334,24 +360,62 @@ class Model(ABC):
                              f"allowed range [{p.low}, {p.high}] {p.unit}")
         return pd.DataFrame(values, columns=list(column))
 
-    def evaluate(self, points: pd.DataFrame | Mapping[str, Any] | None, scene: Scene) -> pd.DataFrame:
+    def signal_output(self, name: str) -> SignalOutput:
+        """The declaration of signal output ``name``."""
+        for s in self.signal_outputs:
+            if s.name == name:
+                return s
+        raise ModelError(unknown_name_message(f"signal output of model {self.name!r}", name,
+                                              [s.name for s in self.signal_outputs]))
+
+    def signal_axis(self, name: str, scene: Any) -> NDArray[np.float64]:
+        """The grid [axis unit] of signal ``name`` in ``scene`` (the same at every parameter point).
+
+        Raises
+        ------
+        ModelError
+            For an unknown signal, or a scene the signal cannot be computed on (e.g. too short).
+        """
+        raise ModelError(unknown_name_message(f"signal output of model {self.name!r}", name,
+                                              [s.name for s in self.signal_outputs]))
+
+    def _evaluate_signals_one(self, params: dict[str, float], scene: Any,
+                              signals: tuple[str, ...]) -> tuple[dict[str, float], dict[str, NDArray[np.float64]]]:
+        """Outputs and the asked-for signals (each on :meth:`signal_axis`) for one full parameter set."""
+        raise ModelError(f"model {self.name!r} has no signal outputs")
+
+    def evaluate(self, points: pd.DataFrame | Mapping[str, Any] | None, scene: Scene,
+                 signals: tuple[str, ...] = ()) -> pd.DataFrame:
         """Objective functions at each parameter point for ``scene``.
 
         Returns one row per point and one column per output. A point whose simulation fails
         gets NaN outputs and its reason in ``result.attrs["failures"]`` ({row: reason}); it is
-        never imputed.
+        never imputed. With ``signals`` (names of :attr:`signal_outputs`), ``result.attrs["signals"]``
+        maps each to an array (n_points, n_bins) on :meth:`signal_axis` (NaN rows where a point failed).
         """
         params = self.resolve(points)
         rows, failures = [], {}
+        vectors: dict[str, list[NDArray[np.float64]]] = {s: [] for s in signals}
+        axes = {s: self.signal_axis(s, scene) for s in signals}
         names = list(params.columns)
         for i, row in enumerate(dict(zip(names, values)) for values in params.to_numpy().tolist()):
             try:
-                rows.append(self._evaluate_one(row, scene))
+                if signals:
+                    scalars, arrays = self._evaluate_signals_one(row, scene, tuple(signals))
+                    for s in signals:
+                        vectors[s].append(np.asarray(arrays[s], dtype=float).reshape(len(axes[s])))
+                    rows.append(scalars)
+                else:
+                    rows.append(self._evaluate_one(row, scene))
             except (ArithmeticError, RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
                 failures[i] = f"{type(exc).__name__}: {exc}"
                 rows.append({o: np.nan for o in self.outputs})
+                for s in signals:
+                    vectors[s] = vectors[s][:i] + [np.full(len(axes[s]), np.nan)]
         out = pd.DataFrame(rows, columns=[str(o) for o in self.outputs])
         out.attrs["failures"] = failures
+        if signals:
+            out.attrs["signals"] = {s: np.vstack(v) if v else np.zeros((0, len(axes[s]))) for s, v in vectors.items()}
         for msg in self.implausible(out):
             warnings.warn(msg, ImplausibleOutputWarning, stacklevel=2)
         return out

@@ -74,11 +74,13 @@ from ddgsa.mbs.linear import (initial_state, input_window, linearise_spinning, l
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
 from ddgsa.mbs.system import (SystemArrays, evaluate_terms, integrate, integrate_reference, single_body_arrays,
                               static_state)
-from ddgsa.models.base import Model, ModelOption, ModelOutput, ModelParameter, controller_row, register_model
+from ddgsa.models.base import (Model, ModelOption, ModelOutput, ModelParameter, SignalOutput, controller_row,
+                               register_model)
 from ddgsa.models.constants import tilted_gravity
 from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE,
                                         bearing_damping, bending_damping, checked)
 from ddgsa.objectives import damage_rate
+from ddgsa.signals import band_rms_spectrum
 
 _E_STEEL = 210e9
 _NU_STEEL = 0.3
@@ -129,6 +131,22 @@ OUTPUTS = (
     ModelOutput("front_Fa_mean", "N", "time-mean axial force magnitude on the front bearing", 0.0, 1e7),
     ModelOutput("rear_Fa_mean", "N", "time-mean axial force magnitude on the rear bearing", 0.0, 1e7),
 )
+SPECTRUM_BAND_HZ = 0.05
+"""Width of the signal outputs' frequency bands [Hz] (the records need >= 2 / 0.05 = 40 s)."""
+SPECTRUM_EDGES_HZ = SPECTRUM_BAND_HZ * np.arange(51)
+"""Band edges of the signal outputs, 0 to 2.5 Hz [Hz]: 1P, 3P, 6P and 9P at rated speed (0.2 Hz)."""
+SIGNALS = (
+    SignalOutput("front_Fz_spectrum", "N", "RMS of the front bearing's vertical force in 0.05 Hz bands (Hann "
+                 "periodogram, mean removed; squares add to its variance)", "frequency", "Hz"),
+    SignalOutput("front_Fy_spectrum", "N", "RMS of the front bearing's lateral force in 0.05 Hz bands",
+                 "frequency", "Hz"),
+    SignalOutput("rear_Fz_spectrum", "N", "RMS of the rear bearing's vertical force in 0.05 Hz bands",
+                 "frequency", "Hz"),
+    SignalOutput("hub_dz_spectrum", "m", "RMS of the hub end's vertical displacement in 0.05 Hz bands",
+                 "frequency", "Hz"),
+)
+"""Components, not the radial magnitude: the front bearing's force vector passes through zero in turbulence
+(its mean is a tenth of its spread at 11 m/s), where the magnitude's spectrum is not smooth in the parameters."""
 FIELDS = ("axial", "torsion", *bending_fields(2, "by_plane"))
 """The elastic coordinates of the default flexible shaft (``bending_modes`` adds ``bending_y_3`` ...)."""
 RIGID_NAMES = ("R_x", "R_y", "R_z", "phi", "theta", "psi")
@@ -336,6 +354,7 @@ class DirectDrive(Model):
 
     parameters = PARAMETERS
     outputs = OUTPUTS
+    signal_outputs = SIGNALS
     fidelities = ("flexible", "rigid", "linear")
     options = (ModelOption("axial", "bool", "axial elastic coordinate"),
                ModelOption("second_bending", "bool", "second bending mode per plane"),
@@ -589,8 +608,9 @@ class DirectDrive(Model):
             res["q"] = np.insert(pos, 3, 0.0, axis=1)                     # axis points do not see the spin angle
         return res
 
-    def _evaluate_linear(self, p: dict[str, float], scene: Scene) -> dict[str, float]:
-        """Objectives of the linear fidelity straight from the response arrays (no time-series frame)."""
+    def _linear_series(self, p: dict[str, float], scene: Scene) -> tuple[NDArray[np.float64], ...]:
+        """The linear fidelity's records straight from the response arrays (no time-series frame):
+        shaft-end deflections (n_t, 6) about the objectives' reference, speed, front and rear forces."""
         asm = assembled(tuple(p.items()), self.fields, self.damping, self.beam)
         inputs = self._scene_inputs(scene)
         to_u = input_map(p)
@@ -600,13 +620,44 @@ class DirectDrive(Model):
         ends = res["deflections"]            # about the operating point, which is the static state
         if self.reference == "mean":
             ends = ends - ends.mean(axis=0)
-        return objective_values(ends[:, 0:3], ends[:, 3:6], res["speed"], *res["spring_forces"], p, self.rule)
+        return ends, res["speed"], *res["spring_forces"]
+
+    def _series(self, p: dict[str, float], scene: Scene) -> tuple[NDArray[np.float64], ...]:
+        """Shaft-end deflections (n_t, 6) about the reference, speed (n_t,), front and rear forces (n_t, 3)."""
+        if self.fidelity == "linear":
+            return self._linear_series(p, scene)
+        sim = self._simulate(scene, p, states=False)
+        ends = sim[["hub_dx", "hub_dy", "hub_dz", "gen_dx", "gen_dy", "gen_dz"]].to_numpy()
+        ends = ends - np.concatenate([sim.attrs["static_hub"], sim.attrs["static_gen"]])
+        front, rear = (sim[[f"{b}_F{c}" for c in "xyz"]].to_numpy() for b in ("front", "rear"))
+        return ends, sim["rotor_speed"].to_numpy(), front, rear
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
         if self.fidelity == "linear":
-            return self._evaluate_linear(params, scene)
+            ends, speed, front, rear = self._linear_series(params, scene)
+            return objective_values(ends[:, 0:3], ends[:, 3:6], speed, front, rear, params, self.rule)
         sim = self._simulate(scene, params, states=False)
         return objectives(sim, params, self.rule)
+
+    def signal_axis(self, name: str, scene: Any) -> NDArray[np.float64]:
+        """Band centres [Hz] of the spectra (:data:`SPECTRUM_EDGES_HZ`); refuses a scene too short
+        (under 40 s) or too coarse (``dt`` > 0.2 s) for them."""
+        self.signal_output(name)
+        if scene.duration < 2.0 / SPECTRUM_BAND_HZ or scene.dt > 0.5 / SPECTRUM_EDGES_HZ[-1]:
+            raise ModelError(f"model 'direct_drive': signal {name!r} needs scenes of duration >= "
+                             f"{2.0 / SPECTRUM_BAND_HZ:g} s and dt <= {0.5 / SPECTRUM_EDGES_HZ[-1]:g} s (bands of "
+                             f"{SPECTRUM_BAND_HZ} Hz up to {SPECTRUM_EDGES_HZ[-1]:g} Hz); got duration "
+                             f"{scene.duration:g} s, dt {scene.dt:g} s")
+        return 0.5 * (SPECTRUM_EDGES_HZ[1:] + SPECTRUM_EDGES_HZ[:-1])
+
+    def _evaluate_signals_one(self, params: dict[str, float], scene: Any,
+                              signals: tuple[str, ...]) -> tuple[dict[str, float], dict[str, NDArray[np.float64]]]:
+        """The outputs and the band spectra of one run (one simulation serves both)."""
+        ends, speed, front, rear = self._series(params, scene)
+        scalars = objective_values(ends[:, 0:3], ends[:, 3:6], speed, front, rear, params, self.rule)
+        records = {"front_Fz_spectrum": front[:, 2], "front_Fy_spectrum": front[:, 1], "rear_Fz_spectrum": rear[:, 2],
+                   "hub_dz_spectrum": ends[:, 2]}
+        return scalars, {s: band_rms_spectrum(records[s], scene.dt, SPECTRUM_EDGES_HZ) for s in signals}
 
     def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
         """Natural frequencies [Hz], damping ratios and labels about the static state under gravity.

@@ -77,7 +77,7 @@ from ddgsa.mbs.beam import BEAMS
 from ddgsa.mbs.bodies import MAX_BENDING_MODES
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.mbs.sampling import AliasingWarning
-from ddgsa.models.base import Model, ModelOption, ModelOutput, register_model
+from ddgsa.models.base import Model, ModelOption, ModelOutput, SignalOutput, register_model
 from ddgsa.models.hss_rig import transient
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligned, operating_stretch
@@ -123,6 +123,12 @@ OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {
     ModelOutput("current_sideband_2s", "A", "mean phase current at f (1 -+ 2 s) (broken-bar band; leakage here)",
                 0.0, 200.0),
     ModelOutput("mean_speed_rpm", "rpm", "mean shaft speed over the analysed record", 0.0, 4000.0))
+TRACK_FRACTIONS = np.round(np.arange(0.40, 0.951, 0.05), 2)
+"""Grid of the 1x order tracks: shaft speeds as fractions of the scene's synchronous speed [-]."""
+SIGNALS = tuple(SignalOutput(f"order1x_track_{sensor}", unit, f"1x order amplitude of {sensor} against shaft speed "
+                             "through a start-up or coast-down (1-revolution blocks, interpolated onto the grid)",
+                             "shaft speed", "rpm")
+                for sensor, unit in (("disk_y", "m"), ("housing_1_y", "m/s^2")))
 SAMPLES_PER_REV = 128
 """Angle-domain resampling of order tracking (orders up to 64)."""
 ANTI_ALIAS = 0.8
@@ -168,6 +174,7 @@ class HssRig(Model):
                                    "sample_rate, settle, ramp_time, seed}")
     parameters = PARAMETERS
     outputs = OUTPUTS
+    signal_outputs = SIGNALS
     scene_type = RigScene
     options = (ModelOption("time_step", "number", "generalised-alpha step", 0.0, 1e-2, "s", low_open=True),
                ModelOption("noise", "bool", "seeded measurement noise on the sensors"),
@@ -356,11 +363,37 @@ class HssRig(Model):
         series = self.simulate(sc, params)
         return objectives(series, sc, drive_for(params, sc, POLE_PAIRS))
 
-    def evaluate(self, points: Any, scene: Any) -> pd.DataFrame:
-        """Objective functions at each point for a rig scene (see :meth:`Model.evaluate`)."""
+    def evaluate(self, points: Any, scene: Any, signals: tuple[str, ...] = ()) -> pd.DataFrame:
+        """Objective functions (and ``signals``) at each point for a rig scene (see :meth:`Model.evaluate`)."""
         sc = self._scene(scene)
         self.sampling_checks(sc)                             # refuses an aliased record before running
-        return super().evaluate(points, sc)
+        return super().evaluate(points, sc, signals)
+
+    def signal_axis(self, name: str, scene: Any) -> np.ndarray:
+        """Shaft speeds [rpm] of the 1x order tracks: :data:`TRACK_FRACTIONS` of the synchronous speed;
+        start-up and coast-down scenes only (a steady record has one speed)."""
+        self.signal_output(name)
+        sc = self._scene(scene)
+        if sc.kind == "steady":
+            raise ModelError(f"model 'hss_rig': signal {name!r} is a track against speed; it needs a startup or "
+                             "coastdown scene, got kind steady")
+        return TRACK_FRACTIONS * sc.speed_rpm
+
+    def _evaluate_signals_one(self, params: dict[str, float], scene: Any,
+                              signals: tuple[str, ...]) -> tuple[dict[str, float], dict[str, np.ndarray]]:
+        """Outputs and 1x order tracks of one run: the 1x amplitude of 1-revolution blocks
+        (:func:`ddgsa.signals.order_map`) at the blocks' mean speeds, interpolated onto :meth:`signal_axis`."""
+        sc = self._scene(scene)
+        series = self.simulate(sc, params)
+        scalars = objectives(series, sc, drive_for(params, sc, POLE_PAIRS))
+        t, angle = series.index.to_numpy(), series["angle"].to_numpy()
+        tracks = {}
+        for name in signals:
+            speed, orders, amp = order_map(t, series[name.removeprefix("order1x_track_")].to_numpy(), angle,
+                                           revs_per_block=1, samples_per_rev=SAMPLES_PER_REV)
+            order = np.argsort(speed)
+            tracks[name] = np.interp(self.signal_axis(name, sc), speed[order], amp[order, int(np.argmin(abs(orders - 1)))])
+        return scalars, tracks
 
     def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
         """Damped modes of the rig spinning at ``rotor_speed`` [rad/s] (0: standing still), labelled.
