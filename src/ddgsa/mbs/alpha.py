@@ -169,6 +169,10 @@ def _record(slot, q, qd, lam, y, ch, vel, q_out, qd_out, lam_out, y_out, drift):
         drift[slot, 1] = np.max(np.abs(vel))
 
 
+_evaluate: Callable | None = None
+"""The kind's evaluation, bound in each copy of :func:`_loop` by :func:`_bound`."""
+
+
 def _loop(ctx, q0, qd0, acc0, lam0, t0, h, n_steps, output_every, am, af, gamma, beta, tol, max_iter, nh, n_y,
           extrapolate, symmetric, modified):  # pragma: no cover (compiled per kind)
     """The Newton loop (see the module); ``_evaluate`` is the kind's, bound by :func:`specialise` or

@@ -311,9 +311,10 @@ def integrate(sys: SystemArrays, q0: NDArray[np.float64], qd0: NDArray[np.float6
                               inputs[0, 10:13])
     n, ns, n_sub = q0.size, sys.sp_k.shape[0], int(n_sub)
     ctx = (inputs, n_sub, float(torque0), np.empty(13), np.empty((ns, 3)), np.empty((ns + 1, 3, n)), sys.args())
-    q, qd, _, y, _, status, total = _loop(ctx, q0, qd0, np.linalg.solve(m, f), np.zeros(0), 0.0, float(dt_load) / n_sub,
-                                          (n_t - 1) * n_sub, n_sub, *coefficients(float(rho_inf)), float(tol),
-                                          int(max_iter), 0, 3 * ns + 1, True, True, False)
+    q, qd, _, y, _, status, total = _loop(ctx, q0, qd0, np.linalg.solve(m, f), np.zeros(0), 0.0,
+                                          float(dt_load) / n_sub, (n_t - 1) * n_sub, n_sub,
+                                          *coefficients(float(rho_inf)), float(tol), int(max_iter), 0, 3 * ns + 1,
+                                          True, True, False)
     n_steps = max(1, (n_t - 1) * n_sub)
     return {"q": q, "qd": qd, "spring_forces": y[:, :3 * ns].reshape(-1, ns, 3), "torque": y[:, 3 * ns],
             "max_iterations": max(int(status), 0), "mean_iterations": total / n_steps,

@@ -77,7 +77,7 @@ from ddgsa.mbs.system import (SystemArrays, evaluate_terms, integrate, integrate
 from ddgsa.models.base import Model, ModelOption, ModelOutput, ModelParameter, controller_row, register_model
 from ddgsa.models.constants import tilted_gravity
 from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE,
-                                        bearing_damping, bending_damping, checked)
+                                        bearing_damping, bending_damping)
 from ddgsa.objectives import damage_rate
 
 _E_STEEL = 210e9
@@ -352,21 +352,20 @@ class DirectDrive(Model):
                  integrator: str = "gen_alpha", bending_rayleigh: str = "physical",
                  bearing_damping: str = "modal", deflection: str = "total",
                  deflection_reference: str = "static") -> None:
-        self.check_fidelity(fidelity)
-        if equivalent_load not in ("iso281", "seed"):
-            raise ModelError(f"model 'direct_drive': equivalent_load must be 'iso281' or 'seed', got {equivalent_load!r}")
+        self.check_options({"fidelity": fidelity, "axial": axial, "second_bending": second_bending,
+                            "time_step": time_step, "rho_inf": rho_inf, "equivalent_load": equivalent_load,
+                            "integrator": integrator, "bending_rayleigh": bending_rayleigh,
+                            "bearing_damping": bearing_damping, "deflection": deflection,
+                            "deflection_reference": deflection_reference})
+        if fidelity == "linear" and integrator != "gen_alpha":
+            raise ModelError(f"model 'direct_drive': the linear fidelity has its own exact discretisation; "
+                             f"integrator {integrator!r} is for the other fidelities")
         if time_step is None:
             time_step = 0.01 if fidelity == "rigid" else 0.005
-        if not (isinstance(time_step, (int, float)) and 0 < time_step <= 0.1):
-            raise ModelError(f"model 'direct_drive': time_step must be in (0, 0.1] s, got {time_step!r}")
-        if integrator not in ("gen_alpha", "Radau", "BDF") or (fidelity == "linear" and integrator != "gen_alpha"):
-            raise ModelError(f"model 'direct_drive': integrator must be gen_alpha, Radau or BDF (the linear "
-                             f"fidelity has its own exact discretisation); got {integrator!r}")
         self.integrator = integrator
-        self.damping = (checked("bending_rayleigh", bending_rayleigh, BENDING_RAYLEIGH),
-                        checked("bearing_damping", bearing_damping, BEARING_DAMPING))
-        self.deflection = checked("deflection", deflection, DEFLECTION)
-        self.reference = checked("deflection_reference", deflection_reference, DEFLECTION_REFERENCE)
+        self.damping = (bending_rayleigh, bearing_damping)
+        self.deflection = deflection
+        self.reference = deflection_reference
         self.fidelity = fidelity
         self._inputs: SceneInputs | None = None
         self.time_step = float(time_step)

@@ -16,7 +16,6 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System, accelerations
 from ddgsa.mbs.integrate.trajectory import Trajectory
 from ddgsa.mbs.ivp import first_order

@@ -163,11 +163,7 @@ class HssRig(Model):
                ModelOption("noise", "bool", "seeded measurement noise on the sensors"))
 
     def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False) -> None:
-        self.check_fidelity(fidelity)
-        if not (isinstance(time_step, (int, float)) and 0 < time_step <= 1e-2):
-            raise ModelError(f"model 'hss_rig': time_step must be in (0, 0.01] s, got {time_step!r}")
-        if not isinstance(noise, bool):
-            raise ModelError(f"model 'hss_rig': noise must be true or false, got {noise!r}")
+        self.check_options({"fidelity": fidelity, "time_step": time_step, "noise": noise})
         self.fidelity, self.time_step, self.noise = fidelity, float(time_step), noise
 
     # -- assembly ------------------------------------------------------------------------------
