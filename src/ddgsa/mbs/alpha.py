@@ -22,6 +22,8 @@ unconstrained iteration matrix: LAPACK's call overhead dominates at n = 12), and
 
 from __future__ import annotations
 
+import hashlib
+import os
 import types
 from collections.abc import Callable
 
@@ -229,8 +231,15 @@ def _bound(evaluate: Callable, tag: str) -> types.FunctionType:
 
 
 def specialise(evaluate: Callable, tag: str) -> Callable:
-    """The loop compiled (and cached) for a compiled kind ``evaluate`` (an ``njit`` function)."""
-    return njit(cache=True)(_bound(evaluate, tag))
+    """The loop compiled (and cached) for a compiled kind ``evaluate`` (an ``njit`` function).
+
+    numba checks a cached function against its own source file only; the copy's name carries the
+    stamps (modification time, size) of this file and of the kind's, so that editing either
+    compiles the loop afresh instead of loading a stale copy.
+    """
+    files = sorted({_loop.__code__.co_filename, evaluate.py_func.__code__.co_filename})
+    stamps = "|".join(f"{os.stat(f).st_mtime_ns}:{os.stat(f).st_size}" for f in files)
+    return njit(cache=True)(_bound(evaluate, f"{tag}_{hashlib.sha1(stamps.encode()).hexdigest()[:10]}"))
 
 
 def python_loop(evaluate: Callable) -> Callable:
