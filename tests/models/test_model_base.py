@@ -35,3 +35,18 @@ def test_a_model_without_rotor_speed_refuses_a_campbell_diagram() -> None:
     assert model.modes(rotor_speed=0.0).empty
     with pytest.raises(ModelError, match="no rotor speed to sweep"):
         model.campbell([0.0, 1.0])
+
+
+@pytest.mark.parametrize("name, option, value, allowed", [
+    ("direct_drive", "time_step", 0.5, r"a finite number in \(0, 0.1\] s"),
+    ("direct_drive", "deflection", "peak", "one of total, frame, elastic"),
+    ("indirect_drive", "housing_point", (1.0, 2.0), r"3 finite numbers in \[-inf, inf\] m"),
+    ("indirect_drive", "fluctuation_scale", 0.0, r"a finite number in \(0, 1\]"),
+    ("hss_rig", "noise", 1, "true or false"),
+    ("generator_radial", "output_step", -1.0, r"a finite number in \(0, inf\] s"),
+])
+def test_a_model_built_directly_checks_its_declared_options(name: str, option: str, value: object,
+                                                             allowed: str) -> None:
+    """The constructor checks the declared options (one check, the same message as ``models.get``)."""
+    with pytest.raises(ModelError, match=f"model '{name}': option '{option}' must be {allowed}, got"):
+        models.MODELS[name](**{option: value})

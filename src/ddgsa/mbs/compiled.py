@@ -2,8 +2,7 @@
 
 :func:`pack` turns a :class:`~ddgsa.mbs.assembly.System` into flat arrays; the compiled
 :func:`_assemble` evaluates exactly what the Python objects do (same formulas, tested equal),
-and :func:`_gen_alpha` runs the constrained generalised-alpha of
-:mod:`ddgsa.mbs.integrate.genalpha` without leaving compiled code. What packs:
+and :func:`gen_alpha` runs the one generalised-alpha loop (:mod:`ddgsa.mbs.alpha`) compiled on it. What packs:
 
 - bodies: :class:`RigidBody`, :class:`FlexibleBody`; :class:`Ground` and
   :class:`PrescribedBody.translating` (sampled translation);
@@ -26,7 +25,7 @@ from numba import njit
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.alpha import predict
+from ddgsa.mbs.alpha import specialise
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody, PrescribedBody
 from ddgsa.mbs.constraints import GearContact, PrescribedSpeed, Spherical, TransverseBearing
@@ -216,10 +215,6 @@ def pack(system: System) -> Packed:
 
 # ---------------------------------------------------------------------------------------------------
 # compiled kernels
-
-
-_predict = njit(cache=True)(predict)
-"""The generalised-alpha predictor (:func:`ddgsa.mbs.alpha.predict`), compiled for :func:`_gen_alpha`."""
 
 
 @njit(cache=True)
@@ -626,78 +621,20 @@ def _accelerations(q, qd, t, P, fd_step):  # pragma: no cover (compiled)
 
 
 @njit(cache=True)
-def _gen_alpha(q0, qd0, t0, dt, n_steps, output_every, am, af, gamma, beta, tol, max_iter, P,
-               nh):  # pragma: no cover (compiled)
-    h = dt
-    bp = beta * (1.0 - af) / (1.0 - am)
-    gp = gamma * (1.0 - af) / (1.0 - am)
-    n = q0.size
-    q, qd = q0.copy(), qd0.copy()
-    acc, lam = _accelerations(q, qd, t0, P, 1e-6)
-    nc = lam.size
-    aux = acc.copy()
-    n_out = n_steps // output_every + 1
-    m_mat, f, kt, ct, out, ch, jac, vel = _assemble(q, qd, t0, P)
-    nel = out.shape[0]
-    q_out, qd_out = np.zeros((n_out, n)), np.zeros((n_out, n))
-    lam_out, y_out = np.zeros((n_out, nc)), np.zeros((n_out, nel, 6))
-    pd_out, vd_out = np.zeros(n_out), np.zeros(n_out)
-    q_out[0], qd_out[0], lam_out[0], y_out[0] = q, qd, lam, out
-    if nh > 0:
-        pd_out[0] = np.max(np.abs(ch))
-    if nc > 0:
-        vd_out[0] = np.max(np.abs(vel))
-    slot = 1
-    worst, total = 0, 0
-    big = np.zeros((n + nc, n + nc))
-    rhs = np.zeros(n + nc)
-    for step in range(1, n_steps + 1):
-        t = t0 + step * h
-        acc_new, q, qd = _predict(q, qd, acc, aux, h, am, af, gamma, beta)
-        converged = False
-        it = 0
-        for it in range(max_iter):
-            m_mat, f, kt, ct, out, ch, jac, vel = _assemble(q, qd, t, P)
-            res = mv(m_mat, acc_new) - f
-            cmax = 0.0
-            if nc > 0:
-                res += mv(jac.T, lam)
-                for r in range(nh):
-                    rhs[n + r] = -ch[r] / (bp * h * h)
-                    cmax = max(cmax, abs(ch[r]))
-                for r in range(nh, nc):
-                    rhs[n + r] = -vel[r] / (gp * h)
-                    cmax = max(cmax, abs(vel[r]) * bp * h / gp)
-                big[:n, n:] = jac.T
-                big[n:, :n] = jac
-            big[:n, :n] = m_mat + gp * h * ct + bp * h * h * kt
-            rhs[:n] = -res
-            delta = np.linalg.solve(big, rhs)
-            acc_new += delta[:n]
-            q += bp * h * h * delta[:n]
-            qd += gp * h * delta[:n]
-            if nc > 0:
-                lam = lam + delta[n:]
-            if np.max(np.abs(bp * h * h * delta[:n])) < tol and cmax < tol:
-                converged = True
-                break
-        if not converged or not np.all(np.isfinite(q)):
-            return q_out[:slot], qd_out[:slot], lam_out[:slot], y_out[:slot], pd_out[:slot], vd_out[:slot], -step, \
-                total
-        total += it + 1
-        if it + 1 > worst:
-            worst = it + 1
-        aux = (af * acc - am * aux + (1.0 - af) * acc_new) / (1.0 - am)
-        acc = acc_new
-        if step % output_every == 0:
-            m_mat, f, kt, ct, out, ch, jac, vel = _assemble(q, qd, t, P)
-            q_out[slot], qd_out[slot], lam_out[slot], y_out[slot] = q, qd, lam, out
-            if nh > 0:
-                pd_out[slot] = np.max(np.abs(ch))
-            if nc > 0:
-                vd_out[slot] = np.max(np.abs(vel))
-            slot += 1
-    return q_out, qd_out, lam_out, y_out, pd_out, vd_out, worst, total
+def _evaluate(q, qd, t, step, P, m, f, kt, ct, y, ch, jac, vel):  # pragma: no cover (compiled)
+    """The packed System as a kind of :mod:`ddgsa.mbs.alpha`'s loop: :func:`_assemble` written into its arrays."""
+    m_mat, fv, ktv, ctv, out, chv, jacv, velv = _assemble(q, qd, t, P)
+    m[:] = m_mat
+    f[:] = fv
+    kt[:] = ktv
+    ct[:] = ctv
+    y[:] = out.ravel()
+    ch[:] = chv
+    jac[:] = jacv
+    vel[:] = velv
+
+
+_loop = specialise(_evaluate, "packed")
 
 
 def evaluate(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, ...]:
@@ -707,11 +644,16 @@ def evaluate(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, ...]
 
 def gen_alpha(packed: Packed, q0: Array, qd0: Array, t0: float, dt: float, n_steps: int, output_every: int,
               coefficients: tuple[float, float, float, float], tol: float, max_iter: int) -> tuple:
-    """Run the compiled constrained generalised-alpha; see :func:`ddgsa.mbs.integrate.genalpha.simulate`."""
+    """Run the constrained generalised-alpha on the packed system (:mod:`ddgsa.mbs.alpha`'s loop);
+    see :func:`ddgsa.mbs.integrate.genalpha.simulate`. Returns ``(q, qd, lam, y (n_out, n_el, 6),
+    drift (n_out, 2), status, total)`` as the loop."""
     am, af, gamma, beta = coefficients
-    return _gen_alpha(np.asarray(q0, dtype=float), np.asarray(qd0, dtype=float), float(t0), float(dt), int(n_steps),
-                      int(output_every), am, af, gamma, beta, float(tol), int(max_iter), packed.arrays,
-                      packed.n_holonomic)
+    q0, qd0 = np.asarray(q0, dtype=float), np.asarray(qd0, dtype=float)
+    acc0, lam0 = _accelerations(q0, qd0, float(t0), packed.arrays, 1e-6)
+    q, qd, lam, y, drift, status, total = _loop(packed.arrays, q0, qd0, acc0, lam0, float(t0), float(dt), int(n_steps),
+                                                int(output_every), am, af, gamma, beta, float(tol), int(max_iter),
+                                                packed.n_holonomic, 6 * packed.n_elements, False, False, False)
+    return q, qd, lam, y.reshape(y.shape[0], packed.n_elements, 6), drift, status, total
 
 
 @njit(cache=True)

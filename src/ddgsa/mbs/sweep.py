@@ -20,9 +20,9 @@ difference, ``K_1`` and ``K_2`` from the skew and symmetric parts of the stiffne
 a quadratic fit only to 3e-2). The spin coordinates (``.rx`` of the rotating bodies) are the total
 angles, not perturbations about ``W_1 t``: their equations are linear in angle differences, and
 the matrices are made blind to the common (cyclic) angle. :func:`integrate` runs it with the
-kernel's generalised-alpha (:mod:`ddgsa.mbs.integrate.genalpha`, the same scheme and
-coefficients) on small dense matrices: the iteration matrix ``M + gamma' h C(W) + beta' h^2 K(W)``
-at the step's spin, the inputs iterated to the kernel's tolerance. :func:`full_state` maps the
+kernel's generalised-alpha (:mod:`ddgsa.mbs.alpha`'s one loop, as a Python kind) on small dense
+matrices: the iteration matrix ``M + gamma' h C(W) + beta' h^2 K(W)`` at the step's spin (modified
+Newton: kept for the step), the inputs iterated to the kernel's tolerance. :func:`full_state` maps the
 record back to the system's coordinates with the actual spin angles (for sensors), and
 :func:`steady_orbit` gives the periodic state a coast-down starts from.
 
@@ -45,7 +45,7 @@ from scipy.linalg import null_space
 from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import Marker
-from ddgsa.mbs.alpha import coefficients, next_aux, predict, primed
+from ddgsa.mbs.alpha import coefficients, python_loop, steps
 from ddgsa.mbs.nonrotating import RIGID_RCOND, SpinLinearisation
 
 Array = NDArray[np.float64]
@@ -166,52 +166,26 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
     -------
     ``(t, z, zd)`` at the kept steps.
     """
-    n_steps = int(round(t_end / dt))
-    if n_steps < 1 or abs(n_steps * dt - t_end) > 1e-9 * max(1.0, t_end):
-        raise ModelError(f"sweep: t_end = {t_end} s is not a positive multiple of dt = {dt} s")
-    if output_every < 1 or n_steps % output_every:
-        raise ModelError(f"sweep: output_every = {output_every} must divide the {n_steps} steps")
-    am, af, gamma, beta = coefficients(rho_inf)
-    h = dt
-    bp, gp = primed(am, af, gamma, beta)
+    n_steps = steps(t_end, dt, output_every, "sweep")
     m = model.m
-    z, zd = np.array(z0, dtype=float), np.array(zd0, dtype=float)
 
-    def residual(t: float, z: Array, zd: Array, acc: Array) -> tuple[Array, float]:
+    def evaluate(z: Array, zd: Array, t: float, step: int, ctx: None, m_out: Array, f: Array, kt: Array, ct: Array,
+                 y: Array, ch: Array, jac: Array, vel: Array) -> None:
         w = float(model.spin @ zd)
-        return m @ acc + model.c(w) @ zd + model.k(w) @ z - model.r(w) - inputs(t, z, zd), w
+        c, k = model.c(w), model.k(w)
+        m_out[:], kt[:], ct[:] = m, k, c
+        f[:] = model.r(w) + inputs(t, z, zd) - c @ zd - k @ z
 
-    acc = np.linalg.solve(m, -residual(0.0, z, zd, np.zeros_like(z))[0])
-    aux = acc.copy()
-    n_out = n_steps // output_every + 1
-    z_out, zd_out = np.empty((n_out, z.size)), np.empty((n_out, z.size))
-    z_out[0], zd_out[0] = z, zd
-    slot = 1
-    for step in range(1, n_steps + 1):
-        t = step * h
-        acc_new, z, zd = predict(z, zd, acc, aux, h, am, af, gamma, beta)
-        lu = None
-        for _ in range(max_iter):
-            res, w_now = residual(t, z, zd, acc_new)
-            if lu is None:
-                lu = m + gp * h * model.c(w_now) + bp * h * h * model.k(w_now)
-            delta = np.linalg.solve(lu, -res)
-            acc_new += delta
-            z += bp * h * h * delta
-            zd += gp * h * delta
-            if np.max(np.abs(bp * h * h * delta)) < tol:
-                break
-        else:
-            raise ModelError(f"sweep: the iteration did not converge in {max_iter} iterations at t = {t:.6g} s "
-                             f"(step {dt} s); reduce the step")
-        if not np.all(np.isfinite(z)):
-            raise ModelError(f"sweep: the state is not finite at t = {t:.6g} s")
-        aux = next_aux(acc, aux, acc_new, am, af)
-        acc = acc_new
-        if step % output_every == 0:
-            z_out[slot], zd_out[slot] = z, zd
-            slot += 1
-    return h * output_every * np.arange(n_out), z_out, zd_out
+    z, zd = np.array(z0, dtype=float), np.array(zd0, dtype=float)
+    w0 = float(model.spin @ zd)
+    acc = np.linalg.solve(m, model.r(w0) + inputs(0.0, z, zd) - model.c(w0) @ zd - model.k(w0) @ z)
+    z_out, zd_out, _, _, _, status, _ = python_loop(evaluate)(None, z, zd, acc, np.zeros(0), 0.0, float(dt), n_steps,
+                                                              output_every, *coefficients(rho_inf), tol, max_iter, 0, 0,
+                                                              False, False, True)
+    if status < 0:
+        raise ModelError(f"sweep: the iteration did not converge in {max_iter} iterations at t = {-status * dt:.6g} s "
+                         f"(step {dt} s), or the state is not finite; reduce the step")
+    return dt * output_every * np.arange(n_steps // output_every + 1), z_out, zd_out
 
 
 def full_state(model: SweepModel, z: Array, zd: Array) -> tuple[Array, Array]:

@@ -34,13 +34,14 @@ from functools import cached_property
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
-from scipy.integrate import solve_ivp
 
 from ddgsa.errors import ModelError
+from ddgsa.mbs.alpha import coefficients, specialise
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody
 from ddgsa.mbs.elements import AppliedLoad, SpringDamper3, TorqueLaw
 from ddgsa.mbs.ffr import Invariants, body_terms_into, g_bar, rotation
+from ddgsa.mbs.ivp import first_order
 
 
 @dataclass(frozen=True)
@@ -225,40 +226,6 @@ def _global_map(a, g, u0, u1, u2, s, out):  # pragma: no cover (compiled)
 
 
 @njit(cache=True)
-def _solve_spd(a, b):  # pragma: no cover (compiled)
-    """Solve ``a x = b`` for the symmetric positive-definite iteration matrix by an in-place
-    Cholesky factorisation (LAPACK's call overhead dominates at n = 12); falls back to a general
-    solve if a pivot is not positive."""
-    n = b.size
-    low = np.zeros((n, n))
-    for j in range(n):
-        d = a[j, j]
-        for k in range(j):
-            d -= low[j, k] * low[j, k]
-        if d <= 0.0:
-            return np.linalg.solve(a, b)
-        low[j, j] = np.sqrt(d)
-        for i in range(j + 1, n):
-            acc = a[i, j]
-            for k in range(j):
-                acc -= low[i, k] * low[j, k]
-            low[i, j] = acc / low[j, j]
-    y = np.empty(n)
-    for i in range(n):
-        acc = b[i]
-        for k in range(i):
-            acc -= low[i, k] * y[k]
-        y[i] = acc / low[i, i]
-    x = np.empty(n)
-    for i in range(n - 1, -1, -1):
-        acc = y[i]
-        for k in range(i + 1, n):
-            acc -= low[k, i] * x[k]
-        x[i] = acc / low[i, i]
-    return x
-
-
-@njit(cache=True)
 def _interp_into(series, k, frac, out):  # pragma: no cover (compiled)
     """Catmull-Rom (C1 cubic) interpolation of a (n_t, m) series between samples k and k+1 at
     fraction ``frac``, written into ``out`` (no allocation per step).
@@ -277,82 +244,22 @@ def _interp_into(series, k, frac, out):  # pragma: no cover (compiled)
                         + (-p0 + 3.0 * p1 - 3.0 * p2 + p3) * t3)
 
 
-@njit(cache=True)
-def _gen_alpha(q0, qd0, dt_load, n_sub, forces, moments, w_set, torque0, bp_disp, bp_vel, rho_inf, tol,
-               max_iter, *sys):  # pragma: no cover (compiled)
-    """Fixed-step generalised-alpha (see :func:`integrate`), vectors updated in place: at about one
-    Newton iteration a step the allocations of whole-array expressions cost as much as the model."""
-    n_t = forces.shape[0]
-    n = q0.size
-    ns = sys[13].shape[0]
-    h = dt_load / n_sub
-    am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
-    af = rho_inf / (rho_inf + 1.0)
-    gamma = 0.5 - am + af
-    beta = 0.25 * (1.0 - am + af) ** 2
-    bp = beta * (1.0 - af) / (1.0 - am)
-    gp = gamma * (1.0 - af) / (1.0 - am)
-    q_out = np.empty((n_t, n))
-    qd_out = np.empty((n_t, n))
-    fs_out = np.empty((n_t, ns, 3))
-    tq_out = np.empty(n_t)
-    inputs = np.empty((n_t, 13))                    # force, moment, w_set, bedplate displacement, velocity
-    inputs[:, 0:3], inputs[:, 3:6], inputs[:, 6] = forces, moments, w_set
-    inputs[:, 7:10], inputs[:, 10:13] = bp_disp, bp_vel
-    row = np.empty(13)
-    q, qd = q0.copy(), qd0.copy()
-    m, f, kt, ct, fs, tq = terms(q, qd, forces[0], moments[0], w_set[0], torque0, bp_disp[0], bp_vel[0], *sys)
-    lg = np.empty((ns + 1, 3, n))
-    acc = np.linalg.solve(m, f)
-    aux = acc.copy()
-    acc_prev = acc.copy()
-    acc_new = np.empty(n)
-    res = np.empty(n)
-    it_mat = np.empty((n, n))
-    q_out[0], qd_out[0], fs_out[0], tq_out[0] = q, qd, fs, tq
-    worst, total = 0, 0
-    c_aux = h * h * (0.5 - beta)
-    for k in range(n_t - 1):
-        for sub in range(n_sub):
-            _interp_into(inputs, k, (sub + 1.0) / n_sub, row)
-            for i in range(n):
-                acc_new[i] = 2.0 * acc[i] - acc_prev[i]           # predictor: acceleration extrapolated
-                aux_new = (af * acc[i] - am * aux[i] + (1.0 - af) * acc_new[i]) / (1.0 - am)
-                q[i] += h * qd[i] + c_aux * aux[i] + h * h * beta * aux_new
-                qd[i] += h * ((1.0 - gamma) * aux[i] + gamma * aux_new)
-            converged = False
-            for it in range(max_iter):
-                terms_into(q, qd, row[0:3], row[3:6], row[6], torque0, row[7:10], row[10:13], *sys, m, f, kt, ct,
-                           fs, lg)
-                for i in range(n):
-                    acc_i = 0.0
-                    for j in range(n):
-                        acc_i += m[i, j] * acc_new[j]
-                        it_mat[i, j] = m[i, j] + gp * h * ct[i, j] + bp * h * h * kt[i, j]
-                    res[i] = f[i] - acc_i
-                delta = _solve_spd(it_mat, res)
-                step = 0.0
-                for i in range(n):
-                    acc_new[i] += delta[i]
-                    q[i] += bp * h * h * delta[i]
-                    qd[i] += gp * h * delta[i]
-                    step = max(step, abs(bp * h * h * delta[i]))
-                if it + 1 > worst:
-                    worst = it + 1
-                total += 1
-                if step < tol:
-                    converged = True
-                    break
-            if not converged or not np.all(np.isfinite(q)):
-                return q_out[:k + 1], qd_out[:k + 1], fs_out[:k + 1], tq_out[:k + 1], -(k + 1), total
-            for i in range(n):
-                aux[i] = (af * acc[i] - am * aux[i] + (1.0 - af) * acc_new[i]) / (1.0 - am)
-                acc_prev[i] = acc[i]
-                acc[i] = acc_new[i]
-        tq = terms_into(q, qd, forces[k + 1], moments[k + 1], w_set[k + 1], torque0, bp_disp[k + 1], bp_vel[k + 1],
-                        *sys, m, f, kt, ct, fs, lg)
-        q_out[k + 1], qd_out[k + 1], fs_out[k + 1], tq_out[k + 1] = q, qd, fs, tq
-    return q_out, qd_out, fs_out, tq_out, worst, total
+@njit(cache=True, inline="always")
+def _evaluate(q, qd, t, step, ctx, m, f, kt, ct, y, ch, jac, vel):  # pragma: no cover (compiled)
+    """The single-body kernel as a kind of :mod:`ddgsa.mbs.alpha`'s loop: the inputs interpolated
+    at step ``step`` (``n_sub`` steps a load sample), :func:`terms_into` written into the loop's
+    arrays, the spring forces and the torque as the outputs ``y``."""
+    inputs, n_sub, torque0, row, fs, lg, sys = ctx
+    _interp_into(inputs, step // n_sub, (step % n_sub) / n_sub, row)
+    torque = terms_into(q, qd, row[0:3], row[3:6], row[6], torque0, row[7:10], row[10:13], *sys, m, f, kt, ct, fs, lg)
+    ns = fs.shape[0]
+    for s in range(ns):
+        for d in range(3):
+            y[3 * s + d] = fs[s, d]
+    y[3 * ns] = torque
+
+
+_loop = specialise(_evaluate, "single_body")
 
 
 def integrate(sys: SystemArrays, q0: NDArray[np.float64], qd0: NDArray[np.float64], dt_load: float,
@@ -398,13 +305,20 @@ def integrate(sys: SystemArrays, q0: NDArray[np.float64], qd0: NDArray[np.float6
     zeros = np.zeros((n_t, 3))
     bd = zeros if bp_disp is None else np.ascontiguousarray(bp_disp, dtype=float)
     bv = zeros if bp_vel is None else np.ascontiguousarray(bp_vel, dtype=float)
-    q, qd, fs, tq, status, total = _gen_alpha(np.asarray(q0, float), np.asarray(qd0, float), float(dt_load), int(n_sub),
-                                       np.ascontiguousarray(forces, float), np.ascontiguousarray(moments, float),
-                                       np.ascontiguousarray(w_set, float), float(torque0), bd, bv, float(rho_inf),
-                                       float(tol), int(max_iter), *sys.args())
-    n_steps = max(1, (q.shape[0] - 1) * int(n_sub))
-    return {"q": q, "qd": qd, "spring_forces": fs, "torque": tq, "max_iterations": max(int(status), 0),
-            "mean_iterations": total / n_steps, "failed_at": -int(status) if status < 0 else -1}
+    inputs = np.column_stack([forces, moments, w_set, bd, bv]).astype(float)     # (n_t, 13)
+    q0, qd0 = np.asarray(q0, dtype=float), np.asarray(qd0, dtype=float)
+    m, f, *_ = evaluate_terms(sys, q0, qd0, inputs[0, 0:3], inputs[0, 3:6], inputs[0, 6], torque0, inputs[0, 7:10],
+                              inputs[0, 10:13])
+    n, ns, n_sub = q0.size, sys.sp_k.shape[0], int(n_sub)
+    ctx = (inputs, n_sub, float(torque0), np.empty(13), np.empty((ns, 3)), np.empty((ns + 1, 3, n)), sys.args())
+    q, qd, _, y, _, status, total = _loop(ctx, q0, qd0, np.linalg.solve(m, f), np.zeros(0), 0.0,
+                                          float(dt_load) / n_sub, (n_t - 1) * n_sub, n_sub,
+                                          *coefficients(float(rho_inf)), float(tol), int(max_iter), 0, 3 * ns + 1,
+                                          True, True, False)
+    n_steps = max(1, (n_t - 1) * n_sub)
+    return {"q": q, "qd": qd, "spring_forces": y[:, :3 * ns].reshape(-1, ns, 3), "torque": y[:, 3 * ns],
+            "max_iterations": max(int(status), 0), "mean_iterations": total / n_steps,
+            "failed_at": (-int(status) - 1) // n_sub + 1 if status < 0 else -1}
 
 
 def evaluate_terms(sys: SystemArrays, q: NDArray[np.float64], qd: NDArray[np.float64],
@@ -467,31 +381,26 @@ def integrate_reference(sys: SystemArrays, q0: NDArray[np.float64], qd0: NDArray
                         forces: NDArray[np.float64], moments: NDArray[np.float64], w_set: NDArray[np.float64],
                         torque0: float = 0.0, method: str = "Radau", rtol: float = 1e-6,
                         atol: float = 1e-9) -> dict[str, NDArray[np.float64]]:
-    """The same equations by scipy ``solve_ivp`` (first-order form, the same C1 cubic load interpolation).
+    """The same equations by scipy ``solve_ivp`` (:func:`ddgsa.mbs.ivp.first_order`, the
+    same C1 cubic load interpolation).
 
     Returns ``q``, ``qd``, ``spring_forces`` and ``torque`` at ``times`` and the solver's ``nfev``.
     """
-    n = q0.size
-
     inputs = np.column_stack([forces, moments, w_set])
     dt = times[1] - times[0]
+    row = np.empty(inputs.shape[1])
 
-    def rhs(t: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
+    def acceleration(t: float, q: NDArray[np.float64], qd: NDArray[np.float64]) -> NDArray[np.float64]:
         k = min(int((t - times[0]) / dt), times.size - 2)
-        row = np.empty(inputs.shape[1])
         _interp_into(inputs, k, (t - times[k]) / dt, row)
-        m, f, *_ = evaluate_terms(sys, y[:n], y[n:], row[0:3], row[3:6], float(row[6]), torque0)
-        return np.concatenate([y[n:], np.linalg.solve(m, f)])
+        m, f, *_ = evaluate_terms(sys, q, qd, row[0:3], row[3:6], float(row[6]), torque0)
+        return np.linalg.solve(m, f)
 
-    sol = solve_ivp(rhs, (times[0], times[-1]), np.concatenate([q0, qd0]), method=method, t_eval=times,
-                    rtol=rtol, atol=atol)
-    if not sol.success:
-        raise RuntimeError(f"solve_ivp ({method}) failed: {sol.message}")
-    q, qd = sol.y[:n].T, sol.y[n:].T
+    q, qd, nfev = first_order(acceleration, q0, qd0, times, method, rtol, atol)
     at_samples = [evaluate_terms(sys, q[i], qd[i], forces[i], moments[i], w_set[i], torque0)
                   for i in range(times.size)]
     return {"q": q, "qd": qd, "spring_forces": np.stack([t[4] for t in at_samples]),
-            "torque": np.array([t[5] for t in at_samples]), "nfev": int(sol.nfev), "failed_at": -1}
+            "torque": np.array([t[5] for t in at_samples]), "nfev": nfev, "failed_at": -1}
 
 
 def single_body_arrays(system: System) -> SystemArrays:

@@ -63,7 +63,7 @@ class Analytic(_Static):
                ModelOption("delay_s", "number", "sleep per point", 0.0, 60.0, "s"))
 
     def __init__(self, fidelity: str = "exact", fail_above: float | None = None, delay_s: float = 0.0) -> None:
-        self.check_fidelity(fidelity)
+        self.check_options({"fidelity": fidelity, "fail_above": fail_above, "delay_s": delay_s})
         self.fidelity = fidelity
         self.fail_above = fail_above
         self.delay_s = float(delay_s)

@@ -78,7 +78,7 @@ from ddgsa.models.base import (Model, ModelOption, ModelOutput, ModelParameter, 
                                register_model)
 from ddgsa.models.constants import tilted_gravity
 from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE,
-                                        bearing_damping, bending_damping, checked)
+                                        bearing_damping, bending_damping)
 from ddgsa.objectives import damage_rate
 from ddgsa.signals import band_rms_spectrum
 
@@ -391,31 +391,28 @@ class DirectDrive(Model):
         return [problem] if problem else []
 
     def __init__(self, fidelity: str = "flexible", axial: bool = True, second_bending: bool = True,
-                 bending_modes: int | None = None, beam: str = "euler_bernoulli", time_step: float | None = None, rho_inf: float = 0.8, equivalent_load: str = "iso281",
+                 bending_modes: int | None = None, beam: str = "euler_bernoulli", time_step: float | None = None,
+                 rho_inf: float = 0.8, equivalent_load: str = "iso281",
                  integrator: str = "gen_alpha", bending_rayleigh: str = "physical",
                  bearing_damping: str = "modal", deflection: str = "total",
                  deflection_reference: str = "static") -> None:
-        self.check_fidelity(fidelity)
-        if equivalent_load not in ("iso281", "seed"):
-            raise ModelError(f"model 'direct_drive': equivalent_load must be 'iso281' or 'seed', got {equivalent_load!r}")
+        self.check_options({"fidelity": fidelity, "axial": axial, "second_bending": second_bending,
+                            "bending_modes": bending_modes, "beam": beam, "time_step": time_step, "rho_inf": rho_inf,
+                            "equivalent_load": equivalent_load, "integrator": integrator, "bending_rayleigh": bending_rayleigh,
+                            "bearing_damping": bearing_damping, "deflection": deflection,
+                            "deflection_reference": deflection_reference})
+        if fidelity == "linear" and integrator != "gen_alpha":
+            raise ModelError(f"model 'direct_drive': the linear fidelity has its own exact discretisation; "
+                             f"integrator {integrator!r} is for the other fidelities")
         if time_step is None:
             time_step = 0.01 if fidelity == "rigid" else 0.005
-        if not (isinstance(time_step, (int, float)) and 0 < time_step <= 0.1):
-            raise ModelError(f"model 'direct_drive': time_step must be in (0, 0.1] s, got {time_step!r}")
-        if integrator not in ("gen_alpha", "Radau", "BDF") or (fidelity == "linear" and integrator != "gen_alpha"):
-            raise ModelError(f"model 'direct_drive': integrator must be gen_alpha, Radau or BDF (the linear "
-                             f"fidelity has its own exact discretisation); got {integrator!r}")
         self.integrator = integrator
-        self.damping = (checked("bending_rayleigh", bending_rayleigh, BENDING_RAYLEIGH),
-                        checked("bearing_damping", bearing_damping, BEARING_DAMPING))
-        self.deflection = checked("deflection", deflection, DEFLECTION)
-        self.beam = checked("beam", beam, BEAMS)
+        self.damping = (bending_rayleigh, bearing_damping)
+        self.deflection = deflection
+        self.beam = beam
         if bending_modes is None:
             bending_modes = 2 if second_bending else 1
-        if not (isinstance(bending_modes, int) and 1 <= bending_modes <= MAX_BENDING_MODES):
-            raise ModelError(f"model 'direct_drive': bending_modes must be an integer in 1..{MAX_BENDING_MODES}, "
-                             f"got {bending_modes!r}")
-        self.reference = checked("deflection_reference", deflection_reference, DEFLECTION_REFERENCE)
+        self.reference = deflection_reference
         self.fidelity = fidelity
         self._inputs: SceneInputs | None = None
         self.time_step = float(time_step)

@@ -58,7 +58,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from ddgsa.errors import ModelError, unknown_name_message
+from ddgsa.errors import ModelError
 from ddgsa.loads import generate
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs import AppliedLoad, Ground, Lock, RadialForce, RigidBody, SpringDamper3, System
@@ -194,13 +194,8 @@ class GeneratorRadial(Model):
 
     def __init__(self, config: str = "substructure", magnetic: bool = True, fidelity: str = "linearised",
                  output_step: float | None = None, generator: Mapping[str, float] | None = None) -> None:
-        if config not in CONFIGS:
-            raise ModelError("model 'generator_radial': " + unknown_name_message("config", config, CONFIGS))
-        self.check_fidelity(fidelity)
-        if not isinstance(magnetic, bool):
-            raise ModelError(f"model 'generator_radial': magnetic must be true or false, got {magnetic!r}")
-        if output_step is not None and not (isinstance(output_step, (int, float)) and output_step > 0):
-            raise ModelError(f"model 'generator_radial': output_step must be a positive number [s], got {output_step!r}")
+        self.check_options({"fidelity": fidelity, "config": config, "magnetic": magnetic, "output_step": output_step,
+                            "generator": generator})
         self.config, self.magnetic, self.fidelity = config, magnetic, fidelity
         self.output_step = output_step
         self.generator = PMGenerator().updated(dict(generator or {}))

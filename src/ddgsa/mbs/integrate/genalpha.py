@@ -10,8 +10,9 @@ and ``1/(gamma' h)``, Bottasso, Bauchau & Cardona 2007) so the iteration matrix
 steps. Second-order accurate in positions, unconditionally stable on linear systems, with
 high-frequency dissipation set by ``rho_inf`` (1: none; the trapezoidal rule).
 
-The same algorithm runs compiled (:mod:`ddgsa.mbs.compiled`) whenever every part of the system
-has a compiled form, and in Python otherwise (or with ``compiled=False``); the two agree to
+The loop is :mod:`ddgsa.mbs.alpha`'s, the one generalised-alpha of the package: compiled on the
+packed system (:mod:`ddgsa.mbs.compiled`) whenever every part of it has a compiled form, and run
+as Python on the System's own objects otherwise (or with ``compiled=False``); the two agree to
 round-off (tested).
 """
 
@@ -21,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.alpha import coefficients, next_aux, predict, primed
+from ddgsa.mbs.alpha import coefficients, python_loop, steps
 from ddgsa.mbs.assembly import System, accelerations
 from ddgsa.mbs.integrate.trajectory import Trajectory
 
@@ -56,98 +57,55 @@ def simulate(system: System, t_end: float, dt: float, q0: Array | None = None, q
     """
     if q0 is None or qd0 is None:
         q0, qd0 = system.consistent_state(q0, qd0, t0)
-    n, nc, nh = system.n, system.n_constraints, system.n_holonomic
-    n_steps = int(round((t_end - t0) / dt))
-    if n_steps < 1 or abs(n_steps * dt - (t_end - t0)) > 1e-9 * max(1.0, t_end):
-        raise ModelError(f"t_end - t0 = {t_end - t0} s is not a positive multiple of dt = {dt} s")
+    n_steps = steps(t_end - t0, dt, output_every, "generalised-alpha")
     am, af, gamma, beta = coefficients(rho_inf)
-    if output_every < 1 or n_steps % output_every:
-        raise ModelError(f"output_every = {output_every} must divide the {n_steps} steps")
     packed = None
     if compiled or compiled is None:
-        from ddgsa.mbs.compiled import gen_alpha, pack
+        from ddgsa.mbs.compiled import pack
         try:
             packed = pack(system)
         except ModelError:
             if compiled:
                 raise
     if packed is not None:
-        q, qd, lam, y, pdrift, vdrift, status, total = gen_alpha(packed, q0, qd0, t0, dt, n_steps, output_every,
-                                                                 (am, af, gamma, beta), tol, max_iter)
-        if status < 0:
-            raise ModelError(f"generalised-alpha: Newton did not converge in {max_iter} iterations at "
-                             f"t = {t0 - status * dt:.6g} s (step {dt} s); reduce the step or check the model")
-        t_out = t0 + dt * output_every * np.arange(q.shape[0])
-        return Trajectory(t_out, q, qd, lam, y, pdrift, vdrift, system.coord_names, system.element_names,
-                          system.multiplier_names,
-                          {"method": "generalised-alpha (compiled)", "rho_inf": rho_inf, "dt": dt, "steps": n_steps,
-                           "newton_max": int(status), "newton_mean": total / n_steps})
-    h = dt
-    bp, gp = primed(am, af, gamma, beta)
-    q, qd = np.array(q0, dtype=float), np.array(qd0, dtype=float)
-    acc, lam = accelerations(system, q, qd, t0)
-    aux = acc.copy()
-    keep = list(range(0, n_steps + 1, output_every))
-    n_out = len(keep)
-    t_out = t0 + dt * np.asarray(keep, dtype=float)
-    q_out, qd_out, lam_out = np.empty((n_out, n)), np.empty((n_out, n)), np.empty((n_out, nc))
-    y_out = np.empty((n_out, len(system.elements), 6))
-    pdrift, vdrift = np.zeros(n_out), np.zeros(n_out)
+        from ddgsa.mbs.compiled import gen_alpha
+        q, qd, lam, y, drift, status, total = gen_alpha(packed, q0, qd0, t0, dt, n_steps, output_every,
+                                                        (am, af, gamma, beta), tol, max_iter)
+        how = "compiled"
+    else:
+        q, qd, lam, y, drift, status, total = _python(system, np.array(q0, dtype=float), np.array(qd0, dtype=float),
+                                                      t0, dt, n_steps, output_every, (am, af, gamma, beta), tol,
+                                                      max_iter)
+        how = "Python"
+    if status < 0:
+        raise ModelError(f"generalised-alpha: Newton did not converge in {max_iter} iterations at "
+                         f"t = {t0 - status * dt:.6g} s (step {dt} s); reduce the step or check the model")
+    t_out = t0 + dt * output_every * np.arange(q.shape[0])
+    return Trajectory(t_out, q, qd, lam, y, drift[:, 0], drift[:, 1], system.coord_names, system.element_names,
+                      system.multiplier_names,
+                      {"method": f"generalised-alpha ({how})", "rho_inf": rho_inf, "dt": dt, "steps": n_steps,
+                       "newton_max": int(status), "newton_mean": total / n_steps})
 
-    def record(slot: int, t: float) -> None:
+
+def _python(system: System, q0: Array, qd0: Array, t0: float, dt: float, n_steps: int, output_every: int,
+            coef: tuple[float, float, float, float], tol: float, max_iter: int) -> tuple:
+    """The loop run as Python on the System's objects (parts without a compiled form)."""
+    nh, nc, nel = system.n_holonomic, system.n_constraints, len(system.elements)
+
+    def evaluate(q: Array, qd: Array, t: float, step: int, ctx: None, m: Array, f: Array, kt: Array, ct: Array,
+                 y: Array, ch: Array, jac: Array, vel: Array) -> None:
         states = system.marker_states(q, qd, t)
         tm = system.terms(q, qd, t, states)
-        q_out[slot], qd_out[slot], lam_out[slot] = q, qd, lam
+        m[:], f[:], kt[:], ct[:] = tm.m, tm.q, tm.k, tm.c
         if tm.outputs:
-            y_out[slot] = np.array(tm.outputs)
+            y[:] = np.ravel(tm.outputs)
         if nh:
-            pdrift[slot] = np.max(np.abs(system.holonomic_residual(q, qd, t, states)[0]))
+            ch[:] = system.holonomic_residual(q, qd, t, states)[0]
         if nc:
-            vdrift[slot] = np.max(np.abs(system.velocity_residual(q, qd, t, states)[0]))
+            vel[:], jac[:] = system.velocity_residual(q, qd, t, states)
 
-    record(0, t0)
-    iters = []
-    slot = 1
-    big = np.zeros((n + nc, n + nc))
-    for step in range(1, n_steps + 1):
-        t = t0 + step * h
-        acc_new, q, qd = predict(q, qd, acc, aux, h, am, af, gamma, beta)
-        for it in range(max_iter):
-            states = system.marker_states(q, qd, t)
-            tm = system.terms(q, qd, t, states)
-            res = tm.m @ acc_new - tm.q
-            if nc:
-                v, b = system.velocity_residual(q, qd, t, states)
-                cval = np.empty(nc)
-                if nh:
-                    cval[:nh] = system.holonomic_residual(q, qd, t, states)[0] / (bp * h * h)
-                cval[nh:] = v[nh:] / (gp * h)
-                res = res + b.T @ lam
-                big[:n, n:] = b.T
-                big[n:, :n] = b
-            big[:n, :n] = tm.m + gp * h * tm.c + bp * h * h * tm.k
-            rhs = -np.concatenate([res, cval]) if nc else -res
-            delta = np.linalg.solve(big, rhs)
-            acc_new += delta[:n]
-            q += bp * h * h * delta[:n]
-            qd += gp * h * delta[:n]
-            if nc:
-                lam = lam + delta[n:]
-            small = np.max(np.abs(bp * h * h * delta[:n])) < tol
-            if small and (not nc or np.max(np.abs(cval)) * bp * h * h < tol):
-                break
-        else:
-            raise ModelError(f"generalised-alpha: Newton did not converge in {max_iter} iterations at t = {t:.6g} s "
-                             f"(step {dt} s); reduce the step or check the model")
-        if not np.all(np.isfinite(q)):
-            raise ModelError(f"generalised-alpha: the state is not finite at t = {t:.6g} s")
-        iters.append(it + 1)
-        aux = next_aux(acc, aux, acc_new, am, af)
-        acc = acc_new
-        if step % output_every == 0:
-            record(slot, t)
-            slot += 1
-    return Trajectory(t_out, q_out, qd_out, lam_out, y_out, pdrift, vdrift, system.coord_names,
-                      system.element_names, system.multiplier_names,
-                      {"method": "generalised-alpha (Python)", "rho_inf": rho_inf, "dt": dt, "steps": n_steps,
-                       "newton_max": int(max(iters)), "newton_mean": float(np.mean(iters))})
+    acc0, lam0 = accelerations(system, q0, qd0, t0)
+    q, qd, lam, y, drift, status, total = python_loop(evaluate)(
+        None, q0, qd0, acc0, np.asarray(lam0, dtype=float), float(t0), float(dt), n_steps, output_every, *coef, tol,
+        max_iter, nh, 6 * nel, False, False, False)
+    return q, qd, lam, y.reshape(y.shape[0], nel, 6), drift, status, total

@@ -6,18 +6,19 @@ At every right-hand side the accelerations and multipliers come from eq. 2.6,
 (default 10 rad/s, well below the fastest mode the step control resolves) pulling the
 position- and velocity-level constraint values ``C``, ``V`` back to zero; the constraint drift
 that remains is measured and returned. An implicit scipy method (Radau by default) with tight
-tolerances; slow, for tests and benchmarks.
+tolerances; slow, for tests and benchmarks. :func:`ddgsa.mbs.ivp.first_order` is the one ``solve_ivp`` call of the
+package: :func:`simulate` gives it the System's accelerations, the single-body kernel
+(:func:`ddgsa.mbs.system.integrate_reference`, the direct drive's reference) its compiled ones.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.integrate import solve_ivp
 
-from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System, accelerations
 from ddgsa.mbs.integrate.trajectory import Trajectory
+from ddgsa.mbs.ivp import first_order
 
 Array = NDArray[np.float64]
 
@@ -38,19 +39,10 @@ def simulate(system: System, t_end: float, dt: float, q0: Array | None = None, q
     """
     if q0 is None or qd0 is None:
         q0, qd0 = system.consistent_state(q0, qd0, t0)
-    n = system.n
     n_out = int(round((t_end - t0) / dt)) + 1
     times = t0 + dt * np.arange(n_out)
-
-    def rhs(t: float, y: Array) -> Array:
-        qdd, _ = accelerations(system, y[:n], y[n:], t, stabilisation)
-        return np.concatenate([y[n:], qdd])
-
-    sol = solve_ivp(rhs, (t0, times[-1]), np.concatenate([q0, qd0]), method=method, t_eval=times, rtol=rtol,
-                    atol=atol)
-    if not sol.success:
-        raise ModelError(f"solve_ivp ({method}) failed: {sol.message}")
-    q, qd = sol.y[:n].T, sol.y[n:].T
+    q, qd, nfev = first_order(lambda t, q, qd: accelerations(system, q, qd, t, stabilisation)[0], q0, qd0, times,
+                              method, rtol, atol)
     nc, nh = system.n_constraints, system.n_holonomic
     lam = np.zeros((n_out, nc))
     outputs = np.zeros((n_out, len(system.elements), 6))
@@ -67,4 +59,5 @@ def simulate(system: System, t_end: float, dt: float, q0: Array | None = None, q
             pdrift[i] = np.max(np.abs(system.holonomic_residual(q[i], qd[i], t, states)[0]))
     return Trajectory(times, q, qd, lam, outputs, pdrift, vdrift, system.coord_names, system.element_names,
                       system.multiplier_names, {"method": f"solve_ivp {method}", "rtol": rtol, "atol": atol,
-                                                "stabilisation": stabilisation, "nfev": int(sol.nfev)})
+                                                "stabilisation": stabilisation, "nfev": nfev})
+

@@ -187,16 +187,8 @@ class HssRig(Model):
 
     def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False, bending_modes: int = 2,
                  beam: str = "euler_bernoulli", shaft_elements: int = 8, shaft_axial: bool = False) -> None:
-        self.check_fidelity(fidelity)
-        if not (isinstance(time_step, (int, float)) and 0 < time_step <= 1e-2):
-            raise ModelError(f"model 'hss_rig': time_step must be in (0, 0.01] s, got {time_step!r}")
-        if not isinstance(noise, bool):
-            raise ModelError(f"model 'hss_rig': noise must be true or false, got {noise!r}")
-        if (not (isinstance(bending_modes, int) and 1 <= bending_modes <= MAX_BENDING_MODES) or beam not in BEAMS
-                or not (isinstance(shaft_elements, int) and 2 <= shaft_elements <= 256) or not isinstance(shaft_axial, bool)):
-            raise ModelError(f"model 'hss_rig': bending_modes must be an integer in 1..{MAX_BENDING_MODES}, beam one "
-                             f"of {', '.join(BEAMS)}, shaft_elements an integer in 2..256 and shaft_axial true or false; "
-                             f"got {bending_modes!r}, {beam!r}, {shaft_elements!r}, {shaft_axial!r}")
+        self.check_options({"fidelity": fidelity, "time_step": time_step, "noise": noise, "bending_modes": bending_modes,
+                            "beam": beam, "shaft_elements": shaft_elements, "shaft_axial": shaft_axial})
         self.fidelity, self.time_step, self.noise = fidelity, float(time_step), noise
         self.basis = ShaftBasis(bending_modes, beam, shaft_elements, shaft_axial)
 

@@ -146,22 +146,15 @@ class IndirectDrive(Model):
                  integrator: str = "gen_alpha", equivalent_load: str = "iso281",
                  housing_point: tuple[float, float, float] | list[float] = HOUSING_POINT,
                  fluctuation_scale: float = 1.0) -> None:
-        self.check_fidelity(fidelity)
+        self.check_options({"fidelity": fidelity, "time_step": time_step, "rho_inf": rho_inf, "integrator": integrator,
+                            "equivalent_load": equivalent_load, "housing_point": housing_point,
+                            "fluctuation_scale": fluctuation_scale})
+        if fidelity == "linear" and integrator != "gen_alpha":
+            raise ModelError(f"model 'indirect_drive': the linear fidelity has its own exact discretisation; "
+                             f"integrator {integrator!r} is for the other fidelities")
         if time_step is None:
             time_step = 0.005
-        if isinstance(time_step, bool) or not isinstance(time_step, (int, float)) or not 0 < time_step <= 0.05:
-            raise ModelError(f"model 'indirect_drive': time_step must be in (0, 0.05] s, got {time_step!r}")
-        if integrator not in ("gen_alpha", "Radau", "BDF") or (fidelity == "linear" and integrator != "gen_alpha"):
-            raise ModelError(f"model 'indirect_drive': integrator must be gen_alpha, Radau or BDF (the linear "
-                             f"fidelity has its own exact discretisation); got {integrator!r}")
-        if equivalent_load not in ("iso281", "seed"):
-            raise ModelError(f"model 'indirect_drive': equivalent_load must be 'iso281' or 'seed', got {equivalent_load!r}")
         point = np.asarray(housing_point, dtype=float)
-        if point.shape != (3,) or not np.all(np.isfinite(point)):
-            raise ModelError(f"model 'indirect_drive': housing_point must be three finite numbers [m], got {housing_point!r}")
-        if isinstance(fluctuation_scale, bool) or not isinstance(fluctuation_scale, (int, float)) \
-                or not 0.0 < fluctuation_scale <= 1.0:
-            raise ModelError(f"model 'indirect_drive': fluctuation_scale must be in (0, 1], got {fluctuation_scale!r}")
         self.fluctuation_scale = float(fluctuation_scale)
         self.fidelity = fidelity
         self.time_step = float(time_step)
