@@ -66,6 +66,10 @@ _LATER_DEFAULTS: dict[tuple[str, str], Any] = {("scenes", "loads"): {"fidelity":
 the default (the scene's rotor aerodynamics; the fault study's design)."""
 
 
+_LATER_EMPTY = ("groups", "correlation", "target")
+"""Top-level study fields added in the fourth stage: left out of :attr:`Study.digest` when empty."""
+
+
 class StudyWarning(UserWarning):
     """A valid study that will probably not give what its author wants."""
 SceneValue = float | list[float]
@@ -318,6 +322,12 @@ class StudySpec(BaseModel):
     kind: Literal["gsa", "sweep", "fault"] = "gsa"
     model: ModelSpec
     parameters: dict[str, dict[str, Any]] = Field(default_factory=dict)
+    groups: dict[str, list[str]] = Field(
+        default_factory=dict, description="named disjoint groups of uncertain parameters; methods that can "
+                                          "(mdrm, saltelli, pce) report their closed and total indices")
+    correlation: list[tuple[str, str, float]] = Field(
+        default_factory=list, description="Gaussian-copula correlations [parameter, parameter, rho] of the "
+                                          "uncertain parameters (positive definite); needs method shapley")
     fixed: dict[str, float | str | dict[str, Any]] = Field(
         default_factory=dict, description="parameter values held fixed: a number in the model's unit, a quantity "
                                           "('12 kN/m') or {value, unit}")
@@ -434,6 +444,9 @@ class Study:
         studies were committed (:data:`_LATER_DEFAULTS`) count only when they differ from their
         default, so a study written before them keeps its digest."""
         data = self.spec.model_dump(mode="json")
+        for key in _LATER_EMPTY:
+            if not data.get(key):
+                data.pop(key, None)
         for (part, field), default in _LATER_DEFAULTS.items():
             if isinstance(data.get(part), dict) and data[part].get(field) == default:
                 del data[part][field]
@@ -605,6 +618,11 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             space = ParameterSpace.from_dict(spec.parameters)
         except DdgsaError as exc:
             raise StudyError(f"{where}: field 'parameters': {exc}") from None
+        try:
+            space = ParameterSpace.from_dict(spec.parameters, groups=spec.groups, correlation=spec.correlation)
+        except DdgsaError as exc:       # the message starts with the field: groups.<g> or correlation[k]
+            head, _, rest = str(exc).partition(": ")
+            raise StudyError(f"{where}: field '{head}': {rest}") from None
         for p in space.parameters:
             decl = model.parameter(p.name)
             lo, hi = p.support
@@ -618,6 +636,9 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
                       f"{problem}; every evaluation near it will fail", StudyWarning, stacklevel=2)
     for i, m in enumerate(spec.methods):
         if m.method == "auto":
+            if space is not None and space.dependent:
+                raise StudyError(f"{where}: field 'methods[{i}]': method 'auto' escalates through methods that "
+                                 "assume independent inputs, and 'correlation' couples them; use method 'shapley'")
             try:
                 resolve_auto_options(space, m.options) if space is not None else None
             except DdgsaError as exc:
