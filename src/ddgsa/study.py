@@ -49,6 +49,7 @@ from pydantic_core import InitErrorDetails, PydanticCustomError
 from ddgsa.errors import DdgsaError, StudyError, clip, unknown_name_message
 from ddgsa.gsa.auto import resolve_auto_options
 from ddgsa.gsa.base import METHODS, get_method
+from ddgsa.gsa.target import Target
 from ddgsa.loads.scene import Scene
 from ddgsa.models import MODELS
 from ddgsa.models import get as get_model
@@ -303,6 +304,31 @@ class FaultSpec(BaseModel):
         return self.faulty.levels() if isinstance(self.faulty, FaultRange) else list(self.faulty)
 
 
+class TargetSpec(BaseModel):
+    """One entry of ``target:`` -- an output transformed to its part beyond a limit (:mod:`ddgsa.gsa.target`)."""
+
+    model_config = _STRICT
+    output: str = Field(description="the output transformed (one of the study's outputs)")
+    above: float | None = Field(None, description="limit whose exceedance counts [the output's unit in the study]")
+    below: float | None = Field(None, description="limit whose undershoot counts (instead of above)")
+    kind: Literal["indicator", "excess"] = Field("indicator", description="indicator 1{y > limit} [-] or excess "
+                                                                          "max(y - limit, 0) [output unit]")
+    name: str | None = Field(None, pattern=r"^[A-Za-z_][A-Za-z0-9_]*$",
+                             description="name of the transformed output (default <output>_exceeds, _excess, ...)")
+
+    @model_validator(mode="after")
+    def _one_limit(self) -> "TargetSpec":
+        if (self.above is None) == (self.below is None):
+            raise ValueError("give exactly one limit: 'above' or 'below'")
+        return self
+
+    def target(self) -> Target:
+        """The transform."""
+        above = self.above is not None
+        return Target(self.output, float(self.above if above else self.below),  # type: ignore[arg-type]
+                      above, self.kind, self.name or "")
+
+
 class RunSpec(BaseModel):
     """``run:`` -- parallel options (overridden by the CLI's ``--jobs`` / ``--backend``)."""
 
@@ -328,6 +354,9 @@ class StudySpec(BaseModel):
     correlation: list[tuple[str, str, float]] = Field(
         default_factory=list, description="Gaussian-copula correlations [parameter, parameter, rho] of the "
                                           "uncertain parameters (positive definite); needs method shapley")
+    target: list[TargetSpec] = Field(
+        default_factory=list, description="outputs transformed to their part beyond a limit (a mapping or a "
+                                          "list); analysed beside the outputs (target sensitivity)")
     fixed: dict[str, float | str | dict[str, Any]] = Field(
         default_factory=dict, description="parameter values held fixed: a number in the model's unit, a quantity "
                                           "('12 kN/m') or {value, unit}")
@@ -364,6 +393,12 @@ class StudySpec(BaseModel):
             else:
                 names.append(entry)
         return {**data, "outputs": names, "output_units": units}
+
+    @field_validator("target", mode="before")
+    @classmethod
+    def _one_target(cls, v: Any) -> Any:
+        """``target: {output, above}`` is a list of one."""
+        return [v] if isinstance(v, dict) else v
 
     @field_validator("scenes", mode="wrap")
     @classmethod
@@ -484,6 +519,16 @@ class Study:
         """Outputs to analyse (all of the model's when the study lists none)."""
         return self.spec.outputs or list(self.make_model().outputs)
 
+    @property
+    def targets(self) -> list[Target]:
+        """The study's target transforms (``target:``)."""
+        return [t.target() for t in self.spec.target]
+
+    @property
+    def analysed_outputs(self) -> list[str]:
+        """The outputs and then the target-transformed outputs: the rows of the indices table."""
+        return self.outputs + [t.name for t in self.targets]
+
     def output_factors(self, outputs: list[str]) -> np.ndarray:
         """Per output, the factor from the model's SI unit to the unit the study reports it in (1 by default)."""
         if not self.spec.output_units:
@@ -494,6 +539,10 @@ class Study:
 
     def output_declaration(self, model: Any, name: str) -> ModelOutput:
         """The declaration of output ``name`` in the unit the study reports it in (range scaled)."""
+        for t in self.targets:
+            if name == t.name:
+                base = self.output_declaration(model, t.output)
+                return ModelOutput(name, "-" if t.kind == "indicator" else base.unit, t.description)
         decl = model.output(name) if name in model.outputs else declared(name)
         unit = self.spec.output_units.get(name)
         if unit is None:
@@ -660,7 +709,25 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             raise StudyError(f"{where}: field 'scenes' (scene {k}: {scene_text(fields)}): {exc}{hints}") from None
     if spec.fault is not None:
         _validate_fault(where, spec, model)
+    _validate_targets(where, spec, list(spec.outputs or model.outputs))
     return Study(spec=spec, space=space, path=path, text=text)
+
+
+def _validate_targets(where: str, spec: StudySpec, outputs: list[str]) -> None:
+    """Each target names an output of the study, its name is new, and no ``auto`` method runs beside it."""
+    names = set(outputs)
+    for i, t in enumerate(spec.target):
+        if t.output not in outputs:
+            raise StudyError(f"{where}: field 'target[{i}].output': " + unknown_name_message("output", t.output, outputs))
+        name = t.target().name
+        if name in names:
+            raise StudyError(f"{where}: field 'target[{i}].name': {name!r} is already an output's name; set 'name'")
+        names.add(name)
+    if spec.target and spec.kind != "gsa":
+        raise StudyError(f"{where}: field 'target': target outputs need kind: gsa")
+    if spec.target and any(m.method == "auto" for m in spec.methods):
+        raise StudyError(f"{where}: field 'target': method 'auto' analyses the model's outputs only; use fixed "
+                         "methods (saltelli, pce, hsic, mdrm) beside a target")
 
 
 def _convert_units(where: str, spec: StudySpec, model: Any) -> None:

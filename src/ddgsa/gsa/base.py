@@ -177,6 +177,8 @@ class GsaMethod(ABC):
         res.groups = group_frame(names, space.groups, groups if self.gives_groups else None)
         return res
 
+    gives_sobol: ClassVar[bool] = True
+    """Whether the method estimates Sobol indices at all (HSIC screening does not: its rows carry other measures)."""
     gives_groups: ClassVar[bool] = False
     """Whether ``_analyze`` returns group indices (``PartialIndices.groups``) for a space with groups."""
 

@@ -57,6 +57,7 @@ class HSIC(GsaMethod):
 
     defaults = {"n": 200, "permutations": 500, "alpha": 0.05, "seed": 0}
     gives_st = False
+    gives_sobol = False
 
     def check_options(self, space: ParameterSpace, opts: dict[str, Any]) -> None:
         check_int(self.name, "n", opts["n"], 10, 5000)
