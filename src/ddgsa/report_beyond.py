@@ -42,24 +42,27 @@ def group_table(result: "StudyResult") -> pd.DataFrame:
 
 
 def plot_groups(rows: pd.DataFrame) -> Any:
-    """Closed (S_closed) and total (ST) index of each group, one panel per output, error bars the bounds."""
+    """Closed (S_closed) and total (ST) index of each group and method, one panel per output, error bars
+    the bounds; groups down the y axis (``group (method)``), so long names read without rotation."""
     import matplotlib.pyplot as plt
 
     outputs = list(dict.fromkeys(rows["output"]))
-    fig, axes = plt.subplots(1, len(outputs), figsize=(3.2 * len(outputs) + 1, 3.2), squeeze=False)
+    n = int((rows["output"] == outputs[0]).sum())
+    fig, axes = plt.subplots(1, len(outputs), figsize=(3.6 * len(outputs) + 1.5, 0.35 * n + 1.2), squeeze=False,
+                             sharey=True)
     for ax, out in zip(axes[0], outputs):
         g = rows[rows["output"] == out]
-        labels = [f"{m}\n{grp}" for m, grp in zip(g["method"], g["group"])]
-        x = np.arange(len(g))
+        y = np.arange(len(g))
         for k, (q, color) in enumerate((("S_closed", "tab:blue"), ("ST", "tab:orange"))):
             err = g[f"{q}_conf"].to_numpy(float)
-            ax.bar(x + (k - 0.5) * 0.38, g[q], 0.38, label=q, color=color,
-                   yerr=np.where(np.isfinite(err), err, 0.0), capsize=2)
-        ax.set_xticks(x, labels, rotation=45, ha="right", fontsize=8)
+            ax.barh(y + (k - 0.5) * 0.38, g[q], 0.38, label=q, color=color,
+                    xerr=np.where(np.isfinite(err), err, 0.0), capsize=2)
+        ax.set_yticks(y, [f"{grp} ({m})" for grp, m in zip(g["group"], g["method"])], fontsize=8)
         ax.set_title(out, fontsize=9)
-        ax.set_ylim(0, 1.05)
-    axes[0][0].set_ylabel("group index [-]")
-    axes[0][0].legend(fontsize=8)
+        ax.set_xlim(0, 1.05)
+        ax.set_xlabel("group index [-]", fontsize=8)
+    axes[0][0].invert_yaxis()
+    axes[0][-1].legend(fontsize=8, loc="lower right")
     fig.tight_layout()
     return fig
 
