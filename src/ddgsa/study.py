@@ -714,7 +714,8 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
 
 
 def _validate_targets(where: str, spec: StudySpec, outputs: list[str]) -> None:
-    """Each target names an output of the study, its name is new, and no ``auto`` method runs beside it."""
+    """Each target names an output of the study, its name is new, and no ``auto`` method runs beside it;
+    targets, groups and correlations belong to ``kind: gsa``."""
     names = set(outputs)
     for i, t in enumerate(spec.target):
         if t.output not in outputs:
@@ -723,8 +724,9 @@ def _validate_targets(where: str, spec: StudySpec, outputs: list[str]) -> None:
         if name in names:
             raise StudyError(f"{where}: field 'target[{i}].name': {name!r} is already an output's name; set 'name'")
         names.add(name)
-    if spec.target and spec.kind != "gsa":
-        raise StudyError(f"{where}: field 'target': target outputs need kind: gsa")
+    for key in ("target", "groups", "correlation"):
+        if getattr(spec, key) and spec.kind != "gsa":
+            raise StudyError(f"{where}: field '{key}': needs kind: gsa (a {spec.kind} study does not analyse it)")
     if spec.target and any(m.method == "auto" for m in spec.methods):
         raise StudyError(f"{where}: field 'target': method 'auto' analyses the model's outputs only; use fixed "
                          "methods (saltelli, pce, hsic, mdrm) beside a target")

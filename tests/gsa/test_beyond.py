@@ -202,3 +202,15 @@ def test_hsic_matches_openturns() -> None:
     np.testing.assert_allclose(t["R2_HSIC"], np.array(est.getR2HSICIndices()), rtol=1e-8)
     est.setPermutationSize(1000)       # two permutation tests of 1000: p-values within 0.05 (2 sd)
     np.testing.assert_allclose(t["p_value"], np.array(est.getPValuesPermutation()), atol=0.05)
+
+
+def test_shapley_effects_of_ishigami_share_the_interaction_equally() -> None:
+    """Independent inputs: Sh_i = sum over the subsets u containing i of S_u / |u| (Owen 2014), so
+    Ishigami's Sh = (S1 + S13/2, S2, S13/2) = (0.436, 0.442, 0.122), S1 <= Sh <= ST."""
+    tf = ishigami()
+    res = ddgsa.sobol(tf.f, tf.space, method="shapley", n_v=4000, n_o=1000, n_i=3, seed=2)
+    t = res.indices
+    exact = np.array([_S1 + _S13 / 2, _S2, _S13 / 2])
+    assert np.all(np.abs(t["Sh"] - exact) <= t["Sh_conf"] + 0.01)
+    np.testing.assert_allclose(t["Sh"], exact, atol=0.04)
+    assert np.all(np.abs(t["ST"] - tf.ST) <= t["ST_conf"] + 0.01)     # independent total = ordinary ST here
