@@ -39,6 +39,11 @@ from ddgsa.errors import OutputFolderError
 INDEX_VARS = {"S1": "first-order Sobol index", "ST": "total Sobol index",
               "S1_conf": "error estimate of S1 (bound or bootstrap half-width)",
               "ST_conf": "error estimate of ST (bound or bootstrap half-width)"}
+EXTRA_INDEX_VARS = {"Sh": "Shapley effect (dependent inputs)", "Sh_conf": "bootstrap half-width of Sh",
+                    "HSIC": "HSIC V-statistic of the standardised output", "R2_HSIC": "normalised HSIC",
+                    "p_value": "permutation-test p-value of independence (HSIC)",
+                    "screened_in": "1 where p_value < alpha (HSIC screening)"}
+"""Per-row quantities some methods add (shapley, hsic): exported where the table has them."""
 FAULT_VARS = {"pod": "probability of detection at the false-alarm rate", "pod_low": "lower end of the POD interval",
               "pod_high": "upper end of the POD interval", "auc": "ROC area under the curve",
               "auc_low": "lower end of the AUC interval", "auc_high": "upper end of the AUC interval",
@@ -70,10 +75,11 @@ def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataF
     idx = indices.copy()
     idx["trusted"] = idx["trusted"].astype(str).str.lower().eq("true").astype("int8")
     key = ["scene", "output", "parameter", "method"]
-    cube = idx.set_index(key)[[*INDEX_VARS, "trusted"]]
+    extra = {k: v for k, v in EXTRA_INDEX_VARS.items() if k in idx}
+    cube = idx.set_index(key)[[*INDEX_VARS, *extra, "trusted"]]
     ds = xr.Dataset.from_dataframe(cube)
     ds["n_evals"] = xr.DataArray.from_series(idx.groupby(["scene", "output", "method"])["n_evals"].first())
-    for name, meaning in INDEX_VARS.items():
+    for name, meaning in {**INDEX_VARS, **extra}.items():
         ds[name].attrs = {"units": "1", "long_name": meaning}
     ds["n_evals"].attrs = {"units": "1", "long_name": "model evaluations the method spent in the scene"}
     scenes = idx.groupby("scene")[scene_fields].first() if scene_fields else None
@@ -157,7 +163,7 @@ def folder_dataset(folder: Path) -> xr.Dataset:
         return pd.read_csv(p) if p.is_file() and p.stat().st_size else None
 
     meta = {"study", "scene", "method", "output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted",
-            "n_evals", "output_unit", "source"}
+            "n_evals", "output_unit", "source", *EXTRA_INDEX_VARS}
     fields = [c for c in indices.columns if c not in meta]
     prov = read_json(folder / "provenance.json")
     attrs = {k: v for k, v in {"study": prov.get("study") or folder.name,

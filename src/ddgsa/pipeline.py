@@ -33,6 +33,7 @@ from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.gsa.result import SobolResult
+from ddgsa.gsa.target import with_targets
 from ddgsa.models import ImplausibleOutputWarning
 from ddgsa.models import get as get_model
 from ddgsa.models.auto import pilot_choice, pilot_scene
@@ -461,8 +462,9 @@ def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Desig
     assert study.space is not None
     pooled, _ = plan.blocks["gsa"]
     rows, diag_rows, moment_rows = [], [], []
+    raw = outputs
     for k, ps in enumerate(plan.scenes):
-        y = plan.values(store, "gsa", ps, outputs, study.spec.scenes.aggregate)
+        y, outputs = with_targets(plan.values(store, "gsa", ps, raw, study.spec.scenes.aggregate), raw, study.targets)
         ys = [y[_row_index(pooled, design.points)] for _, design in designs]
         scene_results = [get_method(name).analyze(study.space, design, yd, outputs=outputs)
                          for (name, design), yd in zip(designs, ys)]
@@ -512,7 +514,7 @@ def pooled_crosscheck(study: Study, designs: list[tuple[str, Design]], x: np.nda
     """The sparse PCE on every point of the scene (:mod:`ddgsa.gsa.pooled`), when it is not one of
     the study's own methods again: the study has M-DRM (whose cut lines no sampling method uses)
     or several designs."""
-    if not designs or (len(designs) == 1 and designs[0][0] != "mdrm"):
+    if not designs or (len(designs) == 1 and designs[0][0] != "mdrm") or (study.space and study.space.dependent):
         return []
     assert study.space is not None
     tol = min(d.options.get("tolerance", DEFAULT_TOLERANCE) for _, d in designs)

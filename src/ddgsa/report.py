@@ -24,6 +24,7 @@ from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from ddgsa.report_beyond import SHAPLEY_ADVICE, beyond_markdown, group_table, plot_groups, sobol_rows
 from ddgsa.confirm import advice as confirm_advice, pair_status  # noqa: E402
 from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.result import draw_index_bars  # noqa: E402
@@ -42,7 +43,7 @@ PNG_METADATA = {"Software": None}
 def output_info(result: StudyResult) -> dict[str, ModelOutput]:
     """The declared outputs of the study's model (undeclared names get no unit)."""
     model = result.study.make_model()
-    return {o: result.study.output_declaration(model, o) for o in result.study.outputs}
+    return {o: result.study.output_declaration(model, o) for o in result.study.analysed_outputs}
 
 
 def write_report(result: StudyResult, out: Path) -> list[Path]:
@@ -83,9 +84,15 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
         if len(acc):
             save_csv(acc, "accuracy.csv")
             save_fig(plot_agreement(result.indices), "mdrm_vs_crosscheck.png")
-        for scene in sorted(result.indices["scene"].unique()):
-            save_fig(plot_scene_bars(result.indices[result.indices["scene"] == scene], info, result.study.scene_fields),
+        sobol = sobol_rows(result.indices)
+        for scene in sorted(sobol["scene"].unique()):
+            save_fig(plot_scene_bars(sobol[sobol["scene"] == scene], info, result.study.scene_fields),
                      f"bars_scene{scene}.png")
+        groups = group_table(result)
+        if len(groups):
+            save_csv(groups, "groups.csv")
+            for scene in sorted(groups["scene"].unique()):
+                save_fig(plot_groups(groups[groups["scene"] == scene]), f"groups_scene{scene}.png")
         if result.indices["scene"].nunique() > 1:
             for method in result.indices["method"].unique():
                 save_fig(plot_heatmap(result.indices[result.indices["method"] == method], info,
@@ -140,9 +147,9 @@ def problems(result: StudyResult) -> list[str]:
     study's sample -- has nothing to rank and is not counted), failed sweep evaluations. Empty
     when all is well."""
     out = []
-    if len(result.indices):
-        rows = result.indices.assign(ok=result.indices["trusted"].astype(bool)
-                                     | result.indices.get("rank_confirmed", False))
+    sobol = sobol_rows(result.indices)
+    if len(sobol):
+        rows = sobol.assign(ok=sobol["trusted"].astype(bool) | sobol.get("rank_confirmed", False))
         ok = rows.groupby(["output", "scene", "method"], sort=False)["ok"].all()
         any_ok = ok.groupby(level=["output", "scene"], sort=False).any()
         mom = result.moments
@@ -156,9 +163,13 @@ def problems(result: StudyResult) -> list[str]:
                                  & (d["severity"] == "untrusted") & d["scene"].isin(scenes)]["name"])) if len(d) else []
             failed = _first_failure(result, scenes)
             # indices over failed evaluations are refused whatever the design: the way forward is the failures
-            way = ("no design confirms indices over failed evaluations: remove their cause (narrow the "
-                   "parameters' support away from the failing points; `ddgsa validate` checks the support)"
-                   if failed and "nonfinite_values" in names else confirm_advice(result, output, scenes, _tolerance(result)))
+            if failed and "nonfinite_values" in names:
+                way = ("no design confirms indices over failed evaluations: remove their cause (narrow the "
+                       "parameters' support away from the failing points; `ddgsa validate` checks the support)")
+            elif getattr(getattr(result.study, "space", None), "dependent", False):
+                way = SHAPLEY_ADVICE
+            else:
+                way = confirm_advice(result, output, scenes, _tolerance(result))
             out.append(f"output {output!r}: no method's indices are confirmed (trusted or rank-confirmed) in "
                        f"{_scenes(scenes)}" + (f" ({', '.join(names)})" if names else "") + failed + "; " + way)
     if result.sweep is not None and result.sweep["error"].notna().any():
@@ -471,7 +482,7 @@ def _mark(trusted: bool, rank_confirmed: bool) -> str:
 
 def _confirmed_section(result: StudyResult) -> list[str]:
     """The share of (scene, output) pairs confirmed and the runs spent on them."""
-    st = pair_status(result.indices)
+    st = pair_status(sobol_rows(result.indices))
     n_runs = result.provenance.get("evaluations", {}).get("total", len(result.evaluations))
     return [f"Confirmed: {int(st['confirmed'].sum())} of {len(st)} (scene, output) pairs "
             f"({int(st['trusted'].sum())} with every value trusted, the rest rank-confirmed) at a cost of "
@@ -656,7 +667,8 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
         mom = {(r["scene"], r["output"]): r for r in (result.moments.to_dict("records")
                                                       if result.moments is not None else [])}
         tols = {res.method: res.options.get("tolerance") for _, res in result.results}
-        lines += ["## Parameters ranked by total index (ST, with S1)", "",
+        ranked = len(sobol_rows(result.indices)) > 0          # HSIC-only studies rank nothing
+        lines += [] if not ranked else ["## Parameters ranked by total index (ST, with S1)", "",
                   "trusted = every index of the row (S1 and ST) within ±tolerance (absolute) of the truth, "
                   "by the method's own error estimate (docs/methods.md: \"When M-DRM is not to be trusted\"); "
                   "a method is `yes` when all its rows are. rank confirmed = every row trusted or placed by its "
@@ -664,8 +676,8 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                   "an untrusted value whose place is confirmed, `?` one that is neither. A method's runs (indices.csv "
                   "`n_evals`) count its whole design, any check sample of its own included; the evaluation count "
                   "above counts each distinct point once, as methods share equal points.", ""]
-        lines += _confirmed_section(result)
-        for (scene, out), g in result.indices.groupby(["scene", "output"]):
+        lines += _confirmed_section(result) if ranked else []
+        for (scene, out), g in sobol_rows(result.indices).groupby(["scene", "output"]):
             fields = scene_text({f: g[f].iloc[0] for f in result.study.scene_fields})
             lines.append(f"### scene {scene} ({fields}) - `{out}` [{info.get(out, declared(out)).unit or '?'}]")
             lines.append("")
@@ -689,6 +701,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
             lines.append("")
         lines += no_effect_lines(result)
         lines += signal_summary_lines(result.signal_generalised)
+        lines += beyond_markdown(result)
         logs = [(ps, res) for ps, res in result.results if res.method == "auto"]
         if logs:
             lines += ["## `method: auto` decisions", ""]

@@ -1,4 +1,4 @@
-"""Parameter spaces: named, independent uncertain inputs and their distributions.
+"""Parameter spaces: named uncertain inputs, their distributions, groups and correlations.
 
 A :class:`ParameterSpace` holds :class:`Parameter` objects, each backed by a
 chaospy distribution. All sampling goes through our own uniforms (numpy
@@ -23,12 +23,20 @@ triangular    ``low``, ``mode``, ``high``                  ``nominal``, ``spread
 for uniform and triangular (mode at nominal), ``std = spread |nominal|`` for
 normal and truncated normal. ``dist`` defaults to ``uniform``. Optional keys:
 ``nominal`` (else the mean), ``unit``, ``description``.
+
+**Groups** (``groups={"front_bearing": ["k_front_y", "k_front_z"]}``) name disjoint sets of
+parameters whose closed and total Sobol indices methods report beside the per-parameter ones
+(:mod:`ddgsa.gsa.groups`). **Correlation** (``correlation=[("a", "b", 0.5)]``) couples the
+inputs by a Gaussian copula: ``z ~ N(0, R)``, ``x_i = F_i^-1(Phi(z_i))``, with ``R`` the
+correlation matrix of the normal scores (not of ``x``; the two agree for normal inputs and
+differ by under 0.02 for uniform ones), which must be positive definite. Methods that assume
+independent inputs refuse a correlated space (:mod:`ddgsa.gsa.shapley` handles it).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any, Literal
@@ -37,7 +45,7 @@ import chaospy
 import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
-from scipy.stats import qmc
+from scipy.stats import norm, qmc
 
 from ddgsa.errors import SpaceError
 
@@ -243,7 +251,7 @@ class Parameter:
 
 @dataclass(frozen=True)
 class ParameterSpace:
-    """Named, independent uncertain parameters.
+    """Named uncertain parameters, with optional groups and Gaussian-copula correlations.
 
     Examples
     --------
@@ -259,6 +267,10 @@ class ParameterSpace:
     """
 
     parameters: tuple[Parameter, ...]
+    groups: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    """Named disjoint groups of parameters (closed and total group indices are reported for them)."""
+    correlation: tuple[tuple[str, str, float], ...] = ()
+    """Gaussian-copula correlations ``(a, b, rho)`` of the normal scores; pairs not listed are 0."""
     _index: dict[str, int] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -269,13 +281,34 @@ class ParameterSpace:
         if dupes:
             raise SpaceError(f"duplicate parameter name(s): {dupes}")
         object.__setattr__(self, "_index", {n: i for i, n in enumerate(names)})
+        object.__setattr__(self, "groups", _check_groups(self.groups, names))
+        object.__setattr__(self, "correlation", _check_correlation(self.correlation, names))
 
     @classmethod
-    def from_dict(cls, specs: Mapping[str, Mapping[str, Any]]) -> "ParameterSpace":
-        """Build a space from ``{name: spec}`` (see the module docstring for specs)."""
+    def from_dict(cls, specs: Mapping[str, Mapping[str, Any]],
+                  groups: Mapping[str, Iterable[str]] | None = None,
+                  correlation: Iterable[Iterable[Any]] | None = None) -> "ParameterSpace":
+        """Build a space from ``{name: spec}`` (see the module docstring for specs).
+
+        Parameters
+        ----------
+        specs : mapping of str to mapping
+            One distribution specification per parameter.
+        groups : mapping of str to list of str, optional
+            Group name -> its parameters (disjoint, at least one each).
+        correlation : list of (str, str, float), optional
+            Gaussian-copula correlations of pairs of parameters, each in (-1, 1); the resulting
+            matrix must be positive definite.
+
+        Raises
+        ------
+        SpaceError
+            Naming the field (``groups`` / ``correlation``), the entry and what is allowed.
+        """
         if not isinstance(specs, Mapping):
             raise SpaceError(f"a parameter space is a mapping of name -> spec, got {type(specs).__name__}")
-        return cls(tuple(Parameter.from_spec(n, s) for n, s in specs.items()))
+        return cls(tuple(Parameter.from_spec(n, s) for n, s in specs.items()),
+                   groups=dict(groups or {}), correlation=tuple(correlation or ()))  # type: ignore[arg-type]
 
     @classmethod
     def from_parameters(cls, parameters: Iterable[Parameter]) -> "ParameterSpace":
@@ -283,8 +316,27 @@ class ParameterSpace:
         return cls(tuple(parameters))
 
     def to_dict(self) -> dict[str, dict[str, Any]]:
-        """Canonical ``{name: spec}``; ``ParameterSpace.from_dict(space.to_dict()) == space``."""
+        """Canonical ``{name: spec}``; ``ParameterSpace.from_dict(space.to_dict()) == space`` for a space
+        without groups and correlation (pass those again as ``groups=``, ``correlation=``)."""
         return {p.name: p.to_spec() for p in self.parameters}
+
+    @property
+    def dependent(self) -> bool:
+        """Whether any pair of inputs is correlated."""
+        return any(rho != 0.0 for _, _, rho in self.correlation)
+
+    @cached_property
+    def correlation_matrix(self) -> NDArray[np.float64]:
+        """Correlation matrix ``R`` (dim, dim) of the normal scores (the identity when independent)."""
+        return _correlation_matrix(self.correlation, self.names)
+
+    def group_members(self) -> list[tuple[str, list[int]]]:
+        """``(group, column indices)`` of every named group, in the order given."""
+        return [(g, [self._index[n] for n in members]) for g, members in self.groups.items()]
+
+    def from_normal(self, z: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Map normal scores ``z`` (n, dim) to parameter values: ``x_i = F_i^-1(Phi(z_i))``."""
+        return np.column_stack([p.ppf(norm.cdf(z[:, i])) for i, p in enumerate(self.parameters)])
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -321,11 +373,16 @@ class ParameterSpace:
         return chaospy.J(*(p.distribution for p in self.parameters))
 
     def ppf(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Map unit-hypercube points ``u`` (n, dim) to parameter values (n, dim)."""
+        """Map unit-hypercube points ``u`` (n, dim) to parameter values (n, dim): each column by
+        its inverse CDF, after the Gaussian copula's coupling ``z = L Phi^-1(u)`` (``R = L L^T``)
+        when the space is correlated."""
         u = np.atleast_2d(np.asarray(u, dtype=float))
         if u.shape[1] != self.dim:
             raise SpaceError(f"expected points with {self.dim} columns ({', '.join(self.names)}), "
                              f"got shape {u.shape}")
+        if self.dependent:
+            z = norm.ppf(np.clip(u, _U_EPS, 1.0 - _U_EPS)) @ np.linalg.cholesky(self.correlation_matrix).T
+            return self.from_normal(z)
         return np.column_stack([p.ppf(u[:, i]) for i, p in enumerate(self.parameters)])
 
     def unit_sample(self, n: int, seed: int | np.random.SeedSequence = 0,
@@ -411,6 +468,73 @@ class ParameterSpace:
             raise SpaceError(f"SALib problem: names ({len(names)}), bounds ({len(bounds)}), dists ({len(dists)}) "
                              f"and num_vars ({problem.get('num_vars', len(names))}) must agree")
         return cls(tuple(Parameter.from_spec(n, _salib_spec(n, d, b)) for n, d, b in zip(names, dists, bounds)))
+
+
+def _check_groups(groups: Any, names: list[str]) -> dict[str, tuple[str, ...]]:
+    """Validated groups: a mapping of identifier -> non-empty list of known, distinct parameters, disjoint."""
+    if not isinstance(groups, Mapping):
+        raise SpaceError(f"groups: a mapping of group name -> list of parameters, got {type(groups).__name__}")
+    out: dict[str, tuple[str, ...]] = {}
+    owner: dict[str, str] = {}
+    for g, members in groups.items():
+        if not isinstance(g, str) or not g.isidentifier():
+            raise SpaceError(f"groups: group name {g!r} must be an identifier (letters, digits, _)")
+        if g in names:
+            raise SpaceError(f"groups: group name {g!r} is also a parameter's name; choose another")
+        if isinstance(members, str) or not isinstance(members, Iterable):
+            raise SpaceError(f"groups.{g}: a list of parameter names, got {members!r}")
+        members = [str(m) for m in members]
+        if not members:
+            raise SpaceError(f"groups.{g}: an empty group; give at least one parameter")
+        for m in members:
+            if m not in names:
+                raise SpaceError(f"groups.{g}: {m!r} is not a parameter of the space; known: {', '.join(names)}")
+            if m in owner:
+                raise SpaceError(f"groups.{g}: {m!r} is already in group {owner[m]!r} (groups must be disjoint)")
+            owner[m] = g
+        out[g] = tuple(members)
+    return out
+
+
+def _check_correlation(pairs: Any, names: list[str]) -> tuple[tuple[str, str, float], ...]:
+    """Validated ``(a, b, rho)`` entries whose correlation matrix is positive definite."""
+    if isinstance(pairs, (str, Mapping)) or not isinstance(pairs, Iterable):
+        raise SpaceError(f"correlation: a list of [parameter, parameter, rho] entries, got {pairs!r}")
+    out: list[tuple[str, str, float]] = []
+    seen: set[frozenset[str]] = set()
+    for k, entry in enumerate(pairs):
+        e = list(entry) if isinstance(entry, Iterable) and not isinstance(entry, (str, Mapping)) else None
+        if e is None or len(e) != 3:
+            raise SpaceError(f"correlation[{k}]: an entry is [parameter, parameter, rho], got {entry!r}")
+        a, b = str(e[0]), str(e[1])
+        for n in (a, b):
+            if n not in names:
+                raise SpaceError(f"correlation[{k}]: {n!r} is not a parameter of the space; known: {', '.join(names)}")
+        if a == b:
+            raise SpaceError(f"correlation[{k}]: a parameter is not correlated with itself ({a!r}, {a!r})")
+        if frozenset((a, b)) in seen:
+            raise SpaceError(f"correlation[{k}]: the pair ({a!r}, {b!r}) is given twice")
+        seen.add(frozenset((a, b)))
+        rho = _as_float(f"{a}-{b}", "rho", e[2])
+        if not -1.0 < rho < 1.0:
+            raise SpaceError(f"correlation[{k}]: rho of ({a!r}, {b!r}) must lie in (-1, 1), got {rho}")
+        out.append((a, b, rho))
+    matrix = _correlation_matrix(tuple(out), names)
+    low = float(np.linalg.eigvalsh(matrix).min())
+    if low <= 1e-10:
+        raise SpaceError(f"correlation: the correlation matrix is not positive definite (smallest eigenvalue "
+                         f"{low:.3g}); the pairs {[(a, b, r) for a, b, r in out]} contradict each other -- "
+                         "lower the magnitudes")
+    return tuple(out)
+
+
+def _correlation_matrix(pairs: tuple[tuple[str, str, float], ...], names: Sequence[str]) -> NDArray[np.float64]:
+    """The symmetric matrix with unit diagonal and ``rho`` at every listed pair."""
+    index = {n: i for i, n in enumerate(names)}
+    matrix = np.eye(len(names))
+    for a, b, rho in pairs:
+        matrix[index[a], index[b]] = matrix[index[b], index[a]] = rho
+    return matrix
 
 
 _SALIB_ARGS = {"unif": ("uniform", ("low", "high")), "norm": ("normal", ("mean", "std")),

@@ -49,6 +49,7 @@ from pydantic_core import InitErrorDetails, PydanticCustomError
 from ddgsa.errors import DdgsaError, StudyError, clip, unknown_name_message
 from ddgsa.gsa.auto import resolve_auto_options
 from ddgsa.gsa.base import METHODS, get_method
+from ddgsa.gsa.target import Target
 from ddgsa.loads.scene import Scene
 from ddgsa.models import MODELS
 from ddgsa.models import get as get_model
@@ -64,6 +65,10 @@ _LATER_DEFAULTS: dict[tuple[str, str], Any] = {("scenes", "loads"): {"fidelity":
                                                ("fault", "design"): "population"}
 """Study fields added in the third stage, with their defaults: left out of :attr:`Study.digest` at
 the default (the scene's rotor aerodynamics; the fault study's design)."""
+
+
+_LATER_EMPTY = ("groups", "correlation", "target")
+"""Top-level study fields added in the fourth stage: left out of :attr:`Study.digest` when empty."""
 
 
 class StudyWarning(UserWarning):
@@ -299,6 +304,31 @@ class FaultSpec(BaseModel):
         return self.faulty.levels() if isinstance(self.faulty, FaultRange) else list(self.faulty)
 
 
+class TargetSpec(BaseModel):
+    """One entry of ``target:`` -- an output transformed to its part beyond a limit (:mod:`ddgsa.gsa.target`)."""
+
+    model_config = _STRICT
+    output: str = Field(description="the output transformed (one of the study's outputs)")
+    above: float | None = Field(None, description="limit whose exceedance counts [the output's unit in the study]")
+    below: float | None = Field(None, description="limit whose undershoot counts (instead of above)")
+    kind: Literal["indicator", "excess"] = Field("indicator", description="indicator 1{y > limit} [-] or excess "
+                                                                          "max(y - limit, 0) [output unit]")
+    name: str | None = Field(None, pattern=r"^[A-Za-z_][A-Za-z0-9_]*$",
+                             description="name of the transformed output (default <output>_exceeds, _excess, ...)")
+
+    @model_validator(mode="after")
+    def _one_limit(self) -> "TargetSpec":
+        if (self.above is None) == (self.below is None):
+            raise ValueError("give exactly one limit: 'above' or 'below'")
+        return self
+
+    def target(self) -> Target:
+        """The transform."""
+        above = self.above is not None
+        return Target(self.output, float(self.above if above else self.below),  # type: ignore[arg-type]
+                      above, self.kind, self.name or "")
+
+
 class RunSpec(BaseModel):
     """``run:`` -- parallel options (overridden by the CLI's ``--jobs`` / ``--backend``)."""
 
@@ -318,6 +348,15 @@ class StudySpec(BaseModel):
     kind: Literal["gsa", "sweep", "fault"] = "gsa"
     model: ModelSpec
     parameters: dict[str, dict[str, Any]] = Field(default_factory=dict)
+    groups: dict[str, list[str]] = Field(
+        default_factory=dict, description="named disjoint groups of uncertain parameters; methods that can "
+                                          "(mdrm, saltelli, pce) report their closed and total indices")
+    correlation: list[tuple[str, str, float]] = Field(
+        default_factory=list, description="Gaussian-copula correlations [parameter, parameter, rho] of the "
+                                          "uncertain parameters (positive definite); needs method shapley")
+    target: list[TargetSpec] = Field(
+        default_factory=list, description="outputs transformed to their part beyond a limit (a mapping or a "
+                                          "list); analysed beside the outputs (target sensitivity)")
     fixed: dict[str, float | str | dict[str, Any]] = Field(
         default_factory=dict, description="parameter values held fixed: a number in the model's unit, a quantity "
                                           "('12 kN/m') or {value, unit}")
@@ -357,6 +396,12 @@ class StudySpec(BaseModel):
             else:
                 names.append(entry)
         return {**data, "outputs": names, "output_units": units}
+
+    @field_validator("target", mode="before")
+    @classmethod
+    def _one_target(cls, v: Any) -> Any:
+        """``target: {output, above}`` is a list of one."""
+        return [v] if isinstance(v, dict) else v
 
     @field_validator("scenes", mode="wrap")
     @classmethod
@@ -439,6 +484,9 @@ class Study:
         studies were committed (:data:`_LATER_DEFAULTS`) count only when they differ from their
         default, so a study written before them keeps its digest."""
         data = self.spec.model_dump(mode="json")
+        for key in _LATER_EMPTY:
+            if not data.get(key):
+                data.pop(key, None)
         for (part, field), default in _LATER_DEFAULTS.items():
             if isinstance(data.get(part), dict) and data[part].get(field) == default:
                 del data[part][field]
@@ -476,6 +524,16 @@ class Study:
         """Outputs to analyse (all of the model's when the study lists none)."""
         return self.spec.outputs or list(self.make_model().outputs)
 
+    @property
+    def targets(self) -> list[Target]:
+        """The study's target transforms (``target:``)."""
+        return [t.target() for t in self.spec.target]
+
+    @property
+    def analysed_outputs(self) -> list[str]:
+        """The outputs and then the target-transformed outputs: the rows of the indices table."""
+        return self.outputs + [t.name for t in self.targets]
+
     def output_factors(self, outputs: list[str]) -> np.ndarray:
         """Per output, the factor from the model's SI unit to the unit the study reports it in (1 by default)."""
         if not self.spec.output_units:
@@ -486,6 +544,10 @@ class Study:
 
     def output_declaration(self, model: Any, name: str) -> ModelOutput:
         """The declaration of output ``name`` in the unit the study reports it in (range scaled)."""
+        for t in self.targets:
+            if name == t.name:
+                base = self.output_declaration(model, t.output)
+                return ModelOutput(name, "-" if t.kind == "indicator" else base.unit, t.description)
         decl = model.output(name) if name in model.outputs else declared(name)
         unit = self.spec.output_units.get(name)
         if unit is None:
@@ -615,6 +677,11 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             space = ParameterSpace.from_dict(spec.parameters)
         except DdgsaError as exc:
             raise StudyError(f"{where}: field 'parameters': {exc}") from None
+        try:
+            space = ParameterSpace.from_dict(spec.parameters, groups=spec.groups, correlation=spec.correlation)
+        except DdgsaError as exc:       # the message starts with the field: groups.<g> or correlation[k]
+            head, _, rest = str(exc).partition(": ")
+            raise StudyError(f"{where}: field '{head}': {rest}") from None
         for p in space.parameters:
             decl = model.parameter(p.name)
             lo, hi = p.support
@@ -628,6 +695,9 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
                       f"{problem}; every evaluation near it will fail", StudyWarning, stacklevel=2)
     for i, m in enumerate(spec.methods):
         if m.method == "auto":
+            if space is not None and space.dependent:
+                raise StudyError(f"{where}: field 'methods[{i}]': method 'auto' escalates through methods that "
+                                 "assume independent inputs, and 'correlation' couples them; use method 'shapley'")
             try:
                 resolve_auto_options(space, m.options) if space is not None else None
             except DdgsaError as exc:
@@ -655,7 +725,27 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
                 raise StudyError(f"{where}: field 'signals[{i}]' (scene {k}: {scene_text(fields)}): {exc}") from None
     if spec.fault is not None:
         _validate_fault(where, spec, model)
+    _validate_targets(where, spec, list(spec.outputs or model.outputs))
     return Study(spec=spec, space=space, path=path, text=text)
+
+
+def _validate_targets(where: str, spec: StudySpec, outputs: list[str]) -> None:
+    """Each target names an output of the study, its name is new, and no ``auto`` method runs beside it;
+    targets, groups and correlations belong to ``kind: gsa``."""
+    names = set(outputs)
+    for i, t in enumerate(spec.target):
+        if t.output not in outputs:
+            raise StudyError(f"{where}: field 'target[{i}].output': " + unknown_name_message("output", t.output, outputs))
+        name = t.target().name
+        if name in names:
+            raise StudyError(f"{where}: field 'target[{i}].name': {name!r} is already an output's name; set 'name'")
+        names.add(name)
+    for key in ("target", "groups", "correlation"):
+        if getattr(spec, key) and spec.kind != "gsa":
+            raise StudyError(f"{where}: field '{key}': needs kind: gsa (a {spec.kind} study does not analyse it)")
+    if spec.target and any(m.method == "auto" for m in spec.methods):
+        raise StudyError(f"{where}: field 'target': method 'auto' analyses the model's outputs only; use fixed "
+                         "methods (saltelli, pce, hsic, mdrm) beside a target")
 
 
 def _convert_units(where: str, spec: StudySpec, model: Any) -> None:

@@ -127,7 +127,7 @@ def test_options_are_validated() -> None:
         ddgsa.sobol(tf.f, tf.space, "mdrm", pionts=5)
     with pytest.raises(MethodError, match=r"'cut' names unknown parameter\(s\) \['x9'\]"):
         ddgsa.sobol(tf.f, tf.space, "mdrm", cut={"x9": 0.0})
-    with pytest.raises(MethodError, match="unknown GSA method 'sobolz'; known: fast, mdrm, pce"):
+    with pytest.raises(MethodError, match="unknown GSA method 'sobolz'; known: fast, hsic, mdrm, pce"):
         ddgsa.sobol(tf.f, tf.space, "sobolz")
 
 

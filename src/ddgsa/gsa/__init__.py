@@ -14,10 +14,11 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from ddgsa.gsa import mdrm, pce, salib  # noqa: F401  (register the methods)
+from ddgsa.gsa import hsic, mdrm, pce, salib, shapley  # noqa: F401  (register the methods)
 from ddgsa.gsa.auto import run_auto
 from ddgsa.gsa.base import METHODS, Design, GsaMethod, get_method, register
 from ddgsa.gsa.result import Diagnostic, SobolResult
+from ddgsa.errors import MethodError
 from ddgsa.space import ParameterSpace
 
 __all__ = ["METHODS", "Design", "Diagnostic", "GsaMethod", "SobolResult", "get_method", "register",
@@ -64,6 +65,9 @@ def sobol(f: VectorisedFunction, space: ParameterSpace, method: str = "mdrm", *,
     True
     """
     if method == "auto":
+        if space.dependent:
+            raise MethodError("method 'auto' escalates through methods that assume independent inputs, and the "
+                              "space is correlated; use method 'shapley'")
         return run_auto(f, space, list(outputs) if outputs is not None else None, **options)
     m = get_method(method)
     design = m.design(space, **options)

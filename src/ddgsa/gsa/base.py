@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import MethodError
 from ddgsa.registry import Registry
+from ddgsa.gsa.groups import GroupIndices, group_frame
 from ddgsa.gsa.result import Diagnostic, SobolResult
 from ddgsa.space import ParameterSpace
 
@@ -84,13 +85,26 @@ class GsaMethod(ABC):
     def design(self, space: ParameterSpace, **options: Any) -> Design:
         """The points this method needs on ``space`` with ``options``."""
         opts = self.resolve_options(options)
+        self.check_space(space)
         self.check_options(space, opts)
         return self._design(space, opts)
+
+    dependent_inputs: ClassVar[bool] = False
+    """Whether the method is valid for correlated inputs (only ``shapley`` is)."""
+
+    def check_space(self, space: ParameterSpace) -> None:
+        """Refuse a correlated space when the method assumes independent inputs, saying what to use."""
+        if space.dependent and not self.dependent_inputs:
+            pairs = ", ".join(f"{a}-{b} {rho:g}" for a, b, rho in space.correlation)
+            raise MethodError(f"method {self.name!r} assumes independent inputs, and the space correlates "
+                              f"{pairs}; use method 'shapley' (Shapley effects with full first-order and "
+                              "independent total indices, ddgsa.gsa.shapley), or drop 'correlation'")
 
     def n_points(self, space: ParameterSpace, **options: Any) -> int:
         """How many points :meth:`design` would return, without building it (options checked):
         a study's run size is estimated from it before any large design is allocated."""
         opts = self.resolve_options(options)
+        self.check_space(space)
         self.check_options(space, opts)
         return self._n_points(space, opts)
 
@@ -125,6 +139,9 @@ class GsaMethod(ABC):
         diags: list[Diagnostic] = []
         extras: dict[str, Any] = {}
         variance = np.where(constant, 0.0, np.nan)
+        n_groups = len(space.groups)
+        groups = GroupIndices(*(np.full((n_out, n_groups), np.nan) for _ in range(4)))
+        columns: dict[str, NDArray[np.float64]] = {}
         for j in np.flatnonzero(~finite):
             bad = int((~np.isfinite(y[:, j])).sum())
             diags.append(Diagnostic(
@@ -148,12 +165,26 @@ class GsaMethod(ABC):
             if "variance" in part.extras:
                 variance[cols] = part.extras["variance"] * scale ** 2
             extras = self.unscale_extras({k: v for k, v in part.extras.items() if k != "variance"}, shift, scale)
+            if part.groups is not None:
+                for name in ("S_closed", "ST", "S_closed_conf", "ST_conf"):
+                    getattr(groups, name)[cols] = getattr(part.groups, name)
+            for name, values in part.columns.items():
+                columns.setdefault(name, np.full((n_out, d), np.nan))[cols] = values
         extras["variance"] = variance
         diags += undefined_index_diagnostics(names, space.names, S1, ST, diags, self.gives_st)
-        return SobolResult.from_arrays(outputs=names, parameters=space.names, S1=S1, ST=ST,
-                                       S1_conf=S1c, ST_conf=STc, n_evals=design.n_points,
-                                       method=self.name, options=design.options,
-                                       diagnostics=diags, extras=extras, ST_error=st_err)
+        res = SobolResult.from_arrays(outputs=names, parameters=space.names, S1=S1, ST=ST,
+                                      S1_conf=S1c, ST_conf=STc, n_evals=design.n_points,
+                                      method=self.name, options=design.options,
+                                      diagnostics=diags, extras=extras, ST_error=st_err)
+        for name, values in columns.items():
+            res.indices[name] = values.ravel()
+        res.groups = group_frame(names, space.groups, groups if self.gives_groups else None)
+        return res
+
+    gives_sobol: ClassVar[bool] = True
+    """Whether the method estimates Sobol indices at all (HSIC screening does not: its rows carry other measures)."""
+    gives_groups: ClassVar[bool] = False
+    """Whether ``_analyze`` returns group indices (``PartialIndices.groups``) for a space with groups."""
 
     centre: ClassVar[bool] = True
     """Whether ``_analyze`` may see centred outputs (M-DRM may not: its surrogate is a product)."""
@@ -192,6 +223,10 @@ class PartialIndices:
     variance in the standardised units, becomes ``SobolResult.extras["variance"]`` in the output's own
     units (NaN where the method gives none; 0 for a constant output): the weights of the generalised
     indices of a signal (:mod:`ddgsa.gsa.signal`)."""
+    groups: GroupIndices | None = None
+    """Closed and total indices (n_outputs, n_groups) of the space's groups, where the method gives them."""
+    columns: dict[str, NDArray[np.float64]] = field(default_factory=dict)
+    """Further per-row quantities (n_outputs, n_params) added as columns of the table (e.g. ``Sh``)."""
 
 
 def standardise(y: NDArray[np.float64], centre: bool = True) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

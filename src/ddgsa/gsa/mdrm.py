@@ -67,6 +67,7 @@ from scipy.stats import chi2
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import (Design, GsaMethod, PartialIndices, check_fraction, check_int,
                             register)
+from ddgsa.gsa.groups import GroupIndices, product_form
 from ddgsa.gsa.result import Diagnostic
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance, error_diagnostics, surrogate_index_error
 from ddgsa.quadrature import gauss_rule
@@ -103,6 +104,7 @@ class MDRM(GsaMethod):
                 "near_zero": 0.01, "resolution_tol": 0.01}
 
     centre = False
+    gives_groups = True
 
     def unscale_extras(self, extras: dict[str, Any], shift: NDArray[np.float64],
                        scale: NDArray[np.float64]) -> dict[str, Any]:
@@ -167,10 +169,17 @@ class MDRM(GsaMethod):
         extras: dict[str, Any] = {"rho": rho.T, "theta": theta.T, "h_cut": h_c,
                                   "variance": _surrogate_variance(h_c, rho, var)}
         err_s1 = err_st = np.full_like(S1, np.nan)
+        groups = None
+        if space.groups:
+            closed, total = product_form(r, [m for _, m in space.group_members()])
+            groups = GroupIndices(closed, total, np.full_like(closed, np.nan), np.full_like(total, np.nan))
         if opts["check"] >= _MIN_CHECK:
             eps, r2 = _check_sample(space, design, y, rho, var)
             err_s1 = surrogate_index_error(S1, eps[:, None], orthogonal=True)
             err_st = surrogate_index_error(ST, eps[:, None], orthogonal=True)
+            if groups is not None:
+                groups.S_closed_conf = surrogate_index_error(groups.S_closed, eps[:, None], orthogonal=True)
+                groups.ST_conf = surrogate_index_error(groups.ST, eps[:, None], orthogonal=True)
             diags += error_diagnostics("mdrm_index_error", f"check sample of {opts['check']} points",
                                        outputs, space.names, err_s1, err_st, opts["tolerance"])
             extras.update({"check_r2": r2, "surrogate_eps": eps})
@@ -178,7 +187,8 @@ class MDRM(GsaMethod):
             diags.append(Diagnostic("mdrm_unchecked", f"check sample of {opts['check']} points (< {_MIN_CHECK}): "
                                     "the index error cannot be estimated, no row is trusted; set check >= 32",
                                     "untrusted"))
-        return PartialIndices(S1=S1, ST=ST, S1_conf=err_s1, ST_conf=err_st, diagnostics=diags, extras=extras)
+        return PartialIndices(S1=S1, ST=ST, S1_conf=err_s1, ST_conf=err_st, diagnostics=diags, extras=extras,
+                              groups=groups)
 
 
 def _resolve_cut(space: ParameterSpace, cut: Any) -> list[float]:

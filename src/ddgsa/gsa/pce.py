@@ -42,6 +42,7 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, GsaMethod, PartialIndices, check_choice, check_int, register
+from ddgsa.gsa.groups import GroupIndices, from_coefficients
 from ddgsa.gsa.result import Diagnostic
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance, error_diagnostics, surrogate_index_error
 from ddgsa.space import ParameterSpace
@@ -137,6 +138,7 @@ class PCE(GsaMethod):
     """
 
     defaults = {"order": 4, "fit": "regression", "n": None, "seed": 0, "tolerance": DEFAULT_TOLERANCE}
+    gives_groups = True
 
     def check_options(self, space: ParameterSpace, opts: dict[str, Any]) -> None:
         order = check_int(self.name, "order", opts["order"], 1, 30)
@@ -216,7 +218,13 @@ class PCE(GsaMethod):
         err_st = surrogate_index_error(ST, eps[:, None])
         diags += error_diagnostics("pce_index_error", why, outputs, space.names, err_s1, err_st,
                                    opts["tolerance"])
-        return PartialIndices(S1=S1, ST=ST, S1_conf=err_s1, ST_conf=err_st, diagnostics=diags, extras=extras)
+        groups = None
+        if space.groups:
+            closed, total = from_coefficients(alphas[1:], energy, [m for _, m in space.group_members()])
+            groups = GroupIndices(closed, total, surrogate_index_error(closed, eps[:, None]),
+                                  surrogate_index_error(total, eps[:, None]))
+        return PartialIndices(S1=S1, ST=ST, S1_conf=err_s1, ST_conf=err_st, diagnostics=diags, extras=extras,
+                              groups=groups)
 
 
 def _sparse_fit(psi: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -10,6 +10,8 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
+from ddgsa.gsa.groups import GROUP_COLUMNS
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
@@ -71,6 +73,10 @@ class SobolResult:
         What the method checked about its own validity.
     extras : dict
         Method-specific numbers (e.g. M-DRM's ``rho``/``theta``, PCE's LOO error).
+    groups : pandas.DataFrame
+        One row per (output, group) of the space's groups: ``output, group, members, S_closed,
+        S_closed_conf, ST, ST_conf`` (:mod:`ddgsa.gsa.groups`); empty when the space has no groups
+        or the method gives none.
     """
 
     indices: pd.DataFrame
@@ -79,6 +85,7 @@ class SobolResult:
     options: dict[str, Any] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
     extras: dict[str, Any] = field(default_factory=dict)
+    groups: pd.DataFrame = field(default_factory=lambda: pd.DataFrame(columns=GROUP_COLUMNS))
 
     @classmethod
     def from_arrays(cls, *, outputs: Sequence[str], parameters: Sequence[str],

@@ -38,6 +38,7 @@ from SALib.sample import sobol as sobol_sample
 
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, GsaMethod, PartialIndices, check_fraction, check_int, register
+from ddgsa.gsa.groups import GroupIndices
 from ddgsa.gsa.result import Diagnostic
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance, error_diagnostics
 from ddgsa.space import ParameterSpace
@@ -115,6 +116,7 @@ class Saltelli(_SalibMethod):
 
     defaults = {"n": 1024, **_COMMON}
     nested = True
+    gives_groups = True
 
     def check_options(self, space: ParameterSpace, opts: dict[str, Any]) -> None:
         super().check_options(space, opts)
@@ -123,12 +125,62 @@ class Saltelli(_SalibMethod):
             raise MethodError(f"method 'saltelli': option 'n' must be a power of two (Sobol' balance), got {n}")
 
     def _n_points(self, space: ParameterSpace, opts: dict[str, Any]) -> int:
-        return opts["n"] * (space.dim + 2)
+        return opts["n"] * (space.dim + 2 + len(_multi_groups(space)))
 
     def _design(self, space: ParameterSpace, opts: dict[str, Any]) -> Design:
         u = sobol_sample.sample(unit_problem(space.dim), opts["n"], calc_second_order=False,
                                 scramble=True, seed=np.random.default_rng(opts["seed"]))
+        d = space.dim
+        a, b = u[0::d + 2], u[d + 1::d + 2]
+        blocks = [u]
+        for cols in _multi_groups(space).values():      # AB_u: the group's columns from B, n runs each
+            ab = a.copy()
+            ab[:, cols] = b[:, cols]
+            blocks.append(ab)
+        u = np.vstack(blocks)
         return Design(self.name, space.ppf(u), opts, {"unit": u})
+
+    def _analyze(self, space: ParameterSpace, design: Design, y: NDArray[np.float64],
+                 outputs: list[str]) -> PartialIndices:
+        n, d = design.options["n"], space.dim
+        part = super()._analyze(space, design, y[:n * (d + 2)], outputs)
+        if space.groups:
+            part.groups = self._group_indices(space, design, y)
+        return part
+
+    def _group_indices(self, space: ParameterSpace, design: Design, y: NDArray[np.float64]) -> GroupIndices:
+        """Closed (SALib's grouped S1) and total indices of the named groups, by SALib's ``groups`` option
+        on the rows ``A, AB_u..., B`` (a one-member group's AB_u is the parameter's own AB_i)."""
+        o, n, d = design.options, design.options["n"], space.dim
+        multi = _multi_groups(space)
+        label = {i: g for g, cols in space.group_members() for i in cols}
+        names = list(dict.fromkeys(label.get(i, f"_{i}") for i in range(d)))   # SALib's group order
+        problem = {**unit_problem(d), "groups": [label.get(i, f"_{i}") for i in range(d)]}
+        base = y[:n * (d + 2)].reshape(n, d + 2, -1)
+        extra = y[n * (d + 2):].reshape(len(multi), n, -1)
+        ab = []
+        for g in names:
+            if g in multi:
+                ab.append(extra[list(multi).index(g)])
+            else:
+                i = next(i for i in range(d) if label.get(i, f"_{i}") == g)
+                ab.append(base[:, 1 + i])
+        grouped = np.concatenate([base[:, :1], np.stack(ab, axis=1), base[:, -1:]], axis=1)   # (n, G+2, k)
+        k, named = y.shape[1], [names.index(g) for g in space.groups]
+        out = [np.full((k, len(named)), np.nan) for _ in range(4)]
+        for j in range(k):
+            rows = grouped[:, :, j].ravel()
+            res = sobol_analyze.analyze(problem, rows, calc_second_order=False, num_resamples=o["num_resamples"],
+                                        conf_level=o["conf_level"], seed=np.random.default_rng(o["seed"]))
+            out[0][j], out[1][j] = np.asarray(res["S1"])[named], np.asarray(res["ST"])[named]
+            out[2][j], out[3][j] = np.asarray(res["S1_conf"])[named], np.asarray(res["ST_conf"])[named]
+            if n >= 4:                                  # half-sample difference, as for the parameters
+                half = sobol_analyze.analyze(problem, grouped[:n // 2, :, j].ravel(), calc_second_order=False,
+                                             num_resamples=10, conf_level=o["conf_level"],
+                                             seed=np.random.default_rng(o["seed"]))
+                out[2][j] = np.fmax(out[2][j], _CONVERGENCE_FACTOR * np.abs(out[0][j] - np.asarray(half["S1"])[named]))
+                out[3][j] = np.fmax(out[3][j], _CONVERGENCE_FACTOR * np.abs(out[1][j] - np.asarray(half["ST"])[named]))
+        return GroupIndices(out[0], out[1], out[2], out[3])
 
     def _salib_analyze(self, design: Design, y: NDArray[np.float64],
                        rng: np.random.Generator) -> dict[str, Any]:
@@ -220,6 +272,11 @@ class RbdFast(_SalibMethod):
         u = design.meta["unit"][:half]
         return rbd_analyze.analyze(unit_problem(u.shape[1]), u, y[:half], M=o["M"], num_resamples=10,
                                    conf_level=o["conf_level"], seed=rng)
+
+
+def _multi_groups(space: ParameterSpace) -> dict[str, list[int]]:
+    """The groups of two or more parameters (the ones Saltelli needs an extra matrix for), with their columns."""
+    return {g: cols for g, cols in space.group_members() if len(cols) > 1}
 
 
 def _negative_diagnostics(space: ParameterSpace, outputs: list[str], S1: NDArray[np.float64],

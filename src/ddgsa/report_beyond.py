@@ -1,0 +1,108 @@
+"""The report's tables and plot for what plain S1/ST do not show: group indices, Shapley effects
+and HSIC screening (:mod:`ddgsa.gsa.groups`, :mod:`ddgsa.gsa.shapley`, :mod:`ddgsa.gsa.hsic`).
+
+Shapley and HSIC columns are part of ``indices.csv``; group indices go to ``groups.csv`` (one
+row per scene, method, output and group) and ``groups_scene<k>.png``.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import pandas as pd
+
+from ddgsa.gsa.base import METHODS
+from ddgsa.gsa.groups import GROUP_COLUMNS
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ddgsa.pipeline import StudyResult
+
+
+SHAPLEY_ADVICE = ("the inputs are correlated, so only method shapley applies: raise its n_o (outer draws per "
+                  "subset; the bootstrap half-width falls as 1/sqrt(n_o)) and n_v")
+"""What a correlated study's unconfirmed output needs (the independent-input methods would be refused)."""
+
+
+def sobol_rows(indices: pd.DataFrame) -> pd.DataFrame:
+    """The rows of methods that estimate Sobol indices (screening rows, HSIC's, are judged by their p-values,
+    not by trust: they make no problem and take no place in the ranking)."""
+    if not len(indices):
+        return indices
+    screening = [m for m in indices["method"].unique() if m in METHODS and not METHODS.lookup(m).gives_sobol]
+    return indices[~indices["method"].isin(screening)]
+
+
+def group_table(result: "StudyResult") -> pd.DataFrame:
+    """Every method's group indices per scene: ``scene, method`` and :data:`GROUP_COLUMNS`."""
+    rows = [res.groups.assign(scene=ps.index, method=res.method) for ps, res in result.results if len(res.groups)]
+    if not rows:
+        return pd.DataFrame(columns=["scene", "method", *GROUP_COLUMNS])
+    return pd.concat(rows, ignore_index=True)[["scene", "method", *GROUP_COLUMNS]]
+
+
+def plot_groups(rows: pd.DataFrame) -> Any:
+    """Closed (S_closed) and total (ST) index of each group and method, one panel per output, error bars
+    the bounds; groups down the y axis (``group (method)``), so long names read without rotation."""
+    import matplotlib.pyplot as plt
+
+    outputs = list(dict.fromkeys(rows["output"]))
+    n = int((rows["output"] == outputs[0]).sum())
+    fig, axes = plt.subplots(1, len(outputs), figsize=(3.6 * len(outputs) + 1.5, 0.35 * n + 1.2), squeeze=False,
+                             sharey=True)
+    for ax, out in zip(axes[0], outputs):
+        g = rows[rows["output"] == out]
+        y = np.arange(len(g))
+        for k, (q, color) in enumerate((("S_closed", "tab:blue"), ("ST", "tab:orange"))):
+            err = g[f"{q}_conf"].to_numpy(float)
+            ax.barh(y + (k - 0.5) * 0.38, g[q], 0.38, label=q, color=color,
+                    xerr=np.where(np.isfinite(err), err, 0.0), capsize=2)
+        ax.set_yticks(y, [f"{grp} ({m})" for grp, m in zip(g["group"], g["method"])], fontsize=8)
+        ax.set_title(out, fontsize=9)
+        ax.set_xlim(0, 1.05)
+        ax.set_xlabel("group index [-]", fontsize=8)
+    axes[0][0].invert_yaxis()
+    axes[0][-1].legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    return fig
+
+
+def _pm(value: float, conf: float) -> str:
+    return f"{value:.3f}" + (f" ± {conf:.3f}" if np.isfinite(conf) else "")
+
+
+def beyond_markdown(result: "StudyResult") -> list[str]:
+    """``summary.md``'s sections on groups, Shapley effects and HSIC screening (empty when none ran)."""
+    lines: list[str] = []
+    groups = group_table(result)
+    if len(groups):
+        lines += ["## Groups: closed and total indices", "",
+                  "S_closed = what the group explains alone (its members' interactions among themselves included); "
+                  "ST = what it takes part in at all; ± the method's error bound (`groups.csv`).", "",
+                  "| scene | output | method | group (members) | S_closed | ST |", "|---|---|---|---|---|---|"]
+        lines += [f"| {r.scene} | `{r.output}` | {r.method} | {r.group} ({r.members}) | "
+                  f"{_pm(r.S_closed, r.S_closed_conf)} | {_pm(r.ST, r.ST_conf)} |" for r in groups.itertuples()]
+        lines.append("")
+    idx = result.indices
+    if "Sh" in idx and idx["Sh"].notna().any():
+        sh = idx[idx["Sh"].notna()]
+        lines += ["## Shapley effects (dependent inputs)", "",
+                  "Sh = the parameter's fair share of the variance, correlations included (the shares sum to 1); "
+                  "S1 = full first-order index (with what it is correlated with), ST = independent total index "
+                  "(beyond what it is correlated with); ± bootstrap half-width.", "",
+                  "| scene | output | parameter | Sh | S1 (full) | ST (independent) |", "|---|---|---|---|---|---|"]
+        lines += [f"| {r.scene} | `{r.output}` | {r.parameter} | {_pm(r.Sh, r.Sh_conf)} | {_pm(r.S1, r.S1_conf)} | "
+                  f"{_pm(r.ST, r.ST_conf)} |" for r in sh.sort_values(["scene", "output", "Sh"],
+                                                                      ascending=[True, True, False]).itertuples()]
+        lines.append("")
+    if "p_value" in idx and idx["p_value"].notna().any():
+        h = idx[idx["p_value"].notna()]
+        lines += ["## HSIC screening", "",
+                  "R2_HSIC = normalised dependence of the output on the parameter (0: independent); p = permutation-"
+                  "test p-value of independence; screened in where p < alpha.", "",
+                  "| scene | output | parameter | R2_HSIC | p-value | screened in |", "|---|---|---|---|---|---|"]
+        lines += [f"| {r.scene} | `{r.output}` | {r.parameter} | {r.R2_HSIC:.3f} | {r.p_value:.3f} | "
+                  f"{'yes' if r.screened_in else 'no'} |"
+                  for r in h.sort_values(["scene", "output", "R2_HSIC"], ascending=[True, True, False]).itertuples()]
+        lines.append("")
+    return lines
