@@ -31,6 +31,7 @@ from ddgsa.errors import DdgsaError, StudyError
 from ddgsa.gsa.auto import AutoSobol
 from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.escalate import Escalation
+from ddgsa.gsa.givendata import drawn_rows, given_data_s1
 from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.gsa.result import SobolResult
@@ -538,15 +539,22 @@ def _confirm(plan: _Plan, runs: Runs, designs: list[tuple[str, Design]], outputs
 
 def pooled_crosscheck(study: Study, designs: list[tuple[str, Design]], x: np.ndarray, y: np.ndarray,
                       outputs: list[str]) -> list[SobolResult]:
-    """The sparse PCE on every point of the scene (:mod:`ddgsa.gsa.pooled`), when it is not one of
-    the study's own methods again: the study has M-DRM (whose cut lines no sampling method uses)
-    or several designs."""
-    if not designs or (len(designs) == 1 and designs[0][0] != "mdrm"):
-        return []
+    """The cross-checks at zero extra runs: the sparse PCE on every point of the scene
+    (:mod:`ddgsa.gsa.pooled`), when it is not one of the study's own methods again (the study has
+    M-DRM, whose cut lines no sampling method uses, or several designs); and the given-data first-order
+    indices on every drawn point (:mod:`ddgsa.gsa.givendata`)."""
     assert study.space is not None
+    if not designs:
+        return []
     tol = min(d.options.get("tolerance", DEFAULT_TOLERANCE) for _, d in designs)
-    res = pooled_pce(study.space, x, y, outputs, tol)
-    return [res] if res is not None else []
+    out = []
+    if not (len(designs) == 1 and designs[0][0] != "mdrm"):
+        res = pooled_pce(study.space, x, y, outputs, tol)
+        if res is not None:
+            out.append(res)
+    drawn = np.unique(np.vstack([d.points[drawn_rows(d)] for _, d in designs]), axis=0)
+    given = given_data_s1(study.space, drawn, y[_row_index(x, drawn)], outputs, tol)
+    return out + ([given] if given is not None else [])
 
 
 def _row_index(pooled: np.ndarray, points: np.ndarray) -> np.ndarray:

@@ -30,7 +30,7 @@ def test_the_pipeline_adds_the_escalation_beside_the_methods(write_study, tmp_pa
     assert res.provenance["confirm"][0]["spent"] == 45
     assert res.provenance["evaluations"]["total"] == 90
     t = res.indices
-    assert set(t["method"]) == {"mdrm", "pooled_pce", PCE_NAME}
+    assert set(t["method"]) == {"mdrm", "pooled_pce", "given_data_s1", PCE_NAME}
     assert not t[t["method"] == "mdrm"]["rank_confirmed"].any()
     esc = t[t["method"] == PCE_NAME]
     assert (esc["trusted"] | esc["rank_confirmed"]).all() and (esc["n_evals"] == 90).all()
