@@ -86,9 +86,9 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
                      f"bars_scene{scene}.png")
         if result.indices["scene"].nunique() > 1:
             for method in result.indices["method"].unique():
-                save_fig(plot_heatmap(result.indices[result.indices["method"] == method], info,
-                                      result.study.scene_fields),
-                         f"heatmap_ST_{method}.png")
+                rows = result.indices[result.indices["method"] == method]
+                if rows["ST"].notna().any():                 # no map of a method without ST (given_data_s1)
+                    save_fig(plot_heatmap(rows, info, result.study.scene_fields), f"heatmap_ST_{method}.png")
     for fig, name in scene_figures(result):
         save_fig(fig, name)
     if result.fidelity is not None and len(result.fidelity):
