@@ -155,4 +155,4 @@ def given_data_s1(space: ParameterSpace, x: NDArray[np.float64], y: NDArray[np.f
     return SobolResult.from_arrays(outputs=outputs, parameters=space.names, S1=S1, ST=np.full_like(S1, np.nan),
                                    S1_conf=bound, n_evals=len(x), method=NAME,
                                    options={"n": len(x), "estimator": kind, "halves": HALVES, "tolerance": tolerance},
-                                   diagnostics=diags, extras={"S1_error": bound})
+                                   diagnostics=diags)
