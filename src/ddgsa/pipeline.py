@@ -299,6 +299,8 @@ class _Plan:
         self.scenes = plan_scenes(study)
         self.tasks: list[Task] = []
         self.blocks: dict[str, tuple[np.ndarray, tuple[str, ...]]] = {}
+        self.auto_points: dict[int, list[tuple[np.ndarray, np.ndarray]]] = {}
+        """Per scene, the points and aggregated values each ``auto`` method ran (``confirm`` pools them)."""
 
     def task(self, ps: PlannedScene, scene: Any, point: dict[str, float]) -> Task:
         """The task of one point in one realisation of a planned scene."""
@@ -376,6 +378,8 @@ def _run_auto(plan: _Plan, runs: Runs, outputs: list[str], options: dict[str, An
             if new is not None:
                 nxt[i] = new
         pending = nxt
+    for i, a in enumerate(autos):
+        plan.auto_points.setdefault(i, []).append((a.x, a.y))
     results = [a.result for a in autos]
     assert all(r is not None for r in results)             # every state machine finishes with a result
     return results  # type: ignore[return-value]
@@ -500,7 +504,7 @@ def _add_result(study: Study, ps: PlannedScene, res: SobolResult, result: StudyR
 def _confirm(plan: _Plan, runs: Runs, designs: list[tuple[str, Design]], outputs: list[str],
              result: StudyResult) -> list[dict[str, Any]]:
     """``confirm: {budget}``: per scene, an :class:`~ddgsa.gsa.escalate.Escalation` from every point
-    of the scene and its results; each stage's points of all scenes go to the runner together. The
+    of the scene (every design, ``auto``'s stages included, each point once) and every result there; each stage's points of all scenes go to the runner together. The
     escalations' results are added beside the methods'; returns their logs (provenance ``confirm``)."""
     study = plan.study
     spec = study.spec.confirm
@@ -513,7 +517,11 @@ def _confirm(plan: _Plan, runs: Runs, designs: list[tuple[str, Design]], outputs
     for i, ps in enumerate(plan.scenes):
         y = plan.values(runs.store, "gsa", ps, outputs, aggregate)
         have = [r for p_, r in result.results if p_.index == ps.index]
-        esc = Escalation(study.space, outputs, spec.budget, pooled, y, have, tol, seed=spec.seed,
+        x_all = np.vstack([pooled] + [ax for ax, _ in plan.auto_points.get(i, [])])
+        y_all = np.vstack([y] + [ay for _, ay in plan.auto_points.get(i, [])])
+        _, first = np.unique(x_all, axis=0, return_index=True)     # a point twice would flatter the LOO error
+        keep = np.sort(first)
+        esc = Escalation(study.space, outputs, spec.budget, x_all[keep], y_all[keep], have, tol, seed=spec.seed,
                          saltelli=None if salt is None else (salt, y[_row_index(pooled, salt.points)]))
         escs.append(esc)
         x = esc.start()

@@ -71,3 +71,22 @@ def test_a_confirm_block_outside_a_gsa_study_is_exit_2(write_study, tmp_path: Pa
     study.write_text(write_study().read_text() + "confirm: {budget: many}\n")
     assert main(["validate", str(study)]) == 2
     assert "confirm.budget" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_the_escalation_pools_the_points_auto_ran(write_study, tmp_path: Path) -> None:
+    """``auto`` with a budget of 120 leaves Ishigami unconfirmed; the escalation starts from its
+    distinct points (each once: a repeated point would flatter the leave-one-out error) and its
+    pooled expansion is fitted on those plus the ones it added (about 5 s)."""
+    text = write_study().read_text().replace("  - {method: saltelli, n: 64, seed: 0}\n", "")
+    text = text.replace("{method: mdrm, points: 5}", "{method: auto, budget: 120}")
+    text = text.replace("wind_speed: [8.0, 11.0]", "wind_speed: 11.0").replace("realisations: 2", "realisations: 1")
+    path = tmp_path / "a.yaml"
+    path.write_text(text.replace("outputs: [y, y_positive]", "outputs: [y]") + "confirm: {budget: 400}\n")
+    res = execute(load_study(path), EvaluationStore(tmp_path / "evaluations.sqlite"), quiet=True)
+    t = res.indices
+    spent = res.provenance["confirm"][0]["spent"]
+    ran = res.provenance["evaluations"]["total"]
+    esc = t[t["method"] == PCE_NAME]
+    assert (esc["n_evals"] == ran).all() and spent < ran        # every distinct point, auto's included
+    assert not t[t["method"] == "auto"]["trusted"].all() and esc["trusted"].all()
