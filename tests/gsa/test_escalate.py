@@ -72,3 +72,18 @@ def test_a_slowly_converging_expansion_hands_over_to_saltelli() -> None:
     assert salt.n_evals == 2048 * (4 + 2) and salt.confirmed
     assert c.n_evals < 53 + 20_000
     _no_false_claim(c.results, G4)
+
+
+def test_saltelli_designs_of_one_seed_nest_so_a_larger_base_reuses_the_smaller() -> None:
+    """What the escalation's Saltelli step relies on: the base-N design is the first N (d + 2)
+    rows of the base-2N design (SALib's scrambled Sobol' stream, one seed); and a study's own
+    Saltelli design counts as run: the next base is at least twice it, asking only the new rows."""
+    from ddgsa.gsa.base import get_method
+
+    d = G4.space.dim
+    small = get_method("saltelli").design(G4.space, n=64, seed=3)
+    big = get_method("saltelli").design(G4.space, n=128, seed=3)
+    np.testing.assert_array_equal(big.points[:64 * (d + 2)], small.points)
+    esc = Escalation(G4.space, ["y"], 10_000, small.points, G4.f(small.points)[:, None],
+                     saltelli=(small, G4.f(small.points)[:, None]))
+    assert esc._saltelli_n(["y"]) >= 128

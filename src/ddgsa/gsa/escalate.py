@@ -220,8 +220,8 @@ class Escalation:
         from ddgsa.confirm import MAX_N, saltelli_n_to_confirm
 
         n = max(saltelli_n_to_confirm(self._best_st(o), self.tolerance) for o in bad)
-        if self.salt is not None:
-            n = max(n, 2 * self._salt_n)             # its own estimate was too optimistic
+        if self._salt_n > 0:                         # a Saltelli design that ran did not confirm: double it
+            n = max(n, 2 * self._salt_n)
         return int(min(MAX_N, max(n, self._salt_n)))
 
     def _next(self) -> NDArray[np.float64] | None:
