@@ -31,7 +31,7 @@ from ddgsa.errors import DdgsaError, StudyError
 from ddgsa.gsa.auto import AutoSobol
 from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.escalate import Escalation
-from ddgsa.gsa.givendata import drawn_rows, given_data_s1
+from ddgsa.gsa.givendata import MIN_POINTS as GIVEN_MIN_POINTS, drawn_rows, given_data_s1
 from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.gsa.result import SobolResult
@@ -561,6 +561,8 @@ def pooled_crosscheck(study: Study, designs: list[tuple[str, Design]], x: np.nda
         if res is not None:
             out.append(res)
     drawn = np.unique(np.vstack([d.points[drawn_rows(d)] for _, d in designs]), axis=0)
+    if len(drawn) < GIVEN_MIN_POINTS:                  # e.g. M-DRM without a check sample
+        return out
     given = given_data_s1(study.space, drawn, y[_row_index(x, drawn)], outputs, tol)
     return out + ([given] if given is not None else [])
 
