@@ -41,13 +41,13 @@ def test_ishigami_is_confirmed_from_mdrm_with_a_few_pce_points() -> None:
 
 
 def test_the_escalation_stops_at_the_budget_and_says_so() -> None:
-    """The g-function's kink (a = 0) needs ~10^4 runs; with a budget of 200 the escalation spends
-    exactly 200 runs (PCE steps that double the pool, then the rest), claims nothing false, and
+    """The g-function's kink (a = 0) needs ~10^4 runs; with a budget of 120 the escalation spends
+    exactly 120 runs (a PCE step that doubles the pool, then the rest), claims nothing false, and
     logs the unconfirmed output."""
-    c = confirm(G4.f, G4.space, "mdrm", budget=200, points=5)
+    c = confirm(G4.f, G4.space, "mdrm", budget=120, points=5)
     assert c.confirmed == {"y": False}
-    assert c.n_evals == 4 * 5 + 1 + 32 + 200
-    assert c.log[-1] == "budget of 200 runs spent; unconfirmed: y"
+    assert c.n_evals == 4 * 5 + 1 + 32 + 120
+    assert c.log[-1] == "budget of 120 runs spent; unconfirmed: y"
     _no_false_claim(c.results, G4)
 
 
