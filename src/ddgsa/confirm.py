@@ -106,16 +106,18 @@ def duration(seconds: float) -> str:
 
 def advice(result: "StudyResult", output: str, scenes: list[int], tolerance: float = 0.02) -> str:
     """How to confirm ``output`` in ``scenes``: the largest Saltelli ``n`` any of them needs and the
-    runs and model time of all of them (one worker; divide by the workers)."""
+    runs and model time of all of them (one worker; divide by the workers), or the study's
+    ``confirm`` budget (points per scene) that would pay for that design (:mod:`ddgsa.gsa.escalate`)."""
     costs = [cost_to_confirm(result, s, output, tolerance) for s in scenes]
     n = max(c.n for c in costs)
     runs = sum(c.runs for c in costs)
     sec = sum(c.seconds for c in costs)
     per = per_run_seconds(result)
     at = f" at {per:.3g} s per run measured here" if np.isfinite(per) else ""
+    points = max(c.runs // max(1, result.study.spec.scenes.realisations) for c in costs)
     return (f"to confirm it add `saltelli` with n: {n} ({_num(runs)} runs, {duration(sec)} of model time{at}), "
-            f"or `auto` with budget: {_num(runs // max(1, len(scenes)))} (per scene; it stops early where cheaper "
-            "stages are trusted)")
+            f"or `confirm: {{budget: {points}}}` (points per scene; it reuses every run, tries cheaper PCE points "
+            "first and stops when confirmed)")
 
 
 def _num(n: int) -> str:

@@ -30,6 +30,8 @@ from ddgsa.detection import DetectionSettings, FaultDetectability, add_noise, as
 from ddgsa.errors import DdgsaError, StudyError
 from ddgsa.gsa.auto import AutoSobol
 from ddgsa.gsa.base import Design, get_method
+from ddgsa.gsa.escalate import Escalation
+from ddgsa.gsa.givendata import MIN_POINTS as GIVEN_MIN_POINTS, drawn_rows, given_data_s1
 from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.gsa.result import SobolResult
@@ -306,6 +308,8 @@ class _Plan:
         self.scenes = plan_scenes(study)
         self.tasks: list[Task] = []
         self.blocks: dict[str, tuple[np.ndarray, tuple[str, ...]]] = {}
+        self.auto_points: dict[int, list[tuple[np.ndarray, np.ndarray]]] = {}
+        """Per scene, the points and aggregated values each ``auto`` method ran (``confirm`` pools them)."""
 
     def task(self, ps: PlannedScene, scene: Any, point: dict[str, float]) -> Task:
         """The task of one point in one realisation of a planned scene."""
@@ -383,6 +387,8 @@ def _run_auto(plan: _Plan, runs: Runs, outputs: list[str], options: dict[str, An
             if new is not None:
                 nxt[i] = new
         pending = nxt
+    for i, a in enumerate(autos):
+        plan.auto_points.setdefault(i, []).append((a.x, a.y))
     results = [a.result for a in autos]
     assert all(r is not None for r in results)             # every state machine finishes with a result
     return results  # type: ignore[return-value]
@@ -435,10 +441,13 @@ def _execute(study: Study, store: EvaluationStore, jobs: int | None, backend: st
     t_eval = time.perf_counter() - t0
     result = StudyResult(study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), {})
     failures: list[dict[str, Any]] = []
+    confirm_log: list[dict[str, Any]] = []
     if spec.kind == "sweep":
         result.sweep = _sweep_table(plan, store, outputs)
     else:
         _analyse(plan, store, designs, outputs, result, auto)
+        if spec.confirm is not None:
+            confirm_log = _confirm(plan, runs, designs, outputs, result)
         _signals_and_convergence(plan, store, designs, outputs, result)
         if spec.kind == "fault":
             _fault_verdicts(plan, store, outputs, result)
@@ -446,6 +455,8 @@ def _execute(study: Study, store: EvaluationStore, jobs: int | None, backend: st
     failures += [{"key": r["key"], "fidelity": r["fidelity"], "scene": {k: r[k] for k in study.scene_fields + ["seed"]},
                   "error": r["error"]} for r in result.evaluations.to_dict("records") if isinstance(r["error"], str)]
     result.provenance = _provenance(study, mids, runs.counts(), t_eval, time.perf_counter() - t0, failures, designs)
+    if confirm_log:
+        result.provenance["confirm"] = confirm_log
     if spec.kind == "fault":
         result.provenance["seeds"]["fault"] = fault_seed(study)
     result.provenance["fidelity_selection"] = fidelity_choice
@@ -476,18 +487,7 @@ def _analyse(plan: _Plan, store: EvaluationStore, designs: list[tuple[str, Desig
             m["cv"] = m["std"] / abs(m["mean"]) if m["mean"] else float("inf")
             moment_rows.append({"scene": ps.index, **m})
         for res in scene_results + [per_scene[k] for per_scene in auto]:
-            result.results.append((ps, res))
-            table = res.to_frame()
-            for key, v in ps.fields.items():
-                table.insert(0, key, v)
-            table.insert(0, "scene", ps.index)
-            table.insert(0, "study", study.name)
-            rows.append(table)
-            d = res.diagnostics_frame()
-            if len(d):
-                d.insert(0, "method", res.method)
-                d.insert(0, "scene", ps.index)
-                diag_rows.append(d)
+            _add_result(study, ps, res, result, rows, diag_rows)
     result.indices = pd.concat(rows, ignore_index=True)
     result.moments = pd.DataFrame(moment_rows, columns=["scene", "output", "mean", "std", "cv", "source", "n"])
     result.diagnostics = (pd.concat(diag_rows, ignore_index=True) if diag_rows else
@@ -509,17 +509,88 @@ def _signals_and_convergence(plan: _Plan, store: EvaluationStore, designs: list[
         designs, rows, outputs)
 
 
+def _add_result(study: Study, ps: PlannedScene, res: SobolResult, result: StudyResult, rows: list[pd.DataFrame],
+                diag_rows: list[pd.DataFrame]) -> None:
+    """One scene's result: kept, its table with the scene fields, its diagnostics."""
+    result.results.append((ps, res))
+    table = res.to_frame()
+    for key, v in ps.fields.items():
+        table.insert(0, key, v)
+    table.insert(0, "scene", ps.index)
+    table.insert(0, "study", study.name)
+    rows.append(table)
+    d = res.diagnostics_frame()
+    if len(d):
+        d.insert(0, "method", res.method)
+        d.insert(0, "scene", ps.index)
+        diag_rows.append(d)
+
+
+def _confirm(plan: _Plan, runs: Runs, designs: list[tuple[str, Design]], outputs: list[str],
+             result: StudyResult) -> list[dict[str, Any]]:
+    """``confirm: {budget}``: per scene, an :class:`~ddgsa.gsa.escalate.Escalation` from every point
+    of the scene (every design, ``auto``'s stages included, each point once) and every result there; each stage's points of all scenes go to the runner together. The
+    escalations' results are added beside the methods'; returns their logs (provenance ``confirm``)."""
+    study = plan.study
+    spec = study.spec.confirm
+    assert study.space is not None and spec is not None
+    names, aggregate = study.space.names, study.spec.scenes.aggregate
+    pooled, _ = plan.blocks["gsa"]
+    tol = min([d.options.get("tolerance", DEFAULT_TOLERANCE) for _, d in designs] or [DEFAULT_TOLERANCE])
+    salt = next((d for name, d in designs if name == "saltelli"), None)
+    escs, pending = [], {}
+    for i, ps in enumerate(plan.scenes):
+        y = plan.values(runs.store, "gsa", ps, outputs, aggregate)
+        have = [r for p_, r in result.results if p_.index == ps.index]
+        x_all = np.vstack([pooled] + [ax for ax, _ in plan.auto_points.get(i, [])])
+        y_all = np.vstack([y] + [ay for _, ay in plan.auto_points.get(i, [])])
+        _, first = np.unique(x_all, axis=0, return_index=True)     # a point twice would flatter the LOO error
+        keep = np.sort(first)
+        esc = Escalation(study.space, outputs, spec.budget, x_all[keep], y_all[keep], have, tol, seed=spec.seed,
+                         saltelli=None if salt is None else (salt, y[_row_index(pooled, salt.points)]))
+        escs.append(esc)
+        x = esc.start()
+        if x is not None:
+            pending[i] = x
+    while pending:
+        tasks = [plan.task(plan.scenes[i], scene, p) for i, x in pending.items()
+                 for scene in plan.scenes[i].scenes for p in _points(study, x, names)]
+        plan.tasks += tasks
+        runs(tasks)
+        pending = {i: nxt for i, x in pending.items() if (nxt := escs[i].feed(
+            plan.values_at(runs.store, x, names, plan.scenes[i], outputs, aggregate))) is not None}
+    rows, diag_rows = [result.indices], [result.diagnostics] if len(result.diagnostics) else []
+    for ps, esc in zip(plan.scenes, escs):
+        for res in esc.stages:
+            _add_result(study, ps, res, result, rows, diag_rows)
+    result.indices = pd.concat(rows, ignore_index=True)
+    if diag_rows:
+        result.diagnostics = pd.concat(diag_rows, ignore_index=True)
+    return [{"scene": ps.index, "budget": spec.budget, "spent": esc.spent, "log": esc.log}
+            for ps, esc in zip(plan.scenes, escs)]
+
+
 def pooled_crosscheck(study: Study, designs: list[tuple[str, Design]], x: np.ndarray, y: np.ndarray,
                       outputs: list[str]) -> list[SobolResult]:
-    """The sparse PCE on every point of the scene (:mod:`ddgsa.gsa.pooled`), when it is not one of
-    the study's own methods again: the study has M-DRM (whose cut lines no sampling method uses)
-    or several designs."""
-    if not designs or (len(designs) == 1 and designs[0][0] != "mdrm") or (study.space and study.space.dependent):
-        return []
+    """The cross-checks at zero extra runs: the sparse PCE on every point of the scene
+    (:mod:`ddgsa.gsa.pooled`), when it is not one of the study's own methods again (the study has
+    M-DRM, whose cut lines no sampling method uses, or several designs); and the given-data first-order
+    indices on every drawn point (:mod:`ddgsa.gsa.givendata`). None for dependent inputs (both
+    assume independent ones)."""
     assert study.space is not None
+    if not designs or study.space.dependent:
+        return []
     tol = min(d.options.get("tolerance", DEFAULT_TOLERANCE) for _, d in designs)
-    res = pooled_pce(study.space, x, y, outputs, tol)
-    return [res] if res is not None else []
+    out = []
+    if not (len(designs) == 1 and designs[0][0] != "mdrm"):
+        res = pooled_pce(study.space, x, y, outputs, tol)
+        if res is not None:
+            out.append(res)
+    drawn = np.unique(np.vstack([d.points[drawn_rows(d)] for _, d in designs]), axis=0)
+    if len(drawn) < GIVEN_MIN_POINTS:                  # e.g. M-DRM without a check sample
+        return out
+    given = given_data_s1(study.space, drawn, y[_row_index(x, drawn)], outputs, tol)
+    return out + ([given] if given is not None else [])
 
 
 def _row_index(pooled: np.ndarray, points: np.ndarray) -> np.ndarray:

@@ -95,9 +95,9 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
                 save_fig(plot_groups(groups[groups["scene"] == scene]), f"groups_scene{scene}.png")
         if result.indices["scene"].nunique() > 1:
             for method in result.indices["method"].unique():
-                save_fig(plot_heatmap(result.indices[result.indices["method"] == method], info,
-                                      result.study.scene_fields),
-                         f"heatmap_ST_{method}.png")
+                rows = result.indices[result.indices["method"] == method]
+                if rows["ST"].notna().any():                 # no map of a method without ST (given_data_s1)
+                    save_fig(plot_heatmap(rows, info, result.study.scene_fields), f"heatmap_ST_{method}.png")
     for df, name in ((result.signal_indices, "signal_indices.csv"),
                      (result.signal_generalised, "signal_generalised.csv"), (result.convergence, "convergence.csv")):
         if df is not None and len(df):

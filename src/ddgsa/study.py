@@ -229,6 +229,15 @@ class MethodSpec(BaseModel):
         return dict(self.model_extra or {})
 
 
+class ConfirmSpec(BaseModel):
+    """``confirm:`` -- add runs per scene until every output is confirmed or the budget is spent
+    (:mod:`ddgsa.gsa.escalate`)."""
+
+    model_config = _STRICT
+    budget: int = Field(ge=0, le=1_000_000, description="most new points per scene (each run in every realisation)")
+    seed: int = Field(0, ge=0, description="seed of the added points")
+
+
 class FaultRange(BaseModel):
     """``fault.faulty: {start, stop, num}`` -- evenly spaced fault levels, both ends included."""
 
@@ -374,6 +383,7 @@ class StudySpec(BaseModel):
                                                                  "generalised (kind: gsa)")
     methods: list[MethodSpec] = Field(default_factory=list)
     fault: FaultSpec | None = None
+    confirm: ConfirmSpec | None = None
     run: RunSpec = Field(default_factory=RunSpec)
 
     @model_validator(mode="before")
@@ -424,6 +434,8 @@ class StudySpec(BaseModel):
             raise ValueError(f"kind '{self.kind}' needs at least one entry under 'methods'")
         if self.kind == "fault" and self.fault is None:
             raise ValueError("kind 'fault' needs a 'fault' block (parameter, healthy, faulty)")
+        if self.confirm is not None and self.kind != "gsa":
+            raise ValueError("a 'confirm' block needs kind: gsa")
         if self.kind != "fault" and self.fault is not None:
             raise ValueError("a 'fault' block needs kind: fault")
         if self.kind != "sweep" and (self.grid or self.model.variants):
@@ -490,6 +502,8 @@ class Study:
         for (part, field), default in _LATER_DEFAULTS.items():
             if isinstance(data.get(part), dict) and data[part].get(field) == default:
                 del data[part][field]
+        if data.get("confirm") is None:                  # added later still: absent keeps the digest
+            data.pop("confirm", None)
         return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()
 
     def make_model(self) -> Any:

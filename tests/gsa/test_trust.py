@@ -295,3 +295,20 @@ def test_a_row_with_a_non_finite_index_is_never_trusted() -> None:
                                   S1=np.array([[0.5, np.nan, 0.2]]), ST=np.array([[0.6, 0.3, np.inf]]),
                                   n_evals=10, method="test")
     assert res.indices["trusted"].tolist() == [True, False, False]
+
+
+@pytest.mark.slow
+def test_calibration_scores_the_given_data_estimator_and_the_escalation() -> None:
+    """Issue 25's bench columns (about 30 s): the given-data S1's bound holds on a product and on
+    steps, the escalation claims nothing false, and both are scale free (output x 1e12, seed 0)."""
+    from ddgsa.bench.calibration import run
+
+    settings = [("given_data_s1", {"n": 256, "rule": "sobol"}), ("confirm", {"budget": 100})]
+    rows = run(seeds=1, functions=["product", "steps"], jobs=1, settings=settings, progress=lambda _: None,
+               scale_test=True)
+    assert set(rows["method"]) == {"given_data_s1", "confirm"}
+    assert not rows["false_confirmed"].astype(bool).any()
+    given = rows[rows["method"] == "given_data_s1"]
+    assert (given["s1_within_bound"] == 1.0).all() and not given["trusted"].astype(bool).any()
+    assert (rows["scale_free"] == 1.0).all()
+    assert rows.query("function == 'product' and method == 'confirm'")["confirmed"].astype(bool).all()

@@ -49,15 +49,19 @@ def run(tmp_path_factory: pytest.TempPathFactory) -> tuple[object, Path]:
 def test_to_xarray_holds_the_closed_form_indices_with_labels_and_units(run: tuple[object, Path]) -> None:
     result, _ = run
     ds = result.to_xarray()
-    # the study's two methods and the zero-cost pooled PCE cross-check (ddgsa.gsa.pooled) beside M-DRM
-    assert dict(ds["ST"].sizes) == {"scene": 2, "output": 1, "parameter": 3, "method": 3}
-    assert set(ds["method"].values) == {"pce", "mdrm", "pooled_pce"}
+    # the study's two methods and the zero-cost cross-checks beside them: the pooled PCE
+    # (ddgsa.gsa.pooled) and the given-data S1 (ddgsa.gsa.givendata)
+    assert dict(ds["ST"].sizes) == {"scene": 2, "output": 1, "parameter": 3, "method": 4}
+    assert set(ds["method"].values) == {"pce", "mdrm", "pooled_pce", "given_data_s1"}
     assert list(ds["wind_speed"].values) == [8.0, 11.0] and ds["wind_speed"].dims == ("scene",)
     pce = ds.sel({"output": "y_positive", "method": "pce"})     # sel(method=...) is xarray's fill method
     for p in ST_EXACT:     # PCE of order 10 on 1024 points: within 0.01 of the closed forms, both scenes
         assert np.allclose(pce["ST"].sel(parameter=p), ST_EXACT[p], atol=0.01)
         assert np.allclose(pce["S1"].sel(parameter=p), S1_EXACT[p], atol=0.01)
     assert (pce["trusted"] == 1).all()
+    given = ds.sel({"output": "y_positive", "method": "given_data_s1"})   # binned on the PCE's Sobol' points
+    for p in ST_EXACT:
+        assert (abs(given["S1"].sel(parameter=p) - S1_EXACT[p]) <= given["S1_conf"].sel(parameter=p)).all()
     assert (ds["trusted"].sel({"method": "mdrm"}) == 0).all()     # M-DRM misses Ishigami's interaction: untrusted
     assert ds["ST"].attrs["units"] == "1" and ds["output_unit"].sel(output="y_positive").item() == "-"
     assert ds["trusted"].attrs["flag_meanings"] == "not_computed untrusted trusted"
@@ -86,7 +90,7 @@ def test_netcdf_and_zarr_round_trip_and_the_folder_export_matches(run: tuple[obj
         np.testing.assert_allclose(back["ST"].values, ds["ST"].values, rtol=1e-5)
     assert main(["export", str(out), "--format", "csv"]) == 0
     long = pd.read_csv(out / "indices_long.csv")
-    assert len(long) == len(pd.read_csv(out / "indices.csv")) == 18     # 2 scenes x 3 methods x 3 parameters
+    assert len(long) == len(pd.read_csv(out / "indices.csv")) == 24     # 2 scenes x 4 methods x 3 parameters
 
 
 def test_fault_statistics_of_a_committed_study_as_arrays() -> None:

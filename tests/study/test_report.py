@@ -219,7 +219,8 @@ def test_a_constant_output_is_not_a_problem_but_an_untrusted_varying_one_is() ->
     # N = 191 and 145 -> 256; 256 x (2 + 2) points x 2 realisations = 2 048 runs at 1 s each
     assert problems(res) == ["output 'wavy': no method's indices are confirmed (trusted or rank-confirmed) in "
                              "scene 0 (mdrm_index_error); to confirm it add `saltelli` with n: 256 (2 048 runs, "
-                             "~34 min of model time at 1 s per run measured here), or `auto` with budget: 2 048 "
-                             "(per scene; it stops early where cheaper stages are trusted)"]
+                             "~34 min of model time at 1 s per run measured here), or `confirm: {budget: 1024}` "
+                             "(points per scene; it reuses every run, tries cheaper PCE points first and stops "
+                             "when confirmed)"]
     res.moments = mom.assign(std=[1e-3, 0.3])                            # varies a little: counted
     assert len(problems(res)) == 2

@@ -158,6 +158,53 @@ SETTINGS: list[tuple[str, dict[str, Any]]] = [
 ]
 
 
+CONFIRM_SETTINGS: list[tuple[str, dict[str, Any]]] = [
+    ("given_data_s1", {"n": 512, "rule": "sobol"}), ("given_data_s1", {"n": 512, "rule": "random"}),
+    ("confirm", {"budget": 500}),
+]
+"""Issue 25's additions, run by ``bench(confirm=True)``: the given-data S1 (:mod:`ddgsa.gsa.givendata`)
+on 512 drawn points (scored by its bound's coverage, ``s1_within_bound``; never trusted) and
+M-DRM escalated with a budget of 500 runs (:mod:`ddgsa.gsa.escalate`; each output scored on the
+first result that confirms it, else the escalation's pooled PCE)."""
+
+
+def _result(case: Case, method: str, seed: int, tolerance: float, opts: dict[str, Any]) -> Any:
+    """One run of a setting: a registered method through :func:`ddgsa.sobol`, or one of
+    :data:`CONFIRM_SETTINGS`."""
+    import ddgsa
+
+    if method == "given_data_s1":
+        from ddgsa.gsa.givendata import given_data_s1
+
+        x = case.space.sample(opts["n"], seed=seed, rule=opts["rule"])
+        y = np.asarray(case.f(x), dtype=float).reshape(len(x), -1)
+        return given_data_s1(case.space, x, y, [f"y{k}" for k in range(y.shape[1])], tolerance, seed)
+    if method == "confirm":
+        from ddgsa.gsa.escalate import confirm
+
+        return _confirmed_view(confirm(case.f, case.space, "mdrm", budget=opts["budget"], seed=seed,
+                                       tolerance=tolerance))
+    return ddgsa.sobol(case.f, case.space, method, seed=seed, tolerance=tolerance, **opts)
+
+
+def _confirmed_view(c: Any) -> Any:
+    """Per output, the rows of the first result of an escalation that confirms it (else of its last
+    result), as one result (method ``confirm``) to score."""
+    from ddgsa.gsa.result import SobolResult
+
+    last = c.results[-1]
+    tables, claims, diags = [], [], []
+    for out in last.indices["output"].unique():
+        res = next((r for r in c.results if bool((r.indices["trusted"] | r.indices["rank_confirmed"])
+                                                 [r.indices["output"] == out].all())), last)
+        mask = (res.indices["output"] == out).to_numpy()
+        tables.append(res.indices[mask])
+        claims.append(np.asarray(res.extras["rank_claims"])[mask])
+        diags += [d for d in res.diagnostics if d.output in (None, out)]
+    return SobolResult(pd.concat(tables, ignore_index=True), n_evals=c.n_evals, method="confirm",
+                       diagnostics=diags, extras={"rank_claims": np.concatenate(claims)})
+
+
 def setting_label(method: str, opts: dict[str, Any]) -> str:
     """``method`` plus its non-default options (``default`` when none)."""
     return f"{method} " + (", ".join(f"{k}={v}" for k, v in opts.items()) if opts else "default")
@@ -175,7 +222,7 @@ def score(case: Case, res: Any, tolerance: float) -> pd.DataFrame:
     trusted = t["trusted"].to_numpy(bool).reshape(k, d)
     if "S1_error" in res.extras:                                       # SALib: bootstrap + half sample
         est = np.fmax(res.extras["S1_error"], res.extras["ST_error"])
-    elif res.method in ("mdrm", "pce"):                                # surrogate bound
+    elif res.method in ("mdrm", "pce", "confirm", "given_data_s1"):    # surrogate or given-data bound
         est = np.fmax(t["S1_conf"].to_numpy(float), t["ST_conf"].to_numpy(float)).reshape(k, d)
     else:
         est = np.full((k, d), np.nan)
@@ -184,6 +231,9 @@ def score(case: Case, res: Any, tolerance: float) -> pd.DataFrame:
     claims = np.asarray(res.extras["rank_claims"]).reshape(k, d)
     wrong = false_rank_claims(st, case.ST, claims, tolerance)
     confirmed = trusted | (claims > 0)
+    s1_conf = t["S1_conf"].to_numpy(float).reshape(k, d)
+    with np.errstate(invalid="ignore"):
+        within = np.where(np.isfinite(s1_conf) & np.isfinite(s1), np.abs(s1 - case.S1) <= s1_conf, np.nan)
     return pd.DataFrame({"output": np.repeat(np.arange(k), d), "parameter": np.tile(case.space.names, k),
                          "error": err.ravel(), "trusted": trusted.ravel(), "estimate": np.ravel(est),
                          "passes_other_rules": passes_others.ravel(),
@@ -191,7 +241,8 @@ def score(case: Case, res: Any, tolerance: float) -> pd.DataFrame:
                          "false_alarm": (~trusted & (err <= tolerance)).ravel(),
                          "rank_confirmed": (claims > 0).ravel(), "false_rank": wrong.ravel(),
                          "confirmed": confirmed.ravel(),
-                         "false_confirmed": ((trusted & (err > tolerance)) | wrong).ravel()})
+                         "false_confirmed": ((trusted & (err > tolerance)) | wrong).ravel(),
+                         "s1_within_bound": within.ravel()})
 
 
 def false_rank_claims(st: NDArray[np.float64], true_st: NDArray[np.float64], claims: NDArray[np.int8],
@@ -214,9 +265,8 @@ def false_rank_claims(st: NDArray[np.float64], true_st: NDArray[np.float64], cla
 
 
 def _run_one(name: str, seed: int, tolerance: float,
-             settings: list[tuple[str, dict[str, Any]]]) -> list[pd.DataFrame]:
+             settings: list[tuple[str, dict[str, Any]]], scale_test: bool = False) -> list[pd.DataFrame]:
     """Every setting on one function for one seed (BLAS on one thread: the workers are the parallelism)."""
-    import ddgsa
     from threadpoolctl import threadpool_limits
 
     case = _cached_cases()[name]
@@ -227,7 +277,7 @@ def _run_one(name: str, seed: int, tolerance: float,
             head = {"function": name, "kind": case.kind, "method": method, "setting": label, "seed": seed}
             t0 = time.perf_counter()
             try:
-                res = ddgsa.sobol(case.f, case.space, method, seed=seed, tolerance=tolerance, **opts)
+                res = _result(case, method, seed, tolerance, opts)
             except MethodError as exc:          # e.g. the PCE size guard: refused before running
                 frames.append(pd.DataFrame([{**head, "refused": str(exc)}]))
                 continue
@@ -237,6 +287,15 @@ def _run_one(name: str, seed: int, tolerance: float,
             rows["n_evals"] = res.n_evals
             rows["wall_s"] = time.perf_counter() - t0
             rows["refused"] = ""
+            if scale_test and seed == 0:    # the scale test: the same indices and flags for f x 1e12
+                big = _result(Case(case.name, case.kind, case.space, lambda x: 1e12 * case.f(x), case.S1, case.ST),
+                              method, seed, tolerance, opts).indices
+                t = res.indices
+                rows["scale_free"] = (np.isclose(big["S1"].to_numpy(float), t["S1"].to_numpy(float), atol=1e-9,
+                                                 equal_nan=True)
+                                      & (big["trusted"].to_numpy(bool) == t["trusted"].to_numpy(bool))
+                                      & (big["rank_confirmed"].to_numpy(bool) == t["rank_confirmed"].to_numpy(bool))
+                                      ).astype(float)
             frames.append(rows)
     return frames
 
@@ -248,8 +307,9 @@ def _cached_cases() -> dict[str, Case]:
 
 def run(seeds: int = 20, functions: list[str] | None = None, tolerance: float = DEFAULT_TOLERANCE,
         jobs: int = 2, settings: list[tuple[str, dict[str, Any]]] | None = None,
-        progress: Callable[[str], None] = print) -> pd.DataFrame:
-    """Every setting (default :data:`SETTINGS`) on every function for ``seeds`` seeds: the scored rows.
+        progress: Callable[[str], None] = print, scale_test: bool = False) -> pd.DataFrame:
+    """Every setting (default :data:`SETTINGS`) on every function for ``seeds`` seeds: the scored rows
+    (``scale_test``: seed 0 of each also on the output x 1e12, column ``scale_free``).
 
     The rows are the same for any ``jobs`` (every run is seeded by its own seed).
     """
@@ -258,7 +318,8 @@ def run(seeds: int = 20, functions: list[str] | None = None, tolerance: float = 
 
     names = [n for n in cases() if functions is None or n in functions]
     progress(f"trust: {len(names)} functions x {len(settings)} settings x {seeds} seeds on {jobs} workers")
-    parts = Parallel(n_jobs=jobs)(delayed(_run_one)(n, s, tolerance, settings) for n in names for s in range(seeds))
+    parts = Parallel(n_jobs=jobs)(delayed(_run_one)(n, s, tolerance, settings, scale_test)
+                                  for n in names for s in range(seeds))
     out = pd.concat([f for part in parts for f in part], ignore_index=True)
     out["refused"] = out["refused"].fillna("")
     train = ~out["function"].isin(HELD_OUT) & out["seed"].isin(TRAIN_SEEDS)
@@ -280,6 +341,8 @@ def summarize(rows: pd.DataFrame, by: list[str], tolerance: float) -> pd.DataFra
         "false_rank": g["false_rank"].mean(),
         "false_rank_n": g["false_rank"].sum(),
         "confirmed": g["confirmed"].mean(),
+        "s1_within_bound": g["s1_within_bound"].mean(),
+        "scale_free": g["scale_free"].mean() if "scale_free" in ran else np.nan,
         "margin": g.apply(lambda t: float(t.loc[t["trusted"], "error"].max() / tolerance)
                           if t["trusted"].any() else np.nan, include_groups=False),
         "median_evals": g["n_evals"].median(),
@@ -323,8 +386,11 @@ def write(rows: pd.DataFrame, out: Path, tolerance: float) -> dict[str, Any]:
             "false_rank_rate": float(ran["false_rank"].mean()),
             "held_out_false_rank_rate": float(ran.loc[ran["split"] == "held-out", "false_rank"].mean()),
             "rank_confirmed_share": float(ran["rank_confirmed"].mean()),
-            "confirmed_share": float(ran["confirmed"].mean())}
-    fmt = {"trusted": "{:.1%}", "false_trust": "{:.2%}", "false_alarm": "{:.1%}", "margin": "{:.2f}",
+            "confirmed_share": float(ran["confirmed"].mean()),
+            "given_data_s1_within_bound": float(ran.loc[ran["method"] == "given_data_s1", "s1_within_bound"].mean()),
+            "scale_free_share": float(ran["scale_free"].mean()) if "scale_free" in ran else float("nan")}
+    fmt = {"s1_within_bound": "{:.1%}", "scale_free": "{:.0%}", "trusted": "{:.1%}", "false_trust": "{:.2%}",
+           "false_alarm": "{:.1%}", "margin": "{:.2f}",
            "rank_confirmed": "{:.1%}", "false_rank": "{:.2%}", "confirmed": "{:.1%}",
            "median_evals": "{:.0f}", "median_wall_s": "{:.3f}"}
 
@@ -354,6 +420,10 @@ def write(rows: pd.DataFrame, out: Path, tolerance: float) -> dict[str, Any]:
             f"rank-confirmed. All rows: rank-confirmed {head['rank_confirmed_share']:.1%}, false rank "
             f"confirmation {head['false_rank_rate']:.3%} (held out {head['held_out_false_rank_rate']:.3%}), "
             f"confirmed {head['confirmed_share']:.1%}.", "",
+            "`s1_within_bound`: share of rows whose S1 lies within its stated bound (`S1_conf`) of the exact "
+            f"value (given_data_s1: {head['given_data_s1_within_bound']:.1%}); `scale_free`: share of seed-0 "
+            "runs whose indices and flags for the output x 1e12 equal the output's "
+            f"({head['scale_free_share']:.1%}); `confirm`: M-DRM escalated (ddgsa.gsa.escalate).", "",
             "## By method and setting", "", md(by_setting), "",
             "## Training (seeds 0-9 of the training functions) against held out", "", md(by_split), "",
             "## How much room the error estimates leave", "",
@@ -396,9 +466,13 @@ QUICK_FUNCTIONS = ["product", "additive_offset", "ishigami_shift", "bratley_k_sh
                    "several_outputs"]
 
 
-def bench(out: Path = OUT, quick: bool = False, progress: Callable[[str], None] = print) -> dict[str, Any]:
-    """``ddgsa bench trust``: run, write, return the headline figures (``quick``: 3 seeds, 7 functions)."""
-    rows = run(seeds=3, functions=QUICK_FUNCTIONS, progress=progress) if quick else run(progress=progress)
+def bench(out: Path = OUT, quick: bool = False, progress: Callable[[str], None] = print,
+          settings: list[tuple[str, dict[str, Any]]] | None = None, seeds: int | None = None) -> dict[str, Any]:
+    """``ddgsa bench trust``: run, write, return the headline figures (``quick``: 3 seeds, 7 functions;
+    ``settings``: default :data:`SETTINGS` + :data:`CONFIRM_SETTINGS`)."""
+    settings = SETTINGS + CONFIRM_SETTINGS if settings is None else settings
+    rows = (run(seeds=seeds or 3, functions=QUICK_FUNCTIONS, progress=progress, settings=settings, scale_test=True)
+            if quick else run(seeds=seeds or 20, progress=progress, settings=settings, scale_test=True))
     head = write(rows, out, DEFAULT_TOLERANCE)
     head["quick"] = quick
     return head

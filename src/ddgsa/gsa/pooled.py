@@ -23,23 +23,25 @@ NAME = "pooled_pce"
 MAX_ORDER = 5
 
 
-def pooled_order(dim: int, n_points: int) -> int:
-    """The highest total degree (<= ``MAX_ORDER``) whose basis is at most twice the points (sparse
-    regression selects a few terms of it) and whose matrix passes the size guard; 0 if none."""
+def pooled_order(dim: int, n_points: int, max_order: int = MAX_ORDER, max_entries: int = _MAX_MATRIX_ENTRIES) -> int:
+    """The highest total degree (<= ``max_order``) whose basis is at most twice the points (sparse
+    regression selects a few terms of it) and whose matrix (points x terms) holds at most
+    ``max_entries``; 0 if none."""
     order = 0
-    for q in range(1, MAX_ORDER + 1):
+    for q in range(1, max_order + 1):
         p = n_terms(dim, q)
-        if p <= 2 * n_points and p * n_points <= _MAX_MATRIX_ENTRIES:
+        if p <= 2 * n_points and p * n_points <= max_entries:
             order = q
     return order
 
 
 def pooled_pce(space: ParameterSpace, x: NDArray[np.float64], y: NDArray[np.float64], outputs: list[str],
-               tolerance: float = DEFAULT_TOLERANCE) -> SobolResult | None:
+               tolerance: float = DEFAULT_TOLERANCE, max_order: int = MAX_ORDER,
+               max_entries: int = _MAX_MATRIX_ENTRIES) -> SobolResult | None:
     """Sparse-PCE indices from the pooled points ``x`` (n, d) and values ``y`` (n, k) (an output
-    with a failed point is refused, as by every method); None when the points are too few even for
-    order 1 (``d + 1`` terms > ``2 n``)."""
-    order = pooled_order(space.dim, len(x))
+    with a failed point is refused, as by every method), of the order :func:`pooled_order` picks;
+    None when the points are too few even for order 1 (``d + 1`` terms > ``2 n``)."""
+    order = pooled_order(space.dim, len(x), max_order, max_entries)
     if order == 0:
         return None
     m = get_method("pce")

@@ -1,0 +1,302 @@
+"""Confirm on request: add runs until every row is confirmed or a budget is spent (issue 25).
+
+A (scene's) set of results *confirms* an output when one of them has every row of it
+``trusted`` or ``rank_confirmed`` (:func:`ddgsa.gsa.result.rank_claims`). :class:`Escalation`
+starts from every point a scene already has (any method's design, at its true input values) and
+the results already computed there, and while some output is unconfirmed and budget is left it
+chooses the next design by what the pooled data say is cheapest:
+
+* **more PCE points** -- scrambled Sobol' points of the input distribution (one sequence, its
+  prefixes nest), after which the sparse PCE is refitted on *every* point (:mod:`ddgsa.gsa.pooled`).
+  Its degree is the highest (<= :data:`MAX_ORDER`) the points and :data:`MAX_ENTRIES` allow. Its
+  bound shrinks as ``n^-r``: the points needed are ``n (e / e_need)^(1/r)`` with ``e`` the worst
+  row's current bound and ``e_need`` the bound that would confirm it (below the tolerance, or
+  below half its distance to zero and to every other row, whichever is larger). The rate ``r`` is
+  measured from the last two fits (clipped to [:data:`MIN_RATE`, 1]; 1/2, Monte Carlo's, before
+  there are two), so an expansion that converges slowly (a kink, a jump) soon looks expensive. A
+  step at most doubles the pool; then the estimate is made again from the refitted expansion.
+* **a Saltelli base** -- the power of two whose typical bound ``SALTELLI_K sqrt(ST / N)``
+  confirms every unconfirmed output (:func:`ddgsa.confirm.saltelli_n_to_confirm`, from the best
+  current ST), or, after a Saltelli stage that did not confirm, twice its base. Saltelli designs of
+  one seed nest: a larger base reuses every point of the smaller (and of the study's own Saltelli
+  design when the seeds agree).
+
+The cheaper of the two estimates runs; when neither fits in what is left, the rest of the budget
+goes to PCE points (they always refit the pooled expansion) and the escalation stops. Only the
+newest pooled expansion and the newest Saltelli stage are reported (methods ``confirm_pce`` and
+``confirm_saltelli``): earlier stages are superseded, never shopped among.
+
+Not done: points concentrated where the surrogate's error is largest. The leave-one-out error
+that bounds the pooled expansion's indices estimates the L2 error under the input distribution
+only from points drawn from it; concentrating points would make that bound optimistic.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ddgsa.errors import MethodError
+from ddgsa.gsa.base import Design, as_value_matrix, get_method
+from ddgsa.gsa.pooled import pooled_pce
+from ddgsa.gsa.result import SobolResult
+from ddgsa.gsa.trust import DEFAULT_TOLERANCE
+from ddgsa.space import ParameterSpace
+
+PCE_NAME, SALTELLI_NAME = "confirm_pce", "confirm_saltelli"
+MIN_STEP = 32
+"""Fewest points a PCE stage adds (smaller steps cost a refit for little change)."""
+MIN_RATE = 0.05
+"""Slowest convergence rate of the pooled expansion's bound assumed (a bound that did not shrink)."""
+MAX_ORDER = 10
+"""Highest degree of the escalation's pooled expansion (``auto`` fits up to 9 by regression)."""
+MAX_ENTRIES = 1_000_000
+"""Largest regression matrix (points x terms) of a refit: its least-angle path costs seconds."""
+
+
+def confirmed_outputs(results: Sequence[SobolResult], outputs: Sequence[str]) -> dict[str, bool]:
+    """Per output: some result has every row of it ``trusted`` or ``rank_confirmed``."""
+    out = {o: False for o in outputs}
+    for res in results:
+        t = res.indices
+        ok = (t["trusted"].astype(bool) | t["rank_confirmed"].astype(bool)).groupby(t["output"]).all()
+        for o, v in ok.items():
+            if o in out and bool(v):
+                out[o] = True
+    return out
+
+
+def need_per_row(st: NDArray[np.float64], tolerance: float) -> NDArray[np.float64]:
+    """Bound on each ST that would confirm its row: the tolerance, or half the row's distance to
+    zero and to every other row, whichever is larger (NaN rows: the tolerance)."""
+    st = np.asarray(st, dtype=float)
+    need = np.full(len(st), tolerance)
+    for i in range(len(st)):
+        if np.isfinite(st[i]):
+            gap = min(st[i], np.nanmin(np.abs(st[i] - np.delete(st, i)), initial=np.inf))
+            need[i] = max(tolerance, gap / 2.0)
+    return need
+
+
+@dataclass
+class Escalation:
+    """The escalation of one scene (see the module): ``start()``, then ``feed(values)`` until None.
+
+    Parameters
+    ----------
+    space : ParameterSpace
+    outputs : list of str
+    budget : int
+        Most new points this escalation may ask for (each point is one model run per realisation).
+    x, y : arrays (n, d) and (n, k)
+        Every point the scene already has and its (aggregated) values; NaN rows are failed points.
+    results : list of SobolResult
+        The results already computed in the scene (they may already confirm outputs).
+    tolerance : float
+    seed : int
+        Seed of the PCE points' Sobol' sequence (``seed + 2``) and of the Saltelli designs (``seed + 1``).
+    saltelli : (Design, values), optional
+        A Saltelli design the scene already ran; a larger base of the same seed extends it.
+    """
+
+    space: ParameterSpace
+    outputs: list[str]
+    budget: int
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+    results: list[SobolResult] = field(default_factory=list)
+    tolerance: float = DEFAULT_TOLERANCE
+    seed: int = 0
+    saltelli: tuple[Design, NDArray[np.float64]] | None = None
+    spent: int = 0
+    log: list[str] = field(default_factory=list)
+    pce: SobolResult | None = None
+    salt: SobolResult | None = None
+
+    def __post_init__(self) -> None:
+        if isinstance(self.budget, bool) or not isinstance(self.budget, (int, np.integer)) or self.budget < 0:
+            raise MethodError(f"confirm: 'budget' must be a whole number of runs >= 0, got {self.budget!r}")
+        self.x = np.asarray(self.x, dtype=float).reshape(-1, self.space.dim)
+        self.y = np.asarray(self.y, dtype=float).reshape(len(self.x), len(self.outputs))
+        self._n_sobol = 0
+        self._pending: tuple[str, NDArray[np.float64], Design | None] | None = None
+        self._history: list[tuple[int, float]] = []     # (points, worst bound / needed bound) per fit
+        self._salt_seed = self.seed + 1
+        self._salt_n = 0
+        if self.saltelli is not None:
+            design, yv = self.saltelli
+            self._salt_seed, self._salt_n = int(design.options["seed"]), int(design.options["n"])
+            self._salt_y = np.asarray(yv, dtype=float)
+
+    # -- state ---------------------------------------------------------------------------
+    @property
+    def stages(self) -> list[SobolResult]:
+        """The escalation's own current results (newest pooled PCE and newest Saltelli)."""
+        return [r for r in (self.pce, self.salt) if r is not None]
+
+    def unconfirmed(self) -> list[str]:
+        """Outputs no result (the scene's or the escalation's) confirms."""
+        ok = confirmed_outputs(self.results + self.stages, self.outputs)
+        return [o for o in self.outputs if not ok[o]]
+
+    def start(self) -> NDArray[np.float64] | None:
+        """The first points to evaluate (None: nothing to confirm or no budget)."""
+        return self._next()
+
+    def feed(self, values: NDArray[np.float64]) -> NDArray[np.float64] | None:
+        """Values (n, k) at the points last returned; the next points, or None when done."""
+        if self._pending is None:
+            raise MethodError("confirm: feed() without pending points (call start() first)")
+        kind, pts, design = self._pending
+        yv, _ = as_value_matrix(values, len(pts), self.outputs)
+        self._pending = None
+        self.spent += len(pts)
+        self.x, self.y = np.vstack([self.x, pts]), np.vstack([self.y, yv])
+        if kind == "saltelli":
+            assert design is not None
+            self._salt_y = yv if self._salt_n == 0 else np.vstack([self._salt_y, yv])
+            self._salt_n = int(design.options["n"])
+            res = get_method("saltelli").analyze(self.space, design, self._salt_y, outputs=self.outputs)
+            res.method = SALTELLI_NAME
+            self.salt = res
+        self._refit()
+        bad = self.unconfirmed()
+        self.log.append(f"{kind} (+{len(pts)} runs, {self.spent} of {self.budget}): "
+                        + ("every output confirmed" if not bad else f"unconfirmed: {', '.join(bad)}"))
+        return self._next()
+
+    def _refit(self) -> None:
+        res = pooled_pce(self.space, self.x, self.y, self.outputs, self.tolerance, MAX_ORDER, MAX_ENTRIES)
+        if res is not None:
+            res.method = PCE_NAME
+            self.pce = res
+            self._history.append((len(self.x), self._pce_ratio(res, self.outputs)))
+
+    # -- choice --------------------------------------------------------------------------
+    def _best_st(self, output: str) -> NDArray[np.float64]:
+        """Median ST per parameter over every result of the scene (the current best guess)."""
+        rows = [r.indices[r.indices["output"] == output].set_index("parameter")["ST"]
+                for r in self.results + self.stages]
+        if not rows:
+            return np.full(self.space.dim, np.nan)
+        table = np.array([[s.get(p, np.nan) for p in self.space.names] for s in rows], dtype=float)
+        with np.errstate(all="ignore"):
+            return np.array([np.nanmedian(c) if np.isfinite(c).any() else np.nan for c in table.T])
+
+    def _pce_ratio(self, res: SobolResult, bad: list[str]) -> float:
+        """Worst ratio of a row's bound to the bound that would confirm it, over the outputs ``bad``."""
+        worst, t = 0.0, res.indices
+        for o in bad:
+            g = t[t["output"] == o]
+            err = np.fmax(g["S1_conf"].to_numpy(float), g["ST_conf"].to_numpy(float))
+            need = need_per_row(g["ST"].to_numpy(float), self.tolerance)
+            with np.errstate(all="ignore"):
+                worst = max(worst, float(np.max(np.where(np.isfinite(err), err / need, np.inf))))
+        return worst
+
+    def _pce_need(self, bad: list[str]) -> float:
+        """Points the pooled expansion would need to confirm every output of ``bad`` (inf: unknown)."""
+        current = self.pce if self.pce is not None else next(
+            (r for r in self.results if r.method == "pooled_pce"), None)
+        if current is None:
+            return np.inf
+        ratio = self._pce_ratio(current, bad)
+        if not np.isfinite(ratio):
+            return np.inf
+        rate = 0.5
+        if len(self._history) >= 2:
+            (n0, r0), (n1, r1) = self._history[-2:]
+            with np.errstate(all="ignore"):
+                measured = np.log(r0 / r1) / np.log(n1 / n0) if n1 > n0 and r1 > 0 else np.nan
+            rate = float(np.clip(measured, MIN_RATE, 1.0)) if np.isfinite(measured) else MIN_RATE
+        with np.errstate(over="ignore"):
+            return float(current.n_evals * max(ratio, 1.0) ** (1.0 / rate))
+
+    def _saltelli_n(self, bad: list[str]) -> int:
+        from ddgsa.confirm import MAX_N, saltelli_n_to_confirm
+
+        n = max(saltelli_n_to_confirm(self._best_st(o), self.tolerance) for o in bad)
+        if self._salt_n > 0:                         # a Saltelli design that ran did not confirm: double it
+            n = max(n, 2 * self._salt_n)
+        return int(min(MAX_N, max(n, self._salt_n)))
+
+    def _next(self) -> NDArray[np.float64] | None:
+        bad = self.unconfirmed()
+        left = self.budget - self.spent
+        if not bad or left <= 0:
+            if bad:
+                self.log.append(f"budget of {self.budget} runs spent; unconfirmed: {', '.join(bad)}")
+            return None
+        d = self.space.dim
+        n_salt = self._saltelli_n(bad)
+        add_salt = (n_salt - self._salt_n) * (d + 2)
+        n_pool = len(self.x)
+        add_pce = max(0.0, self._pce_need(bad) - n_pool)
+        if add_salt <= add_pce and add_salt <= left:
+            design = get_method("saltelli").design(self.space, n=n_salt, seed=self._salt_seed,
+                                                   tolerance=self.tolerance)
+            pts = design.points[self._salt_n * (d + 2):]
+            self.log.append(f"next: saltelli N={n_salt} ({len(pts)} new runs; pooled PCE estimate "
+                            f"{_fmt(add_pce)} runs)")
+            self._pending = ("saltelli", pts, design)
+            return pts
+        step = int(min(left, max(MIN_STEP, min(add_pce, max(n_pool, MIN_STEP)))))
+        why = "the rest of the budget" if step == left else f"estimate {_fmt(add_pce)} more"
+        self.log.append(f"next: pce points +{step} ({why}; saltelli N={n_salt} would add {add_salt} runs)")
+        total = self._n_sobol + step
+        sample = self.space.sample(1 << int(np.ceil(np.log2(total))), seed=self.seed + 2, rule="sobol")
+        pts = sample[self._n_sobol:total]
+        self._n_sobol = total
+        self._pending = ("pce", pts, None)
+        return pts
+
+
+def _fmt(n: float) -> str:
+    return "unknown" if not np.isfinite(n) else f"{int(np.ceil(n))}"
+
+
+@dataclass
+class Confirmed:
+    """What :func:`confirm` returns: every result (the method's, the pooled PCE on its design, the
+    escalation's), whether each output is confirmed, the runs spent and the escalation's log."""
+
+    results: list[SobolResult]
+    confirmed: dict[str, bool]
+    n_evals: int
+    log: list[str]
+
+
+def confirm(f: Callable[[NDArray[np.float64]], Any], space: ParameterSpace, method: str = "mdrm", *,
+            budget: int, outputs: Sequence[str] | None = None, **options: Any) -> Confirmed:
+    """Run ``method`` on ``f``, then escalate (:class:`Escalation`) with at most ``budget`` more runs.
+
+    Examples
+    --------
+    >>> from ddgsa.gsa.testfunctions import ishigami
+    >>> tf = ishigami()
+    >>> c = confirm(tf.f, tf.space, "mdrm", budget=3000)
+    >>> c.confirmed, c.n_evals <= 3 * 7 + 1 + 32 + 3000
+    ({'y': True}, True)
+    """
+    m = get_method(method)
+    design = m.design(space, **options)
+    values = f(design.points)
+    y, names = as_value_matrix(values, design.n_points, outputs)
+    first = m.analyze(space, design, y, outputs=names)
+    tol = float(design.options.get("tolerance", DEFAULT_TOLERANCE))
+    results = [first]
+    pooled = pooled_pce(space, design.points, y, names, tol) if method != "pce" else None
+    if pooled is not None:
+        results.append(pooled)
+    esc = Escalation(space, names, budget, design.points, y, results, tol,
+                     seed=int(design.options.get("seed", 0) or 0),
+                     saltelli=(design, y) if method == "saltelli" else None)
+    x = esc.start()
+    while x is not None:
+        x = esc.feed(as_value_matrix(f(x), len(x), names)[0])
+    every = results + esc.stages
+    return Confirmed(every, confirmed_outputs(every, names), design.n_points + esc.spent, esc.log)

@@ -1,0 +1,89 @@
+"""Confirm on request (issue 25): escalation until every output is confirmed or the budget is spent.
+
+Every claim (trusted, rank-confirmed) of the results the escalation returns is scored against the
+closed-form indices of Ishigami and the Sobol' g-function (:mod:`ddgsa.gsa.testfunctions`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ddgsa.bench.calibration import false_rank_claims
+from ddgsa.gsa.escalate import PCE_NAME, SALTELLI_NAME, Escalation, confirm
+from ddgsa.gsa.testfunctions import TestFunction, ishigami, sobol_g
+
+G4 = sobol_g([0.0, 1.0, 4.5, 9.0])
+
+
+def _no_false_claim(results: list, tf: TestFunction) -> None:
+    """Every trusted row within 0.02 of the exact indices; no false rank confirmation."""
+    for res in results:
+        t = res.indices
+        ok = t["trusted"].to_numpy(bool)
+        assert np.all(np.abs(t["S1"].to_numpy(float) - tf.S1)[ok] <= 0.02), res.method
+        assert np.all(np.abs(t["ST"].to_numpy(float) - tf.ST)[ok] <= 0.02), res.method
+        bad = false_rank_claims(t["ST"].to_numpy(float)[None], tf.ST[None], res.extras["rank_claims"][None], 0.02)
+        assert not bad.any(), res.method
+
+
+def test_ishigami_is_confirmed_from_mdrm_with_a_few_pce_points() -> None:
+    """M-DRM (5 points, its 32-point check sample) confirms nothing of Ishigami (cut function
+    through zero); the pooled expansion on those 48 points plus 48 Sobol' points places every
+    parameter, and the escalation stops there, far below its budget."""
+    tf = ishigami()
+    c = confirm(tf.f, tf.space, "mdrm", budget=400, points=5)
+    assert c.confirmed == {"y": True}
+    assert c.n_evals == 48 + 48
+    assert [r.method for r in c.results] == ["mdrm", "pooled_pce", PCE_NAME]
+    assert not c.results[0].confirmed and c.results[-1].confirmed
+    _no_false_claim(c.results, tf)
+
+
+def test_the_escalation_stops_at_the_budget_and_says_so() -> None:
+    """The g-function's kink (a = 0) needs ~10^4 runs; with a budget of 120 the escalation spends
+    exactly 120 runs (a PCE step that doubles the pool, then the rest), claims nothing false, and
+    logs the unconfirmed output."""
+    c = confirm(G4.f, G4.space, "mdrm", budget=120, points=5)
+    assert c.confirmed == {"y": False}
+    assert c.n_evals == 4 * 5 + 1 + 32 + 120
+    assert c.log[-1] == "budget of 120 runs spent; unconfirmed: y"
+    _no_false_claim(c.results, G4)
+
+
+def test_nothing_to_confirm_and_a_zero_budget_run_nothing() -> None:
+    tf = ishigami()
+    x = tf.space.sample(256, seed=1, rule="sobol")
+    y = tf.f(x)[:, None]
+    esc = Escalation(tf.space, ["y"], 0, x, y)
+    assert esc.start() is None and esc.spent == 0 and esc.unconfirmed() == ["y"]
+    with pytest.raises(Exception, match="budget"):
+        Escalation(tf.space, ["y"], -1, x, y)
+
+
+@pytest.mark.slow
+def test_a_slowly_converging_expansion_hands_over_to_saltelli() -> None:
+    """On the g-function the pooled expansion's bound shrinks ~n^-0.2 (measured between fits): after
+    a few PCE steps the escalation estimates Saltelli N = 2048 (12 288 runs) as cheaper, runs it
+    and confirms every row (about 50 s on 2 loaded cores)."""
+    c = confirm(G4.f, G4.space, "mdrm", budget=20_000, points=5)
+    assert c.confirmed == {"y": True}
+    salt = next(r for r in c.results if r.method == SALTELLI_NAME)
+    assert salt.n_evals == 2048 * (4 + 2) and salt.confirmed
+    assert c.n_evals < 53 + 20_000
+    _no_false_claim(c.results, G4)
+
+
+def test_saltelli_designs_of_one_seed_nest_so_a_larger_base_reuses_the_smaller() -> None:
+    """What the escalation's Saltelli step relies on: the base-N design is the first N (d + 2)
+    rows of the base-2N design (SALib's scrambled Sobol' stream, one seed); and a study's own
+    Saltelli design counts as run: the next base is at least twice it, asking only the new rows."""
+    from ddgsa.gsa.base import get_method
+
+    d = G4.space.dim
+    small = get_method("saltelli").design(G4.space, n=64, seed=3)
+    big = get_method("saltelli").design(G4.space, n=128, seed=3)
+    np.testing.assert_array_equal(big.points[:64 * (d + 2)], small.points)
+    esc = Escalation(G4.space, ["y"], 10_000, small.points, G4.f(small.points)[:, None],
+                     saltelli=(small, G4.f(small.points)[:, None]))
+    assert esc._saltelli_n(["y"]) >= 128

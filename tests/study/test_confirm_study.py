@@ -1,0 +1,92 @@
+"""A study's ``confirm: {budget}`` block (issue 25): escalation in the pipeline, reuse of the store,
+bad input. The indices are Ishigami's (the analytic model); their claims are checked in
+``tests/gsa/test_escalate.py``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+
+import pytest
+
+from ddgsa.cli import main
+from ddgsa.gsa.escalate import PCE_NAME
+from ddgsa.pipeline import execute
+from ddgsa.runner import EvaluationStore
+from ddgsa.study import load_study
+
+
+def test_the_pipeline_adds_the_escalation_beside_the_methods(write_study, tmp_path: Path) -> None:
+    """In process, one scene and realisation: M-DRM's 45 distinct points leave Ishigami unconfirmed;
+    ``confirm: {budget: 300}`` adds 45 Sobol' points, after which the refitted pooled expansion
+    confirms it; a rerun reads every evaluation from the store."""
+    text = write_study().read_text().replace("  - {method: saltelli, n: 64, seed: 0}\n", "")
+    text = text.replace("wind_speed: [8.0, 11.0]", "wind_speed: 11.0").replace("realisations: 2", "realisations: 1")
+    path = tmp_path / "c.yaml"
+    path.write_text(text.replace("outputs: [y, y_positive]", "outputs: [y]") + "confirm: {budget: 300}\n")
+    store = EvaluationStore(tmp_path / "evaluations.sqlite")
+    res = execute(load_study(path), store, quiet=True)
+    assert res.provenance["confirm"][0]["spent"] == 45
+    assert res.provenance["evaluations"]["total"] == 90
+    t = res.indices
+    assert set(t["method"]) == {"mdrm", "pooled_pce", "given_data_s1", PCE_NAME}
+    assert not t[t["method"] == "mdrm"]["rank_confirmed"].any()
+    esc = t[t["method"] == PCE_NAME]
+    assert (esc["trusted"] | esc["rank_confirmed"]).all() and (esc["n_evals"] == 90).all()
+    again = execute(load_study(path), store, quiet=True)
+    assert again.provenance["evaluations"]["evaluated"] == 0
+    assert again.indices.equals(t)
+
+
+@pytest.mark.slow
+def test_a_study_confirm_block_escalates_and_reuses_the_store(write_study, tmp_path: Path) -> None:
+    """The CLI (about 15 s): ``confirm: {budget: 300}`` on the analytic model (Ishigami x wind_speed / 11): M-DRM alone
+    exits 3 (unconfirmed), with the block the study is confirmed in both scenes, the added points
+    are in provenance, and a second run finds every evaluation in the store."""
+    text = write_study(n=64).read_text().replace("  - {method: saltelli, n: 64, seed: 0}\n", "")
+    study = tmp_path / "c.yaml"
+    study.write_text(text.replace("outputs: [y, y_positive]", "outputs: [y]"))
+    out = tmp_path / "out"
+    assert main(["-q", "run", str(study), "--out", str(out)]) == 3
+    study.write_text(study.read_text() + "confirm: {budget: 300}\n")
+    assert main(["-q", "run", str(study), "--out", str(out)]) == 0
+    table = pd.read_csv(out / "indices.csv")
+    esc = table[table["method"] == PCE_NAME]
+    assert sorted(esc["scene"].unique()) == [0, 1]
+    assert (esc["trusted"] | esc["rank_confirmed"]).all()
+    prov = pd.read_json(out / "provenance.json", typ="series")
+    assert [c["spent"] for c in prov["confirm"]] == [45, 45]
+    assert prov["evaluations"]["total"] == 2 * 2 * (45 + 45)     # 2 scenes x 2 realisations
+    assert main(["-q", "run", str(study), "--out", str(out)]) == 0
+    prov = pd.read_json(out / "provenance.json", typ="series")
+    assert prov["evaluations"]["evaluated"] == 0
+
+
+def test_a_confirm_block_outside_a_gsa_study_is_exit_2(write_study, tmp_path: Path, capsys) -> None:
+    text = write_study().read_text().replace("name: demo", "name: demo\nkind: fault")
+    study = tmp_path / "bad.yaml"
+    study.write_text(text.replace("methods:", "confirm: {budget: 10}\nmethods:"))
+    assert main(["validate", str(study)]) == 2
+    study.write_text(write_study().read_text() + "confirm: {budget: many}\n")
+    assert main(["validate", str(study)]) == 2
+    assert "confirm.budget" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_the_escalation_pools_the_points_auto_ran(write_study, tmp_path: Path) -> None:
+    """``auto`` with a budget of 120 leaves Ishigami unconfirmed; the escalation starts from its
+    distinct points (each once: a repeated point would flatter the leave-one-out error) and its
+    pooled expansion is fitted on those plus the ones it added (about 5 s)."""
+    text = write_study().read_text().replace("  - {method: saltelli, n: 64, seed: 0}\n", "")
+    text = text.replace("{method: mdrm, points: 5}", "{method: auto, budget: 120}")
+    text = text.replace("wind_speed: [8.0, 11.0]", "wind_speed: 11.0").replace("realisations: 2", "realisations: 1")
+    path = tmp_path / "a.yaml"
+    path.write_text(text.replace("outputs: [y, y_positive]", "outputs: [y]") + "confirm: {budget: 400}\n")
+    res = execute(load_study(path), EvaluationStore(tmp_path / "evaluations.sqlite"), quiet=True)
+    t = res.indices
+    spent = res.provenance["confirm"][0]["spent"]
+    ran = res.provenance["evaluations"]["total"]
+    esc = t[t["method"] == PCE_NAME]
+    assert (esc["n_evals"] == ran).all() and spent < ran        # every distinct point, auto's included
+    assert not t[t["method"] == "auto"]["trusted"].all() and esc["trusted"].all()
