@@ -3,10 +3,10 @@
 A (scene, output) pair is **confirmed** when some method's rows of it are all ``trusted`` (value
 within the tolerance) or ``rank_confirmed`` (place in the order by ST certain:
 :func:`ddgsa.gsa.result.rank_claims`). For a pair that is not, :func:`cost_to_confirm` estimates
-the cheapest Saltelli design that would confirm it: Saltelli's error bound (bootstrap and
-half-sample, :mod:`ddgsa.gsa.salib`) scales as ``SALTELLI_K sqrt(ST / N)``, and every row needs an
-error below the tolerance (trusted) or below half its distance to zero and to every other row's
-ST (rank-confirmed), whichever is larger. The distances come from the study's best estimates of
+the cheapest Saltelli design that would confirm it
+(:func:`ddgsa.gsa.salib.saltelli_n_to_confirm`): Saltelli's error bound (bootstrap and half-sample)
+scales as ``SALTELLI_K sqrt(ST / N)``, and every row needs an error below the tolerance (trusted)
+or below half its distance to zero and to every other row's ST (rank-confirmed), whichever is larger. The distances come from the study's best estimates of
 the pair, so the figure is an estimate ("~"), not a promise.
 """
 
@@ -18,16 +18,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
+from ddgsa.gsa.salib import saltelli_n_to_confirm
+
 if TYPE_CHECKING:  # pragma: no cover
     from ddgsa.pipeline import StudyResult
-
-SALTELLI_K = 3.3
-"""Saltelli's error bound on a total index ``ST`` is about ``SALTELLI_K sqrt(ST / N)``: the 75th
-percentile of ``bound sqrt(N / ST)`` over the 3 360 Saltelli rows of ``results/trust_calibration``
-(median 2.8, steady from ST = 0.001 to 1; rows with ST < 0.001 are taken at 0.001, which
-overstates their bound tenfold)."""
-MIN_N, MAX_N = 64, 1 << 20
-
 
 def pair_status(indices: pd.DataFrame) -> pd.DataFrame:
     """Per (scene, output): ``confirmed`` (some method has every row trusted or rank-confirmed),
@@ -43,23 +37,6 @@ def pair_status(indices: pd.DataFrame) -> pd.DataFrame:
                      "trusted": bool(per["trusted"].any()), "method": best,
                      "unconfirmed": int(per.loc[best, "n"] - per.loc[best, "n_ok"])})
     return pd.DataFrame(rows, columns=["scene", "output", "confirmed", "trusted", "method", "unconfirmed"])
-
-
-def saltelli_n_to_confirm(st: np.ndarray, tolerance: float) -> int:
-    """Smallest power-of-two Saltelli base sample whose typical error bound ``SALTELLI_K sqrt(ST / N)``
-    confirms every row of an output with total indices ``st``: below ``tolerance`` (trusted) or
-    below half the row's distance to zero and to every other row (rank-confirmed), whichever is
-    larger. A NaN row is taken as ST = 1 needing the tolerance."""
-    st = np.asarray(st, dtype=float)
-    known = np.where(np.isfinite(st), np.clip(st, 0.0, 1.0), np.nan)
-    need = np.full(len(st), tolerance)
-    for i in range(len(st)):
-        if np.isfinite(known[i]):
-            gap = min(known[i], np.nanmin(np.abs(known[i] - np.delete(known, i)), initial=np.inf))
-            need[i] = max(tolerance, gap / 2.0)
-    level = np.where(np.isfinite(known), np.maximum(known, 1e-3), 1.0)
-    n = float(np.max(SALTELLI_K ** 2 * level / need ** 2))
-    return int(min(MAX_N, max(MIN_N, 1 << int(np.ceil(np.log2(n))))))
 
 
 @dataclass(frozen=True)

@@ -120,7 +120,7 @@ def test_false_rank_claims_against_the_truth() -> None:
 def test_saltelli_size_to_confirm_by_hand() -> None:
     """Error bound 3.3 sqrt(ST / N) (``SALTELLI_K``); each row needs max(tolerance, half its distance
     to zero and to the nearest other row)."""
-    from ddgsa.confirm import SALTELLI_K, saltelli_n_to_confirm
+    from ddgsa.gsa.salib import SALTELLI_K, saltelli_n_to_confirm
 
     assert SALTELLI_K == 3.3
     # 0.6 needs 0.15: 3.3^2 0.6 / 0.15^2 = 290 -> 512 (0.3: 145)

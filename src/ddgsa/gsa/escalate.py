@@ -16,7 +16,7 @@ chooses the next design by what the pooled data say is cheapest:
   there are two), so an expansion that converges slowly (a kink, a jump) soon looks expensive. A
   step at most doubles the pool; then the estimate is made again from the refitted expansion.
 * **a Saltelli base** -- the power of two whose typical bound ``SALTELLI_K sqrt(ST / N)``
-  confirms every unconfirmed output (:func:`ddgsa.confirm.saltelli_n_to_confirm`, from the best
+  confirms every unconfirmed output (:func:`ddgsa.gsa.salib.saltelli_n_to_confirm`, from the best
   current ST), or, after a Saltelli stage that did not confirm, twice its base. Saltelli designs of
   one seed nest: a larger base reuses every point of the smaller (and of the study's own Saltelli
   design when the seeds agree).
@@ -217,7 +217,7 @@ class Escalation:
             return float(current.n_evals * max(ratio, 1.0) ** (1.0 / rate))
 
     def _saltelli_n(self, bad: list[str]) -> int:
-        from ddgsa.confirm import MAX_N, saltelli_n_to_confirm
+        from ddgsa.gsa.salib import MAX_N, saltelli_n_to_confirm
 
         n = max(saltelli_n_to_confirm(self._best_st(o), self.tolerance) for o in bad)
         if self._salt_n > 0:                         # a Saltelli design that ran did not confirm: double it
