@@ -78,7 +78,7 @@ def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol
     mean of a nonlinear ``kloss`` run to 0.5 %)."""
     q, last = q0, None
     for _ in range(iterations):
-        lin = nonrotating.linearise(rig.system, q, qd0)
+        lin = nonrotating.linearise(rig.system, q, qd0, static=True)
         z0 = np.linalg.lstsq(lin.k, lin.r0, rcond=nonrotating.RIGID_RCOND)[0]
         zero = np.zeros_like(z0)
         q = lin.state(z0, zero, zero, lin.t0)[0]

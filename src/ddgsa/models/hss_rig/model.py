@@ -61,6 +61,7 @@ fits and mean little (use ``peak_*``, the peak through resonance, and the order 
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from collections.abc import Mapping
@@ -256,11 +257,9 @@ class HssRig(Model):
         Spin rates and flux states are the rig's own (:meth:`assemble`); the sag is solved on the
         linearised rig standing still, so a run starts without a gravity transient.
         """
-        still = build(p, lambda marker: ([], []), spin=0.0)
-        lin = linearise_system(still.system)
-        sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
+        sag = _sag(tuple(sorted({**p, **_NO_TURNING_LOADS}.items())))
         q0 = rig.system.q0.copy()
-        q0[: still.system.n] += sag
+        q0[: sag.size] += sag
         return q0, rig.system.qd0.copy()
 
     @staticmethod
@@ -303,7 +302,7 @@ class HssRig(Model):
         for i in (1, 2):
             for ax in ("y", "z"):
                 out[f"housing_{i}_{ax}"] = np.gradient(qd[:, system.index(f"housing_{i}.{ax}")], t, edge_order=2)
-        disk = np.array([system.marker_state(rig.markers["disk"], qi, qdi, ti).r for ti, qi, qdi in zip(t, q, qd)])
+        disk = system.positions(rig.markers["disk"], q, qd, t)
         out["disk_y"], out["disk_z"] = disk[:, 1], disk[:, 2]
         speed = qd[:, system.index("hss.rx")]
         motor_speed = qd[:, system.index("motor.rx")]
@@ -443,6 +442,22 @@ class HssRig(Model):
                 _SHOWN.add(key)
                 warnings.warn(w.message, stacklevel=2)
         return rows
+
+
+_NO_TURNING_LOADS = {"eccentric_mass": 0.0, "supply_unbalance": 0.0}
+"""Parameters that put no force on the rig at rest: the sag is the same without them (cached once)."""
+
+
+@functools.lru_cache(maxsize=8)
+def _sag(items: tuple[tuple[str, float], ...]) -> np.ndarray:
+    """Static gravity sag (n_still,) of the rig at rest, motor and load off, for parameters ``items``
+    (the sorted parameter items; kept for the few calls of one run: an assembly, its steady stretch,
+    its start)."""
+    still = build(dict(items), lambda marker: ([], []), spin=0.0)
+    lin = linearise_system(still.system)
+    sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
+    sag.flags.writeable = False
+    return sag
 
 
 def _defect_loads(p: Mapping[str, float], scene: RigScene, spin: float):

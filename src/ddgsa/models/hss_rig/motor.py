@@ -222,9 +222,14 @@ def sequence_phasors(motor: InductionMotor, omega: float, rotor_speed: float,
     """
     m = motor
     w_slip = omega - m.pole_pairs * rotor_speed
-    a = np.array([[m.stator_resistance + 1j * omega * m.stator_inductance, 1j * omega * m.magnetising_inductance],
-                  [1j * w_slip * m.magnetising_inductance, m.rotor_resistance + 1j * w_slip * m.rotor_inductance]])
-    i_s, i_r = np.linalg.solve(a, np.array([voltage, 0.0], dtype=complex))
+    # the 2 x 2 complex system [[a, b], [c, d]] (i_s, i_r) = (v, 0) by Cramer's rule (scalar arithmetic:
+    # the steady torque is called at every sample and iteration of the rig's runs)
+    a = complex(m.stator_resistance, omega * m.stator_inductance)
+    b = complex(0.0, omega * m.magnetising_inductance)
+    c = complex(0.0, w_slip * m.magnetising_inductance)
+    d = complex(m.rotor_resistance, w_slip * m.rotor_inductance)
+    det = a * d - b * c
+    i_s, i_r = complex(voltage) * d / det, -complex(voltage) * c / det
     psi_s = m.stator_inductance * i_s + m.magnetising_inductance * i_r
     psi_r = m.magnetising_inductance * i_s + m.rotor_inductance * i_r
     return complex(i_s), complex(i_r), complex(psi_s), complex(psi_r)

@@ -39,6 +39,7 @@ import numpy as np
 
 from ddgsa.mbs import Bushing6, FlexibleBody, Ground, Marker, RigidBody, SpringDamper3, System, TorqueLaw
 from ddgsa.mbs.beam import BeamSpec, mesh
+from ddgsa.mbs.compiled import compile_terms
 from ddgsa.mbs.bodies import Body
 from ddgsa.mbs.elements import Element
 from ddgsa.models.constants import tilted_gravity
@@ -185,4 +186,5 @@ def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0,
     if extra is not None:
         elements += extra(mk)
     system = System(bodies, elements, gravity=GRAVITY if gravity else (0.0, 0.0, 0.0))
+    compile_terms(system)           # the structure in compiled code, the motor, load and unbalance in Python
     return Rig(system, mk, {"bearing_1": x1, "disk": xd, "bearing_2": x2})
