@@ -49,3 +49,7 @@ def test_hybrid_terms_equal_the_python_terms_and_positions():
     marker = system.elements[2].markers[0]
     expected = np.array([system.marker_state(marker, qi, qd, ti).r for qi, ti in zip(qs, times)])
     assert np.allclose(system.positions(marker, qs, np.tile(qd, (5, 1)), times), expected, rtol=0, atol=1e-14)
+    for fast, ref_state in zip(system.states_of([marker], qs[1], qd, 0.3), [system.marker_state(marker, qs[1], qd, 0.3)]):
+        for a, b in ((fast.r, ref_state.r), (fast.a, ref_state.a), (fast.v, ref_state.v), (fast.w, ref_state.w),
+                     (fast.jac, ref_state.jac)):
+            assert np.allclose(a, b, rtol=0, atol=1e-12)

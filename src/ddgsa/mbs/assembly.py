@@ -126,6 +126,13 @@ class System:
         jac[:, sl] = jb
         return MarkerState(r, a, v, w, jac)
 
+    def states_of(self, markers: Sequence[Marker], q: Array, qd: Array, t: float) -> list[MarkerState]:
+        """States of ``markers`` at ``(q, qd, t)`` (compiled where :func:`ddgsa.mbs.compiled.compile_terms`
+        packed the system and every marker is one of its parts')."""
+        if self.fast_terms is not None and all(id(mk) in self._index for mk in markers):
+            return self.fast_terms.states(list(markers), q, qd, t)
+        return [self.marker_state(mk, q, qd, t) for mk in markers]
+
     def positions(self, mk: Marker, q: Array, qd: Array, times: Array) -> Array:
         """Global position (n_t, 3) [m] of marker ``mk`` along a record ``q, qd`` (n_t, n) at ``times``
         (compiled where :func:`ddgsa.mbs.compiled.compile_terms` packed the system and the marker is one

@@ -785,6 +785,13 @@ class HybridTerms:
         return _positions_along(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float),
                                 np.asarray(times, dtype=float), self.packed.arrays, m)
 
+    def states(self, markers: list, q: Array, qd: Array, t: float) -> list[MarkerState]:
+        """States of some of the system's ``markers`` at ``(q, qd, t)``."""
+        mr, ma, mvel, mw, mj, _ = _markers(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t),
+                                           self.packed.arrays)
+        rows = [next(i for i, mk in enumerate(self.system.markers) if mk is m) for m in markers]
+        return [MarkerState(mr[r], ma[r], mvel[r], mw[r], mj[r]) for r in rows]
+
     def __call__(self, q: Array, qd: Array, t: float):
         """:class:`~ddgsa.mbs.assembly.Terms` at ``(q, qd, t)``."""
         system = self.system

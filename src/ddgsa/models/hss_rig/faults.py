@@ -61,7 +61,7 @@ def coupling_stretch(rig: Rig, q: Array, coupling: MisalignedCoupling | None = N
     (``coupling``: the rig's coupling element, :func:`coupling_of`, when the caller has it)."""
     system = rig.system
     coupling = coupling_of(rig) if coupling is None else coupling
-    states = [system.marker_state(m, q, np.zeros_like(q), 0.0) for m in coupling.markers]
+    states = system.states_of(coupling.markers, q, np.zeros_like(q), 0.0)
     return coupling._deflection(states)[0]
 
 
@@ -95,12 +95,12 @@ def anisotropy(p: Mapping[str, float], theta: float) -> Array:
     """``dK(theta) = B K_hub B^T - K_mean`` (6, 6) [N/m, N m/rad] of the coupling at hub angle ``theta`` [rad]."""
     a = p["coupling_asymmetry"]
     kr, ka = p["coupling_radial_stiffness"], p["coupling_angular_stiffness"]
-    dk_hub = np.diag([0.0, a * kr, -a * kr, 0.0, a * ka, -a * ka])
-    c, s = math.cos(theta), math.sin(theta)
-    rot = np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])        # the hub frame: a turn about x
-    big = np.zeros((6, 6))
-    big[:3, :3] = big[3:, 3:] = rot
-    return big @ dk_hub @ big.T
+    # B diag(0, a k, -a k) B^T for B the hub frame's turn about x: a k [[cos 2t, sin 2t], [sin 2t, -cos 2t]]
+    c2, s2 = math.cos(2 * theta), math.sin(2 * theta)
+    out = np.zeros((6, 6))
+    for lo, k in ((1, a * kr), (4, a * ka)):
+        out[lo, lo], out[lo, lo + 1], out[lo + 1, lo], out[lo + 1, lo + 1] = k * c2, k * s2, k * s2, -k * c2
+    return out
 
 
 def anisotropy_loads(p: Mapping[str, float], stretch: Array, spin: float, duration: float,

@@ -80,9 +80,8 @@ from ddgsa.models.base import Model, ModelOption, ModelOutput, register_model
 from ddgsa.models.hss_rig import transient
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligned, operating_stretch
-from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
+from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_along, kloss_parts,
                                         steady_flux, steady_speed)
-from ddgsa.models.hss_rig.motor import sequence_phasors
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, build
 from ddgsa.models.hss_rig.scenes import RigScene
@@ -315,8 +314,7 @@ class HssRig(Model):
                 current.append(el.phase_current(ti, psi))
             out["motor_torque"], out["motor_current"] = np.array(torque), np.array(current)
         else:
-            out["motor_torque"] = np.array([kloss_torque_at(drive, ti, w) for ti, w in zip(t, motor_speed)])
-            out["motor_current"] = np.array([_kloss_current(drive, ti, w) for ti, w in zip(t, motor_speed)])
+            out["motor_torque"], out["motor_current"] = kloss_along(drive, t, motor_speed)
         if self.noise:
             rng = np.random.default_rng(np.random.SeedSequence([sc.seed, 13]))
             for s in SENSORS:
@@ -489,16 +487,6 @@ def _noise_scale(sensor: str) -> float:
         if sensor.startswith(kind):
             return NOISE[kind]
     return NOISE[sensor]
-
-
-def _kloss_current(drive: Drive, t: float, speed: float) -> float:
-    """Phase-a current [A] of the steady circuit (both sequences) at time ``t`` and rotor ``speed``."""
-    theta, w, v = drive.state(t)
-    if v == 0.0 or w <= 0.0:
-        return 0.0
-    i1 = sequence_phasors(drive.motor, w, speed, v)[0]
-    i2 = sequence_phasors(drive.motor, -w, speed, drive.motor.supply_unbalance * v)[0]
-    return float((i1 * complex(math.cos(theta), math.sin(theta)) + i2 * complex(math.cos(theta), -math.sin(theta))).real)
 
 
 def _anti_alias(t: np.ndarray, f_r: float):
