@@ -76,12 +76,14 @@ def _parser() -> argparse.ArgumentParser:
     ben = sub.add_parser("bench", help="speed of each fidelity (default), accuracy against cost of each method, "
                                        "the calibration of every method's trusted flag, scaling, or the indirect drive",
                          parents=[common])
-    ben.add_argument("what", nargs="?", choices=["speed", "accuracy", "trust", "scaling", "indirect"], default="speed",
+    ben.add_argument("what", nargs="?", choices=["speed", "accuracy", "trust", "scaling", "indirect", "rig"],
+                     default="speed",
                      help="speed: every speed target with its measured value and verdict; accuracy: index error "
                           "against evaluations and wall time; trust: false-trust and false-alarm rates of every "
                           "method on 15 reference functions x 20 seeds; scaling: wall time against runs, "
                           "parameters and workers (all but speed and indirect written to --out); indirect: the indirect "
-                          "drive's fidelities against their references")
+                          "drive's fidelities against their references; rig: the test rig's linear paths against the "
+                          "nonlinear rig")
     ben.add_argument("--out", type=Path, default=None,
                      help="folder for the CSVs and charts (default results/accuracy_cost, results/trust_calibration "
                           "or results/scaling)")
@@ -450,7 +452,12 @@ def _bench(args: argparse.Namespace) -> int:
             args.json.parent.mkdir(parents=True, exist_ok=True)
             args.json.write_text(json.dumps(res, indent=2))
         return EXIT_OK
-    if args.what == "scaling":
+    if args.what == "rig":
+        from ddgsa.bench.rig import format_rig_speed, rig_speed
+
+        res = rig_speed(quick=args.quick)
+        print(format_rig_speed(res))
+    elif args.what == "scaling":
         from ddgsa.bench.scaling import format_scaling, scaling
 
         res = scaling(args.out or Path("results") / "scaling", quick=args.quick)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -97,6 +98,8 @@ class System:
         self.n_constraints = sum(c.n_eq for c in self.constraints)
         q0 = [b.initial_state()[0] for b in self.bodies]
         qd0 = [b.initial_state()[1] for b in self.bodies]
+        self.fast_terms: Any = None
+        """:meth:`terms` evaluated another way (:func:`ddgsa.mbs.compiled.compile_terms`), or None."""
         self.q0 = np.concatenate(q0) if q0 else np.zeros(0)
         self.qd0 = np.concatenate(qd0) if qd0 else np.zeros(0)
         states = self.marker_states(self.q0, self.qd0, 0.0)
@@ -123,6 +126,21 @@ class System:
         jac[:, sl] = jb
         return MarkerState(r, a, v, w, jac)
 
+    def states_of(self, markers: Sequence[Marker], q: Array, qd: Array, t: float) -> list[MarkerState]:
+        """States of ``markers`` at ``(q, qd, t)`` (compiled where :func:`ddgsa.mbs.compiled.compile_terms`
+        packed the system and every marker is one of its parts')."""
+        if self.fast_terms is not None and all(id(mk) in self._index for mk in markers):
+            return self.fast_terms.states(list(markers), q, qd, t)
+        return [self.marker_state(mk, q, qd, t) for mk in markers]
+
+    def positions(self, mk: Marker, q: Array, qd: Array, times: Array) -> Array:
+        """Global position (n_t, 3) [m] of marker ``mk`` along a record ``q, qd`` (n_t, n) at ``times``
+        (compiled where :func:`ddgsa.mbs.compiled.compile_terms` packed the system and the marker is one
+        of its parts')."""
+        if self.fast_terms is not None and id(mk) in self._index:
+            return self.fast_terms.positions(mk, q, qd, times)
+        return np.array([self.marker_state(mk, qi, qdi, ti).r for ti, qi, qdi in zip(times, q, qd)])
+
     def _states_of(self, part: Element | Constraint, states: list[MarkerState]) -> list[MarkerState]:
         return [states[self._index[id(mk)]] for mk in part.markers]
 
@@ -133,6 +151,8 @@ class System:
     # -- equations --------------------------------------------------------------------------------
     def terms(self, q: Array, qd: Array, t: float, states: list[MarkerState] | None = None) -> Terms:
         """Mass matrix, forces and tangents at ``(q, qd, t)``."""
+        if states is None and self.fast_terms is not None:
+            return self.fast_terms(q, qd, t)
         n = self.n
         m, f, kt, ct = np.zeros((n, n)), np.zeros(n), np.zeros((n, n)), np.zeros((n, n))
         for b in self.bodies:

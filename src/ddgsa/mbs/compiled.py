@@ -26,8 +26,8 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs.alpha import specialise
-from ddgsa.mbs.assembly import System
-from ddgsa.mbs.bodies import FlexibleBody, PrescribedBody
+from ddgsa.mbs.assembly import System, Terms
+from ddgsa.mbs.bodies import FlexibleBody, MarkerState, PrescribedBody
 from ddgsa.mbs.constraints import GearContact, PrescribedSpeed, Spherical, TransverseBearing
 from ddgsa.mbs.elements import AppliedLoad, TorqueLaw, _Connector
 from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rotation
@@ -73,8 +73,24 @@ class _SeriesTable:
             meta[:, 3].copy(), meta[:, 4].copy()
 
 
-def pack(system: System) -> Packed:
-    """Arrays of ``system`` for the compiled kernels; raises :class:`ModelError` for parts it cannot run."""
+def compiled_kind(el: object) -> int | None:
+    """The compiled kernel's kind of element ``el`` (connector, torque law, applied load), or None
+    when it has no compiled form (a Python torque law, a connector with its own deflection, a new
+    element class)."""
+    if isinstance(el, _Connector):
+        return _CONNECTOR if el.packable else None
+    if isinstance(el, TorqueLaw):
+        return _TORQUE if el.linear_form is not None else None
+    if isinstance(el, AppliedLoad):
+        return _LOAD
+    return None
+
+
+def pack(system: System, elements: list | None = None) -> Packed:
+    """Arrays of ``system`` for the compiled kernels; raises :class:`ModelError` for parts it cannot run.
+
+    ``elements``: the elements to pack (default: all of the system's); :class:`HybridTerms` packs
+    those with a compiled form and evaluates the rest in Python."""
     n = system.n
     nb = len(system.bodies)
     series = _SeriesTable()
@@ -132,24 +148,19 @@ def pack(system: System) -> Packed:
             pb_ser[p_i] = series.add(body.series)
     midx = {id(mk): i for i, mk in enumerate(system.markers)}
     # elements
-    nel = len(system.elements)
+    chosen = system.elements if elements is None else list(elements)
+    nel = len(chosen)
     el_kind, el_idx = np.zeros(max(nel, 1), np.int64), np.zeros(max(nel, 1), np.int64)
     cn, tq, ld = [], [], []
-    for e_i, el in enumerate(system.elements):
-        if isinstance(el, _Connector):
-            el_kind[e_i], el_idx[e_i] = _CONNECTOR, len(cn)
-            cn.append(el)
-        elif isinstance(el, TorqueLaw):
-            if el.linear_form is None:
-                raise ModelError(f"torque law {el.name!r} is a Python function: no compiled form (use "
-                                 "TorqueLaw.linear)")
-            el_kind[e_i], el_idx[e_i] = _TORQUE, len(tq)
-            tq.append(el)
-        elif isinstance(el, AppliedLoad):
-            el_kind[e_i], el_idx[e_i] = _LOAD, len(ld)
-            ld.append(el)
-        else:
+    for e_i, el in enumerate(chosen):
+        kind = compiled_kind(el)
+        if kind is None and isinstance(el, TorqueLaw):
+            raise ModelError(f"torque law {el.name!r} is a Python function: no compiled form (use "
+                             "TorqueLaw.linear)")
+        if kind is None:
             raise ModelError(f"element {el.name!r} ({type(el).__name__}) has no compiled form")
+        el_kind[e_i], el_idx[e_i] = kind, len((cn, tq, ld)[kind])
+        (cn, tq, ld)[kind].append(el)
     ncn = max(len(cn), 1)
     cn_m = np.zeros((ncn, 2), np.int64)
     cn_k, cn_c = np.zeros((ncn, 6, 6)), np.zeros((ncn, 6, 6))
@@ -679,3 +690,79 @@ def along(packed: Packed, q: Array, qd: Array, times: Array) -> tuple[Array, Arr
     """``(Q (n_t, n), outputs (n_t, n_el, 6), position drift, velocity drift)`` along a trajectory."""
     return _along(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float),
                   np.asarray(times, dtype=float), packed.arrays, packed.n_holonomic)
+
+
+@njit(cache=True)
+def _positions_along(q, qd, times, P, m):  # pragma: no cover (compiled)
+    """Position (n_t, 3) of marker ``m`` at each row of ``q, qd`` (times ``times``)."""
+    out = np.zeros((q.shape[0], 3))
+    for i in range(q.shape[0]):
+        out[i] = _markers(q[i], qd[i], times[i], P)[0][m]
+    return out
+
+
+class HybridTerms:
+    """:meth:`System.terms <ddgsa.mbs.assembly.System.terms>` with every part that packs evaluated
+    by the compiled kernel and the few elements without a compiled form (Python torque laws, a
+    model's own element classes) in Python: the same terms to round-off (tested), for systems
+    whose linearisations call the terms hundreds of times (:func:`ddgsa.mbs.nonrotating.linearise`).
+
+    Raises :class:`ModelError` when a body or constraint has no compiled form.
+    """
+
+    def __init__(self, system: System) -> None:
+        if system.n_constraints:
+            raise ModelError("hybrid terms: constrained systems run on System.terms or the compiled kernel")
+        self.system = system
+        kinds = [compiled_kind(el) for el in system.elements]
+        self.packed = pack(system, [el for el, k in zip(system.elements, kinds) if k is not None])
+        self.python = [(i, el) for i, (el, k) in enumerate(zip(system.elements, kinds)) if k is None]
+        self.compiled_rows = [i for i, k in enumerate(kinds) if k is not None]
+        index = {id(mk): i for i, mk in enumerate(system.markers)}
+        self.marker_rows = [[index[id(mk)] for mk in el.markers] for _, el in self.python]
+
+    def positions(self, marker: object, q: Array, qd: Array, times: Array) -> Array:
+        """Global position (n_t, 3) [m] of one of the system's markers along a record ``q, qd`` (n_t, n)."""
+        m = next(i for i, mk in enumerate(self.system.markers) if mk is marker)
+        return _positions_along(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float),
+                                np.asarray(times, dtype=float), self.packed.arrays, m)
+
+    def states(self, markers: list, q: Array, qd: Array, t: float) -> list[MarkerState]:
+        """States of some of the system's ``markers`` at ``(q, qd, t)``."""
+        mr, ma, mvel, mw, mj, _ = _markers(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t),
+                                           self.packed.arrays)
+        rows = [next(i for i, mk in enumerate(self.system.markers) if mk is m) for m in markers]
+        return [MarkerState(mr[r], ma[r], mvel[r], mw[r], mj[r]) for r in rows]
+
+    def __call__(self, q: Array, qd: Array, t: float):
+        """:class:`~ddgsa.mbs.assembly.Terms` at ``(q, qd, t)``."""
+        system = self.system
+        q, qd, t = np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t)
+        m, f, kt, ct, out = _assemble(q, qd, t, self.packed.arrays)[:5]
+        outputs: list = [None] * len(system.elements)
+        for row, i in enumerate(self.compiled_rows):
+            outputs[i] = out[row]
+        if self.python:
+            mr, ma, mvel, mw, mj, _ = _markers(q, qd, t, self.packed.arrays)
+        for (i, el), rows in zip(self.python, self.marker_rows):
+            states = [MarkerState(mr[r], ma[r], mvel[r], mw[r], mj[r]) for r in rows]
+            w, k_el, c_el = el.wrench(t, states)
+            jac = np.vstack([s.jac for s in states])
+            f += jac.T @ w.ravel()
+            if k_el is not None:
+                kt += jac.T @ k_el @ jac
+            if c_el is not None:
+                ct += jac.T @ c_el @ jac
+            outputs[i] = w[0]
+        return Terms(m, f, kt, ct, outputs)
+
+
+def compile_terms(system: System) -> bool:
+    """Evaluate ``system.terms`` from now on by :class:`HybridTerms` (the same terms to round-off);
+    False, and nothing changed, where a body or constraint has no compiled form. Call it once the
+    system's elements are final (they are packed now)."""
+    try:
+        system.fast_terms = HybridTerms(system)
+    except ModelError:
+        return False
+    return True

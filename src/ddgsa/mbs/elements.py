@@ -90,6 +90,12 @@ class _Connector(Element):
         big[:3, :3] = big[3:, 3:] = rot
         return np.concatenate([dr, dth]), np.concatenate([dv, dw]), big
 
+    @property
+    def packable(self) -> bool:
+        """Whether the compiled kernel computes this connector (:mod:`ddgsa.mbs.compiled`): the
+        plain deflection of this class, not one a subclass adds to."""
+        return type(self)._deflection is _Connector._deflection
+
     def _matrices(self, big: Array) -> tuple[Array, Array]:
         return big @ self.k6 @ big.T, big @ self.c6 @ big.T
 

@@ -149,7 +149,7 @@ def spin_stiffness(system: System, q0: Array, qd0: Array) -> Array:
 
 
 def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: float = 1e-6,
-              spin_stiffening: bool = False) -> SpinLinearisation:
+              spin_stiffening: bool = False, static: bool = False) -> SpinLinearisation:
     """Linearise ``system`` about ``(q0, qd0)`` (steady spin) in non-rotating bending coordinates.
 
     ``spin_stiffening`` adds :func:`spin_stiffness`, the centrifugal stiffness of the rigid inertias'
@@ -157,6 +157,10 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     gets the rigid disk's ``(J_p - J_d) w^2``; tested against the closed-form whirl of a disk). The
     nonlinear bodies do not carry it (their time-domain runs and the linear fidelities built on
     this linearisation are without it unless asked): see docs/physics.md for its size.
+
+    ``K`` and ``C`` are central differences of the projected residual; ``M = T^T M(q0) T`` is exact
+    (the residual is linear in the accelerations, and ``d q'' / d z'' = T``). ``static=True`` leaves
+    ``C`` at zero (a caller that needs the static part ``K z = r0`` only: half the residual calls).
     """
     if system.n_constraints:
         raise ModelError("the non-rotating linearisation takes unconstrained systems only "
@@ -176,11 +180,14 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
 
     args = [zero, zero, zero]
     k = central_jacobian(res, args, 0, 1e-3, rel_step)
-    c = central_jacobian(res, args, 1, 1e-3, rel_step)
-    m = central_jacobian(res, args, 2, 1.0, rel_step)
+    c = np.zeros((n, n)) if static else central_jacobian(res, args, 1, 1e-3, rel_step)
+    q, qd, qdd = base.state(zero, zero, zero, t0)
+    tm = system.terms(q, qd, t0)
+    proj = base.projection(t0, zero)
+    m = proj.T @ tm.m @ proj
     if spin_stiffening:
         k = k + spin_stiffness(system, base.q0, base.qd0)
-    return SpinLinearisation(m, c, k, -res(zero, zero, zero), base.q0, base.qd0, t0, pairs, xi0)
+    return SpinLinearisation(m, c, k, proj.T @ (tm.q - tm.m @ qdd), base.q0, base.qd0, t0, pairs, xi0)
 
 
 def _inputs(system: System, lin: SpinLinearisation, times: Array, elements: Sequence[Element]) -> Array:
@@ -220,7 +227,7 @@ def simulate(system: System, lin: SpinLinearisation, t_end: float, dt: float, el
     n_out = int(round((t_end - lin.t0) / dt)) + 1
     times = lin.t0 + dt * np.arange(n_out)
     x = lti_response(a, bw, np.column_stack([_inputs(system, lin, times, elements), np.ones(n_out)]), dt, x0)
-    return (times, *_full_states(lin, times, x[:, :n], x[:, n:]))
+    return (times, *full_states(lin, times, x[:, :n], x[:, n:]))
 
 
 def periodic(system: System, lin: SpinLinearisation, t_end: float, dt: float, elements: Sequence[Element],
@@ -253,16 +260,26 @@ def periodic(system: System, lin: SpinLinearisation, t_end: float, dt: float, el
     e = np.exp(1j * np.outer(times - lin.t0, harmonics * w))                     # (n_t, J)
     z = z0 + 2 * (e @ z_hat).real
     zd = 2 * (e @ (1j * (harmonics * w)[:, None] * z_hat)).real
-    return (times, *_full_states(lin, times, z, zd))
+    return (times, *full_states(lin, times, z, zd))
 
 
-def _full_states(lin: SpinLinearisation, times: Array, z: Array, zd: Array) -> tuple[Array, Array]:
-    """``(q, qd)`` of the full system along ``times`` for non-rotating perturbations ``z``, ``zd`` (n_t, n)."""
-    q, qd = np.empty_like(z), np.empty_like(z)
-    zero = np.zeros(z.shape[1])
-    for i, t in enumerate(times):
-        q[i], qd[i], _ = lin.state(z[i], zd[i], zero, t)
+def full_states(lin: SpinLinearisation, times: Array, z: Array, zd: Array) -> tuple[Array, Array]:
+    """``(q, qd)`` of the full system along ``times`` for non-rotating perturbations ``z``, ``zd`` (n_t, n):
+    :meth:`SpinLinearisation.state` for a whole record at once, each bending pair turned by its
+    body's actual spin angle."""
+    q = lin.q0 + np.outer(np.asarray(times, dtype=float) - lin.t0, lin.qd0) + z
+    qd = lin.qd0 + zd
+    for k, (iy, iz, isp) in enumerate(lin.pairs):
+        phi, w = q[:, isp], qd[:, isp]
+        c, s = np.cos(phi), np.sin(phi)
+        xy, xz = lin.xi0[k, 0] + z[:, iy], lin.xi0[k, 1] + z[:, iz]
+        ry, rz = c * xy + s * xz, -s * xy + c * xz              # R(-phi) xi
+        q[:, iy], q[:, iz] = ry, rz
+        # d/dt R(-phi) xi = R(-phi) xi' - w J R(-phi) xi, J = [[0, -1], [1, 0]]
+        qd[:, iy] = c * zd[:, iy] + s * zd[:, iz] + w * rz
+        qd[:, iz] = -s * zd[:, iy] + c * zd[:, iz] - w * ry
     return q, qd
+
 
 
 def whirl_index(system: System, lin: SpinLinearisation, shape: NDArray[np.complex128]) -> tuple[float, float]:

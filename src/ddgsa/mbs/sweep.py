@@ -46,7 +46,7 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import Marker
 from ddgsa.mbs.alpha import coefficients, python_loop, steps
-from ddgsa.mbs.nonrotating import RIGID_RCOND, SpinLinearisation
+from ddgsa.mbs.nonrotating import RIGID_RCOND, SpinLinearisation, full_states
 
 Array = NDArray[np.float64]
 Inputs = Callable[[float, Array, Array], Array]
@@ -190,19 +190,9 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
 
 def full_state(model: SweepModel, z: Array, zd: Array) -> tuple[Array, Array]:
     """``(q, qd)`` (n_t, n) of the system for records ``z``, ``zd`` (n_t, n), with each bending pair
-    turned by its body's actual spin angle ``q0 + z`` (not the reference trajectory's)."""
-    lin = model.lin
-    q, qd = lin.q0 + z, lin.qd0 + zd
-    for k, (iy, iz, isp) in enumerate(lin.pairs):
-        phi, w = q[:, isp], qd[:, isp]
-        c, s = np.cos(phi), np.sin(phi)
-        xy, xz = lin.xi0[k, 0] + z[:, iy], lin.xi0[k, 1] + z[:, iz]
-        ry, rz = c * xy + s * xz, -s * xy + c * xz              # R(-phi) xi
-        q[:, iy], q[:, iz] = ry, rz
-        # d/dt R(-phi) xi = R(-phi) xi' - w J R(-phi) xi, J = [[0, -1], [1, 0]]
-        qd[:, iy] = c * zd[:, iy] + s * zd[:, iz] + w * rz
-        qd[:, iz] = -s * zd[:, iy] + c * zd[:, iz] - w * ry
-    return q, qd
+    turned by its body's actual spin angle ``q0 + z`` (not the reference trajectory's):
+    :func:`ddgsa.mbs.nonrotating.full_states` of the linearisation at rest (no reference spin)."""
+    return full_states(model.lin, np.zeros(z.shape[0]) + model.lin.t0, z, zd)
 
 
 def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.complex128], tangent: Array,

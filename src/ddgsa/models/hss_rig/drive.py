@@ -84,6 +84,21 @@ def kloss_torque_at(drive: Drive, t: float, speed: float) -> float:
     return st.mean + st.ripple * math.cos(2 * theta + st.phase)
 
 
+def kloss_along(drive: Drive, t: Array, speed: Array) -> tuple[Array, Array]:
+    """Air-gap torque [N m] and phase-a current [A] of the steady equivalent circuit (both sequences)
+    along a record: times ``t`` [s], rotor ``speed`` [rad/s] (n_t,); :func:`kloss_torque_at` elementwise.
+    Zero where the supply is off."""
+    theta, w, v = np.array([drive.state(float(ti)) for ti in t]).reshape(-1, 3).T
+    on = (v != 0.0) & (w > 0.0)
+    w_on = np.where(on, w, 1.0)
+    st = steady_torque(drive.motor, speed, w_on / (2 * math.pi), v * math.sqrt(1.5))
+    torque = np.where(on, st.mean + st.ripple * np.cos(2 * theta + st.phase), 0.0)
+    i1 = sequence_phasors(drive.motor, w_on, speed, v)[0]
+    i2 = sequence_phasors(drive.motor, -w_on, speed, drive.motor.supply_unbalance * v)[0]
+    current = np.where(on, (i1 * np.exp(1j * theta) + i2 * np.exp(-1j * theta)).real, 0.0)
+    return torque, current
+
+
 def kloss_parts(drive: Drive):
     """``motor_parts`` for :func:`ddgsa.models.hss_rig.rig.build`: one torque law on the motor rotor."""
     def parts(marker: Marker) -> tuple[list[Body], list[Element]]:

@@ -52,6 +52,11 @@ class MisalignedCoupling(Bushing6):
                          name=name)
         self.misalignment = np.array([0.0, offset, 0.0, 0.0, 0.0, angle])
 
+    @property
+    def packable(self) -> bool:
+        """Aligned, the coupling is a plain bushing the compiled kernel computes (its anisotropy is in ``k6``)."""
+        return not np.any(self.misalignment)
+
     def _deflection(self, states: list[MarkerState]) -> tuple[Array, Array, Array]:
         d, dd, big = super()._deflection(states)
         # the shaft end sits at the aligned position; the hub (motor axis) is displaced by the misalignment
@@ -80,5 +85,5 @@ class EccentricMass(Element):
         r = s.a[:, 1] * self.radius
         w = s.w
         out = np.zeros((1, 6))
-        out[0, :3] = -self.mass * np.cross(w, np.cross(w, r))
+        out[0, :3] = -self.mass * (w * (w @ r) - r * (w @ w))          # -m w x (w x r)
         return out, None, None

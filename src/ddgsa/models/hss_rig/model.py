@@ -61,6 +61,7 @@ fits and mean little (use ``peak_*``, the peak through resonance, and the order 
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from collections.abc import Mapping
@@ -81,9 +82,8 @@ from ddgsa.models.base import Model, ModelOption, ModelOutput, SignalOutput, reg
 from ddgsa.models.hss_rig import transient
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligned, operating_stretch
-from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_parts, kloss_torque_at,
+from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_along, kloss_parts,
                                         steady_flux, steady_speed)
-from ddgsa.models.hss_rig.motor import sequence_phasors
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build
 from ddgsa.models.hss_rig.scenes import RigScene
@@ -279,11 +279,9 @@ class HssRig(Model):
         Spin rates and flux states are the rig's own (:meth:`assemble`); the sag is solved on the
         linearised rig standing still, so a run starts without a gravity transient.
         """
-        still = build(p, lambda marker: ([], []), spin=0.0, basis=rig.basis)
-        lin = linearise_system(still.system)
-        sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
+        sag = _sag(tuple(sorted({**p, **_NO_TURNING_LOADS}.items())), rig.basis)
         q0 = rig.system.q0.copy()
-        q0[: still.system.n] += sag
+        q0[: sag.size] += sag
         return q0, rig.system.qd0.copy()
 
     @staticmethod
@@ -326,7 +324,7 @@ class HssRig(Model):
         for i in (1, 2):
             for ax in ("y", "z"):
                 out[f"housing_{i}_{ax}"] = np.gradient(qd[:, system.index(f"housing_{i}.{ax}")], t, edge_order=2)
-        disk = np.array([system.marker_state(rig.markers["disk"], qi, qdi, ti).r for ti, qi, qdi in zip(t, q, qd)])
+        disk = system.positions(rig.markers["disk"], q, qd, t)
         out["disk_y"], out["disk_z"] = disk[:, 1], disk[:, 2]
         speed = qd[:, system.index("hss.rx")]
         motor_speed = qd[:, system.index("motor.rx")]
@@ -339,8 +337,7 @@ class HssRig(Model):
                 current.append(el.phase_current(ti, psi))
             out["motor_torque"], out["motor_current"] = np.array(torque), np.array(current)
         else:
-            out["motor_torque"] = np.array([kloss_torque_at(drive, ti, w) for ti, w in zip(t, motor_speed)])
-            out["motor_current"] = np.array([_kloss_current(drive, ti, w) for ti, w in zip(t, motor_speed)])
+            out["motor_torque"], out["motor_current"] = kloss_along(drive, t, motor_speed)
         if self.noise:
             rng = np.random.default_rng(np.random.SeedSequence([sc.seed, 13]))
             for s in SENSORS:
@@ -496,6 +493,22 @@ class HssRig(Model):
         return rows
 
 
+_NO_TURNING_LOADS = {"eccentric_mass": 0.0, "supply_unbalance": 0.0}
+"""Parameters that put no force on the rig at rest: the sag is the same without them (cached once)."""
+
+
+@functools.lru_cache(maxsize=8)
+def _sag(items: tuple[tuple[str, float], ...], basis: ShaftBasis) -> np.ndarray:
+    """Static gravity sag (n_still,) of the rig at rest, motor and load off, for parameters ``items``
+    (the sorted parameter items; kept for the few calls of one run: an assembly, its steady stretch,
+    its start)."""
+    still = build(dict(items), lambda marker: ([], []), spin=0.0, basis=basis)
+    lin = linearise_system(still.system)
+    sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
+    sag.flags.writeable = False
+    return sag
+
+
 def _defect_loads(p: Mapping[str, float], scene: RigScene, spin: float):
     """Outer-race defect impacts in bearing 2: downwards on the housing, upwards on the shaft.
 
@@ -525,16 +538,6 @@ def _noise_scale(sensor: str) -> float:
         if sensor.startswith(kind):
             return NOISE[kind]
     return NOISE[sensor]
-
-
-def _kloss_current(drive: Drive, t: float, speed: float) -> float:
-    """Phase-a current [A] of the steady circuit (both sequences) at time ``t`` and rotor ``speed``."""
-    theta, w, v = drive.state(t)
-    if v == 0.0 or w <= 0.0:
-        return 0.0
-    i1 = sequence_phasors(drive.motor, w, speed, v)[0]
-    i2 = sequence_phasors(drive.motor, -w, speed, drive.motor.supply_unbalance * v)[0]
-    return float((i1 * complex(math.cos(theta), math.sin(theta)) + i2 * complex(math.cos(theta), -math.sin(theta))).real)
 
 
 def _anti_alias(t: np.ndarray, f_r: float):

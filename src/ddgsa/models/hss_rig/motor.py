@@ -43,6 +43,7 @@ rig's own motor data (seed 001 paper A) are not available to us.
 
 from __future__ import annotations
 
+import cmath
 import math
 from dataclasses import dataclass, fields, replace
 from typing import Any
@@ -212,22 +213,27 @@ def sequence_phasors(motor: InductionMotor, omega: float, rotor_speed: float,
 
     Parameters
     ----------
-    omega : float
+    omega : float or array
         Electrical angular frequency of the voltage component [rad/s] (negative for the
         negative sequence).
-    rotor_speed : float
+    rotor_speed : float or array
         Mechanical rotor speed ``w_m`` [rad/s].
-    voltage : complex
+    voltage : complex or array
         Complex amplitude of the voltage space vector [V] (peak phase voltage).
     """
     m = motor
     w_slip = omega - m.pole_pairs * rotor_speed
-    a = np.array([[m.stator_resistance + 1j * omega * m.stator_inductance, 1j * omega * m.magnetising_inductance],
-                  [1j * w_slip * m.magnetising_inductance, m.rotor_resistance + 1j * w_slip * m.rotor_inductance]])
-    i_s, i_r = np.linalg.solve(a, np.array([voltage, 0.0], dtype=complex))
+    # the 2 x 2 complex system [[a, b], [c, d]] (i_s, i_r) = (v, 0) by Cramer's rule: scalar arithmetic
+    # (the steady torque is called at every step of the rig's runs), elementwise for arrays (a record)
+    a = m.stator_resistance + 1j * omega * m.stator_inductance
+    b = 1j * omega * m.magnetising_inductance
+    c = 1j * w_slip * m.magnetising_inductance
+    d = m.rotor_resistance + 1j * w_slip * m.rotor_inductance
+    det = a * d - b * c
+    i_s, i_r = voltage * d / det, -voltage * c / det
     psi_s = m.stator_inductance * i_s + m.magnetising_inductance * i_r
     psi_r = m.magnetising_inductance * i_s + m.rotor_inductance * i_r
-    return complex(i_s), complex(i_r), complex(psi_s), complex(psi_r)
+    return i_s, i_r, psi_s, psi_r
 
 
 @dataclass(frozen=True)
@@ -254,7 +260,8 @@ class SteadyTorque:
 
 def steady_torque(motor: InductionMotor, rotor_speed: float, frequency: float | None = None,
                   voltage: float | None = None) -> SteadyTorque:
-    """Steady torque of the dq model at constant ``rotor_speed`` [rad/s], supply unbalance included.
+    """Steady torque of the dq model at constant ``rotor_speed`` [rad/s], supply unbalance included
+    (``rotor_speed``, ``frequency`` and ``voltage`` may be arrays of equal shape: then elementwise).
 
     The stator flux and current are sums of a positive (``e^{j w t}``) and a negative sequence
     (``u e^{-j w t}``) part; ``T = 3/2 p Im(conj(psi_s) i_s)`` has the mean
@@ -273,7 +280,10 @@ def steady_torque(motor: InductionMotor, rotor_speed: float, frequency: float | 
         mean += k * (psi2.conjugate() * i2).imag
         ripple = k * (psi2.conjugate() * i1 - psi1 * i2.conjugate())
     # Im(c e^{j x}) = |c| sin(x + arg c) = |c| cos(x + arg c - pi/2)
-    return SteadyTorque(float(mean), float(abs(ripple)), float(np.angle(ripple) - math.pi / 2), float(abs(i1)))
+    if np.ndim(mean):                                   # a record's speeds: elementwise
+        return SteadyTorque(mean, np.abs(ripple) + 0.0 * mean, np.angle(ripple) - math.pi / 2 + 0.0 * mean,
+                            np.abs(i1))
+    return SteadyTorque(float(mean), float(abs(ripple)), cmath.phase(ripple) - math.pi / 2, float(abs(i1)))
 
 
 # -- supply and the dq model --------------------------------------------------------------------

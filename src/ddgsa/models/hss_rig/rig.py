@@ -40,6 +40,7 @@ import numpy as np
 from ddgsa.mbs import Bushing6, FlexibleBody, Ground, Marker, RigidBody, SpringDamper3, System, TorqueLaw
 from ddgsa.mbs.beam import BeamSpec, mesh, shear_coefficient
 from ddgsa.mbs.bodies import Body, bending_fields
+from ddgsa.mbs.compiled import compile_terms
 from ddgsa.mbs.elements import Element
 from ddgsa.models.constants import tilted_gravity
 from ddgsa.models.hss_rig.elements import EccentricMass, MisalignedCoupling
@@ -218,4 +219,5 @@ def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0,
     if extra is not None:
         elements += extra(mk)
     system = System(bodies, elements, gravity=GRAVITY if gravity else (0.0, 0.0, 0.0))
+    compile_terms(system)           # the structure in compiled code, the motor, load and unbalance in Python
     return Rig(system, mk, {"bearing_1": x1, "disk": xd, "bearing_2": x2}, basis)
