@@ -50,8 +50,8 @@ def test_study_field_and_digest() -> None:
     spec = {"name": "s", "kind": "sweep", "model": {"name": "direct_drive", "fidelity": "linear"},
             "scenes": {"wind_speed": [8.0], "inclination_deg": [20.0], "duration": 60, "loads": {"fidelity": "bem"}}}
     upflow = validate_study(spec)
-    down = validate_study({**spec, "scenes": {**spec["scenes"], "loads": {"fidelity": "bem",
-                                                                         "inclination_convention": "downflow_horizontal"}}})
+    loads = {"fidelity": "bem", "inclination_convention": "downflow_horizontal"}
+    down = validate_study({**spec, "scenes": {**spec["scenes"], "loads": loads}})
     sc = down.spec.scenes
     assert sc.scene(sc.grid()[0], 0).inclination_convention == "downflow_horizontal"
     # the default convention leaves the digest of a study written before the field as it was
