@@ -61,10 +61,12 @@ from ddgsa.study_limits import (MAX_NAME_CHARS, check_names, check_run_size, loa
 
 _STRICT = ConfigDict(extra="forbid")
 
-_LATER_DEFAULTS: dict[tuple[str, str], Any] = {("scenes", "loads"): {"fidelity": "table"},
+_LATER_DEFAULTS: dict[tuple[str, str], Any] = {("scenes", "loads"): {"fidelity": "table",
+                                                                     "inclination_convention": "upflow"},
                                                ("fault", "design"): "population"}
 """Study fields added in the third stage, with their defaults: left out of :attr:`Study.digest` at
-the default (the scene's rotor aerodynamics; the fault study's design)."""
+the default (the scene's rotor aerodynamics and inclination convention, key by key; the fault
+study's design)."""
 
 
 _LATER_EMPTY = ("groups", "correlation", "target")
@@ -104,6 +106,9 @@ class LoadsSpec(BaseModel):
     fidelity: Literal["table", "bem", "auto"] = Field(
         Scene.loads_fidelity, description="rotor aerodynamics: quasi-steady Cp/Ct table, blade-element "
         "momentum, or auto (bem where |inclination_deg| >= ddgsa.loads.scene.AUTO_BEM_INCLINATION_DEG)")
+    inclination_convention: Literal["upflow", "downflow_horizontal"] = Field(
+        Scene.inclination_convention, description="upflow: positive inclination_deg tilts the flow upwards, "
+        "wind_speed along the flow; downflow_horizontal: positive tilts it downwards, wind_speed horizontal")
 
 
 class ScenesSpec(BaseModel):
@@ -139,7 +144,7 @@ class ScenesSpec(BaseModel):
     def scene(self, fields: dict[str, float], realisation: int) -> Scene:
         """The scene of one grid point and realisation (turbulence seed ``seed + realisation``)."""
         return Scene(**fields, duration=self.duration, dt=self.dt, seed=self.seed + realisation,
-                     loads_fidelity=self.loads.fidelity)
+                     loads_fidelity=self.loads.fidelity, inclination_convention=self.loads.inclination_convention)
 
 
 WIND_LABEL_FIELDS = ("wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent")
@@ -500,7 +505,15 @@ class Study:
             if not data.get(key):
                 data.pop(key, None)
         for (part, field), default in _LATER_DEFAULTS.items():
-            if isinstance(data.get(part), dict) and data[part].get(field) == default:
+            if not isinstance(data.get(part), dict) or field not in data[part]:
+                continue
+            if isinstance(default, dict) and isinstance(data[part][field], dict):
+                sub = {k: v for k, v in data[part][field].items() if default.get(k, object()) != v}
+                if sub:
+                    data[part][field] = sub
+                else:
+                    del data[part][field]
+            elif data[part][field] == default:
                 del data[part][field]
         if data.get("confirm") is None:                  # added later still: absent keeps the digest
             data.pop("confirm", None)

@@ -44,11 +44,11 @@ def wind_field(scene: Scene, turbine: Turbine = NREL5MW) -> np.ndarray:
     points, _ = grid_points(turbine)
     n = scene.n_steps
     if scene.turbulence_intensity > 0.0:
-        model = IecTurbulence(scene.wind_speed, scene.turbulence_intensity, turbine.hub_height)
+        model = IecTurbulence(scene.flow_speed, scene.turbulence_intensity, turbine.hub_height)
         fluct = generate_field(points, model, scene.duration, scene.dt, np.random.SeedSequence(scene.seed))
     else:
         fluct = np.zeros((3, n, points.shape[0]))
-    return inflow_in_shaft_frame(turbine, scene.wind_speed, scene.shear_exponent, scene.inclination_deg,
+    return inflow_in_shaft_frame(turbine, scene.flow_speed, scene.shear_exponent, scene.flow_inclination_deg,
                                  fluct, points[:, 1])
 
 
@@ -60,7 +60,7 @@ def _compute(scene: Scene, turbine: Turbine) -> np.ndarray:
     """The realisation as an (n_t, len(COLUMNS)) array."""
     inflow = wind_field(scene, turbine)
     rotor = simulate_bem if scene.loads_fidelity == "bem" else simulate_rotor
-    res = rotor(turbine, inflow, scene.dt, turbine.steady_state(scene.wind_speed),
+    res = rotor(turbine, inflow, scene.dt, turbine.steady_state(scene.flow_speed),
                 spinup=int(round(SPINUP_S / scene.dt)))
     speed, torque = res[:, 6], res[:, 8]
     return np.column_stack([inflow[0, :, 0], res[:, :6], speed, res[:, 7], torque, res[:, 9],

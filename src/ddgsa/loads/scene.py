@@ -15,6 +15,8 @@ _RATED_SPEED_RAD_S = 12.1 * math.pi / 30.0
 LOADS_FIDELITIES = ("table", "bem", "auto")
 #: inclination from which ``loads_fidelity: auto`` chooses the BEM rotor [deg] (see docs/loads.md)
 AUTO_BEM_INCLINATION_DEG = 2.5
+#: how ``inclination_deg`` and ``wind_speed`` describe an inclined flow (see :attr:`Scene.inclination_convention`)
+INCLINATION_CONVENTIONS = ("upflow", "downflow_horizontal")
 
 
 @dataclass(frozen=True)
@@ -44,6 +46,14 @@ class Scene:
         :mod:`ddgsa.loads.hubloads`), ``bem`` (blade-element momentum, :mod:`ddgsa.loads.bem`) or
         ``auto`` (``bem`` where ``|inclination_deg| >= AUTO_BEM_INCLINATION_DEG``, else ``table``;
         resolved on construction, so the scene and its cache key name the fidelity used).
+    inclination_convention : str
+        How ``inclination_deg`` and ``wind_speed`` describe the flow: ``upflow`` (ddgsa's
+        convention: a positive inclination tilts the flow upwards, ``wind_speed`` is the mean speed
+        along the inclined flow) or ``downflow_horizontal`` (a positive inclination tilts it
+        downwards and ``wind_speed`` is its horizontal component, so the speed along the flow is
+        ``wind_speed / cos(inclination)``: the reading under which seed 000's inclination trends
+        come out, results/README.md). At zero inclination the two are the same flow and the
+        scene holds ``upflow`` (one cache key). See :attr:`flow_speed`, :attr:`flow_inclination_deg`.
 
     Examples
     --------
@@ -59,15 +69,19 @@ class Scene:
     dt: float = 0.05
     seed: int = 1
     loads_fidelity: str = "table"
+    inclination_convention: str = "upflow"
     units: ClassVar[dict[str, str]] = {"wind_speed": "m/s", "turbulence_intensity": "-", "inclination_deg": "deg",
                                        "shear_exponent": "-", "duration": "s", "dt": "s",
-                                       "loads_fidelity": ""}
+                                       "loads_fidelity": "", "inclination_convention": ""}
     """The SI unit of each field (a study may write another unit, :mod:`ddgsa.units`)."""
 
     def __post_init__(self) -> None:
         if self.loads_fidelity not in LOADS_FIDELITIES:
             raise SceneError(f"scene field 'loads_fidelity' must be one of {', '.join(LOADS_FIDELITIES)}, "
                              f"got {self.loads_fidelity!r}")
+        if self.inclination_convention not in INCLINATION_CONVENTIONS:
+            raise SceneError(f"scene field 'inclination_convention' must be one of "
+                             f"{', '.join(INCLINATION_CONVENTIONS)}, got {self.inclination_convention!r}")
         for name in ("wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent",
                      "duration", "dt"):
             value = getattr(self, name)
@@ -95,6 +109,8 @@ class Scene:
         if self.loads_fidelity == "auto":
             chosen = "bem" if abs(self.inclination_deg) >= AUTO_BEM_INCLINATION_DEG else "table"
             object.__setattr__(self, "loads_fidelity", chosen)
+        if self.inclination_deg == 0.0:
+            object.__setattr__(self, "inclination_convention", "upflow")
         if self.duration < 10 * self.dt:
             raise SceneError(f"scene field 'duration' = {self.duration} s holds fewer than 10 steps of "
                              f"dt = {self.dt} s")
@@ -104,13 +120,26 @@ class Scene:
         """Number of samples in the record."""
         return int(round(self.duration / self.dt))
 
+    @property
+    def flow_speed(self) -> float:
+        """Mean wind speed along the inclined flow at hub height [m/s]."""
+        if self.inclination_convention == "downflow_horizontal":
+            return self.wind_speed / math.cos(math.radians(self.inclination_deg))
+        return self.wind_speed
+
+    @property
+    def flow_inclination_deg(self) -> float:
+        """Upward inclination of the flow [deg] (ddgsa's ``upflow`` convention)."""
+        return -self.inclination_deg if self.inclination_convention == "downflow_horizontal" else self.inclination_deg
+
     def to_dict(self) -> dict[str, Any]:
-        """The scene's fields as a plain dict; ``loads_fidelity`` only where it is not the default
-        ``table`` rotor, so the evaluation-store and loads-cache keys of scenes written before the
-        blade-element rotor existed stay what they were."""
+        """The scene's fields as a plain dict; ``loads_fidelity`` and ``inclination_convention`` only
+        where they are not their defaults (``table``, ``upflow``), so the evaluation-store and
+        loads-cache keys of scenes written before those fields existed stay what they were."""
         fields = asdict(self)
-        if fields["loads_fidelity"] == "table":
-            del fields["loads_fidelity"]
+        for name, default in (("loads_fidelity", "table"), ("inclination_convention", "upflow")):
+            if fields[name] == default:
+                del fields[name]
         return fields
 
     def replace(self, **changes: Any) -> "Scene":
