@@ -58,8 +58,8 @@ class Finding:
 def study_findings(study: Study, sample: int = SAMPLE) -> list[Finding]:
     """Every finding of the checks above, errors first."""
     model = study.make_model()
-    found = [*_sampling(study, model), *_region(study, model, sample), *_unused(study, model),
-             *_unit_hints(study, model)]
+    found = [*_sampling(study, model), *_region(study, model, sample), *_cut_problems(study, model),
+             *_unused(study, model), *_unit_hints(study, model)]
     order = {"error": 0, "warning": 1, "note": 2, "hint": 3}
     return sorted(found, key=lambda f: order[f.level])
 
@@ -97,6 +97,30 @@ def support_points(study: Study, sample: int = SAMPLE) -> list[dict[str, float]]
     points = [dict(zip(space.names, map(float, c))) for c in corners]
     points += [dict(zip(space.names, map(float, row))) for row in space.sample(sample, seed=0)]
     return [{**fixed, **p} for p in points]
+
+
+def _cut_problems(study: Study, model: Any) -> list[Finding]:
+    """M-DRM's cut point outside the valid region: every cut line runs through it, so all but the
+    cut parameter's own line would fail and the method's indices are refused; an error, not a warning."""
+    from ddgsa.gsa.base import get_method
+
+    space, out = study.space, []
+    if space is None:
+        return out
+    fixed = {k: float(v) for k, v in study.spec.fixed.items()}
+    for i, m in enumerate(study.spec.methods):
+        if m.method != "mdrm":
+            continue
+        cut = get_method("mdrm").design(space, **m.options).points[0]          # the design's first point
+        point = {**fixed, **dict(zip(space.names, map(float, cut)))}
+        problems = model.point_problems(point)
+        if problems:
+            at = ", ".join(f"{k}={point[k]:.4g}" for k in space.names)
+            out.append(Finding("error", f"methods[{i}]", f"M-DRM's cut point ({at}; the inputs' means unless "
+                               f"`cut:` says otherwise) lies outside the valid region of model "
+                               f"{study.spec.model.name!r}: {problems[0]}; every cut line runs through it, so its "
+                               "evaluations would fail: move the inputs' means (or `cut:`) into the valid region"))
+    return out
 
 
 def _region(study: Study, model: Any, sample: int) -> list[Finding]:

@@ -62,12 +62,14 @@ def cost_to_confirm(result: "StudyResult", scene: int, output: str, tolerance: f
 
 
 def per_run_seconds(result: "StudyResult") -> float:
-    """Mean model time of one stored evaluation [s] (NaN when none recorded one)."""
+    """Median model time of one stored evaluation [s] (NaN when none recorded one): the median, so
+    the first evaluations of a fresh install, which compile the model's kernels (minutes), do not
+    make every later run look as slow."""
     ev = result.evaluations
     if "seconds" not in ev or not len(ev):
         return float("nan")
     s = pd.to_numeric(ev["seconds"], errors="coerce")
-    return float(s[s > 0].mean()) if (s > 0).any() else float("nan")
+    return float(s[s > 0].median()) if (s > 0).any() else float("nan")
 
 
 def duration(seconds: float) -> str:

@@ -73,7 +73,13 @@ def _as_float(name: str, key: str, value: Any) -> float:
     try:
         out = float(value)
     except (TypeError, ValueError):
-        raise SpaceError(f"parameter {name!r}: {key!r} must be a number, got {value!r}") from None
+        hint = ""
+        if key == "spread" and isinstance(value, str) and value.strip().endswith("%"):
+            try:
+                hint = f" (a relative spread is a fraction: write {float(value.strip()[:-1]) / 100:g})"
+            except ValueError:
+                pass
+        raise SpaceError(f"parameter {name!r}: {key!r} must be a number, got {value!r}{hint}") from None
     if not math.isfinite(out):
         raise SpaceError(f"parameter {name!r}: {key!r} must be finite, got {value!r}")
     return out

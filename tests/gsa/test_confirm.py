@@ -149,3 +149,15 @@ def test_pooled_pce_on_mdrm_points_matches_the_closed_form() -> None:
     np.testing.assert_allclose(res.indices["S1"], tf.S1, atol=1e-8)
     np.testing.assert_allclose(res.indices["ST"], tf.ST, atol=1e-8)
     assert res.trusted
+
+
+def test_the_cost_per_run_is_not_inflated_by_the_first_runs_compile() -> None:
+    """A fresh install's first evaluations compile the kernels (minutes); the cost to confirm uses the
+    median run, so one 130 s compile among 10-12 s runs leaves the estimate at the runs' own cost."""
+    from types import SimpleNamespace
+
+    from ddgsa.confirm import per_run_seconds
+
+    runs = SimpleNamespace(evaluations=pd.DataFrame({"seconds": [130.0, 10.0, 12.0, 11.0, 11.0, 0.0]}))
+    assert per_run_seconds(runs) == 11.0
+    assert np.isnan(per_run_seconds(SimpleNamespace(evaluations=pd.DataFrame({"seconds": [0.0]}))))

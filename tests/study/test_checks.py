@@ -179,3 +179,14 @@ def test_geared_drive_mounts_too_soft_for_the_torque_are_found_before_running(tm
     assert main(["validate", str(tmp_path / "s.yaml")]) == 2
     err = capsys.readouterr().err
     assert "every evaluation would fail" in err and "torque-arm mounts too soft" in err and "Traceback" not in err
+
+
+def test_an_mdrm_cut_point_outside_the_valid_region_is_refused(tmp_path: Path, capsys) -> None:
+    # rear bearing uniform on [0.5, 1.1] m: its mean 0.8 m lies in front of the front bearing (1 m), so every M-DRM
+    # cut line runs through an invalid point although (1.1 - 1) / 0.6 of the support is valid
+    with pytest.warns(StudyWarning, match="nominal point is outside"):
+        study = load_study(_write(tmp_path, DD.format(low=0.5, high=1.1, k=1e10)))
+    (cut,) = [f for f in study_findings(study) if f.field == "methods[0]"]
+    assert cut.level == "error" and "rear_bearing_x=0.8" in cut.message and "bearing positions must satisfy" in cut.message
+    assert main(["validate", str(tmp_path / "s.yaml")]) == 2
+    assert "every cut line runs through it" in capsys.readouterr().err

@@ -39,6 +39,10 @@ methods:
                                         r".*; did you mean 'damage_front'"),
     ("points: 3}", "points: 3}\nrun: {jbos: 2}", r"field 'run\.jbos': .*known: address, backend, batch_size, jobs; "
                                                  r"did you mean 'jobs'"),
+    ("points: 3}", "points: 3, chekc: 8}", r"field 'methods\[0\]': method 'mdrm': unknown option 'chekc'; known: "
+                                           r"check, .*did you mean 'check'"),
+    ("spread: 0.2}", "spread: 30%}", r"'spread' must be a number, got '30%' \(a relative spread is a fraction: "
+                                     r"write 0\.3\)"),
 ])
 def test_every_part_of_the_schema_says_what_is_known_and_what_was_meant(tmp_path: Path, old: str, new: str,
                                                                         message: str) -> None:

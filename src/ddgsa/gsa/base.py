@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from ddgsa.errors import MethodError
+from ddgsa.errors import MethodError, unknown_name_message
 from ddgsa.registry import Registry
 from ddgsa.gsa.groups import GroupIndices, group_frame
 from ddgsa.gsa.result import Diagnostic, SobolResult
@@ -78,8 +78,10 @@ class GsaMethod(ABC):
         """Defaults updated with ``options``; unknown option names are refused."""
         unknown = set(options) - set(self.defaults)
         if unknown:
-            raise MethodError(f"method {self.name!r}: unknown option(s) {sorted(unknown)}; "
-                              f"allowed: {', '.join(sorted(self.defaults))}")
+            first = sorted(unknown, key=str)[0]
+            raise MethodError(f"method {self.name!r}: " + unknown_name_message("option", first, sorted(self.defaults))
+                              + (f" (also unknown: {', '.join(map(repr, sorted(unknown, key=str)[1:]))})"
+                                 if len(unknown) > 1 else ""))
         return {**self.defaults, **options}
 
     def design(self, space: ParameterSpace, **options: Any) -> Design:
