@@ -13,6 +13,10 @@ without asking the model is checked here, over everything the study would run:
   warning that says how many and the first reason (those evaluations fail and are never imputed).
 * **parameters without effect** at the study's fidelity
   (:meth:`~ddgsa.models.base.Model.unused_parameters`), warned by name with the reason.
+* **the shaft's modal basis** (``hss_rig``, ``direct_drive``): which basis the model uses and how
+  far its modes below each scene's band of interest are from a converged basis
+  (:func:`ddgsa.models.basis.basis_report`); a note when within 0.5 %, else a warning naming the
+  model options that would converge it and their cost.
 * **unit hints**: a number that looks written in another unit (a ``speed_rpm`` of 25 that reads
   like Hz; a parameter 1000x its model's nominal value).
 """
@@ -59,7 +63,7 @@ def study_findings(study: Study, sample: int = SAMPLE) -> list[Finding]:
     """Every finding of the checks above, errors first."""
     model = study.make_model()
     found = [*_sampling(study, model), *_region(study, model, sample), *_cut_problems(study, model),
-             *_unused(study, model), *_unit_hints(study, model)]
+             *_unused(study, model), *_basis(study, model), *_unit_hints(study, model)]
     order = {"error": 0, "warning": 1, "note": 2, "hint": 3}
     return sorted(found, key=lambda f: order[f.level])
 
@@ -144,6 +148,44 @@ def _unused(study: Study, model: Any) -> list[Finding]:
     return [Finding("warning", f"parameters.{name}", f"{unused[name]}: its indices are 0 by construction and "
                                                     "its evaluations are spent for nothing")
             for name in study.spec.parameters if name in unused]
+
+
+def study_basis(study: Study, model: Any | None = None) -> list[dict[str, Any]]:
+    """:func:`~ddgsa.models.basis.basis_report` for each scene of the grid (its first realisation),
+    ``{"scene", **report}``; empty for a model without a shaft basis. A report that fails says so
+    (``"error"`` holds the reason) instead of raising."""
+    from ddgsa.models.basis import basis_of, basis_report, model_key
+
+    model = model if model is not None else study.make_model()
+    if model_key(model) is None or basis_of(model) is None:
+        return []
+    out: list[dict[str, Any]] = []
+    for ps in plan_scenes(study):
+        try:
+            report = basis_report(model, ps.scenes[0])
+        except (DdgsaError, ArithmeticError, RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
+            out.append({"scene": ps.index, "error": f"not checked: {type(exc).__name__}: {exc}"})
+            continue
+        if report is not None:
+            out.append({"scene": ps.index, **report})
+    return out
+
+
+def basis_messages(rows: list[dict[str, Any]]) -> list[tuple[bool, str]]:
+    """``(converged, sentence)`` for :func:`study_basis` rows, scenes with the same sentence joined."""
+    from ddgsa.models.basis import basis_words
+
+    texts: dict[str, tuple[bool, list[int]]] = {}
+    for r in rows:
+        text = r["error"] if isinstance(r.get("error"), str) else basis_words(r)
+        ok = bool(r.get("converged", True))
+        texts.setdefault(text, (ok, []))[1].append(r["scene"])
+    return [(ok, f"scene{'s' * (len(sc) > 1)} {', '.join(map(str, sc))}: {text}") for text, (ok, sc) in texts.items()]
+
+
+def _basis(study: Study, model: Any) -> list[Finding]:
+    return [Finding("note" if ok else "warning", "model.options", text)
+            for ok, text in basis_messages(study_basis(study, model))]
 
 
 def _unit_hints(study: Study, model: Any) -> list[Finding]:

@@ -26,6 +26,7 @@ import numpy as np
 import pandas as pd
 
 import ddgsa
+from ddgsa.checks import study_basis
 from ddgsa.detection import DetectionSettings, FaultDetectability, add_noise, assess
 from ddgsa.errors import DdgsaError, StudyError
 from ddgsa.gsa.auto import AutoSobol
@@ -461,6 +462,7 @@ def _execute(study: Study, store: EvaluationStore, jobs: int | None, backend: st
         result.provenance["seeds"]["fault"] = fault_seed(study)
     result.provenance["fidelity_selection"] = fidelity_choice
     result.provenance["sampling"] = _sampling(study)
+    result.provenance["basis"] = study_basis(study)
     asked = [c for c in result.evaluations.columns if c in outputs]     # only the outputs the study reads
     result.provenance["implausible"] = study.make_model().implausible(result.evaluations[asked])
     result.fidelity = pd.DataFrame([{k: v for k, v in c.items() if k != "errors"} for c in fidelity_choice])

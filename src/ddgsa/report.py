@@ -631,6 +631,15 @@ def _loads_line(result: StudyResult) -> list[str]:
     return [f"- loads: `{fidelity}` ({LOADS_MEANING[fidelity]})"] if fidelity in LOADS_MEANING else []
 
 
+def _basis_lines(p: dict[str, Any]) -> list[str]:
+    """``- shaft basis: ...`` lines (the rig's and the direct drive's modal basis and its convergence
+    in each scene's band, :func:`ddgsa.checks.study_basis`); none for other models or older runs."""
+    from ddgsa.checks import basis_messages
+
+    return [f"- {text}" + ("" if ok else " (**not converged**)")
+            for ok, text in basis_messages(p.get("basis", []))]
+
+
 def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = None) -> str:
     """A short Markdown summary: what ran, the outputs (unit, meaning, mean, CV), problems, then
     per scene and output a sentence on what dominates and parameters ranked by ST with S1."""
@@ -639,6 +648,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
     code = p.get("code", {})
     lines = [f"# {result.study.name}", "", result.study.spec.description or "", "",
              f"- model: `{p['model']['name']}` ({model_words(p['model'])})", *_loads_line(result),
+             *_basis_lines(p),
              f"- evaluations: {evaluation_line(p)}",
              f"- ddgsa {code.get('ddgsa', '?')}" + (f", commit {code['commit'][:12]}"
                                                    + (" (modified)" if code.get("modified") else "")
