@@ -69,12 +69,14 @@ the default (the scene's rotor aerodynamics and inclination convention, key by k
 study's design)."""
 
 
-_LATER_EMPTY = ("groups", "correlation", "target")
-"""Top-level study fields added in the fourth stage: left out of :attr:`Study.digest` when empty."""
+_LATER_EMPTY = ("groups", "correlation", "target", "signals")
+"""Top-level study fields added in the third stage's second round: left out of :attr:`Study.digest` when empty."""
 
 
 class StudyWarning(UserWarning):
     """A valid study that will probably not give what its author wants."""
+
+
 SceneValue = float | list[float]
 
 

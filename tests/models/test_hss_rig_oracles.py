@@ -174,7 +174,7 @@ def test_rig_basis_options_reach_the_shaft():
                           "bending_z_3")
     assert np.diff(hss.node_x).max() == pytest.approx(1.0 / 16)
     for bad in ({"bending_modes": 0}, {"shaft_elements": 1}, {"beam": "rayleigh"}, {"shaft_axial": "yes"}):
-        with pytest.raises(ModelError, match="bending_modes must be"):
+        with pytest.raises(ModelError, match=f"model 'hss_rig': option '{next(iter(bad))}' must be "):
             HssRig(**bad)
 
 
