@@ -10,23 +10,17 @@ import pandas as pd
 import ddgsa
 from ddgsa.cli import main
 from ddgsa.closed_forms import ishigami
+from studytext import ishigami_study
 
-STUDY = """\
-name: {name}
-model: {{name: analytic, fidelity: exact}}
-parameters:
-  x1: {{low: -3.14159265, high: 3.14159265}}
-  x2: {{low: -3.14159265, high: 3.14159265}}
-  x3: {{low: -3.14159265, high: 3.14159265}}
-scenes: {{wind_speed: [11.0], turbulence_intensity: 0.0, duration: 1.0, dt: 0.05}}
-outputs: [{output}]
-{extra}
-"""
+
+def beyond_study(name: str, extra: str, output: str) -> str:
+    """A one-scene Ishigami study (11 m/s) of ``output`` with ``extra`` (methods and the fields under test)."""
+    return ishigami_study(name, extra + "\n", speeds="11.0", output=output)
 
 
 def _run(tmp_path: Path, name: str, extra: str, output: str = "y") -> Path:
     path = tmp_path / f"{name}.yaml"
-    path.write_text(STUDY.format(name=name, extra=extra, output=output))
+    path.write_text(beyond_study(name=name, extra=extra, output=output))
     out = tmp_path / name
     assert main(["run", str(path), "--out", str(out), "-q", "--allow-untrusted"]) == 0
     return out
@@ -54,11 +48,11 @@ def test_groups_study_writes_closed_and_total_group_indices(tmp_path: Path) -> N
 def test_correlated_study_needs_shapley_and_reports_it(tmp_path: Path, capsys) -> None:
     corr = "correlation: [[x1, x2, 0.5]]\n"
     path = tmp_path / "bad.yaml"
-    path.write_text(STUDY.format(name="bad", output="y", extra=corr + "methods: [{method: mdrm, points: 4}]"))
+    path.write_text(beyond_study(name="bad", output="y", extra=corr + "methods: [{method: mdrm, points: 4}]"))
     assert main(["validate", str(path)]) == 2
     err = capsys.readouterr().err
     assert "field 'methods[0]': method 'mdrm' assumes independent inputs" in err and "use method 'shapley'" in err
-    path.write_text(STUDY.format(name="bad", output="y", extra="correlation: [[x1, x9, 0.5]]\nmethods: [{method: shapley}]"))
+    path.write_text(beyond_study(name="bad", output="y", extra="correlation: [[x1, x9, 0.5]]\nmethods: [{method: shapley}]"))
     assert main(["validate", str(path)]) == 2
     assert "field 'correlation[0]': 'x9' is not a parameter of the space" in capsys.readouterr().err
     out = _run(tmp_path, "shap", corr + "methods: [{method: shapley, n_v: 100, n_o: 20, n_i: 3}]")

@@ -12,19 +12,14 @@ from pathlib import Path
 from ddgsa.cli import EXIT_INTERRUPTED, EXIT_UNTRUSTED, main
 from ddgsa.outdir import claim
 from ddgsa.runner import EvaluationStore
+from studytext import ishigami_study
 
 SRC = str(Path(__file__).parents[2] / "src")
-TRUSTED = """\
-name: {name}
-model: {{name: analytic, fidelity: exact}}
-parameters:
-  x1: {{low: -3.14159, high: 3.14159}}
-  x2: {{low: -3.14159, high: 3.14159}}
-  x3: {{low: -3.14159, high: 3.14159}}
-scenes: {{wind_speed: [8.0], turbulence_intensity: 0.0, duration: 1.0, dt: 0.05}}
-outputs: [y_positive]
-methods: [{{method: pce, order: 10, n: 1024, seed: 0}}]
-"""
+
+
+def trusted_study(name: str) -> str:
+    """A one-scene Ishigami study whose order-10 PCE is trusted."""
+    return ishigami_study(name, "methods: [{method: pce, order: 10, n: 1024, seed: 0}]\n", pi="3.14159")
 
 
 def _env() -> dict[str, str]:
@@ -46,7 +41,7 @@ def test_exit_codes_untrusted_and_allowed(write_study, tmp_path: Path, capsys) -
 
 
 def test_quiet_and_verbose_before_or_after_the_subcommand(write_study, tmp_path: Path, capsys) -> None:
-    study = write_study("ok", text=TRUSTED.format(name="ok"))
+    study = write_study("ok", text=trusted_study(name="ok"))
     assert main(["run", str(study), "--out", str(tmp_path / "a"), "-q"]) == 0
     assert capsys.readouterr().out == ""
     assert main(["-q", "run", str(study), "--out", str(tmp_path / "a")]) == 0
@@ -56,7 +51,7 @@ def test_quiet_and_verbose_before_or_after_the_subcommand(write_study, tmp_path:
 
 
 def test_validate_says_one_scene_one_realisation(write_study, capsys) -> None:
-    assert main(["validate", str(write_study("ok", text=TRUSTED.format(name="ok")))]) == 0
+    assert main(["validate", str(write_study("ok", text=trusted_study(name="ok")))]) == 0
     assert "3 parameters, 1 scene x 1 realisation)" in capsys.readouterr().out
 
 
@@ -159,7 +154,7 @@ def test_a_slow_first_evaluation_is_explained(write_study, tmp_path: Path, monke
     import ddgsa.pipeline
 
     monkeypatch.setattr(ddgsa.pipeline, "SLOW_FIRST_S", 0.05)
-    text = TRUSTED.format(name="slow").replace("fidelity: exact}", "fidelity: exact, options: {delay_s: 0.2}}")
+    text = trusted_study(name="slow").replace("fidelity: exact}", "fidelity: exact, options: {delay_s: 0.2}}")
     text = text.replace("order: 10, n: 1024", "order: 1, n: 4")
     study = write_study("slow", text=text)
     main(["run", str(study), "--out", str(tmp_path / "a"), "--allow-untrusted"])

@@ -6,27 +6,21 @@ import json
 from pathlib import Path
 
 from ddgsa.cli import main
+from studytext import ishigami_study
 
-ONE_SCENE = """\
-name: {name}
-model: {{name: analytic, fidelity: exact}}
-parameters:
-  x1: {{low: -3.14159, high: 3.14159}}
-  x2: {{low: -3.14159, high: 3.14159}}
-  x3: {{low: -3.14159, high: 3.14159}}
-scenes: {{wind_speed: [{speeds}], turbulence_intensity: 0.0, duration: 1.0, dt: 0.05}}
-outputs: [y_positive]
-methods: [{{method: mdrm, points: 3, check: 0}}]
-"""
+
+def one_scene(name: str, speeds: str) -> str:
+    """An Ishigami study at ``speeds`` with a 3-point M-DRM."""
+    return ishigami_study(name, "methods: [{method: mdrm, points: 3, check: 0}]\n", speeds=speeds, pi="3.14159")
 
 
 def test_another_studys_folder_is_refused_unless_forced_and_then_cleaned(write_study, tmp_path: Path,
                                                                        capsys) -> None:
     out = tmp_path / "out"
-    first = write_study("first", text=ONE_SCENE.format(name="first", speeds="8.0, 11.0"))
+    first = write_study("first", text=one_scene(name="first", speeds="8.0, 11.0"))
     assert main(["-q", "run", str(first), "--out", str(out), "--allow-untrusted"]) == 0
     assert {"bars_scene1.png", "heatmap_ST_mdrm.png"} <= {p.name for p in out.iterdir()}
-    second = write_study("second", text=ONE_SCENE.format(name="second", speeds="8.0"))
+    second = write_study("second", text=one_scene(name="second", speeds="8.0"))
     assert main(["-q", "run", str(second), "--out", str(out), "--allow-untrusted"]) == 2
     err = capsys.readouterr().err
     assert f"{out}: holds the results of study 'first', not 'second'" in err and "--force" in err
@@ -42,10 +36,10 @@ def test_another_studys_folder_is_refused_unless_forced_and_then_cleaned(write_s
 
 def test_the_same_study_with_fewer_scenes_leaves_no_stale_plots(write_study, tmp_path: Path) -> None:
     out = tmp_path / "out"
-    assert main(["-q", "run", str(write_study("s", text=ONE_SCENE.format(name="s", speeds="8.0, 11.0"))),
+    assert main(["-q", "run", str(write_study("s", text=one_scene(name="s", speeds="8.0, 11.0"))),
                  "--out", str(out), "--allow-untrusted"]) == 0
     assert (out / "bars_scene1.png").exists()
-    assert main(["-q", "run", str(write_study("s", text=ONE_SCENE.format(name="s", speeds="8.0"))),
+    assert main(["-q", "run", str(write_study("s", text=one_scene(name="s", speeds="8.0"))),
                  "--out", str(out), "--allow-untrusted"]) == 0
     assert not (out / "bars_scene1.png").exists() and not (out / "heatmap_ST_mdrm.png").exists()
     assert (out / "bars_scene0.png").exists()
@@ -55,7 +49,7 @@ def test_a_folder_ddgsa_did_not_write_is_refused(write_study, tmp_path: Path, ca
     out = tmp_path / "mine"
     out.mkdir()
     (out / "notes.txt").write_text("my notes")
-    study = write_study("s", text=ONE_SCENE.format(name="s", speeds="8.0"))
+    study = write_study("s", text=one_scene(name="s", speeds="8.0"))
     assert main(["-q", "run", str(study), "--out", str(out)]) == 2
     assert "is not empty and is not a ddgsa output folder (notes.txt)" in capsys.readouterr().err
     assert main(["-q", "run", str(study), "--out", str(out), "--force", "--allow-untrusted"]) == 0

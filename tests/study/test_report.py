@@ -16,20 +16,14 @@ from matplotlib.container import ErrorbarContainer
 from ddgsa.cli import main
 from ddgsa.models import get
 from ddgsa.report import accuracy_table, plot_heatmap, plot_scene_bars
+from studytext import ishigami_study
 
 matplotlib.use("Agg")
 
-PCE_STUDY = """\
-name: {name}
-model: {{name: analytic, fidelity: exact}}
-parameters:
-  x1: {{low: -3.14159265, high: 3.14159265}}
-  x2: {{low: -3.14159265, high: 3.14159265}}
-  x3: {{low: -3.14159265, high: 3.14159265}}
-scenes: {{wind_speed: [8.0], turbulence_intensity: 0.0, duration: 1.0, dt: 0.05}}
-outputs: [y_positive]
-methods: {methods}
-"""
+
+def pce_study(name: str, methods: str) -> str:
+    """A one-scene Ishigami study with ``methods`` (a YAML list)."""
+    return ishigami_study(name, f"methods: {methods}\n")
 
 
 def _evaluation_line(summary: str) -> str:
@@ -42,7 +36,7 @@ def test_summary_mean_cv_ranking_and_sentence_against_closed_forms(write_study, 
     = 0.186; ST = (0.558, 0.442, 0.244), S1 = (0.314, 0.442, 0). Sample moments of the 1024 PCE
     points: mean within 0.05, CV within 0.005."""
     out = tmp_path / "pce"
-    study = write_study("pce", text=PCE_STUDY.format(name="pce", methods="[{method: pce, order: 10, n: 1024, seed: 0}]"))
+    study = write_study("pce", text=pce_study(name="pce", methods="[{method: pce, order: 10, n: 1024, seed: 0}]"))
     assert main(["run", str(study), "--out", str(out)]) == 0
     cli_line = capsys.readouterr().out
     summary = (out / "summary.md").read_text()
@@ -66,7 +60,7 @@ def test_summary_mean_cv_ranking_and_sentence_against_closed_forms(write_study, 
 def test_counts_agree_in_a_fresh_folder_when_methods_share_points(write_study, tmp_path: Path, capsys) -> None:
     """M-DRM and auto's M-DRM stage ask for the same 48 points: counted once, none 'cached' in a
     fresh folder; a rerun runs nothing and says so in the same words as the summary."""
-    study = write_study("both", text=PCE_STUDY.format(name="both", methods="[{method: mdrm}, {method: auto, budget: 200}]"))
+    study = write_study("both", text=pce_study(name="both", methods="[{method: mdrm}, {method: auto, budget: 200}]"))
     out = tmp_path / "both"
     main(["run", str(study), "--out", str(out), "--allow-untrusted"])
     first = json.loads((out / "provenance.json").read_text())["evaluations"]

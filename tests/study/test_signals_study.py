@@ -10,26 +10,19 @@ import pytest
 
 from ddgsa.cli import main
 from ddgsa.models.analytic import WAVES_T
+from studytext import ishigami_study
 
-STUDY = """\
-name: {name}
-model: {{name: analytic, fidelity: exact}}
-parameters:
-  x1: {{low: -3.14159265, high: 3.14159265}}
-  x2: {{low: -3.14159265, high: 3.14159265}}
-  x3: {{low: -3.14159265, high: 3.14159265}}
-scenes: {{wind_speed: [8.0], turbulence_intensity: 0.0, duration: 1.0, dt: 0.05}}
-outputs: [y_positive]
-signals: [{signal}]
-methods: [{{method: pce, order: 1, n: 128}}]
-run: {{jobs: 1, batch_size: 64}}
-"""
+
+def signal_study(name: str, signal: str) -> str:
+    """A one-scene Ishigami study asking for ``signal`` with a first-order PCE."""
+    return ishigami_study(name, f"signals: [{signal}]\nmethods: [{{method: pce, order: 1, n: 128}}]\n"
+                                "run: {jobs: 1, batch_size: 64}\n")
 
 
 def test_signal_study_per_bin_generalised_and_convergence_into_the_report(write_study, tmp_path: Path) -> None:
     """waves(t) = (12 + x1 sin 4 pi t + 2 x2 sin 10 pi t) 8/11: additive, so an order-1 PCE is exact:
     S1[x1](t) = s1^2 / (s1^2 + 4 s2^2), generalised S1[x1] = sum s1^2 / sum (s1^2 + 4 s2^2)."""
-    path = write_study("sig", text=STUDY.format(name="sig", signal="waves"))
+    path = write_study("sig", text=signal_study(name="sig", signal="waves"))
     out = tmp_path / "out"
     assert main(["-q", "run", str(path), "--out", str(out), "--allow-untrusted"]) == 0
     s1, s2 = np.sin(4 * np.pi * WAVES_T) ** 2, 4 * np.sin(10 * np.pi * WAVES_T) ** 2
@@ -58,7 +51,7 @@ def test_signal_study_per_bin_generalised_and_convergence_into_the_report(write_
 @pytest.mark.slow
 def test_a_report_rebuilt_from_the_store_reads_the_signals_back(write_study, tmp_path: Path) -> None:
     """``ddgsa report`` runs no model: the signal vectors come back from the store's signals table."""
-    path = write_study("sig", text=STUDY.format(name="sig", signal="waves"))
+    path = write_study("sig", text=signal_study(name="sig", signal="waves"))
     out = tmp_path / "out"
     assert main(["-q", "run", str(path), "--out", str(out), "--allow-untrusted"]) == 0
     first = (out / "signal_indices.csv").read_text()
@@ -68,7 +61,7 @@ def test_a_report_rebuilt_from_the_store_reads_the_signals_back(write_study, tmp
 
 
 def test_an_unknown_signal_is_refused_with_the_known_ones(write_study, capsys) -> None:
-    path = write_study("bad", text=STUDY.format(name="bad", signal="wave"))
+    path = write_study("bad", text=signal_study(name="bad", signal="wave"))
     assert main(["validate", str(path)]) == 2
     err = capsys.readouterr().err
     assert "signals[0]" in err and "waves" in err
