@@ -723,16 +723,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
             counts = result.diagnostics.groupby(["method", "name", "severity"]).size()
             lines += [f"- {m} `{n}` ({s}): {c}x" for (m, n, s), c in counts.items()]
             lines.append("")
-    flagged = [r for r in result.provenance.get("sampling", []) if r.get("verdict") != "ok"]
-    if flagged:
-        lines += ["## Sampling (aliasing guard)", "",
-                  "| variant | interval | [s] | mode | [Hz] | samples/period | verdict | consequence |",
-                  "|---|---|---|---|---|---|---|---|"]
-        lines += [f"| {r.get('variant', '')} | {r['interval']} | {r.get('interval_s', float('nan')):.4g} | "
-                  f"{r.get('mode', '')} | {r.get('frequency_hz', float('nan')):.4g} | "
-                  f"{r.get('samples_per_period', float('nan')):.3g} | {r['verdict']} | {r['consequence']} |"
-                  for r in flagged]
-        lines.append("")
+    lines += sampling_markdown(result.provenance.get("sampling", []))
     if result.fault is not None:
         lines += _fault_markdown(result)
     if result.sweep is not None:
@@ -748,3 +739,34 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                       for row in summary[cols].itertuples(index=False)]
             lines.append("")
     return "\n".join(lines)
+
+
+def sampling_markdown(rows: list[dict]) -> list[str]:
+    """The summary's "Sampling (aliasing guard)" section for the guard's flagged rows.
+
+    Parameters
+    ----------
+    rows : list of dict
+        The provenance's ``sampling`` rows (keys ``interval``, ``interval_s`` [s], ``mode``,
+        ``frequency_hz`` [Hz], ``samples_per_period``, ``verdict``, ``consequence`` and, for a study
+        with variants, ``variant``).
+
+    Returns
+    -------
+    list of str
+        Markdown lines; empty when every row's verdict is ``ok``. The ``variant`` column is shown only
+        when some row names a variant.
+    """
+    flagged = [r for r in rows if r.get("verdict") != "ok"]
+    if not flagged:
+        return []
+    variant = any(r.get("variant") for r in flagged)
+    head = ["interval", "[s]", "mode", "[Hz]", "samples/period", "verdict", "consequence"]
+    head = ["variant"] * variant + head
+    lines = ["## Sampling (aliasing guard)", "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in flagged:
+        cells = [str(r['interval']), f"{r.get('interval_s', float('nan')):.4g}", str(r.get('mode', '')),
+                 f"{r.get('frequency_hz', float('nan')):.4g}", f"{r.get('samples_per_period', float('nan')):.3g}",
+                 str(r['verdict']), str(r['consequence'])]
+        lines.append("| " + " | ".join([str(r.get("variant", ""))] * variant + cells) + " |")
+    return lines + [""]
