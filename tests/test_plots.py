@@ -41,6 +41,12 @@ def _check(fig, dense_legend: bool = False) -> None:
             b = t.get_window_extent(renderer)
             assert box.x0 - 1 <= b.x0 and b.x1 <= box.x1 + 1 and box.y0 - 1 <= b.y0 and b.y1 <= box.y1 + 1, \
                 f"text {t.get_text()!r} leaves the figure"
+    titles = [t for t in [fig._suptitle, *(ax.title for ax in fig.axes if ax.get_visible())]
+              if t is not None and t.get_visible() and t.get_text().strip()]
+    for leg in [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None] + list(fig.legends):
+        lb = leg.get_window_extent(renderer)
+        for t in titles:
+            assert not lb.overlaps(t.get_window_extent(renderer)), f"a legend covers the title {t.get_text()!r}"
     if dense_legend:
         legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None] + list(fig.legends)
         assert legends
@@ -112,6 +118,23 @@ def test_scene_bars_and_heatmap() -> None:
     assert len({round(ax.get_position().x0, 3) for ax in fig.axes if ax.get_visible()}) == 3   # three panels a row
     _check(fig, dense_legend=True)
     _check(plot_heatmap(rows, info))
+
+
+def test_scene_bars_legend_leaves_the_title_free() -> None:
+    """Newcomer trial: in the quickstart's bars (two methods, five parameters) the legend, outside upper
+    right, covered the end of the title (the scene description); _check now fails on any legend over a title."""
+    model = get("direct_drive", fidelity="rigid")
+    outputs = ["damage_front", "damage_rear", "rms_deflection_hub", "front_Fr_mean"]
+    rows = _indices(outputs, ["mdrm", "pce"], [p.name for p in model.parameters[:5]])
+    rows["rank_confirmed"] = rows["parameter"] == rows["parameter"].iloc[0]
+    fig = plot_scene_bars(rows[rows["scene"] == 1], {o: model.output(o) for o in outputs})
+    legend = fig.legends[0]
+    assert [t.get_text() for t in legend.get_texts()] == ["S1", "ST", "untrusted, rank confirmed"]
+    assert [h.get_hatch() for h in legend.legend_handles] == [None, None, ".."]   # S1/ST keys not hatched
+    shown = [ax for ax in fig.axes if ax.get_visible()]
+    assert len(shown) == 8 and all(ax.yaxis_inverted() for ax in shown)       # first parameter on top (even count)
+    assert shown[0].get_yticklabels()[0].get_text() == rows["parameter"].iloc[0]
+    _check(fig, dense_legend=True)
 
 
 def test_sweep() -> None:

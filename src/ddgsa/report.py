@@ -332,7 +332,7 @@ def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | Non
     """S1/ST bars, parameters down the y axis, with confidence bars where a method gives an
     interval: one panel per output and method (titled with the output's unit), at most three
     panels a row; an output whose indices are refused says so in its panel; hatched bars are
-    untrusted (said in the legend, above the panels, only when some are); the title names the
+    untrusted (said in the legend, below the panels, only when some are); the title names the
     scene by its label ``fields``."""
     from matplotlib.patches import Patch
 
@@ -354,14 +354,14 @@ def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | Non
                     ha="center", va="center", fontsize=8, color="0.3")
     for ax in list(axes.flat)[len(panels):]:
         ax.set_visible(False)
-    handles, _ = axes[0, 0].get_legend_handles_labels()
+    handles = [Patch(facecolor="tab:blue", label="S1"), Patch(facecolor="tab:orange", label="ST")]  # unhatched
     untrusted = ~scene_rows["trusted"].astype(bool)
     placed = scene_rows["rank_confirmed"].astype(bool) if "rank_confirmed" in scene_rows else untrusted & False
     if (untrusted & placed).any():
         handles.append(Patch(facecolor="tab:blue", edgecolor="white", hatch="..", label="untrusted, rank confirmed"))
     if (untrusted & ~placed).any():
         handles.append(Patch(facecolor="tab:blue", edgecolor="white", hatch="///", label="untrusted"))
-    fig.legend(handles=handles, fontsize=7, loc="outside upper right", ncols=len(handles))
+    fig.legend(handles=handles, fontsize=7, loc="outside lower center", ncols=len(handles))   # clear of the title
     fig.suptitle("Sobol indices, " + scene_text({f: scene_rows[f].iloc[0] for f in fields}), fontsize=9)
     return fig
 
