@@ -94,7 +94,35 @@ def test_campbell() -> None:
 def test_mode_bars() -> None:
     table = pd.DataFrame({"frequency_hz": [1.0, 3.0, 30.0], "damping_ratio": 0.01,
                           "label": ["a_long_mode_label_1", "b", "c"]})
-    _check(plot_modes(table).figure)
+    ax = plot_modes(table)
+    assert ax.get_xscale() == "log"                      # 1 to 30 Hz: a factor 30
+    _no_tick_overlap(ax)
+    assert {t.get_text() for t in ax.get_xticklabels() if t.get_visible()} >= {"1", "10"}
+    _check(ax.figure)
+
+
+def _no_tick_overlap(ax) -> None:
+    ax.figure.canvas.draw()
+    renderer = ax.figure.canvas.get_renderer()
+    left, right = sorted(ax.get_xlim())
+    ticks = [t for t, v in zip(ax.get_xticklabels(), ax.get_xticks()) if t.get_text() and left <= v <= right]
+    boxes = sorted((t.get_window_extent(renderer) for t in ticks), key=lambda b: b.x0)
+    assert len(boxes) >= 2
+    assert all(a.x1 <= b.x0 for a, b in zip(boxes, boxes[1:])), [t.get_text() for t in ticks]
+
+
+def test_mode_bars_of_nearly_equal_frequencies_use_a_linear_axis_from_zero() -> None:
+    """Newcomer trial (`ddgsa modes generator_radial`): 34.212040 and 34.212043 Hz on a log axis gave
+    overlapping tick labels and bars of very different lengths. Under a factor 10 the axis is linear
+    from 0: the two bars end 3e-6 Hz apart, i.e. look equal, and the tick labels do not overlap."""
+    table = pd.DataFrame({"frequency_hz": [34.212040, 34.212043, 48.55], "damping_ratio": 0.02,
+                          "label": ["bearing_radial", "bearing_radial_vertical", "tower"]})
+    ax = plot_modes(table)
+    assert ax.get_xscale() == "linear" and ax.get_xlim()[0] == 0.0
+    assert ax.get_xlim()[1] == pytest.approx(1.05 * 48.55)
+    _no_tick_overlap(ax)
+    assert "34.21 Hz" in ax.get_yticklabels()[0].get_text()
+    _check(ax.figure)
 
 
 def _indices(outputs: list[str], methods: list[str], params: list[str]) -> pd.DataFrame:
