@@ -6,6 +6,8 @@ import json
 from pathlib import Path
 
 from ddgsa.cli import main
+from ddgsa.outdir import replaced_version
+from ddgsa.study import load_study
 
 ONE_SCENE = """\
 name: {name}
@@ -70,8 +72,9 @@ def test_another_version_of_a_study_with_the_same_name_says_it_replaces_the_resu
     out = tmp_path / "out"
     first = write_study("first", text=ONE_SCENE.format(name="s", speeds="8.0"))
     assert main(["-q", "run", str(first), "--out", str(out), "--allow-untrusted"]) == 0
-    assert main(["-q", "run", str(first), "--out", str(out), "--allow-untrusted"]) == 0
-    assert "replaced" not in capsys.readouterr().err
+    assert replaced_version(out, "s", load_study(first).digest) is None          # rerunning it: no warning
+    assert replaced_version(out, "other", "0" * 64) is None                      # another name: claim refuses
+    capsys.readouterr()
     copy = write_study("copy", text=ONE_SCENE.format(name="s", speeds="11.0"))
     assert main(["-q", "run", str(copy), "--out", str(out), "--allow-untrusted"]) == 0
     lines = [line for line in capsys.readouterr().err.splitlines() if "replaced" in line]
