@@ -41,6 +41,12 @@ def _check(fig, dense_legend: bool = False) -> None:
             b = t.get_window_extent(renderer)
             assert box.x0 - 1 <= b.x0 and b.x1 <= box.x1 + 1 and box.y0 - 1 <= b.y0 and b.y1 <= box.y1 + 1, \
                 f"text {t.get_text()!r} leaves the figure"
+    titles = [t for t in [fig._suptitle, *(ax.title for ax in fig.axes if ax.get_visible())]
+              if t is not None and t.get_visible() and t.get_text().strip()]
+    for leg in [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None] + list(fig.legends):
+        lb = leg.get_window_extent(renderer)
+        for t in titles:
+            assert not lb.overlaps(t.get_window_extent(renderer)), f"a legend covers the title {t.get_text()!r}"
     if dense_legend:
         legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None] + list(fig.legends)
         assert legends
@@ -88,7 +94,35 @@ def test_campbell() -> None:
 def test_mode_bars() -> None:
     table = pd.DataFrame({"frequency_hz": [1.0, 3.0, 30.0], "damping_ratio": 0.01,
                           "label": ["a_long_mode_label_1", "b", "c"]})
-    _check(plot_modes(table).figure)
+    ax = plot_modes(table)
+    assert ax.get_xscale() == "log"                      # 1 to 30 Hz: a factor 30
+    _no_tick_overlap(ax)
+    assert {t.get_text() for t in ax.get_xticklabels() if t.get_visible()} >= {"1", "10"}
+    _check(ax.figure)
+
+
+def _no_tick_overlap(ax) -> None:
+    ax.figure.canvas.draw()
+    renderer = ax.figure.canvas.get_renderer()
+    left, right = sorted(ax.get_xlim())
+    ticks = [t for t, v in zip(ax.get_xticklabels(), ax.get_xticks()) if t.get_text() and left <= v <= right]
+    boxes = sorted((t.get_window_extent(renderer) for t in ticks), key=lambda b: b.x0)
+    assert len(boxes) >= 2
+    assert all(a.x1 <= b.x0 for a, b in zip(boxes, boxes[1:])), [t.get_text() for t in ticks]
+
+
+def test_mode_bars_of_nearly_equal_frequencies_use_a_linear_axis_from_zero() -> None:
+    """Newcomer trial (`ddgsa modes generator_radial`): 34.212040 and 34.212043 Hz on a log axis gave
+    overlapping tick labels and bars of very different lengths. Under a factor 10 the axis is linear
+    from 0: the two bars end 3e-6 Hz apart, i.e. look equal, and the tick labels do not overlap."""
+    table = pd.DataFrame({"frequency_hz": [34.212040, 34.212043, 48.55], "damping_ratio": 0.02,
+                          "label": ["bearing_radial", "bearing_radial_vertical", "tower"]})
+    ax = plot_modes(table)
+    assert ax.get_xscale() == "linear" and ax.get_xlim()[0] == 0.0
+    assert ax.get_xlim()[1] == pytest.approx(1.05 * 48.55)
+    _no_tick_overlap(ax)
+    assert "34.21 Hz" in ax.get_yticklabels()[0].get_text()
+    _check(ax.figure)
 
 
 def _indices(outputs: list[str], methods: list[str], params: list[str]) -> pd.DataFrame:
@@ -112,6 +146,23 @@ def test_scene_bars_and_heatmap() -> None:
     assert len({round(ax.get_position().x0, 3) for ax in fig.axes if ax.get_visible()}) == 3   # three panels a row
     _check(fig, dense_legend=True)
     _check(plot_heatmap(rows, info))
+
+
+def test_scene_bars_legend_leaves_the_title_free() -> None:
+    """Newcomer trial: in the quickstart's bars (two methods, five parameters) the legend, outside upper
+    right, covered the end of the title (the scene description); _check now fails on any legend over a title."""
+    model = get("direct_drive", fidelity="rigid")
+    outputs = ["damage_front", "damage_rear", "rms_deflection_hub", "front_Fr_mean"]
+    rows = _indices(outputs, ["mdrm", "pce"], [p.name for p in model.parameters[:5]])
+    rows["rank_confirmed"] = rows["parameter"] == rows["parameter"].iloc[0]
+    fig = plot_scene_bars(rows[rows["scene"] == 1], {o: model.output(o) for o in outputs})
+    legend = fig.legends[0]
+    assert [t.get_text() for t in legend.get_texts()] == ["S1", "ST", "untrusted, rank confirmed"]
+    assert [h.get_hatch() for h in legend.legend_handles] == [None, None, ".."]   # S1/ST keys not hatched
+    shown = [ax for ax in fig.axes if ax.get_visible()]
+    assert len(shown) == 8 and all(ax.yaxis_inverted() for ax in shown)       # first parameter on top (even count)
+    assert shown[0].get_yticklabels()[0].get_text() == rows["parameter"].iloc[0]
+    _check(fig, dense_legend=True)
 
 
 def test_sweep() -> None:

@@ -101,3 +101,23 @@ def test_a_local_workers_block_keeps_its_workers_across_calls(tmp_path: Path) ->
         first, second = pids("a"), pids("b")
     assert len(first | second) <= 2                   # two workers served both calls
     assert not pids("c") & pids("d")
+
+
+def test_the_progress_bar_counts_a_quiet_warm_up_run_among_its_runs(tmp_path: Path, capsys) -> None:
+    """Newcomer trial: the pipeline runs one evaluation quietly (kernel warm-up) and the bar of the
+    remaining 84 then read 84/84 for a study of 85 runs. Here 6 tasks: one stored before with a bar of its
+    own (shown, so cached), one run by a quiet call; the bar over all six then ends at 5/5."""
+    mid = ModelId("pid", "exact")
+    tasks = [Task(task_key(mid, {"gain": 1.0}, {"x": x}, "test"), mid, {"gain": 1.0}, {"x": x}) for x in range(6)]
+    store = EvaluationStore(tmp_path / "s.sqlite")
+    run_tasks(tasks[5:], store, pid_and_state, quiet=False)
+    assert "1/1" in capsys.readouterr().err
+    run_tasks(tasks[:1], store, pid_and_state, quiet=True)
+    assert capsys.readouterr().err == ""
+    got = run_tasks(tasks, store, pid_and_state, quiet=False)
+    assert got == {"total": 6, "cached": 2, "evaluated": 4, "failed": 0}
+    err = capsys.readouterr().err
+    assert "5/5" in err and "4/4" not in err and "6/6" not in err
+    again = run_tasks(tasks, store, pid_and_state, quiet=False)   # nothing left to run: no bar
+    assert again["evaluated"] == 0 and capsys.readouterr().err == ""
+    store.close()

@@ -63,7 +63,8 @@ def study_findings(study: Study, sample: int = SAMPLE) -> list[Finding]:
     """Every finding of the checks above, errors first."""
     model = study.make_model()
     found = [*_sampling(study, model), *_region(study, model, sample), *_cut_problems(study, model),
-             *_unused(study, model), *_basis(study, model), *_unit_hints(study, model)]
+             *_unused(study, model), *_basis(study, model), *_unit_hints(study, model),
+             *_sobol_sizes(study)]
     order = {"error": 0, "warning": 1, "note": 2, "hint": 3}
     return sorted(found, key=lambda f: order[f.level])
 
@@ -140,6 +141,28 @@ def _region(study: Study, model: Any, sample: int) -> list[Finding]:
         return [Finding("error", "parameters", text + "; every evaluation would fail")]
     return [Finding("warning", "parameters", text + "; evaluations there will fail (never imputed) and the methods "
                                                     "that need them will be refused: narrow the support")]
+
+
+def _sobol_sizes(study: Study) -> list[Finding]:
+    """A method option that sets a number of Sobol' points other than a power of two (scipy's own
+    warning is silenced where ddgsa draws them): the sequence's balance is lost, so its integration
+    error falls more slowly; a hint naming the field and the two nearest powers of two."""
+    from ddgsa.gsa.base import get_method
+
+    out: list[Finding] = []
+    for i, m in enumerate(study.spec.methods):
+        try:
+            keys = get_method(m.method).sobol_sizes
+        except DdgsaError:
+            continue
+        for key in keys:
+            n = m.options.get(key)
+            if isinstance(n, int) and not isinstance(n, bool) and n > 2 and n & (n - 1):
+                low = 1 << (n.bit_length() - 1)
+                out.append(Finding("hint", f"methods[{i}].{key}",
+                                   f"{n} Sobol' points are not a power of two, which loses the sequence's "
+                                   f"balance (its error falls more slowly with n); use {low} or {2 * low}"))
+    return out
 
 
 def _unused(study: Study, model: Any) -> list[Finding]:

@@ -313,7 +313,7 @@ def plural(n: int, noun: str) -> str:
 
 
 def _run(study: "Study", args: argparse.Namespace) -> int:
-    from ddgsa.outdir import LOCK_NAME, STORE_NAME, claim
+    from ddgsa.outdir import LOCK_NAME, STORE_NAME, claim, replaced_version
     from ddgsa.pipeline import default_out, execute
     from ddgsa.runner import EvaluationStore, set_aside
 
@@ -321,6 +321,11 @@ def _run(study: "Study", args: argparse.Namespace) -> int:
     _check_disk(study, out)
     try:
         with claim(out, study.name, force=args.force):
+            old_file = replaced_version(out, study.name, study.digest)
+            if old_file is not None:
+                print(f"ddgsa: warning: {out}: holds the results of study {study.name!r} from {old_file} with other "
+                      f"contents; they are replaced by those of {study.path or 'this study'} (stored evaluations "
+                      "with equal keys are reused)", file=sys.stderr)
             if study.path is not None and study.path.resolve() != (out / "study.yaml").resolve():
                 shutil.copyfile(study.path, out / "study.yaml")
             try:

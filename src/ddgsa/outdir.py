@@ -2,7 +2,8 @@
 
 :func:`claim` locks the folder for the duration of a run or a report rebuild (an OS lock on
 ``.ddgsa.lock``, released by the OS even when the process is killed), refuses a folder that
-holds another study's results or files ddgsa did not write (unless ``force``), and
+holds another study's results or files ddgsa did not write (unless ``force``; results of another
+version of the same study are replaced, :func:`replaced_version` says which), and
 :func:`remove_stale` deletes the artefacts an earlier report wrote that the new one did not
 (a study with fewer scenes leaves no old ``bars_scene2.png`` beside its new summary).
 The list of written files is the ``files`` entry of ``provenance.json``.
@@ -44,6 +45,24 @@ def owner(folder: Path) -> str | None:
     except (OSError, YAMLError):
         return None
     return data.get("name") if isinstance(data, dict) and isinstance(data.get("name"), str) else None
+
+
+def replaced_version(folder: Path, study: str, digest: str) -> str | None:
+    """The study file (as ``provenance.json`` names it) of results in ``folder`` that belong to
+    study ``study`` but to another version of it (another ``study_sha256``, e.g. a copied and edited
+    study that kept its ``name:``), or None when the folder holds no such results. Such results are
+    replaced by the new run's; unlike another study's (:func:`claim`) they are not refused, since
+    editing a study and running it again is the ordinary loop."""
+    try:
+        prov = json.loads((folder / "provenance.json").read_text())
+    except (OSError, ValueError):
+        return None
+    if not isinstance(prov, dict) or prov.get("study") != study:
+        return None
+    old = prov.get("study_sha256")
+    if not isinstance(old, str) or old == digest:
+        return None
+    return str(prov.get("study_file") or "study.yaml")
 
 
 def previous_files(folder: Path) -> set[str]:

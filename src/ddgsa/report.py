@@ -332,7 +332,7 @@ def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | Non
     """S1/ST bars, parameters down the y axis, with confidence bars where a method gives an
     interval: one panel per output and method (titled with the output's unit), at most three
     panels a row; an output whose indices are refused says so in its panel; hatched bars are
-    untrusted (said in the legend, above the panels, only when some are); the title names the
+    untrusted (said in the legend, below the panels, only when some are); the title names the
     scene by its label ``fields``."""
     from matplotlib.patches import Patch
 
@@ -354,14 +354,14 @@ def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | Non
                     ha="center", va="center", fontsize=8, color="0.3")
     for ax in list(axes.flat)[len(panels):]:
         ax.set_visible(False)
-    handles, _ = axes[0, 0].get_legend_handles_labels()
+    handles = [Patch(facecolor="tab:blue", label="S1"), Patch(facecolor="tab:orange", label="ST")]  # unhatched
     untrusted = ~scene_rows["trusted"].astype(bool)
     placed = scene_rows["rank_confirmed"].astype(bool) if "rank_confirmed" in scene_rows else untrusted & False
     if (untrusted & placed).any():
         handles.append(Patch(facecolor="tab:blue", edgecolor="white", hatch="..", label="untrusted, rank confirmed"))
     if (untrusted & ~placed).any():
         handles.append(Patch(facecolor="tab:blue", edgecolor="white", hatch="///", label="untrusted"))
-    fig.legend(handles=handles, fontsize=7, loc="outside upper right", ncols=len(handles))
+    fig.legend(handles=handles, fontsize=7, loc="outside lower center", ncols=len(handles))   # clear of the title
     fig.suptitle("Sobol indices, " + scene_text({f: scene_rows[f].iloc[0] for f in fields}), fontsize=9)
     return fig
 
@@ -723,16 +723,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
             counts = result.diagnostics.groupby(["method", "name", "severity"]).size()
             lines += [f"- {m} `{n}` ({s}): {c}x" for (m, n, s), c in counts.items()]
             lines.append("")
-    flagged = [r for r in result.provenance.get("sampling", []) if r.get("verdict") != "ok"]
-    if flagged:
-        lines += ["## Sampling (aliasing guard)", "",
-                  "| variant | interval | [s] | mode | [Hz] | samples/period | verdict | consequence |",
-                  "|---|---|---|---|---|---|---|---|"]
-        lines += [f"| {r.get('variant', '')} | {r['interval']} | {r.get('interval_s', float('nan')):.4g} | "
-                  f"{r.get('mode', '')} | {r.get('frequency_hz', float('nan')):.4g} | "
-                  f"{r.get('samples_per_period', float('nan')):.3g} | {r['verdict']} | {r['consequence']} |"
-                  for r in flagged]
-        lines.append("")
+    lines += sampling_markdown(result.provenance.get("sampling", []))
     if result.fault is not None:
         lines += _fault_markdown(result)
     if result.sweep is not None:
@@ -748,3 +739,34 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                       for row in summary[cols].itertuples(index=False)]
             lines.append("")
     return "\n".join(lines)
+
+
+def sampling_markdown(rows: list[dict]) -> list[str]:
+    """The summary's "Sampling (aliasing guard)" section for the guard's flagged rows.
+
+    Parameters
+    ----------
+    rows : list of dict
+        The provenance's ``sampling`` rows (keys ``interval``, ``interval_s`` [s], ``mode``,
+        ``frequency_hz`` [Hz], ``samples_per_period``, ``verdict``, ``consequence`` and, for a study
+        with variants, ``variant``).
+
+    Returns
+    -------
+    list of str
+        Markdown lines; empty when every row's verdict is ``ok``. The ``variant`` column is shown only
+        when some row names a variant.
+    """
+    flagged = [r for r in rows if r.get("verdict") != "ok"]
+    if not flagged:
+        return []
+    variant = any(r.get("variant") for r in flagged)
+    head = ["interval", "[s]", "mode", "[Hz]", "samples/period", "verdict", "consequence"]
+    head = ["variant"] * variant + head
+    lines = ["## Sampling (aliasing guard)", "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in flagged:
+        cells = [str(r['interval']), f"{r.get('interval_s', float('nan')):.4g}", str(r.get('mode', '')),
+                 f"{r.get('frequency_hz', float('nan')):.4g}", f"{r.get('samples_per_period', float('nan')):.3g}",
+                 str(r['verdict']), str(r['consequence'])]
+        lines.append("| " + " | ".join([str(r.get("variant", ""))] * variant + cells) + " |")
+    return lines + [""]

@@ -379,7 +379,13 @@ def run_tasks(tasks: list[Task], store: EvaluationStore, factory: ModelFactory, 
     for group in by_scene.values():
         batches += [group[i:i + batch_size] for i in range(0, len(group), batch_size)]
     failed = 0
-    with tqdm(total=len(todo), disable=quiet or not todo, unit="eval", desc="model runs", smoothing=0.1) as bar:
+    unshown = {t.key for t in unique} & _UNSHOWN
+    if quiet:
+        _UNSHOWN.update(t.key for t in todo)
+    else:
+        _UNSHOWN.difference_update(unshown)
+    with tqdm(total=len(todo) + len(unshown), initial=len(unshown), disable=quiet or not todo, unit="eval",
+              desc="model runs", smoothing=0.1) as bar:
         if jobs == 1 and backend == "loky":
             results: Iterable[tuple[list[Task], list[Outcome]]] = (_batch_job(factory, b, setup) for b in batches)
             failed = _consume(results, store, bar)
@@ -399,6 +405,12 @@ def run_tasks(tasks: list[Task], store: EvaluationStore, factory: ModelFactory, 
                                          "command to resume") from None
     store.check()
     return {"total": len(unique), "cached": len(done), "evaluated": len(todo), "failed": failed}
+
+
+_UNSHOWN: set[str] = set()
+"""Keys evaluated in this process by a ``quiet`` :func:`run_tasks` call (e.g. the pipeline's one-run
+warm-up before the parallel workers start) and not yet counted on a progress bar: the next bar over
+them counts them as done, so its total is the number of runs of the step (85/85, not 84/84)."""
 
 
 FORK_WORKERS = sys.platform.startswith("linux")

@@ -36,6 +36,7 @@ independent inputs refuse a correlated space (:mod:`ddgsa.gsa.shapley` handles i
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -408,7 +409,9 @@ class ParameterSpace:
             raise SpaceError(f"sample size n must be a positive integer, got {n!r}")
         rng = np.random.default_rng(seed)
         if rule == "sobol":
-            u = qmc.Sobol(self.dim, scramble=True, rng=rng).random(n)
+            with warnings.catch_warnings():   # a study's size is hinted at by ddgsa.checks, named by field
+                warnings.filterwarnings("ignore", message="The balance properties of Sobol", category=UserWarning)
+                u = qmc.Sobol(self.dim, scramble=True, rng=rng).random(n)
         elif rule == "halton":
             u = qmc.Halton(self.dim, scramble=True, rng=rng).random(n)
         elif rule == "lhs":

@@ -723,6 +723,10 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         warnings.warn(f"{where}: the study's nominal point is outside model {spec.model.name!r}'s valid region: "
                       f"{problem}; every evaluation near it will fail", StudyWarning, stacklevel=2)
     for i, m in enumerate(spec.methods):
+        first = [x.method for x in spec.methods].index(m.method)
+        if first < i:       # results are keyed by method name: a second entry would collide after all runs
+            raise StudyError(f"{where}: field 'methods[{i}].method': method {m.method!r} is already given as "
+                             f"methods[{first}]; one entry per method (to compare two settings, run two studies)")
         if m.method == "auto":
             if space is not None and space.dependent:
                 raise StudyError(f"{where}: field 'methods[{i}]': method 'auto' escalates through methods that "

@@ -128,6 +128,8 @@ def test_encodings_nesting_and_size_of_the_file_are_exit_2_naming_the_file(tmp_p
     ("outputs: [y, y_positive]", "outputs: [y, y_positive, y]", "field 'outputs[2]': 'y' is listed twice (also at [0])"),
     ("{method: mdrm, points: 5}", "{method: mdrm, points: 5}\n  - {method: mdrm, points: 5}",
      "field 'methods[1]': an identical entry is listed twice"),
+    ("{method: saltelli, n: 64, seed: 0}", "{method: saltelli, n: 64, seed: 0}\n  - {method: mdrm, points: 3}",
+     "field 'methods[2].method': method 'mdrm' is already given as methods[0]; one entry per method"),
     ("wind_speed: [8.0, 11.0]", "wind_speed: [8.0, 11.0, 8.0]", "field 'scenes.wind_speed[2]': 8.0 is listed twice"),
     ("options: {}", "options: {delay_s: .nan}",
      "field 'model.options': model 'analytic': option 'delay_s' must be a finite number in [0, 60] s, got nan"),
@@ -136,7 +138,8 @@ def test_encodings_nesting_and_size_of_the_file_are_exit_2_naming_the_file(tmp_p
     ("options: {}", "options: {fail_above: [1]}", "option 'fail_above' must be a finite number"),
     ("options: {}", "options: {delays: 1}", "unknown option 'delays'; known: delay_s, fail_above; did you mean 'delay_s'?"),
     ("name: demo", "name: demo\nname: again", "YAML syntax error at line 2, column 1: found duplicate key"),
-], ids=["long_name", "name_dot", "name_dotdot", "duplicate_output", "duplicate_method", "duplicate_scene_value",
+], ids=["long_name", "name_dot", "name_dotdot", "duplicate_output", "duplicate_method", "repeated_method",
+        "duplicate_scene_value",
         "delay_nan", "delay_negative", "delay_overflow", "fail_above_list", "option_misspelt", "duplicate_key"])
 def test_names_duplicates_and_model_options_are_exit_2_naming_the_field(tmp_path: Path, old: str, new: str,
                                                                         message: str) -> None:

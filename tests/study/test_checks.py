@@ -191,3 +191,41 @@ def test_an_mdrm_cut_point_outside_the_valid_region_is_refused(tmp_path: Path, c
     assert cut.level == "error" and "rear_bearing_x=0.8" in cut.message and "bearing positions must satisfy" in cut.message
     assert main(["validate", str(tmp_path / "s.yaml")]) == 2
     assert "every cut line runs through it" in capsys.readouterr().err
+
+
+SOBOL = """\
+name: sobol
+model: {name: analytic, fidelity: exact}
+parameters:
+  x1: {low: -3.14159265, high: 3.14159265}
+  x2: {low: -3.14159265, high: 3.14159265}
+  x3: {low: -3.14159265, high: 3.14159265}
+scenes: {wind_speed: [8.0], turbulence_intensity: 0.0, duration: 1.0, dt: 0.05}
+outputs: [y_positive]
+methods:
+  - {method: mdrm, points: 7, check: 48}
+  - {method: pce, order: 2, n: 100}
+"""
+
+
+def test_a_sobol_size_other_than_a_power_of_two_is_one_hint_naming_the_field(tmp_path: Path, capsys) -> None:
+    """Newcomer trial: ``check: 48`` printed scipy's raw UserWarning (with its source line) twice. Now
+    one hint per field with the two nearest powers of two, and no raw warning from ddgsa's own draws."""
+    from scipy.stats import qmc
+
+    from ddgsa.space import ParameterSpace
+
+    with pytest.warns(UserWarning, match="balance properties of Sobol"):   # scipy does warn for 48 points
+        qmc.Sobol(3, rng=0).random(48)
+    path = _write(tmp_path, SOBOL)
+    assert main(["validate", str(path)]) == 0
+    err = capsys.readouterr().err
+    assert err.count("field 'methods[0].check': 48 Sobol' points are not a power of two") == 1
+    assert "use 32 or 64" in err
+    assert "field 'methods[1].n': 100 Sobol' points" in err and "use 64 or 128" in err
+    assert "methods[0].points" not in err
+    assert "balance properties" not in err and "UserWarning" not in err
+    space = ParameterSpace.from_dict({"a": {"low": 0.0, "high": 1.0}, "b": {"low": 0.0, "high": 1.0}})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert space.sample(48, seed=0).shape == (48, 2)

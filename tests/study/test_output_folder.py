@@ -6,6 +6,8 @@ import json
 from pathlib import Path
 
 from ddgsa.cli import main
+from ddgsa.outdir import replaced_version
+from ddgsa.study import load_study
 from studytext import ishigami_study
 
 
@@ -54,3 +56,23 @@ def test_a_folder_ddgsa_did_not_write_is_refused(write_study, tmp_path: Path, ca
     assert "is not empty and is not a ddgsa output folder (notes.txt)" in capsys.readouterr().err
     assert main(["-q", "run", str(study), "--out", str(out), "--force", "--allow-untrusted"]) == 0
     assert (out / "notes.txt").read_text() == "my notes"                 # --force never deletes what is not ours
+
+
+def test_another_version_of_a_study_with_the_same_name_says_it_replaces_the_results(write_study, tmp_path: Path,
+                                                                                   capsys) -> None:
+    """Newcomer trial: a copied study that kept ``name:`` silently replaced the first one's folder.
+    Now one warning line names the folder, both study files and that the old results are replaced;
+    rerunning the same study (equal digest) says nothing."""
+    out = tmp_path / "out"
+    first = write_study("first", text=one_scene(name="s", speeds="8.0"))
+    assert main(["-q", "run", str(first), "--out", str(out), "--allow-untrusted"]) == 0
+    assert replaced_version(out, "s", load_study(first).digest) is None          # rerunning it: no warning
+    assert replaced_version(out, "other", "0" * 64) is None                      # another name: claim refuses
+    capsys.readouterr()
+    copy = write_study("copy", text=one_scene(name="s", speeds="11.0"))
+    assert main(["-q", "run", str(copy), "--out", str(out), "--allow-untrusted"]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if "replaced" in line]
+    assert lines == [f"ddgsa: warning: {out}: holds the results of study 's' from {first.name} with other contents; "
+                     f"they are replaced by those of {copy} (stored evaluations with equal keys are reused)"]
+    assert json.loads((out / "provenance.json").read_text())["study_file"] == copy.name
+    assert "wind_speed=11" in (out / "summary.md").read_text()

@@ -15,7 +15,7 @@ from matplotlib.container import ErrorbarContainer
 
 from ddgsa.cli import main
 from ddgsa.models import get
-from ddgsa.report import accuracy_table, plot_heatmap, plot_scene_bars
+from ddgsa.report import accuracy_table, plot_heatmap, plot_scene_bars, sampling_markdown
 from studytext import ishigami_study
 
 matplotlib.use("Agg")
@@ -218,3 +218,18 @@ def test_a_constant_output_is_not_a_problem_but_an_untrusted_varying_one_is() ->
                              "when confirmed)"]
     res.moments = mom.assign(std=[1e-3, 0.3])                            # varies a little: counted
     assert len(problems(res)) == 2
+
+
+def test_sampling_table_has_a_variant_column_only_when_the_study_has_variants() -> None:
+    """Newcomer trial: a study without variants showed an empty ``variant`` column."""
+    row = {"interval": "scene dt", "interval_s": 0.05, "mode": "drivetrain", "frequency_hz": 8.0,
+           "samples_per_period": 2.5, "verdict": "warn", "consequence": "aliased"}
+    ok = {**row, "verdict": "ok"}
+    plain = sampling_markdown([row, ok])
+    assert plain[2] == "| interval | [s] | mode | [Hz] | samples/period | verdict | consequence |"
+    assert plain[4] == "| scene dt | 0.05 | drivetrain | 8 | 2.5 | warn | aliased |"
+    assert len(plain) == 6  # the ok row is left out
+    varied = sampling_markdown([{"variant": "stiff", **row}])
+    assert varied[2].startswith("| variant | interval |")
+    assert varied[4].startswith("| stiff | scene dt |")
+    assert sampling_markdown([ok]) == []

@@ -91,6 +91,10 @@ class GsaMethod(ABC):
         self.check_options(space, opts)
         return self._design(space, opts)
 
+    sobol_sizes: ClassVar[tuple[str, ...]] = ()
+    """Options that set a number of scrambled Sobol' points (best a power of two: ``validate`` hints
+    at another size, naming the field)."""
+
     dependent_inputs: ClassVar[bool] = False
     """Whether the method is valid for correlated inputs (only ``shapley`` is)."""
 

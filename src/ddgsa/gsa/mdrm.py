@@ -100,6 +100,7 @@ class MDRM(GsaMethod):
         Diagnostic thresholds (0.01, 0.01).
     """
 
+    sobol_sizes = ("check",)
     defaults = {"points": 5, "cut": None, "check": 32, "seed": 0, "tolerance": DEFAULT_TOLERANCE,
                 "near_zero": 0.01, "resolution_tol": 0.01}
 

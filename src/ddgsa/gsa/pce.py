@@ -137,6 +137,7 @@ class PCE(GsaMethod):
     ``tolerance`` (0.02).
     """
 
+    sobol_sizes = ("n",)
     defaults = {"order": 4, "fit": "regression", "n": None, "seed": 0, "tolerance": DEFAULT_TOLERANCE}
     gives_groups = True
 

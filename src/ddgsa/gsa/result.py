@@ -200,7 +200,8 @@ def draw_index_bars(ax: "Axes", table: pd.DataFrame, fontsize: float = 10.0, rot
                 bar.set_linewidth(0.0)
     if horizontal:
         ax.set_yticks(x, table["parameter"].to_list(), fontsize=fontsize)
-        ax.invert_yaxis()
+        if not ax.yaxis_inverted():     # panels sharing y: inverting in each would undo it in every other one
+            ax.invert_yaxis()
         ax.set_xlabel("Sobol index [-]", fontsize=fontsize)
     else:
         ax.set_xticks(x, table["parameter"].to_list(), rotation=rotation, ha="right", fontsize=fontsize)

@@ -220,16 +220,32 @@ def modes(system: System, q0: NDArray[np.float64] | None = None, qd0: NDArray[np
     return modal_analysis(lin.m, lin.c, lin.k, system.coord_names, system.groups(), lin.basis, lin.m_full)
 
 
+LOG_SPAN = 10.0
+"""Highest over lowest frequency from which :func:`plot_modes` draws a logarithmic axis."""
+
+
 def plot_modes(table: pd.DataFrame, ax: Any = None) -> Any:
-    """Horizontal bars of the natural frequencies [Hz] of a mode table, labelled; returns the ``Axes``."""
+    """Horizontal bars of the natural frequencies [Hz] of a mode table, labelled; returns the ``Axes``.
+
+    The frequency axis is logarithmic (plain decade labels, no minor labels) only where the
+    frequencies span :data:`LOG_SPAN` or more; nearly equal frequencies (34.212040 and 34.212043 Hz)
+    get a linear axis from 0, whose equal bars show them equal.
+    """
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import FuncFormatter, NullFormatter
 
     if ax is None:
         _, ax = plt.subplots(figsize=(7, 0.35 * max(len(table), 4) + 1.0), layout="constrained")
+    f = table["frequency_hz"].to_numpy(float)
     y = np.arange(len(table))
-    ax.barh(y, table["frequency_hz"], color="tab:blue")
-    ax.set_yticks(y, [f"{lab} ({f:.3g} Hz)" for lab, f in zip(table["label"], table["frequency_hz"])], fontsize=8)
+    ax.barh(y, f, color="tab:blue")
+    ax.set_yticks(y, [f"{lab} ({v:.4g} Hz)" for lab, v in zip(table["label"], f)], fontsize=8)
     ax.invert_yaxis()
-    ax.set_xscale("log")
+    if f.size and f.min() > 0 and f.max() / f.min() >= LOG_SPAN:
+        ax.set_xscale("log")
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        ax.xaxis.set_minor_formatter(NullFormatter())
+    else:
+        ax.set_xlim(0.0, 1.05 * max(float(f.max(initial=0.0)), 1e-12))
     ax.set_xlabel("natural frequency [Hz]")
     return ax
