@@ -28,16 +28,16 @@ from ddgsa.errors import DdgsaError
 from ddgsa.gsa.base import Design
 from ddgsa.kinds.common import (Kind, Plan, Runs, StudyResult, make_task, model_evaluator, model_id,
                                 select_fidelities)
-from ddgsa.kinds.fault import FaultKind, fault_seed
-from ddgsa.kinds.gsa import GsaKind, auto_moments, moments, pooled_crosscheck
-from ddgsa.kinds.sweep import SweepKind
+from ddgsa.kinds.fault import FaultKind, FaultResult, fault_seed
+from ddgsa.kinds.gsa import GsaKind, GsaResult, auto_moments, moments, pooled_crosscheck
+from ddgsa.kinds.sweep import SweepKind, SweepResult
 from ddgsa.loads import cache as loads_cache
 from ddgsa.runner import EvaluationStore, ModelId, Task, local_workers
 from ddgsa.study import Study, plan_scenes
 
-__all__ = ["KINDS", "Runs", "StudyResult", "auto_moments", "code_version", "default_out", "execute",
-           "fault_seed", "make_task", "model_evaluator", "model_id", "moments", "pooled_crosscheck",
-           "select_fidelities"]
+__all__ = ["KINDS", "FaultResult", "GsaResult", "Runs", "StudyResult", "SweepResult", "auto_moments", "code_version",
+           "default_out", "execute", "fault_seed", "make_task", "model_evaluator", "model_id", "moments",
+           "pooled_crosscheck", "select_fidelities"]
 
 KINDS: dict[str, Callable[[Study], Kind]] = {"gsa": GsaKind, "sweep": SweepKind, "fault": FaultKind}
 """Each ``spec.kind`` and the class that plans and analyses it."""
@@ -79,8 +79,7 @@ def _execute(study: Study, store: EvaluationStore, jobs: int | None, backend: st
     runs(plan.tasks)
     kind.run(plan, runs)
     t_eval = time.perf_counter() - t0
-    result = StudyResult(study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), {})
-    kind.analyse(plan, runs, result)
+    result = kind.analyse(plan, runs)
     result.evaluations = _evaluation_table(store, list(runs.tasks.values()))
     failures: list[dict[str, Any]] = [
         {"key": r["key"], "fidelity": r["fidelity"], "scene": {k: r[k] for k in study.scene_fields + ["seed"]},
@@ -101,8 +100,8 @@ def _execute_variants(study: Study, store: EvaluationStore, **kwargs: Any) -> St
     """A sweep once per entry of ``model.variants``; the tables gain a ``variant`` column."""
     parts = [(label, execute(sub, store, **kwargs)) for label, sub in study.variants()]
     first = parts[0][1]
-    result = StudyResult(study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), dict(first.provenance))
-    result.sweep = pd.concat([r.sweep.assign(variant=label) for label, r in parts], ignore_index=True)
+    result = SweepResult(study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), dict(first.provenance),
+                         sweep=pd.concat([r.sweep.assign(variant=label) for label, r in parts], ignore_index=True))
     result.evaluations = pd.concat([r.evaluations.assign(variant=label) for label, r in parts], ignore_index=True)
     prov = result.provenance
     prov["study_sha256"] = study.digest

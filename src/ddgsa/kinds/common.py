@@ -2,7 +2,7 @@
 :class:`Kind` interface (:func:`ddgsa.pipeline.execute` drives a kind through it).
 
 A kind plans its blocks of points (:meth:`Kind.plan`), runs what depends on earlier answers
-(:meth:`Kind.run`), analyses the stored values into the result (:meth:`Kind.analyse`) and adds
+(:meth:`Kind.run`), analyses the stored values into its own result type (:meth:`Kind.analyse`) and adds
 its own provenance (:meth:`Kind.provenance`).
 """
 
@@ -12,17 +12,15 @@ import sys
 import threading
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Protocol
 
 import numpy as np
 import pandas as pd
 
 import ddgsa
-from ddgsa.detection import FaultDetectability
 from ddgsa.errors import StudyError
 from ddgsa.gsa.base import Design, get_method
-from ddgsa.gsa.result import SobolResult
 from ddgsa.models import ImplausibleOutputWarning
 from ddgsa.models import get as get_model
 from ddgsa.models.auto import pilot_choice, pilot_scene
@@ -32,31 +30,34 @@ from ddgsa.loads.scene import Scene
 from ddgsa.study import PlannedScene, Study, plan_scenes
 
 
+ABSENT: dict[str, Any] = {
+    "results": (), "moments": None, "signal_indices": None, "signal_generalised": None, "convergence": None,
+    "sweep": None, "fault": None, "fault_smallest": None, "fault_indices": None, "fault_detection": (),
+    "fault_subsets": None}
+"""Each kind's own result fields (:class:`~ddgsa.kinds.gsa.GsaResult`, :class:`~ddgsa.kinds.sweep.SweepResult`,
+:class:`~ddgsa.kinds.fault.FaultResult`) and how they read on a result of another kind."""
+
+
 @dataclass
 class StudyResult:
-    """Everything a report needs."""
+    """What every study kind's result has; each kind's result type adds its own fields.
+
+    A field of another kind reads as absent (:data:`ABSENT`: None, or an empty tuple for lists of
+    results), so a report can ask any result ``result.sweep is not None``."""
 
     study: Study
     indices: pd.DataFrame
+    """Per scene, method, output and parameter: the indices (empty for a sweep)."""
     diagnostics: pd.DataFrame
     evaluations: pd.DataFrame
     provenance: dict[str, Any]
-    results: list[tuple[PlannedScene, SobolResult]] = field(default_factory=list)
-    sweep: pd.DataFrame | None = None
-    fault: pd.DataFrame | None = None
-    fault_smallest: pd.DataFrame | None = None
-    fault_indices: pd.DataFrame | None = None
-    fault_detection: list[tuple[PlannedScene, FaultDetectability]] = field(default_factory=list)
-    fault_subsets: pd.DataFrame | None = None
     fidelity: pd.DataFrame | None = None
-    moments: pd.DataFrame | None = None
-    """Per scene and output: ``mean``, ``std``, ``cv`` (std / |mean|) and their ``source``."""
-    signal_indices: pd.DataFrame | None = None
-    """Per scene, method, signal, bin and parameter: indices and the bin's variance (:mod:`ddgsa.study_signals`)."""
-    signal_generalised: pd.DataFrame | None = None
-    """Per scene, method, signal and parameter: the variance-weighted (generalised) indices."""
-    convergence: pd.DataFrame | None = None
-    """Per scene, method, output and parameter: indices against runs on nested sub-samples."""
+    """``fidelity: auto``'s choice per scene (empty without it)."""
+
+    def __getattr__(self, name: str) -> Any:
+        if name in ABSENT:
+            return ABSENT[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def to_xarray(self) -> Any:
         """Indices, bounds, flags, moments and fault statistics as an :class:`xarray.Dataset` with
@@ -322,8 +323,9 @@ class Kind(Protocol):
     def run(self, plan: Plan, runs: Runs) -> None:
         """Run what depends on earlier answers (``method: auto``'s stages), after the planned blocks."""
 
-    def analyse(self, plan: Plan, runs: Runs, result: StudyResult) -> None:
-        """Fill ``result`` from the stored values (may run more, e.g. ``confirm:``'s stages)."""
+    def analyse(self, plan: Plan, runs: Runs) -> StudyResult:
+        """The kind's own result type from the stored values (may run more, e.g. ``confirm:``'s stages);
+        :func:`ddgsa.pipeline.execute` adds the evaluations and provenance."""
 
     def provenance(self, provenance: dict[str, Any]) -> None:
         """Add the kind's own entries to the study's provenance."""

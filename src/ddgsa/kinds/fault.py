@@ -4,19 +4,33 @@ smallest detectable fault and the indices per fault level (:mod:`ddgsa.detection
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 import pandas as pd
 
-from ddgsa.detection import DetectionSettings, add_noise, assess
+from ddgsa.detection import DetectionSettings, FaultDetectability, add_noise, assess
 from ddgsa.errors import StudyError
 from ddgsa.gsa.base import get_method
-from ddgsa.kinds.common import Plan, Runs, StudyResult, method_designs
-from ddgsa.kinds.gsa import GsaKind
+from ddgsa.kinds.common import Plan, Runs, method_designs
+from ddgsa.kinds.gsa import GsaKind, GsaResult
 from ddgsa.runner import EvaluationStore
 from ddgsa.space import ParameterSpace
 from ddgsa.study import PlannedScene, Study
+
+
+@dataclass
+class FaultResult(GsaResult):
+    """A ``fault`` study's result: the ``gsa`` result over all parameters, plus the detection
+    statistics per scene, fault level and output, the smallest detectable fault, the sensor
+    subsets and the other parameters' indices per fault level."""
+
+    fault: pd.DataFrame | None = None
+    fault_smallest: pd.DataFrame | None = None
+    fault_indices: pd.DataFrame | None = None
+    fault_detection: list[tuple[PlannedScene, FaultDetectability]] = field(default_factory=list)
+    fault_subsets: pd.DataFrame | None = None
 
 
 def _fault_space(study: Study) -> tuple[ParameterSpace, str]:
@@ -97,7 +111,7 @@ def _fault_design(study: Study, pops: dict[float, pd.DataFrame]) -> tuple[np.nda
     return np.column_stack([point, real, (real + 1) % n_real]), paired
 
 
-def _fault_verdicts(plan: Plan, store: EvaluationStore, outputs: list[str], result: StudyResult) -> None:
+def _fault_verdicts(plan: Plan, store: EvaluationStore, outputs: list[str], result: FaultResult) -> None:
     """Detection statistics per scene, fault level and output (and combined), the smallest detectable
     fault, and paper A's view: Sobol indices of the other parameters per fault level."""
     study = plan.study
@@ -173,9 +187,13 @@ class FaultKind(GsaKind):
         super().plan(plan)
         _add_fault_blocks(self.study, plan)
 
-    def analyse(self, plan: Plan, runs: Runs, result: StudyResult) -> None:
-        super().analyse(plan, runs, result)
+    result_type: type[FaultResult] = FaultResult
+
+    def analyse(self, plan: Plan, runs: Runs) -> FaultResult:
+        result = super().analyse(plan, runs)
+        assert isinstance(result, FaultResult)
         _fault_verdicts(plan, runs.store, self.study.outputs, result)
+        return result
 
     def provenance(self, provenance: dict[str, Any]) -> None:
         super().provenance(provenance)

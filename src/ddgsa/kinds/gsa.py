@@ -4,6 +4,7 @@ convergence curves."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -22,6 +23,22 @@ from ddgsa.runner import EvaluationStore
 from ddgsa.space import ParameterSpace
 from ddgsa.study import PlannedScene, Study
 from ddgsa.study_signals import analyse_convergence, analyse_signals
+
+
+@dataclass
+class GsaResult(StudyResult):
+    """A ``gsa`` study's result: the indices (shared fields) with each scene's results, moments,
+    signal indices and convergence curves."""
+
+    results: list[tuple[PlannedScene, SobolResult]] = field(default_factory=list)
+    moments: pd.DataFrame | None = None
+    """Per scene and output: ``mean``, ``std``, ``cv`` (std / |mean|) and their ``source``."""
+    signal_indices: pd.DataFrame | None = None
+    """Per scene, method, signal, bin and parameter: indices and the bin's variance (:mod:`ddgsa.study_signals`)."""
+    signal_generalised: pd.DataFrame | None = None
+    """Per scene, method, signal and parameter: the variance-weighted (generalised) indices."""
+    convergence: pd.DataFrame | None = None
+    """Per scene, method, output and parameter: indices against runs on nested sub-samples."""
 
 
 SAMPLE_DESIGNS = ("saltelli", "fast", "rbd_fast", "pce")
@@ -101,7 +118,7 @@ def _run_auto(plan: Plan, runs: Runs, outputs: list[str], options: dict[str, Any
 
 
 def _analyse(plan: Plan, store: EvaluationStore, designs: list[tuple[str, Design]], outputs: list[str],
-             result: StudyResult, auto: list[list[SobolResult]]) -> None:
+             result: GsaResult, auto: list[list[SobolResult]]) -> None:
     study = plan.study
     assert study.space is not None
     pooled, _ = plan.blocks["gsa"]
@@ -129,7 +146,7 @@ def _analyse(plan: Plan, store: EvaluationStore, designs: list[tuple[str, Design
 
 
 def _signals_and_convergence(plan: Plan, store: EvaluationStore, designs: list[tuple[str, Design]],
-                             outputs: list[str], result: StudyResult) -> None:
+                             outputs: list[str], result: GsaResult) -> None:
     """Indices of the study's signals and the convergence curves of its outputs (:mod:`ddgsa.study_signals`)."""
     study = plan.study
     pooled, names = plan.blocks["gsa"]
@@ -142,7 +159,7 @@ def _signals_and_convergence(plan: Plan, store: EvaluationStore, designs: list[t
         designs, rows, outputs)
 
 
-def _add_result(study: Study, ps: PlannedScene, res: SobolResult, result: StudyResult, rows: list[pd.DataFrame],
+def _add_result(study: Study, ps: PlannedScene, res: SobolResult, result: GsaResult, rows: list[pd.DataFrame],
                 diag_rows: list[pd.DataFrame]) -> None:
     """One scene's result: kept, its table with the scene fields, its diagnostics."""
     result.results.append((ps, res))
@@ -160,7 +177,7 @@ def _add_result(study: Study, ps: PlannedScene, res: SobolResult, result: StudyR
 
 
 def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs: list[str],
-             result: StudyResult) -> list[dict[str, Any]]:
+             result: GsaResult) -> list[dict[str, Any]]:
     """``confirm: {budget}``: per scene, an :class:`~ddgsa.gsa.escalate.Escalation` from every point
     of the scene (every design, ``auto``'s stages included, each point once) and every result there; each stage's points of all scenes go to the runner together. The
     escalations' results are added beside the methods'; returns their logs (provenance ``confirm``)."""
@@ -247,12 +264,16 @@ class GsaKind:
         self.auto = [_run_auto(plan, runs, self.study.outputs, m.options)
                      for m in self.study.spec.methods if m.method == "auto"]
 
-    def analyse(self, plan: Plan, runs: Runs, result: StudyResult) -> None:
+    result_type: type[GsaResult] = GsaResult
+
+    def analyse(self, plan: Plan, runs: Runs) -> GsaResult:
+        result = self.result_type(self.study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), {})
         outputs = self.study.outputs
         _analyse(plan, runs.store, self.designs, outputs, result, self.auto)
         if self.study.spec.confirm is not None:
             self.confirm_log = _confirm(plan, runs, self.designs, outputs, result)
         _signals_and_convergence(plan, runs.store, self.designs, outputs, result)
+        return result
 
     def provenance(self, provenance: dict[str, Any]) -> None:
         if self.confirm_log:

@@ -4,6 +4,7 @@ tabulated as it is (no indices)."""
 from __future__ import annotations
 
 import itertools
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -14,6 +15,14 @@ from ddgsa.gsa.base import Design
 from ddgsa.kinds.common import Plan, Runs, StudyResult, plan_points
 from ddgsa.runner import EvaluationStore
 from ddgsa.study import Study
+
+
+@dataclass
+class SweepResult(StudyResult):
+    """A ``sweep`` study's result: the table of every grid point, scene and realisation."""
+
+    sweep: pd.DataFrame | None = None
+    """Per scene, grid point and realisation: outputs and failure reason (and ``variant`` with ``model.variants``)."""
 
 
 def _grid(study: Study) -> tuple[np.ndarray, tuple[str, ...]]:
@@ -55,8 +64,9 @@ class SweepKind:
     def run(self, plan: Plan, runs: Runs) -> None:
         """Nothing beyond the grid."""
 
-    def analyse(self, plan: Plan, runs: Runs, result: StudyResult) -> None:
-        result.sweep = _sweep_table(plan, runs.store, self.study.outputs)
+    def analyse(self, plan: Plan, runs: Runs) -> SweepResult:
+        return SweepResult(self.study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), {},
+                           sweep=_sweep_table(plan, runs.store, self.study.outputs))
 
     def provenance(self, provenance: dict[str, Any]) -> None:
         """Nothing of its own."""
