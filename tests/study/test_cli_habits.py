@@ -151,9 +151,9 @@ methods: [{method: mdrm}]
 def test_a_slow_first_evaluation_is_explained(write_study, tmp_path: Path, monkeypatch, capsys) -> None:
     """The first evaluation runs alone; past SLOW_FIRST_S (here 0.05 s; a 0.2 s point) the user
     reads that kernels are compiling (first run only) and then how long it took; -q silences it."""
-    import ddgsa.pipeline
+    import ddgsa.kinds.common
 
-    monkeypatch.setattr(ddgsa.pipeline, "SLOW_FIRST_S", 0.05)
+    monkeypatch.setattr(ddgsa.kinds.common, "SLOW_FIRST_S", 0.05)
     text = trusted_study(name="slow").replace("fidelity: exact}", "fidelity: exact, options: {delay_s: 0.2}}")
     text = text.replace("order: 10, n: 1024", "order: 1, n: 4")
     study = write_study("slow", text=text)

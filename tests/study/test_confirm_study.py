@@ -12,7 +12,7 @@ import pytest
 
 from ddgsa.cli import main
 from ddgsa.gsa.escalate import PCE_NAME
-from ddgsa.pipeline import execute
+from ddgsa.pipeline import GsaResult, execute
 from ddgsa.runner import EvaluationStore
 from ddgsa.study import load_study
 
@@ -27,6 +27,7 @@ def test_the_pipeline_adds_the_escalation_beside_the_methods(write_study, tmp_pa
     path.write_text(text.replace("outputs: [y, y_positive]", "outputs: [y]") + "confirm: {budget: 300}\n")
     store = EvaluationStore(tmp_path / "evaluations.sqlite")
     res = execute(load_study(path), store, quiet=True)
+    assert type(res) is GsaResult                       # the gsa kind's own result type (issue 24)
     assert res.provenance["confirm"][0]["spent"] == 45
     assert res.provenance["evaluations"]["total"] == 90
     t = res.indices

@@ -1,0 +1,280 @@
+"""The ``gsa`` study kind: every method's design pooled per scene, each method's indices, the
+zero-cost cross-checks, ``method: auto``, ``confirm:``, output moments, signal indices and
+convergence curves."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ddgsa.gsa.auto import AutoSobol
+from ddgsa.gsa.base import Design, get_method
+from ddgsa.gsa.escalate import Escalation
+from ddgsa.gsa.givendata import MIN_POINTS as GIVEN_MIN_POINTS, drawn_rows, given_data_s1
+from ddgsa.gsa.pooled import pooled_pce
+from ddgsa.gsa.result import SobolResult
+from ddgsa.gsa.target import with_targets
+from ddgsa.gsa.trust import DEFAULT_TOLERANCE
+from ddgsa.kinds.common import Plan, Runs, StudyResult, method_designs, plan_points, row_index
+from ddgsa.runner import EvaluationStore
+from ddgsa.space import ParameterSpace
+from ddgsa.study import PlannedScene, Study
+from ddgsa.study_signals import analyse_convergence, analyse_signals
+
+
+@dataclass
+class GsaResult(StudyResult):
+    """A ``gsa`` study's result: the indices (shared fields) with each scene's results, moments,
+    signal indices and convergence curves."""
+
+    results: list[tuple[PlannedScene, SobolResult]] = field(default_factory=list)
+    moments: pd.DataFrame | None = None
+    """Per scene and output: ``mean``, ``std``, ``cv`` (std / |mean|) and their ``source``."""
+    signal_indices: pd.DataFrame | None = None
+    """Per scene, method, signal, bin and parameter: indices and the bin's variance (:mod:`ddgsa.study_signals`)."""
+    signal_generalised: pd.DataFrame | None = None
+    """Per scene, method, signal and parameter: the variance-weighted (generalised) indices."""
+    convergence: pd.DataFrame | None = None
+    """Per scene, method, output and parameter: indices against runs on nested sub-samples."""
+
+
+SAMPLE_DESIGNS = ("saltelli", "fast", "rbd_fast", "pce")
+"""Methods whose every design point is a draw from the input distribution (pce unless fitted by quadrature)."""
+
+
+def moments(space: ParameterSpace, name: str, design: Design, y: np.ndarray, res: SobolResult,
+            outputs: list[str]) -> list[dict[str, Any]] | None:
+    """Mean and standard deviation of each output from one method's evaluations (``n``: the sample
+    size, 0 for a surrogate's moments), or None. The study reports those of the largest sample.
+
+    A sampling design (Saltelli, FAST, RBD-FAST, PCE regression) gives the sample moments of all
+    its points; M-DRM those of its quasi-random check sample, or without one its own surrogate's
+    moments (``h_c^(1-n) prod rho_i``, ``h_c^(2(1-n)) prod theta_i``; exact for products).
+    """
+    finite = np.isfinite(y).all(axis=1)
+    if name in SAMPLE_DESIGNS and design.options.get("fit") != "quadrature":
+        sample, source = y[finite], f"{name} sample ({_count(finite)})"
+    elif name == "mdrm" and design.options.get("check"):
+        check = y[-design.options["check"]:]
+        ok = np.isfinite(check).all(axis=1)
+        sample, source = check[ok], f"M-DRM check sample ({_count(ok)})"
+    elif name == "mdrm" and "rho" in res.extras:
+        n = space.dim
+        h_c, rho, theta = res.extras["h_cut"], res.extras["rho"], res.extras["theta"]     # (k,), (k, n), (k, n)
+        with np.errstate(all="ignore"):
+            mean = h_c ** (1 - n) * np.prod(rho, axis=1)
+            var = h_c ** (2 * (1 - n)) * np.prod(theta, axis=1) - mean ** 2
+        return [{"output": o, "mean": float(mean[j]), "std": float(np.sqrt(max(var[j], 0.0))),
+                 "source": "M-DRM surrogate", "n": 0} for j, o in enumerate(outputs)]
+    else:
+        return None
+    if len(sample) < 2:
+        return None
+    return [{"output": o, "mean": float(sample[:, j].mean()), "std": float(sample[:, j].std(ddof=1)),
+             "source": source, "n": len(sample)} for j, o in enumerate(outputs)]
+
+
+def auto_moments(res: SobolResult, outputs: list[str]) -> list[dict[str, Any]]:
+    """Mean and standard deviation of each output over the points ``method: auto`` drew from the
+    input distribution (its check sample, PCE and Saltelli points; :mod:`ddgsa.gsa.auto`)."""
+    m = res.extras["moments"]
+    return [{"output": o, "mean": float(m["mean"][j]), "std": float(m["std"][j]),
+             "source": f"auto sample ({m['n']} of {m['drawn']} points)" if m["n"] < m["drawn"]
+             else f"auto sample ({m['n']} points)", "n": m["n"]} for j, o in enumerate(outputs)]
+
+
+def _count(finite: np.ndarray) -> str:
+    """``64 points``, or ``50 of 64 points (failed ones left out)``."""
+    n, ok = len(finite), int(finite.sum())
+    return f"{n} points" if ok == n else f"{ok} of {n} points, failed ones left out"
+
+
+def _run_auto(plan: Plan, runs: Runs, outputs: list[str], options: dict[str, Any]) -> list[SobolResult]:
+    """``method: auto`` in every scene at once: each stage's points of all scenes go to the runner together."""
+    study = plan.study
+    assert study.space is not None
+    names, aggregate = study.space.names, study.spec.scenes.aggregate
+    autos = [AutoSobol(study.space, outputs, **options) for _ in plan.scenes]
+    pending = {i: a.start() for i, a in enumerate(autos)}
+    while pending:
+        tasks = [plan.task(plan.scenes[i], scene, p) for i, x in pending.items()
+                 for scene in plan.scenes[i].scenes for p in plan_points(study, x, names)]
+        plan.tasks += tasks
+        runs(tasks)
+        nxt = {}
+        for i, x in pending.items():
+            new = autos[i].feed(plan.values_at(runs.store, x, names, plan.scenes[i], outputs, aggregate))
+            if new is not None:
+                nxt[i] = new
+        pending = nxt
+    for i, a in enumerate(autos):
+        plan.auto_points.setdefault(i, []).append((a.x, a.y))
+    results = [a.result for a in autos]
+    assert all(r is not None for r in results)             # every state machine finishes with a result
+    return results  # type: ignore[return-value]
+
+
+def _analyse(plan: Plan, store: EvaluationStore, designs: list[tuple[str, Design]], outputs: list[str],
+             result: GsaResult, auto: list[list[SobolResult]]) -> None:
+    study = plan.study
+    assert study.space is not None
+    pooled, _ = plan.blocks["gsa"]
+    rows, diag_rows, moment_rows = [], [], []
+    raw = outputs
+    for k, ps in enumerate(plan.scenes):
+        y, outputs = with_targets(plan.values(store, "gsa", ps, raw, study.spec.scenes.aggregate), raw, study.targets)
+        ys = [y[row_index(pooled, design.points)] for _, design in designs]
+        scene_results = [get_method(name).analyze(study.space, design, yd, outputs=outputs)
+                         for (name, design), yd in zip(designs, ys)]
+        scene_results += pooled_crosscheck(study, designs, pooled, y, outputs)
+        found = [m for m in (moments(study.space, name, design, yd, res, outputs)
+                             for (name, design), yd, res in zip(designs, ys, scene_results)) if m]
+        found += [auto_moments(per_scene[k], outputs) for per_scene in auto]
+        for m in max(found, key=lambda ms: ms[0]["n"], default=[]):          # the largest sample
+            m["cv"] = m["std"] / abs(m["mean"]) if m["mean"] else float("inf")
+            moment_rows.append({"scene": ps.index, **m})
+        for res in scene_results + [per_scene[k] for per_scene in auto]:
+            _add_result(study, ps, res, result, rows, diag_rows)
+    result.indices = pd.concat(rows, ignore_index=True)
+    result.moments = pd.DataFrame(moment_rows, columns=["scene", "output", "mean", "std", "cv", "source", "n"])
+    result.diagnostics = (pd.concat(diag_rows, ignore_index=True) if diag_rows else
+                          pd.DataFrame(columns=["scene", "method", "name", "severity", "output", "parameter",
+                                                "value", "message"]))
+
+
+def _signals_and_convergence(plan: Plan, store: EvaluationStore, designs: list[tuple[str, Design]],
+                             outputs: list[str], result: GsaResult) -> None:
+    """Indices of the study's signals and the convergence curves of its outputs (:mod:`ddgsa.study_signals`)."""
+    study = plan.study
+    pooled, names = plan.blocks["gsa"]
+    rows = [row_index(pooled, d.points) for _, d in designs]
+    pts = plan_points(study, pooled, names)
+    result.signal_indices, result.signal_generalised = analyse_signals(
+        study, plan.scenes, lambda ps, scene: [plan.task(ps, scene, p).key for p in pts], store, designs, rows)
+    result.convergence = analyse_convergence(
+        study, plan.scenes, lambda ps: plan.values(store, "gsa", ps, outputs, study.spec.scenes.aggregate),
+        designs, rows, outputs)
+
+
+def _add_result(study: Study, ps: PlannedScene, res: SobolResult, result: GsaResult, rows: list[pd.DataFrame],
+                diag_rows: list[pd.DataFrame]) -> None:
+    """One scene's result: kept, its table with the scene fields, its diagnostics."""
+    result.results.append((ps, res))
+    table = res.to_frame()
+    for key, v in ps.fields.items():
+        table.insert(0, key, v)
+    table.insert(0, "scene", ps.index)
+    table.insert(0, "study", study.name)
+    rows.append(table)
+    d = res.diagnostics_frame()
+    if len(d):
+        d.insert(0, "method", res.method)
+        d.insert(0, "scene", ps.index)
+        diag_rows.append(d)
+
+
+def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs: list[str],
+             result: GsaResult) -> list[dict[str, Any]]:
+    """``confirm: {budget}``: per scene, an :class:`~ddgsa.gsa.escalate.Escalation` from every point
+    of the scene (every design, ``auto``'s stages included, each point once) and every result there; each stage's points of all scenes go to the runner together. The
+    escalations' results are added beside the methods'; returns their logs (provenance ``confirm``)."""
+    study = plan.study
+    spec = study.spec.confirm
+    assert study.space is not None and spec is not None
+    names, aggregate = study.space.names, study.spec.scenes.aggregate
+    pooled, _ = plan.blocks["gsa"]
+    tol = min([d.options.get("tolerance", DEFAULT_TOLERANCE) for _, d in designs] or [DEFAULT_TOLERANCE])
+    salt = next((d for name, d in designs if name == "saltelli"), None)
+    escs, pending = [], {}
+    for i, ps in enumerate(plan.scenes):
+        y = plan.values(runs.store, "gsa", ps, outputs, aggregate)
+        have = [r for p_, r in result.results if p_.index == ps.index]
+        x_all = np.vstack([pooled] + [ax for ax, _ in plan.auto_points.get(i, [])])
+        y_all = np.vstack([y] + [ay for _, ay in plan.auto_points.get(i, [])])
+        _, first = np.unique(x_all, axis=0, return_index=True)     # a point twice would flatter the LOO error
+        keep = np.sort(first)
+        esc = Escalation(study.space, outputs, spec.budget, x_all[keep], y_all[keep], have, tol, seed=spec.seed,
+                         saltelli=None if salt is None else (salt, y[row_index(pooled, salt.points)]))
+        escs.append(esc)
+        x = esc.start()
+        if x is not None:
+            pending[i] = x
+    while pending:
+        tasks = [plan.task(plan.scenes[i], scene, p) for i, x in pending.items()
+                 for scene in plan.scenes[i].scenes for p in plan_points(study, x, names)]
+        plan.tasks += tasks
+        runs(tasks)
+        pending = {i: nxt for i, x in pending.items() if (nxt := escs[i].feed(
+            plan.values_at(runs.store, x, names, plan.scenes[i], outputs, aggregate))) is not None}
+    rows, diag_rows = [result.indices], [result.diagnostics] if len(result.diagnostics) else []
+    for ps, esc in zip(plan.scenes, escs):
+        for res in esc.stages:
+            _add_result(study, ps, res, result, rows, diag_rows)
+    result.indices = pd.concat(rows, ignore_index=True)
+    if diag_rows:
+        result.diagnostics = pd.concat(diag_rows, ignore_index=True)
+    return [{"scene": ps.index, "budget": spec.budget, "spent": esc.spent, "log": esc.log}
+            for ps, esc in zip(plan.scenes, escs)]
+
+
+def pooled_crosscheck(study: Study, designs: list[tuple[str, Design]], x: np.ndarray, y: np.ndarray,
+                      outputs: list[str]) -> list[SobolResult]:
+    """The cross-checks at zero extra runs: the sparse PCE on every point of the scene
+    (:mod:`ddgsa.gsa.pooled`), when it is not one of the study's own methods again (the study has
+    M-DRM, whose cut lines no sampling method uses, or several designs); and the given-data first-order
+    indices on every drawn point (:mod:`ddgsa.gsa.givendata`). None for dependent inputs (both
+    assume independent ones)."""
+    assert study.space is not None
+    if not designs or study.space.dependent:
+        return []
+    tol = min(d.options.get("tolerance", DEFAULT_TOLERANCE) for _, d in designs)
+    out = []
+    if not (len(designs) == 1 and designs[0][0] != "mdrm"):
+        res = pooled_pce(study.space, x, y, outputs, tol)
+        if res is not None:
+            out.append(res)
+    drawn = np.unique(np.vstack([d.points[drawn_rows(d)] for _, d in designs]), axis=0)
+    if len(drawn) < GIVEN_MIN_POINTS:                  # e.g. M-DRM without a check sample
+        return out
+    given = given_data_s1(study.space, drawn, y[row_index(x, drawn)], outputs, tol)
+    return out + ([given] if given is not None else [])
+
+
+
+class GsaKind:
+    """``kind: gsa``: the pooled designs of the study's methods in every scene, then ``auto``'s
+    stages; indices, cross-checks, moments, ``confirm:``, signals and convergence."""
+
+    def __init__(self, study: Study) -> None:
+        self.study = study
+        self.designs = method_designs(study)
+        self.auto: list[list[SobolResult]] = []
+        self.confirm_log: list[dict[str, Any]] = []
+
+    def plan(self, plan: Plan) -> None:
+        space = self.study.space
+        assert space is not None
+        pooled = np.unique(np.vstack([d.points for _, d in self.designs] + [np.zeros((0, space.dim))]), axis=0)
+        plan.add_block("gsa", pooled, space.names)
+
+    def run(self, plan: Plan, runs: Runs) -> None:
+        self.auto = [_run_auto(plan, runs, self.study.outputs, m.options)
+                     for m in self.study.spec.methods if m.method == "auto"]
+
+    result_type: type[GsaResult] = GsaResult
+
+    def analyse(self, plan: Plan, runs: Runs) -> GsaResult:
+        result = self.result_type(self.study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), {})
+        outputs = self.study.outputs
+        _analyse(plan, runs.store, self.designs, outputs, result, self.auto)
+        if self.study.spec.confirm is not None:
+            self.confirm_log = _confirm(plan, runs, self.designs, outputs, result)
+        _signals_and_convergence(plan, runs.store, self.designs, outputs, result)
+        return result
+
+    def provenance(self, provenance: dict[str, Any]) -> None:
+        if self.confirm_log:
+            provenance["confirm"] = self.confirm_log
