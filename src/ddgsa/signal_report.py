@@ -99,7 +99,7 @@ def signals_section(folder: Path, figure: Figure, table: Table) -> str:
 def convergence_section(folder: Path, figure: Figure, table: Table) -> str:
     """HTML of the indices-against-sample-size section (empty without ``convergence.csv``)."""
     conv = _read(folder, "convergence.csv")
-    if conv is None:
+    if conv is None or not {"scene", "method", "parameter"} <= set(conv.columns):   # another tool's table of that name
         return ""
     first = conv[conv["scene"] == conv["scene"].min()]
     parts = ["<p>The study's indices recomputed on nested sub-samples of its own runs (no new run): each "
