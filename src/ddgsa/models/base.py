@@ -243,7 +243,9 @@ class Model(ABC):
         Raises
         ------
         ModelError
-            For an unknown option (close names listed) or a value the declaration does not allow.
+            For an unknown option (close names listed), a value the declaration does not allow, or an
+            ``integrator`` other than ``gen_alpha`` with the ``linear`` fidelity (which has its own exact
+            discretisation).
         """
         if given.get("fidelity") is not None and cls.fidelities:
             cls.check_fidelity(given["fidelity"])
@@ -256,6 +258,9 @@ class Model(ABC):
             if key not in declared:
                 raise ModelError(f"model {cls.name!r}: " + unknown_name_message("option", key, list(declared)))
             declared[key].check(cls.name, value)
+        if given.get("fidelity") == "linear" and given.get("integrator", "gen_alpha") != "gen_alpha":
+            raise ModelError(f"model {cls.name!r}: the linear fidelity has its own exact discretisation; "
+                             f"integrator {given['integrator']!r} is for the other fidelities")
 
     @classmethod
     def pilot_pool(cls) -> tuple[str, ...]:

@@ -398,12 +398,9 @@ class DirectDrive(Model):
                  deflection_reference: str = "static") -> None:
         self.check_options({"fidelity": fidelity, "axial": axial, "second_bending": second_bending,
                             "bending_modes": bending_modes, "beam": beam, "time_step": time_step, "rho_inf": rho_inf,
-                            "equivalent_load": equivalent_load, "integrator": integrator, "bending_rayleigh": bending_rayleigh,
-                            "bearing_damping": bearing_damping, "deflection": deflection,
-                            "deflection_reference": deflection_reference})
-        if fidelity == "linear" and integrator != "gen_alpha":
-            raise ModelError(f"model 'direct_drive': the linear fidelity has its own exact discretisation; "
-                             f"integrator {integrator!r} is for the other fidelities")
+                            "equivalent_load": equivalent_load, "integrator": integrator,
+                            "bending_rayleigh": bending_rayleigh, "bearing_damping": bearing_damping,
+                            "deflection": deflection, "deflection_reference": deflection_reference})
         if time_step is None:
             time_step = 0.01 if fidelity == "rigid" else 0.005
         self.integrator = integrator

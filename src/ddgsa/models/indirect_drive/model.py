@@ -149,9 +149,6 @@ class IndirectDrive(Model):
         self.check_options({"fidelity": fidelity, "time_step": time_step, "rho_inf": rho_inf, "integrator": integrator,
                             "equivalent_load": equivalent_load, "housing_point": housing_point,
                             "fluctuation_scale": fluctuation_scale})
-        if fidelity == "linear" and integrator != "gen_alpha":
-            raise ModelError(f"model 'indirect_drive': the linear fidelity has its own exact discretisation; "
-                             f"integrator {integrator!r} is for the other fidelities")
         if time_step is None:
             time_step = 0.005
         point = np.asarray(housing_point, dtype=float)
