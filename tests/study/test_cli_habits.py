@@ -163,3 +163,21 @@ def test_a_slow_first_evaluation_is_explained(write_study, tmp_path: Path, monke
     assert "analytic (exact): kernels ready after" in err
     main(["run", str(study), "--out", str(tmp_path / "b"), "--allow-untrusted", "-q"])
     assert "first evaluation" not in capsys.readouterr().err
+
+
+def test_slow_model_checks_in_validate_are_explained(write_study, monkeypatch, capsys) -> None:
+    """validate's model checks compile the model's kernels on a first use (about 2 min for the geared
+    drive): past SLOW_FIRST_S the user reads what is happening; quick checks and -q print nothing."""
+    import time
+
+    import ddgsa.checks
+    import ddgsa.kinds.common
+
+    study = write_study("ok", text=trusted_study(name="ok"))
+    assert main(["validate", str(study)]) == 0 and "checking model" not in capsys.readouterr().err
+    checks = ddgsa.checks.study_findings
+    monkeypatch.setattr(ddgsa.kinds.common, "SLOW_FIRST_S", 0.05)
+    monkeypatch.setattr(ddgsa.checks, "study_findings", lambda s: (time.sleep(0.3), checks(s))[1])
+    assert main(["validate", str(study)]) == 0
+    assert "ddgsa: note: checking model 'analytic' (its modes and sampling; a first check" in capsys.readouterr().err
+    assert main(["-q", "validate", str(study)]) == 0 and "checking model" not in capsys.readouterr().err
