@@ -94,9 +94,11 @@ def advice(result: "StudyResult", output: str, scenes: list[int], tolerance: flo
     per = per_run_seconds(result)
     at = f" at {per:.3g} s per run measured here" if np.isfinite(per) else ""
     points = max(c.runs // max(1, result.study.spec.scenes.realisations) for c in costs)
-    return (f"to confirm it add `saltelli` with n: {n} ({_num(runs)} runs, {duration(sec)} of model time{at}), "
-            f"or `confirm: {{budget: {points}}}` (points per scene; it reuses every run, tries cheaper PCE points "
-            "first and stops when confirmed)")
+    salt = f"to confirm it add `saltelli` with n: {n} ({_num(runs)} runs, {duration(sec)} of model time{at})"
+    if output in {t.name for t in getattr(result.study, "targets", [])}:
+        return salt + " (a target output: `confirm:` escalates the model's own outputs only)"
+    return (salt + f", or `confirm: {{budget: {points}}}` (points per scene; it reuses every run, tries cheaper PCE "
+            "points first and stops when confirmed)")
 
 
 def _num(n: int) -> str:

@@ -69,6 +69,11 @@ def test_target_study_adds_the_transformed_outputs(tmp_path: Path) -> None:
     assert set(t.loc[t["output"] == "y_exceeds", "output_unit"]) == {"-"}
     m = pd.read_csv(out / "output_moments.csv").set_index("output")
     assert 0.2 < m.loc["y_exceeds", "mean"] < 0.8
+    # at n 32 nothing is confirmed: the raw output is offered confirm:, the target output only a Saltelli design
+    lines = {line.split("'")[1]: line for line in (out / "summary.md").read_text().splitlines()
+             if line.startswith("- output '")}
+    assert "`confirm: {budget:" in lines["y"] and "`confirm: {budget:" not in lines["y_exceeds"]
+    assert "a target output: `confirm:` escalates the model's own outputs only" in lines["y_exceeds"]
 
 
 def test_hsic_study_reports_screening_without_a_problem(tmp_path: Path) -> None:
