@@ -699,8 +699,10 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
             lines.append("| method | tolerance | trusted | rank confirmed | ranking: parameter ST (S1) |")
             lines.append("|---|---|---|---|---|")
             for meth, gm in g.groupby("method", sort=False):
-                top = gm.sort_values("ST", ascending=False, na_position="last").head(RANKED)
-                rank = ", ".join(f"{r.parameter} {r.ST:.2f} ({r.S1:.2f}){_mark(r.trusted, r.rank_confirmed)}"
+                by = "ST" if gm["ST"].notna().any() else "S1"        # a first-order-only method (given_data_s1)
+                top = gm.sort_values(by, ascending=False, na_position="last").head(RANKED)
+                rank = ", ".join((f"{r.parameter} {r.ST:.2f} ({r.S1:.2f})" if by == "ST" else
+                                  f"{r.parameter} - ({r.S1:.2f})") + _mark(r.trusted, r.rank_confirmed)
                                  for r in top.itertuples())
                 rank += f"; {len(gm) - len(top)} more in indices.csv" if len(gm) > len(top) else ""
                 label = (f"{meth} (from {', '.join(gm['source'].drop_duplicates())})" if meth == "auto" else meth)
