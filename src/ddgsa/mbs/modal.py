@@ -76,6 +76,33 @@ def damped_eigen(m: NDArray[np.float64], c: NDArray[np.float64],
     return lam[order], vec[:, order]
 
 
+REPEATED_RTOL = 1e-9
+"""Eigenvalues within this relative distance are one repeated eigenvalue (:func:`localised`)."""
+
+
+def localised(lam: NDArray[np.complex128], vec: NDArray[np.complex128]) -> NDArray[np.complex128]:
+    """``vec`` with the shapes of each repeated eigenvalue (``lam`` within :data:`REPEATED_RTOL`)
+    replaced by the basis of the same subspace that is localised on coordinates: each shape is 1 on
+    one coordinate (chosen by column-pivoted QR of the subspace) and 0 on the others chosen. A
+    repeated eigenvalue's shapes are otherwise an arbitrary mix (e.g. six identical housing modes
+    each spread over both housings), and their labels with them."""
+    from scipy.linalg import qr
+
+    out = vec.copy()
+    j = 0
+    while j < lam.size:
+        k = j + 1
+        while k < lam.size and abs(lam[k] - lam[j]) <= REPEATED_RTOL * abs(lam[j]):
+            k += 1
+        if k - j > 1:
+            v = vec[:, j:k]
+            _, _, piv = qr(v.conj().T, pivoting=True, mode="economic")
+            rows = np.sort(piv[: k - j])
+            out[:, j:k] = v @ np.linalg.solve(v[rows, :], np.eye(k - j))
+        j = k
+    return out
+
+
 def modal_analysis(m: NDArray[np.float64], c: NDArray[np.float64], k: NDArray[np.float64],
                    names: Sequence[str], groups: dict[str, str], basis: NDArray[np.float64] | None = None,
                    m_full: NDArray[np.float64] | None = None) -> pd.DataFrame:
@@ -101,6 +128,7 @@ def modal_analysis(m: NDArray[np.float64], c: NDArray[np.float64], k: NDArray[np
     lam, vec = damped_eigen(m, c, k)
     if basis is not None:
         vec, m = basis @ vec, m_full
+    vec = localised(lam, vec)
     labels_all = sorted(set(groups.values()))
     rows = []
     seen: dict[str, int] = {}
