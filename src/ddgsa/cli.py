@@ -14,7 +14,6 @@ import argparse
 import logging
 import shutil
 import sys
-import threading
 import traceback
 import warnings
 from pathlib import Path
@@ -267,18 +266,12 @@ def _load(path: Path, quiet: bool = False) -> "Study":
         study = load_study(path)
     for w in caught:
         print(f"ddgsa: warning: {w.message}", file=sys.stderr)
-    from ddgsa.kinds.common import SLOW_FIRST_S
+    from ddgsa.runner import said_if_slow
 
-    note = threading.Timer(SLOW_FIRST_S, print, args=(
-        f"ddgsa: note: checking model {study.spec.model.name!r} (its modes and sampling; a first check after "
-        "installing compiles the model's kernels: one to two minutes on 2 cores, cached for the run)...",),
-        kwargs={"file": sys.stderr, "flush": True})
-    if not quiet:
-        note.start()
-    try:
+    with said_if_slow(f"ddgsa: note: checking model {study.spec.model.name!r} (its modes and sampling; a first "
+                      "check after installing compiles the model's kernels: one to two minutes on 2 cores, cached "
+                      "for the run)...", quiet):
         findings = study_findings(study)
-    finally:
-        note.cancel()
     errors = [f for f in findings if f.level == "error"]
     if errors:
         raise StudyError("\n".join(f"{path}: {f}" for f in errors))

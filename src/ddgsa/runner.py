@@ -480,6 +480,27 @@ def _forked(jobs: int, factory: ModelFactory, batches: list[list[Task]],
                 _SCOPE.pop("jobs", None)
 
 
+SLOW_FIRST_S = 3.0
+"""A silent step longer than this [s] (a first evaluation or model check, compiling the model's
+kernels) says on screen what it is doing (:func:`said_if_slow`)."""
+
+
+@contextmanager
+def said_if_slow(text: str, quiet: bool = False, done: str = "") -> Iterator[None]:
+    """Run the block; past :data:`SLOW_FIRST_S` print ``text`` on stderr while it runs and, when
+    ``done`` is given, ``done`` with the seconds it took once it ends. ``quiet`` prints nothing."""
+    note = threading.Timer(SLOW_FIRST_S, print, args=(text,), kwargs={"file": sys.stderr, "flush": True})
+    if not quiet:
+        note.start()
+    t0 = time.perf_counter()
+    try:
+        yield
+    finally:
+        note.cancel()
+    if done and not quiet and time.perf_counter() - t0 > SLOW_FIRST_S:
+        print(f"{done} after {time.perf_counter() - t0:.0f} s", file=sys.stderr, flush=True)
+
+
 @lru_cache(maxsize=1)
 def _blas_controller() -> Any:
     """threadpoolctl's view of the loaded BLAS libraries, found once per process (the search costs

@@ -151,9 +151,9 @@ methods: [{method: mdrm}]
 def test_a_slow_first_evaluation_is_explained(write_study, tmp_path: Path, monkeypatch, capsys) -> None:
     """The first evaluation runs alone; past SLOW_FIRST_S (here 0.05 s; a 0.2 s point) the user
     reads that kernels are compiling (first run only) and then how long it took; -q silences it."""
-    import ddgsa.kinds.common
+    import ddgsa.runner
 
-    monkeypatch.setattr(ddgsa.kinds.common, "SLOW_FIRST_S", 0.05)
+    monkeypatch.setattr(ddgsa.runner, "SLOW_FIRST_S", 0.05)
     text = trusted_study(name="slow").replace("fidelity: exact}", "fidelity: exact, options: {delay_s: 0.2}}")
     text = text.replace("order: 10, n: 1024", "order: 1, n: 4")
     study = write_study("slow", text=text)
@@ -171,12 +171,12 @@ def test_slow_model_checks_in_validate_are_explained(write_study, monkeypatch, c
     import time
 
     import ddgsa.checks
-    import ddgsa.kinds.common
+    import ddgsa.runner
 
     study = write_study("ok", text=trusted_study(name="ok"))
     assert main(["validate", str(study)]) == 0 and "checking model" not in capsys.readouterr().err
     checks = ddgsa.checks.study_findings
-    monkeypatch.setattr(ddgsa.kinds.common, "SLOW_FIRST_S", 0.05)
+    monkeypatch.setattr(ddgsa.runner, "SLOW_FIRST_S", 0.05)
     monkeypatch.setattr(ddgsa.checks, "study_findings", lambda s: (time.sleep(0.3), checks(s))[1])
     assert main(["validate", str(study)]) == 0
     assert "ddgsa: note: checking model 'analytic' (its modes and sampling; a first check" in capsys.readouterr().err

@@ -8,9 +8,6 @@ its own provenance (:meth:`Kind.provenance`).
 
 from __future__ import annotations
 
-import sys
-import threading
-import time
 import warnings
 from dataclasses import dataclass
 from typing import Any, Protocol
@@ -24,7 +21,7 @@ from ddgsa.gsa.base import Design, get_method
 from ddgsa.models import ImplausibleOutputWarning
 from ddgsa.models import get as get_model
 from ddgsa.models.auto import pilot_choice, pilot_scene
-from ddgsa.runner import EvaluationStore, Evaluator, ModelId, Outcome, Task, run_tasks, task_key
+from ddgsa.runner import EvaluationStore, Evaluator, ModelId, Outcome, Task, run_tasks, said_if_slow, task_key
 from ddgsa.space import ParameterSpace
 from ddgsa.loads.scene import Scene
 from ddgsa.study import PlannedScene, Study, plan_scenes
@@ -115,9 +112,6 @@ def make_task(mid: ModelId, scene: Any, point: dict[str, float]) -> Task:
     return Task(task_key(mid, fields, point, ddgsa.__version__), mid, fields, point)
 
 
-SLOW_FIRST_S = 3.0
-"""A first evaluation longer than this [s] is explained on screen (kernel compilation)."""
-
 
 class Runs:
     """Every model evaluation a study asks for, counted once per unique evaluation.
@@ -152,7 +146,7 @@ class Runs:
         run after installing compiles the model's numba kernels here (cached on disk, so the
         workers load them instead of each compiling them again; forked workers inherit them
         loaded, :mod:`ddgsa.runner`); when that takes longer than
-        :data:`SLOW_FIRST_S`, the user is told what is happening and then how long it took."""
+        :data:`ddgsa.runner.SLOW_FIRST_S`, the user is told what is happening and then how long it took."""
         missing = {t.key for t in tasks} - self.store.known(t.key for t in tasks)
         first: dict[ModelId, Task] = {}
         for t in tasks:
@@ -161,20 +155,10 @@ class Runs:
         quiet = self.run_opts.get("quiet", False)
         for mid, task in first.items():
             self._warm.add(mid)
-            note = threading.Timer(SLOW_FIRST_S, print, args=(
-                f"{mid.name} ({mid.fidelity}): first evaluation, compiling the model's kernels (a first run after "
-                "installing only: one to two minutes on 2 cores; later runs load them from the cache)...",),
-                kwargs={"file": sys.stderr, "flush": True})
-            if not quiet:
-                note.start()
-            t0 = time.perf_counter()
-            try:
+            with said_if_slow(f"{mid.name} ({mid.fidelity}): first evaluation, compiling the model's kernels (a "
+                              "first run after installing only: one to two minutes on 2 cores; later runs load them "
+                              "from the cache)...", quiet, done=f"{mid.name} ({mid.fidelity}): kernels ready"):
                 self._run([task], {**self.run_opts, "jobs": 1, "backend": "loky", "quiet": True})
-            finally:
-                note.cancel()
-            if not quiet and time.perf_counter() - t0 > SLOW_FIRST_S:
-                print(f"{mid.name} ({mid.fidelity}): kernels ready after {time.perf_counter() - t0:.0f} s",
-                      file=sys.stderr, flush=True)
 
     def counts(self) -> dict[str, int]:
         """Unique evaluations asked for, run now, found in the store, failed (all and now)."""
