@@ -193,10 +193,10 @@ def axial_torque(forces: NDArray[np.float64], moments: NDArray[np.float64], poin
     """Torque (n_t,) [N m] about ``axis`` through ``origin`` of forces (n_t, k, 3) [N] at points
     (n_t, k, 3) or (k, 3) [m] and moments (n_t, k, 3) [N m] -- the reaction torque of the mounts."""
     arm = np.broadcast_to(points - origin, forces.shape)
-    cross = np.stack([arm[..., 1] * forces[..., 2] - arm[..., 2] * forces[..., 1],       # arm x force
-                      arm[..., 2] * forces[..., 0] - arm[..., 0] * forces[..., 2],
-                      arm[..., 0] * forces[..., 1] - arm[..., 1] * forces[..., 0]], axis=-1)
-    total = cross.sum(axis=1) + moments.sum(axis=1)
+    total = moments.sum(axis=1)
+    for i in range(3):                                       # arm x force, summed over the points
+        j, k = (i + 1) % 3, (i + 2) % 3
+        total[:, i] += (arm[..., j] * forces[..., k] - arm[..., k] * forces[..., j]).sum(axis=1)
     return total @ axis if axis.ndim == 1 else np.einsum("ti,ti->t", total, axis)
 
 

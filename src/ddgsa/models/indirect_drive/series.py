@@ -17,7 +17,7 @@ import pandas as pd
 from numba import njit
 from numpy.typing import NDArray
 
-from ddgsa.mbs.ffr import rotation
+from ddgsa.mbs.ffr import g_bar, rotation
 from ddgsa.models.indirect_drive.assembly import Assembly
 from ddgsa.models.indirect_drive.outputs import axial_torque, point_displacement, rotation_vectors
 from ddgsa.models.indirect_drive.parameters import BEARINGS
@@ -64,12 +64,17 @@ def mount_forces(asm: Assembly, k: Array, c: Array, q_h: Array, qd_h: Array,
 
 
 def _angular_velocity(ang: Array, rate: Array) -> Array:
-    """Global angular velocity (n_t, 3) of Bryant angles and rates: ``psi' e_Z + theta' R_Z e_Y + phi' R_Z R_Y e_X``."""
-    _, theta, psi = ang.T
-    ct, st, cp, sp = np.cos(theta), np.sin(theta), np.cos(psi), np.sin(psi)
-    e_y = np.column_stack([-sp, cp, np.zeros_like(sp)])
-    e_x = np.column_stack([cp * ct, sp * ct, -st])
-    return rate[:, 2:3] * np.array([0.0, 0.0, 1.0]) + rate[:, 1:2] * e_y + rate[:, 0:1] * e_x
+    """Global angular velocity (n_t, 3) of Bryant angles and rates (n_t, 3): ``A G_bar angles_dot`` (the
+    kernel's :func:`ddgsa.mbs.ffr.rotation` and :func:`ddgsa.mbs.ffr.g_bar` at each sample, compiled)."""
+    return _angular_velocities(np.ascontiguousarray(ang, dtype=float), np.ascontiguousarray(rate, dtype=float))
+
+
+@njit(cache=True)
+def _angular_velocities(ang, rate):  # pragma: no cover (compiled)
+    out = np.empty_like(ang)
+    for i in range(ang.shape[0]):
+        out[i] = rotation(ang[i]) @ (g_bar(ang[i]) @ rate[i])
+    return out
 
 
 def spin_ratio(q_w: Array, qd_w: Array, q_p: Array, qd_p: Array, q_h: Array, qd_h: Array) -> Array:
