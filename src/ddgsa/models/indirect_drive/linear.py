@@ -223,7 +223,7 @@ def reduced_response(ss: StateSpace, u: Array, dt: float, spin_scale: float = 1.
     """
     lin = ss.lin
     du = u - u.mean(axis=0)
-    q0, qd0, basis = lin.q0, lin.qd0, lin.basis
+    qd0, basis = lin.qd0, lin.basis
     dq0 = basis @ np.linalg.lstsq(lin.k, basis.T @ ss.g @ du[0] + lin.r0, rcond=RCOND)[0]
     np_ = ss.positions.shape[1] - basis.shape[1]
     p0 = ss.positions[:, :np_].T @ dq0

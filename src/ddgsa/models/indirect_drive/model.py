@@ -362,15 +362,14 @@ def linearised(p: Mapping[str, float], fields: tuple[str, ...], inp: Mapping[str
     s = asm.system
     packed = pack(s)
     wheel = s.index("wheel.rx")
-    q, qd, lin = s.q0, s.qd0, None
-    for k in range(SPEED_PASSES):
-        if k:
-            # the mean speed of this pass's response (its only output), then the operating state there
-            new = float(lin.qd0[wheel] + np.mean(reduced_response(ss, u, dt, float(inp["rotor_speed"][0]) / spin,
-                                                                  out=ss.rates[wheel][:, None], window=window)))
-            q, qd, spin = lin.q0, lin.qd0 * (new / spin), new
-        q, qd, lin = operating_state(s, q, qd, s.index("hss.rx"), start=lin, packed=packed)
-        ss = state_space(asm, lin, packed)
+    _, _, lin = operating_state(s, s.q0, s.qd0, s.index("hss.rx"), packed=packed)
+    ss = state_space(asm, lin, packed)
+    for _ in range(SPEED_PASSES - 1):
+        # the mean speed of this pass's response (its only output), then the operating state there
+        new = float(lin.qd0[wheel] + np.mean(reduced_response(ss, u, dt, float(inp["rotor_speed"][0]) / spin,
+                                                              out=ss.rates[wheel][:, None], window=window)))
+        _, _, lin = operating_state(s, lin.q0, lin.qd0 * (new / spin), s.index("hss.rx"), start=lin, packed=packed)
+        ss, spin = state_space(asm, lin, packed), new
     return asm, packed, ss, u, float(inp["rotor_speed"][0]) / spin, window
 
 
