@@ -54,6 +54,9 @@ def _parser() -> argparse.ArgumentParser:
                      help="exit 0 even when an output's indices are refused or untrusted (default: exit 3)")
     run.add_argument("--jobs", type=int, help="parallel workers (default from the study's run.jobs, else the "
                                               "number of cores)")
+    run.add_argument("--retry-failed", action="store_true",
+                     help="run again the evaluations the folder's store holds as failed (after fixing their cause; "
+                          "by default a failure is kept with its reason and not rerun)")
     run.add_argument("--backend", choices=["loky", "dask"], help="joblib loky (default) or a Dask cluster")
     run.add_argument("--address", help="Dask scheduler HOST:PORT (default: a LocalCluster)")
     val = sub.add_parser("validate", help="check a study file; exit 0 or 2", parents=[common])
@@ -344,7 +347,7 @@ def _run(study: "Study", args: argparse.Namespace) -> int:
                 store = EvaluationStore(out / STORE_NAME, watch=[out / LOCK_NAME])
             try:
                 result = execute(study, store, jobs=args.jobs, backend=args.backend, address=args.address,
-                                 quiet=args.quiet)
+                                 quiet=args.quiet, retry_failed=args.retry_failed)
                 store.check()                       # the store that holds the results is still the folder's
             finally:
                 store.close()

@@ -165,7 +165,8 @@ def problems(result: StudyResult) -> list[str]:
             # indices over failed evaluations are refused whatever the design: the way forward is the failures
             if failed and "nonfinite_values" in names:
                 way = ("no design confirms indices over failed evaluations: remove their cause (narrow the "
-                       "parameters' support away from the failing points; `ddgsa validate` checks the support)")
+                       "parameters' support away from the failing points; `ddgsa validate` checks the support), "
+                       "or, where the model was at fault and is fixed, run them again with `ddgsa run --retry-failed`")
             elif getattr(getattr(result.study, "space", None), "dependent", False):
                 way = SHAPLEY_ADVICE
             else:
