@@ -31,7 +31,7 @@ mass: a rigid body locked except for its side-to-side motion, on a tower spring 
 the pull is a :class:`~ddgsa.mbs.RadialForce` whose law is :func:`pull_vector` and
 :func:`pull_jacobian` of :mod:`ddgsa.models.electromagnetic`; the mean hub forces are an
 :class:`~ddgsa.mbs.AppliedLoad`, gravity the system's. The static state is
-:func:`ddgsa.mbs.assembly.static_equilibrium` (Newton, nonlinear pull), the linearisation and
+:func:`ddgsa.mbs.statics.static_equilibrium` (Newton, nonlinear pull), the linearisation and
 modes those of :mod:`ddgsa.mbs.modal` on the null space of the locks.
 
 Time response: the hub forces ``Fy, Fz`` of the scene act on the rotor (the load generator is
@@ -62,7 +62,7 @@ from ddgsa.errors import ModelError
 from ddgsa.loads import generate
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs import AppliedLoad, Ground, Lock, RadialForce, RigidBody, SpringDamper3, System
-from ddgsa.mbs.assembly import static_equilibrium
+from ddgsa.mbs.statics import static_equilibrium
 from ddgsa.mbs.constraints import AXES
 from ddgsa.mbs.linear import lti_response, state_matrices
 from ddgsa.mbs.modal import ConstrainedLinearisation, linearise_system, modal_analysis
