@@ -40,7 +40,7 @@ def test_compiled_single_body_statics_equals_the_python_statics_of_the_same_syst
     """The direct drive under gravity: the loop compiled on the single-body kernel (its own numba
     physics, :func:`ddgsa.mbs.system.static_state`) and run as Python on the System's element
     objects (:func:`static_equilibrium`, central-difference tangent) find the same state."""
-    asm = models.get("direct_drive").assemble()
+    asm = models.get("direct_drive").build()
     zero = np.zeros(3)
     compiled = static_state(asm.system, zero, zero)
     python, _ = static_equilibrium(asm.kernel, np.zeros(asm.kernel.n), hold=(3,), tol=1e-12)
