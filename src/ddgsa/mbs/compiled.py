@@ -17,7 +17,6 @@ Anything else (a Python torque law, a general trajectory, a new element class) r
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -30,7 +29,7 @@ from ddgsa.mbs.assembly import System, Terms
 from ddgsa.mbs.bodies import FlexibleBody, MarkerState, PrescribedBody
 from ddgsa.mbs.constraints import GearContact, PrescribedSpeed, Spherical, TransverseBearing
 from ddgsa.mbs.elements import AppliedLoad, TorqueLaw, _Connector, connector_tangent
-from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rodrigues, rotation, rotation_vector, skew
+from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rodrigues, rotation, rotation_vector
 from ddgsa.mbs.ffr import cross as _cross
 from ddgsa.mbs.series import Series
 
