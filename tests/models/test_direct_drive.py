@@ -40,7 +40,7 @@ def test_registry_and_parameters() -> None:
 @pytest.mark.parametrize("fidelity", ["flexible", "rigid"])
 def test_static_reactions_balance_gravity_and_hub_loads(fidelity: str) -> None:
     model = models.get("direct_drive", fidelity=fidelity)
-    asm = model.assemble()
+    asm = model.build()
     s = asm.system
     force, moment = np.array([6e5, 3e4, -2e4]), np.array([4e6, 2.5e6, -1.2e6])
     q = model.static(asm, force, moment)
@@ -62,7 +62,7 @@ def test_static_reactions_balance_gravity_and_hub_loads(fidelity: str) -> None:
 def test_free_rotation_conserves_energy_and_spin() -> None:
     model = models.get("direct_drive")
     params = {**NOM, "bearing_damping_ratio": 0.0, "shaft_damping_ratio": 0.0}
-    s = dataclasses.replace(model.assemble(params).system, gravity=np.zeros(3))
+    s = dataclasses.replace(model.build(params).system, gravity=np.zeros(3))
     n, spin = s.n_dof, 1.25
     q0, qd0 = np.zeros(n), np.zeros(n)
     qd0[3] = spin
@@ -298,7 +298,7 @@ def _standstill_linearisation() -> tuple:
     from ddgsa.mbs.linear import linearise_spinning, state_matrices
 
     model = models.get("direct_drive", fidelity="linear")
-    asm = model.assemble()
+    asm = model.build()
     q0 = model.static(asm, np.zeros(3), np.zeros(3))
     lin, _ = linearise_spinning(asm.system, np.delete(q0, 3), 0.0, np.zeros(7), [(2, 4), (3, 5)])
     return model, state_matrices(lin)
@@ -385,7 +385,7 @@ def test_end_jacobian_closed_form_matches_central_differences_of_the_end_positio
     from ddgsa.models.direct_drive import _end_jacobian, shaft_ends
 
     model = models.get("direct_drive", fidelity="flexible")
-    asm = model.assemble()
+    asm = model.build()
     rng = np.random.default_rng(3)
     for scale in (1e-4, 1e-2):
         p0 = rng.normal(size=11) * scale

@@ -87,10 +87,10 @@ def test_coastdown_matches_the_nonlinear_kloss_rig_from_one_state():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fast = fast_model.evaluate(None, scene).iloc[0].to_dict()
-    linear_rig, drive, spin = fast_model.assemble(raw, scene)
+    linear_rig, drive, spin = fast_model.build(raw, scene)
     q0, _ = fast_model.initial_state(linear_rig, raw)
     _, q, qd = transient.run(drive, raw, q0, "coastdown", spin, 5e-4, 5e-4, 1)
-    rig, drive, _ = ref_model.assemble(raw, scene)
+    rig, drive, _ = ref_model.build(raw, scene)
     run = genalpha.simulate(rig.system, scene.duration, 5e-4, q0=q[0], qd0=qd[0], output_every=1)
     ref = objectives(ref_model._sensors(rig, drive, scene, run.t, run.q, run.qd), scene,
                      drive_for(raw, scene, POLE_PAIRS))
@@ -124,7 +124,7 @@ def test_coastdown_starts_in_its_periodic_orbit(point):
     model = models.get("hss_rig", fidelity="linear")
     raw = model.resolve(point).iloc[0].to_dict()
     scene = RigScene("steady", speed_rpm=1500.0, duration=0.45, sample_rate=2000.0, settle=0.05)
-    rig, drive, spin = model.assemble(raw, scene)
+    rig, drive, spin = model.build(raw, scene)
     q0, _ = model.initial_state(rig, raw)
     period = 2 * math.pi / spin
     t, q, qd = transient.run(drive, raw, q0, "coastdown", spin, 3 * period, period / 400, 1)

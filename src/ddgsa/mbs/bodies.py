@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs.beam import BeamSpec, ShaftModes, shaft_modes
-from ddgsa.mbs.ffr import Invariants, body_terms_inv, g_bar, inertia_points, rotation
+from ddgsa.mbs.ffr import Invariants, body_terms_inv, cross, g_bar, inertia_points, rodrigues, rotation, skew
 from ddgsa.mbs.series import Series
 
 Array = NDArray[np.float64]
@@ -49,35 +49,6 @@ def bending_fields(n: int, order: str = "interleaved") -> tuple[str, ...]:
 def mode_number(field_name: str) -> int:
     """The mode number ``k`` of a field ``bending_y_k`` / ``bending_z_k``."""
     return int(field_name.rsplit("_", 1)[1])
-
-
-def skew(d: Array) -> Array:
-    """Cross-product matrix: ``skew(d) @ x == d x x``."""
-    return np.array([[0.0, -d[2], d[1]], [d[2], 0.0, -d[0]], [-d[1], d[0], 0.0]])
-
-
-def cross(a: Array, b: Array) -> Array:
-    """Cross product of 3-vectors (``np.cross`` costs ten times more on small arrays)."""
-    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
-
-
-def rodrigues(v: Array) -> Array:
-    """Rotation matrix of the rotation vector ``v`` [rad]."""
-    angle = float(np.linalg.norm(v))
-    k = skew(v)
-    if angle < 1e-8:
-        return np.eye(3) + k + 0.5 * k @ k
-    return np.eye(3) + math.sin(angle) / angle * k + (1.0 - math.cos(angle)) / angle ** 2 * k @ k
-
-
-def rotation_vector(r: Array) -> Array:
-    """Rotation vector [rad] of the rotation matrix ``r`` (angles below pi)."""
-    cos = min(1.0, max(-1.0, 0.5 * (np.trace(r) - 1.0)))
-    angle = math.acos(cos)
-    axis2 = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
-    if angle < 1e-6:
-        return 0.5 * axis2
-    return 0.5 * angle / math.sin(angle) * axis2
 
 
 @dataclass(frozen=True, eq=False)

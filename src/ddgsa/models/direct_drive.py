@@ -177,7 +177,7 @@ def bearing_order_problem(p: Mapping[str, float]) -> str:
             f"< shaft_length ({length:g}) [m]")
 
 
-def assemble(p: Mapping[str, float], fields: tuple[str, ...],
+def build(p: Mapping[str, float], fields: tuple[str, ...],
              damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli") -> Assembly:
     """Build the system for one parameter set and the retained elastic fields.
 
@@ -301,14 +301,14 @@ def _shaft(spec: BeamSpec, fields: tuple[str, ...], damping_ratio: float, raylei
 @functools.lru_cache(maxsize=256)
 def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...],
               damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli") -> Assembly:
-    """:func:`assemble` kept per exact parameter point (~30 % of a linear point's cost).
+    """:func:`build` kept per exact parameter point (~30 % of a linear point's cost).
 
     A study evaluates every point in each scene and realisation (paper C: 60 times), and a
     worker's batches hold the same points, so all but its first batch reuse the systems. The
     system depends on the parameters only (loads are inputs) and nothing modifies it, so
     sharing it is exact. 256 systems of ~30 kB: more than a batch's points.
     """
-    return assemble(dict(params), fields, damping, beam)
+    return build(dict(params), fields, damping, beam)
 
 
 @register_model("direct_drive")
@@ -425,9 +425,10 @@ class DirectDrive(Model):
         """Names of the generalised coordinates."""
         return RIGID_NAMES + self.fields
 
-    def assemble(self, params: Mapping[str, float] | None = None) -> Assembly:
-        """The system for ``params`` (missing -> nominal)."""
-        return assemble(self.resolve(params).iloc[0].to_dict(), self.fields, self.damping, self.beam)
+    def build(self, params: Mapping[str, float] | None = None) -> Assembly:
+        """The system for ``params`` (missing -> nominal): the single-body kernel's arrays and the
+        :class:`~ddgsa.mbs.assembly.System` they were packed from (:class:`Assembly`)."""
+        return build(self.resolve(params).iloc[0].to_dict(), self.fields, self.damping, self.beam)
 
     def static(self, asm: Assembly, force: NDArray[np.float64], moment: NDArray[np.float64],
                q_guess: NDArray[np.float64] | None = None, tol: float = 1e-12) -> NDArray[np.float64]:
@@ -456,7 +457,7 @@ class DirectDrive(Model):
     def _simulate(self, scene: Scene, p: Mapping[str, float], states: bool) -> pd.DataFrame:
         """:meth:`simulate` for resolved parameters ``p``; ``states=False`` lets the linear fidelity
         skip the coordinate columns (the objective functions do not read them)."""
-        asm = assemble(p, self.fields, self.damping, self.beam)
+        asm = build(p, self.fields, self.damping, self.beam)
         inputs = self._scene_inputs(scene)
         to_u = input_map(p)
         u = inputs.channels @ to_u
@@ -660,7 +661,7 @@ class DirectDrive(Model):
         angle removed (cyclic) and the rotor turning at ``rotor_speed`` [rad/s] (0: standstill;
         the bearings are anisotropic, so a spinning linearisation is a snapshot at spin angle 0).
         """
-        asm = self.assemble(params)
+        asm = self.build(params)
         zero = np.zeros(3)
         q0 = self.static(asm, zero, zero)
         qd0 = np.zeros_like(q0)
