@@ -61,7 +61,8 @@ sparse PCE (:mod:`ddgsa.gsa.pooled`) is fitted on the same points (cut lines and
 their input values), its leave-one-out error taken over the check sample only, and its rows
 bounded by the PCE's own rule; by the triangle inequality ``|S - S_pce| + e_pce`` bounds M-DRM's
 error as well, and each index keeps the smaller of the two bounds (``extras["cross_S1"]``,
-``extras["cross_ST"]`` hold the PCE's indices). A row is thus trusted when either estimate
+``extras["cross_ST"]`` hold the PCE's indices; NaN for an output whose rows the check sample
+already vouches for, which is not cross-checked). A row is thus trusted when either estimate
 vouches for M-DRM's value; the other rules (sign change, unresolved cut functions, coverage)
 still refuse it.
 """
@@ -190,14 +191,19 @@ class MDRM(GsaMethod):
             eps, r2 = _check_sample(space, design, y, rho, var)
             err_s1 = surrogate_index_error(S1, eps[:, None], orthogonal=True)
             err_st = surrogate_index_error(ST, eps[:, None], orthogonal=True)
-            cross = _cross_check(space, design, y, outputs, opts["tolerance"])
             why = f"check sample of {opts['check']} points"
+            # outputs some row of which the check sample cannot vouch for (the others need no second bound)
+            with np.errstate(invalid="ignore"):
+                loose = np.flatnonzero(~(np.fmax(err_s1, err_st) <= opts["tolerance"]).all(axis=1))
+            cross = _cross_check(space, design, y[:, loose], [outputs[k] for k in loose], opts["tolerance"]) \
+                if loose.size else None
             if cross is not None:
                 # a second, independent bound: the distance to the cross-check's indices plus its
                 # own bound (the triangle inequality); each row keeps the smaller of the two
-                p1, pt, e1, et = cross
-                err_s1 = np.fmin(err_s1, np.abs(S1 - p1) + e1)
-                err_st = np.fmin(err_st, np.abs(ST - pt) + et)
+                p1, pt = np.full_like(S1, np.nan), np.full_like(ST, np.nan)
+                p1[loose], pt[loose], e1, et = cross
+                err_s1[loose] = np.fmin(err_s1[loose], np.abs(S1[loose] - p1[loose]) + e1)
+                err_st[loose] = np.fmin(err_st[loose], np.abs(ST[loose] - pt[loose]) + et)
                 why += "; cross-checked by a sparse PCE on the same points"
                 extras.update({"cross_S1": p1, "cross_ST": pt})
             if groups is not None:
