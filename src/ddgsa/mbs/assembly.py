@@ -212,24 +212,28 @@ class System:
         return float(e)
 
     def consistent_state(self, q: Array | None = None, qd: Array | None = None, t: float = 0.0,
-                         keep: Sequence[int] = (), tol: float = 1e-12, max_iter: int = 50) -> tuple[Array, Array]:
+                         keep: Sequence[int] = (), tol: float = 1e-12, max_iter: int = 50,
+                         residuals: Callable[[Array, Array, float], tuple[Array, Array, Array, Array]] | None = None
+                         ) -> tuple[Array, Array]:
         """Nearest state that satisfies the constraints (least-squares corrections).
 
         Positions are corrected by Gauss-Newton on ``C(q) = 0`` with minimum-norm steps; velocities
         are projected on ``B q_dot + b = 0`` with the coordinates in ``keep`` (e.g. a driving spin
-        rate) held at their given values.
+        rate) held at their given values. ``residuals(q, qd, t) -> (C, C_q, V, B)`` evaluates the
+        constraints another way (the compiled kernel's, :func:`ddgsa.mbs.compiled.constraint_values`;
+        the same values to round-off); default :meth:`holonomic_residual` and :meth:`velocity_residual`.
         """
         q = (self.q0 if q is None else np.asarray(q, dtype=float)).copy()
         qd = (self.qd0 if qd is None else np.asarray(qd, dtype=float)).copy()
         for _ in range(max_iter):
-            c, cq = self.holonomic_residual(q, qd, t)
+            c, cq = self.holonomic_residual(q, qd, t) if residuals is None else residuals(q, qd, t)[:2]
             if c.size == 0 or np.max(np.abs(c)) < tol:
                 break
             q -= np.linalg.lstsq(cq, c, rcond=None)[0]
         else:
             raise ModelError(f"the constraints cannot be satisfied near the initial pose (residual "
                              f"{np.max(np.abs(c)):.3g})")
-        v, b = self.velocity_residual(q, qd, t)
+        v, b = self.velocity_residual(q, qd, t) if residuals is None else residuals(q, qd, t)[2:]
         if v.size:
             free = np.setdiff1d(np.arange(self.n), np.asarray(keep, dtype=int))
             dq = np.zeros(self.n)

@@ -598,6 +598,65 @@ def evaluate(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, ...]
     return _assemble(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays)
 
 
+def constraint_values(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, Array, Array, Array]:
+    """``(C, C_q, V, B)`` of the packed system at one state: the holonomic residual and its Jacobian,
+    the velocity-level values of all constraints (holonomic first) and their Jacobian, as
+    :meth:`System.holonomic_residual <ddgsa.mbs.assembly.System.holonomic_residual>` and
+    :meth:`~ddgsa.mbs.assembly.System.velocity_residual` give them (the ``residuals`` of
+    :meth:`~ddgsa.mbs.assembly.System.consistent_state`)."""
+    *_, ch, jac, vel = evaluate(packed, q, qd, t)
+    return ch, jac[:packed.n_holonomic], vel, jac
+
+
+def accelerations(packed: Packed, q: Array, qd: Array, t: float, fd_step: float = 1e-6) -> tuple[Array, Array]:
+    """Index-1 accelerations and multipliers of the packed system, as :func:`ddgsa.mbs.assembly.accelerations`
+    without stabilisation."""
+    return _accelerations(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays,
+                          float(fd_step))
+
+
+@njit(cache=True)
+def _residual_jacobians(q0, qd0, qdd0, lam0, t, P, scale, rel_step):  # pragma: no cover (compiled)
+    """Central differences of ``M(q) qdd0 - Q(q, qd, t) + C_q(q)^T lam0`` over ``q`` and over ``qd``, and of
+    the velocity-level constraint values over ``q``, as :func:`ddgsa.mbs.derivatives.central_jacobian`
+    takes them (step ``rel_step max(scale, |x_i|)``)."""
+    n = q0.size
+    out = np.empty((2, n, n))
+    dvel = np.empty((_assemble(q0, qd0, t, P)[7].size, n))
+    for which in range(2):
+        x0 = q0 if which == 0 else qd0
+        for i in range(n):
+            h = rel_step * max(scale, abs(x0[i]))
+            col = np.zeros(n)
+            vcol = np.zeros(dvel.shape[0])
+            for sign in (1.0, -1.0):
+                q, qd = q0.copy(), qd0.copy()
+                if which == 0:
+                    q[i] += sign * h
+                else:
+                    qd[i] += sign * h
+                m_mat, f, kt, ct, y, ch, jac, vel = _assemble(q, qd, t, P)
+                r = np.dot(m_mat, qdd0) - f
+                if lam0.size:
+                    r += np.dot(jac.T, lam0)
+                col += sign * r
+                vcol += sign * vel
+            out[which, :, i] = col / (2.0 * h)
+            if which == 0:
+                dvel[:, i] = vcol / (2.0 * h)
+    return out[0], out[1], dvel
+
+
+def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Array, t: float, scale: float,
+                       rel_step: float) -> tuple[Array, Array, Array]:
+    """``(K, C, B0)``: the Jacobians of ``M q_ddot - Q + C_q^T lambda`` over ``q`` and ``q_dot`` at ``(q, qd, t)``
+    with ``q_ddot, lambda`` held (the stiffness and damping of :func:`ddgsa.mbs.modal.linearise_system`), and
+    of the velocity-level constraint values ``V`` over ``q`` (``d(C_q q_dot)/dq``), by central differences
+    in one compiled loop."""
+    return _residual_jacobians(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), np.asarray(qdd, dtype=float),
+                               np.asarray(lam, dtype=float), float(t), packed.arrays, float(scale), float(rel_step))
+
+
 def gen_alpha(packed: Packed, q0: Array, qd0: Array, t0: float, dt: float, n_steps: int, output_every: int,
               coefficients: tuple[float, float, float, float], tol: float, max_iter: int) -> tuple:
     """Run the constrained generalised-alpha on the packed system (:mod:`ddgsa.mbs.alpha`'s loop);
