@@ -42,12 +42,18 @@ LADDER: dict[str, list[tuple[dict[str, Any], str]]] = {
     "hss_rig": [({"bending_modes": 3}, "about +11 % time per linear steady run"),
                 ({"bending_modes": 5, "shaft_elements": 32, "shaft_axial": True},
                  "about +50 to +75 % time per linear steady run")],
-    "direct_drive": [({"bending_modes": 3}, "+6 % time per linear run"),
-                     ({"bending_modes": 6}, "+80 % time per linear run")],
+    "direct_drive": [({"bending_modes": 3}, "7.4 ms per linear point of 600 s with Timoshenko elements (the "
+                                            "default 5: 7.8-8.2 ms; 2 Euler-Bernoulli modes: 4.1-5.0 ms)"),
+                     ({"bending_modes": 5}, "7.8-8.2 ms per linear point of 600 s with Timoshenko elements, the "
+                                            "default (2 Euler-Bernoulli modes: 4.1-5.0 ms)"),
+                     ({"bending_modes": 6}, "+10 % time per linear run against the default 5 (9.1 ms per point "
+                                            "of 600 s)")],
 }
-"""Bases tried in order for the advice, with their cost against the default basis, measured on the
-shared 2-core machine (load 16; the rig's steady 1500 rpm, 1.2 s scene at the ``linear`` fidelity,
-twice; the direct drive's from docs/physics.md "Cost of more modes")."""
+"""Bases tried in order for the advice, with their cost, measured on the shared 2-core machine (the
+rig's steady 1500 rpm, 1.2 s scene at the ``linear`` fidelity, twice, at load 16, against its two-mode
+basis; the direct drive's CPU per point of a 64-point batch of 600 s at the ``linear`` fidelity, as
+``ddgsa bench`` times it, twice at load 4-5, docs/physics.md "Cost of more modes"). The direct
+drive's default (5) is converged below 284 Hz, 6 modes below 466 Hz."""
 
 TABLE = Path(__file__).parents[1] / "data" / "basis_modes.json"
 """Stored standstill modes at nominal parameters of the bases of :data:`LADDER` and :data:`REFERENCE`
@@ -141,12 +147,14 @@ def tabulated_bases(key: str) -> list[dict[str, Any]]:
     return out
 
 
-def tabulate(path: Path = TABLE) -> dict[str, Any]:
-    """Compute the modes of every :func:`tabulated_bases` basis and write them to ``path`` (JSON)."""
-    table = {key: {"nominal": _nominal_digest(key),
-                   "bases": {_options_key(b): [[round(f, 6), lab] for f, lab in _computed(key, _options_key(b))]
-                             for b in tabulated_bases(key)}}
-             for key in REFERENCE}
+def tabulate(path: Path = TABLE, keys: tuple[str, ...] = tuple(REFERENCE)) -> dict[str, Any]:
+    """Compute the modes of every :func:`tabulated_bases` basis of the models ``keys`` and write them to
+    ``path`` (JSON; the other models' entries already there are kept)."""
+    table = json.loads(path.read_text()) if path.exists() else {}
+    table.update({key: {"nominal": _nominal_digest(key),
+                        "bases": {_options_key(b): [[round(f, 6), lab] for f, lab in _computed(key, _options_key(b))]
+                                  for b in tabulated_bases(key)}}
+                  for key in keys})
     path.write_text(json.dumps(table, indent=1) + "\n")
     _stored.cache_clear()
     return table
@@ -172,6 +180,29 @@ def worst_error(modes: tuple[tuple[float, str], ...], reference: tuple[tuple[flo
                 worst = {"error": float(abs(fi - near) / near), "frequency_hz": float(fi), "reference_hz": float(near),
                          "label": modes[i][1]}
     return worst
+
+
+def mode_convergence(model: Any, table: Any) -> dict[str, Any] | None:
+    """How far each mode of ``table`` (the model's :meth:`modes` at nominal parameters, standstill) is
+    from the nearest mode of the converged basis (:data:`REFERENCE`, the same beam theory), and below
+    which frequency every mode of either basis has a partner within :data:`TOLERANCE` (``None`` for a
+    model without a basis).
+
+    Returns ``{"basis", "reference", "errors" (one per row of ``table``), "below_hz"}``: ``below_hz`` is
+    the lowest frequency [Hz] of a mode of either basis without such a partner (infinite if none).
+    """
+    key, basis = model_key(model), basis_of(model)
+    if key is None or basis is None:
+        return None
+    reference = {**basis, **REFERENCE[key]}
+    ref = np.array([f for f, _ in frequencies(key, reference)])
+    own = np.asarray(table["frequency_hz"], dtype=float)
+    near = ref[np.argmin(np.abs(ref[None, :] - own[:, None]), axis=1)]
+    errors = np.abs(own - near) / near
+    missing = np.abs(ref - own[np.argmin(np.abs(own[None, :] - ref[:, None]), axis=1)]) / ref
+    unpaired = [*own[errors > TOLERANCE], *ref[missing > TOLERANCE]]
+    return {"basis": basis, "reference": reference, "errors": errors,
+            "below_hz": float(min(unpaired)) if unpaired else float("inf")}
 
 
 def basis_report(model: Any, scene: Any) -> dict[str, Any] | None:
