@@ -39,9 +39,10 @@ REFERENCE: dict[str, dict[str, Any]] = {
 5 modes on 32 elements move by <= 0.34 % below 600 Hz against it (docs/physics.md)."""
 
 LADDER: dict[str, list[tuple[dict[str, Any], str]]] = {
-    "hss_rig": [({"bending_modes": 3}, "about +11 % time per linear steady run"),
+    "hss_rig": [({"bending_modes": 3}, "about +11 % time per linear steady run against 2 modes"),
                 ({"bending_modes": 5, "shaft_elements": 32, "shaft_axial": True},
-                 "about +50 to +75 % time per linear steady run")],
+                 "the default basis; about +27 % time per linear run and +4 to +15 % per kloss run against "
+                 "2 modes on 8 elements")],
     "direct_drive": [({"bending_modes": 3}, "7.4 ms per linear point of 600 s with Timoshenko elements (the "
                                             "default 5: 7.8-8.2 ms; 2 Euler-Bernoulli modes: 4.1-5.0 ms)"),
                      ({"bending_modes": 5}, "7.8-8.2 ms per linear point of 600 s with Timoshenko elements, the "
@@ -49,11 +50,19 @@ LADDER: dict[str, list[tuple[dict[str, Any], str]]] = {
                      ({"bending_modes": 6}, "+10 % time per linear run against the default 5 (9.1 ms per point "
                                             "of 600 s)")],
 }
-"""Bases tried in order for the advice, with their cost, measured on the shared 2-core machine (the
-rig's steady 1500 rpm, 1.2 s scene at the ``linear`` fidelity, twice, at load 16, against its two-mode
-basis; the direct drive's CPU per point of a 64-point batch of 600 s at the ``linear`` fidelity, as
-``ddgsa bench`` times it, twice at load 4-5, docs/physics.md "Cost of more modes"). The direct
-drive's default (5) is converged below 284 Hz, 6 modes below 466 Hz."""
+"""Bases tried in order for the advice, with their cost, measured on the shared 2-core machine: the rig's
+against the second stage's basis (:data:`LIGHT`; load 2-3, start-up, steady and coast-down at 1500 rpm,
+1.2 s, and kloss 0.6 s records), the direct drive's CPU per point of a 64-point batch of 600 s at the
+``linear`` fidelity as ``ddgsa bench`` times it (twice, load 4-5; docs/physics.md "Cost of more modes").
+The direct drive's default (5) is converged below 284 Hz, 6 modes below 466 Hz."""
+
+LIGHT: dict[str, dict[str, Any]] = {
+    "hss_rig": {"bending_modes": 2, "shaft_elements": 8, "shaft_axial": False},
+    "direct_drive": {"bending_modes": 2},
+}
+"""The second stage's default bases (the rig's 2 modes per plane on 8 elements, axially rigid, is 2.5 %
+high on its first pair and 44 % low on the disk's 1x amplitude at the critical speed): tabulated
+with the ladder's steps from them, for studies that keep them for speed."""
 
 TABLE = Path(__file__).parents[1] / "data" / "basis_modes.json"
 """Stored standstill modes at nominal parameters of the bases of :data:`LADDER` and :data:`REFERENCE`
@@ -134,16 +143,20 @@ def frequencies(key: str, options: dict[str, Any], stored: bool = True) -> tuple
 
 
 def tabulated_bases(key: str) -> list[dict[str, Any]]:
-    """The bases :data:`TABLE` holds for a model: its default, each :data:`LADDER` step and
-    :data:`REFERENCE`, for each beam theory (with the model's other basis options at their defaults)."""
+    """The bases :data:`TABLE` holds for a model: its default and :data:`LIGHT`, each with every
+    :data:`LADDER` step, and :data:`REFERENCE`, for each beam theory (with the model's other basis
+    options at their defaults)."""
     from ddgsa.models import get as get_model
 
     default = basis_of(get_model(key, fidelity="kloss" if key == "hss_rig" else "flexible"))
     assert default is not None
-    out = []
+    out: list[dict[str, Any]] = []
     for beam in ("euler_bernoulli", "timoshenko"):
-        for step in [{}, *(s for s, _ in LADDER[key]), REFERENCE[key]]:
-            out.append({**default, "beam": beam, **step})
+        for base in (default, {**default, **LIGHT[key]}):
+            for step in [{}, *(s for s, _ in LADDER[key]), REFERENCE[key]]:
+                basis = {**base, "beam": beam, **step}
+                if basis not in out:
+                    out.append(basis)
     return out
 
 

@@ -158,13 +158,13 @@ class HssRig(Model):
     noise : bool
         Add seeded measurement noise to the sensors.
     bending_modes : int
-        Bending modes per plane of the high-speed shaft (default 2; docs/physics.md: convergence).
+        Bending modes per plane of the high-speed shaft (default 5; docs/physics.md: convergence).
     beam : {"euler_bernoulli", "timoshenko"}
         The shaft's FE bending elements.
     shaft_elements : int
-        FE elements per bearing span of the high-speed shaft (default 8).
+        FE elements per bearing span of the high-speed shaft (default 32).
     shaft_axial : bool
-        Give the high-speed shaft an axial elastic mode (default: axially rigid, its axial mode 2.7 % high).
+        Give the high-speed shaft an axial elastic mode (default true; false: axially rigid, its axial mode 2.7 % high).
     """
 
     fidelities: ClassVar[tuple[str, ...]] = ("dq", "kloss", "linear")
@@ -178,15 +178,15 @@ class HssRig(Model):
     scene_type = RigScene
     options = (ModelOption("time_step", "number", "generalised-alpha step", 0.0, 1e-2, "s", low_open=True),
                ModelOption("noise", "bool", "seeded measurement noise on the sensors"),
-               ModelOption("bending_modes", "integer", "high-speed shaft bending modes per plane (default 2)",
+               ModelOption("bending_modes", "integer", "high-speed shaft bending modes per plane (default 5)",
                            1, MAX_BENDING_MODES),
                ModelOption("beam", "choice", "high-speed shaft FE bending elements", choices=BEAMS),
-               ModelOption("shaft_elements", "integer", "high-speed shaft FE elements per bearing span (default 8)",
+               ModelOption("shaft_elements", "integer", "high-speed shaft FE elements per bearing span (default 32)",
                            2, 256),
-               ModelOption("shaft_axial", "bool", "axial elastic mode of the high-speed shaft (default: axially rigid)"))
+               ModelOption("shaft_axial", "bool", "axial elastic mode of the high-speed shaft (default true; false: axially rigid)"))
 
-    def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False, bending_modes: int = 2,
-                 beam: str = "euler_bernoulli", shaft_elements: int = 8, shaft_axial: bool = False) -> None:
+    def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False, bending_modes: int = 5,
+                 beam: str = "euler_bernoulli", shaft_elements: int = 32, shaft_axial: bool = True) -> None:
         self.check_options({"fidelity": fidelity, "time_step": time_step, "noise": noise, "bending_modes": bending_modes,
                             "beam": beam, "shaft_elements": shaft_elements, "shaft_axial": shaft_axial})
         self.fidelity, self.time_step, self.noise = fidelity, float(time_step), noise
