@@ -43,17 +43,17 @@ LADDER: dict[str, list[tuple[dict[str, Any], str]]] = {
                 ({"bending_modes": 5, "shaft_elements": 32, "shaft_axial": True},
                  "the default basis; about +27 % time per linear run and +4 to +15 % per kloss run against "
                  "2 modes on 8 elements")],
-    "direct_drive": [({"bending_modes": 3}, "7.4 ms per linear point of 600 s with Timoshenko elements (the "
-                                            "default 5: 7.8-8.2 ms; 2 Euler-Bernoulli modes: 4.1-5.0 ms)"),
-                     ({"bending_modes": 5}, "7.8-8.2 ms per linear point of 600 s with Timoshenko elements, the "
-                                            "default (2 Euler-Bernoulli modes: 4.1-5.0 ms)"),
-                     ({"bending_modes": 6}, "+10 % time per linear run against the default 5 (9.1 ms per point "
-                                            "of 600 s)")],
+    "direct_drive": [({"bending_modes": 3}, "about the time of the default 5 (Timoshenko; 2 Euler-Bernoulli modes "
+                                            "cost 0.7-0.85x)"),
+                     ({"bending_modes": 5}, "the default; with Timoshenko elements +15 to +40 % per linear run "
+                                            "against 2 Euler-Bernoulli modes"),
+                     ({"bending_modes": 6}, "+10 % time per linear run against the default 5")],
 }
 """Bases tried in order for the advice, with their cost, measured on the shared 2-core machine: the rig's
 against the second stage's basis (:data:`LIGHT`; load 2-3, start-up, steady and coast-down at 1500 rpm,
 1.2 s, and kloss 0.6 s records), the direct drive's CPU per point of a 64-point batch of 600 s at the
-``linear`` fidelity as ``ddgsa bench`` times it (twice, load 4-5; docs/physics.md "Cost of more modes").
+``linear`` fidelity as ``ddgsa bench`` times it (twice in one process, load 11-12; docs/physics.md "Cost of
+more modes").
 The direct drive's default (5) is converged below 284 Hz, 6 modes below 466 Hz."""
 
 LIGHT: dict[str, dict[str, Any]] = {
