@@ -22,8 +22,10 @@ SCENE = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=60.0, seed=1)
 
 def _bending_block(reading: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[float, float], np.ndarray]:
     """Mass, stiffness and damping of the first two bending coordinates in y of the nominal shaft
-    (the two-mode example), its first two FE bending frequencies [rad/s] and its whole damping matrix."""
-    body = models.get("direct_drive", fidelity="flexible", bending_rayleigh=reading).build().kernel.bodies[0]
+    (the two-mode example, on seed 000's basis: Euler-Bernoulli, two modes per plane), its first two FE
+    bending frequencies [rad/s] and its whole damping matrix."""
+    body = models.get("direct_drive", fidelity="flexible", bending_rayleigh=reading, beam="euler_bernoulli",
+                      bending_modes=2).build().kernel.bodies[0]
     pm, _, ps = body.points
     m_ff = np.einsum("j,jai,jak->ik", pm, ps, ps)                  # the lumped points' elastic mass
     ix = np.ix_(*[[body.fields.index("bending_y_1"), body.fields.index("bending_y_2")]] * 2)
