@@ -161,3 +161,24 @@ def test_the_cost_per_run_is_not_inflated_by_the_first_runs_compile() -> None:
     runs = SimpleNamespace(evaluations=pd.DataFrame({"seconds": [130.0, 10.0, 12.0, 11.0, 11.0, 0.0]}))
     assert per_run_seconds(runs) == 11.0
     assert np.isnan(per_run_seconds(SimpleNamespace(evaluations=pd.DataFrame({"seconds": [0.0]}))))
+
+
+def test_loo_error_over_the_drawn_points_equals_brute_force_refits() -> None:
+    # a pooled design: 9 cut-line points (not draws) and 24 draws; the leave-one-out mean square
+    # taken over the draws only must equal refitting without each draw in turn
+    from ddgsa.gsa.pce import _least_squares
+
+    rng = np.random.default_rng(3)
+    x = np.vstack([np.column_stack([np.linspace(-1, 1, 9), np.zeros(9)]), rng.uniform(-1, 1, (24, 2))])
+    psi = np.column_stack([np.ones(len(x)), x, x[:, 0] * x[:, 1]])
+    y = (np.sin(2 * x[:, 0]) + x[:, 0] * x[:, 1] ** 2)[:, None]
+    drawn = np.arange(len(x)) >= 9
+    sq = []
+    for i in np.flatnonzero(drawn):
+        keep = np.arange(len(x)) != i
+        c, *_ = np.linalg.lstsq(psi[keep], y[keep], rcond=None)
+        sq.append(float((y[i, 0] - psi[i] @ c[:, 0]) ** 2))
+    _, loo = _least_squares(psi, y, drawn)
+    assert loo[0] * np.var(y) == pytest.approx(np.mean(sq), rel=1e-9)
+    _, loo_all = _least_squares(psi, y)
+    assert loo_all[0] != pytest.approx(loo[0], rel=1e-3)          # the cut lines do change the mean

@@ -7,7 +7,8 @@ import pytest
 
 import ddgsa
 from ddgsa import MethodError, ParameterSpace
-from ddgsa.gsa.testfunctions import corner_peak, ishigami, linear, product, sobol_g
+from ddgsa.gsa.testfunctions import bratley_k, corner_peak, ishigami, linear, product, sobol_g
+from ddgsa.gsa.trust import surrogate_index_error
 
 DISTS = {
     "uniform": {"dist": "uniform", "low": 1.0, "high": 3.0},
@@ -67,6 +68,39 @@ def test_shifted_ishigami_is_caught_by_the_check_sample() -> None:
     assert tf.ST[2] == pytest.approx(0.2437, abs=1e-4)
 
 
+def test_cross_check_grants_trust_where_the_closed_form_shows_the_rows_right() -> None:
+    # 0.5 + x1 + 0.8 x2 + 0.5 x3 + 0.2 x4 on U(0, 1)^4 (the calibration's additive_offset):
+    # S_i = ST_i = b_i^2 / sum b^2, known exactly. The product surrogate misses an additive output,
+    # so the check sample alone bounds the rows by 0.13 (no row trusted before issue 25's third
+    # round); the sparse PCE on the same 53 points is exact, and |S - S_pce| + e_pce bounds them
+    tf = linear(ParameterSpace.from_dict({f"x{i}": {"low": 0.0, "high": 1.0} for i in range(4)}),
+                [1.0, 0.8, 0.5, 0.2], offset=0.5)
+    res = ddgsa.sobol(tf.f, tf.space, "mdrm", points=5)
+    t = res.indices
+    own = surrogate_index_error(t["ST"].to_numpy(), res.extras["surrogate_eps"][0], orthogonal=True)
+    assert own.max() > 0.1                                          # the check sample alone: untrusted
+    err = np.fmax(np.abs(t["S1"] - tf.S1), np.abs(t["ST"] - tf.ST))
+    assert err.max() < 0.009                                        # measured 0.0081 (x1's ST)
+    assert (err <= np.fmax(t["S1_conf"], t["ST_conf"]) + 1e-9).all()
+    assert t["trusted"].all() and res.diagnostics == []
+    np.testing.assert_allclose(res.extras["cross_ST"][0], tf.ST, atol=1e-9)   # the cross-check is exact here
+
+
+@pytest.mark.parametrize("tf", [ishigami(shift=10.0), bratley_k(6, shift=20.0)], ids=["ishigami", "bratley"])
+def test_cross_check_still_refuses_rows_far_from_the_closed_form(tf) -> None:
+    # shifted Ishigami (x1-x3 interaction, ST3 = 0.244 where M-DRM says 0) and Bratley's K + 20
+    # (M-DRM off by 0.085): M-DRM is off by more than the tolerance, and so is the PCE on its own
+    # points; each row's bound still covers its true error and no row off by more is trusted
+    res = ddgsa.sobol(tf.f, tf.space, "mdrm", points=5)
+    t = res.indices
+    err = np.fmax(np.abs(t["S1"] - tf.S1), np.abs(t["ST"] - tf.ST)).to_numpy()
+    cross = np.fmax(np.abs(res.extras["cross_S1"][0] - tf.S1), np.abs(res.extras["cross_ST"][0] - tf.ST))
+    assert err.max() > 0.05 and cross.max() > 0.02
+    assert (err <= np.fmax(t["S1_conf"], t["ST_conf"]) + 1e-9).all()
+    assert not t["trusted"].to_numpy()[err > 0.02].any()
+    assert "mdrm_index_error" in res.diagnostic_names()
+
+
 def test_sobol_g_with_a_zero_coefficient_fires() -> None:
     tf = sobol_g([0.0, 1.0, 4.5, 9.0])
     res = ddgsa.sobol(tf.f, tf.space, "mdrm", points=5)
@@ -110,9 +144,11 @@ def test_additive_function_is_right_when_positive_and_flagged_when_not() -> None
     res = ddgsa.sobol(positive.f, space, "mdrm", points=5)
     t = res.indices
     assert np.abs(t["S1"] - positive.S1).max() < 0.02                 # measured error 0.012 ...
-    # ... but the product surrogate misses an additive output by eps = 0.2 on the check sample:
-    # the bound (0.1) cannot promise 0.02, so no row is trusted (a false alarm, counted by bench trust)
-    assert (np.abs(t["S1"] - positive.S1) <= t["S1_conf"]).all() and not t["trusted"].any()
+    # ... the product surrogate misses an additive output by eps = 0.2 on the check sample (its
+    # bound, 0.1, cannot promise 0.02), but the sparse PCE on the same 49 points is exact: the
+    # cross-check bound |S1 - S1_pce| + e_pce equals the true error, and every row is trusted
+    assert (np.abs(t["S1"] - positive.S1) <= t["S1_conf"] + 1e-9).all() and t["trusted"].all()
+    assert t["S1_conf"].max() < 0.012
     crossing = linear(space, [1.0, 1.0, 1.0], offset=-1.4)
     res = ddgsa.sobol(crossing.f, space, "mdrm", points=5)
     assert {"mdrm_sign_change", "mdrm_index_error"} <= res.diagnostic_names()

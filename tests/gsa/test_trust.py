@@ -60,8 +60,9 @@ def test_mdrm_error_estimates_cover_the_true_errors() -> None:
     for f, space, s1, st in cases:
         res = ddgsa.sobol(f, space, "mdrm", points=5)
         t = res.indices
-        assert (np.abs(t["S1"] - s1[0]) <= t["S1_conf"]).all()
-        assert (np.abs(t["ST"] - st[0]) <= t["ST_conf"]).all()
+        # (+1e-9: where the sparse PCE cross-check is exact, the bound is the true error itself)
+        assert (np.abs(t["S1"] - s1[0]) <= t["S1_conf"] + 1e-9).all()
+        assert (np.abs(t["ST"] - st[0]) <= t["ST_conf"] + 1e-9).all()
 
 
 # -- the leaks of issue 12 ------------------------------------------------------------------

@@ -17,7 +17,8 @@ import pytest
 from ddgsa.checks import study_basis, study_findings
 from ddgsa.models import get as get_model
 from ddgsa.models.basis import LIGHT as BASIS_LIGHT
-from ddgsa.models.basis import REFERENCE, TABLE, _computed, _options_key, basis_report, tabulated_bases
+from ddgsa.models.basis import (REFERENCE, TABLE, _computed, _options_key, basis_of, basis_report,
+                                 tabulated_bases)
 from ddgsa.models.hss_rig.model import BEARING_GEOMETRY
 from ddgsa.models.hss_rig.scenes import RigScene
 from ddgsa.report import _basis_lines
@@ -73,18 +74,46 @@ def test_converged_rig_basis_is_a_note(tmp_path: Path, options: str) -> None:
 
 
 def test_direct_drive_band_is_its_loads_band() -> None:
-    """At dt 0.05 s (10 Hz loads) the default basis holds the 3.25 Hz pair exactly; at 0.01 s (75 Hz
-    band) it misses the 32.8 / 44.1 Hz pair and three modes per plane converge it."""
+    """The default basis (5 Timoshenko modes per plane) is converged in the band of every load interval the
+    flexible fidelity takes (dt >= 5 ms: 150 Hz); at dt 2 ms (375 Hz) it misses the 284 / 329 Hz pair and six
+    modes converge it. The seed's basis (2 Euler-Bernoulli modes) holds the 3.25 Hz pair at dt 0.05 s (15 Hz)
+    and misses the 32.8 / 44.1 Hz pair at 0.01 s (75 Hz), where three modes converge it."""
     from ddgsa.loads.scene import Scene
 
-    model = get_model("direct_drive", fidelity="linear")
-    coarse = basis_report(model, Scene(wind_speed=11.0, duration=60.0, dt=0.05))
-    fine = basis_report(model, Scene(wind_speed=11.0, duration=60.0, dt=0.01))
-    assert coarse is not None and fine is not None
-    assert coarse["band_hz"] == pytest.approx(15.0) and coarse["converged"]
-    assert fine["band_hz"] == pytest.approx(75.0) and not fine["converged"]
-    assert fine["advice"].startswith("set model options bending_modes: 3")
+    def report(dt: float, **options: object) -> dict:
+        out = basis_report(get_model("direct_drive", fidelity="linear", **options),
+                           Scene(wind_speed=11.0, duration=60.0, dt=dt))
+        assert out is not None
+        return out
+
+    for dt in (0.05, 0.01, 0.005):
+        default = report(dt)
+        assert default["band_hz"] == pytest.approx(0.75 / dt) and default["converged"], dt
+    assert default["basis"] == {"bending_modes": 5, "beam": "timoshenko", "axial": True}
+    fine = report(0.002)
+    assert not fine["converged"] and fine["advice"].startswith("set model options bending_modes: 6")
+    assert fine["reference_hz"] == pytest.approx(283.98, rel=1e-4)          # the pair the basis lacks
+    seed = {"beam": "euler_bernoulli", "bending_modes": 2}
+    assert report(0.05, **seed)["converged"]
+    coarse = report(0.01, **seed)
+    assert not coarse["converged"] and coarse["advice"].startswith("set model options bending_modes: 3")
     assert basis_report(get_model("direct_drive", fidelity="rigid"), Scene(wind_speed=11.0, duration=60.0)) is None
+
+
+def test_default_direct_drive_modes_are_converged_below_150_hz() -> None:
+    """The stored table (``basis_modes.json``, from ``DirectDrive.modes()``) holds the default basis converged:
+    every mode below 283 Hz of either basis within 0.5 % of the 10-mode reference (below 150 Hz 0.05 %), and
+    the 2-mode seed basis not (its third lateral pair 23 % / 64 % high)."""
+    from ddgsa.models.basis import TOLERANCE, frequencies, worst_error
+
+    default = basis_of(get_model("direct_drive"))
+    assert default is not None
+    reference = frequencies("direct_drive", {**default, **REFERENCE["direct_drive"]})
+    assert worst_error(frequencies("direct_drive", default), reference, 150.0)["error"] < 0.1 * TOLERANCE
+    assert worst_error(frequencies("direct_drive", default), reference, 283.0)["error"] < TOLERANCE
+    seed = {**default, "beam": "euler_bernoulli", "bending_modes": 2}
+    seed_reference = frequencies("direct_drive", {**seed, **REFERENCE["direct_drive"]})
+    assert worst_error(frequencies("direct_drive", seed), seed_reference, 150.0)["error"] > 0.15
 
 
 def test_stored_direct_drive_modes_are_the_models() -> None:

@@ -27,7 +27,7 @@ SCENE = RigScene("steady", speed_rpm=1500.0, duration=0.6, sample_rate=2000.0, s
 
 def _outputs(model, point: dict[str, float], harmonic: bool) -> dict[str, float]:
     p = model.effective(model.resolve(point).iloc[0].to_dict())
-    rig, drive, spin = model.assemble(p, SCENE)
+    rig, drive, spin = model.build(p, SCENE)
     t, q, qd = model._linear_run(rig, p, SCENE, spin, harmonic=harmonic)
     return objectives(model._sensors(rig, drive, SCENE, t, q, qd), SCENE, drive_for(p, SCENE, POLE_PAIRS))
 
@@ -70,7 +70,7 @@ def test_the_nonlinear_rig_started_in_the_periodic_state_stays_in_it():
     point = {"coupling_asymmetry": 0.0}
     steady = linear.simulate(SCENE, point)
     p = kloss.resolve(point).iloc[0].to_dict()
-    rig, drive, spin = kloss.assemble(p, SCENE)
+    rig, drive, spin = kloss.build(p, SCENE)
     sag = kloss.initial_state(rig, p)
     amplitude = 0.5 * np.ptp(steady["disk_y"])
     for start, most in ((kloss.periodic_state(rig, *sag, spin), 0.01), (sag, None)):

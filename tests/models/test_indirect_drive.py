@@ -55,7 +55,7 @@ def test_bryant_rotation_is_the_kernels() -> None:
 def steady(request: pytest.FixtureRequest) -> tuple:
     """Operating state spinning at SPIN under a constant LSS torque, generator balancing it."""
     model = models.get("indirect_drive", fidelity=request.param)
-    asm, q, qd = model.assemble(None, rotor_speed=SPIN, lss_torque=LSS_TORQUE)
+    asm, q, qd = model.build(None, rotor_speed=SPIN, lss_torque=LSS_TORQUE)
     qdd, lam = accelerations(asm.system, q, qd, 0.0)
     return asm, q, qd, qdd, lam
 
@@ -198,7 +198,7 @@ def test_linear_states_satisfy_the_linearised_constraints() -> None:
     nonlinear constraint residual is its second-order linearisation error: halving the
     fluctuations divides it by 4 (3.5-4.5; 20 s at 11 m/s, I_ref 0.05)."""
     model = models.get("indirect_drive", fidelity="linear")
-    asm, q, qd = model.assemble(None, rotor_speed=SPIN, lss_torque=LSS_TORQUE)
+    asm, q, qd = model.build(None, rotor_speed=SPIN, lss_torque=LSS_TORQUE)
     s = asm.system
     _, _, lin = operating_state(s, q, qd, s.index("hss.rx"))
     ss = state_space(asm, lin)

@@ -11,7 +11,8 @@ model evaluations and reusing every evaluation already made:
    sequence, so each fit has at least twice as many space-filling points as basis terms
    (rounded up to a power of two, the sequence's balance). An
    order is accepted when its leave-one-out error and top-order energy pass (``pce_loo_error``,
-   ``pce_unresolved``); the next order is tried while the budget lasts.
+   ``pce_unresolved``; the leave-one-out mean square is taken over the points drawn from the
+   input distribution, not the cut lines); the next order is tried while the budget lasts.
 3. When the next order does not fit the remaining budget: **Saltelli** with the largest
    power-of-two base sample the remaining budget pays for (``N (d + 2)`` runs, at least
    ``saltelli_min_n`` = 256: below that its errors, 0.02-0.1 on the benchmark functions, are no
@@ -142,7 +143,7 @@ class AutoSobol:
         if stage.kind == "pce":
             design = Design("pce", self.x, {**get_method("pce").defaults, "order": stage.order, "fit": stage.fit,
                                             "n": self.x.shape[0], "seed": self.options["seed"],
-                                            "tolerance": self.options["tolerance"]})
+                                            "tolerance": self.options["tolerance"]}, {"drawn": self._drawn})
             res = get_method("pce").analyze(self.space, design, self.y, outputs=names)
             sparse = "sparse " if stage.fit == "sparse" else ""
             self._record(res, f"{sparse}pce order {stage.order} ({self.x.shape[0]} runs pooled)")

@@ -16,7 +16,9 @@ the prefix with the smallest corrected leave-one-out error wins -- Blatman & Sud
 
 Trust (:mod:`ddgsa.gsa.trust`): the indices are exactly the expansion's, so the leave-one-out
 error (the expansion's error on points it was not fitted to; for ``sparse`` with Chapelle's
-correction ``n/(n - p) (1 + tr(C^-1)/n)`` for the selection) times ``_LOO_FACTOR`` is taken as
+correction ``n/(n - p) (1 + tr(C^-1)/n)`` for the selection; on a pooled design whose
+``meta["drawn"]`` marks the points drawn from the input distribution, the mean square over those
+only) times ``_LOO_FACTOR`` is taken as
 the squared L2 distance between output and expansion, and
 :func:`~ddgsa.gsa.trust.surrogate_index_error` bounds every index by it. Quadrature has no
 leave-one-out error; the variance in the top order (the truncation, if the spectrum decays
@@ -186,11 +188,11 @@ class PCE(GsaMethod):
         if opts["fit"] == "quadrature":
             coef = psi.T @ (design.meta["weights"][:, None] * y)              # (P, k)
         elif opts["fit"] == "sparse":
-            coef, loo = _sparse_fit(psi, y)
+            coef, loo = _sparse_fit(psi, y, design.meta.get("drawn"))
             extras["loo_error"] = loo
             extras["n_active"] = (coef != 0).sum(axis=0)
         else:
-            coef, loo = _least_squares(psi, y)
+            coef, loo = _least_squares(psi, y, design.meta.get("drawn"))
             extras["loo_error"] = loo
             if n_pts < psi.shape[1]:
                 diags.append(Diagnostic("pce_underdetermined", f"{n_pts} points for {psi.shape[1]} "
@@ -228,12 +230,18 @@ class PCE(GsaMethod):
                               groups=groups)
 
 
-def _sparse_fit(psi: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _sparse_fit(psi: NDArray[np.float64], y: NDArray[np.float64],
+                drawn: NDArray[np.bool_] | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Hybrid least-angle regression per output: coefficients (P, k) and corrected relative LOO errors (k,).
 
     The least-angle path orders the terms; one QR of the constant plus the terms in that order
     gives, for every prefix of the path, the least-squares fit, its leverages and
     ``tr(C^-1) = n ||R_m^-1||_F^2`` by cumulative sums, so all prefixes cost one factorisation.
+    The prefix is chosen by the corrected LOO error over all points; ``drawn`` (a mask of the
+    points drawn from the input distribution, e.g. M-DRM's check sample beside its cut lines)
+    makes the returned error that of the chosen prefix over those points only: the mean square
+    over a design that is mostly cut lines (fitted almost exactly by one-input terms) would
+    understate the error under the input distribution.
     """
     from scipy.linalg import solve_triangular
     from sklearn.linear_model import lars_path
@@ -250,7 +258,8 @@ def _sparse_fit(psi: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArr
         proj = q.T @ yk                                                        # (m,)
         fitted = np.cumsum(q * proj, axis=1)                                   # (n, m): prefix fits
         lev = np.clip(np.cumsum(q ** 2, axis=1), 0.0, 1.0 - 1e-12)
-        press = np.mean(((yk[:, None] - fitted) / (1.0 - lev)) ** 2, axis=0) / np.var(yk)
+        loo_sq = ((yk[:, None] - fitted) / (1.0 - lev)) ** 2 / np.var(yk)      # (n, m)
+        press = np.mean(loo_sq, axis=0)
         rinv = solve_triangular(r, np.eye(len(cols)))
         # ||R_m^-1||_F^2 of each leading block (R^-1 is upper triangular: whole columns)
         tr = np.cumsum((rinv ** 2).sum(axis=0))
@@ -258,13 +267,16 @@ def _sparse_fit(psi: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArr
         with np.errstate(divide="ignore", invalid="ignore"):
             corrected = press * n / np.clip(n - m_terms, 1, None) * (1.0 + tr)   # Chapelle: 1 + tr(C^-1)/n
         best = int(np.nanargmin(np.where(m_terms < n, corrected, np.inf)))
-        loo[k] = corrected[best]
+        loo[k] = corrected[best] if drawn is None else \
+            corrected[best] * _mean_over(loo_sq[:, best], drawn) / max(press[best], 1e-300)
         c = solve_triangular(r[:best + 1, :best + 1], proj[:best + 1])
         coef[cols[:best + 1], k] = c
     return coef, loo
 
-def _least_squares(psi: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Least-squares coefficients (P, k) and relative leave-one-out errors (k,) from one QR factorisation."""
+def _least_squares(psi: NDArray[np.float64], y: NDArray[np.float64],
+                   drawn: NDArray[np.bool_] | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Least-squares coefficients (P, k) and relative leave-one-out errors (k,) from one QR factorisation
+    (``drawn``: the mean square over those points only, as in :func:`_sparse_fit`)."""
     from scipy.linalg import solve_triangular
 
     if psi.shape[0] > psi.shape[1]:
@@ -274,17 +286,22 @@ def _least_squares(psi: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[ND
             coef = solve_triangular(r, q.T @ y)
             lev = np.clip((q ** 2).sum(axis=1), 0.0, 1.0 - 1e-12)
             with np.errstate(divide="ignore", invalid="ignore"):
-                loo = np.mean(((y - psi @ coef) / (1.0 - lev)[:, None]) ** 2, axis=0) / np.var(y, axis=0)
+                loo = _mean_over(((y - psi @ coef) / (1.0 - lev)[:, None]) ** 2, drawn) / np.var(y, axis=0)
             return coef, loo
     coef, *_ = np.linalg.lstsq(psi, y, rcond=None)                  # rank-deficient or underdetermined
-    return coef, _relative_loo_error(psi, y, coef)
+    return coef, _relative_loo_error(psi, y, coef, drawn)
 
 
-def _relative_loo_error(psi: NDArray[np.float64], y: NDArray[np.float64],
-                        coef: NDArray[np.float64]) -> NDArray[np.float64]:
+def _relative_loo_error(psi: NDArray[np.float64], y: NDArray[np.float64], coef: NDArray[np.float64],
+                        drawn: NDArray[np.bool_] | None = None) -> NDArray[np.float64]:
     """Leave-one-out error of a least-squares fit over the output variance, per output."""
     q, _ = np.linalg.qr(psi)
     lev = np.clip((q ** 2).sum(axis=1), 0.0, 1.0 - 1e-12)
     resid = y - psi @ coef
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.mean((resid / (1.0 - lev)[:, None]) ** 2, axis=0) / np.var(y, axis=0)
+        return _mean_over((resid / (1.0 - lev)[:, None]) ** 2, drawn) / np.var(y, axis=0)
+
+
+def _mean_over(sq: NDArray[np.float64], drawn: NDArray[np.bool_] | None) -> NDArray[np.float64]:
+    """Mean of squared LOO residuals (n, k) over all points, or over the ``drawn`` ones only."""
+    return np.mean(sq if drawn is None else sq[drawn], axis=0)

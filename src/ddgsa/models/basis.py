@@ -43,13 +43,18 @@ LADDER: dict[str, list[tuple[dict[str, Any], str]]] = {
                 ({"bending_modes": 5, "shaft_elements": 32, "shaft_axial": True},
                  "the default basis; about +27 % time per linear run and +4 to +15 % per kloss run against "
                  "2 modes on 8 elements")],
-    "direct_drive": [({"bending_modes": 3}, "+6 % time per linear run"),
-                     ({"bending_modes": 6}, "+80 % time per linear run")],
+    "direct_drive": [({"bending_modes": 3}, "about the time of the default 5 (Timoshenko; 2 Euler-Bernoulli modes "
+                                            "cost 0.7-0.85x)"),
+                     ({"bending_modes": 5}, "the default; with Timoshenko elements +15 to +40 % per linear run "
+                                            "against 2 Euler-Bernoulli modes"),
+                     ({"bending_modes": 6}, "+10 % time per linear run against the default 5")],
 }
-"""Bases tried in order for the advice, with their cost against the second stage's basis
-(:data:`LIGHT`), measured on the shared 2-core machine (the rig's: load 2-3, start-up, steady and
-coast-down at 1500 rpm, 1.2 s, and kloss 0.6 s records; the direct drive's from docs/physics.md
-"Cost of more modes")."""
+"""Bases tried in order for the advice, with their cost, measured on the shared 2-core machine: the rig's
+against the second stage's basis (:data:`LIGHT`; load 2-3, start-up, steady and coast-down at 1500 rpm,
+1.2 s, and kloss 0.6 s records), the direct drive's CPU per point of a 64-point batch of 600 s at the
+``linear`` fidelity as ``ddgsa bench`` times it (twice in one process, load 11-12; docs/physics.md "Cost of
+more modes").
+The direct drive's default (5) is converged below 284 Hz, 6 modes below 466 Hz."""
 
 LIGHT: dict[str, dict[str, Any]] = {
     "hss_rig": {"bending_modes": 2, "shaft_elements": 8, "shaft_axial": False},
@@ -155,12 +160,14 @@ def tabulated_bases(key: str) -> list[dict[str, Any]]:
     return out
 
 
-def tabulate(path: Path = TABLE) -> dict[str, Any]:
-    """Compute the modes of every :func:`tabulated_bases` basis and write them to ``path`` (JSON)."""
-    table = {key: {"nominal": _nominal_digest(key),
-                   "bases": {_options_key(b): [[round(f, 6), lab] for f, lab in _computed(key, _options_key(b))]
-                             for b in tabulated_bases(key)}}
-             for key in REFERENCE}
+def tabulate(path: Path = TABLE, keys: tuple[str, ...] = tuple(REFERENCE)) -> dict[str, Any]:
+    """Compute the modes of every :func:`tabulated_bases` basis of the models ``keys`` and write them to
+    ``path`` (JSON; the other models' entries already there are kept)."""
+    table = json.loads(path.read_text()) if path.exists() else {}
+    table.update({key: {"nominal": _nominal_digest(key),
+                        "bases": {_options_key(b): [[round(f, 6), lab] for f, lab in _computed(key, _options_key(b))]
+                                  for b in tabulated_bases(key)}}
+                  for key in keys})
     path.write_text(json.dumps(table, indent=1) + "\n")
     _stored.cache_clear()
     return table
@@ -186,6 +193,29 @@ def worst_error(modes: tuple[tuple[float, str], ...], reference: tuple[tuple[flo
                 worst = {"error": float(abs(fi - near) / near), "frequency_hz": float(fi), "reference_hz": float(near),
                          "label": modes[i][1]}
     return worst
+
+
+def mode_convergence(model: Any, table: Any) -> dict[str, Any] | None:
+    """How far each mode of ``table`` (the model's :meth:`modes` at nominal parameters, standstill) is
+    from the nearest mode of the converged basis (:data:`REFERENCE`, the same beam theory), and below
+    which frequency every mode of either basis has a partner within :data:`TOLERANCE` (``None`` for a
+    model without a basis).
+
+    Returns ``{"basis", "reference", "errors" (one per row of ``table``), "below_hz"}``: ``below_hz`` is
+    the lowest frequency [Hz] of a mode of either basis without such a partner (infinite if none).
+    """
+    key, basis = model_key(model), basis_of(model)
+    if key is None or basis is None:
+        return None
+    reference = {**basis, **REFERENCE[key]}
+    ref = np.array([f for f, _ in frequencies(key, reference)])
+    own = np.asarray(table["frequency_hz"], dtype=float)
+    near = ref[np.argmin(np.abs(ref[None, :] - own[:, None]), axis=1)]
+    errors = np.abs(own - near) / near
+    missing = np.abs(ref - own[np.argmin(np.abs(own[None, :] - ref[:, None]), axis=1)]) / ref
+    unpaired = [*own[errors > TOLERANCE], *ref[missing > TOLERANCE]]
+    return {"basis": basis, "reference": reference, "errors": errors,
+            "below_hz": float(min(unpaired)) if unpaired else float("inf")}
 
 
 def basis_report(model: Any, scene: Any) -> dict[str, Any] | None:

@@ -179,7 +179,7 @@ class IndirectDrive(Model):
         self.fields: tuple[str, ...] = () if fidelity == "rigid" else FLEXIBLE_FIELDS
 
     # -- building -----------------------------------------------------------------------------------
-    def assemble(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0,
+    def build(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0,
                  lss_torque: float = 0.0) -> tuple[Assembly, Array, Array]:
         """The system under constant loads (hub torque ``lss_torque`` [N m], generator balancing it
         at ``rotor_speed`` [rad/s]) and its operating state ``(q, qd)``."""
@@ -283,7 +283,7 @@ class IndirectDrive(Model):
         """Damped modes of the constrained system about its operating state (kernel
         :func:`ddgsa.mbs.modal.modes`), at ``rotor_speed`` [rad/s] under ``lss_torque`` [N m];
         labels ``<body>_<direction>`` (``rotor_spin`` is the drive-train torsion mode)."""
-        asm, q, qd = self.assemble(params, rotor_speed, lss_torque)
+        asm, q, qd = self.build(params, rotor_speed, lss_torque)
         return system_modes(asm.system, q, qd)
 
     def campbell(self, speeds: Any = None, orders: Any = (1.0, 3.0), params: Mapping[str, float] | None = None,
