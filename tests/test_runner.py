@@ -121,3 +121,37 @@ def test_the_progress_bar_counts_a_quiet_warm_up_run_among_its_runs(tmp_path: Pa
     again = run_tasks(tasks, store, pid_and_state, quiet=False)   # nothing left to run: no bar
     assert again["evaluated"] == 0 and capsys.readouterr().err == ""
     store.close()
+
+
+_BROKEN = {"below": 3.0}
+
+
+def breaks_below(model: ModelId) -> object:
+    """A factory that fails for ``x`` below a module-level threshold (a model bug, later fixed)."""
+
+    def evaluate(points: pd.DataFrame, scene: dict[str, float]) -> pd.DataFrame:
+        if (points["x"] < _BROKEN["below"]).any():
+            raise RuntimeError("the model's bug")
+        return pd.DataFrame({"y": 2.0 * points["x"]})
+
+    return evaluate
+
+
+def test_stored_failures_run_again_only_when_forgotten(tmp_path: Path) -> None:
+    """A failure is stored with its reason and not rerun; ``forget_failed`` (``ddgsa run --retry-failed``)
+    deletes exactly the stored failures among the keys asked, which then run again, and leaves the rest."""
+    mid = ModelId("breaks", "exact")
+    tasks = [Task(task_key(mid, {}, {"x": x}, "test"), mid, {}, {"x": float(x)}) for x in range(6)]
+    store = EvaluationStore(tmp_path / "s.sqlite")
+    _BROKEN["below"] = 3.0
+    assert run_tasks(tasks, store, breaks_below, jobs=1, batch_size=1, quiet=True)["failed"] == 3
+    _BROKEN["below"] = -1.0                                  # the bug is fixed
+    assert run_tasks(tasks, store, breaks_below, jobs=1, batch_size=1, quiet=True)["evaluated"] == 0
+    assert store.get([tasks[0].key])[tasks[0].key].error is not None
+    assert store.forget_failed(t.key for t in tasks[1:]) == 2           # x = 1, 2 (x = 0 not asked)
+    got = run_tasks(tasks, store, breaks_below, jobs=1, batch_size=1, quiet=True)
+    assert got["evaluated"] == 2 and got["failed"] == 0
+    out = store.get([t.key for t in tasks])
+    assert [out[t.key].outputs for t in tasks[1:]] == [{"y": 2.0 * x} for x in range(1, 6)]
+    assert out[tasks[0].key].outputs is None and "the model's bug" in out[tasks[0].key].error
+    store.close()

@@ -11,6 +11,7 @@ turns this into 0; 130 interrupted (Ctrl-C). Errors print one clear message and 
 from __future__ import annotations
 
 import argparse
+import json
 import logging
 import shutil
 import sys
@@ -54,6 +55,9 @@ def _parser() -> argparse.ArgumentParser:
                      help="exit 0 even when an output's indices are refused or untrusted (default: exit 3)")
     run.add_argument("--jobs", type=int, help="parallel workers (default from the study's run.jobs, else the "
                                               "number of cores)")
+    run.add_argument("--retry-failed", action="store_true",
+                     help="run again the evaluations the folder's store holds as failed (after fixing their cause; "
+                          "by default a failure is kept with its reason and not rerun)")
     run.add_argument("--backend", choices=["loky", "dask"], help="joblib loky (default) or a Dask cluster")
     run.add_argument("--address", help="Dask scheduler HOST:PORT (default: a LocalCluster)")
     val = sub.add_parser("validate", help="check a study file; exit 0 or 2", parents=[common])
@@ -214,7 +218,12 @@ def _modes(args: argparse.Namespace) -> int:
     out = args.out or Path("runs") / f"modes_{name}"
     out.mkdir(parents=True, exist_ok=True)
     if not args.campbell:
+        from ddgsa.models.basis import TOLERANCE, mode_convergence
+
         table = model.modes()
+        convergence = mode_convergence(model, table)
+        if convergence is not None:                  # a flexible shaft: how converged its modes are
+            table["basis_error"] = convergence["errors"]
         table.to_csv(out / "modes.csv", index=False)
         what = f"{name}, fidelity {getattr(model, 'fidelity', '') or '-'}, nominal parameters, standing still"
         ax = plot_modes(table)
@@ -222,7 +231,13 @@ def _modes(args: argparse.Namespace) -> int:
         ax.figure.savefig(out / "modes.png", dpi=120, bbox_inches="tight")
         if not args.quiet:
             print(f"modes of {what}:")
-            print(table[["frequency_hz", "damping_ratio", "label"]].to_string(index=False))
+            print(table[[c for c in ("frequency_hz", "damping_ratio", "label", "basis_error") if c in table]]
+                  .to_string(index=False))
+            if convergence is not None:
+                basis = ", ".join(f"{k} {json.dumps(v)}" for k, v in convergence["basis"].items())
+                print(f"shaft basis {basis}: every mode below {convergence['below_hz']:.1f} Hz is within "
+                      f"{TOLERANCE:.1%} of a converged basis (bending_modes "
+                      f"{convergence['reference']['bending_modes']}; basis_error: each mode's distance to it)")
             print(f"wrote {out / 'modes.csv'} and {out / 'modes.png'}")
         return EXIT_OK
     if args.points < 2 or args.max_rpm <= 0:
@@ -344,7 +359,7 @@ def _run(study: "Study", args: argparse.Namespace) -> int:
                 store = EvaluationStore(out / STORE_NAME, watch=[out / LOCK_NAME])
             try:
                 result = execute(study, store, jobs=args.jobs, backend=args.backend, address=args.address,
-                                 quiet=args.quiet)
+                                 quiet=args.quiet, retry_failed=args.retry_failed)
                 store.check()                       # the store that holds the results is still the folder's
             finally:
                 store.close()

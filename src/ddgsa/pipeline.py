@@ -44,29 +44,31 @@ KINDS: dict[str, Callable[[Study], Kind]] = {"gsa": GsaKind, "sweep": SweepKind,
 
 
 def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backend: str | None = None,
-            address: str | None = None, quiet: bool = False, evaluate: bool = True) -> StudyResult:
+            address: str | None = None, quiet: bool = False, evaluate: bool = True,
+            retry_failed: bool = False) -> StudyResult:
     """Run (or, with ``evaluate=False``, only read back) all model evaluations and analyse them.
 
     Wind-load realisations are shared by all workers through files beside the store
     (:mod:`ddgsa.loads.cache`): each is generated once per study, not once per worker process.
     Studies of a model with its own scene type (no wind loads) use no loads cache. The local
-    workers are forked once for the study, after the fidelity pilot's warm-up (:func:`ddgsa.runner.local_workers`)."""
+    workers are forked once for the study, after the fidelity pilot's warm-up (:func:`ddgsa.runner.local_workers`).
+    ``retry_failed`` runs again the evaluations the store holds as failed (after their cause was fixed)."""
     with loads_cache.shared(store.path.parent / "loads" if study.wind else None), local_workers():
-        return _execute(study, store, jobs, backend, address, quiet, evaluate)
+        return _execute(study, store, jobs, backend, address, quiet, evaluate, retry_failed)
 
 
 def _execute(study: Study, store: EvaluationStore, jobs: int | None, backend: str | None, address: str | None,
-             quiet: bool, evaluate: bool) -> StudyResult:
+             quiet: bool, evaluate: bool, retry_failed: bool = False) -> StudyResult:
     if study.spec.model.variants:
         return _execute_variants(study, store, jobs=jobs, backend=backend, address=address, quiet=quiet,
-                                 evaluate=evaluate)
+                                 evaluate=evaluate, retry_failed=retry_failed)
     t0 = time.perf_counter()
     spec = study.spec
     run = spec.run
     run_opts = {"jobs": jobs or run.jobs, "batch_size": run.batch_size, "backend": backend or run.backend,
                 "address": address or run.address, "quiet": quiet,
                 "setup": functools.partial(loads_cache.set_directory, loads_cache.directory())}
-    runs = Runs(store, evaluate, run_opts)
+    runs = Runs(store, evaluate, run_opts, retry_failed)
     fidelity_choice: list[dict[str, Any]] = []
     if spec.model.fidelity == "auto":
         fidelity_choice = select_fidelities(study, runs)

@@ -165,7 +165,8 @@ def problems(result: StudyResult) -> list[str]:
             # indices over failed evaluations are refused whatever the design: the way forward is the failures
             if failed and "nonfinite_values" in names:
                 way = ("no design confirms indices over failed evaluations: remove their cause (narrow the "
-                       "parameters' support away from the failing points; `ddgsa validate` checks the support)")
+                       "parameters' support away from the failing points; `ddgsa validate` checks the support), "
+                       "or, where the model was at fault and is fixed, run them again with `ddgsa run --retry-failed`")
             elif getattr(getattr(result.study, "space", None), "dependent", False):
                 way = SHAPLEY_ADVICE
             else:
@@ -577,9 +578,7 @@ def _fault_markdown(result: StudyResult) -> list[str]:
         lines += ["", "### Sensor choice (greedy forward on the Fisher detector, validated on held-out points)", "",
                   "| scene | faulty | chosen sensors | selection AUC | validation AUC [interval] | validation POD "
                   "[interval] | all sensors, validation AUC / POD |", "|---|---|---|---|---|---|---|"]
-        lines += [f"| {r.scene} | {r.faulty:g} | {r.sensors} | {r.selection_auc:.3f} | {r.auc:.2f} [{r.auc_low:.2f}, "
-                  f"{r.auc_high:.2f}] | {r.pod:.2f} [{r.pod_low:.2f}, {r.pod_high:.2f}] | {r.all_auc:.2f} / "
-                  f"{r.all_pod:.2f} |" for r in result.fault_subsets.itertuples()]
+        lines += [_subset_row(r) for r in result.fault_subsets.itertuples()]
     lines += ["", f"### Smallest detectable fault (POD {fault.pod_target:g} at false-alarm rate "
                   f"{fault.false_alarm:g}, interpolated)", "",
               "| scene | output | level (POD) | level (POD lower bound) | note |", "|---|---|---|---|---|"]
@@ -772,3 +771,13 @@ def sampling_markdown(rows: list[dict]) -> list[str]:
                  str(r['verdict']), str(r['consequence'])]
         lines.append("| " + " | ".join([str(r.get("variant", ""))] * variant + cells) + " |")
     return lines + [""]
+
+
+def _subset_row(r: Any) -> str:
+    """One row of the sensor-choice table; a validation the statistics refused shows its reason, not NaN."""
+    head = f"| {r.scene} | {r.faulty:g} | {r.sensors} | {r.selection_auc:.3f} | "
+    if not np.isfinite(r.auc):
+        why = getattr(r, "reason", "") or "no validation statistics"
+        return head + f"refused: {why} | - | - |"
+    return head + (f"{r.auc:.2f} [{r.auc_low:.2f}, {r.auc_high:.2f}] | {r.pod:.2f} [{r.pod_low:.2f}, "
+                   f"{r.pod_high:.2f}] | {r.all_auc:.2f} / {r.all_pod:.2f} |")

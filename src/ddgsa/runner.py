@@ -217,6 +217,25 @@ class EvaluationStore:
                     out[key] = Outcome(None if outputs is None else json.loads(outputs), error, seconds)
         return out
 
+    def forget_failed(self, keys: Iterable[str]) -> int:
+        """Delete the stored failures among ``keys`` (and their signals), so that they run again;
+        returns how many were deleted (``ddgsa run --retry-failed``, after their cause is fixed)."""
+        keys = list(keys)
+        gone = 0
+        self.check()
+        with self._sqlite("write"), self._db:
+            for i in range(0, len(keys), 500):
+                chunk = keys[i:i + 500]
+                marks = ",".join("?" * len(chunk))
+                failed = [r[0] for r in self._db.execute(
+                    f"SELECT key FROM evaluations WHERE error IS NOT NULL AND key IN ({marks})", chunk).fetchall()]
+                if failed:
+                    marks = ",".join("?" * len(failed))
+                    self._db.execute(f"DELETE FROM evaluations WHERE key IN ({marks})", failed)
+                    self._db.execute(f"DELETE FROM signals WHERE key IN ({marks})", failed)
+                    gone += len(failed)
+        return gone
+
     def put(self, tasks: list[Task], outcomes: list[Outcome]) -> None:
         """Store a finished batch atomically, after :meth:`check`."""
         self.check()

@@ -87,3 +87,25 @@ def test_saltelli_designs_of_one_seed_nest_so_a_larger_base_reuses_the_smaller()
     esc = Escalation(G4.space, ["y"], 10_000, small.points, G4.f(small.points)[:, None],
                      saltelli=(small, G4.f(small.points)[:, None]))
     assert esc._saltelli_n(["y"]) >= 128
+
+
+def test_an_escalation_that_cannot_confirm_stops_before_spending_its_budget() -> None:
+    """A lightly damped resonance inside the parameter ranges (a rig running near its critical speed):
+    the pooled expansion's bound does not shrink between its two first fits, Saltelli would need tens of
+    thousands of runs, so the escalation stops after 144 of its 4 000 points and says why, instead of
+    spending them for nothing."""
+    from ddgsa.space import ParameterSpace
+
+    space = ParameterSpace.from_dict({"a": {"dist": "uniform", "low": 0.8, "high": 1.2},
+                                      "b": {"dist": "uniform", "low": 0.8, "high": 1.2},
+                                      "c": {"dist": "uniform", "low": 0.9, "high": 1.1}})
+
+    def f(x: np.ndarray) -> np.ndarray:
+        r = x[:, 0] * x[:, 1]
+        return x[:, 2] / np.sqrt((1 - r**2) ** 2 + (0.02 * r) ** 2)
+
+    c = confirm(f, space, "mdrm", budget=4000)
+    assert c.confirmed == {"y": False}
+    assert c.n_evals == 48 + 48 + 96
+    assert c.log[-1].startswith("stopped with 3856 of 4000 runs left: the pooled PCE's bound shrinks too slowly")
+    assert "more than 10^9 more points" in c.log[-1] and "unconfirmed: y" in c.log[-1]

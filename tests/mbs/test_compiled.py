@@ -91,3 +91,33 @@ def test_python_only_parts_are_named() -> None:
     with pytest.raises(ModelError, match="Python trajectory"):
         pack(System([body], [SpringDamper3(body.marker(), base.marker(), (1, 1, 1))]))
     assert Ground().fixed_pose is not None
+
+
+def test_compiled_linearisation_and_consistent_state_equal_python() -> None:
+    """``linearise_system(compiled=...)`` (compiled central differences, accelerations and the constraint
+    values' curvature ``d(C_q qd)/dq``) gives the Python path's matrices, and ``consistent_state`` with the
+    compiled constraint values the Python state (1e-9 of each matrix's scale; 1e-12 for the state)."""
+    from ddgsa.mbs.compiled import constraint_values
+    from ddgsa.mbs.derivatives import central_jacobian
+    from ddgsa.mbs.modal import linearise_system
+
+    sys_ = every_part()
+    packed = pack(sys_)
+    rng = np.random.default_rng(3)
+    q, qd = sys_.q0 + rng.normal(size=sys_.n) * 1e-3, sys_.qd0 + rng.normal(size=sys_.n) * 0.1
+    want = sys_.consistent_state(q, qd, 0.2, keep=[0])
+    got = sys_.consistent_state(q, qd, 0.2, keep=[0], residuals=lambda *a: constraint_values(packed, *a))
+    for g, w in zip(got, want):
+        np.testing.assert_allclose(g, w, rtol=0, atol=1e-12 * np.abs(w).max())
+    q, qd = want
+    slow = linearise_system(sys_, q, qd, 0.2, rel_step=1e-4)
+    fast = linearise_system(sys_, q, qd, 0.2, rel_step=1e-4, compiled=packed)
+    for name in ("m_full", "c_full", "k_full", "qdd0", "lam0"):
+        g, w = getattr(fast, name), getattr(slow, name)
+        np.testing.assert_allclose(g, w, rtol=0, atol=1e-9 * np.abs(w).max(), err_msg=name)
+    # the null-space basis of C_q is not unique: its projector and the projected force are
+    np.testing.assert_allclose(fast.basis @ fast.basis.T, slow.basis @ slow.basis.T, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(fast.basis @ fast.r0, slow.basis @ slow.r0, rtol=0, atol=1e-9 * np.abs(slow.r0).max())
+    curvature = central_jacobian(lambda x: sys_.velocity_residual(x, qd, 0.2)[0], [q], 0, 1e-3, rel_step=1e-4)
+    assert slow.curvature is None
+    np.testing.assert_allclose(fast.curvature, curvature, rtol=0, atol=1e-9 * np.abs(curvature).max())

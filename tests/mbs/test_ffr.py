@@ -12,7 +12,7 @@ from ddgsa.mbs.ffr import Invariants, body_terms, body_terms_inv, g_bar, inertia
 
 @pytest.mark.parametrize("fidelity", ["flexible", "rigid"])
 def test_invariant_form_equals_point_sums(fidelity: str) -> None:
-    s = models.get("direct_drive", fidelity=fidelity).assemble().system
+    s = models.get("direct_drive", fidelity=fidelity).build().system
     inv = Invariants(s.pm, s.pu, s.ps)
     rng = np.random.default_rng(0)
     for _ in range(5):
@@ -73,7 +73,7 @@ def _kernel_against_parts(fidelity: str, rigid_only: bool) -> None:
     from ddgsa.mbs.elements import AppliedLoad
     from ddgsa.mbs.system import evaluate_terms
 
-    asm = models.get("direct_drive", fidelity=fidelity).assemble()
+    asm = models.get("direct_drive", fidelity=fidelity).build()
     parts = asm.kernel
     bearings, hub, generator = parts.elements[:2], parts.elements[2], parts.elements[3]
     rng = np.random.default_rng(3)

@@ -10,8 +10,9 @@ import pytest
 from ddgsa.errors import ModelError
 from ddgsa.mbs import (AppliedLoad, Ground, Lock, PrescribedCoordinate, RadialForce, RigidBody, SpringDamper3, System,
                        TorsionalSpring, genalpha, modes)
-from ddgsa.mbs.assembly import accelerations, static_equilibrium
-from ddgsa.mbs.bodies import rodrigues, rotation_vector
+from ddgsa.mbs.assembly import accelerations
+from ddgsa.mbs.statics import static_equilibrium
+from ddgsa.mbs.ffr import rodrigues, rotation_vector
 from ddgsa.mbs.constraints import inverse_left_jacobian
 
 K, M = 4.0e4, 10.0                       # spring [N/m], mass [kg]

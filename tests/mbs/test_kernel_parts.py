@@ -9,7 +9,7 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs import (AppliedLoad, Bushing6, FlexibleBody, Ground, PrescribedBody, PrescribedSpeed, RigidBody,
                        Spherical, SpringDamper3, System, TorqueLaw, TorsionalSpring, TransverseBearing, exact,
                        genalpha)
-from ddgsa.mbs.assembly import static_equilibrium
+from ddgsa.mbs.statics import static_equilibrium
 from ddgsa.mbs.beam import BeamSpec, mesh
 from ddgsa.mbs.series import Series
 

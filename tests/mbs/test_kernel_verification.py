@@ -12,7 +12,7 @@ import pytest
 from ddgsa.errors import ModelError
 from ddgsa.mbs import (AppliedLoad, Bushing6, GearContact, Ground, RigidBody, Spherical, System, TorqueLaw,
                        TorsionalSpring, TransverseBearing, genalpha, modes, reference)
-from ddgsa.mbs.assembly import static_equilibrium
+from ddgsa.mbs.statics import static_equilibrium
 
 G = 9.81
 

@@ -40,7 +40,7 @@ def test_registry_and_parameters() -> None:
 @pytest.mark.parametrize("fidelity", ["flexible", "rigid"])
 def test_static_reactions_balance_gravity_and_hub_loads(fidelity: str) -> None:
     model = models.get("direct_drive", fidelity=fidelity)
-    asm = model.assemble()
+    asm = model.build()
     s = asm.system
     force, moment = np.array([6e5, 3e4, -2e4]), np.array([4e6, 2.5e6, -1.2e6])
     q = model.static(asm, force, moment)
@@ -59,10 +59,16 @@ def test_static_reactions_balance_gravity_and_hub_loads(fidelity: str) -> None:
     np.testing.assert_allclose(reaction[1:], applied[1:], rtol=1e-6)
 
 
+SEED_BASIS = {"beam": "euler_bernoulli", "bending_modes": 2}
+"""Seed 000's shaft basis (the default until issue 26): tests of its two-mode example hold it."""
+
+
 def test_free_rotation_conserves_energy_and_spin() -> None:
-    model = models.get("direct_drive")
+    """Seed 000's basis at a 1 ms step (the default's 534-717 Hz modes at that step drift by 8e-5: the
+    trapezoidal rule's error in the fast modes of a nonlinear system, 2e-6 at 0.25 ms)."""
+    model = models.get("direct_drive", **SEED_BASIS)
     params = {**NOM, "bearing_damping_ratio": 0.0, "shaft_damping_ratio": 0.0}
-    s = dataclasses.replace(model.assemble(params).system, gravity=np.zeros(3))
+    s = dataclasses.replace(model.build(params).system, gravity=np.zeros(3))
     n, spin = s.n_dof, 1.25
     q0, qd0 = np.zeros(n), np.zeros(n)
     qd0[3] = spin
@@ -107,8 +113,9 @@ def _fe_plane(k_front: float, k_rear: float, p: dict) -> np.ndarray:
 
 
 def test_modes_agree_with_independent_fe_within_2_percent() -> None:
-    """Lowest two modes per bending plane and the torsion mode within 2 % of a fine FE model."""
-    modes = models.get("direct_drive").modes()
+    """Lowest two modes per bending plane and the torsion mode within 2 % of a fine FE model (Euler-Bernoulli,
+    as the seed's basis; the default's Timoshenko modes are held to ROSS in test_direct_drive_oracles.py)."""
+    modes = models.get("direct_drive", **SEED_BASIS).modes()
     for plane, (kf, kr) in (("y", (NOM["k_front_y"], NOM["k_rear_y"])), ("z", (NOM["k_front_z"], NOM["k_rear_z"]))):
         fe = _fe_plane(kf, kr, NOM)
         ours = np.sort(modes[modes[f"share_bearing_{plane}"] + modes[f"share_bending_{plane}_1"]
@@ -151,12 +158,18 @@ def test_halving_the_step_changes_objectives_below_half_a_percent(fidelity: str,
 
 
 def test_generalised_alpha_against_solve_ivp_radau() -> None:
+    """The default 5 ms step against Radau (rtol 1e-6) on the same equations within 1 % (the speed
+    bench's ``flexible_error`` target): measured 0.66 % (generator-end deflection; 0.34 % on seed 000's
+    two-mode basis, whose fastest mode is 189 Hz instead of 717 Hz), falling as the step squared
+    (0.17 % at 2.5 ms, 0.03 % at 1 ms)."""
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=8.0, seed=1)
     fast = models.get("direct_drive").evaluate(None, scene)
     ref = models.get("direct_drive", integrator="Radau").evaluate(None, scene)
     nonzero = ref.columns[(ref.abs() > 0).all()]
     rel = ((fast[nonzero] - ref[nonzero]) / ref[nonzero]).abs().max(axis=None)
-    assert rel < 5e-3, rel        # measured 0.34 % (hub deflection) on this scene
+    assert rel < 1e-2, rel
+    finer = models.get("direct_drive", time_step=0.0025).evaluate(None, scene)
+    assert ((finer[nonzero] - ref[nonzero]) / ref[nonzero]).abs().max(axis=None) < 0.3 * rel
 
 
 def test_flexible_takes_one_newton_iteration_a_step() -> None:
@@ -298,31 +311,38 @@ def _standstill_linearisation() -> tuple:
     from ddgsa.mbs.linear import linearise_spinning, state_matrices
 
     model = models.get("direct_drive", fidelity="linear")
-    asm = model.assemble()
+    asm = model.build()
     q0 = model.static(asm, np.zeros(3), np.zeros(3))
-    lin, _ = linearise_spinning(asm.system, np.delete(q0, 3), 0.0, np.zeros(7), [(2, 4), (3, 5)])
+    pairs = [(model.fields.index(f"bending_y_{k}"), model.fields.index(f"bending_z_{k}"))
+             for k in range(1, 6)]
+    lin, _ = linearise_spinning(asm.system, np.delete(q0, 3), 0.0, np.zeros(7), pairs)
     return model, state_matrices(lin)
 
 
 def test_spinning_linearisation_at_standstill_has_the_modal_analysis_frequencies() -> None:
     """The compiled linearisation (non-rotating coordinates, spin rate as a state) against the
     model's modal analysis (its own central differences of the mass matrix and forces in body
-    coordinates): at standstill both describe the same 11 oscillating modes, 3.2-189 Hz, within
-    1e-5 relative (finite-difference round-off) -- except torsion: the modal analysis drops the
-    spin rate with the spin angle, the linearisation keeps it as a state tied to the generator's
-    torque law (C_gen), which moves the 43 %-damped torsion mode by 0.14 % (tolerance 0.3 %)."""
+    coordinates): at standstill both describe the same 17 oscillating modes, 3.2-717 Hz, within
+    1e-5 relative below 150 Hz and 5e-5 above (finite-difference round-off grows with the stiffness) --
+    except torsion: the modal analysis drops the spin rate with the spin angle, the linearisation keeps it
+    as a state tied to the generator's torque law (C_gen), which moves the 43 %-damped torsion mode by
+    0.14 % (tolerance 0.3 %)."""
     model, (a, _) = _standstill_linearisation()
     lam = np.linalg.eigvals(a)
     freq = np.sort(np.abs(lam[lam.imag > 1e-6]) / (2 * np.pi))
     modes = model.modes()
     torsion = (modes["label"] == "torsion_1").to_numpy()
-    np.testing.assert_allclose(freq[~torsion], modes["frequency_hz"].to_numpy()[~torsion], rtol=1e-5)
+    expected = modes["frequency_hz"].to_numpy()
+    assert freq.size == expected.size == 17
+    low = expected < 150.0
+    np.testing.assert_allclose(freq[~torsion & low], expected[~torsion & low], rtol=1e-5)
+    np.testing.assert_allclose(freq[~low], expected[~low], rtol=5e-5)
     np.testing.assert_allclose(freq[torsion], modes["frequency_hz"].to_numpy()[torsion], rtol=3e-3)
 
 
 def test_modal_and_dense_lti_recurrences_agree(monkeypatch: pytest.MonkeyPatch) -> None:
     """:func:`lti_response` in modal coordinates (conjugate pairs once) against the dense
-    ``x[k+1] = Phi x[k] + drive`` path it falls back to, on the direct drive's 23-state system
+    ``x[k+1] = Phi x[k] + drive`` path it falls back to, on the direct drive's 35-state system
     with random inputs, on the load grid and on a 3x finer output grid. Tolerance: 1e-8 of each
     state's peak (eigenvector condition number ~1e3 times 1e-16 round-off, summed over 400 steps)."""
     import ddgsa.mbs.linear as linear
@@ -385,10 +405,10 @@ def test_end_jacobian_closed_form_matches_central_differences_of_the_end_positio
     from ddgsa.models.direct_drive import _end_jacobian, shaft_ends
 
     model = models.get("direct_drive", fidelity="flexible")
-    asm = model.assemble()
+    asm = model.build()
     rng = np.random.default_rng(3)
     for scale in (1e-4, 1e-2):
-        p0 = rng.normal(size=11) * scale
+        p0 = rng.normal(size=len(model.coordinate_names) - 1) * scale
         ends, jac = _end_jacobian(asm, p0)
         q = np.insert(p0, 3, 0.0)[None, :]
         np.testing.assert_allclose(ends, shaft_ends(q, asm)[0], rtol=0, atol=1e-14)

@@ -51,23 +51,24 @@ def _ross_rotor(rs, model: DirectDrive):
 
 
 def test_lateral_modes_within_one_percent_of_the_recorded_ross_frequencies():
-    """Timoshenko shaft, six bending modes per plane: every lateral mode below 150 Hz within 1 % of ROSS's
-    (recorded; the slow test recomputes them), the first six within 0.05 %; the default Euler-Bernoulli basis
-    of two modes has the third lateral pair 43 / 110 % high (the two-mode limit and shear) and the second 6-7 %
+    """The default model (Timoshenko shaft, five bending modes per plane, what ``ddgsa modes direct_drive``
+    lists): every lateral mode below 150 Hz within 1 % of ROSS's (recorded; the slow test recomputes them),
+    within 0.15 % in fact, the first six within 0.05 %; seed 000's basis (Euler-Bernoulli, two modes per
+    plane) has the third lateral pair 43 / 110 % high (the two-mode limit and shear) and the second 6-7 %
     (shear)."""
-    got = _lateral(DirectDrive(beam="timoshenko", bending_modes=6))
+    got = _lateral(DirectDrive())
     ross = np.array(ROSS_LATERAL_HZ)
     assert got.size == ross.size
-    np.testing.assert_allclose(got, ross, rtol=1e-2)
+    np.testing.assert_allclose(got, ross, rtol=1.5e-3)
     np.testing.assert_allclose(got[:6], ross[:6], rtol=5e-4)
-    default = _lateral(DirectDrive())
-    assert default[4] / ross[4] - 1 > 0.4 and default[2] / ross[2] - 1 > 0.05
+    seed = _lateral(DirectDrive(beam="euler_bernoulli", bending_modes=2))
+    assert seed[4] / ross[4] - 1 > 0.4 and seed[2] / ross[2] - 1 > 0.05
 
 
 @pytest.mark.slow                        # ROSS imports and solves in ~60 s on the shared machine
 def test_lateral_modes_against_ross():
     rs = pytest.importorskip("ross", reason="ROSS is the optional oracle: pip install -e '.[oracles]'")
-    model = DirectDrive(beam="timoshenko", bending_modes=6)
+    model = DirectDrive()                                    # the default: Timoshenko, 5 modes per plane
     wn = np.sort(_ross_rotor(rs, model).run_modal(speed=0.0, num_modes=60).wn) / (2 * np.pi)
     got = _lateral(model)
     nearest = wn[np.argmin(np.abs(wn[:, None] - got[None, :]), axis=0)]

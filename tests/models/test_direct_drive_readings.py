@@ -22,8 +22,10 @@ SCENE = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=60.0, seed=1)
 
 def _bending_block(reading: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[float, float], np.ndarray]:
     """Mass, stiffness and damping of the first two bending coordinates in y of the nominal shaft
-    (the two-mode example), its first two FE bending frequencies [rad/s] and its whole damping matrix."""
-    body = models.get("direct_drive", fidelity="flexible", bending_rayleigh=reading).assemble().kernel.bodies[0]
+    (the two-mode example, on seed 000's basis: Euler-Bernoulli, two modes per plane), its first two FE
+    bending frequencies [rad/s] and its whole damping matrix."""
+    body = models.get("direct_drive", fidelity="flexible", bending_rayleigh=reading, beam="euler_bernoulli",
+                      bending_modes=2).build().kernel.bodies[0]
     pm, _, ps = body.points
     m_ff = np.einsum("j,jai,jak->ik", pm, ps, ps)                  # the lumped points' elastic mass
     ix = np.ix_(*[[body.fields.index("bending_y_1"), body.fields.index("bending_y_2")]] * 2)
@@ -81,7 +83,7 @@ def test_bearing_damping_readings_on_the_elements() -> None:
     mass = 40000.0 + 30000.0 + 5030.0
     k = np.array([[1e10, 3e9, 1e10], [0.0, 3e9, 1e10]])
     for reading, expected in (("modal", 2 * ZETA * np.sqrt(k * mass / 2)), ("stiffness_proportional", ZETA * k)):
-        asm = models.get("direct_drive", fidelity="rigid", bearing_damping=reading).assemble()
+        asm = models.get("direct_drive", fidelity="rigid", bearing_damping=reading).build()
         np.testing.assert_allclose(asm.system.sp_c, expected, rtol=1e-12)
     assert 2 * ZETA * math.sqrt(3e9 * mass / 2) == pytest.approx(2.12e5, rel=1e-3)       # 1/141 of zeta K
 
@@ -142,7 +144,7 @@ def test_printed_rayleigh_turns_and_shrinks_the_running_shaft_sag() -> None:
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.0, duration=60.0, seed=1)
     model = models.get("direct_drive", fidelity="linear", bending_rayleigh="printed", deflection="elastic")
     series = model.simulate(scene)
-    body = model.assemble().kernel.bodies[0]
+    body = model.build().kernel.bodies[0]
     omega_delta = series["rotor_speed"].mean() * 2 * ZETA * 2 * math.pi * body.modes.freq_bending[:2].sum()
     static = series.attrs["static_hub"][1:]
     running = series[["hub_dy", "hub_dz"]].to_numpy()[-2000:].mean(axis=0)

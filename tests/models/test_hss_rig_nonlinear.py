@@ -15,7 +15,7 @@ STARTUP = RigScene("startup", speed_rpm=1500.0, duration=0.1, sample_rate=1000.0
 def _run(fidelity, t_end, dt, use_reference=False):
     m = models.get("hss_rig", fidelity=fidelity)
     p = m.resolve(None).iloc[0].to_dict()
-    rig, _, _ = m.assemble(p, STARTUP)
+    rig, _, _ = m.build(p, STARTUP)
     q0, qd0 = m.initial_state(rig, p)
     if use_reference:
         run = reference.simulate(rig.system, t_end, 1e-3, q0=q0, qd0=qd0, rtol=1e-7, atol=1e-9)

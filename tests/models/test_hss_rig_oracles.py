@@ -48,7 +48,7 @@ def test_jeffcott_critical_speed_and_unbalance_response_against_ross(disc_at, k1
     wn = np.sort(rotor.run_modal(speed=0.0).wn)
     # the first lateral mode is the first x/y pair of equal frequencies (isotropic supports); the free
     # axial and torsional motions of the massless shaft give single modes
-    pair = next(i for i in range(len(wn) - 1) if abs(wn[i + 1] - wn[i]) < 1e-6 * wn[i])
+    pair = next(i for i in range(len(wn) - 1) if abs(wn[i + 1] - wn[i]) < 1e-4 * wn[i])   # ARPACK: ~1e-7 apart
     lateral = wn[pair]
     assert lateral == pytest.approx(jeffcott_critical_speed(k, mass), rel=1e-4)
     speeds = jeffcott_critical_speed(k, mass) * np.array([0.5, 0.95, 1.0, 1.05, 2.0])
@@ -61,15 +61,15 @@ def test_jeffcott_critical_speed_and_unbalance_response_against_ross(disc_at, k1
 
 @pytest.mark.slow                        # two rig linearisations, ~10 s on the shared machine
 def test_first_lateral_pair_split_is_the_coupling_anisotropy():
-    """The 19.2 / 19.9 Hz pair of ``ddgsa modes hss_rig`` comes from the coupling's anisotropy held at hub
-    angle 0: without it (``coupling_asymmetry`` 0; housing looseness is 0 at nominal) the two frequencies
+    """The 18.8 / 19.3 Hz pair of ``ddgsa modes hss_rig`` comes from the coupling's anisotropy held at hub
+    angle 0 (on the second stage's 2-mode basis 19.2 / 19.9 Hz): without it (``coupling_asymmetry`` 0; housing looseness is 0 at nominal) the two frequencies
     agree to 1e-5, gravity sag included."""
     from ddgsa.models.hss_rig.model import HssRig
 
     model = HssRig(fidelity="kloss")
     nominal = model.modes()["frequency_hz"].to_numpy()[:2]
     isotropic = model.modes({"coupling_asymmetry": 0.0})["frequency_hz"].to_numpy()[:2]
-    assert nominal[1] / nominal[0] - 1 > 0.03
+    assert nominal[1] / nominal[0] - 1 > 0.02                      # 2.5 %
     assert isotropic[1] == pytest.approx(isotropic[0], rel=1e-5)
 
 
@@ -140,9 +140,10 @@ def _ross_rig(rs, p, elements_per_span):
 @pytest.mark.slow                        # ROSS solves the rig in ~60 s, ddgsa's fine basis ~10 s
 def test_rig_modes_against_ross():
     """Coupling included (its anisotropy off): with eight bending modes, 32 elements per span and the axial
-    mode every lateral, axial and torsional mode of ``ddgsa modes hss_rig`` below 400 Hz within 1 % of ROSS
-    (measured <= 0.3 %); the default basis (two modes, 8 elements, axially rigid shaft) has the first pair
-    2.5 % high, the axial mode 2.7 % high and the coupling-hub pair (273.6 Hz) missing."""
+    mode every lateral, axial and torsional mode below 400 Hz within 1 % of ROSS (measured <= 0.3 %), and so
+    on the default basis (5 modes, 32 elements, axial; ``ddgsa modes hss_rig``); the second stage's basis (two
+    modes, 8 elements, axially rigid shaft) has the first pair 2.5 % high, the axial mode 2.7 % high and the
+    coupling-hub pair (273.6 Hz) missing."""
     rs = pytest.importorskip("ross", reason="ROSS is the optional oracle: pip install -e '.[oracles]'")
     from ddgsa.models.hss_rig.model import HssRig
 
@@ -156,7 +157,13 @@ def test_rig_modes_against_ross():
     nearest = ross[np.argmin(np.abs(ross[:, None] - got[None, :]), axis=0)]
     np.testing.assert_allclose(got, nearest, rtol=1e-2)
     assert set(np.round(nearest, 3)) == set(ross[ross < 400])                 # every ROSS mode is matched
-    default = HssRig(fidelity="kloss").modes({"coupling_asymmetry": 0.0}).set_index("label")["frequency_hz"]
+    table = HssRig(fidelity="kloss").modes({"coupling_asymmetry": 0.0})             # the default basis
+    got = table.loc[table["frequency_hz"] < 400, "frequency_hz"].to_numpy()
+    nearest = ross[np.argmin(np.abs(ross[:, None] - got[None, :]), axis=0)]
+    np.testing.assert_allclose(got, nearest, rtol=1e-2)
+    assert set(np.round(nearest, 3)) == set(ross[ross < 400])
+    default = (HssRig(fidelity="kloss", bending_modes=2, shaft_elements=8, shaft_axial=False)
+               .modes({"coupling_asymmetry": 0.0}).set_index("label")["frequency_hz"])
     assert default.iloc[0] / ROSS_RIG_HZ[0] - 1 > 0.02 and not np.any(np.abs(default / 273.576 - 1) < 0.02)
     assert default["hss_axial"] / 132.529 - 1 == pytest.approx(0.027, abs=0.002)
 
@@ -167,7 +174,7 @@ def test_rig_basis_options_reach_the_shaft():
     from ddgsa.models.hss_rig.model import HssRig
     from ddgsa.models.hss_rig.rig import build
 
-    model = HssRig(fidelity="kloss", bending_modes=3, shaft_elements=16)
+    model = HssRig(fidelity="kloss", bending_modes=3, shaft_elements=16, shaft_axial=False)
     rig = build(model.resolve(None).iloc[0].to_dict(), lambda marker: ([], []), basis=model.basis)
     hss = next(b for b in rig.system.bodies if b.name == "hss")
     assert hss.fields == ("torsion", "bending_y_1", "bending_z_1", "bending_y_2", "bending_z_2", "bending_y_3",
@@ -202,13 +209,14 @@ def _disk_1x(model, p, spin):
 def test_rig_unbalance_response_and_critical_speed_against_ross():
     """The disk's 1x unbalance amplitude at 0.75, 1.0 and 1.25 of the first critical speed within 5 % of ROSS's
     ``run_unbalance_response`` (measured <= 0.1 %) on the converged basis (5 modes, 32 elements, axial), and
-    the first lateral pair at the critical speed (the 1x crossing) within 1 % (measured 0.005 %); the default
-    basis is 44 % low at the critical speed (11 % low below it, 9 % high above). Coupling anisotropy off (ROSS's
+    the first lateral pair at the critical speed (the 1x crossing) within 1 % (measured 0.005 %); the second
+    stage's basis (2 modes, 8 elements, axially rigid) is 44 % low at the critical speed (11 % low below it,
+    9 % high above). Coupling anisotropy off (ROSS's
     coupling is isotropic), so the orbit is a circle."""
     rs = pytest.importorskip("ross", reason="ROSS is the optional oracle: pip install -e '.[oracles]'")
     from ddgsa.models.hss_rig.model import HssRig
 
-    model = HssRig(fidelity="linear", bending_modes=5, shaft_elements=32, shaft_axial=True)
+    model = HssRig(fidelity="linear")                          # the default: 5 modes, 32 elements, axial
     p = model.resolve({"coupling_asymmetry": 0.0}).iloc[0].to_dict()
     rotor = _ross_rig(rs, p, 32)
     near = 2 * math.pi * ROSS_RIG_HZ[0]                      # the pair moves < 0.1 % with speed: one step suffices
@@ -223,5 +231,6 @@ def test_rig_unbalance_response_and_critical_speed_against_ross():
     ross = np.abs(resp[disk * rotor.number_dof: disk * rotor.number_dof + 2]).T       # (speeds, x/y)
     got = np.array([_disk_1x(model, p, s) for s in speeds])
     np.testing.assert_allclose(got, ross, rtol=0.05)
-    default = np.array([_disk_1x(HssRig(fidelity="linear"), p, s)[0] for s in speeds])
+    old = HssRig(fidelity="linear", bending_modes=2, shaft_elements=8, shaft_axial=False)
+    default = np.array([_disk_1x(old, p, s)[0] for s in speeds])
     assert default[1] / ross[1, 0] - 1 < -0.3                 # the default basis misses the resonance peak

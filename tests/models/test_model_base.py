@@ -1,5 +1,5 @@
 """What every model shares through ``ddgsa.models.base.Model`` (issue 24): one fidelity check, and
-``modes`` and ``campbell`` with one signature."""
+``modes``, ``campbell`` and ``build`` with one signature."""
 
 from __future__ import annotations
 
@@ -17,10 +17,26 @@ def test_modes_and_campbell_have_the_bases_signature(name: str) -> None:
     """The base's parameters, in its order, first (a model may add its own keywords after them:
     the geared drive's ``lss_torque``)."""
     cls = models.MODELS[name]
-    for method in ("modes", "campbell"):
+    for method in ("modes", "campbell", "build"):
         names = list(inspect.signature(getattr(cls, method)).parameters)
-        base = list(inspect.signature(getattr(Model, method)).parameters)
+        base = [p.name for p in inspect.signature(getattr(Model, method)).parameters.values()
+                if p.kind != inspect.Parameter.VAR_KEYWORD]
         assert names[:len(base)] == base, (name, method, names)
+
+
+@pytest.mark.parametrize("name", ["direct_drive", "indirect_drive", "hss_rig", "generator_radial"])
+def test_every_multibody_model_builds_by_one_spelling(name: str) -> None:
+    """``build(params)`` on each of the four models (the rig also needs its scene); no other spelling left."""
+    model = models.get(name)
+    conditions = {"scene": {"kind": "steady", "speed_rpm": 1500.0, "duration": 0.5, "settle": 0.05}} if name == "hss_rig" else {}
+    assert model.build(None, **conditions) is not None
+    for old in ("assemble", "system", "_assemble"):
+        assert not hasattr(model, old), (name, old)
+
+
+def test_a_model_without_a_multibody_system_refuses_to_build() -> None:
+    with pytest.raises(ModelError, match="model 'analytic' is not built from the kernel's parts"):
+        models.get("analytic").build()
 
 
 @pytest.mark.parametrize("name, known", [("hss_rig", "dq, kloss, linear"), ("direct_drive", "flexible, rigid, linear"),

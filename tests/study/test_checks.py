@@ -164,7 +164,7 @@ def test_geared_drive_mounts_too_soft_for_the_torque_are_found_before_running(tm
     # (nonlinear static equilibrium of the constrained system under the rated torque)
     model = get_model("indirect_drive", fidelity="rigid")
     for k in (2e7, 2e8):
-        asm, q, _ = model.assemble({"k_mount_z": k}, NREL5MW.rated_speed, NREL5MW.rated_torque)
+        asm, q, _ = model.build({"k_mount_z": k}, NREL5MW.rated_speed, NREL5MW.rated_torque)
         assert q[asm.system.index("housing.rx")] == pytest.approx(NREL5MW.rated_torque / (2 * k * 1.2 ** 2), rel=0.02)
     limit = NREL5MW.rated_torque / (2 * 0.1 * 1.2 ** 2)                  # k_z giving 0.1 rad: 1.37e7 N/m
     assert model.point_problems({"k_mount_z": 1.01 * limit}) == []

@@ -41,17 +41,20 @@ def test_the_pipeline_adds_the_escalation_beside_the_methods(write_study, tmp_pa
 
 
 @pytest.mark.slow
-def test_a_study_confirm_block_escalates_and_reuses_the_store(write_study, tmp_path: Path) -> None:
+def test_a_study_confirm_block_escalates_and_reuses_the_store(write_study, tmp_path: Path, capsys) -> None:
     """The CLI (about 15 s): ``confirm: {budget: 300}`` on the analytic model (Ishigami x wind_speed / 11): M-DRM alone
-    exits 3 (unconfirmed), with the block the study is confirmed in both scenes, the added points
-    are in provenance, and a second run finds every evaluation in the store."""
+    exits 3 (unconfirmed), with the block the study is confirmed in both scenes (each stage told on the
+    console), the added points are in provenance, and a second run finds every evaluation in the store."""
     text = write_study(n=64).read_text().replace("  - {method: saltelli, n: 64, seed: 0}\n", "")
     study = tmp_path / "c.yaml"
     study.write_text(text.replace("outputs: [y, y_positive]", "outputs: [y]"))
     out = tmp_path / "out"
     assert main(["-q", "run", str(study), "--out", str(out)]) == 3
     study.write_text(study.read_text() + "confirm: {budget: 300}\n")
-    assert main(["-q", "run", str(study), "--out", str(out)]) == 0
+    capsys.readouterr()
+    assert main(["run", str(study), "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "ddgsa: confirm, scene 0: next: pce points +" in err and "ddgsa: confirm, scene 1: pce (+" in err
     table = pd.read_csv(out / "indices.csv")
     esc = table[table["method"] == PCE_NAME]
     assert sorted(esc["scene"].unique()) == [0, 1]

@@ -247,3 +247,21 @@ def test_issue_33_direct_drive_front_bearing_study(write_study, tmp_path: Path) 
     assert abs(r["auc"] - 0.5) <= 0.03 and r["auc_low"] <= 0.5 <= r["auc_high"], r
     assert r["pod_low"] <= 0.05 <= r["pod_high"], r
     assert pd.isna(r["detectable"]) and r["reason"].startswith("4 realisations: POD resolution"), r["reason"]
+
+
+def test_a_refused_sensor_choice_validation_shows_its_reason_not_nan() -> None:
+    """A validation half too small for a verdict reads 'refused: <reason>' in summary.md's sensor-choice
+    table (it read 'nan [nan, nan]' in every committed rig fault study)."""
+    from types import SimpleNamespace
+
+    from ddgsa.report import _subset_row
+
+    nan = float("nan")
+    row = SimpleNamespace(scene=0, faulty=0.4, sensors="a, b", selection_auc=0.9, auc=nan, auc_low=nan, auc_high=nan,
+                          pod=nan, pod_low=nan, pod_high=nan, all_auc=nan, all_pod=nan,
+                          reason="16 healthy measurements: fewer than 1/alpha = 20 independent ones")
+    text = _subset_row(row)
+    assert "nan" not in text and "refused: 16 healthy measurements" in text
+    ok = SimpleNamespace(**{**vars(row), "auc": 0.8, "auc_low": 0.7, "auc_high": 0.9, "pod": 0.5, "pod_low": 0.4,
+                            "pod_high": 0.6, "all_auc": 0.85, "all_pod": 0.55})
+    assert _subset_row(ok) == "| 0 | 0.4 | a, b | 0.900 | 0.80 [0.70, 0.90] | 0.50 [0.40, 0.60] | 0.85 / 0.55 |"

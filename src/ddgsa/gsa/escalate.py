@@ -22,7 +22,10 @@ chooses the next design by what the pooled data say is cheapest:
   design when the seeds agree).
 
 The cheaper of the two estimates runs; when neither fits in what is left, the rest of the budget
-goes to PCE points (they always refit the pooled expansion) and the escalation stops. Only the
+goes to PCE points (they always refit the pooled expansion) and the escalation stops -- unless the
+rate has been measured and even the cheapest unconfirmed output needs more than :data:`HOPELESS`
+times what is left: then it stops at once and says so (an output with a resonance inside the
+parameter ranges, whose bound does not shrink, would otherwise take the whole budget for nothing). Only the
 newest pooled expansion and the newest Saltelli stage are reported (methods ``confirm_pce`` and
 ``confirm_saltelli``): earlier stages are superseded, never shopped among.
 
@@ -52,6 +55,10 @@ MIN_STEP = 32
 """Fewest points a PCE stage adds (smaller steps cost a refit for little change)."""
 MIN_RATE = 0.05
 """Slowest convergence rate of the pooled expansion's bound assumed (a bound that did not shrink)."""
+HOPELESS = 4.0
+"""Stop before the budget is spent when, with the expansion's convergence rate measured (two fits)
+and no Saltelli base within what is left, even the cheapest unconfirmed output needs more than this
+many times the runs left: they would be spent without confirming anything."""
 MAX_ORDER = 10
 """Highest degree of the escalation's pooled expansion (``auto`` fits up to 9 by regression)."""
 MAX_ENTRIES = 1_000_000
@@ -244,6 +251,13 @@ class Escalation:
                             f"{_fmt(add_pce)} runs)")
             self._pending = ("saltelli", pts, design)
             return pts
+        if len(self._history) >= 2 and add_salt > left:
+            cheapest = min(max(0.0, self._pce_need([o]) - n_pool) for o in bad)
+            if cheapest > HOPELESS * left:
+                self.log.append(f"stopped with {left} of {self.budget} runs left: the pooled PCE's bound shrinks too "
+                                f"slowly (the cheapest output needs {_fmt(cheapest)} more points) and saltelli "
+                                f"N={n_salt} needs {add_salt} runs; unconfirmed: {', '.join(bad)}")
+                return None
         step = int(min(left, max(MIN_STEP, min(add_pce, max(n_pool, MIN_STEP)))))
         why = "the rest of the budget" if step == left else f"estimate {_fmt(add_pce)} more"
         self.log.append(f"next: pce points +{step} ({why}; saltelli N={n_salt} would add {add_salt} runs)")
@@ -256,7 +270,11 @@ class Escalation:
 
 
 def _fmt(n: float) -> str:
-    return "unknown" if not np.isfinite(n) else f"{int(np.ceil(n))}"
+    """A run count for the log: 'unknown' (no estimate), the number, or 'more than 10^9' (a bound
+    that does not shrink extrapolates to absurd counts)."""
+    if not np.isfinite(n):
+        return "unknown"
+    return "more than 10^9" if n > 1e9 else f"{int(np.ceil(n))}"
 
 
 @dataclass

@@ -122,17 +122,22 @@ class Runs:
     with stored reasons) and ``failed_now``.
     """
 
-    def __init__(self, store: EvaluationStore, evaluate: bool, run_opts: dict[str, Any]) -> None:
+    def __init__(self, store: EvaluationStore, evaluate: bool, run_opts: dict[str, Any],
+                 retry_failed: bool = False) -> None:
         self.store, self.evaluate, self.run_opts = store, evaluate, run_opts
+        self.retry_failed = retry_failed
+        """Run again the evaluations the store holds as failed (``ddgsa run --retry-failed``)."""
         self.tasks: dict[str, Task] = {}
-        self.evaluated = self.failed_now = 0
+        self.evaluated = self.failed_now = self.retried = 0
         self._warm: set[ModelId] = set()
 
     def __call__(self, tasks: list[Task]) -> None:
-        """Evaluate what the store lacks of ``tasks``."""
+        """Evaluate what the store lacks of ``tasks`` (and, with ``retry_failed``, what failed)."""
         self.tasks.update((t.key, t) for t in tasks)
         if not self.evaluate:
             return
+        if self.retry_failed:
+            self.retried += self.store.forget_failed(t.key for t in tasks)
         self._warm_up(tasks)
         self._run(tasks, self.run_opts)
 

@@ -4,6 +4,8 @@ convergence curves."""
 
 from __future__ import annotations
 
+import sys
+
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -202,6 +204,17 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
         x = esc.start()
         if x is not None:
             pending[i] = x
+    told = [0] * len(escs)
+
+    def tell() -> None:
+        """Each escalation's new log lines on the console (a confirm stage can take minutes)."""
+        for i, esc in enumerate(escs):
+            if not runs.run_opts.get("quiet", False):
+                for line in esc.log[told[i]:]:
+                    print(f"ddgsa: confirm, scene {plan.scenes[i].index}: {line}", file=sys.stderr, flush=True)
+            told[i] = len(esc.log)
+
+    tell()
     while pending:
         tasks = [plan.task(plan.scenes[i], scene, p) for i, x in pending.items()
                  for scene in plan.scenes[i].scenes for p in plan_points(study, x, names)]
@@ -209,6 +222,7 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
         runs(tasks)
         pending = {i: nxt for i, x in pending.items() if (nxt := escs[i].feed(
             plan.values_at(runs.store, x, names, plan.scenes[i], outputs, aggregate))) is not None}
+        tell()
     rows, diag_rows = [result.indices], [result.diagnostics] if len(result.diagnostics) else []
     for ps, esc in zip(plan.scenes, escs):
         for res in esc.stages:

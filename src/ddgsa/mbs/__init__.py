@@ -12,6 +12,7 @@ Parts (each small and testable alone):
   :class:`GearContact` (seed 001 eqs. 2.3-2.4), :class:`PrescribedSpeed`, :class:`Lock` (chosen
   relative translations/rotations), :class:`PrescribedCoordinate` (one held at a value or ``f(t)``).
 - :mod:`ddgsa.mbs.assembly` -- :class:`System`: the equations of eq. 2.5 from those parts.
+- :mod:`ddgsa.mbs.statics` -- :func:`static_equilibrium`, the one static equilibrium of any System.
 - :mod:`ddgsa.mbs.integrate` -- ``genalpha`` (fast nonlinear path), ``reference`` (``solve_ivp``),
   ``exact`` (linearised, exactly discretised).
 - :mod:`ddgsa.mbs.modal` -- constrained linearisation and labelled modes;
@@ -29,10 +30,11 @@ from ddgsa.mbs.constraints import (GearContact, Lock, PrescribedCoordinate, Pres
 from ddgsa.mbs.elements import AppliedLoad, Bushing6, RadialForce, SpringDamper3, TorqueLaw, TorsionalSpring
 from ddgsa.mbs.integrate import Trajectory, exact, genalpha, reference
 from ddgsa.mbs.modal import linearise_system, modes
+from ddgsa.mbs.statics import static_equilibrium
 
 __all__ = [
     "System", "RigidBody", "FlexibleBody", "Ground", "PrescribedBody", "Marker",
     "SpringDamper3", "Bushing6", "TorsionalSpring", "TorqueLaw", "AppliedLoad", "RadialForce",
     "Spherical", "TransverseBearing", "GearContact", "PrescribedSpeed", "Lock", "PrescribedCoordinate",
-    "genalpha", "reference", "exact", "Trajectory", "linearise_system", "modes",
+    "genalpha", "reference", "exact", "Trajectory", "linearise_system", "modes", "static_equilibrium",
 ]

@@ -220,28 +220,33 @@ def _loop(ctx, q0, qd0, acc0, lam0, t0, h, n_steps, output_every, am, af, gamma,
     return q_out, qd_out, lam_out, y_out, drift, worst, total
 
 
-def _bound(evaluate: Callable, tag: str) -> types.FunctionType:
-    """:func:`_loop` with ``_evaluate`` bound to ``evaluate`` (its own name, so numba caches each kind apart)."""
-    scope = dict(_loop.__globals__)
+def _bound(evaluate: Callable, tag: str, loop: Callable | None = None) -> types.FunctionType:
+    """``loop`` (default :func:`_loop`) with its ``_evaluate`` bound to ``evaluate`` (its own name, so
+    numba caches each kind apart)."""
+    loop = _loop if loop is None else loop
+    scope = dict(loop.__globals__)
     scope["_evaluate"] = evaluate
-    fn = types.FunctionType(_loop.__code__, scope, _loop.__name__, _loop.__defaults__, _loop.__closure__)
-    fn.__qualname__ = f"_loop_{tag}"
-    fn.__module__ = _loop.__module__
+    fn = types.FunctionType(loop.__code__, scope, loop.__name__, loop.__defaults__, loop.__closure__)
+    fn.__qualname__ = f"{loop.__name__}_{tag}"
+    fn.__module__ = loop.__module__
     return fn
 
 
-def specialise(evaluate: Callable, tag: str) -> Callable:
-    """The loop compiled (and cached) for a compiled kind ``evaluate`` (an ``njit`` function).
+def specialise(evaluate: Callable, tag: str, loop: Callable | None = None) -> Callable:
+    """The loop compiled (and cached) for a compiled kind ``evaluate`` (an ``njit`` function);
+    ``loop``: another loop over kinds (:func:`ddgsa.mbs.statics._newton`), default :func:`_loop`.
 
     numba checks a cached function against its own source file only; the copy's name carries the
-    stamps (modification time, size) of this file and of the kind's, so that editing either
+    stamps (modification time, size) of the loop's file and of the kind's, so that editing either
     compiles the loop afresh instead of loading a stale copy.
     """
-    files = sorted({_loop.__code__.co_filename, evaluate.py_func.__code__.co_filename})
+    loop = _loop if loop is None else loop
+    files = sorted({loop.__code__.co_filename, evaluate.py_func.__code__.co_filename})
     stamps = "|".join(f"{os.stat(f).st_mtime_ns}:{os.stat(f).st_size}" for f in files)
-    return njit(cache=True)(_bound(evaluate, f"{tag}_{hashlib.sha1(stamps.encode()).hexdigest()[:10]}"))
+    return njit(cache=True)(_bound(evaluate, f"{tag}_{hashlib.sha1(stamps.encode()).hexdigest()[:10]}", loop))
 
 
-def python_loop(evaluate: Callable) -> Callable:
-    """The loop run as Python for a Python kind ``evaluate`` (its step helpers stay compiled)."""
-    return _bound(evaluate, "python")
+def python_loop(evaluate: Callable, loop: Callable | None = None) -> Callable:
+    """The loop (default :func:`_loop`) run as Python for a Python kind ``evaluate`` (its step
+    helpers stay compiled)."""
+    return _bound(evaluate, "python", loop)

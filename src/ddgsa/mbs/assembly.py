@@ -9,7 +9,7 @@ constraint Jacobians for the integrators (:mod:`ddgsa.mbs.integrate`) and the mo
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -19,7 +19,6 @@ from numpy.typing import ArrayLike, NDArray
 from ddgsa.errors import ModelError
 from ddgsa.mbs.bodies import Body, Marker, MarkerState
 from ddgsa.mbs.constraints import Constraint
-from ddgsa.mbs.derivatives import central_jacobian
 from ddgsa.mbs.elements import Element
 
 Array = NDArray[np.float64]
@@ -213,24 +212,28 @@ class System:
         return float(e)
 
     def consistent_state(self, q: Array | None = None, qd: Array | None = None, t: float = 0.0,
-                         keep: Sequence[int] = (), tol: float = 1e-12, max_iter: int = 50) -> tuple[Array, Array]:
+                         keep: Sequence[int] = (), tol: float = 1e-12, max_iter: int = 50,
+                         residuals: Callable[[Array, Array, float], tuple[Array, Array, Array, Array]] | None = None
+                         ) -> tuple[Array, Array]:
         """Nearest state that satisfies the constraints (least-squares corrections).
 
         Positions are corrected by Gauss-Newton on ``C(q) = 0`` with minimum-norm steps; velocities
         are projected on ``B q_dot + b = 0`` with the coordinates in ``keep`` (e.g. a driving spin
-        rate) held at their given values.
+        rate) held at their given values. ``residuals(q, qd, t) -> (C, C_q, V, B)`` evaluates the
+        constraints another way (the compiled kernel's, :func:`ddgsa.mbs.compiled.constraint_values`;
+        the same values to round-off); default :meth:`holonomic_residual` and :meth:`velocity_residual`.
         """
         q = (self.q0 if q is None else np.asarray(q, dtype=float)).copy()
         qd = (self.qd0 if qd is None else np.asarray(qd, dtype=float)).copy()
         for _ in range(max_iter):
-            c, cq = self.holonomic_residual(q, qd, t)
+            c, cq = self.holonomic_residual(q, qd, t) if residuals is None else residuals(q, qd, t)[:2]
             if c.size == 0 or np.max(np.abs(c)) < tol:
                 break
             q -= np.linalg.lstsq(cq, c, rcond=None)[0]
         else:
             raise ModelError(f"the constraints cannot be satisfied near the initial pose (residual "
                              f"{np.max(np.abs(c)):.3g})")
-        v, b = self.velocity_residual(q, qd, t)
+        v, b = self.velocity_residual(q, qd, t) if residuals is None else residuals(q, qd, t)[2:]
         if v.size:
             free = np.setdiff1d(np.arange(self.n), np.asarray(keep, dtype=int))
             dq = np.zeros(self.n)
@@ -295,56 +298,22 @@ def accelerations(system: System, q: Array, qd: Array, t: float, stabilisation: 
     return sol[:n], sol[n:]
 
 
-def static_equilibrium(system: System, q: Array | None = None, t: float = 0.0, tol: float = 1e-10,
-                       max_iter: int = 50, analytic: bool = False) -> tuple[Array, Array]:
-    """Static equilibrium ``Q(q, 0, t) = C_q^T lambda`` near ``q`` (default the initial pose).
+def python_kind(system: System) -> Callable[..., None]:
+    """The System run on its own objects as a kind of :mod:`ddgsa.mbs.alpha`'s loops
+    (``evaluate(q, qd, t, step, ctx, m, f, kt, ct, y, ch, jac, vel)``: generalised-alpha's and the
+    statics'): the equations, the elements' wrenches as outputs, the constraints' residuals and Jacobian."""
+    nh, nc = system.n_holonomic, system.n_constraints
 
-    Holonomic constraints are kept exactly; velocity-level constraints (gear contacts) hold for
-    the displacement from the starting pose, ``B (q - q_start) = 0`` (their integrable
-    linearisation). Newton iterations with a central-difference tangent over ``q`` (the multiplier
-    block, ``-C_q^T``, is exact: a difference step in ``lambda`` is lost in large forces such as the
-    weight a lock carries); rigid-body directions
-    left free by elements and constraints make the problem singular and raise. ``analytic=True``
-    takes the ``q`` block of the tangent from the parts' own tangents (``-K_t`` of :meth:`System.terms`,
-    without the multipliers' geometric stiffness): one evaluation per iteration instead of ``2 n``;
-    the residual is the same, so is the root (convergence is quadratic where those tangents are exact).
+    def evaluate(q: Array, qd: Array, t: float, step: int, ctx: None, m: Array, f: Array, kt: Array, ct: Array,
+                 y: Array, ch: Array, jac: Array, vel: Array) -> None:
+        states = system.marker_states(q, qd, t)
+        tm = system.terms(q, qd, t, states)
+        m[:], f[:], kt[:], ct[:] = tm.m, tm.q, tm.k, tm.c
+        if tm.outputs:
+            y[:] = np.ravel(tm.outputs)
+        if nh:
+            ch[:] = system.holonomic_residual(q, qd, t, states)[0]
+        if nc:
+            vel[:], jac[:] = system.velocity_residual(q, qd, t, states)
 
-    Returns
-    -------
-    q : (n,) equilibrium coordinates
-    lam : (n_c,) multipliers (holonomic first), see each constraint's ``reaction``
-    """
-    q_start = (system.q0 if q is None else np.asarray(q, dtype=float)).copy()
-    n, nc, nh = system.n, system.n_constraints, system.n_holonomic
-    zero = np.zeros(n)
-
-    def residual(x: Array) -> Array:
-        qq, lam = x[:n], x[n:]
-        states = system.marker_states(qq, zero, t)
-        jac = system.constraint_jacobian(qq, zero, t)
-        out = np.empty(n + nc)
-        out[:n] = system.terms(qq, zero, t, states).q - jac.T @ lam
-        out[n:n + nh] = system.holonomic_residual(qq, zero, t, states)[0]
-        out[n + nh:] = jac[nh:] @ (qq - q_start)
-        return out
-
-    x = np.concatenate([q_start, np.zeros(nc)])
-    for _ in range(max_iter):
-        r = residual(x)
-        jac = np.zeros((n + nc, n + nc))                  # linear in lambda: that block is exact, -C_q^T
-        if analytic:
-            jac[:n, :n] = -system.terms(x[:n], zero, t).k
-            jac[n:n + nh, :n] = system.holonomic_residual(x[:n], zero, t)[1]
-            jac[n + nh:, :n] = system.constraint_jacobian(x[:n], zero, t)[nh:]
-        else:
-            jac[:, :n] = central_jacobian(lambda y: residual(np.concatenate([y, x[n:]])), [x[:n]], 0, 1e-3)
-        jac[:n, n:] = -system.constraint_jacobian(x[:n], zero, t).T
-        try:
-            dx = np.linalg.solve(jac, -r)
-        except np.linalg.LinAlgError:
-            raise ModelError("static equilibrium: the tangent is singular (a rigid-body motion is left free by "
-                             "the elements and constraints)") from None
-        x = x + dx
-        if np.max(np.abs(dx[:n])) < tol:
-            return x[:n], x[n:]
-    raise ModelError(f"static equilibrium: no convergence in {max_iter} iterations (residual {np.abs(r).max():.3g})")
+    return evaluate

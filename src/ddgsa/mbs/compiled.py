@@ -17,7 +17,6 @@ Anything else (a Python torque law, a general trajectory, a new element class) r
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -29,8 +28,8 @@ from ddgsa.mbs.alpha import specialise
 from ddgsa.mbs.assembly import System, Terms
 from ddgsa.mbs.bodies import FlexibleBody, MarkerState, PrescribedBody
 from ddgsa.mbs.constraints import GearContact, PrescribedSpeed, Spherical, TransverseBearing
-from ddgsa.mbs.elements import AppliedLoad, TorqueLaw, _Connector
-from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rotation
+from ddgsa.mbs.elements import AppliedLoad, TorqueLaw, _Connector, connector_tangent
+from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rodrigues, rotation, rotation_vector
 from ddgsa.mbs.ffr import cross as _cross
 from ddgsa.mbs.series import Series
 
@@ -255,30 +254,6 @@ def _series(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t, deriv):  # pragma: no cov
 
 
 @njit(cache=True)
-def _rodrigues(v):  # pragma: no cover (compiled)
-    angle = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-    k = np.zeros((3, 3))
-    k[0, 1], k[0, 2], k[1, 2] = -v[2], v[1], -v[0]
-    k[1, 0], k[2, 0], k[2, 1] = v[2], -v[1], v[0]
-    kk = mm(k, k)
-    if angle < 1e-8:
-        return np.eye(3) + k + 0.5 * kk
-    return np.eye(3) + math.sin(angle) / angle * k + (1.0 - math.cos(angle)) / angle ** 2 * kk
-
-
-@njit(cache=True)
-def _rotvec(r):  # pragma: no cover (compiled)
-    cos = 0.5 * (r[0, 0] + r[1, 1] + r[2, 2] - 1.0)
-    cos = min(1.0, max(-1.0, cos))
-    angle = math.acos(cos)
-    out = np.empty(3)
-    out[0], out[1], out[2] = r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]
-    if angle < 1e-6:
-        return 0.5 * out
-    return 0.5 * angle / math.sin(angle) * out
-
-
-@njit(cache=True)
 def _markers(q, qd, t, P):  # pragma: no cover (compiled)
     """Position, orientation, velocity, angular velocity, Jacobian and column range of every marker."""
     (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
@@ -339,7 +314,7 @@ def _markers(q, qd, t, P):  # pragma: no cover (compiled)
             for i in range(3):
                 for k in range(nf):
                     th[i] += sr[i, k] * qf[k]
-            ma[m] = mm(a, _rodrigues(th))
+            ma[m] = mm(a, rodrigues(th))
         else:
             ma[m] = a
         mr[m] = q[lo:lo + 3] + u
@@ -389,37 +364,6 @@ def _pair_tangent(kt, mj, lohi, i, j, k6):  # pragma: no cover (compiled)
     _add_jtkj(kt, mj, lohi, i, j, k6, -1.0)
     _add_jtkj(kt, mj, lohi, j, i, k6, -1.0)
     _add_jtkj(kt, mj, lohi, j, j, k6, 1.0)
-
-
-@njit(cache=True)
-def _skew(d):  # pragma: no cover (compiled)
-    out = np.zeros((3, 3))
-    out[0, 1], out[0, 2], out[1, 2] = -d[2], d[1], -d[0]
-    out[1, 0], out[2, 0], out[2, 1] = d[2], -d[1], d[0]
-    return out
-
-
-@njit(cache=True)
-def _connector_tangent(k, rest, arm, force):  # pragma: no cover (compiled)
-    """As :func:`ddgsa.mbs.elements.connector_tangent`."""
-    dmat = np.zeros((6, 12))
-    sr = _skew(rest)
-    for r in range(3):
-        dmat[r, r] = -1.0
-        dmat[r, 6 + r] = 1.0
-        dmat[3 + r, 3 + r] = -1.0
-        dmat[3 + r, 9 + r] = 1.0
-        for c in range(3):
-            dmat[r, 3 + c] = sr[r, c]
-    g = mm(k, dmat)
-    dw = np.zeros((12, 12))
-    dw[0:6] = g
-    dw[6:9] = -g[:3]
-    dw[9:12] = -g[3:] + mm(_skew(arm), g[:3])
-    sf = _skew(force)
-    dw[9:12, 0:3] += sf
-    dw[9:12, 6:9] -= sf
-    return -dw
 
 
 @njit(cache=True)
@@ -482,7 +426,7 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
                 proj = axis[0] * dw[0] + axis[1] * dw[1] + axis[2] * dw[2]
                 dw = dw - axis * proj
             else:
-                th = _rotvec(mm(mm(aj, cn_rest_a[idx].T), ai.T))
+                th = rotation_vector(mm(mm(aj, cn_rest_a[idx].T), ai.T))
             for k in range(3):
                 d[3 + k] = th[k]
                 dd[3 + k] = dw[k]
@@ -502,8 +446,9 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
                 wj[3 + k] = -fv[3 + k] + mom[k]
             _add_jtw(f, mj, lohi, i, fv, 1.0)
             _add_jtw(f, mj, lohi, j, wj, 1.0)
-            _add_blocks(kt, mj, lohi, i, j, _connector_tangent(kg, rest, arm, fv[:3].copy()))
-            _add_blocks(ct, mj, lohi, i, j, _connector_tangent(cg, rest, arm, np.zeros(3)))
+            turning = rest if frame_i else np.zeros(3)    # a global-frame rest offset does not turn with marker i
+            _add_blocks(kt, mj, lohi, i, j, connector_tangent(kg, turning, arm, fv[:3].copy()))
+            _add_blocks(ct, mj, lohi, i, j, connector_tangent(cg, turning, arm, np.zeros(3)))
             out[el] = fv
         elif kind == 1:
             mk, rm = tq_m[idx, 0], tq_m[idx, 1]
@@ -651,6 +596,65 @@ _loop = specialise(_evaluate, "packed")
 def evaluate(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, ...]:
     """``(M, Q, K_t, C_t, outputs, C_h, C_q, V)`` of the packed system at one state (for tests)."""
     return _assemble(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays)
+
+
+def constraint_values(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, Array, Array, Array]:
+    """``(C, C_q, V, B)`` of the packed system at one state: the holonomic residual and its Jacobian,
+    the velocity-level values of all constraints (holonomic first) and their Jacobian, as
+    :meth:`System.holonomic_residual <ddgsa.mbs.assembly.System.holonomic_residual>` and
+    :meth:`~ddgsa.mbs.assembly.System.velocity_residual` give them (the ``residuals`` of
+    :meth:`~ddgsa.mbs.assembly.System.consistent_state`)."""
+    *_, ch, jac, vel = evaluate(packed, q, qd, t)
+    return ch, jac[:packed.n_holonomic], vel, jac
+
+
+def accelerations(packed: Packed, q: Array, qd: Array, t: float, fd_step: float = 1e-6) -> tuple[Array, Array]:
+    """Index-1 accelerations and multipliers of the packed system, as :func:`ddgsa.mbs.assembly.accelerations`
+    without stabilisation."""
+    return _accelerations(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays,
+                          float(fd_step))
+
+
+@njit(cache=True)
+def _residual_jacobians(q0, qd0, qdd0, lam0, t, P, scale, rel_step):  # pragma: no cover (compiled)
+    """Central differences of ``M(q) qdd0 - Q(q, qd, t) + C_q(q)^T lam0`` over ``q`` and over ``qd``, and of
+    the velocity-level constraint values over ``q``, as :func:`ddgsa.mbs.derivatives.central_jacobian`
+    takes them (step ``rel_step max(scale, |x_i|)``)."""
+    n = q0.size
+    out = np.empty((2, n, n))
+    dvel = np.empty((_assemble(q0, qd0, t, P)[7].size, n))
+    for which in range(2):
+        x0 = q0 if which == 0 else qd0
+        for i in range(n):
+            h = rel_step * max(scale, abs(x0[i]))
+            col = np.zeros(n)
+            vcol = np.zeros(dvel.shape[0])
+            for sign in (1.0, -1.0):
+                q, qd = q0.copy(), qd0.copy()
+                if which == 0:
+                    q[i] += sign * h
+                else:
+                    qd[i] += sign * h
+                m_mat, f, kt, ct, y, ch, jac, vel = _assemble(q, qd, t, P)
+                r = np.dot(m_mat, qdd0) - f
+                if lam0.size:
+                    r += np.dot(jac.T, lam0)
+                col += sign * r
+                vcol += sign * vel
+            out[which, :, i] = col / (2.0 * h)
+            if which == 0:
+                dvel[:, i] = vcol / (2.0 * h)
+    return out[0], out[1], dvel
+
+
+def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Array, t: float, scale: float,
+                       rel_step: float) -> tuple[Array, Array, Array]:
+    """``(K, C, B0)``: the Jacobians of ``M q_ddot - Q + C_q^T lambda`` over ``q`` and ``q_dot`` at ``(q, qd, t)``
+    with ``q_ddot, lambda`` held (the stiffness and damping of :func:`ddgsa.mbs.modal.linearise_system`), and
+    of the velocity-level constraint values ``V`` over ``q`` (``d(C_q q_dot)/dq``), by central differences
+    in one compiled loop."""
+    return _residual_jacobians(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), np.asarray(qdd, dtype=float),
+                               np.asarray(lam, dtype=float), float(t), packed.arrays, float(scale), float(rel_step))
 
 
 def gen_alpha(packed: Packed, q0: Array, qd0: Array, t0: float, dt: float, n_steps: int, output_every: int,

@@ -28,7 +28,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.bodies import Ground, Marker, MarkerState, cross, rotation_vector, skew
+from ddgsa.mbs.bodies import Ground, Marker, MarkerState
+from ddgsa.mbs.ffr import cross, rotation_vector, skew
 
 Array = NDArray[np.float64]
 

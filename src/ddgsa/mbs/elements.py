@@ -19,10 +19,12 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable
 
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.bodies import Marker, MarkerState, cross, rotation_vector, skew
+from ddgsa.mbs.bodies import Marker, MarkerState
+from ddgsa.mbs.ffr import cross, mm, rotation_vector, skew
 from ddgsa.mbs.series import Series
 
 Array = NDArray[np.float64]
@@ -122,7 +124,8 @@ def _pair(k: Array) -> Array:
     return np.block([[k, -k], [-k, k]])
 
 
-def connector_tangent(k: Array, rest: Array, arm: Array, force: Array) -> Array:
+@njit(cache=True)
+def connector_tangent(k: Array, rest: Array, arm: Array, force: Array) -> Array:  # pragma: no cover (compiled)
     """``-dW/dx`` (12 x 12) of a connector ``F = K d`` between markers ``i`` and ``j``.
 
     ``d = [r_j - r_i - rest, theta_j - theta_i]`` where ``rest`` [m] turns with marker i (a
@@ -130,18 +133,27 @@ def connector_tangent(k: Array, rest: Array, arm: Array, force: Array) -> Array:
     marker j also gets the couple ``arm x F`` of the force about the two points, whose
     variation with the points adds ``-skew(F) (dr_j - dr_i)`` (``force`` the current force).
     Variations of the frame's rotation of ``K`` itself are left to the Newton iterations.
+
+    Compiled, and the one implementation: the element's :meth:`_Connector.wrench` calls it from
+    Python and the packed system (:mod:`ddgsa.mbs.compiled`) from its compiled assembly.
     """
-    eye = np.eye(3)
     dmat = np.zeros((6, 12))
-    dmat[:3, 0:3], dmat[:3, 3:6], dmat[:3, 6:9] = -eye, skew(rest), eye
-    dmat[3:, 3:6], dmat[3:, 9:12] = -eye, eye
-    g = k @ dmat
+    sr = skew(rest)
+    for r in range(3):
+        dmat[r, r] = -1.0
+        dmat[r, 6 + r] = 1.0
+        dmat[3 + r, 3 + r] = -1.0
+        dmat[3 + r, 9 + r] = 1.0
+        for c in range(3):
+            dmat[r, 3 + c] = sr[r, c]
+    g = mm(k, dmat)
     dw = np.zeros((12, 12))
     dw[0:6] = g
     dw[6:9] = -g[:3]
-    dw[9:12] = -g[3:] + skew(arm) @ g[:3]
-    dw[9:12, 0:3] += skew(force)
-    dw[9:12, 6:9] -= skew(force)
+    dw[9:12] = -g[3:] + mm(skew(arm), g[:3])
+    sf = skew(force)
+    dw[9:12, 0:3] += sf
+    dw[9:12, 6:9] -= sf
     return -dw
 
 

@@ -19,6 +19,8 @@ represented exactly by six points on their principal axes plus one at the centre
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
@@ -79,6 +81,38 @@ def cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]
     out[1] = a[2] * b[0] - a[0] * b[2]
     out[2] = a[0] * b[1] - a[1] * b[0]
     return out
+
+
+@njit(cache=True)
+def skew(d: NDArray[np.float64]) -> NDArray[np.float64]:  # pragma: no cover (compiled)
+    """Cross-product matrix: ``skew(d) @ x == d x x``."""
+    out = np.zeros((3, 3))
+    out[0, 1], out[0, 2], out[1, 2] = -d[2], d[1], -d[0]
+    out[1, 0], out[2, 0], out[2, 1] = d[2], -d[1], d[0]
+    return out
+
+
+@njit(cache=True)
+def rodrigues(v: NDArray[np.float64]) -> NDArray[np.float64]:  # pragma: no cover (compiled)
+    """Rotation matrix of the rotation vector ``v`` [rad]."""
+    angle = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    k = skew(v)
+    kk = mm(k, k)
+    if angle < 1e-8:
+        return np.eye(3) + k + 0.5 * kk
+    return np.eye(3) + math.sin(angle) / angle * k + (1.0 - math.cos(angle)) / angle ** 2 * kk
+
+
+@njit(cache=True)
+def rotation_vector(r: NDArray[np.float64]) -> NDArray[np.float64]:  # pragma: no cover (compiled)
+    """Rotation vector [rad] of the rotation matrix ``r`` (angles below pi)."""
+    cos = min(1.0, max(-1.0, 0.5 * (r[0, 0] + r[1, 1] + r[2, 2] - 1.0)))
+    angle = math.acos(cos)
+    out = np.empty(3)
+    out[0], out[1], out[2] = r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]
+    if angle < 1e-6:
+        return 0.5 * out
+    return 0.5 * angle / math.sin(angle) * out
 
 
 @njit(cache=True)

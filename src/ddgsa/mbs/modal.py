@@ -20,7 +20,8 @@ from numpy.typing import NDArray
 from scipy.linalg import eig, null_space
 
 from ddgsa.mbs.assembly import System, accelerations
-from ddgsa.mbs.compiled import evaluate, pack
+from ddgsa.mbs.compiled import Packed, evaluate, pack, residual_jacobians
+from ddgsa.mbs.compiled import accelerations as compiled_accelerations
 from ddgsa.mbs.derivatives import central_jacobian
 
 Terms = Callable[[NDArray[np.float64], NDArray[np.float64]], tuple[NDArray[np.float64], NDArray[np.float64]]]
@@ -157,6 +158,9 @@ class ConstrainedLinearisation:
     m_full, c_full, k_full : (n, n) the unreduced matrices
     q0, qd0, t0 : the operating state; ``qdd0``, ``lam0`` its accelerations and multipliers
     r0 : (n_z,) ``N^T Q_0``, the unbalanced generalised force at the operating state
+    curvature : (n_c, n) or None
+        ``d(C_q(q) qd0)/dq``, the velocity-level constraint values' Jacobian over the coordinates at the
+        operating velocities, where the compiled linearisation took it from the same evaluations
     """
 
     m: NDArray[np.float64]
@@ -172,6 +176,7 @@ class ConstrainedLinearisation:
     qdd0: NDArray[np.float64]
     lam0: NDArray[np.float64]
     r0: NDArray[np.float64]
+    curvature: NDArray[np.float64] | None = None
 
     @property
     def b(self) -> NDArray[np.float64]:
@@ -186,7 +191,7 @@ class ConstrainedLinearisation:
 
 def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0: NDArray[np.float64] | None = None,
                      t0: float = 0.0, rel_step: float = 1e-6, analytic: bool = False,
-                     compiled: bool = False) -> ConstrainedLinearisation:
+                     compiled: bool | Packed = False) -> ConstrainedLinearisation:
     """Linearise a constrained system about ``(q0, qd0, t0)`` and reduce it on the null space of ``C_q``.
 
     The full matrices are central differences (:func:`~ddgsa.mbs.derivatives.central_jacobian`) of the
@@ -196,19 +201,23 @@ def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0:
     elements give exact tangents and whose multipliers add no geometric stiffness (no spin, no
     gyroscopic terms); one evaluation instead of ``4 n``. ``compiled=True`` takes every residual
     from the packed system (:func:`ddgsa.mbs.compiled.evaluate`: the same terms to round-off, about
-    13x faster; every part must pack).
+    13x faster; every part must pack), the accelerations too, and takes the central differences in
+    one compiled loop (:func:`ddgsa.mbs.compiled.residual_jacobians`); a :class:`~ddgsa.mbs.compiled.Packed` of
+    ``system`` is taken as packed already (a caller that linearises one system often).
     """
     if q0 is None or qd0 is None:
         q0, qd0 = system.consistent_state(q0, qd0, t0)
     q0, qd0 = np.asarray(q0, dtype=float), np.asarray(qd0, dtype=float)
-    qdd0, lam0 = accelerations(system, q0, qd0, t0)
-    if compiled:
-        packed = pack(system)
+    if compiled is not False:
+        packed = compiled if isinstance(compiled, Packed) else pack(system)
+        qdd0, lam0 = compiled_accelerations(packed, q0, qd0, t0)
 
         def mass_force_jacobian(q: NDArray[np.float64], qd: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
             m, f, *_, jac, _ = evaluate(packed, q, qd, t0)
             return m, f, jac
     else:
+        qdd0, lam0 = accelerations(system, q0, qd0, t0)
+
         def mass_force_jacobian(q: NDArray[np.float64], qd: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
             tm = system.terms(q, qd, t0)
             jac = system.constraint_jacobian(q, qd, t0) if system.n_constraints else np.zeros((0, system.n))
@@ -225,13 +234,16 @@ def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0:
     if analytic:
         tm = system.terms(q0, qd0, t0)
         k_full, c_full = tm.k, tm.c
+    elif compiled is not False:
+        k_full, c_full, curvature = residual_jacobians(packed, q0, qd0, qdd0, lam0, t0, 1e-3, rel_step)
     else:
         args = [q0, qd0, qdd0]
         k_full = central_jacobian(residual, args, 0, 1e-3, rel_step)
         c_full = central_jacobian(residual, args, 1, 1e-3, rel_step)
     basis = null_space(jac0) if system.n_constraints else np.eye(system.n)
     return ConstrainedLinearisation(basis.T @ m0 @ basis, basis.T @ c_full @ basis, basis.T @ k_full @ basis,
-                                    basis, m0, c_full, k_full, q0, qd0, t0, qdd0, lam0, basis.T @ f0)
+                                    basis, m0, c_full, k_full, q0, qd0, t0, qdd0, lam0, basis.T @ f0,
+                                    curvature if compiled is not False and not analytic else None)
 
 
 def modes(system: System, q0: NDArray[np.float64] | None = None, qd0: NDArray[np.float64] | None = None,

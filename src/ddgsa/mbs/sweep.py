@@ -41,6 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 from scipy.linalg import null_space
+from scipy.optimize import NoConvergence, newton_krylov
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
@@ -231,25 +232,53 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
     g = gauge @ rigid
     tau = 2 * np.pi / w * np.arange(samples) / samples
     phase = np.exp(1j * w * np.outer(tau, np.arange(1, n_h)))               # (samples, n_h - 1)
-    f_hat = np.zeros((n_h, k.shape[0]), dtype=complex)
-    last = None
-    for _ in range(max_iter):
+    shape = (n_h, k.shape[0])
+
+    def respond(f_hat: NDArray[np.complex128]) -> tuple[Array, NDArray[np.complex128]]:
+        """The static part and harmonic amplitudes ``(z_s, Z_j)`` for turning-input harmonics ``f_hat``."""
         zs = np.linalg.lstsq(k, r + static + f_hat[0].real, rcond=RIGID_RCOND)[0]
         if rigid.size:
             zs = zs - rigid @ (np.linalg.lstsq(g[None, :], np.atleast_1d(gauge @ zs), rcond=None)[0])
         amps = np.array([np.linalg.solve(op, f_hat[j] + (once if j == 1 else 0.0))
                          for j, op in enumerate(ops, start=1)])                # (n_h - 1, n)
-        if turning is None:
-            break
+        return zs, amps
+
+    def harmonics(zs: Array, amps: NDArray[np.complex128]) -> NDArray[np.complex128]:
+        """The turning input's harmonics over the orbit ``(z_s, Z_j)``."""
+        assert turning is not None
         orbit = zs + (phase @ amps).real + np.outer(w * tau, model.rates)
         f_hat = np.fft.fft(np.array([turning(z) for z in orbit]), axis=0)[:n_h] / samples
         f_hat[1:] *= 2.0                                                       # Re(F_j exp(i j w t)) form
+        return f_hat
+
+    f_hat = np.zeros(shape, dtype=complex)
+    zs, amps = respond(f_hat)
+    last = None
+    for _ in range(max_iter if turning is not None else 0):
+        f_hat = harmonics(zs, amps)
+        zs, amps = respond(f_hat)
         state = np.concatenate([zs, amps.ravel().view(float)])
         if last is not None and np.linalg.norm(state - last) <= rtol * np.linalg.norm(state):
             break
         last = state
     else:
-        raise ModelError(f"steady orbit: the turning input's harmonics did not settle in {max_iter} iterations")
+        if turning is not None:
+            # Near a resonance the parametric coupling of the turning input is no longer small against
+            # the rig's dynamic stiffness and the plain iteration diverges: solve the fixed point
+            # f = harmonics(respond(f)) by Newton-Krylov from the first iterate (the map is affine in f
+            # up to the spin angle's small effect, so one or two Newton steps do).
+            def residual(x: Array) -> Array:
+                f = x.view(complex).reshape(shape)
+                return (harmonics(*respond(f)) - f).ravel().view(float)
+
+            x0 = harmonics(*respond(np.zeros(shape, dtype=complex))).ravel().view(float)
+            scale = max(float(np.abs(x0).max()), np.finfo(float).tiny)
+            try:
+                x = newton_krylov(residual, x0.copy(), f_tol=rtol * scale, maxiter=max_iter)
+            except (NoConvergence, ValueError, np.linalg.LinAlgError) as exc:
+                raise ModelError(f"steady orbit: the turning input's harmonics did not settle in {max_iter} "
+                                 f"iterations, nor by Newton-Krylov ({exc})") from None
+            zs, amps = respond(x.view(complex).reshape(shape))
     z = zs + amps.sum(axis=0).real
     zd = (1j * w * np.arange(1, n_h)[:, None] * amps).sum(axis=0).real + w * model.rates
     return z, zd

@@ -42,6 +42,7 @@ from ddgsa.mbs.bodies import FlexibleBody
 from ddgsa.mbs.elements import AppliedLoad, SpringDamper3, TorqueLaw
 from ddgsa.mbs.ffr import Invariants, body_terms_into, g_bar, rotation
 from ddgsa.mbs.ivp import first_order
+from ddgsa.mbs.statics import compiled_statics, solve
 
 
 @dataclass(frozen=True)
@@ -260,6 +261,7 @@ def _evaluate(q, qd, t, step, ctx, m, f, kt, ct, y, ch, jac, vel):  # pragma: no
 
 
 _loop = specialise(_evaluate, "single_body")
+_static = compiled_statics(_evaluate, "single_body")
 
 
 def integrate(sys: SystemArrays, q0: NDArray[np.float64], qd0: NDArray[np.float64], dt_load: float,
@@ -338,43 +340,18 @@ def static_state(sys: SystemArrays, force: NDArray[np.float64], moment: NDArray[
     gravity and the torque law's constant ``torque0`` [N m], with the spin angle (coordinate 3)
     held at its guess (the torque law balances the torque; the angle is cyclic).
 
-    Newton iterations with the tangent stiffness ``K_t`` of :func:`terms` from ``q_guess`` (zero
-    by default), converged when the largest coordinate update is below ``tol`` (m or rad); one
-    compiled call (~10x less than the same iterations driven from Python). Raises RuntimeError
-    when ``max_iter`` iterations do not converge.
+    The kernel's statics (:mod:`ddgsa.mbs.statics`) compiled for this kind, with the tangent
+    stiffness ``K_t`` of :func:`terms` from ``q_guess`` (zero by default), converged when the largest
+    coordinate update is below ``tol`` (m or rad); one compiled call. Raises
+    :class:`~ddgsa.errors.ModelError` when ``max_iter`` iterations do not converge.
     """
-    n = sys.n_dof
-    q = np.zeros(n) if q_guess is None else np.array(q_guess, dtype=float)
-    ok = _static_newton(q, np.asarray(force, float), np.asarray(moment, float), float(torque0), float(tol),
-                        int(max_iter), sys.args())
-    if not ok:
-        raise RuntimeError(f"static equilibrium did not converge in {max_iter} Newton iterations")
-    return q
-
-
-@njit(cache=True)
-def _static_newton(q, force, moment, torque0, tol, max_iter, sys):  # pragma: no cover (compiled)
-    """:func:`static_state`'s iterations on ``q`` in place; True when converged."""
-    n = q.size
-    keep = np.array([i for i in range(n) if i != 3])
-    zero = np.zeros(3)
-    qd = np.zeros(n)
-    a = np.empty((n - 1, n - 1))
-    b = np.empty(n - 1)
-    for _ in range(max_iter):
-        _, f, kt, _, _, _ = terms(q, qd, force, moment, 0.0, torque0, zero, zero, *sys)
-        for i in range(n - 1):
-            b[i] = f[keep[i]]
-            for j in range(n - 1):
-                a[i, j] = kt[keep[i], keep[j]]
-        step = np.linalg.solve(a, b)
-        largest = 0.0
-        for i in range(n - 1):
-            q[keep[i]] += step[i]
-            largest = max(largest, abs(step[i]))
-        if largest < tol:
-            return True
-    return False
+    n, ns = sys.n_dof, sys.sp_k.shape[0]
+    row = np.zeros(13)
+    row[0:3], row[3:6] = force, moment
+    ctx = (np.stack([row, row]), 1, float(torque0), np.empty(13), np.empty((ns, 3)), np.empty((ns + 1, 3, n)),
+           sys.args())
+    q = np.zeros(n) if q_guess is None else np.asarray(q_guess, dtype=float)
+    return solve(_static, ctx, q, 0.0, (3,), tol, max_iter, 0, 0, 3 * ns + 1, True)[0]
 
 
 def integrate_reference(sys: SystemArrays, q0: NDArray[np.float64], qd0: NDArray[np.float64], times: NDArray[np.float64],

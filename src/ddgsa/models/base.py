@@ -433,6 +433,19 @@ class Model(ABC):
     def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         """Time series (indexed by time [s]) of states, bearing forces and loads."""
 
+    def build(self, params: Mapping[str, float] | None = None, **conditions: Any) -> Any:
+        """The model's system built from the kernel's parts (:mod:`ddgsa.mbs`) at ``params`` (missing ->
+        nominal) and the model's operating ``conditions`` (the rig's scene, the geared drive's rotor
+        speed and torque, the generator's mean hub forces): one spelling on every model, each
+        documenting what it returns. A model without a multibody system refuses.
+
+        Raises
+        ------
+        ModelError
+            For a model that is not built from the kernel's parts.
+        """
+        raise ModelError(f"model {self.name!r} is not built from the kernel's parts: nothing to build")
+
     @abstractmethod
     def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
         """Natural frequencies [Hz], damping ratios and labels at ``params``, the rotor turning at

@@ -39,15 +39,30 @@ REFERENCE: dict[str, dict[str, Any]] = {
 5 modes on 32 elements move by <= 0.34 % below 600 Hz against it (docs/physics.md)."""
 
 LADDER: dict[str, list[tuple[dict[str, Any], str]]] = {
-    "hss_rig": [({"bending_modes": 3}, "about +11 % time per linear steady run"),
+    "hss_rig": [({"bending_modes": 3}, "about +11 % time per linear steady run against 2 modes"),
                 ({"bending_modes": 5, "shaft_elements": 32, "shaft_axial": True},
-                 "about +50 to +75 % time per linear steady run")],
-    "direct_drive": [({"bending_modes": 3}, "+6 % time per linear run"),
-                     ({"bending_modes": 6}, "+80 % time per linear run")],
+                 "the default basis; about +27 % time per linear run and +4 to +15 % per kloss run against "
+                 "2 modes on 8 elements")],
+    "direct_drive": [({"bending_modes": 3}, "about the time of the default 5 (Timoshenko; 2 Euler-Bernoulli modes "
+                                            "cost 0.7-0.85x)"),
+                     ({"bending_modes": 5}, "the default; with Timoshenko elements +15 to +40 % per linear run "
+                                            "against 2 Euler-Bernoulli modes"),
+                     ({"bending_modes": 6}, "+10 % time per linear run against the default 5")],
 }
-"""Bases tried in order for the advice, with their cost against the default basis, measured on the
-shared 2-core machine (load 16; the rig's steady 1500 rpm, 1.2 s scene at the ``linear`` fidelity,
-twice; the direct drive's from docs/physics.md "Cost of more modes")."""
+"""Bases tried in order for the advice, with their cost, measured on the shared 2-core machine: the rig's
+against the second stage's basis (:data:`LIGHT`; load 2-3, start-up, steady and coast-down at 1500 rpm,
+1.2 s, and kloss 0.6 s records), the direct drive's CPU per point of a 64-point batch of 600 s at the
+``linear`` fidelity as ``ddgsa bench`` times it (twice in one process, load 11-12; docs/physics.md "Cost of
+more modes").
+The direct drive's default (5) is converged below 284 Hz, 6 modes below 466 Hz."""
+
+LIGHT: dict[str, dict[str, Any]] = {
+    "hss_rig": {"bending_modes": 2, "shaft_elements": 8, "shaft_axial": False},
+    "direct_drive": {"bending_modes": 2},
+}
+"""The second stage's default bases (the rig's 2 modes per plane on 8 elements, axially rigid, is 2.5 %
+high on its first pair and 44 % low on the disk's 1x amplitude at the critical speed): tabulated
+with the ladder's steps from them, for studies that keep them for speed."""
 
 TABLE = Path(__file__).parents[1] / "data" / "basis_modes.json"
 """Stored standstill modes at nominal parameters of the bases of :data:`LADDER` and :data:`REFERENCE`
@@ -128,25 +143,31 @@ def frequencies(key: str, options: dict[str, Any], stored: bool = True) -> tuple
 
 
 def tabulated_bases(key: str) -> list[dict[str, Any]]:
-    """The bases :data:`TABLE` holds for a model: its default, each :data:`LADDER` step and
-    :data:`REFERENCE`, for each beam theory (with the model's other basis options at their defaults)."""
+    """The bases :data:`TABLE` holds for a model: its default and :data:`LIGHT`, each with every
+    :data:`LADDER` step, and :data:`REFERENCE`, for each beam theory (with the model's other basis
+    options at their defaults)."""
     from ddgsa.models import get as get_model
 
     default = basis_of(get_model(key, fidelity="kloss" if key == "hss_rig" else "flexible"))
     assert default is not None
-    out = []
+    out: list[dict[str, Any]] = []
     for beam in ("euler_bernoulli", "timoshenko"):
-        for step in [{}, *(s for s, _ in LADDER[key]), REFERENCE[key]]:
-            out.append({**default, "beam": beam, **step})
+        for base in (default, {**default, **LIGHT[key]}):
+            for step in [{}, *(s for s, _ in LADDER[key]), REFERENCE[key]]:
+                basis = {**base, "beam": beam, **step}
+                if basis not in out:
+                    out.append(basis)
     return out
 
 
-def tabulate(path: Path = TABLE) -> dict[str, Any]:
-    """Compute the modes of every :func:`tabulated_bases` basis and write them to ``path`` (JSON)."""
-    table = {key: {"nominal": _nominal_digest(key),
-                   "bases": {_options_key(b): [[round(f, 6), lab] for f, lab in _computed(key, _options_key(b))]
-                             for b in tabulated_bases(key)}}
-             for key in REFERENCE}
+def tabulate(path: Path = TABLE, keys: tuple[str, ...] = tuple(REFERENCE)) -> dict[str, Any]:
+    """Compute the modes of every :func:`tabulated_bases` basis of the models ``keys`` and write them to
+    ``path`` (JSON; the other models' entries already there are kept)."""
+    table = json.loads(path.read_text()) if path.exists() else {}
+    table.update({key: {"nominal": _nominal_digest(key),
+                        "bases": {_options_key(b): [[round(f, 6), lab] for f, lab in _computed(key, _options_key(b))]
+                                  for b in tabulated_bases(key)}}
+                  for key in keys})
     path.write_text(json.dumps(table, indent=1) + "\n")
     _stored.cache_clear()
     return table
@@ -172,6 +193,29 @@ def worst_error(modes: tuple[tuple[float, str], ...], reference: tuple[tuple[flo
                 worst = {"error": float(abs(fi - near) / near), "frequency_hz": float(fi), "reference_hz": float(near),
                          "label": modes[i][1]}
     return worst
+
+
+def mode_convergence(model: Any, table: Any) -> dict[str, Any] | None:
+    """How far each mode of ``table`` (the model's :meth:`modes` at nominal parameters, standstill) is
+    from the nearest mode of the converged basis (:data:`REFERENCE`, the same beam theory), and below
+    which frequency every mode of either basis has a partner within :data:`TOLERANCE` (``None`` for a
+    model without a basis).
+
+    Returns ``{"basis", "reference", "errors" (one per row of ``table``), "below_hz"}``: ``below_hz`` is
+    the lowest frequency [Hz] of a mode of either basis without such a partner (infinite if none).
+    """
+    key, basis = model_key(model), basis_of(model)
+    if key is None or basis is None:
+        return None
+    reference = {**basis, **REFERENCE[key]}
+    ref = np.array([f for f, _ in frequencies(key, reference)])
+    own = np.asarray(table["frequency_hz"], dtype=float)
+    near = ref[np.argmin(np.abs(ref[None, :] - own[:, None]), axis=1)]
+    errors = np.abs(own - near) / near
+    missing = np.abs(ref - own[np.argmin(np.abs(own[None, :] - ref[:, None]), axis=1)]) / ref
+    unpaired = [*own[errors > TOLERANCE], *ref[missing > TOLERANCE]]
+    return {"basis": basis, "reference": reference, "errors": errors,
+            "below_hz": float(min(unpaired)) if unpaired else float("inf")}
 
 
 def basis_report(model: Any, scene: Any) -> dict[str, Any] | None:

@@ -9,10 +9,13 @@ factors), gravity of every mass (shaft tilted 4 deg, hub end up), and the genera
 ``w_set = w_loads - T_ctrl / C_gen`` so that the torque equals the controller's demand when
 the shaft turns at the loads model's speed (the law then adds ``C_gen`` of speed damping).
 
-Fidelities: ``flexible`` -- 6 rigid + 6 elastic coordinates (1 axial, 1 torsion, 2 bending per
-plane; drop the axial or second bending modes with ``axial=False`` / ``second_bending=False``),
-shapes from FE eigenmodes of the shaft with its end inertias on pinned bearings (seed 000
-§2.5); ``rigid`` -- the same body without elastic coordinates.
+Fidelities: ``flexible`` -- 6 rigid + 12 elastic coordinates (1 axial, 1 torsion, 5 bending per
+plane, :data:`DEFAULT_BENDING_MODES`; drop the axial or all but the first bending mode with
+``axial=False`` / ``second_bending=False``), shapes from FE eigenmodes of the shaft with its end
+inertias on pinned bearings, Timoshenko elements (seed 000 §2.5 has Euler-Bernoulli with two modes
+per plane: ``beam: euler_bernoulli, bending_modes: 2``; docs/physics.md says what they move);
+``linear`` -- the flexible model linearised about the scene's mean operating point;
+``rigid`` -- the same body without elastic coordinates.
 
 Parameter choices (seed 000 Table 2 is not self-consistent; each value is a parameter):
 
@@ -37,8 +40,9 @@ Parameter choices (seed 000 Table 2 is not self-consistent; each value is a para
   (:mod:`ddgsa.models.seed_readings`, ``docs/seed000_readings.md``).
 - Dynamic load ratings ``bearing_C_front/rear`` 1e7 N (spherical roller main bearings of this
   size: 5e6-2e7 N); damage indices are usually reported scaled by their maximum (seed 000 §4).
-- The shaft's own rotary inertia (~450 kg m^2 polar) is neglected in the dynamics (its mass is
-  lumped on the axis); the FE torsion shape includes it.
+- The shaft's own rotary inertia (~450 kg m^2 polar, 0.02 % of the hub's) is in the body with
+  Timoshenko elements (the default); with ``beam="euler_bernoulli"`` and at fidelity ``rigid`` its
+  mass is lumped on the axis (the FE torsion shape includes it).
 
 Equivalent bearing load: seed 000 eq. (29) writes ``P = 2.5 Fr + 3.7 Fa``; the catalogue rule
 for spherical roller bearings (ISO 281) has two branches, ``P = Fr + 2.5 Fa`` if
@@ -147,8 +151,12 @@ SIGNALS = (
 )
 """Components, not the radial magnitude: the front bearing's force vector passes through zero in turbulence
 (its mean is a tenth of its spread at 11 m/s), where the magnitude's spectrum is not smooth in the parameters."""
-FIELDS = ("axial", "torsion", *bending_fields(2, "by_plane"))
-"""The elastic coordinates of the default flexible shaft (``bending_modes`` adds ``bending_y_3`` ...)."""
+DEFAULT_BENDING_MODES = 5
+"""Bending modes per plane of the default shaft (Timoshenko elements): the smallest basis whose natural
+frequencies below 150 Hz are within 0.5 % of a converged one (docs/physics.md). 150 Hz is the band of
+interest (:mod:`ddgsa.models.basis`: 1.5 x the load interval's Nyquist frequency) of the finest load
+interval the flexible fidelity takes, its 5 ms step, so the default is converged in every such scene; its
+lateral modes below 150 Hz are within 0.1 % of ROSS (``tests/models/test_direct_drive_oracles.py``)."""
 RIGID_NAMES = ("R_x", "R_y", "R_z", "phi", "theta", "psi")
 MODE_GROUPS = {"R_x": "bearing_axial", "R_y": "bearing_y", "psi": "bearing_y", "R_z": "bearing_z",
                "theta": "bearing_z", "phi": "spin", "axial": "axial_1", "torsion": "torsion_1",
@@ -177,7 +185,7 @@ def bearing_order_problem(p: Mapping[str, float]) -> str:
             f"< shaft_length ({length:g}) [m]")
 
 
-def assemble(p: Mapping[str, float], fields: tuple[str, ...],
+def build(p: Mapping[str, float], fields: tuple[str, ...],
              damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli") -> Assembly:
     """Build the system for one parameter set and the retained elastic fields.
 
@@ -301,14 +309,14 @@ def _shaft(spec: BeamSpec, fields: tuple[str, ...], damping_ratio: float, raylei
 @functools.lru_cache(maxsize=256)
 def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...],
               damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli") -> Assembly:
-    """:func:`assemble` kept per exact parameter point (~30 % of a linear point's cost).
+    """:func:`build` kept per exact parameter point (~30 % of a linear point's cost).
 
     A study evaluates every point in each scene and realisation (paper C: 60 times), and a
     worker's batches hold the same points, so all but its first batch reuse the systems. The
     system depends on the parameters only (loads are inputs) and nothing modifies it, so
     sharing it is exact. 256 systems of ~30 kB: more than a batch's points.
     """
-    return assemble(dict(params), fields, damping, beam)
+    return build(dict(params), fields, damping, beam)
 
 
 @register_model("direct_drive")
@@ -322,10 +330,11 @@ class DirectDrive(Model):
         Keep the axial mode / the second bending mode per plane (flexible only).
     bending_modes : int, optional
         Bending modes per plane (flexible and linear; 1 .. :data:`~ddgsa.mbs.bodies.MAX_BENDING_MODES`);
-        default 2, or 1 with ``second_bending=False`` (docs/physics.md: convergence with the count).
-    beam : {"euler_bernoulli", "timoshenko"}
-        The shaft's FE bending elements (the shapes' basis); ``timoshenko`` adds shear and the
-        shaft's rotary inertia (lowers the second bending pair by ~7 %, docs/physics.md).
+        default :data:`DEFAULT_BENDING_MODES` (5), or 1 with ``second_bending=False`` (docs/physics.md:
+        convergence with the count).
+    beam : {"timoshenko", "euler_bernoulli"}
+        The shaft's FE bending elements (the shapes' basis); ``timoshenko`` (default) has shear and the
+        shaft's rotary inertia (the second bending pair ~7 % below Euler-Bernoulli's, docs/physics.md).
     time_step : float, optional
         Integration step [s]; default 0.005 (flexible) or 0.01 (rigid), where halving it changes
         the objective functions by < 0.5 % (tested). The scene's ``dt`` must be a multiple. The
@@ -358,9 +367,9 @@ class DirectDrive(Model):
     fidelities = ("flexible", "rigid", "linear")
     options = (ModelOption("axial", "bool", "axial elastic coordinate"),
                ModelOption("second_bending", "bool", "second bending mode per plane"),
-               ModelOption("bending_modes", "integer", "bending modes per plane (default 2; 1 without second_bending)",
+               ModelOption("bending_modes", "integer", "bending modes per plane (default 5; 1 without second_bending)",
                            1, MAX_BENDING_MODES, optional=True),
-               ModelOption("beam", "choice", "shaft FE bending elements", choices=BEAMS),
+               ModelOption("beam", "choice", "shaft FE bending elements (default timoshenko)", choices=BEAMS),
                ModelOption("time_step", "number", "integration step (default 0.01 rigid, else 0.005)", 0.0, 0.1, "s",
                            low_open=True, optional=True),
                ModelOption("rho_inf", "number", "generalised-alpha spectral radius at infinity", 0.0, 1.0),
@@ -391,7 +400,7 @@ class DirectDrive(Model):
         return [problem] if problem else []
 
     def __init__(self, fidelity: str = "flexible", axial: bool = True, second_bending: bool = True,
-                 bending_modes: int | None = None, beam: str = "euler_bernoulli", time_step: float | None = None,
+                 bending_modes: int | None = None, beam: str = "timoshenko", time_step: float | None = None,
                  rho_inf: float = 0.8, equivalent_load: str = "iso281",
                  integrator: str = "gen_alpha", bending_rayleigh: str = "physical",
                  bearing_damping: str = "modal", deflection: str = "total",
@@ -406,9 +415,10 @@ class DirectDrive(Model):
         self.integrator = integrator
         self.damping = (bending_rayleigh, bearing_damping)
         self.deflection = deflection
-        self.beam = beam
+        # the rigid body has no bending shapes; it keeps the shaft's mass on the axis (module notes)
+        self.beam = "euler_bernoulli" if fidelity == "rigid" else beam
         if bending_modes is None:
-            bending_modes = 2 if second_bending else 1
+            bending_modes = DEFAULT_BENDING_MODES if second_bending else 1
         self.reference = deflection_reference
         self.fidelity = fidelity
         self._inputs: SceneInputs | None = None
@@ -425,9 +435,10 @@ class DirectDrive(Model):
         """Names of the generalised coordinates."""
         return RIGID_NAMES + self.fields
 
-    def assemble(self, params: Mapping[str, float] | None = None) -> Assembly:
-        """The system for ``params`` (missing -> nominal)."""
-        return assemble(self.resolve(params).iloc[0].to_dict(), self.fields, self.damping, self.beam)
+    def build(self, params: Mapping[str, float] | None = None) -> Assembly:
+        """The system for ``params`` (missing -> nominal): the single-body kernel's arrays and the
+        :class:`~ddgsa.mbs.assembly.System` they were packed from (:class:`Assembly`)."""
+        return build(self.resolve(params).iloc[0].to_dict(), self.fields, self.damping, self.beam)
 
     def static(self, asm: Assembly, force: NDArray[np.float64], moment: NDArray[np.float64],
                q_guess: NDArray[np.float64] | None = None, tol: float = 1e-12) -> NDArray[np.float64]:
@@ -456,7 +467,7 @@ class DirectDrive(Model):
     def _simulate(self, scene: Scene, p: Mapping[str, float], states: bool) -> pd.DataFrame:
         """:meth:`simulate` for resolved parameters ``p``; ``states=False`` lets the linear fidelity
         skip the coordinate columns (the objective functions do not read them)."""
-        asm = assemble(p, self.fields, self.damping, self.beam)
+        asm = build(p, self.fields, self.damping, self.beam)
         inputs = self._scene_inputs(scene)
         to_u = input_map(p)
         u = inputs.channels @ to_u
@@ -660,7 +671,7 @@ class DirectDrive(Model):
         angle removed (cyclic) and the rotor turning at ``rotor_speed`` [rad/s] (0: standstill;
         the bearings are anisotropic, so a spinning linearisation is a snapshot at spin angle 0).
         """
-        asm = self.assemble(params)
+        asm = self.build(params)
         zero = np.zeros(3)
         q0 = self.static(asm, zero, zero)
         qd0 = np.zeros_like(q0)

@@ -31,7 +31,7 @@ mass: a rigid body locked except for its side-to-side motion, on a tower spring 
 the pull is a :class:`~ddgsa.mbs.RadialForce` whose law is :func:`pull_vector` and
 :func:`pull_jacobian` of :mod:`ddgsa.models.electromagnetic`; the mean hub forces are an
 :class:`~ddgsa.mbs.AppliedLoad`, gravity the system's. The static state is
-:func:`ddgsa.mbs.assembly.static_equilibrium` (Newton, nonlinear pull), the linearisation and
+:func:`ddgsa.mbs.statics.static_equilibrium` (Newton, nonlinear pull), the linearisation and
 modes those of :mod:`ddgsa.mbs.modal` on the null space of the locks.
 
 Time response: the hub forces ``Fy, Fz`` of the scene act on the rotor (the load generator is
@@ -62,7 +62,7 @@ from ddgsa.errors import ModelError
 from ddgsa.loads import generate
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs import AppliedLoad, Ground, Lock, RadialForce, RigidBody, SpringDamper3, System
-from ddgsa.mbs.assembly import static_equilibrium
+from ddgsa.mbs.statics import static_equilibrium
 from ddgsa.mbs.constraints import AXES
 from ddgsa.mbs.linear import lti_response, state_matrices
 from ddgsa.mbs.modal import ConstrainedLinearisation, linearise_system, modal_analysis
@@ -227,15 +227,15 @@ class GeneratorRadial(Model):
         """The pull of the air gap as the law of a :class:`~ddgsa.mbs.RadialForce` (force, tangent)."""
         return lambda e: (pull_vector(e[0], e[1], gen), pull_jacobian(float(e[0]), float(e[1]), gen))
 
-    def system(self, params: Mapping[str, float] | None = None,
+    def build(self, params: Mapping[str, float] | None = None,
                mean_hub_force: NDArray[np.float64] | None = None) -> tuple[System, RigidBody, Any]:
         """The configuration assembled from kernel parts, the mean hub forces ``(Fy, Fz)`` [N] applied.
 
         Returns the system, the rotor body and the stator marker (ground or tower).
         """
-        return self._assemble(self.resolve(params).iloc[0].to_dict(), mean_hub_force)
+        return self._build(self.resolve(params).iloc[0].to_dict(), mean_hub_force)
 
-    def _assemble(self, p: Mapping[str, float],
+    def _build(self, p: Mapping[str, float],
                   mean_hub_force: NDArray[np.float64] | None) -> tuple[System, RigidBody, Any]:
         free = ("y",) if self.config == "one_mass" else ("y", "z")
         rotor = RigidBody("rotor", p["rotating_mass"], (1.0, 1.0, 1.0))    # rotations locked: inertia unused
@@ -277,7 +277,7 @@ class GeneratorRadial(Model):
         return self._operating(self.resolve(params).iloc[0].to_dict(), mean_hub_force)
 
     def _operating(self, p: Mapping[str, float], mean_hub_force: NDArray[np.float64] | None) -> Operating:
-        system, rotor, stator = self._assemble(p, mean_hub_force)
+        system, rotor, stator = self._build(p, mean_hub_force)
         try:
             q0, _ = static_equilibrium(system, tol=1e-15, analytic=True)
         except (ValueError, ModelError) as exc:

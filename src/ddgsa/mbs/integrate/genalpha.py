@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs.alpha import coefficients, python_loop, steps
-from ddgsa.mbs.assembly import System, accelerations
+from ddgsa.mbs.assembly import System, accelerations, python_kind
 from ddgsa.mbs.integrate.trajectory import Trajectory
 
 Array = NDArray[np.float64]
@@ -91,21 +91,8 @@ def _python(system: System, q0: Array, qd0: Array, t0: float, dt: float, n_steps
             coef: tuple[float, float, float, float], tol: float, max_iter: int) -> tuple:
     """The loop run as Python on the System's objects (parts without a compiled form)."""
     nh, nc, nel = system.n_holonomic, system.n_constraints, len(system.elements)
-
-    def evaluate(q: Array, qd: Array, t: float, step: int, ctx: None, m: Array, f: Array, kt: Array, ct: Array,
-                 y: Array, ch: Array, jac: Array, vel: Array) -> None:
-        states = system.marker_states(q, qd, t)
-        tm = system.terms(q, qd, t, states)
-        m[:], f[:], kt[:], ct[:] = tm.m, tm.q, tm.k, tm.c
-        if tm.outputs:
-            y[:] = np.ravel(tm.outputs)
-        if nh:
-            ch[:] = system.holonomic_residual(q, qd, t, states)[0]
-        if nc:
-            vel[:], jac[:] = system.velocity_residual(q, qd, t, states)
-
     acc0, lam0 = accelerations(system, q0, qd0, t0)
-    q, qd, lam, y, drift, status, total = python_loop(evaluate)(
+    q, qd, lam, y, drift, status, total = python_loop(python_kind(system))(
         None, q0, qd0, acc0, np.asarray(lam0, dtype=float), float(t0), float(dt), n_steps, output_every, *coef, tol,
         max_iter, nh, 6 * nel, False, False, False)
     return q, qd, lam, y.reshape(y.shape[0], nel, 6), drift, status, total

@@ -158,13 +158,13 @@ class HssRig(Model):
     noise : bool
         Add seeded measurement noise to the sensors.
     bending_modes : int
-        Bending modes per plane of the high-speed shaft (default 2; docs/physics.md: convergence).
+        Bending modes per plane of the high-speed shaft (default 5; docs/physics.md: convergence).
     beam : {"euler_bernoulli", "timoshenko"}
         The shaft's FE bending elements.
     shaft_elements : int
-        FE elements per bearing span of the high-speed shaft (default 8).
+        FE elements per bearing span of the high-speed shaft (default 32).
     shaft_axial : bool
-        Give the high-speed shaft an axial elastic mode (default: axially rigid, its axial mode 2.7 % high).
+        Give the high-speed shaft an axial elastic mode (default true; false: axially rigid, its axial mode 2.7 % high).
     """
 
     fidelities: ClassVar[tuple[str, ...]] = ("dq", "kloss", "linear")
@@ -178,15 +178,15 @@ class HssRig(Model):
     scene_type = RigScene
     options = (ModelOption("time_step", "number", "generalised-alpha step", 0.0, 1e-2, "s", low_open=True),
                ModelOption("noise", "bool", "seeded measurement noise on the sensors"),
-               ModelOption("bending_modes", "integer", "high-speed shaft bending modes per plane (default 2)",
+               ModelOption("bending_modes", "integer", "high-speed shaft bending modes per plane (default 5)",
                            1, MAX_BENDING_MODES),
                ModelOption("beam", "choice", "high-speed shaft FE bending elements", choices=BEAMS),
-               ModelOption("shaft_elements", "integer", "high-speed shaft FE elements per bearing span (default 8)",
+               ModelOption("shaft_elements", "integer", "high-speed shaft FE elements per bearing span (default 32)",
                            2, 256),
-               ModelOption("shaft_axial", "bool", "axial elastic mode of the high-speed shaft (default: axially rigid)"))
+               ModelOption("shaft_axial", "bool", "axial elastic mode of the high-speed shaft (default true; false: axially rigid)"))
 
-    def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False, bending_modes: int = 2,
-                 beam: str = "euler_bernoulli", shaft_elements: int = 8, shaft_axial: bool = False) -> None:
+    def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False, bending_modes: int = 5,
+                 beam: str = "euler_bernoulli", shaft_elements: int = 32, shaft_axial: bool = True) -> None:
         self.check_options({"fidelity": fidelity, "time_step": time_step, "noise": noise, "bending_modes": bending_modes,
                             "beam": beam, "shaft_elements": shaft_elements, "shaft_axial": shaft_axial})
         self.fidelity, self.time_step, self.noise = fidelity, float(time_step), noise
@@ -201,8 +201,13 @@ class HssRig(Model):
         raise SceneError(f"model 'hss_rig' needs a rig scene (RigScene or a mapping of its fields), got "
                          f"{type(scene).__name__}")
 
-    def assemble(self, p: Mapping[str, float], scene: RigScene) -> tuple[Rig, Drive, float]:
-        """The rig for parameters ``p`` in ``scene``, its drive and its initial spin [rad/s]."""
+    def build(self, params: Mapping[str, float] | None = None, scene: Any = None) -> tuple[Rig, Drive, float]:
+        """The rig for ``params`` (missing -> nominal) in ``scene`` (a :class:`RigScene` or a mapping of
+        its fields; required), its drive and its initial spin [rad/s]."""
+        if scene is None:
+            raise ModelError("model 'hss_rig': build needs the rig scene (its kind and speed set the drive)")
+        scene = self._scene(scene)
+        p = self.resolve(params).iloc[0].to_dict()
         drive = drive_for(p, scene, POLE_PAIRS)
         spin = 0.0
         if scene.kind != "startup":
@@ -226,7 +231,7 @@ class HssRig(Model):
 
     def effective(self, p: Mapping[str, float]) -> dict[str, float]:
         """The parameters the fidelity builds the rig with: ``linear`` takes the coupling at its
-        mean stiffness (``coupling_asymmetry = 0``); in steady scenes :meth:`assemble` adds the
+        mean stiffness (``coupling_asymmetry = 0``); in steady scenes :meth:`build` adds the
         anisotropy's action on the coupling's static stretch (misalignment, gravity sag) as an
         external 2x load (:mod:`ddgsa.models.hss_rig.faults`), in start-up and coast-down the
         sweep carries it as a turning input (:mod:`ddgsa.models.hss_rig.transient`), and
@@ -245,7 +250,7 @@ class HssRig(Model):
                              f"only (not verified in a {sc.kind}); got misalignment_parallel = "
                              f"{raw['misalignment_parallel']} m, misalignment_angular = {raw['misalignment_angular']} "
                              "rad; use 'kloss' or 'dq'")
-        rig, drive, spin = self.assemble(raw, sc)
+        rig, drive, spin = self.build(raw, sc)
         p = self.effective(raw)
         h = 1.0 / sc.sample_rate
         if self.fidelity == "linear" and sc.kind == "steady":
@@ -276,7 +281,7 @@ class HssRig(Model):
     def initial_state(rig: Rig, p: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
         """The rig's initial state with the static gravity sag (from the rig at rest, motor and load off).
 
-        Spin rates and flux states are the rig's own (:meth:`assemble`); the sag is solved on the
+        Spin rates and flux states are the rig's own (:meth:`build`); the sag is solved on the
         linearised rig standing still, so a run starts without a gravity transient.
         """
         sag = _sag(tuple(sorted({**p, **_NO_TURNING_LOADS}.items())), rig.basis)

@@ -12,8 +12,8 @@ at the coupling. Bodies:
 ``hss``
     The high-speed shaft, an FFR flexible body (:meth:`ddgsa.mbs.FlexibleBody.shaft`) from the
     shaft-side coupling hub (``x = 0``) over bearing 1 (``x = hss_overhang``) and the disk to
-    bearing 2, with elastic coordinates ``torsion`` and two bending modes per plane computed on
-    pinned supports at the bearings; the hub and the disk are its end inertias.
+    bearing 2, with elastic coordinates ``torsion``, ``axial`` and (by default) five bending modes
+    per plane computed on pinned supports at the bearings (:class:`ShaftBasis`); the hub and the disk are its end inertias.
 ``housing_1``, ``housing_2``
     Rigid bearing housings at the bearings, each on a 6-DOF support bushing to ground
     (``support_stiffness`` per direction; ``housing_looseness`` takes that fraction of housing 2's
@@ -56,7 +56,7 @@ MOTOR_BEARING_SPAN = 0.1
 """Distance between the motor's two bearings [m] (frame 100L; assumption)."""
 SHAFT_DAMPING_RATIO = 0.002
 """Modal damping of the high-speed shaft's elastic coordinates [-] (assumption: steel, bolted joints)."""
-ELEMENT_LENGTH = 1.0 / 8
+ELEMENT_LENGTH = 1.0 / 32
 """Largest FE element of the high-speed shaft as a fraction of the bearing span (the default basis)."""
 
 
@@ -67,23 +67,25 @@ class ShaftBasis:
     Attributes
     ----------
     bending_modes : int
-        Bending modes per plane (default 2; docs/physics.md tabulates the frequencies against it).
+        Bending modes per plane (default 5: with 32 elements per span and the axial mode, every mode
+        below 600 Hz within 0.34 % of a 10-mode, 64-element basis and below 400 Hz within 0.3 % of
+        ROSS; docs/physics.md tabulates the convergence).
     beam : {"euler_bernoulli", "timoshenko"}
         FE bending elements of the shapes (``timoshenko``: shear, with Cowper's solid-section
         ``kappa`` from the shaft's E and G, and the shaft's rotary inertia in the shapes).
     elements_per_span : int
-        FE elements per bearing span (default 8, :data:`ELEMENT_LENGTH`): the shaft's mass is lumped
+        FE elements per bearing span (default 32, :data:`ELEMENT_LENGTH`): the shaft's mass is lumped
         at the nodes, so the coupling-hub modes on the 0.1 m overhang (one element at 8) need a finer
         mesh to come within 1 % of ROSS (docs/physics.md).
     axial : bool
         Give the shaft an axial elastic mode (its shape on the axial bearing's spring at bearing 1);
-        without it the shaft is axially rigid and its axial mode 2.7 % high.
+        without it the shaft is axially rigid and its axial mode 2.7 % high (default on).
     """
 
-    bending_modes: int = 2
+    bending_modes: int = 5
     beam: str = "euler_bernoulli"
     elements_per_span: int = round(1.0 / ELEMENT_LENGTH)
-    axial: bool = False
+    axial: bool = True
 
 
 @dataclass

@@ -41,8 +41,8 @@ from numpy.typing import NDArray
 from scipy.linalg import null_space
 
 from ddgsa.mbs.assembly import System
-from ddgsa.mbs.compiled import evaluate, pack
-from ddgsa.mbs.linear import lti_response
+from ddgsa.mbs.compiled import Packed, constraint_values, evaluate, pack
+from ddgsa.mbs.linear import input_window, lti_response, modal_output_matrix, modal_step
 from ddgsa.mbs.derivatives import central_jacobian
 from ddgsa.mbs.modal import ConstrainedLinearisation, linearise_system
 from ddgsa.models.indirect_drive.assembly import Assembly
@@ -64,7 +64,8 @@ RCOND = 1e-9
 
 
 def operating_state(system: System, q: Array, qd: Array, free_rate: int, iterations: int = 30,
-                    tol: float = 1e-9) -> tuple[Array, Array, ConstrainedLinearisation]:
+                    tol: float = 1e-12, start: ConstrainedLinearisation | None = None,
+                    packed: Packed | None = None) -> tuple[Array, Array, ConstrainedLinearisation]:
     """Quasi-static state at spin: ``N^T Q(q, qd) = 0`` on the null space ``N`` of ``C_q``.
 
     Modified Newton: the stiffness of one linearisation at the start, projected on the current
@@ -75,24 +76,44 @@ def operating_state(system: System, q: Array, qd: Array, free_rate: int, iterati
     housing a roll rate, which a linearised run integrates into a drift of its roll). Stops when
     the step is below ``tol`` [m or rad]; returns the state and the linearisation there.
 
+    ``start``: a linearisation of the same system near ``(q, qd)`` (the first pass of the linear
+    fidelity, at a speed 0.1 % away) whose stiffness serves the iterations instead of a new one.
+    Every evaluation is the compiled kernel's (``packed``: :func:`~ddgsa.mbs.compiled.pack` of
+    ``system``, packed here when not given).
+
     Raises
     ------
     RuntimeError
         If the iterations do not converge.
     """
+    packed = pack(system) if packed is None else packed
     keep = [i for i in range(system.n) if i != free_rate]
-    q, qd = system.consistent_state(q, qd, 0.0, keep=keep)
-    lin = linearise_system(system, q, qd, rel_step=LINEARISATION_STEP, compiled=True)
-    basis, k_r, r0 = lin.basis, lin.k, lin.r0
+
+    def values(q: Array, qd: Array, t: float) -> tuple[Array, Array, Array, Array]:
+        return constraint_values(packed, q, qd, t)
+
+    q, qd = system.consistent_state(q, qd, 0.0, keep=keep, residuals=values)
+    k_full = evaluate(packed, q, qd, 0.0)[2] if start is None else start.k_full
+    basis, r0 = _null_space_and_force(packed, q, qd)
+    k_r = basis.T @ k_full @ basis
     for _ in range(iterations):
         step = basis @ np.linalg.lstsq(k_r, r0, rcond=RCOND)[0]
-        q, qd = system.consistent_state(q + step, qd, 0.0, keep=keep)
+        q, qd = system.consistent_state(q + step, qd, 0.0, keep=keep, residuals=values)
         if np.max(np.abs(step)) < tol:
-            return q, qd, linearise_system(system, q, qd, rel_step=LINEARISATION_STEP, compiled=True)
-        basis = null_space(system.constraint_jacobian(q, qd, 0.0))
-        k_r, r0 = basis.T @ lin.k_full @ basis, basis.T @ system.terms(q, qd, 0.0).q
+            return q, qd, linearise_system(system, q, qd, rel_step=LINEARISATION_STEP, compiled=packed)
+        basis, r0 = _null_space_and_force(packed, q, qd)
+        k_r = basis.T @ k_full @ basis
     raise RuntimeError(f"operating state: no convergence in {iterations} modified-Newton steps (last step "
                        f"{np.max(np.abs(step)):.3g})")
+
+
+def _null_space_and_force(packed: Packed, q: Array, qd: Array) -> tuple[Array, Array]:
+    """``N`` (the null space of ``C_q``, the rows of ``numpy.linalg.svd``'s ``V^T`` past the Jacobian's
+    rank: a Newton step on it does not depend on which basis) and ``N^T Q`` at ``(q, qd)``."""
+    _, f, *_, jac, _ = evaluate(packed, q, qd, 0.0)
+    _, sv, vt = np.linalg.svd(jac)
+    basis = vt[np.sum(sv > sv[0] * max(jac.shape) * np.finfo(float).eps):].T
+    return basis, basis.T @ f
 
 
 def input_matrix(asm: Assembly, q: Array, qd: Array, c_hss: float, ratio: float) -> Array:
@@ -117,7 +138,7 @@ class StateSpace:
 
     The state ``y = [p, v]`` maps to coordinates and rates that satisfy the linearised constraints
     (:func:`state_space`): ``dq = positions @ y``, ``dq' = rates @ y``; the multipliers are
-    ``lambda = lambda0 + multipliers @ [y, du, 1]``.
+    ``lambda = lambda0 + multipliers @ [y, du, 1]``; ``g`` is the input matrix (:func:`input_matrix`).
     """
 
     a: Array
@@ -126,23 +147,24 @@ class StateSpace:
     positions: Array
     rates: Array
     multipliers: Array
+    g: Array
     lin: ConstrainedLinearisation
 
 
-def velocity_curvature(system: System, q: Array, qd: Array) -> Array:
+def velocity_curvature(system: System, q: Array, qd: Array, packed: Packed | None = None) -> Array:
     """``B0 = d(C_q(q) qd0)/dq`` (n_c, n) at the operating state by central differences [1/s].
 
     Zero for the holonomic rows of a system whose constraints do not depend on the spin angles;
     for the gear's velocity constraint it is the change of the pitch-point velocity when a gear
     centre moves in the housing while the gears spin (``w x dr``), which the null space of ``C_q``
-    alone misses.
+    alone misses. ``packed``: the system packed already (:func:`~ddgsa.mbs.compiled.pack`).
     """
-    packed = pack(system)
+    packed = pack(system) if packed is None else packed
     return central_jacobian(lambda x: evaluate(packed, x, qd, 0.0)[7], [np.asarray(q, dtype=float)], 0, 1e-3,
                             rel_step=CURVATURE_STEP)
 
 
-def state_space(asm: Assembly, lin: ConstrainedLinearisation) -> StateSpace:
+def state_space(asm: Assembly, lin: ConstrainedLinearisation, packed: Packed | None = None) -> StateSpace:
     """First-order linearisation of ``asm`` about ``lin``'s operating state with its constraints linearised.
 
     ``M dq'' + C dq' + K dq + C_q^T dlambda = G du + M qdd0`` (the full matrices of ``lin``, with
@@ -155,18 +177,19 @@ def state_space(asm: Assembly, lin: ConstrainedLinearisation) -> StateSpace:
     ``N^T M N v' = N^T (G du + M qdd0 - K dq - C dq' + M C_q^+ B0 dq')``.
     """
     s = asm.system
+    packed = pack(s) if packed is None else packed
     n, nh = s.n, s.n_holonomic
     q0, qd0 = lin.q0, lin.qd0
-    cq = s.constraint_jacobian(q0, qd0, 0.0)
+    cq = evaluate(packed, q0, qd0, 0.0)[6]
     # the operating trajectory q0 + t qd0 is cyclic: nothing depends on a uniform advance of the spin
     # angles, K qd0 = B0 qd0 = 0 exactly; central differences leave round-off there, which the
     # perturbation of the spin angles (growing with the speed's, ~30 rad of the pinion's) multiplies
     spin = qd0 / np.linalg.norm(qd0)
     along = np.eye(n) - np.outer(spin, spin)
     k_full = lin.k_full @ along
-    curvature = velocity_curvature(s, q0, qd0) @ along
+    curvature = (velocity_curvature(s, q0, qd0, packed) if lin.curvature is None else lin.curvature) @ along
     n_h, n_v = null_space(cq[:nh]), lin.basis
-    cq_pinv = np.linalg.pinv(cq)
+    cq_pinv = np.linalg.pinv(cq)                                      # pinv(C_q^T) is its transpose
     np_, nv = n_h.shape[1], n_v.shape[1]
     positions = np.hstack([n_h, np.zeros((n, nv))])
     rates = np.hstack([-cq_pinv @ curvature @ n_h, n_v])
@@ -178,9 +201,41 @@ def state_space(asm: Assembly, lin: ConstrainedLinearisation) -> StateSpace:
     a = np.vstack([n_h.T @ rates, accel[:, :np_ + nv]])
     # multipliers: C_q^T dlambda = force - M dq'', dq'' = N v' - C_q^+ B0 dq'
     ddq = n_v @ accel - np.hstack([cq_pinv @ curvature @ rates, np.zeros((n, 8))])
-    mult = np.linalg.pinv(cq.T) @ (force - m @ ddq)
+    mult = cq_pinv.T @ (force - m @ ddq)
     return StateSpace(a, np.vstack([np.zeros((np_, 7)), accel[:, np_ + nv:-1]]),
-                      np.concatenate([np.zeros(np_), accel[:, -1]]), positions, rates, mult, lin)
+                      np.concatenate([np.zeros(np_), accel[:, -1]]), positions, rates, mult, g, lin)
+
+
+def reduced_response(ss: StateSpace, u: Array, dt: float, spin_scale: float = 1.0,
+                     out: Array | None = None, window: Array | None = None) -> Array:
+    """States ``y`` (n_t, n_y) of ``ss`` over a record of inputs ``u`` (n_t, 7) (or ``y @ out``, out (n_y, k)).
+
+    ``u`` columns: hub ``Fx, Fy, Fz`` [N], ``Mx, My, Mz`` [N m], LSS set speed [rad/s], sampled
+    every ``dt`` [s], about their record mean (the loads the system was built with). Starts from
+    the quasi-static deflection under ``u[0]``, every body spinning at ``spin_scale`` times its
+    operating speed (the drive's speed mode relaxes in ``J / c_gen``, about 50 s: start it at the
+    scene's initial speed, not the mean), projected on the linearised constraints (:func:`state_space`).
+    Exact for the inputs' C1 cubic between samples, stepped at the sample interval in modal
+    coordinates (:func:`ddgsa.mbs.linear.modal_step`: one complex multiply per mode and step, only
+    the columns of ``out`` formed); by the dense recurrence (:func:`ddgsa.mbs.linear.lti_response`)
+    where the eigenvectors are too ill-conditioned for that. ``window``: :func:`~ddgsa.mbs.linear.input_window`
+    of ``[u - mean, 1]`` where formed already (one record, several systems).
+    """
+    lin = ss.lin
+    du = u - u.mean(axis=0)
+    q0, qd0, basis = lin.q0, lin.qd0, lin.basis
+    dq0 = basis @ np.linalg.lstsq(lin.k, basis.T @ ss.g @ du[0] + lin.r0, rcond=RCOND)[0]
+    np_ = ss.positions.shape[1] - basis.shape[1]
+    p0 = ss.positions[:, :np_].T @ dq0
+    v0 = basis.T @ ((spin_scale - 1.0) * qd0 - ss.rates[:, :np_] @ p0)
+    y0 = np.concatenate([p0, v0])
+    out = np.eye(ss.a.shape[0]) if out is None else out
+    bw = np.column_stack([ss.b, ss.c])
+    w = np.column_stack([du, np.ones(len(u))])
+    step = modal_step(ss.a, bw, dt)
+    if step is None:
+        return lti_response(ss.a, bw, w, dt, y0, c_out=out.T)
+    return step.outputs(input_window(w) if window is None else window, y0, modal_output_matrix(step.vec, step.lam, out.T))
 
 
 @dataclass(frozen=True)
@@ -193,30 +248,19 @@ class LinearResponse:
     lin: ConstrainedLinearisation
 
 
-def linear_response(asm: Assembly, lin: ConstrainedLinearisation, u: Array, dt: float,
-                    spin_scale: float = 1.0) -> LinearResponse:
-    """Exact response of the linearisation ``lin`` of ``asm`` to inputs ``u`` (n_t, 7).
+def linear_response(ss: StateSpace, u: Array, dt: float, spin_scale: float = 1.0,
+                    window: Array | None = None) -> LinearResponse:
+    """Coordinates, rates and multipliers over a record of inputs ``u`` (n_t, 7) (:func:`reduced_response`).
 
-    ``u`` columns: hub ``Fx, Fy, Fz`` [N], ``Mx, My, Mz`` [N m], LSS set speed [rad/s], sampled
-    every ``dt`` [s]; ``asm`` must have been built with the constant loads ``u0 = u.mean(0)``
-    and ``lin`` taken at its operating state (:func:`operating_state`). Starts from the
-    quasi-static deflection under ``u[0]``, every body spinning at ``spin_scale`` times its
-    operating speed (the drive's speed mode relaxes in ``J / c_gen``, about 50 s: start it at
-    the scene's initial speed, not the mean), projected on the linearised constraints
-    (:func:`state_space`); every state of the record satisfies them to round-off.
+    ``ss`` is the state space of the system built with the constant loads ``u0 = u.mean(0)``,
+    linearised at its operating state (:func:`operating_state`); every state of the record
+    satisfies the linearised constraints to round-off.
     """
-    ss = state_space(asm, lin)
+    y = reduced_response(ss, u, dt, spin_scale, window=window)
+    lin = ss.lin
     du = u - u.mean(axis=0)
-    q0, qd0, basis = lin.q0, lin.qd0, lin.basis
-    g = input_matrix(asm, q0, qd0, asm.c_hss, asm.ratio)
-    dq0 = basis @ np.linalg.lstsq(lin.k, basis.T @ g @ du[0] + lin.r0, rcond=RCOND)[0]
-    np_ = ss.positions.shape[1] - basis.shape[1]
-    p0 = ss.positions[:, :np_].T @ dq0
-    v0 = basis.T @ ((spin_scale - 1.0) * qd0 - ss.rates[:, :np_] @ p0)
-    y = lti_response(ss.a, np.column_stack([ss.b, ss.c]), np.column_stack([du, np.ones(len(u))]), dt,
-                     np.concatenate([p0, v0]))
     times = dt * np.arange(len(u))
-    q = q0 + np.outer(times, qd0) + y @ ss.positions.T
-    qd = qd0 + y @ ss.rates.T
+    q = lin.q0 + np.outer(times, lin.qd0) + y @ ss.positions.T
+    qd = lin.qd0 + y @ ss.rates.T
     lam = lin.lam0 + np.column_stack([y, du, np.ones(len(u))]) @ ss.multipliers.T
     return LinearResponse(q, qd, lam, lin)

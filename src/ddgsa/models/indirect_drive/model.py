@@ -9,23 +9,26 @@ from typing import Any
 import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
-from scipy.spatial.transform import Rotation
 
 from ddgsa.errors import ModelError
 from ddgsa.loads import EXCITATION_FACTORS, NREL5MW, apply_excitation, generate
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs.campbell import CampbellDiagram
+from ddgsa.mbs.compiled import Packed, constraint_values, pack
 from ddgsa.mbs.integrate import genalpha, reference
+from ddgsa.mbs.linear import input_window
 from ddgsa.mbs.modal import modes as system_modes
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
 from ddgsa.models.base import Model, ModelOption, ModelOutput, controller_row, register_model
 from ddgsa.models.constants import GRAVITY
 from ddgsa.models.indirect_drive.assembly import FLEXIBLE_FIELDS, Assembly, build, check_geometry, spin_inertia
-from ddgsa.models.indirect_drive.linear import linear_response, operating_state
+from ddgsa.models.indirect_drive.linear import (StateSpace, linear_response, operating_state, reduced_response,
+                                                state_space)
 from ddgsa.models.indirect_drive.outputs import (bearing_outputs, constraint_drift, gear_force_outputs,
-                                                  housing_motion_outputs, signal_statistics)
+                                                  housing_motion_outputs, rotated_x_axis, signal_statistics)
 from ddgsa.models.indirect_drive.parameters import BEARINGS, PARAMETERS
-from ddgsa.models.indirect_drive.series import TRANSVERSE, time_series
+from ddgsa.models.indirect_drive.series import (FORCE_MULTIPLIERS, TRANSVERSE, force_series, housing_series,
+                                                time_series)
 
 Array = NDArray[np.float64]
 
@@ -84,14 +87,28 @@ def scene_inputs(scene: Scene, p: Mapping[str, float], fluctuation_scale: float 
     is the scene as generated, smaller values a smaller-amplitude scene with the same means and
     spectra (amplitude sweeps of the linear fidelity).
     """
-    loads = apply_excitation(generate(scene), {k: p[k] for k in EXCITATION_FACTORS})
-    out = {c: loads[c].to_numpy().copy() for c in (*LOAD_KEYS, "rotor_speed")}
-    out["Mx"] -= (NREL5MW.rotor_inertia - spin_inertia(p)) * np.gradient(out["rotor_speed"], scene.dt)
-    out["w_set"] = out["rotor_speed"] - p["torque_factor"] * loads["gen_torque"].to_numpy() / p["c_gen"]
-    out["times"] = loads.index.to_numpy()
+    loads = _excited(scene, tuple(p[k] for k in EXCITATION_FACTORS))
+    out = {c: loads[c].copy() for c in (*LOAD_KEYS, "rotor_speed")}
+    out["Mx"] -= (NREL5MW.rotor_inertia - spin_inertia(p)) * loads["acceleration"]
+    out["w_set"] = out["rotor_speed"] - p["torque_factor"] * loads["gen_torque"] / p["c_gen"]
+    out["times"] = loads["times"]
     if fluctuation_scale != 1.0:
         for key in (*LOAD_KEYS, "rotor_speed", "w_set"):
             out[key] = out[key].mean() + fluctuation_scale * (out[key] - out[key].mean())
+    return out
+
+
+@functools.lru_cache(maxsize=4)
+def _excited(scene: Scene, factors: tuple[float, ...]) -> dict[str, Array]:
+    """The scene's loads with the excitation factors (:data:`~ddgsa.loads.EXCITATION_FACTORS`, in that
+    order) applied, as arrays, and the rotor's acceleration [rad/s^2]: kept for the few last scenes, which
+    every point of a batch shares (a point's own parameters enter in :func:`scene_inputs`). Read only."""
+    loads = apply_excitation(generate(scene), dict(zip(EXCITATION_FACTORS, factors)))
+    out = {c: loads[c].to_numpy() for c in (*LOAD_KEYS, "rotor_speed", "gen_torque")}
+    out["acceleration"] = np.gradient(out["rotor_speed"], scene.dt)
+    out["times"] = loads.index.to_numpy()
+    for v in out.values():
+        v.flags.writeable = False
     return out
 
 
@@ -162,7 +179,7 @@ class IndirectDrive(Model):
         self.fields: tuple[str, ...] = () if fidelity == "rigid" else FLEXIBLE_FIELDS
 
     # -- building -----------------------------------------------------------------------------------
-    def assemble(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0,
+    def build(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0,
                  lss_torque: float = 0.0) -> tuple[Assembly, Array, Array]:
         """The system under constant loads (hub torque ``lss_torque`` [N m], generator balancing it
         at ``rotor_speed`` [rad/s]) and its operating state ``(q, qd)``."""
@@ -197,21 +214,12 @@ class IndirectDrive(Model):
         forces = np.column_stack([inp["Fx"], inp["Fy"], inp["Fz"]])
         moments = np.column_stack([inp["Mx"], inp["My"], inp["Mz"]])
         if self.fidelity == "linear":
-            u = np.column_stack([forces, moments, inp["w_set"]])
-            u0 = u.mean(axis=0)
-            const = np.ones((len(times), 1))
-            # linearised at the drive's mean speed over the record (.linear): the loads model's mean
-            # speed first, then the linear response's own mean (they differ by ~0.06 %)
-            spin = float(np.mean(inp["rotor_speed"]))
-            for _ in range(SPEED_PASSES):
-                asm = build(p, self.fields, times, const * u0[:3], const * u0[3:6], const[:, 0] * u0[6], spin)
-                _, _, lin = operating_state(asm.system, asm.system.q0, asm.system.qd0, asm.system.index("hss.rx"))
-                res = linear_response(asm, lin, u, dt, spin_scale=float(inp["rotor_speed"][0]) / spin)
-                spin = float(np.mean(res.qd[:, asm.system.index("wheel.rx")]))
+            asm, _, ss, u, start, window = linearised(p, self.fields, inp, dt)
+            res = linear_response(ss, u, dt, start, window)
             q, qd, lam = res.q, res.qd, res.lam
             pos, gear, _ = constraint_residuals(asm, q, qd, np.linspace(0, len(times) - 1, DRIFT_SAMPLES).astype(int))
-            info: dict[str, Any] = {"method": "exact (linearised)", "reduced_dofs": res.lin.m.shape[0],
-                                    "linearisation_speed": float(lin.qd0[asm.system.index("wheel.rx")])}
+            info: dict[str, Any] = {"method": "exact (linearised)", "reduced_dofs": ss.lin.m.shape[0],
+                                    "linearisation_speed": float(ss.lin.qd0[asm.system.index("wheel.rx")])}
         else:
             n_sub = int(round(dt / self.time_step))
             if n_sub < 1 or abs(n_sub * self.time_step - dt) > 1e-9 * dt:
@@ -234,6 +242,10 @@ class IndirectDrive(Model):
         return out
 
     def _evaluate_one(self, params: dict[str, float], scene: Scene) -> dict[str, float]:
+        if self.fidelity == "linear":                      # params: resolved by evaluate
+            return objective_values(linear_records(params, self.fields,
+                                                   scene_inputs(scene, params, self.fluctuation_scale),
+                                                   scene.dt, self.housing_point), params, self.rule, scene.duration)
         return objectives(self.simulate(scene, params), params, self.rule)
 
     def point_problems(self, params: Mapping[str, float]) -> list[str]:
@@ -271,7 +283,7 @@ class IndirectDrive(Model):
         """Damped modes of the constrained system about its operating state (kernel
         :func:`ddgsa.mbs.modal.modes`), at ``rotor_speed`` [rad/s] under ``lss_torque`` [N m];
         labels ``<body>_<direction>`` (``rotor_spin`` is the drive-train torsion mode)."""
-        asm, q, qd = self.assemble(params, rotor_speed, lss_torque)
+        asm, q, qd = self.build(params, rotor_speed, lss_torque)
         return system_modes(asm.system, q, qd)
 
     def campbell(self, speeds: Any = None, orders: Any = (1.0, 3.0), params: Mapping[str, float] | None = None,
@@ -329,22 +341,100 @@ def constraint_residuals(asm: Assembly, q: Array, qd: Array, rows: Array,
     return pos, gear, qd
 
 
+def linearised(p: Mapping[str, float], fields: tuple[str, ...], inp: Mapping[str, Array],
+               dt: float) -> tuple[Assembly, Packed, StateSpace, Array, float, Array]:
+    """The linear fidelity's system for parameters ``p`` and scene inputs ``inp`` (:func:`scene_inputs`):
+    the assembly under the record's mean loads, packed, its state space linearised at the drive's
+    mean speed over the record, the inputs ``u`` (n_t, 7), the initial spin over the operating one
+    and the inputs' window (:func:`ddgsa.mbs.linear.input_window` of ``[u - mean, 1]``).
+
+    :data:`SPEED_PASSES` linearisations: at the loads model's mean speed, then at the mean speed of
+    the first one's response (they differ by ~0.06 %); the assembly is built once (the spin enters
+    only its initial rates; its constant loads as two samples spanning the record) and the second
+    operating state starts from the first, with its stiffness.
+    """
+    u = np.column_stack([inp["Fx"], inp["Fy"], inp["Fz"], inp["Mx"], inp["My"], inp["Mz"], inp["w_set"]])
+    u0 = u.mean(axis=0)
+    window = input_window(np.column_stack([u - u0, np.ones(len(u))]))
+    const = np.ones((2, 1))
+    spin = float(np.mean(inp["rotor_speed"]))
+    asm = build(p, fields, inp["times"][[0, -1]], const * u0[:3], const * u0[3:6], const[:, 0] * u0[6], spin)
+    s = asm.system
+    packed = pack(s)
+    wheel = s.index("wheel.rx")
+    q, qd, lin = s.q0, s.qd0, None
+    for k in range(SPEED_PASSES):
+        if k:
+            # the mean speed of this pass's response (its only output), then the operating state there
+            new = float(lin.qd0[wheel] + np.mean(reduced_response(ss, u, dt, float(inp["rotor_speed"][0]) / spin,
+                                                                  out=ss.rates[wheel][:, None], window=window)))
+            q, qd, spin = lin.q0, lin.qd0 * (new / spin), new
+        q, qd, lin = operating_state(s, q, qd, s.index("hss.rx"), start=lin, packed=packed)
+        ss = state_space(asm, lin, packed)
+    return asm, packed, ss, u, float(inp["rotor_speed"][0]) / spin, window
+
+
+def linear_records(p: Mapping[str, float], fields: tuple[str, ...], inp: Mapping[str, Array], dt: float,
+                   housing_point: Array) -> dict[str, Array]:
+    """The columns of :meth:`IndirectDrive.simulate` the objective functions read, of the linear fidelity.
+
+    The reduced states of the record (:func:`~.linear.reduced_response`) give only the housing's
+    coordinates and rates, the two shaft speeds and the multipliers of the gear and the bearings
+    (not every coordinate, rate and multiplier of every sample, as :meth:`simulate` forms), and the
+    nonlinear constraint residuals at :data:`DRIFT_SAMPLES` samples (compiled); the same numbers as
+    :meth:`simulate` to round-off (tested).
+    """
+    asm, packed, ss, u, start, window = linearised(p, fields, inp, dt)
+    s, lin = asm.system, ss.lin
+    y = reduced_response(ss, u, dt, start, window=window)
+    times = dt * np.arange(len(u))
+    h = s.slices[id(asm.housing)]
+    speeds = [s.index("wheel.rx"), s.index("hss.rx")]
+    q_h = lin.q0[h] + np.outer(times, lin.qd0[h]) + y @ ss.positions[h].T
+    qd = lin.qd0[[*range(h.start, h.stop), *speeds]] + y @ ss.rates[[*range(h.start, h.stop), *speeds]].T
+    rows = [s.multiplier_names.index(n) for n in FORCE_MULTIPLIERS]
+    du = u - u.mean(axis=0)
+    mult = ss.multipliers[rows]
+    lam = lin.lam0[rows] + y @ mult[:, :y.shape[1]].T + du @ mult[:, y.shape[1]:-1].T + mult[:, -1]
+    cols, a_h = housing_series(asm, p, q_h, qd[:, :6], housing_point)
+    cols.update(force_series(FORCE_MULTIPLIERS, lam, a_h))
+    cols["lss_speed"], cols["hss_speed"], cols["housing_roll_rate"] = qd[:, 6], qd[:, 7], qd[:, 3]
+    drift = np.linspace(0, len(u) - 1, DRIFT_SAMPLES).astype(int)
+    gear = s.multiplier_names.index("gear.normal_force_on_j")
+    residuals = [constraint_values(packed, lin.q0 + t * lin.qd0 + ss.positions @ yi, lin.qd0 + ss.rates @ yi, 0.0)
+                 for t, yi in zip(times[drift], y[drift])]
+    cols["position_drift"] = np.array([np.max(np.abs(r[0])) for r in residuals])
+    cols["gear_drift"] = np.array([abs(r[2][gear]) for r in residuals])
+    return cols
+
+
 def objectives(sim: pd.DataFrame, params: Mapping[str, float], rule: str) -> dict[str, float]:
     """Objective functions of a simulated record (:data:`OUTPUTS`)."""
-    disp = sim[["housing_dx", "housing_dy", "housing_dz"]].to_numpy()
-    ang = sim[["housing_rx", "housing_ry", "housing_rz"]].to_numpy()
+    return objective_values(sim, params, rule, float(sim.attrs["duration"]))
+
+
+def objective_values(cols: Mapping[str, Any], params: Mapping[str, float], rule: str,
+                     duration: float) -> dict[str, float]:
+    """Objective functions (:data:`OUTPUTS`) of the columns ``cols`` of a record of ``duration`` [s] (a
+    :meth:`IndirectDrive.simulate` frame, or the arrays of :func:`linear_records`; NaN drift samples
+    are the ones not evaluated)."""
+    def col(*names: str) -> Array:
+        return np.column_stack([np.asarray(cols[n], dtype=float) for n in names]) if len(names) > 1 \
+            else np.asarray(cols[names[0]], dtype=float)
+
+    disp = col("housing_dx", "housing_dy", "housing_dz")
+    ang = col("housing_rx", "housing_ry", "housing_rz")
     out = housing_motion_outputs(disp, ang)
-    out.update(gear_force_outputs(sim["gear_force"].to_numpy(), float(sim.attrs["duration"])))
-    w_lss, w_hss = sim["lss_speed"].to_numpy(), sim["hss_speed"].to_numpy()
-    w_h = sim["housing_roll_rate"].to_numpy()
-    axis = Rotation.from_rotvec(np.array(ang)).as_matrix()[:, :, 0]   # housing (and, to LSS bending, shaft) axis
+    out.update(gear_force_outputs(col("gear_force"), duration))
+    w_lss, w_hss = col("lss_speed"), col("hss_speed")
+    w_h = col("housing_roll_rate")
+    axis = rotated_x_axis(ang)                             # housing (and, to LSS bending, shaft) axis
     for b in BEARINGS:
-        f = sim[[f"{b}_Fx", f"{b}_Fy", f"{b}_Fz"]].to_numpy()
+        f = col(f"{b}_Fx", f"{b}_Fy", f"{b}_Fz")
         speed = w_lss if b == "main" else (w_lss - w_h if b.startswith("lss") else w_hss - w_h)
         out.update(bearing_outputs(b, f, axis, speed, params[f"bearing_C_{b}"], rule))
-    torque = signal_statistics(sim["housing_torque"].to_numpy())
+    torque = signal_statistics(col("housing_torque"))
     out["housing_torque_mean"], out["housing_torque_rms"] = float(torque["mean"]), float(torque["rms"])
-    drift = constraint_drift({"position": sim["position_drift"].dropna().to_numpy(),
-                              "gear": sim["gear_drift"].dropna().to_numpy()})
-    out.update(drift)
+    drift = {k: col(f"{k}_drift") for k in ("position", "gear")}
+    out.update(constraint_drift({k: v[~np.isnan(v)] for k, v in drift.items()}))
     return {k: out[k] for k in OUTPUTS}

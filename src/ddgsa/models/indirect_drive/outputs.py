@@ -4,7 +4,7 @@
   per global direction -- mean, RMS about the mean and peak-to-peak (what an optical system
   sees, seed 001 paper D);
 - gear contact force: mean, RMS about the mean and damage-equivalent load from rainflow counting
-  (ASTM E1049 via the ``rainflow`` package);
+  (ASTM E1049, compiled here; the ``rainflow`` package is its test oracle);
 - bearing forces split into radial and axial parts about the shaft axis and their damage rates
   by the direct drive's Palmgren-Miner index (:func:`ddgsa.objectives.damage_rate`);
 - housing reaction torque about the LSS axis from the mount forces and moments;
@@ -19,9 +19,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
-import rainflow
+from numba import njit
 from numpy.typing import NDArray
-from scipy.spatial.transform import Rotation
 
 from ddgsa.objectives import damage_rate
 
@@ -66,10 +65,28 @@ def point_displacement(position: NDArray[np.float64], rotation: NDArray[np.float
 def rotation_vectors(rotation: NDArray[np.float64], rotation_ref: NDArray[np.float64]) -> NDArray[np.float64]:
     """Rotation vectors (n_t, 3) [rad] of ``rotation`` (n_t, 3, 3) relative to ``rotation_ref``, global frame.
 
-    The exact logarithm of ``R R_ref^T``; for small angles its components are the rotations about
-    the global X, Y, Z axes.
+    The exact logarithm of ``R R_ref^T`` for angles below pi (the kernel's
+    :func:`ddgsa.mbs.bodies.rotation_vector`, vectorised, its angle from ``atan2(sin, cos)``: exact
+    down to zero); for small angles its components are the rotations about the global X, Y, Z axes.
     """
-    return Rotation.from_matrix(rotation @ rotation_ref.T).as_rotvec()
+    r = rotation @ rotation_ref.T
+    axis2 = np.stack([r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0], r[:, 1, 0] - r[:, 0, 1]], axis=1)  # 2 sin(a) n
+    angle = np.arctan2(0.5 * np.linalg.norm(axis2, axis=1), 0.5 * (np.trace(r, axis1=1, axis2=2) - 1.0))
+    return (0.5 / np.sinc(angle / np.pi))[:, None] * axis2
+
+
+def rotated_x_axis(vectors: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The first column (n_t, 3) of the rotation matrices of rotation vectors ``v`` (n_t, 3) [rad]: the X
+    axis rotated, by Rodrigues' formula (the kernel's :func:`ddgsa.mbs.bodies.rodrigues`, vectorised)
+    ``e_x + sin(a)/a (v x e_x) + (1 - cos(a))/a^2 v x (v x e_x)``, the two factors as sinc (exact down to zero)."""
+    v = np.asarray(vectors, dtype=float)
+    angle = np.linalg.norm(v, axis=1)
+    first, second = np.sinc(angle / np.pi), 0.5 * np.sinc(angle / (2.0 * np.pi)) ** 2
+    out = second[:, None] * v[:, 0:1] * v                      # v x (v x e_x) = v v_x - a^2 e_x
+    out[:, 0] += 1.0 - second * angle ** 2
+    out[:, 1] += first * v[:, 2]                                # v x e_x = (0, v_z, -v_y)
+    out[:, 2] -= first * v[:, 1]
+    return out
 
 
 def housing_motion_outputs(displacement: NDArray[np.float64], angles: NDArray[np.float64],
@@ -83,7 +100,8 @@ def damage_equivalent_load(signal: NDArray[np.float64], duration: float, exponen
                            reference_frequency: float = DEL_REFERENCE_FREQUENCY) -> float:
     """Damage-equivalent load range [unit of ``signal``]: ``(sum n_i S_i^m / N_eq)^(1/m)``.
 
-    Ranges S_i and counts n_i (half cycles count 0.5) by rainflow counting (ASTM E1049-85);
+    Ranges S_i and counts n_i (half cycles count 0.5) by rainflow counting (ASTM E1049-85 section
+    5.4.4, compiled: :func:`_rainflow_damage`, the ``rainflow`` package's algorithm, tested equal to it);
     ``N_eq = reference_frequency x duration`` (``duration`` [s], ``reference_frequency`` [Hz]).
 
     Examples
@@ -91,11 +109,54 @@ def damage_equivalent_load(signal: NDArray[np.float64], duration: float, exponen
     >>> round(damage_equivalent_load(np.array([1.0, -1.0] * 10 + [1.0]), 10.0, exponent=4.0), 12)
     2.0
     """
-    cycles = rainflow.count_cycles(np.asarray(signal, dtype=float))
-    if not cycles:
+    total = _rainflow_damage(np.ascontiguousarray(signal, dtype=float), float(exponent))
+    return float((total / (reference_frequency * duration)) ** (1.0 / exponent))
+
+
+@njit(cache=True)
+def _rainflow_damage(x, m):  # pragma: no cover (compiled)
+    """``sum n_i S_i^m`` over the rainflow cycles of ``x`` (ASTM E1049-85 5.4.4, as ``rainflow.extract_cycles``).
+
+    Reversals: the first and last samples and every sample where the slope changes sign (repeated
+    values skipped); then the three-point rule on a stack: a range ``Y`` (the two points before the
+    last) not larger than the newest ``X`` is a full cycle, or, holding the start, a half cycle; the
+    ranges left at the end are half cycles."""
+    n = x.size
+    if n < 3:
         return 0.0
-    ranges, counts = np.array(cycles).T
-    return float((np.sum(counts * ranges ** exponent) / (reference_frequency * duration)) ** (1.0 / exponent))
+    rev = np.empty(n)
+    k = 1
+    rev[0] = x[0]
+    xx, d_last = x[1], x[1] - x[0]
+    for i in range(2, n):
+        if x[i] == xx:
+            continue
+        d_next = x[i] - xx
+        if d_last * d_next < 0.0:
+            rev[k] = xx
+            k += 1
+        xx, d_last = x[i], d_next
+    rev[k] = x[n - 1]
+    k += 1
+    stack = np.empty(k)
+    start, top, total = 0, 0, 0.0
+    for j in range(k):
+        stack[top] = rev[j]
+        top += 1
+        while top - start >= 3:
+            x1, x2, x3 = stack[top - 3], stack[top - 2], stack[top - 1]
+            if abs(x3 - x2) < abs(x2 - x1):
+                break
+            if top - start == 3:
+                total += 0.5 * abs(stack[start] - stack[start + 1]) ** m
+                start += 1
+            else:
+                total += abs(x1 - x2) ** m
+                stack[top - 3] = x3
+                top -= 2
+    for j in range(start, top - 1):
+        total += 0.5 * abs(stack[j] - stack[j + 1]) ** m
+    return total
 
 
 def gear_force_outputs(force: NDArray[np.float64], duration: float) -> dict[str, float]:
@@ -131,8 +192,11 @@ def axial_torque(forces: NDArray[np.float64], moments: NDArray[np.float64], poin
                  origin: NDArray[np.float64], axis: NDArray[np.float64]) -> NDArray[np.float64]:
     """Torque (n_t,) [N m] about ``axis`` through ``origin`` of forces (n_t, k, 3) [N] at points
     (n_t, k, 3) or (k, 3) [m] and moments (n_t, k, 3) [N m] -- the reaction torque of the mounts."""
-    arm = points - origin
-    total = np.cross(np.broadcast_to(arm, forces.shape), forces).sum(axis=1) + moments.sum(axis=1)
+    arm = np.broadcast_to(points - origin, forces.shape)
+    total = moments.sum(axis=1)
+    for i in range(3):                                       # arm x force, summed over the points
+        j, k = (i + 1) % 3, (i + 2) % 3
+        total[:, i] += (arm[..., j] * forces[..., k] - arm[..., k] * forces[..., j]).sum(axis=1)
     return total @ axis if axis.ndim == 1 else np.einsum("ti,ti->t", total, axis)
 
 

@@ -14,9 +14,10 @@ from collections.abc import Mapping
 
 import numpy as np
 import pandas as pd
+from numba import njit
 from numpy.typing import NDArray
-from scipy.spatial.transform import Rotation
 
+from ddgsa.mbs.ffr import g_bar, rotation
 from ddgsa.models.indirect_drive.assembly import Assembly
 from ddgsa.models.indirect_drive.outputs import axial_torque, point_displacement, rotation_vectors
 from ddgsa.models.indirect_drive.parameters import BEARINGS
@@ -29,32 +30,51 @@ TRANSVERSE = ("lss1", "lss3", "hss4")
 
 def bryant(angles: Array) -> Array:
     """Rotation matrices (n_t, 3, 3) of Bryant angles (n_t, 3) ``[phi, theta, psi]``: ``R_Z R_Y R_X``
-    (the kernel's :func:`ddgsa.mbs.ffr.rotation`, vectorised)."""
-    return Rotation.from_euler("ZYX", angles[:, ::-1]).as_matrix()
+    (the kernel's :func:`ddgsa.mbs.ffr.rotation` at each sample, compiled)."""
+    return _rotations(np.ascontiguousarray(angles, dtype=float))
 
 
-def mount_forces(asm: Assembly, k: Array, c: Array, q_h: Array, qd_h: Array) -> tuple[Array, Array]:
+@njit(cache=True)
+def _rotations(angles):  # pragma: no cover (compiled)
+    """:func:`ddgsa.mbs.ffr.rotation` of each row of ``angles`` (n_t, 3)."""
+    out = np.empty((angles.shape[0], 3, 3))
+    for i in range(angles.shape[0]):
+        out[i] = rotation(angles[i])
+    return out
+
+
+def mount_forces(asm: Assembly, k: Array, c: Array, q_h: Array, qd_h: Array,
+                 a: Array | None = None) -> tuple[Array, Array]:
     """Mount forces on the housing (n_t, 2, 3) [N] and mount positions (n_t, 2, 3) [m].
 
     The bushings' law in the global frame (:class:`~ddgsa.mbs.elements.Bushing6` with diagonal
     translational ``k``, ``c`` [N/m], [N s/m] and no rotational stiffness): ``F = -K u - C u_dot``
-    with ``u`` the mount point's displacement from its rest position.
+    with ``u`` the mount point's displacement from its rest position. ``a``: the housing's rotation
+    matrices (n_t, 3, 3) where known (:func:`bryant` of its angles).
     """
-    a = bryant(q_h[:, 3:6])
-    pts = q_h[:, None, :3] + np.einsum("tij,mj->tmi", a, asm.mount_points)
+    a = bryant(q_h[:, 3:6]) if a is None else a
+    arm = np.tensordot(a, asm.mount_points, axes=([2], [1])).transpose(0, 2, 1)      # (n_t, 2, 3): A r_m
+    pts = q_h[:, None, :3] + arm
     rest = asm.housing_origin + asm.mount_points
-    omega = _angular_velocity(q_h[:, 3:6], qd_h[:, 3:6])
-    vel = qd_h[:, None, :3] + np.cross(omega[:, None, :], pts - q_h[:, None, :3])
+    w = _angular_velocity(q_h[:, 3:6], qd_h[:, 3:6])[:, None, :]
+    vel = qd_h[:, None, :3] + np.stack([w[..., 1] * arm[..., 2] - w[..., 2] * arm[..., 1],     # w x (A r_m)
+                                        w[..., 2] * arm[..., 0] - w[..., 0] * arm[..., 2],
+                                        w[..., 0] * arm[..., 1] - w[..., 1] * arm[..., 0]], axis=-1)
     return -(pts - rest) * k - vel * c, pts
 
 
 def _angular_velocity(ang: Array, rate: Array) -> Array:
-    """Global angular velocity (n_t, 3) of Bryant angles and rates: ``psi' e_Z + theta' R_Z e_Y + phi' R_Z R_Y e_X``."""
-    _, theta, psi = ang.T
-    ct, st, cp, sp = np.cos(theta), np.sin(theta), np.cos(psi), np.sin(psi)
-    e_y = np.column_stack([-sp, cp, np.zeros_like(sp)])
-    e_x = np.column_stack([cp * ct, sp * ct, -st])
-    return rate[:, 2:3] * np.array([0.0, 0.0, 1.0]) + rate[:, 1:2] * e_y + rate[:, 0:1] * e_x
+    """Global angular velocity (n_t, 3) of Bryant angles and rates (n_t, 3): ``A G_bar angles_dot`` (the
+    kernel's :func:`ddgsa.mbs.ffr.rotation` and :func:`ddgsa.mbs.ffr.g_bar` at each sample, compiled)."""
+    return _angular_velocities(np.ascontiguousarray(ang, dtype=float), np.ascontiguousarray(rate, dtype=float))
+
+
+@njit(cache=True)
+def _angular_velocities(ang, rate):  # pragma: no cover (compiled)
+    out = np.empty_like(ang)
+    for i in range(ang.shape[0]):
+        out[i] = rotation(ang[i]) @ (g_bar(ang[i]) @ rate[i])
+    return out
 
 
 def spin_ratio(q_w: Array, qd_w: Array, q_p: Array, qd_p: Array, q_h: Array, qd_h: Array) -> Array:
@@ -74,12 +94,10 @@ def spin_ratio(q_w: Array, qd_w: Array, q_p: Array, qd_p: Array, q_h: Array, qd_
     return rel_p / rel_w
 
 
-def time_series(asm: Assembly, p: Mapping[str, float], times: Array, q: Array, qd: Array, lam: Array,
-                loads: Mapping[str, Array], housing_point: Array, drift: tuple[Array, Array]) -> pd.DataFrame:
-    """The model's time series (see :meth:`IndirectDrive.simulate` for the columns)."""
-    s = asm.system
-    sl = {b.name: s.slices[id(b)] for b in (asm.rotor, asm.wheel, asm.lss, asm.hss, asm.housing)}
-    q_h, qd_h = q[:, sl["housing"]], qd[:, sl["housing"]]
+def housing_series(asm: Assembly, p: Mapping[str, float], q_h: Array, qd_h: Array,
+                   housing_point: Array) -> tuple[dict[str, Array], Array]:
+    """The housing's columns of :func:`time_series` (point displacement and rotation vector, mount
+    forces and their torque) from its coordinates and rates (n_t, 6), and its rotation matrices (n_t, 3, 3)."""
     a_h = bryant(q_h[:, 3:6])
     cols: dict[str, Array] = {}
     disp = point_displacement(q_h[:, :3], a_h, housing_point, asm.housing_origin, np.eye(3))
@@ -88,13 +106,21 @@ def time_series(asm: Assembly, p: Mapping[str, float], times: Array, q: Array, q
         cols[f"housing_d{ax}"] = disp[:, i]
     for i, ax in enumerate("xyz"):
         cols[f"housing_r{ax}"] = ang[:, i]
-    w_lss, w_hss, w_h = qd[:, sl["wheel"]][:, 3], qd[:, sl["hss"]][:, 3], qd_h[:, 3]
-    cols["lss_speed"], cols["hss_speed"], cols["housing_roll_rate"] = w_lss, w_hss, w_h
-    cols["rotor_twist"] = q[:, sl["rotor"]][:, 3] - q[:, sl["wheel"]][:, 3]
-    cols["spin_ratio"] = spin_ratio(q[:, sl["wheel"]], qd[:, sl["wheel"]], q[:, sl["hss"]], qd[:, sl["hss"]], q_h, qd_h)
-    names = s.multiplier_names
+    k_m = np.array([p["k_mount_x"], p["k_mount_y"], p["k_mount_z"]])
+    c_m = 2.0 * p["mount_damping_ratio"] * np.sqrt(k_m * p["housing_mass"] / 2.0)
+    fm, pts = mount_forces(asm, k_m, c_m, q_h, qd_h, a_h)
+    for m, side in enumerate(("left", "right")):
+        for i, ax in enumerate("xyz"):
+            cols[f"mount_{side}_F{ax}"] = fm[:, m, i]
+    cols["housing_torque"] = axial_torque(fm, np.zeros_like(fm), pts, np.zeros(3), X_AXIS)
+    return cols, a_h
+
+
+def force_series(names: tuple[str, ...], lam: Array, a_h: Array) -> dict[str, Array]:
+    """``gear_force`` and the bearing force columns ``{b}_F{x,y,z}`` of :func:`time_series` from the
+    multipliers (n_t, len(names)) named ``names`` and the housing's rotation matrices (n_t, 3, 3)."""
     col = {n: i for i, n in enumerate(names)}
-    cols["gear_force"] = lam[:, col["gear.normal_force_on_j"]]
+    cols = {"gear_force": lam[:, col["gear.normal_force_on_j"]]}
     for b in BEARINGS:
         if b in TRANSVERSE:
             f = (a_h[:, :, 1] * lam[:, [col[f"{b}.force_on_j_n1"]]] + a_h[:, :, 2] * lam[:, [col[f"{b}.force_on_j_n2"]]])
@@ -102,13 +128,28 @@ def time_series(asm: Assembly, p: Mapping[str, float], times: Array, q: Array, q
             f = lam[:, [col[f"{b}.force_on_j_{ax}"] for ax in "xyz"]]
         for i, ax in enumerate("xyz"):
             cols[f"{b}_F{ax}"] = f[:, i]
-    k_m = np.array([p["k_mount_x"], p["k_mount_y"], p["k_mount_z"]])
-    c_m = 2.0 * p["mount_damping_ratio"] * np.sqrt(k_m * p["housing_mass"] / 2.0)
-    fm, pts = mount_forces(asm, k_m, c_m, q_h, qd_h)
-    for m, side in enumerate(("left", "right")):
-        for i, ax in enumerate("xyz"):
-            cols[f"mount_{side}_F{ax}"] = fm[:, m, i]
-    cols["housing_torque"] = axial_torque(fm, np.zeros_like(fm), pts, np.zeros(3), X_AXIS)
+    return cols
+
+
+#: multipliers :func:`force_series` reads
+FORCE_MULTIPLIERS = ("gear.normal_force_on_j",
+                     *(f"{b}.force_on_j_{r}" for b in BEARINGS for r in (("n1", "n2") if b in TRANSVERSE else "xyz")))
+
+
+def time_series(asm: Assembly, p: Mapping[str, float], times: Array, q: Array, qd: Array, lam: Array,
+                loads: Mapping[str, Array], housing_point: Array, drift: tuple[Array, Array]) -> pd.DataFrame:
+    """The model's time series (see :meth:`IndirectDrive.simulate` for the columns)."""
+    s = asm.system
+    sl = {b.name: s.slices[id(b)] for b in (asm.rotor, asm.wheel, asm.lss, asm.hss, asm.housing)}
+    q_h, qd_h = q[:, sl["housing"]], qd[:, sl["housing"]]
+    housing, a_h = housing_series(asm, p, q_h, qd_h, housing_point)
+    cols = {k: v for k, v in housing.items() if not k.startswith("mount_") and k != "housing_torque"}
+    w_lss, w_hss, w_h = qd[:, sl["wheel"]][:, 3], qd[:, sl["hss"]][:, 3], qd_h[:, 3]
+    cols["lss_speed"], cols["hss_speed"], cols["housing_roll_rate"] = w_lss, w_hss, w_h
+    cols["rotor_twist"] = q[:, sl["rotor"]][:, 3] - q[:, sl["wheel"]][:, 3]
+    cols["spin_ratio"] = spin_ratio(q[:, sl["wheel"]], qd[:, sl["wheel"]], q[:, sl["hss"]], qd[:, sl["hss"]], q_h, qd_h)
+    cols.update(force_series(s.multiplier_names, lam, a_h))
+    cols.update({k: v for k, v in housing.items() if k not in cols})          # mount forces, then their torque
     n = p["gear_ratio"]
     cols["gen_torque"] = p["c_gen"] / n ** 2 * (-n * loads["w_set"] - w_hss)
     for name in ("Fx", "Fy", "Fz", "Mx", "My", "Mz"):
