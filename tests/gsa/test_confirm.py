@@ -182,3 +182,23 @@ def test_loo_error_over_the_drawn_points_equals_brute_force_refits() -> None:
     assert loo[0] * np.var(y) == pytest.approx(np.mean(sq), rel=1e-9)
     _, loo_all = _least_squares(psi, y)
     assert loo_all[0] != pytest.approx(loo[0], rel=1e-3)          # the cut lines do change the mean
+
+
+def test_advice_after_a_stopped_escalation_asks_for_saltelli_not_a_larger_budget() -> None:
+    """Where the study's ``confirm:`` escalation stopped because the pooled PCE's bound did not shrink,
+    the advice names the Saltelli design and says a larger budget would not help; elsewhere it offers
+    the budget (the one that pays for that design)."""
+    from types import SimpleNamespace
+
+    from ddgsa.confirm import advice
+
+    rows = pd.DataFrame({"scene": 0, "output": "y", "parameter": ["a", "b"], "ST": [0.5, 0.5]})
+    study = SimpleNamespace(spec=SimpleNamespace(scenes=SimpleNamespace(realisations=1)), targets=[])
+    log = ["pce (+41 runs, 41 of 512): unconfirmed: y", "stopped with 389 of 512 runs left: ..."]
+    stopped = SimpleNamespace(indices=rows, study=study, evaluations=pd.DataFrame({"seconds": [2.0]}),
+                              provenance={"confirm": [{"scene": 0, "budget": 512, "spent": 123, "log": log}]})
+    text = advice(stopped, "y", [0])
+    assert "add `saltelli` with n: " in text and "escalation stopped in scene 0" in text
+    assert "a larger `confirm:` budget would not help" in text and "confirm: {budget" not in text
+    fresh = SimpleNamespace(**{**vars(stopped), "provenance": {}})
+    assert "or `confirm: {budget: " in advice(fresh, "y", [0])
