@@ -157,6 +157,7 @@ def test_halving_the_step_changes_objectives_below_half_a_percent(fidelity: str,
     assert rel < 5e-3, rel
 
 
+@pytest.mark.slow                  # ~15-25 s (Radau on the 5-mode basis); the default run keeps the step-halving test
 def test_generalised_alpha_against_solve_ivp_radau() -> None:
     """The default 5 ms step against Radau (rtol 1e-6) on the same equations within 1 % (the speed
     bench's ``flexible_error`` target): measured 0.66 % (generator-end deflection; 0.34 % on seed 000's
