@@ -97,7 +97,7 @@ def advice(result: "StudyResult", output: str, scenes: list[int], tolerance: flo
     salt = f"to confirm it add `saltelli` with n: {n} ({_num(runs)} runs, {duration(sec)} of model time{at})"
     if output in {t.name for t in getattr(result.study, "targets", [])}:
         return salt + " (a target output: `confirm:` escalates the model's own outputs only)"
-    stopped = [c["scene"] for c in result.provenance.get("confirm", []) or []
+    stopped = [c["scene"] for c in (getattr(result, "provenance", None) or {}).get("confirm", []) or []
                if c["scene"] in scenes and any(line.startswith("stopped with") for line in c["log"])]
     if stopped:
         return (salt + "; the study's `confirm:` escalation stopped in scene"
