@@ -9,6 +9,10 @@ per simulated minute, so it is timed on the first ``ref_seconds`` of the scene a
 the full record (its cost per simulated second is steady); each fidelity's objective
 functions are compared with it on that window.
 
+The full run also times the rig's and the geared drive's seed studies (``paper_a_subsystem``,
+``indirect_drive_gsa``) from an empty folder on 2 workers, each against the same reference
+(issue 27); ``quick`` leaves them out (their scenes are not the wind scenes it shortens).
+
 ``quick=True`` runs every row on small problems (60 s scene, 1 s of reference, one
 realisation of a shortened paper-C study) to check the bench itself; its verdicts are not the
 targets' verdicts, which need the full sizes.
@@ -35,6 +39,8 @@ FULL = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=600.0, seed=1)
 MIN_TIMED_S = 1.0
 REPO = Path(__file__).resolve().parents[3]
 PAPER_C = REPO / "studies" / "paper_c_structural.yaml"
+RIG_STUDY = REPO / "studies" / "paper_a_subsystem.yaml"
+GEARED_STUDY = REPO / "studies" / "indirect_drive_gsa.yaml"
 
 #: (key, what, goal, unit, higher_is_better). Speed-ups and the loads time are CPU times (a shared
 #: machine inflates wall times, not the CPU a computation needs); wall figures are in the notes.
@@ -49,6 +55,8 @@ TARGETS = (
     ("paper_c_wall", "paper_c_structural, 2 jobs, empty cache: wall time", 15.0, "s", False),
     ("paper_c_memory", "paper_c_structural: peak memory, all processes", 1.0, "GiB", False),
     ("runner_overhead", "runner overhead per evaluation (store, scheduling), 2 jobs", 0.10, "rel", False),
+    ("rig_study_ratio", "paper_a_subsystem, 2 jobs, empty folder: wall / one Radau reference", 0.10, "x", False),
+    ("geared_study_ratio", "indirect_drive_gsa, 2 jobs, empty folder: wall / one Radau reference", 0.25, "x", False),
 )
 
 
@@ -323,6 +331,14 @@ def _speed(ref_seconds: float, quick: bool, study: Path | None) -> dict[str, Any
                                          f"{st['realisations_generated']} records generated, none twice: "
                                          f"{st['realisations']} realisations"
                                          + (f" and {pilots} shorter pilot records (fidelity: auto)" if pilots else ""))
+        if not quick:                    # issue 27: the other models' studies against the same reference
+            ref_wall = reference["wall_s_scaled"]
+            for key, path in (("rig_study_ratio", RIG_STUDY), ("geared_study_ratio", GEARED_STUDY)):
+                other = _study(path, quick)
+                out[key] = other
+                measured[key] = (other["wall_s"] / ref_wall,
+                                 f"{other['wall_s']:.0f} s wall against {ref_wall:.0f} s; {other['evaluations']} model "
+                                 f"runs, CPU {other['cpu_s_all_processes']:.0f} s in all processes")
     out["targets"] = [_verdict(key, what, goal, unit, higher, *measured.get(key, (None, "not measured")))
                       for key, what, goal, unit, higher in TARGETS]
     return out
@@ -348,8 +364,8 @@ def _fmt(value: float | None, unit: str) -> str:
         return "-"
     if unit == "rel":
         return f"{value:.2%}"
-    if unit == "x":
-        return f"{value:,.0f}x"
+    if unit == "x":                    # speed-ups in the thousands, study-to-reference ratios below one
+        return f"{value:,.0f}x" if value >= 10 else f"{value:.2f}x"
     return f"{value:.3g} {unit}"
 
 
