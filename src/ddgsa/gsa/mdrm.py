@@ -77,10 +77,9 @@ from scipy.interpolate import BarycentricInterpolator
 from scipy.stats import chi2
 
 from ddgsa.errors import MethodError
-from ddgsa.gsa.base import (Design, GsaMethod, PartialIndices, check_fraction, check_int,
-                            get_method, register)
+from ddgsa.gsa.base import Design, GsaMethod, PartialIndices, check_fraction, check_int, register
 from ddgsa.gsa.groups import GroupIndices, product_form
-from ddgsa.gsa.pooled import pooled_order
+from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.result import Diagnostic, index_error_rule, trusted_mask
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance, error_diagnostics, surrogate_index_error
 from ddgsa.quadrature import gauss_rule
@@ -381,15 +380,11 @@ def _cross_check(space: ParameterSpace, design: Design, y: NDArray[np.float64], 
     nothing of interactions). Rows a rule other than the error estimate refuses carry an infinite
     bound. None when the points are too few for even a linear expansion.
     """
-    order = pooled_order(space.dim, design.n_points)
-    if order == 0:
-        return None
-    pce = get_method("pce")
     drawn = np.zeros(design.n_points, dtype=bool)
     drawn[-design.options["check"]:] = True
-    pooled = Design("pce", design.points, {**pce.defaults, "order": order, "fit": "sparse", "n": design.n_points,
-                                           "seed": 0, "tolerance": tolerance}, {"drawn": drawn})
-    res = pce.analyze(space, pooled, y, outputs=outputs)
+    res = pooled_pce(space, design.points, y, outputs, tolerance, drawn=drawn)
+    if res is None:
+        return None
     t = res.indices
     usable = trusted_mask(t, [d for d in res.diagnostics if not index_error_rule(d.name)])
     shape = (len(outputs), space.dim)

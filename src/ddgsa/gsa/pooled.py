@@ -37,16 +37,18 @@ def pooled_order(dim: int, n_points: int, max_order: int = MAX_ORDER, max_entrie
 
 def pooled_pce(space: ParameterSpace, x: NDArray[np.float64], y: NDArray[np.float64], outputs: list[str],
                tolerance: float = DEFAULT_TOLERANCE, max_order: int = MAX_ORDER,
-               max_entries: int = _MAX_MATRIX_ENTRIES) -> SobolResult | None:
+               max_entries: int = _MAX_MATRIX_ENTRIES, drawn: NDArray[np.bool_] | None = None) -> SobolResult | None:
     """Sparse-PCE indices from the pooled points ``x`` (n, d) and values ``y`` (n, k) (an output
     with a failed point is refused, as by every method), of the order :func:`pooled_order` picks;
-    None when the points are too few even for order 1 (``d + 1`` terms > ``2 n``)."""
+    None when the points are too few even for order 1 (``d + 1`` terms > ``2 n``). ``drawn`` (n,)
+    marks the points drawn from the input distribution: the leave-one-out error is then their mean
+    square only (:func:`ddgsa.gsa.pce._sparse_fit`)."""
     order = pooled_order(space.dim, len(x), max_order, max_entries)
     if order == 0:
         return None
     m = get_method("pce")
     design = Design("pce", x, {**m.defaults, "order": order, "fit": "sparse", "n": len(x), "seed": 0,
-                               "tolerance": tolerance})
+                               "tolerance": tolerance}, {} if drawn is None else {"drawn": drawn})
     res = m.analyze(space, design, y, outputs=outputs)
     res.method = NAME
     return res

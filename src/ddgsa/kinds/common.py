@@ -8,6 +8,8 @@ its own provenance (:meth:`Kind.provenance`).
 
 from __future__ import annotations
 
+import sys
+
 import warnings
 from dataclasses import dataclass
 from typing import Any, Protocol
@@ -128,7 +130,7 @@ class Runs:
         self.retry_failed = retry_failed
         """Run again the evaluations the store holds as failed (``ddgsa run --retry-failed``)."""
         self.tasks: dict[str, Task] = {}
-        self.evaluated = self.failed_now = self.retried = 0
+        self.evaluated = self.failed_now = 0
         self._warm: set[ModelId] = set()
 
     def __call__(self, tasks: list[Task]) -> None:
@@ -136,8 +138,10 @@ class Runs:
         self.tasks.update((t.key, t) for t in tasks)
         if not self.evaluate:
             return
-        if self.retry_failed:
-            self.retried += self.store.forget_failed(t.key for t in tasks)
+        if self.retry_failed and (gone := self.store.forget_failed(t.key for t in tasks)) \
+                and not self.run_opts.get("quiet", False):
+            print(f"ddgsa: note: {gone} stored failed evaluation{'s' if gone > 1 else ''} run again (--retry-failed)",
+                  file=sys.stderr, flush=True)
         self._warm_up(tasks)
         self._run(tasks, self.run_opts)
 

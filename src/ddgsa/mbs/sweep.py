@@ -251,11 +251,11 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
         f_hat[1:] *= 2.0                                                       # Re(F_j exp(i j w t)) form
         return f_hat
 
-    f_hat = np.zeros(shape, dtype=complex)
-    zs, amps = respond(f_hat)
-    last = None
+    zs, amps = respond(np.zeros(shape, dtype=complex))
+    last, first = None, None
     for _ in range(max_iter if turning is not None else 0):
         f_hat = harmonics(zs, amps)
+        first = f_hat if first is None else first
         zs, amps = respond(f_hat)
         state = np.concatenate([zs, amps.ravel().view(float)])
         if last is not None and np.linalg.norm(state - last) <= rtol * np.linalg.norm(state):
@@ -271,7 +271,7 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
                 f = x.view(complex).reshape(shape)
                 return (harmonics(*respond(f)) - f).ravel().view(float)
 
-            x0 = harmonics(*respond(np.zeros(shape, dtype=complex))).ravel().view(float)
+            x0 = np.array(first).ravel().view(float)                             # the first iterate
             scale = max(float(np.abs(x0).max()), np.finfo(float).tiny)
             try:
                 x = newton_krylov(residual, x0.copy(), f_tol=rtol * scale, maxiter=max_iter)
