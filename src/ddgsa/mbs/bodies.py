@@ -19,6 +19,7 @@ marker states, so a new element never needs to know what kind of body it is atta
 
 from __future__ import annotations
 
+import functools
 import math
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
@@ -282,35 +283,11 @@ class FlexibleBody(Body):
         bad = [f for f in fields if f not in FIELDS]
         if bad:
             raise ModelError(f"body {name!r}: unknown elastic field(s) {bad}; allowed: {', '.join(FIELDS)}")
-        n_bend = max([mode_number(f) for f in fields if f.startswith("bending")] + [1])
-        modes = shaft_modes(spec, n_axial=1, n_torsion=1, n_bending=max(n_bend, 2))
-        s_tr, s_rot = _field_shapes(modes, fields)
-        x = spec.x
-        trib = np.zeros(x.size)
-        le = np.diff(x)
-        trib[:-1] += le / 2
-        trib[1:] += le / 2
-        node_mass = spec.mass / spec.length * trib
-        pm, pu, ps = [], [], []
-        rotating: list = []
-        if rotary_inertia:
-            jx_node = spec.polar_inertia / spec.length * trib
-            _add_station_inertias(pm, pu, ps, node_mass, jx_node, 0.5 * jx_node + node_mass * trib ** 2 / 12.0, x,
-                                  s_tr, s_rot, rotating)
-        else:
-            pm.append(node_mass)
-            pu.append(np.column_stack([x, np.zeros_like(x), np.zeros_like(x)]))
-            ps.append(s_tr)
-        for xe, mass, jx, jd in spec.end_masses:
-            i = spec.node_index(xe)
-            _add_inertia(pm, pu, ps, mass, jx, jd, x[i], s_tr[i], s_rot[i], rotating)
-        pm_a, pu_a, ps_a = np.concatenate(pm), np.vstack(pu), np.concatenate(ps, axis=0)
-        m_ff = np.einsum("j,jai,jak->ik", pm_a, ps_a, ps_a)
-        k, c = elastic_matrices(fields, modes, m_ff, damping_ratio)
-        body = cls(name, pm_a, pu_a, ps_a, k, c, fields, node_x=x, node_shapes=s_tr, node_rotation_shapes=s_rot,
-                   **pose)
-        body.modes = modes
-        body.rotating_points = rotating
+        parts = _shaft_parts(spec, tuple(fields), float(damping_ratio), bool(rotary_inertia))
+        body = cls(name, parts.pm, parts.pu, parts.ps, parts.k, parts.c, fields, node_x=parts.x,
+                   node_shapes=parts.s_tr, node_rotation_shapes=parts.s_rot, invariants=parts.invariants, **pose)
+        body.modes = parts.modes
+        body.rotating_points = list(parts.rotating)
         return body
 
     def spin_stiffness(self, w: Array) -> Array:
@@ -448,6 +425,62 @@ class RigidBody(FlexibleBody):
         inv.h1 = np.zeros((0, 3, 0))
         super().__init__(name, [mass], np.zeros((1, 3)), np.zeros((1, 3, 0)), invariants=inv, **pose)
         self.inertia = j
+
+
+
+@dataclass(frozen=True)
+class _ShaftParts:
+    """What :meth:`FlexibleBody.shaft` computes from its spec (read-only arrays, shared by the bodies of one spec)."""
+
+    pm: Array
+    pu: Array
+    ps: Array
+    k: Array
+    c: Array
+    x: Array
+    s_tr: Array
+    s_rot: Array
+    modes: ShaftModes
+    rotating: tuple
+    invariants: Invariants
+
+
+@functools.lru_cache(maxsize=8)
+def _shaft_parts(spec: BeamSpec, fields: tuple[str, ...], damping_ratio: float, rotary_inertia: bool) -> _ShaftParts:
+    """Mode shapes, lumped points, elastic matrices and inertia invariants of an FE shaft (see
+    :meth:`FlexibleBody.shaft`), kept for the few latest specs: a model builds the same shaft
+    several times for one parameter point (at rest for its sag, spinning for its run), and the
+    eigen-solves and invariants are most of a build."""
+    n_bend = max([mode_number(f) for f in fields if f.startswith("bending")] + [1])
+    modes = shaft_modes(spec, n_axial=1, n_torsion=1, n_bending=max(n_bend, 2))
+    s_tr, s_rot = _field_shapes(modes, fields)
+    x = spec.x
+    trib = np.zeros(x.size)
+    le = np.diff(x)
+    trib[:-1] += le / 2
+    trib[1:] += le / 2
+    node_mass = spec.mass / spec.length * trib
+    pm, pu, ps = [], [], []
+    rotating: list = []
+    if rotary_inertia:
+        jx_node = spec.polar_inertia / spec.length * trib
+        _add_station_inertias(pm, pu, ps, node_mass, jx_node, 0.5 * jx_node + node_mass * trib ** 2 / 12.0, x,
+                              s_tr, s_rot, rotating)
+    else:
+        pm.append(node_mass)
+        pu.append(np.column_stack([x, np.zeros_like(x), np.zeros_like(x)]))
+        ps.append(s_tr)
+    for xe, mass, jx, jd in spec.end_masses:
+        i = spec.node_index(xe)
+        _add_inertia(pm, pu, ps, mass, jx, jd, x[i], s_tr[i], s_rot[i], rotating)
+    pm_a, pu_a, ps_a = np.concatenate(pm), np.vstack(pu), np.concatenate(ps, axis=0)
+    m_ff = np.einsum("j,jai,jak->ik", pm_a, ps_a, ps_a)
+    k, c = elastic_matrices(fields, modes, m_ff, damping_ratio)
+    invariants = Invariants(pm_a, pu_a, ps_a)
+    arrays = [pm_a, pu_a, ps_a, k, c, x, s_tr, s_rot]
+    for arr in arrays:
+        arr.flags.writeable = False
+    return _ShaftParts(*arrays, modes, tuple(rotating), invariants)
 
 
 def _field_shapes(modes: ShaftModes, fields: Sequence[str]) -> tuple[Array, Array]:
