@@ -109,7 +109,7 @@ def generalised_force(system: System, q: Array, qd: Array, t: float, elements: S
     """Generalised force (n,) of the listed elements alone at ``(q, qd, t)``."""
     f = np.zeros(system.n)
     for el in elements:
-        states = [system.marker_state(mk, q, qd, t) for mk in el.markers]
+        states = system.states_of(el.markers, q, qd, t)
         w = el.wrench(t, states)[0]
         for s, wi in zip(states, w):
             f += s.jac.T @ wi
@@ -326,14 +326,20 @@ def _element_force(el: Element, t: float, states: list[MarkerState]) -> Array:
 
 def _inputs(system: System, lin: SpinLinearisation, times: Array, elements: Sequence[Element]) -> Array:
     """``T(t)^T (Q_sel(t) - Q_sel(t0))`` of the listed elements along the operating trajectory (n_t, n)."""
-    zero = np.zeros(lin.q0.size)
-
-    def force(t: float) -> Array:
-        q, qd, _ = lin.state(zero, zero, zero, t)
-        return lin.projection(t).T @ generalised_force(system, q, qd, t, elements)
-
-    ref = force(lin.t0)
-    return np.array([force(t) - ref for t in times])
+    times = np.concatenate([[lin.t0], np.asarray(times, dtype=float)])
+    zero = np.zeros((times.size, lin.q0.size))
+    q, qd = full_states(lin, times, zero, zero)
+    f = np.array([generalised_force(system, q[i], qd[i], t, elements) for i, t in enumerate(times)])
+    out = f.copy()
+    for k, (iy, iz, isp) in enumerate(lin.pairs):
+        phi = q[:, isp]
+        c, s = np.cos(phi), np.sin(phi)
+        xy, xz = lin.xi0[k]
+        ry, rz = c * xy + s * xz, -s * xy + c * xz              # R(-phi) xi
+        # T^T: the pair's rows turned back by R(-phi)^T, the spin row gains (-J R(-phi) xi) . f_pair
+        out[:, iy], out[:, iz] = c * f[:, iy] - s * f[:, iz], s * f[:, iy] + c * f[:, iz]
+        out[:, isp] += rz * f[:, iy] - ry * f[:, iz]
+    return out[1:] - out[0]
 
 
 def simulate(system: System, lin: SpinLinearisation, t_end: float, dt: float, elements: Sequence[Element],

@@ -61,6 +61,17 @@ class Drive:
         theta, w, v = self.supply.state(self.motor, t)
         return theta, w, 0.0 if (self.cut and t > 0.0) else v
 
+    def states(self, t: Array) -> tuple[Array, Array, Array]:
+        """:meth:`state` along the times ``t`` [s] (n_t,): ``(theta_e, omega_e, v_peak)`` (n_t,) each;
+        at once where the supply's own state is a rotation at its frequency (direct-on-line), else
+        sample by sample (a ramp)."""
+        t = np.asarray(t, dtype=float)
+        if self.supply.ramp_time > 0.0:
+            return tuple(np.array([self.state(float(ti)) for ti in t]).reshape(-1, 3).T)
+        theta, w, v = self.supply.state(self.motor, t)      # w1 t, w1, v_peak
+        v = np.where(t > 0.0, 0.0, v) if self.cut else np.full(t.shape, v)
+        return theta, np.full(t.shape, w), v
+
 
 def drive_for(p: Mapping[str, float], scene: RigScene, pole_pairs: int = 2) -> Drive:
     """The motor of parameter set ``p`` supplied as ``scene`` asks (see the module)."""
@@ -88,7 +99,7 @@ def kloss_along(drive: Drive, t: Array, speed: Array) -> tuple[Array, Array]:
     """Air-gap torque [N m] and phase-a current [A] of the steady equivalent circuit (both sequences)
     along a record: times ``t`` [s], rotor ``speed`` [rad/s] (n_t,); :func:`kloss_torque_at` elementwise.
     Zero where the supply is off."""
-    theta, w, v = np.array([drive.state(float(ti)) for ti in t]).reshape(-1, 3).T
+    theta, w, v = drive.states(t)
     on = (v != 0.0) & (w > 0.0)
     w_on = np.where(on, w, 1.0)
     st = steady_torque(drive.motor, speed, w_on / (2 * math.pi), v * math.sqrt(1.5))

@@ -87,7 +87,7 @@ from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts,
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build
 from ddgsa.models.hss_rig.scenes import RigScene
-from ddgsa.signals import (angle_amplitudes, band_energy, envelope, harmonic_amplitudes, order_map, plot_order_map,
+from ddgsa.signals import (angle_amplitudes, band_energies, band_energy, envelope, harmonic_amplitudes, order_map, plot_order_map,
                            plot_spectrum, resample_to_angle)
 
 ACCELEROMETERS = ("housing_1_y", "housing_1_z", "housing_2_y", "housing_2_z")
@@ -560,7 +560,7 @@ def _anti_alias(t: np.ndarray, f_r: float):
     if cutoff >= 0.5 * fs:
         return lambda x: x
     sos = butter(8, cutoff, fs=fs, output="sos")
-    return lambda x: sosfiltfilt(sos, x)
+    return lambda x: sosfiltfilt(sos, x, axis=0)
 
 
 def _envelope_bpfo(t: np.ndarray, x: np.ndarray, angle: np.ndarray) -> float:
@@ -584,19 +584,19 @@ def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str,
     f_r = float(np.mean(s["speed"])) / (2 * math.pi)
     smooth = _anti_alias(t, f_r) if scene.kind == "steady" else (lambda x: x)
     bpfo, bpfi = float(BEARING_GEOMETRY.bpfo()), float(BEARING_GEOMETRY.bpfi())
-    for name in SENSORS:
-        x = s[name].to_numpy()
-        dev = x - x.mean()
+    xs = np.column_stack([s[name].to_numpy() for name in SENSORS])
+    phi, ys = resample_to_angle(t, smooth(xs), angle, SAMPLES_PER_REV)     # once: orders and bands
+    amps = angle_amplitudes(phi, ys, [1.0, 2.0])
+    revs = phi / (2 * math.pi)
+    for j, name in enumerate(SENSORS):
+        dev = xs[:, j] - xs[:, j].mean()
         out[f"rms_{name}"] = float(np.sqrt(np.mean(dev**2)))
         out[f"peak_{name}"] = float(np.max(np.abs(dev)))
-        phi, y = resample_to_angle(t, smooth(x), angle, SAMPLES_PER_REV)     # once: orders and bands
-        a1, a2 = angle_amplitudes(phi, y, [1.0, 2.0])
-        out[f"order1x_{name}"], out[f"order2x_{name}"] = float(a1), float(a2)
+        out[f"order1x_{name}"], out[f"order2x_{name}"] = float(amps[0, j]), float(amps[1, j])
         if name in ACCELEROMETERS:
-            revs = phi / (2 * math.pi)
-            out[f"bpfo_{name}"] = band_energy(revs, y, bpfo, 0.25, harmonics=3)
-            out[f"bpfi_{name}"] = band_energy(revs, y, bpfi, 0.25, harmonics=3)
-            out[f"envbpfo_{name}"] = _envelope_bpfo(t, x, angle)
+            out[f"bpfo_{name}"], out[f"bpfi_{name}"] = map(float, band_energies(revs, ys[:, j], [bpfo, bpfi], 0.25,
+                                                                               harmonics=3))
+            out[f"envbpfo_{name}"] = _envelope_bpfo(t, xs[:, j], angle)
     f = drive.motor.supply_frequency
     slip = 1.0 - f_r * drive.motor.pole_pairs / f
     out["torque_2f"] = float(harmonic_amplitudes(t, s["motor_torque"].to_numpy(), [2 * f])[0])
