@@ -201,15 +201,16 @@ def slip_sidebands(line_hz: float, slip: float) -> tuple[float, float]:
 
 def envelope(t: ArrayLike, x: ArrayLike, band: tuple[float, float] | None = None) -> NDArray[np.float64]:
     """Amplitude envelope ``|x + j H(x)|`` (Hilbert transform), optionally of ``x`` band-passed to ``band`` [Hz]
-    first (4th-order Butterworth, zero phase): the demodulation step of bearing envelope analysis."""
+    first (4th-order Butterworth, zero phase): the demodulation step of bearing envelope analysis.
+    ``x`` (n, m) holds m signals (each column's envelope)."""
     t, x, dt = _uniform(t, x)
     if band is not None:
         lo, hi = band
         nyq = 0.5 / dt
         if not 0 < lo < hi < nyq:
             raise SignalError(f"envelope band must satisfy 0 < low < high < Nyquist {nyq:g} Hz, got {band}")
-        x = sosfiltfilt(butter(4, [lo, hi], btype="band", fs=1 / dt, output="sos"), x)
-    return np.abs(hilbert(x))
+        x = sosfiltfilt(butter(4, [lo, hi], btype="band", fs=1 / dt, output="sos"), x, axis=0)
+    return np.abs(hilbert(x, axis=0))
 
 
 def band_energy(t: ArrayLike, x: ArrayLike, center: float, half_width: float, harmonics: int = 1) -> float:

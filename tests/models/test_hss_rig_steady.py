@@ -95,3 +95,28 @@ def test_campbell_whirl_agrees_with_the_gyroscopic_split():
     base = still[still["frequency_hz"].between(115.0, 130.0)]["frequency_hz"]      # the pair at standstill
     assert low["whirl"] == "backward" and low["frequency_hz"] < base.min()
     assert high["whirl"] == "forward" and high["frequency_hz"] > base.max()
+
+
+def test_compiled_spin_linearisation_is_the_python_one_within_its_own_step_noise():
+    """The compiled central differences (:func:`ddgsa.mbs.nonrotating._hybrid_jacobian`) against the
+    same differences through ``system.terms`` (``compiled=False``), on the spinning rig about its sag.
+
+    ``K`` agrees to round-off; ``C`` (velocity steps of 1e-9 against residuals of ~100 N) carries the
+    differences' round-off noise, which differs between the two summation orders: the compiled ``C``
+    must lie closer to the Python one than the Python one at twice the step lies to itself, i.e.
+    within the reference's own finite-difference noise (the outputs that read it, the motor torque's
+    1e-6 ripple above all, move by as much when the reference's step changes; docs/hss_rig.md, Cost).
+    """
+    from ddgsa.mbs import nonrotating
+
+    model = models.get("hss_rig", fidelity="linear")
+    p = model.effective(model.resolve({"eccentric_mass": 0.01}).iloc[0].to_dict())
+    rig, _, _ = model.build(p, SCENE)
+    q0, qd0 = model.initial_state(rig, p)
+    fast = nonrotating.linearise(rig.system, q0, qd0)
+    ref = nonrotating.linearise(rig.system, q0, qd0, compiled=False)
+    ref2 = nonrotating.linearise(rig.system, q0, qd0, compiled=False, rel_step=2e-6)
+    assert np.linalg.norm(fast.k - ref.k) <= 1e-12 * np.linalg.norm(ref.k)
+    assert np.array_equal(fast.m, ref.m) and np.array_equal(fast.r0, ref.r0)
+    noise = np.linalg.norm(ref2.c - ref.c)
+    assert 0.0 < np.linalg.norm(fast.c - ref.c) < noise < 1e-6 * np.linalg.norm(ref.c)

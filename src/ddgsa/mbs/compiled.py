@@ -705,6 +705,18 @@ def _positions_along(q, qd, times, P, m):  # pragma: no cover (compiled)
     return out
 
 
+def _one_marker(arrays: tuple, m: int) -> tuple:
+    """Packed ``arrays`` with marker ``m`` as their only marker (row 0): a record's kinematics of one
+    marker without computing every other marker at every sample."""
+    mk_body, mk_u0, mk_so, mk_s, mk_sr = arrays[15:20]
+    b = mk_body[m]
+    size = 3 * arrays[1][b] if b >= 0 else 0
+    so = mk_so[m]
+    shapes = (mk_s[so:so + size].copy(), mk_sr[so:so + size].copy()) if size else (np.zeros(1), np.zeros(1))
+    return (*arrays[:15], mk_body[m:m + 1].copy(), mk_u0[m:m + 1].copy(), np.zeros(1, np.int64), *shapes,
+            *arrays[20:])
+
+
 class HybridTerms:
     """:meth:`System.terms <ddgsa.mbs.assembly.System.terms>` with every part that packs evaluated
     by the compiled kernel and the few elements without a compiled form (Python torque laws, a
@@ -729,7 +741,7 @@ class HybridTerms:
         """Global position (n_t, 3) [m] of one of the system's markers along a record ``q, qd`` (n_t, n)."""
         m = next(i for i, mk in enumerate(self.system.markers) if mk is marker)
         return _positions_along(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float),
-                                np.asarray(times, dtype=float), self.packed.arrays, m)
+                                np.asarray(times, dtype=float), _one_marker(self.packed.arrays, m), 0)
 
     def states(self, markers: list, q: Array, qd: Array, t: float) -> list[MarkerState]:
         """States of some of the system's ``markers`` at ``(q, qd, t)``."""

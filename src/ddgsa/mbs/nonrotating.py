@@ -151,7 +151,7 @@ def spin_stiffness(system: System, q0: Array, qd0: Array) -> Array:
 
 
 def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: float = 1e-6,
-              spin_stiffening: bool = False, static: bool = False) -> SpinLinearisation:
+              spin_stiffening: bool = False, static: bool = False, compiled: bool = True) -> SpinLinearisation:
     """Linearise ``system`` about ``(q0, qd0)`` (steady spin) in non-rotating bending coordinates.
 
     ``spin_stiffening`` adds :func:`spin_stiffness`, the centrifugal stiffness of the rigid inertias'
@@ -166,7 +166,7 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     A system whose terms are compiled (:func:`ddgsa.mbs.compiled.compile_terms`) takes the
     differences of its packed part in one compiled loop and calls its Python elements only where a
     step moves their markers (:func:`_hybrid_jacobian`: the same differences to round-off, about
-    10x faster); any other system takes them through ``system.terms``.
+    5x faster); any other system, or ``compiled=False``, takes them through ``system.terms``.
     """
     if system.n_constraints:
         raise ModelError("the non-rotating linearisation takes unconstrained systems only "
@@ -181,7 +181,7 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
                              np.asarray(qd0, float), t0, pairs, xi0)
     zero = np.zeros(n)
 
-    if isinstance(system.fast_terms, HybridTerms):
+    if compiled and isinstance(system.fast_terms, HybridTerms):
         k = _hybrid_jacobian(system.fast_terms, base, 0, 1e-3, rel_step)
         c = np.zeros((n, n)) if static else _hybrid_jacobian(system.fast_terms, base, 1, 1e-3, rel_step)
     else:

@@ -563,14 +563,18 @@ def _anti_alias(t: np.ndarray, f_r: float):
     return lambda x: sosfiltfilt(sos, x, axis=0)
 
 
-def _envelope_bpfo(t: np.ndarray, x: np.ndarray, angle: np.ndarray) -> float:
+def _envelope_bpfo(t: np.ndarray, x: np.ndarray, angle: np.ndarray) -> float | np.ndarray:
     """BPFO band energy of the envelope of ``x`` band-passed to :data:`ENVELOPE_BAND` (bearing
     envelope analysis, Randall & Antoni 2011 §3), in the order domain; each end of the band held
-    below the sensor's Nyquist frequency (at most 0.2 and 0.45 of the sample rate)."""
+    below the sensor's Nyquist frequency (at most 0.2 and 0.45 of the sample rate). ``x`` (n,): a
+    float; ``x`` (n, m): one per column (m,)."""
     fs = (t.size - 1) / (t[-1] - t[0])
     env = envelope(t, x, (min(ENVELOPE_BAND[0], 0.2 * fs), min(ENVELOPE_BAND[1], 0.45 * fs)))
     phi, y = resample_to_angle(t, env, angle, SAMPLES_PER_REV)
-    return band_energy(phi / (2 * math.pi), y, float(BEARING_GEOMETRY.bpfo()), 0.25, harmonics=3)
+    bpfo = float(BEARING_GEOMETRY.bpfo())
+    if y.ndim == 1:
+        return band_energy(phi / (2 * math.pi), y, bpfo, 0.25, harmonics=3)
+    return np.array([band_energy(phi / (2 * math.pi), y[:, j], bpfo, 0.25, harmonics=3) for j in range(y.shape[1])])
 
 
 def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str, float]:
@@ -588,6 +592,7 @@ def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str,
     phi, ys = resample_to_angle(t, smooth(xs), angle, SAMPLES_PER_REV)     # once: orders and bands
     amps = angle_amplitudes(phi, ys, [1.0, 2.0])
     revs = phi / (2 * math.pi)
+    env = dict(zip(ACCELEROMETERS, _envelope_bpfo(t, xs[:, :len(ACCELEROMETERS)], angle)))
     for j, name in enumerate(SENSORS):
         dev = xs[:, j] - xs[:, j].mean()
         out[f"rms_{name}"] = float(np.sqrt(np.mean(dev**2)))
@@ -596,7 +601,7 @@ def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str,
         if name in ACCELEROMETERS:
             out[f"bpfo_{name}"], out[f"bpfi_{name}"] = map(float, band_energies(revs, ys[:, j], [bpfo, bpfi], 0.25,
                                                                                harmonics=3))
-            out[f"envbpfo_{name}"] = _envelope_bpfo(t, xs[:, j], angle)
+            out[f"envbpfo_{name}"] = float(env[name])
     f = drive.motor.supply_frequency
     slip = 1.0 - f_r * drive.motor.pole_pairs / f
     out["torque_2f"] = float(harmonic_amplitudes(t, s["motor_torque"].to_numpy(), [2 * f])[0])
