@@ -225,21 +225,20 @@ def band_energy(t: ArrayLike, x: ArrayLike, center: float, half_width: float, ha
 
 def band_energies(t: ArrayLike, x: ArrayLike, centers: Sequence[float], half_width: float,
                   harmonics: int = 1) -> NDArray[np.float64]:
-    """:func:`band_energy` of one record for each of ``centers`` [Hz] (one periodogram for them all)."""
+    """:func:`band_energy` of one record for each of ``centers`` [Hz] (one periodogram for them all):
+    (n_centers,); of each column of ``x`` (n, m): (n_centers, m)."""
     t, x, dt = _uniform(t, x)
     duration = len(t) * dt
     if half_width < 2.0 / duration:
         raise SignalError(f"half_width {half_width:g} Hz is narrower than the Hann main lobe of this record "
                           f"(2 / duration = {2 / duration:.3g} Hz)")
-    f, p = periodogram(x, fs=1 / dt, window="hann", scaling="density", detrend="constant")
+    f, p = periodogram(x, fs=1 / dt, window="hann", scaling="density", detrend="constant", axis=0)
     df = f[1] - f[0]
-    out = np.zeros(len(centers))
+    out = np.zeros((len(centers),) + x.shape[1:])
     for c, center in enumerate(centers):
-        total = 0.0
         for h in range(1, harmonics + 1):
             sel = np.abs(f - h * center) <= half_width
-            total += float(p[sel].sum() * df)
-        out[c] = total
+            out[c] += p[sel].sum(axis=0) * df
     return out
 
 

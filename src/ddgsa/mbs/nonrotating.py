@@ -108,10 +108,14 @@ class SpinLinearisation:
 def generalised_force(system: System, q: Array, qd: Array, t: float, elements: Sequence[Element]) -> Array:
     """Generalised force (n,) of the listed elements alone at ``(q, qd, t)``."""
     f = np.zeros(system.n)
+    markers = [mk for el in elements for mk in el.markers]
+    states = system.states_of(markers, q, qd, t)          # one evaluation of the markers for all elements
+    start = 0
     for el in elements:
-        states = system.states_of(el.markers, q, qd, t)
-        w = el.wrench(t, states)[0]
-        for s, wi in zip(states, w):
+        own = states[start:start + len(el.markers)]
+        start += len(el.markers)
+        w = el.wrench(t, own)[0]
+        for s, wi in zip(own, w):
             f += s.jac.T @ wi
     return f
 

@@ -87,7 +87,7 @@ from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts,
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build
 from ddgsa.models.hss_rig.scenes import RigScene
-from ddgsa.signals import (angle_amplitudes, band_energies, band_energy, envelope, harmonic_amplitudes, order_map, plot_order_map,
+from ddgsa.signals import (angle_amplitudes, band_energies, envelope, harmonic_amplitudes, order_map, plot_order_map,
                            plot_spectrum, resample_to_angle)
 
 ACCELEROMETERS = ("housing_1_y", "housing_1_z", "housing_2_y", "housing_2_z")
@@ -206,8 +206,10 @@ class HssRig(Model):
         its fields; required), its drive and its initial spin [rad/s]."""
         if scene is None:
             raise ModelError("model 'hss_rig': build needs the rig scene (its kind and speed set the drive)")
-        scene = self._scene(scene)
-        p = self.resolve(params).iloc[0].to_dict()
+        return self._build(self.resolve(params).iloc[0].to_dict(), self._scene(scene))
+
+    def _build(self, p: dict[str, float], scene: RigScene) -> tuple[Rig, Drive, float]:
+        """:meth:`build` for a full parameter set ``p`` (resolved)."""
         drive = drive_for(p, scene, POLE_PAIRS)
         spin = 0.0
         if scene.kind != "startup":
@@ -243,14 +245,16 @@ class HssRig(Model):
     # -- time integration ----------------------------------------------------------------------
     def simulate(self, scene: Any, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         """Sensor time series (see the module), indexed by time [s]."""
-        sc = self._scene(scene)
-        raw = self.resolve(params).iloc[0].to_dict()
+        return self._simulate(self._scene(scene), self.resolve(params).iloc[0].to_dict())
+
+    def _simulate(self, sc: RigScene, raw: dict[str, float]) -> pd.DataFrame:
+        """:meth:`simulate` for a full parameter set ``raw`` (resolved: what :meth:`evaluate` passes on)."""
         if self.fidelity == "linear" and sc.kind != "steady" and misaligned(raw):
             raise ModelError("model 'hss_rig': fidelity 'linear' carries a coupling misalignment in steady scenes "
                              f"only (not verified in a {sc.kind}); got misalignment_parallel = "
                              f"{raw['misalignment_parallel']} m, misalignment_angular = {raw['misalignment_angular']} "
                              "rad; use 'kloss' or 'dq'")
-        rig, drive, spin = self.build(raw, sc)
+        rig, drive, spin = self._build(raw, sc)
         p = self.effective(raw)
         h = 1.0 / sc.sample_rate
         if self.fidelity == "linear" and sc.kind == "steady":
@@ -354,7 +358,7 @@ class HssRig(Model):
     # -- objectives ----------------------------------------------------------------------------
     def _evaluate_one(self, params: dict[str, float], scene: Any) -> dict[str, float]:
         sc = self._scene(scene)
-        series = self.simulate(sc, params)
+        series = self._simulate(sc, params)
         return objectives(series, sc, drive_for(params, sc, POLE_PAIRS))
 
     def evaluate(self, points: Any, scene: Any, signals: tuple[str, ...] = ()) -> pd.DataFrame:
@@ -378,7 +382,7 @@ class HssRig(Model):
         """Outputs and 1x order tracks of one run: the 1x amplitude of 1-revolution blocks
         (:func:`ddgsa.signals.order_map`) at the blocks' mean speeds, interpolated onto :meth:`signal_axis`."""
         sc = self._scene(scene)
-        series = self.simulate(sc, params)
+        series = self._simulate(sc, params)
         scalars = objectives(series, sc, drive_for(params, sc, POLE_PAIRS))
         t, angle = series.index.to_numpy(), series["angle"].to_numpy()
         tracks = {}
@@ -571,10 +575,7 @@ def _envelope_bpfo(t: np.ndarray, x: np.ndarray, angle: np.ndarray) -> float | n
     fs = (t.size - 1) / (t[-1] - t[0])
     env = envelope(t, x, (min(ENVELOPE_BAND[0], 0.2 * fs), min(ENVELOPE_BAND[1], 0.45 * fs)))
     phi, y = resample_to_angle(t, env, angle, SAMPLES_PER_REV)
-    bpfo = float(BEARING_GEOMETRY.bpfo())
-    if y.ndim == 1:
-        return band_energy(phi / (2 * math.pi), y, bpfo, 0.25, harmonics=3)
-    return np.array([band_energy(phi / (2 * math.pi), y[:, j], bpfo, 0.25, harmonics=3) for j in range(y.shape[1])])
+    return band_energies(phi / (2 * math.pi), y, [float(BEARING_GEOMETRY.bpfo())], 0.25, harmonics=3)[0]
 
 
 def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str, float]:
@@ -592,15 +593,16 @@ def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str,
     phi, ys = resample_to_angle(t, smooth(xs), angle, SAMPLES_PER_REV)     # once: orders and bands
     amps = angle_amplitudes(phi, ys, [1.0, 2.0])
     revs = phi / (2 * math.pi)
-    env = dict(zip(ACCELEROMETERS, _envelope_bpfo(t, xs[:, :len(ACCELEROMETERS)], angle)))
+    acc = slice(0, len(ACCELEROMETERS))                # the accelerometers lead SENSORS
+    env = dict(zip(ACCELEROMETERS, _envelope_bpfo(t, xs[:, acc], angle)))
+    bands = dict(zip(ACCELEROMETERS, band_energies(revs, ys[:, acc], [bpfo, bpfi], 0.25, harmonics=3).T))
     for j, name in enumerate(SENSORS):
         dev = xs[:, j] - xs[:, j].mean()
         out[f"rms_{name}"] = float(np.sqrt(np.mean(dev**2)))
         out[f"peak_{name}"] = float(np.max(np.abs(dev)))
         out[f"order1x_{name}"], out[f"order2x_{name}"] = float(amps[0, j]), float(amps[1, j])
         if name in ACCELEROMETERS:
-            out[f"bpfo_{name}"], out[f"bpfi_{name}"] = map(float, band_energies(revs, ys[:, j], [bpfo, bpfi], 0.25,
-                                                                               harmonics=3))
+            out[f"bpfo_{name}"], out[f"bpfi_{name}"] = map(float, bands[name])
             out[f"envbpfo_{name}"] = float(env[name])
     f = drive.motor.supply_frequency
     slip = 1.0 - f_r * drive.motor.pole_pairs / f
