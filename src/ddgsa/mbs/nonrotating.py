@@ -401,10 +401,14 @@ def periodic(system: System, lin: SpinLinearisation, t_end: float, dt: float, el
                       for j in harmonics])                  # (J, n)
     n_out = int(round((t_end - lin.t0) / dt)) + 1
     times = lin.t0 + dt * np.arange(n_out)
-    e = np.exp(1j * np.outer(times - lin.t0, harmonics * w))                     # (n_t, J)
-    z = z0 + 2 * (e @ z_hat).real
-    zd = 2 * (e @ (1j * (harmonics * w)[:, None] * z_hat)).real
-    return (times, *full_states(lin, times, z, zd))
+    # sum of the harmonics in real arithmetic, positions and rates in one product:
+    # 2 Re(e^{i j W t} Z) = 2 (cos Re Z - sin Im Z), the rates' amplitudes i j W Z
+    phase = np.outer(times - lin.t0, harmonics * w)                                  # (n_t, J)
+    jw = (harmonics * w)[:, None]
+    amp = np.block([[z_hat.real, -jw * z_hat.imag], [-z_hat.imag, -jw * z_hat.real]])    # (2J, 2n)
+    both = 2 * (np.hstack([np.cos(phase), np.sin(phase)]) @ amp)
+    n = z_hat.shape[1]
+    return (times, *full_states(lin, times, z0 + both[:, :n], both[:, n:]))
 
 
 def full_states(lin: SpinLinearisation, times: Array, z: Array, zd: Array) -> tuple[Array, Array]:
