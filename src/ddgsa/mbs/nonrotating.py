@@ -27,7 +27,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 from scipy.linalg import expm, null_space
 
@@ -168,9 +167,10 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     (the residual is linear in the accelerations, and ``d q'' / d z'' = T``). ``static=True`` leaves
     ``C`` at zero (a caller that needs the static part ``K z = r0`` only: half the residual calls).
     A system whose terms are compiled (:func:`ddgsa.mbs.compiled.compile_terms`) takes the
-    differences of its packed part in one compiled loop and calls its Python elements only where a
-    step moves their markers (:func:`_hybrid_jacobian`: the same differences to round-off, about
-    5x faster); any other system, or ``compiled=False``, takes them through ``system.terms``.
+    differences of its packed part straight from the compiled kernel, all steps' states at once, and
+    calls its Python elements only where a step moves their markers (:func:`_hybrid_jacobian`: the
+    same differences to round-off, 3-4x faster); any other system, or ``compiled=False``, takes them
+    through ``system.terms``.
     """
     if system.n_constraints:
         raise ModelError("the non-rotating linearisation takes unconstrained systems only "
@@ -204,84 +204,39 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     return SpinLinearisation(m, c, k, proj.T @ (tm.q - tm.m @ qdd), base.q0, base.qd0, t0, pairs, xi0)
 
 
-@njit(cache=True)
-def _spin_map(q0, qd0, pairs, xi0, z, zd):  # pragma: no cover (compiled)
-    """:meth:`SpinLinearisation.state` at ``t0`` with ``zdd = 0``, and ``T(z)``'s pair entries: per pair
-    ``R(-phi)`` (2, 2) and the spin column ``-J R(-phi) xi`` (2,)."""
-    q = q0 + z
-    qd = qd0 + zd
-    qdd = np.zeros(q0.size)
-    npair = pairs.shape[0]
-    rots, spin_col = np.zeros((npair, 2, 2)), np.zeros((npair, 2))
-    for k in range(npair):
-        iy, iz, isp = pairs[k, 0], pairs[k, 1], pairs[k, 2]
-        phi, w = q[isp], qd[isp]
+def _spin_map(lin: SpinLinearisation, z: Array, zd: Array) -> tuple[Array, ...]:
+    """:meth:`SpinLinearisation.state` at ``t0`` with ``zdd = 0`` for a batch of perturbations ``z``, ``zd``
+    (m, n) at once: ``(q, qd, qdd)`` (m, n) and ``T(z)``'s pair entries, per pair ``cos phi``, ``sin phi``
+    (m, n_pairs) of ``R(-phi) = [[c, s], [-s, c]]`` and the spin column ``-J R(-phi) xi = (r_z, -r_y)``
+    (m, n_pairs, 2)."""
+    q = lin.q0 + z
+    qd = lin.qd0 + zd
+    qdd = np.zeros_like(z)
+    npair = len(lin.pairs)
+    cos, sin, spin_col = np.zeros((z.shape[0], npair)), np.zeros((z.shape[0], npair)), np.zeros((z.shape[0], npair, 2))
+    for k, (iy, iz, isp) in enumerate(lin.pairs):
+        phi, w = q[:, isp], qd[:, isp]
         c, s = np.cos(phi), np.sin(phi)
-        xy, xz = xi0[k, 0] + z[iy], xi0[k, 1] + z[iz]
+        xy, xz = lin.xi0[k, 0] + z[:, iy], lin.xi0[k, 1] + z[:, iz]
         ry, rz = c * xy + s * xz, -s * xy + c * xz              # R(-phi) xi
-        dy, dz = zd[iy], zd[iz]
-        vy, vz = c * dy + s * dz, -s * dy + c * dz              # R(-phi) xi'
-        q[iy], q[iz] = ry, rz
+        vy, vz = c * zd[:, iy] + s * zd[:, iz], -s * zd[:, iy] + c * zd[:, iz]      # R(-phi) xi'
+        q[:, iy], q[:, iz] = ry, rz
         # d/dt R(-phi) xi = R(-phi) xi' - w J R(-phi) xi; the second rate adds -2 w J R xi' + w^2 J J R xi
-        qd[iy], qd[iz] = vy + w * rz, vz - w * ry
-        qdd[iy], qdd[iz] = 2 * w * vz - w * w * ry, -2 * w * vy - w * w * rz
-        rots[k, 0, 0], rots[k, 0, 1], rots[k, 1, 0], rots[k, 1, 1] = c, s, -s, c
-        # T's spin column: d(R(-phi) xi)/d phi = -J R(-phi) xi
-        spin_col[k, 0], spin_col[k, 1] = rz, -ry
-    return q, qd, qdd, rots, spin_col
+        qd[:, iy], qd[:, iz] = vy + w * rz, vz - w * ry
+        qdd[:, iy], qdd[:, iz] = 2 * w * vz - w * w * ry, -2 * w * vy - w * w * rz
+        cos[:, k], sin[:, k] = c, s
+        spin_col[:, k, 0], spin_col[:, k, 1] = rz, -ry
+    return q, qd, qdd, cos, sin, spin_col
 
 
-@njit(cache=True)
-def _project(pairs, rots, spin_col, v):  # pragma: no cover (compiled)
-    """``T^T v`` for ``T`` given by :func:`_spin_map`'s pair entries (identity elsewhere)."""
+def _project(lin: SpinLinearisation, cos: Array, sin: Array, spin_col: Array, v: Array) -> Array:
+    """``T^T v`` (m, n) for a batch of ``v`` (m, n) with ``T`` given by :func:`_spin_map`'s pair entries."""
     out = v.copy()
-    for k in range(pairs.shape[0]):
-        iy, iz, isp = pairs[k, 0], pairs[k, 1], pairs[k, 2]
-        out[iy] = rots[k, 0, 0] * v[iy] + rots[k, 1, 0] * v[iz]
-        out[iz] = rots[k, 0, 1] * v[iy] + rots[k, 1, 1] * v[iz]
-        out[isp] += spin_col[k, 0] * v[iy] + spin_col[k, 1] * v[iz]
-    return out
-
-
-@njit(cache=True)
-def _packed_steps(q0, qd0, pairs, xi0, t0, P, which, h, rows, moves):  # pragma: no cover (compiled)
-    """For the ``+-h`` step of every coordinate of ``z`` (``which`` 0) or ``z'`` (1), in the order
-    ``(sign, i)``: the packed part's ``M q'' - Q`` (2, n, n), ``T``'s pair entries and, for the
-    coordinates ``i`` with ``moves[i]``, the states of the markers ``rows`` (the Python elements')."""
-    n = q0.size
-    npair, nr = pairs.shape[0], rows.size
-    res = np.zeros((2, n, n))
-    rots, spin_col = np.zeros((2, n, npair, 2, 2)), np.zeros((2, n, npair, 2))
-    mr, ma = np.zeros((2, n, nr, 3)), np.zeros((2, n, nr, 3, 3))
-    mvel, mw, mj = np.zeros((2, n, nr, 3)), np.zeros((2, n, nr, 3)), np.zeros((2, n, nr, 6, n))
-    for s in range(2):
-        sign = 1.0 if s == 0 else -1.0
-        for i in range(n):
-            z, zd = np.zeros(n), np.zeros(n)
-            if which == 0:
-                z[i] = sign * h
-            else:
-                zd[i] = sign * h
-            q, qd, qdd, rots[s, i], spin_col[s, i] = _spin_map(q0, qd0, pairs, xi0, z, zd)
-            m_mat, f = _assemble(q, qd, t0, P)[:2]
-            res[s, i] = np.dot(m_mat, qdd) - f
-            if nr and moves[i]:
-                r_all, a_all, v_all, w_all, j_all, _ = _markers(q, qd, t0, P)
-                for j in range(nr):
-                    mr[s, i, j], ma[s, i, j] = r_all[rows[j]], a_all[rows[j]]
-                    mvel[s, i, j], mw[s, i, j], mj[s, i, j] = v_all[rows[j]], w_all[rows[j]], j_all[rows[j]]
-    return res, rots, spin_col, mr, ma, mvel, mw, mj
-
-
-@njit(cache=True)
-def _difference(pairs, res, rots, spin_col, h):  # pragma: no cover (compiled)
-    """Columns ``(T^T r(+h) - T^T r(-h)) / 2h`` (n, n) of the residuals ``res`` (2, n, n)."""
-    n = res.shape[1]
-    out = np.zeros((n, n))
-    for i in range(n):
-        plus = _project(pairs, rots[0, i], spin_col[0, i], res[0, i])
-        minus = _project(pairs, rots[1, i], spin_col[1, i], res[1, i])
-        out[:, i] = (plus - minus) / (2 * h)
+    for k, (iy, iz, isp) in enumerate(lin.pairs):
+        c, s = cos[:, k], sin[:, k]
+        out[:, iy] = c * v[:, iy] - s * v[:, iz]
+        out[:, iz] = s * v[:, iy] + c * v[:, iz]
+        out[:, isp] += spin_col[:, k, 0] * v[:, iy] + spin_col[:, k, 1] * v[:, iz]
     return out
 
 
@@ -289,37 +244,39 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
                      rel_step: float) -> Array:
     """Central differences of the projected residual over ``z`` (``which`` 0) or ``z'`` (1) at zero, as
     :func:`~ddgsa.mbs.derivatives.central_jacobian` takes them of :func:`_residual` (step
-    ``rel_step * scale``): the packed part in one compiled loop (:func:`_packed_steps`), each Python
-    element (:attr:`HybridTerms.python`) once at the operating state and again for the steps of its
-    markers' bodies' coordinates only (a step of another body's coordinate, turned by
-    :func:`_spin_map` within that body, leaves its markers and so its force as they were)."""
+    ``rel_step * scale``): the steps' states at once (:func:`_spin_map`), the packed part by the compiled
+    kernel, each Python element (:attr:`HybridTerms.python`) once at the operating state and again for
+    the steps of its markers' bodies' coordinates only (a step of another body's coordinate, turned
+    within that body, leaves its markers and so its force as they were)."""
     n = lin.q0.size
-    pairs = np.array(lin.pairs, dtype=np.int64).reshape(-1, 3)
-    rows = np.array(sorted({r for rs in terms.marker_rows for r in rs}), dtype=np.int64)
-    where = {int(r): j for j, r in enumerate(rows)}
-    zero = np.zeros(n)
-    q, qd, _, _, _ = _spin_map(lin.q0, lin.qd0, pairs, lin.xi0, zero, zero)
-    *base, lohi = _markers(q, qd, float(lin.t0), terms.packed.arrays)
-    span = [range(lohi[r, 0], lohi[r, 1]) for r in rows]            # the coordinates that move marker r
-    moves = np.zeros(n, dtype=np.bool_)
-    for cols in span:
-        moves[list(cols)] = True
+    rows = sorted({r for rs in terms.marker_rows for r in rs})
+    arrays = terms.packed.arrays
+    t0 = float(lin.t0)
+    zero = np.zeros((1, n))
+    q, qd = (x[0] for x in _spin_map(lin, zero, zero)[:2])
+    *base, lohi = _markers(q, qd, t0, arrays)
+    span = {r: range(lohi[r, 0], lohi[r, 1]) for r in rows}         # the coordinates that move marker r
     h = rel_step * scale
-    res, rots, spin_col, mr, ma, mvel, mw, mj = _packed_steps(lin.q0, lin.qd0, pairs, lin.xi0, float(lin.t0),
-                                                              terms.packed.arrays, which, h, rows, moves)
+    steps = np.vstack([h * np.eye(n), -h * np.eye(n)])                 # (2n, n): +h then -h on each coordinate
+    nil = np.zeros_like(steps)
+    q, qd, qdd, cos, sin, spin_col = _spin_map(lin, *((steps, nil) if which == 0 else (nil, steps)))
+    res = np.zeros((2 * n, n))
+    moved: dict[int, list] = {}
+    for j in range(2 * n):
+        m_mat, f = _assemble(q[j], qd[j], t0, arrays)[:2]
+        res[j] = m_mat @ qdd[j] - f
+        if any(j % n in span[r] for r in rows):
+            moved[j] = _markers(q[j], qd[j], t0, arrays)[:5]
     for (_, el), el_rows in zip(terms.python, terms.marker_rows):
-        own = [where[r] for r in el_rows]
-        f0 = _element_force(el, lin.t0, [MarkerState(*(arr[rows[j]] for arr in base)) for j in own])
-        moved = set().union(*(span[j] for j in own))
-        for s in range(2):
-            for i in range(n):
-                if i in moved:
-                    states = [MarkerState(mr[s, i, j], ma[s, i, j], mvel[s, i, j], mw[s, i, j], mj[s, i, j])
-                              for j in own]
-                    res[s, i] -= _element_force(el, lin.t0, states)
-                else:
-                    res[s, i] -= f0
-    return _difference(pairs, res, rots, spin_col, h)
+        f0 = _element_force(el, t0, [MarkerState(*(arr[r] for arr in base)) for r in el_rows])
+        cols = set().union(*(span[r] for r in el_rows))
+        for j in range(2 * n):
+            if j % n in cols:
+                res[j] -= _element_force(el, t0, [MarkerState(*(arr[r] for arr in moved[j])) for r in el_rows])
+            else:
+                res[j] -= f0
+    proj = _project(lin, cos, sin, spin_col, res)
+    return ((proj[:n] - proj[n:]) / (2 * h)).T
 
 
 def _element_force(el: Element, t: float, states: list[MarkerState]) -> Array:
