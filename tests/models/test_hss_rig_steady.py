@@ -120,3 +120,24 @@ def test_compiled_spin_linearisation_is_the_python_one_within_its_own_step_noise
     assert np.array_equal(fast.m, ref.m) and np.array_equal(fast.r0, ref.r0)
     noise = np.linalg.norm(ref2.c - ref.c)
     assert 0.0 < np.linalg.norm(fast.c - ref.c) < noise < 1e-6 * np.linalg.norm(ref.c)
+
+
+def test_static_linearisation_of_the_rig_at_rest_is_the_full_ones_stiffness():
+    """``linearise_system(static=True)`` (the sag's: ``K`` alone, the packed part through
+    ``central_jacobian``) against the full compiled linearisation (``K`` and ``C`` in one compiled
+    loop) and the Python one through ``System.terms``, on the rig at rest: the same ``K`` to
+    round-off, ``C`` left at zero, the same ``r0``."""
+    from ddgsa.mbs import linearise_system
+    from ddgsa.models.hss_rig.rig import build
+
+    model = models.get("hss_rig", fidelity="linear")
+    p = model.resolve({"eccentric_mass": 0.0}).iloc[0].to_dict()
+    system = build(p, lambda marker: ([], []), spin=0.0, basis=model.basis).system
+    packed = system.fast_terms.packed
+    static = linearise_system(system, compiled=packed, static=True)
+    full = linearise_system(system, compiled=packed)
+    python = linearise_system(system)
+    for ref in (full, python):
+        assert np.linalg.norm(static.k - ref.k) <= 1e-12 * np.linalg.norm(ref.k)
+        np.testing.assert_allclose(static.r0, ref.r0, rtol=1e-12, atol=1e-12 * np.abs(ref.r0).max())
+    assert not np.any(static.c) and np.any(full.c)

@@ -19,6 +19,7 @@ import pandas as pd
 from numpy.typing import NDArray
 from scipy.linalg import eig, null_space
 
+from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System, accelerations
 from ddgsa.mbs.compiled import Packed, evaluate, pack, residual_jacobians
 from ddgsa.mbs.compiled import accelerations as compiled_accelerations
@@ -191,7 +192,7 @@ class ConstrainedLinearisation:
 
 def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0: NDArray[np.float64] | None = None,
                      t0: float = 0.0, rel_step: float = 1e-6, analytic: bool = False,
-                     compiled: bool | Packed = False) -> ConstrainedLinearisation:
+                     compiled: bool | Packed = False, static: bool = False) -> ConstrainedLinearisation:
     """Linearise a constrained system about ``(q0, qd0, t0)`` and reduce it on the null space of ``C_q``.
 
     The full matrices are central differences (:func:`~ddgsa.mbs.derivatives.central_jacobian`) of the
@@ -204,6 +205,9 @@ def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0:
     13x faster; every part must pack), the accelerations too, and takes the central differences in
     one compiled loop (:func:`ddgsa.mbs.compiled.residual_jacobians`); a :class:`~ddgsa.mbs.compiled.Packed` of
     ``system`` is taken as packed already (a caller that linearises one system often).
+    ``static=True`` (unconstrained systems) leaves ``C`` at zero and takes ``K`` alone, by
+    :func:`~ddgsa.mbs.derivatives.central_jacobian` over the same residual (half the residual calls:
+    a caller that needs the static part ``K z = r0`` only, such as a gravity sag).
     """
     if q0 is None or qd0 is None:
         q0, qd0 = system.consistent_state(q0, qd0, t0)
@@ -231,7 +235,13 @@ def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0:
         return out
 
     m0, f0, jac0 = mass_force_jacobian(q0, qd0)
-    if analytic:
+    curvature = None
+    if static:
+        if system.n_constraints:
+            raise ModelError("linearise_system: static=True takes unconstrained systems only")
+        k_full = central_jacobian(residual, [q0, qd0, qdd0], 0, 1e-3, rel_step)
+        c_full = np.zeros_like(k_full)
+    elif analytic:
         tm = system.terms(q0, qd0, t0)
         k_full, c_full = tm.k, tm.c
     elif compiled is not False:
@@ -243,7 +253,7 @@ def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0:
     basis = null_space(jac0) if system.n_constraints else np.eye(system.n)
     return ConstrainedLinearisation(basis.T @ m0 @ basis, basis.T @ c_full @ basis, basis.T @ k_full @ basis,
                                     basis, m0, c_full, k_full, q0, qd0, t0, qdd0, lam0, basis.T @ f0,
-                                    curvature if compiled is not False and not analytic else None)
+                                    curvature)
 
 
 def modes(system: System, q0: NDArray[np.float64] | None = None, qd0: NDArray[np.float64] | None = None,

@@ -517,7 +517,7 @@ def _sag(items: tuple[tuple[str, float], ...], basis: ShaftBasis) -> np.ndarray:
     system, hybrid = still.system, still.system.fast_terms
     idle = all(not np.any(el.wrench(0.0, system.states_of(el.markers, system.q0, system.qd0, 0.0))[0])
                for _, el in hybrid.python)
-    lin = linearise_system(system, compiled=hybrid.packed if idle else False)
+    lin = linearise_system(system, compiled=hybrid.packed if idle else False, static=True)
     sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
     sag.flags.writeable = False
     return sag
