@@ -1,12 +1,16 @@
 """The compiled nonlinear path: a System packed into arrays, evaluated and integrated in numba.
 
 :func:`pack` turns a :class:`~ddgsa.mbs.assembly.System` into flat arrays; the compiled
-:func:`_assemble` evaluates exactly what the Python objects do (same formulas, tested equal),
+:func:`_assemble` evaluates them by calling the same compiled functions the Python objects call
+(the connectors' :func:`~ddgsa.mbs.elements.connector_wrench`, the torque law's
+:func:`~ddgsa.mbs.elements.axial_torque_wrench`, the constraints' residuals and Jacobians in
+:mod:`ddgsa.mbs.constraints`, the rotation helpers of :mod:`ddgsa.mbs.ffr`, the inputs'
+:func:`~ddgsa.mbs.series.interpolate`) and maps their wrenches and Jacobians onto the coordinates,
 and :func:`gen_alpha` runs the one generalised-alpha loop (:mod:`ddgsa.mbs.alpha`) compiled on it. What packs:
 
 - bodies: :class:`RigidBody`, :class:`FlexibleBody`; :class:`Ground` and
   :class:`PrescribedBody.translating` (sampled translation);
-- elements: :class:`SpringDamper3`, :class:`Bushing6`, :class:`TorsionalSpring`,
+- elements: :class:`SpringDamper3`, :class:`Bushing6`, :class:`TorsionalSpring` (with a fixed ``offset``),
   :class:`AppliedLoad`, and :class:`TorqueLaw` in its :meth:`~TorqueLaw.linear` form;
 - constraints: :class:`Spherical`, :class:`TransverseBearing`, :class:`GearContact`,
   :class:`PrescribedSpeed` (constant speed or a :class:`Series`).
@@ -27,11 +31,13 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.alpha import specialise
 from ddgsa.mbs.assembly import System, Terms
 from ddgsa.mbs.bodies import FlexibleBody, MarkerState, PrescribedBody
-from ddgsa.mbs.constraints import GearContact, PrescribedSpeed, Spherical, TransverseBearing
-from ddgsa.mbs.elements import AppliedLoad, TorqueLaw, _Connector, connector_tangent
-from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rodrigues, rotation, rotation_vector
+from ddgsa.mbs.constraints import (GearContact, PrescribedSpeed, Spherical, TransverseBearing, gear_contact,
+                                   prescribed_speed, spherical, transverse_bearing)
+from ddgsa.mbs.elements import (AppliedLoad, TorqueLaw, _Connector, axial_torque_wrench, connector_wrench,
+                                linear_torque, spin_speed)
+from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rodrigues, rotation
 from ddgsa.mbs.ffr import cross as _cross
-from ddgsa.mbs.series import Series
+from ddgsa.mbs.series import Series, interpolate
 
 Array = NDArray[np.float64]
 
@@ -74,10 +80,9 @@ class _SeriesTable:
 
 def compiled_kind(el: object) -> int | None:
     """The compiled kernel's kind of element ``el`` (connector, torque law, applied load), or None
-    when it has no compiled form (a Python torque law, a connector with its own deflection, a new
-    element class)."""
+    when it has no compiled form (a Python torque law, a new element class)."""
     if isinstance(el, _Connector):
-        return _CONNECTOR if el.packable else None
+        return _CONNECTOR
     if isinstance(el, TorqueLaw):
         return _TORQUE if el.linear_form is not None else None
     if isinstance(el, AppliedLoad):
@@ -164,12 +169,12 @@ def pack(system: System, elements: list | None = None) -> Packed:
     cn_m = np.zeros((ncn, 2), np.int64)
     cn_k, cn_c = np.zeros((ncn, 6, 6)), np.zeros((ncn, 6, 6))
     cn_flags = np.zeros((ncn, 2), np.int64)
-    cn_rest_r, cn_rest_a = np.zeros((ncn, 3)), np.zeros((ncn, 3, 3))
+    cn_rest_r, cn_rest_a, cn_off = np.zeros((ncn, 3)), np.zeros((ncn, 3, 3)), np.zeros((ncn, 6))
     for i, el in enumerate(cn):
         cn_m[i] = midx[id(el.markers[0])], midx[id(el.markers[1])]
         cn_k[i], cn_c[i] = el.k6, el.c6
         cn_flags[i] = int(el.frame == "i"), int(el.free_spin)
-        cn_rest_r[i], cn_rest_a[i] = el.rest_r, el.rest_a
+        cn_rest_r[i], cn_rest_a[i], cn_off[i] = el.rest_r, el.rest_a, el.offset
     ntq = max(len(tq), 1)
     tq_m, tq_par, tq_ser = -np.ones((ntq, 2), np.int64), np.zeros((ntq, 3)), -np.ones(ntq, np.int64)
     for i, el in enumerate(tq):
@@ -218,7 +223,7 @@ def pack(system: System, elements: list | None = None) -> Packed:
     arrays = (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, fl["ssum"], fl["k1"], fl["e"], fl["f4"], fl["h0"],
               fl["h1"], fl["kff"], fl["cff"], mk_body, mk_u0, mk_so, mk_s_a, mk_sr_a, pb_r0, pb_a0, pb_ser,
               *series.arrays(), el_kind[:nel] if nel else el_kind[:0], el_idx, cn_m, cn_k, cn_c, cn_flags,
-              cn_rest_r, cn_rest_a, tq_m[:len(tq)], tq_par, tq_ser, ld_m[:len(ld)], ld_ser, cs_kind[:len(cons)],
+              cn_rest_r, cn_rest_a, cn_off, tq_m[:len(tq)], tq_par, tq_ser, ld_m[:len(ld)], ld_ser, cs_kind[:len(cons)],
               cs_row, cs_m, cs_par, cs_ser, np.asarray(system.gravity, dtype=float))
     return Packed(n, system.n_holonomic, system.n_constraints, nel, arrays)
 
@@ -229,28 +234,8 @@ def pack(system: System, elements: list | None = None) -> Packed:
 
 @njit(cache=True)
 def _series(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t, deriv):  # pragma: no cover (compiled)
-    """Value (or time derivative) of series ``idx`` at ``t`` (Catmull-Rom, as :class:`Series`)."""
-    n, k, dt = s_n[idx], s_k[idx], s_dt[idx]
-    pos = (t - s_t0[idx]) / dt
-    j = int(pos)
-    if j < 0:
-        j = 0
-    if j > n - 2:
-        j = n - 2
-    s = pos - j
-    out = np.empty(k)
-    base = s_off[idx]
-    stride = (n - 1) * k
-    for c in range(k):
-        c0 = coef[base + j * k + c]
-        c1 = coef[base + stride + j * k + c]
-        c2 = coef[base + 2 * stride + j * k + c]
-        c3 = coef[base + 3 * stride + j * k + c]
-        if deriv:
-            out[c] = (c1 + s * (2.0 * c2 + 3.0 * s * c3)) / dt
-        else:
-            out[c] = c0 + s * (c1 + s * (c2 + s * c3))
-    return out
+    """Value (or time derivative) of series ``idx`` of the table at ``t`` (:func:`ddgsa.mbs.series.interpolate`)."""
+    return interpolate(coef, s_off[idx], s_n[idx], s_k[idx], s_t0[idx], s_dt[idx], t, deriv)
 
 
 @njit(cache=True)
@@ -359,14 +344,6 @@ def _add_jtkj(kt, mj, lohi, a, b, k6, sign):  # pragma: no cover (compiled)
 
 
 @njit(cache=True)
-def _pair_tangent(kt, mj, lohi, i, j, k6):  # pragma: no cover (compiled)
-    _add_jtkj(kt, mj, lohi, i, i, k6, 1.0)
-    _add_jtkj(kt, mj, lohi, i, j, k6, -1.0)
-    _add_jtkj(kt, mj, lohi, j, i, k6, -1.0)
-    _add_jtkj(kt, mj, lohi, j, j, k6, 1.0)
-
-
-@njit(cache=True)
 def _add_blocks(kt, mj, lohi, i, j, t12):  # pragma: no cover (compiled)
     """``kt += J^T t12 J`` over the markers ``[i, j]``."""
     _add_jtkj(kt, mj, lohi, i, i, t12[0:6, 0:6].copy(), 1.0)
@@ -376,11 +353,21 @@ def _add_blocks(kt, mj, lohi, i, j, t12):  # pragma: no cover (compiled)
 
 
 @njit(cache=True)
+def _add_rows(jac, mj, lohi, m, row, jx, slot):  # pragma: no cover (compiled)
+    """``jac[row:row + n_eq] += jx[:, slot] J_m``: a constraint's Jacobian over the motions of its marker
+    in ``slot`` (columns ``6 slot`` to ``6 slot + 6`` of ``jx``) mapped onto the coordinates of marker ``m``."""
+    for r in range(jx.shape[0]):
+        for col in range(lohi[m, 0], lohi[m, 1]):
+            for x in range(3):
+                jac[row + r, col] += jx[r, 6 * slot + x] * mj[m, x, col] + jx[r, 6 * slot + 3 + x] * mj[m, 3 + x, col]
+
+
+@njit(cache=True)
 def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
     """``M, Q, K_t, C_t, element outputs (n_el, 6), C_h, jac (n_c, n), V`` at ``(q, qd, t)``."""
     (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
      mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt, el_kind, el_idx, cn_m, cn_k, cn_c,
-     cn_flags, cn_rest_r, cn_rest_a, tq_m, tq_par, tq_ser, ld_m, ld_ser, cs_kind, cs_row, cs_m, cs_par, cs_ser,
+     cn_flags, cn_rest_r, cn_rest_a, cn_off, tq_m, tq_par, tq_ser, ld_m, ld_ser, cs_kind, cs_row, cs_m, cs_par, cs_ser,
      gravity) = P
     n = q.size
     m_mat, f = np.zeros((n, n)), np.zeros(n)
@@ -410,70 +397,27 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
         kind, idx = el_kind[el], el_idx[el]
         if kind == 0:
             i, j = cn_m[idx, 0], cn_m[idx, 1]
-            frame_i, free = cn_flags[idx, 0] == 1, cn_flags[idx, 1] == 1
-            ai, aj = ma[i], ma[j]
-            rest = mv(ai, cn_rest_r[idx]) if frame_i else cn_rest_r[idx].copy()
-            d = np.zeros(6)
-            dd = np.zeros(6)
-            wxr = _cross(mw[i], rest) if frame_i else np.zeros(3)
-            for k in range(3):
-                d[k] = mr[j, k] - mr[i, k] - rest[k]
-                dd[k] = mvel[j, k] - mvel[i, k] - wxr[k]
-            dw = mw[j] - mw[i]
-            if free:
-                axis = ai[:, 0].copy()
-                th = _cross(axis, mm(aj, cn_rest_a[idx].T)[:, 0].copy())
-                proj = axis[0] * dw[0] + axis[1] * dw[1] + axis[2] * dw[2]
-                dw = dw - axis * proj
-            else:
-                th = rotation_vector(mm(mm(aj, cn_rest_a[idx].T), ai.T))
-            for k in range(3):
-                d[3 + k] = th[k]
-                dd[3 + k] = dw[k]
-            kg, cg = cn_k[idx], cn_c[idx]
-            if frame_i:
-                big = np.zeros((6, 6))
-                big[:3, :3] = ai
-                big[3:, 3:] = ai
-                kg = mm(mm(big, kg), big.T)
-                cg = mm(mm(big, cg), big.T)
-            fv = mv(kg, d) + mv(cg, dd)
-            arm = mr[j] - mr[i]
-            wj = np.empty(6)
-            mom = _cross(arm, fv[:3].copy())
-            for k in range(3):
-                wj[k] = -fv[k]
-                wj[3 + k] = -fv[3 + k] + mom[k]
-            _add_jtw(f, mj, lohi, i, fv, 1.0)
-            _add_jtw(f, mj, lohi, j, wj, 1.0)
-            turning = rest if frame_i else np.zeros(3)    # a global-frame rest offset does not turn with marker i
-            _add_blocks(kt, mj, lohi, i, j, connector_tangent(kg, turning, arm, fv[:3].copy()))
-            _add_blocks(ct, mj, lohi, i, j, connector_tangent(cg, turning, arm, np.zeros(3)))
+            wr, kr, cr, fv = connector_wrench(mr, ma, mvel, mw, i, j, cn_flags[idx, 0] == 1, cn_flags[idx, 1] == 1,
+                                              cn_rest_r[idx], cn_rest_a[idx], cn_off[idx], cn_k[idx], cn_c[idx])
+            _add_jtw(f, mj, lohi, i, wr[0], 1.0)
+            _add_jtw(f, mj, lohi, j, wr[1], 1.0)
+            _add_blocks(kt, mj, lohi, i, j, kr)
+            _add_blocks(ct, mj, lohi, i, j, cr)
             out[el] = fv
         elif kind == 1:
             mk, rm = tq_m[idx, 0], tq_m[idx, 1]
-            axis = ma[mk][:, 0].copy()
-            wrel = mw[mk].copy()
-            if rm >= 0:
-                wrel -= mw[rm]
-            speed = axis[0] * wrel[0] + axis[1] * wrel[1] + axis[2] * wrel[2]
             ws = tq_par[idx, 2]
             if tq_ser[idx] >= 0:
                 ws = _series(coef, s_off, s_n, s_k, s_t0, s_dt, tq_ser[idx], t, False)[0]
-            torque = tq_par[idx, 0] + tq_par[idx, 1] * (ws - speed)
-            w6 = np.zeros(6)
-            w6[3:] = torque * axis
-            _add_jtw(f, mj, lohi, mk, w6, 1.0)
-            c6 = np.zeros((6, 6))
-            for r in range(3):
-                for c in range(3):
-                    c6[3 + r, 3 + c] = tq_par[idx, 1] * axis[r] * axis[c]
+            torque = linear_torque(tq_par[idx, 0], tq_par[idx, 1], ws, spin_speed(ma, mw, mk, rm))
+            wr, cr = axial_torque_wrench(ma, mk, rm, torque, -tq_par[idx, 1])
+            _add_jtw(f, mj, lohi, mk, wr[0], 1.0)
             if rm >= 0:
-                _add_jtw(f, mj, lohi, rm, w6, -1.0)
-                _pair_tangent(ct, mj, lohi, mk, rm, c6)
+                _add_jtw(f, mj, lohi, rm, wr[1], 1.0)
+                _add_blocks(ct, mj, lohi, mk, rm, cr)
             else:
-                _add_jtkj(ct, mj, lohi, mk, mk, c6, 1.0)
-            out[el] = w6
+                _add_jtkj(ct, mj, lohi, mk, mk, cr, 1.0)
+            out[el] = wr[0]
         else:
             w6 = _series(coef, s_off, s_n, s_k, s_t0, s_dt, ld_ser[idx], t, False)
             _add_jtw(f, mj, lohi, ld_m[idx], w6, 1.0)
@@ -495,62 +439,22 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
         k, row = cs_kind[c], cs_row[c]
         i, j, h = cs_m[c, 0], cs_m[c, 1], cs_m[c, 2]
         if k == 0:
-            for r in range(3):
-                ch[row + r] = mr[i, r] - mr[j, r]
-                vel[row + r] = mvel[i, r] - mvel[j, r]
-                for col in range(lohi[i, 0], lohi[i, 1]):
-                    jac[row + r, col] += mj[i, r, col]
-                for col in range(lohi[j, 0], lohi[j, 1]):
-                    jac[row + r, col] -= mj[j, r, col]
+            value, v, jx = spherical(mr, ma, mvel, mw, i, j)
         elif k == 1:
-            d = mr[i] - mr[j]
-            for r in range(2):
-                nv = ma[j][:, 1 + r].copy()
-                nxd = _cross(nv, d)
-                ch[row + r] = nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2]
-                v = 0.0
-                for x in range(3):
-                    v += nv[x] * (mvel[i, x] - mvel[j, x]) + nxd[x] * mw[j, x]
-                vel[row + r] = v
-                for col in range(lohi[i, 0], lohi[i, 1]):
-                    for x in range(3):
-                        jac[row + r, col] += nv[x] * mj[i, x, col]
-                for col in range(lohi[j, 0], lohi[j, 1]):
-                    for x in range(3):
-                        jac[row + r, col] += -nv[x] * mj[j, x, col] + nxd[x] * mj[j, 3 + x, col]
+            value, v, jx = transverse_bearing(mr, ma, mvel, mw, i, j)
         elif k == 2:
-            p = mr[h] + mv(ma[h], cs_par[c, :3])
-            tan = mv(ma[h], cs_par[c, 3:6])
-            ci = _cross(p - mr[i], tan)
-            cj = _cross(p - mr[j], tan)
-            v = 0.0
-            for x in range(3):
-                v += tan[x] * mvel[i, x] + ci[x] * mw[i, x] - tan[x] * mvel[j, x] - cj[x] * mw[j, x]
-            vel[row] = v
-            for col in range(lohi[i, 0], lohi[i, 1]):
-                for x in range(3):
-                    jac[row, col] += tan[x] * mj[i, x, col] + ci[x] * mj[i, 3 + x, col]
-            for col in range(lohi[j, 0], lohi[j, 1]):
-                for x in range(3):
-                    jac[row, col] -= tan[x] * mj[j, x, col] + cj[x] * mj[j, 3 + x, col]
+            value, v, jx = gear_contact(mr, ma, mvel, mw, i, j, h, cs_par[c, :3].copy(), cs_par[c, 3:6].copy())
         else:
-            axis = ma[i][:, 0].copy()
             s = cs_par[c, 6]
             if cs_ser[c] >= 0:
                 s = _series(coef, s_off, s_n, s_k, s_t0, s_dt, cs_ser[c], t, False)[0]
-            v = 0.0
-            for x in range(3):
-                v += axis[x] * mw[i, x]
-                if j >= 0:
-                    v -= axis[x] * mw[j, x]
-            vel[row] = v - s
-            for col in range(lohi[i, 0], lohi[i, 1]):
-                for x in range(3):
-                    jac[row, col] += axis[x] * mj[i, 3 + x, col]
-            if j >= 0:
-                for col in range(lohi[j, 0], lohi[j, 1]):
-                    for x in range(3):
-                        jac[row, col] -= axis[x] * mj[j, 3 + x, col]
+            value, v, jx = prescribed_speed(mr, ma, mvel, mw, i, j, s)
+        for r in range(v.size):
+            vel[row + r] = v[r]
+        for r in range(value.size):
+            ch[row + r] = value[r]
+        for slot in range(jx.shape[1] // 6):
+            _add_rows(jac, mj, lohi, cs_m[c, slot], row, jx, slot)
     return m_mat, f, kt, ct, out, ch, jac, vel
 
 

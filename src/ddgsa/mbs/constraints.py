@@ -25,17 +25,95 @@ from abc import ABC
 from collections.abc import Callable
 
 import numpy as np
+from numba import njit
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs.bodies import Ground, Marker, MarkerState
-from ddgsa.mbs.ffr import cross, rotation_vector, skew
+from ddgsa.mbs.elements import stacked
+from ddgsa.mbs.ffr import cross, mv, rotation_vector, skew
 
 Array = NDArray[np.float64]
 
 
 def _rates(states: list[MarkerState]) -> Array:
     return np.concatenate([np.concatenate([s.v, s.w]) for s in states])
+
+
+# ---------------------------------------------------------------------------------------------------
+# The constraints' residuals and Jacobians, compiled: each is the one implementation, which the
+# constraint calls from Python and the packed system (:mod:`ddgsa.mbs.compiled`) from its compiled
+# assembly. Each reads the markers ``i, j (, h)`` of the arrays ``r, a, v, w`` (positions,
+# orientations, velocities, angular velocities; :func:`ddgsa.mbs.elements.stacked`) and returns
+# ``(C, V, jac)``: the position-level residual (empty for a velocity-level constraint), the
+# velocity-level value and the Jacobian over the markers' motions ``[dr, dtheta]`` (n_eq, 6 n_markers).
+
+
+@njit(cache=True)
+def spherical(r, a, v, w, i, j):  # pragma: no cover (compiled)
+    """:class:`Spherical`: ``C = r_i - r_j`` (3,), ``V = v_i - v_j``."""
+    value, vel, jac = np.zeros(3), np.zeros(3), np.zeros((3, 12))
+    for k in range(3):
+        value[k] = r[i, k] - r[j, k]
+        vel[k] = v[i, k] - v[j, k]
+        jac[k, k] = 1.0
+        jac[k, 6 + k] = -1.0
+    return value, vel, jac
+
+
+@njit(cache=True)
+def transverse_bearing(r, a, v, w, i, j):  # pragma: no cover (compiled)
+    """:class:`TransverseBearing`: ``C_k = N_k . (r_i - r_j)`` with ``N_1, N_2`` marker j's y, z axes;
+    ``d C_k / d theta_j = N_k x (r_i - r_j)``."""
+    d = r[i] - r[j]
+    value, vel, jac = np.zeros(2), np.zeros(2), np.zeros((2, 12))
+    for row in range(2):
+        nv = a[j][:, 1 + row].copy()
+        nxd = cross(nv, d)
+        value[row] = nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2]
+        acc = 0.0
+        for x in range(3):
+            acc += nv[x] * (v[i, x] - v[j, x]) + nxd[x] * w[j, x]
+            jac[row, x] = nv[x]
+            jac[row, 6 + x] = -nv[x]
+            jac[row, 9 + x] = nxd[x]
+        vel[row] = acc
+    return value, vel, jac
+
+
+@njit(cache=True)
+def gear_contact(r, a, v, w, i, j, h, contact, tangent):  # pragma: no cover (compiled)
+    """:class:`GearContact` (seed 001 eq. 2.4): ``V = t . (v_i^A - v_j^A)`` at the contact point
+    ``A = r_h + A_h contact`` along ``t = A_h tangent`` (housing marker ``h``)."""
+    p = r[h] + mv(a[h], contact)
+    tan = mv(a[h], tangent)
+    ci = cross(p - r[i], tan)
+    cj = cross(p - r[j], tan)
+    jac = np.zeros((1, 18))
+    acc = 0.0
+    for x in range(3):
+        acc += tan[x] * v[i, x] + ci[x] * w[i, x] - tan[x] * v[j, x] - cj[x] * w[j, x]
+        jac[0, x] = tan[x]
+        jac[0, 3 + x] = ci[x]
+        jac[0, 6 + x] = -tan[x]
+        jac[0, 9 + x] = -cj[x]
+    return np.zeros(0), np.array([acc]), jac
+
+
+@njit(cache=True)
+def prescribed_speed(r, a, v, w, i, j, speed):  # pragma: no cover (compiled)
+    """:class:`PrescribedSpeed`: ``V = a_i^x . (w_i - w_j) - speed`` (``w_j`` left out when ``j < 0``)."""
+    axis = a[i][:, 0].copy()
+    jac = np.zeros((1, 6 if j < 0 else 12))
+    acc = 0.0
+    for x in range(3):
+        acc += axis[x] * w[i, x]
+        if j >= 0:
+            acc -= axis[x] * w[j, x]
+        jac[0, 3 + x] = axis[x]
+        if j >= 0:
+            jac[0, 9 + x] = -axis[x]
+    return np.zeros(0), np.array([acc - speed]), jac
 
 
 class Constraint(ABC):
@@ -61,7 +139,22 @@ class Constraint(ABC):
         return jac @ _rates(states), jac
 
 
-class Spherical(Constraint):
+class _PointPair(Constraint):
+    """A holonomic constraint between two points whose residual, velocity-level value and Jacobian
+    are one compiled kernel ``kernel(r, a, v, w, 0, 1) -> (C, V, jac)``."""
+
+    holonomic = True
+    kernel: Callable
+
+    def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        value, _, jac = self.kernel(*stacked(states), 0, 1)
+        return value, jac
+
+    def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        return self.kernel(*stacked(states), 0, 1)[1:]
+
+
+class Spherical(_PointPair):
     """Spherical joint: the two markers coincide, ``r_i - r_j = 0`` (seed 001 eq. 2.3).
 
     The multipliers are the force [N] the joint exerts on marker ``j`` (global frame); marker
@@ -69,20 +162,14 @@ class Spherical(Constraint):
     """
 
     n_eq = 3
-    holonomic = True
     reaction = ("force_on_j_x", "force_on_j_y", "force_on_j_z")
+    kernel = staticmethod(spherical)
 
     def __init__(self, marker_i: Marker, marker_j: Marker, name: str = "spherical") -> None:
         self.markers, self.name = (marker_i, marker_j), name
 
-    def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        jac = np.zeros((3, 12))
-        jac[:, 0:3] = np.eye(3)
-        jac[:, 6:9] = -np.eye(3)
-        return states[0].r - states[1].r, jac
 
-
-class TransverseBearing(Constraint):
+class TransverseBearing(_PointPair):
     """A bearing free along its axis: ``N_k^T (r_i - r_j) = 0``, k = 1, 2 (seed 001 §2.2).
 
     ``marker_i`` is on the shaft, ``marker_j`` on the (non-spinning) housing; the bearing axis is
@@ -91,21 +178,11 @@ class TransverseBearing(Constraint):
     """
 
     n_eq = 2
-    holonomic = True
     reaction = ("force_on_j_n1", "force_on_j_n2")
+    kernel = staticmethod(transverse_bearing)
 
     def __init__(self, marker_i: Marker, marker_j: Marker, name: str = "bearing") -> None:
         self.markers, self.name = (marker_i, marker_j), name
-
-    def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        si, sj = states
-        d = si.r - sj.r
-        n = sj.a[:, 1:3].T                                   # (2, 3): N1, N2
-        jac = np.zeros((2, 12))
-        jac[:, 0:3] = n
-        jac[:, 6:9] = -n
-        jac[:, 9:12] = np.array([cross(n[0], d), cross(n[1], d)])                      # d(n_k . d)/d theta_j = n_k x d
-        return n @ d, jac
 
 
 class GearContact(Constraint):
@@ -166,15 +243,7 @@ class GearContact(Constraint):
         self.tangent = sh.a.T @ cross(axis, e)
 
     def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        si, sj, sh = states
-        p = sh.r + sh.a @ self.contact
-        tan = sh.a @ self.tangent
-        jac = np.zeros((1, 18))
-        jac[0, 0:3] = tan
-        jac[0, 3:6] = cross(p - si.r, tan)
-        jac[0, 6:9] = -tan
-        jac[0, 9:12] = -cross(p - sj.r, tan)
-        return jac @ _rates(states), jac
+        return gear_contact(*stacked(states), 0, 1, 2, self.contact, self.tangent)[1:]
 
 
 class PrescribedSpeed(Constraint):
@@ -196,12 +265,7 @@ class PrescribedSpeed(Constraint):
         self.name = name
 
     def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        axis = states[0].a[:, 0]
-        jac = np.zeros((1, 6 * len(states)))
-        jac[0, 3:6] = axis
-        if len(states) > 1:
-            jac[0, 9:12] = -axis
-        return jac @ _rates(states) - float(self.speed(t)), jac
+        return prescribed_speed(*stacked(states), 0, 1 if len(states) > 1 else -1, float(self.speed(t)))[1:]
 
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
