@@ -30,7 +30,8 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs.bodies import Ground, Marker, MarkerState
-from ddgsa.mbs.elements import stacked
+from ddgsa.mbs.elements import CompiledForm, stacked
+from ddgsa.mbs.series import Series
 from ddgsa.mbs.ffr import cross, mv, rotation_vector, skew
 
 Array = NDArray[np.float64]
@@ -116,6 +117,27 @@ def prescribed_speed(r, a, v, w, i, j, speed):  # pragma: no cover (compiled)
     return np.zeros(0), np.array([acc - speed]), jac
 
 
+#: the kinds of compiled constraint (:func:`constraint_rows`)
+SPHERICAL, TRANSVERSE, GEAR, SPEED = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def constraint_rows(kind, r, a, v, w, i, j, h, par, inputs):  # pragma: no cover (compiled)
+    """``(C, V, jac)`` of a compiled constraint on markers ``i, j, h`` (-1: absent) of the arrays
+    ``r, a, v, w``, from its :class:`~ddgsa.mbs.elements.CompiledForm`: ``kind``, ``par`` and
+    ``inputs`` (its series' value at ``t``, empty without one). The packed system's one dispatch on
+    the constraint kinds: a new compiled constraint adds its kind and a branch here, and its
+    ``compiled()``.
+    """
+    if kind == SPHERICAL:
+        return spherical(r, a, v, w, i, j)
+    if kind == TRANSVERSE:
+        return transverse_bearing(r, a, v, w, i, j)
+    if kind == GEAR:
+        return gear_contact(r, a, v, w, i, j, h, par[0:3].copy(), par[3:6].copy())
+    return prescribed_speed(r, a, v, w, i, j, inputs[0] if inputs.size else par[0])
+
+
 class Constraint(ABC):
     """``n_eq`` scalar constraint equations on ``markers``."""
 
@@ -138,6 +160,11 @@ class Constraint(ABC):
         _, jac = self.position(t, states)
         return jac @ _rates(states), jac
 
+    def compiled(self) -> CompiledForm | None:
+        """The constraint's compiled form (:func:`constraint_rows` runs it in the packed system), or
+        None: Python only (the packed system refuses it)."""
+        return None
+
 
 class _PointPair(Constraint):
     """A holonomic constraint between two points whose residual, velocity-level value and Jacobian
@@ -145,6 +172,11 @@ class _PointPair(Constraint):
 
     holonomic = True
     kernel: Callable
+    kind: int
+
+    def compiled(self) -> CompiledForm:
+        """No parameters."""
+        return CompiledForm(self.kind, np.zeros(0))
 
     def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
         value, _, jac = self.kernel(*stacked(states), 0, 1)
@@ -164,6 +196,7 @@ class Spherical(_PointPair):
     n_eq = 3
     reaction = ("force_on_j_x", "force_on_j_y", "force_on_j_z")
     kernel = staticmethod(spherical)
+    kind = SPHERICAL
 
     def __init__(self, marker_i: Marker, marker_j: Marker, name: str = "spherical") -> None:
         self.markers, self.name = (marker_i, marker_j), name
@@ -180,6 +213,7 @@ class TransverseBearing(_PointPair):
     n_eq = 2
     reaction = ("force_on_j_n1", "force_on_j_n2")
     kernel = staticmethod(transverse_bearing)
+    kind = TRANSVERSE
 
     def __init__(self, marker_i: Marker, marker_j: Marker, name: str = "bearing") -> None:
         self.markers, self.name = (marker_i, marker_j), name
@@ -245,6 +279,10 @@ class GearContact(Constraint):
     def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
         return gear_contact(*stacked(states), 0, 1, 2, self.contact, self.tangent)[1:]
 
+    def compiled(self) -> CompiledForm:
+        """``[contact (3), tangent (3)]`` in the housing marker's frame."""
+        return CompiledForm(GEAR, np.concatenate([self.contact, self.tangent]))
+
 
 class PrescribedSpeed(Constraint):
     """Spin rate of a marker about its x axis (relative to ``reference``) equals ``speed(t)`` [rad/s].
@@ -266,6 +304,12 @@ class PrescribedSpeed(Constraint):
 
     def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
         return prescribed_speed(*stacked(states), 0, 1 if len(states) > 1 else -1, float(self.speed(t)))[1:]
+
+    def compiled(self) -> CompiledForm | None:
+        """``[speed]`` of a constant speed, a :class:`Series` as the input; None for a Python function."""
+        if self.constant is not None:
+            return CompiledForm(SPEED, np.array([self.constant]))
+        return CompiledForm(SPEED, np.zeros(1), self.speed) if isinstance(self.speed, Series) else None
 
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -53,6 +54,30 @@ class Element(ABC):
         """What the element reports per time step: the wrench on its first marker (6,) [N, N m]."""
         return self.wrench(t, states)[0][0]
 
+    def compiled(self) -> "CompiledForm | None":
+        """The element's compiled form (:func:`element_wrench` runs it in the packed system), or None:
+        the element runs in Python only (the packed system refuses it; :class:`ddgsa.mbs.compiled.HybridTerms`
+        evaluates it in Python beside the compiled parts)."""
+        return None
+
+
+@dataclass(frozen=True)
+class CompiledForm:
+    """What the packed system (:func:`ddgsa.mbs.compiled.pack`) stores of an element or constraint.
+
+    ``kind`` selects the compiled kernel (:func:`element_wrench`,
+    :func:`ddgsa.mbs.constraints.constraint_values`), ``parameters`` are its flat numbers, and
+    ``series`` an input whose value at ``t`` the kernel reads (None: no input).
+    """
+
+    kind: int
+    parameters: Array
+    series: Series | None = None
+
+
+#: the kinds of compiled element (:func:`element_wrench`)
+CONNECTOR, TORQUE, LOAD = 0, 1, 2
+
 
 def stacked(states: list[MarkerState]) -> tuple[Array, Array, Array, Array]:
     """Positions (n, 3), orientations (n, 3, 3), velocities (n, 3) and angular velocities (n, 3) of
@@ -88,17 +113,31 @@ class _Connector(Element):
         self.rest_r = si.a.T @ (sj.r - si.r) if self.frame == "i" else sj.r - si.r
         self.rest_a = si.a.T @ sj.a
 
-    def _deflection(self, states: list[MarkerState]) -> tuple[Array, Array]:
-        """``(d + offset, d_dot)`` (6,) each, global frame [m, rad], [m/s, rad/s]."""
+    def _deflection(self, states: list[MarkerState]) -> tuple[Array, Array, Array]:
+        """``(d + offset, d_dot, rest)``: the deflection and its rate (6,) [m, rad], [m/s, rad/s] and
+        the points' rest offset (3,) [m], global frame (:func:`connector_deflection`)."""
         return connector_deflection(*stacked(states), 0, 1, self.frame == "i", self.free_spin, self.rest_r,
-                                    self.rest_a, self.offset)[:2]
+                                    self.rest_a, self.offset)
 
     def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, Array, Array]:
-        return connector_wrench(*stacked(states), 0, 1, self.frame == "i", self.free_spin, self.rest_r,
-                                self.rest_a, self.offset, self.k6, self.c6)[:3]
+        d, dd, rest = self._deflection(states)
+        r = np.array([states[0].r, states[1].r], dtype=float)
+        ai = np.ascontiguousarray(states[0].a, dtype=float)
+        return connector_force(r, ai, self.frame == "i", rest, d, dd, self.k6, self.c6)[:3]
+
+    def compiled(self) -> CompiledForm | None:
+        """``[frame_i, free_spin, rest_r (3), rest_a (9), offset (6), k6 (36), c6 (36)]`` for
+        :func:`connector_wrench`; None for a subclass with a law of its own (its ``wrench`` or
+        ``_deflection`` overridden: Python only)."""
+        own = type(self)
+        if own.wrench is not _Connector.wrench or own._deflection is not _Connector._deflection:
+            return None
+        return CompiledForm(CONNECTOR, np.concatenate([[float(self.frame == "i"), float(self.free_spin)], self.rest_r,
+                                                       self.rest_a.ravel(), self.offset, self.k6.ravel(),
+                                                       self.c6.ravel()]))
 
     def potential_energy(self, states: list[MarkerState]) -> float:
-        d, _ = self._deflection(states)
+        d = self._deflection(states)[0]
         k, _ = connector_matrices(states[0].a, self.k6, self.c6, self.frame == "i")
         return float(0.5 * d @ k @ d)
 
@@ -153,18 +192,20 @@ def connector_matrices(ai, k6, c6, frame_i):  # pragma: no cover (compiled)
 
 
 @njit(cache=True)
-def connector_wrench(r, a, v, w, i, j, frame_i, free_spin, rest_r, rest_a, offset, k6, c6):  # pragma: no cover
+def connector_force(r, ai, frame_i, rest, d, dd, k6, c6):  # pragma: no cover (compiled)
     """``(W (2, 6), K (12, 12), C (12, 12), F (6,))`` of a connector ``F = K d + C d_dot`` between
-    markers ``i`` and ``j`` (:func:`connector_deflection`): ``+F`` on marker i, ``-F`` and the
-    couple ``(r_j - r_i) x F`` on marker j, and the tangents (:func:`connector_tangent`).
+    the points ``r[0]`` (marker i, orientation ``ai``) and ``r[1]`` (marker j) with the deflection
+    ``d``, its rate ``dd`` and the points' rest offset ``rest`` (:func:`connector_deflection`):
+    ``+F`` on marker i, ``-F`` and the couple ``(r_j - r_i) x F`` on marker j, and the tangents
+    (:func:`connector_tangent`).
 
     Compiled, and the one implementation: the element (:class:`_Connector`) calls it from Python
-    and the packed system (:mod:`ddgsa.mbs.compiled`) from its compiled assembly.
+    and the packed system (:mod:`ddgsa.mbs.compiled`, through :func:`connector_wrench`) from its
+    compiled assembly.
     """
-    d, dd, rest = connector_deflection(r, a, v, w, i, j, frame_i, free_spin, rest_r, rest_a, offset)
-    kg, cg = connector_matrices(a[i], k6, c6, frame_i)
+    kg, cg = connector_matrices(ai, k6, c6, frame_i)
     fv = mv(kg, d) + mv(cg, dd)
-    arm = r[j] - r[i]
+    arm = r[1] - r[0]
     wr = np.zeros((2, 6))
     mom = cross(arm, fv[:3].copy())
     for k in range(3):
@@ -175,6 +216,17 @@ def connector_wrench(r, a, v, w, i, j, frame_i, free_spin, rest_r, rest_a, offse
     turning = rest if frame_i else np.zeros(3)    # a global-frame rest offset does not turn with marker i
     return wr, connector_tangent(kg, turning, arm, fv[:3].copy()), connector_tangent(cg, turning, arm,
                                                                                      np.zeros(3)), fv
+
+
+@njit(cache=True)
+def connector_wrench(r, a, v, w, i, j, frame_i, free_spin, rest_r, rest_a, offset, k6, c6):  # pragma: no cover
+    """:func:`connector_force` of :func:`connector_deflection` for markers ``i`` and ``j`` of the arrays
+    ``r, a, v, w`` (the packed system's connector)."""
+    d, dd, rest = connector_deflection(r, a, v, w, i, j, frame_i, free_spin, rest_r, rest_a, offset)
+    pts = np.empty((2, 3))
+    pts[0] = r[i]
+    pts[1] = r[j]
+    return connector_force(pts, a[i].copy(), frame_i, rest, d, dd, k6, c6)
 
 
 @njit(cache=True)
@@ -318,6 +370,15 @@ class TorqueLaw(Element):
         law.linear_form = (float(torque0), float(damping), set_speed)
         return law
 
+    def compiled(self) -> CompiledForm | None:
+        """``[torque0, damping, set_speed]`` of the :meth:`linear` form (the set speed a series input
+        when it is a :class:`Series`); None for a Python law."""
+        if self.linear_form is None:
+            return None
+        torque0, damping, ws = self.linear_form
+        series = ws if isinstance(ws, Series) else None
+        return CompiledForm(TORQUE, np.array([torque0, damping, 0.0 if series is not None else float(ws)]), series)
+
     def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, None, Array]:
         _, a, _, w = stacked(states)
         reaction = 1 if len(states) > 1 else -1
@@ -398,8 +459,34 @@ class AppliedLoad(Element):
         self.markers = (marker,)
         self.name = name
 
+    def compiled(self) -> CompiledForm:
+        """No parameters: the force and moment are the series input."""
+        return CompiledForm(LOAD, np.zeros(0), self.series)
+
     def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, None, None]:
         return self.series(t).reshape(1, 6), None, None
+
+
+@njit(cache=True)
+def element_wrench(kind, r, a, v, w, i, j, par, inputs):  # pragma: no cover (compiled)
+    """``(W (n_m, 6), K, C)`` of a compiled element between markers ``i`` and ``j`` (``j < 0``: one
+    marker) of the arrays ``r, a, v, w``, from its :class:`CompiledForm`: ``kind``, ``par`` (its
+    parameters) and ``inputs`` (its series' value at ``t``, empty without one). ``K`` or ``C``
+    are (0, 0) where the element has none. The packed system's one dispatch on the element kinds:
+    a new compiled element adds its kind and a branch here, and :meth:`Element.compiled`.
+    """
+    none = np.zeros((0, 0))
+    if kind == CONNECTOR:
+        wr, kr, cr, _ = connector_wrench(r, a, v, w, i, j, par[0] == 1.0, par[1] == 1.0, par[2:5].copy(),
+                                         par[5:14].copy().reshape(3, 3), par[14:20].copy(),
+                                         par[20:56].copy().reshape(6, 6), par[56:92].copy().reshape(6, 6))
+        return wr, kr, cr
+    if kind == TORQUE:
+        ws = inputs[0] if inputs.size else par[2]
+        torque = linear_torque(par[0], par[1], ws, spin_speed(a, w, i, j))
+        wr, cr = axial_torque_wrench(a, i, j, torque, -par[1])
+        return wr, none, cr
+    return inputs.copy().reshape(1, 6), none, none
 
 
 class RadialForce(Element):
