@@ -86,6 +86,13 @@ def test_campbell() -> None:
     wide = _campbell(14, spacing=0.7).plot()                 # modes up to 9 Hz: those above 1.5 Hz are counted
     assert wide.get_ylim()[1] == pytest.approx(1.5) and "12 modes above 1.5 Hz not shown" in wide.get_title()
     plt.close(wide.figure)
+    # a diagram cut to a model's band (a wind drive: no mode near 1P or 3P) shows every mode it holds
+    tables = {s: grp.drop(columns="mode") for s, grp in _campbell(14, spacing=0.7).frame.groupby("speed_rad_s")}
+    banded = campbell_from_tables(tables, orders=(1.0, 3.0), band_hz=25.0)
+    band_ax = banded.plot()
+    assert band_ax.get_ylim()[1] == pytest.approx(1.12 * banded.frame["frequency_hz"].max())
+    assert "not shown" not in band_ax.get_title() and len(band_ax.get_legend().get_texts()) == 14
+    plt.close(band_ax.figure)
     texts = [t.get_text() for t in ax.texts]
     assert "1P" in texts and "3P" in texts
     _check(fig, dense_legend=True)

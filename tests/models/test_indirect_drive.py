@@ -133,6 +133,52 @@ def test_torsional_mode_against_two_mass_closed_form() -> None:
         pytest.approx(2.2228, abs=1e-3)
 
 
+@pytest.mark.slow
+def test_blades_turn_with_the_torsion_and_do_not_tilt() -> None:
+    """One rotor description for both wind models (docs/physics.md): the blades' polar inertia
+    turns with the drive train but does not tilt with the LSS. At the rated 12.1 rpm, doubling the
+    blades' inertia leaves the rotor tilt/yaw pair unchanged (1e-6, found 5e-8; the whole rotor
+    tilting, it moved by tens of percent) and lowers the torsion mode as
+    the two-mass closed form says (rigid mounts, 1 %); doubling the hub's polar inertia quadruples
+    the growth of the pair's split from standstill to rated (10 %, found 3.93): on stiff anisotropic
+    mounts the pair is well apart, and a gyroscopic coupling ``J W`` shifts such a pair by
+    ``(J W)^2`` to first order. On the nominal mounts the pair reads 3.92 / 4.62 Hz (before version
+    0.4.0, with the whole rotor tilting: 1.95 / 9.14 Hz)."""
+    p, n = NOMINAL, NOMINAL["gear_ratio"]
+    j_gen = p["generator_inertia"] + LSS_POLAR / n ** 2
+    rated = 12.1 * np.pi / 30.0
+    model = models.get("indirect_drive", fidelity="flexible")
+    stiff = {"k_mount_x": 1e12, "k_mount_y": 1e12, "k_mount_z": 1e12}
+
+    def pair_and_torsion(params: dict) -> tuple[np.ndarray, float]:
+        modes = model.modes({**stiff, **params}, rotor_speed=rated)
+        bending = modes[modes["label"].str.startswith("lss_bending")]["frequency_hz"].to_numpy()[:2]
+        spin = modes[[c for c in modes.columns if c.endswith("_spin") and "housing" not in c]].sum(axis=1)
+        return bending, float(modes.loc[spin.idxmax(), "frequency_hz"])
+
+    pair, torsion = pair_and_torsion({})
+    heavy = 2.0 * p["rotor_inertia_x"] - p["hub_inertia_x"]          # the blades' inertia doubled
+    pair_heavy, torsion_heavy = pair_and_torsion({"rotor_inertia_x": heavy})
+    np.testing.assert_allclose(pair_heavy, pair, rtol=1e-6)
+    k = p["drivetrain_torsional_stiffness"]
+    assert torsion_heavy / torsion == pytest.approx(torsional_frequency(k, heavy, j_gen, n)
+                                                    / torsional_frequency(k, p["rotor_inertia_x"], j_gen, n), rel=0.01)
+    def gyroscopic_split(params: dict) -> float:
+        """How much the pair's split grows from standstill to rated [Hz]."""
+        split = []
+        for speed in (0.0, rated):
+            modes = model.modes({**stiff, **params}, rotor_speed=speed)
+            f = modes[modes["label"].str.startswith("lss_bending")]["frequency_hz"].to_numpy()[:2]
+            split.append(f[1] - f[0])
+        return split[1] - split[0]
+
+    assert gyroscopic_split({"hub_inertia_x": 2.0 * p["hub_inertia_x"]}) / gyroscopic_split({}) == \
+        pytest.approx(4.0, rel=0.1)
+    nominal = model.modes(None, rotor_speed=rated)
+    np.testing.assert_allclose(nominal[nominal["label"].str.startswith("lss_bending")]["frequency_hz"].to_numpy()[:2],
+                               [3.92, 4.62], atol=0.01)
+
+
 def test_input_matrix_against_finite_differences() -> None:
     """G (generalised force per unit hub load and set speed) equals the change of the kernel's
     generalised forces between systems built with perturbed constant loads (1e-6)."""
@@ -235,8 +281,8 @@ def test_linear_outputs_from_the_reduced_states_are_the_records() -> None:
 def test_linear_against_flexible_on_a_small_amplitude_scene() -> None:
     """11 m/s, I_ref 0.05, 60 s with every input's fluctuation scaled to 3 % (``fluctuation_scale``
     0.03: housing vertical RMS 24 um): the linear fidelity within 1 % of the flexible one (2.5 ms
-    step) on every output but the drift diagnostics (found: housing pitch peak-to-peak 0.27 %,
-    translation RMS 0.11 %, tooth force and housing torque 0.005 %)."""
+    step) on every output but the drift diagnostics (found, version 0.4.0: peak-to-peak <= 0.4 %, RMS
+    <= 0.21 %, about the 2.5 ms step's own error; against 1.25 ms, <= 0.27 % and 0.05 %)."""
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.05, duration=60.0, seed=1)
     lin = models.get("indirect_drive", fidelity="linear", fluctuation_scale=0.03).evaluate(None, scene).iloc[0]
     ref = models.get("indirect_drive", fidelity="flexible", time_step=0.0025,
@@ -246,70 +292,61 @@ def test_linear_against_flexible_on_a_small_amplitude_scene() -> None:
 
 
 @pytest.mark.slow
-def test_linear_error_grows_with_the_amplitude() -> None:
-    """Amplitude sweep of the same scene (fluctuation_scale 0.03 / 0.3 / 1): the linear fidelity's
-    largest error on housing translation RMS grows in proportion to the amplitude (measured 0.11 /
-    1.04 / 4.9 %; peak-to-peak 0.27 / 4.3 / 17 %), so it is nonlinearity, not a linearisation
-    error: the 1.97 Hz rotor-tilt mode (damping 1 %) is gyroscopic, its frequency follows the
-    drive's speed (a 0.15 % speed offset moved it 0.12 %, measured), and the turbulence moves the
-    speed by ~1 % over the record while the linearisation holds it at the mean. The torque path
-    stays within 1 % at full amplitude (found 0.4 %)."""
+def test_linear_at_full_amplitude_is_within_the_references_own_error() -> None:
+    """11 m/s, I_ref 0.05 as generated, 60 s (housing vertical RMS 0.7 mm): the linear fidelity
+    against ``flexible`` at 1.25 ms. With the rotor's tilting inertia the hub's (version 0.4.0) no
+    lightly damped gyroscopic mode follows the drive's speed, and the linearisation holds at full
+    amplitude: housing RMS within 0.2 % (measured <= 0.10 %, about what halving the flexible step
+    from 2.5 ms moves them, <= 0.15 %), peak-to-peak within 1 % (0.48 %), bearing damage within
+    0.2 % (main 0.05 %), the torque path within 0.05 % (0.012 %). Before 0.4.0 the housing
+    translation error was 4.9 % here and grew in proportion to the amplitude."""
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.05, duration=60.0, seed=1)
-    errors = []
-    for scale in (0.03, 0.3, 1.0):
-        lin, ref = (models.get("indirect_drive", fidelity=f, fluctuation_scale=scale, **opt).evaluate(None, scene)
-                    .iloc[0] for f, opt in (("linear", {}), ("flexible", {"time_step": 0.0025})))
-        errors.append(max(abs(lin[o] / ref[o] - 1) for o in ("housing_dx_rms", "housing_dy_rms", "housing_dz_rms")))
-        if scale == 1.0:
-            for out in ("gear_force_rms", "gear_force_mean", "gear_force_del", "housing_rx_rms", "housing_torque_mean",
-                        "housing_torque_rms"):
-                assert lin[out] == pytest.approx(ref[out], rel=0.01), out
-    assert errors[0] < 0.005
-    assert errors[1] > 5 * errors[0] and errors[2] > 2.5 * errors[1]
+    lin = models.get("indirect_drive", fidelity="linear").evaluate(None, scene).iloc[0]
+    ref = models.get("indirect_drive", fidelity="flexible", time_step=0.00125).evaluate(None, scene).iloc[0]
+    for outs, tol in (([o for o in lin.index if o.startswith("housing_") and o.endswith("_rms")], 0.002),
+                      ([o for o in lin.index if o.startswith("housing_") and o.endswith("_p2p")], 0.01),
+                      ([o for o in lin.index if o.startswith("damage_")], 0.002),
+                      (["gear_force_rms", "gear_force_del", "housing_torque_rms", "gear_force_mean"], 5e-4)):
+        assert outs
+        for out in outs:
+            assert lin[out] == pytest.approx(ref[out], rel=tol), out
 
 
 @pytest.mark.slow
-def test_linear_error_is_the_speed_variation(monkeypatch: pytest.MonkeyPatch) -> None:
-    """I_ref 0.20, 11 m/s, 120 s: as generated, the linear fidelity's housing translation RMS is
-    ~20 % low (measured 17-20 %); with the inputs that move the drive's speed (hub torque and
-    thrust, set speed) held at their record means and the lateral loads (Fy, Fz, My, Mz) at full
-    turbulence, it is within 1 % (measured 0.25 %): the error is the speed's variation, which the
-    linearisation holds at its mean (the gyroscopic 1.97 Hz rotor-tilt mode follows it). (The
-    torque path is not compared: with its inputs held, what remains of it is a residue ~30x smaller
-    than in the scene as generated.)"""
-    import ddgsa.models.indirect_drive.model as model_module
-
-    original = model_module.scene_inputs
-
-    def steady_speed(scene: Scene, p: dict, scale: float = 1.0) -> dict:
-        out = original(scene, p, scale)
-        for key in ("Fx", "Mx", "rotor_speed", "w_set"):
-            out[key] = np.full_like(out[key], out[key].mean())
-        return out
-
+def test_linear_on_a_short_turbulent_record() -> None:
+    """I_ref 0.20, 11 m/s, 120 s as generated, the hardest case for a linearisation held at the
+    record's mean speed (the loads model's speed relaxes over ~50 s): housing translation RMS within
+    0.5 % of ``flexible`` (measured <= 0.18 %), main-bearing damage within 1 % (0.45 %), tooth-force
+    DEL within 1 % (0.35 %). Before version 0.4.0 the housing translation was 17-20 % low here: the
+    whole rotor's polar inertia tilted with the flange, and its lightly damped 1.97 Hz gyroscopic
+    mode followed the speed's variation (docs/physics.md, "Rotor inertia of the two wind models")."""
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.20, duration=120.0, seed=1)
-    monkeypatch.setattr(model_module, "scene_inputs", steady_speed)
     lin = models.get("indirect_drive", fidelity="linear").evaluate(None, scene).iloc[0]
     ref = models.get("indirect_drive", fidelity="flexible", time_step=0.0025).evaluate(None, scene).iloc[0]
-    for out in ("housing_dx_rms", "housing_dy_rms", "housing_dz_rms"):
-        assert lin[out] == pytest.approx(ref[out], rel=0.01), out
+    for out, tol in (("housing_dx_rms", 0.005), ("housing_dy_rms", 0.005), ("housing_dz_rms", 0.005),
+                     ("damage_main", 0.01), ("gear_force_del", 0.01)):
+        assert lin[out] == pytest.approx(ref[out], rel=tol), out
 
 
 @pytest.mark.slow
 def test_generalised_alpha_against_solve_ivp_reference() -> None:
     """Rigid fidelity, 0.5 s turbulent (the reference needs ~8 min a simulated second): generalised-
     alpha at 5 ms against the kernel's Radau (rtol 1e-8) on the time series, within 0.5 % of the
-    signal's peak (tooth force 3e-5, housing roll 1e-5, housing point 0.2 %; measured) and 1 % for
-    the main bearing (0.95 %); halving the step cuts the error about fourfold (second order)."""
+    signal's peak (housing point 0.06 %, main bearing 0.4 %: measured, version 0.4.0), and
+    second-order: halving the step cuts those errors fourfold (0.25-0.26). The torque path (tooth
+    force, housing roll, HSS bearing) is within 3e-5 of its peak at 5 ms (1.9-2.3e-5) and levels off
+    at ~6e-6 by 1.25 ms, the reference's own floor, so it is held to that bound, not to a rate."""
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=0.5, seed=5)
     fast = models.get("indirect_drive", fidelity="rigid").simulate(scene)
     half = models.get("indirect_drive", fidelity="rigid", time_step=0.0025).simulate(scene)
     ref = models.get("indirect_drive", fidelity="rigid", integrator="Radau").simulate(scene)
-    for col, tol in (("gear_force", 0.005), ("housing_rx", 0.005), ("hss2_Fz", 0.005), ("housing_dz", 0.005),
-                     ("main_Fz", 0.01)):
+    for col, tol in (("housing_dz", 0.005), ("main_Fz", 0.005)):
         err, err_half = (float(np.abs(run[col] - ref[col]).max()) for run in (fast, half))
         assert err < tol * np.abs(ref[col]).max(), col
-        assert err_half < 0.35 * err, col
+        assert err_half < 0.3 * err, col
+    for col in ("gear_force", "housing_rx", "hss2_Fz"):
+        err, err_half = (float(np.abs(run[col] - ref[col]).max()) for run in (fast, half))
+        assert max(err, err_half) < 3e-5 * np.abs(ref[col]).max(), col
 
 
 def test_drift_outputs_are_numerical_and_declared() -> None:
@@ -323,11 +360,13 @@ def test_drift_outputs_are_numerical_and_declared() -> None:
 @pytest.mark.slow
 def test_python_auto_fidelity_chooses_linear_on_a_small_amplitude_scene() -> None:
     """``models.get(..., fidelity="auto")`` on the small-amplitude scene above picks ``linear``
-    (within 1 % of ``flexible`` there on every physical output); it kept ``flexible`` while the
-    drift diagnostics were judged (linear 1e-9 against flexible 1e-12: a relative error of 1e3)."""
+    (within its 2 % tolerance of ``flexible`` at the default 5 ms on every physical output: 1.2 % on
+    the housing's peak-to-peak, the 5 ms step's own error there, since linear is within 0.3 % of
+    ``flexible`` at 1.25 ms); it kept ``flexible`` while the drift diagnostics were judged (linear
+    1e-9 against flexible 1e-12: a relative error of 1e3)."""
     scene = Scene(wind_speed=11.0, turbulence_intensity=0.05, duration=60.0, seed=1)
     auto = models.get("indirect_drive", fidelity="auto", pilot=0, fluctuation_scale=0.03)
     choice = auto.choice(scene)
     assert choice["chosen"] == "linear"
     assert choice["errors"]["linear"]["position_drift"] > 1.0        # reported, not judged
-    assert choice["max_rel_error_linear"] < 0.01
+    assert choice["max_rel_error_linear"] < choice["tolerance"] == 0.02

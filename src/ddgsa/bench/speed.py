@@ -405,8 +405,8 @@ def indirect_speed(window_seconds: float = 0.5) -> dict[str, Any]:
     ``solve_ivp`` (Radau) on the same rigid system and ``flexible`` against itself at half the
     step, both on the first ``window_seconds`` (the reference needs 10-30 min a simulated second; its
     cost is scaled to 600 s); ``linear`` against ``flexible`` on the full scene, and on the same
-    scene with its fluctuations scaled to :data:`SMALL_AMPLITUDE` (where the linearisation, not
-    the drive's speed-dependent gyroscopics, sets the error; docs/indirect_drive.md).
+    scene with its fluctuations scaled to :data:`SMALL_AMPLITUDE` (the linearisation's error
+    without its nonlinear part; docs/indirect_drive.md).
     """
     import ddgsa.models as models
 

@@ -39,10 +39,14 @@ class CampbellDiagram:
         ``whirl_index`` (+1 circular forward ... -1 circular backward), ``label``.
     orders : tuple of float
         Excitation orders drawn as lines ``f = n speed / 2 pi`` (1P, 3P, ...).
+    band_hz : float
+        The band the diagram was computed for [Hz]: its modes are those below it (``inf``: every mode
+        the model has).
     """
 
     frame: pd.DataFrame
     orders: tuple[float, ...] = (1.0,)
+    band_hz: float = float("inf")
 
     def to_frame(self) -> pd.DataFrame:
         """The table (a copy)."""
@@ -74,9 +78,10 @@ class CampbellDiagram:
         """Frequencies against speed [rpm] per mode (forward solid, backward dashed, mixed or not
         known solid) with the order lines labelled inside the axes and the legend outside them.
 
-        The frequency axis ends (unless ``max_frequency_hz``) at the larger of 1.5 times the highest
-        order line and the lowest mode's highest frequency plus 10 %, so the order lines and their
-        crossings fill the plot; modes above it are counted in the title. Colours run through the
+        The frequency axis ends (unless ``max_frequency_hz``) 12 % above the highest mode of a diagram
+        computed for a finite band (:attr:`band_hz`: the model chose which modes matter), else at the
+        larger of 1.5 times the highest order line and the lowest mode's highest frequency plus 10 %,
+        so the order lines and their crossings fill the plot; modes above it are counted in the title. Colours run through the
         ten hues of a 20-colour map before its lighter shades, so up to 20 modes have distinct colours.
 
         Returns the matplotlib ``Axes``; the library never shows the figure.
@@ -89,8 +94,9 @@ class CampbellDiagram:
         rpm = np.array([fr["speed_rpm"].min(), fr["speed_rpm"].max()])
         order_top = max(self.orders, default=1.0) * rpm[1] / 60.0
         lowest = fr.groupby("mode")["frequency_hz"].max().min()
+        highest = 1.05 * fr["frequency_hz"].max()
         top = (max_frequency_hz if max_frequency_hz is not None
-               else min(max(1.5 * order_top, 1.1 * lowest), 1.05 * fr["frequency_hz"].max()))
+               else 1.12 * fr["frequency_hz"].max() if np.isfinite(self.band_hz) else min(max(1.5 * order_top, 1.1 * lowest), highest))
         colours = plt.get_cmap("tab20")
         hidden = 0
         for k, (mode, grp) in enumerate(fr.groupby("mode")):
@@ -282,11 +288,12 @@ def mode_row(speed: float, mode: int, eigenvalue: complex, index: float, lateral
             "whirl_index": float(index), "label": label}
 
 
-def campbell_from_tables(tables: dict[float, pd.DataFrame], orders: Sequence[float] = (1.0, 3.0)) -> CampbellDiagram:
+def campbell_from_tables(tables: dict[float, pd.DataFrame], orders: Sequence[float] = (1.0, 3.0),
+                         band_hz: float = float("inf")) -> CampbellDiagram:
     """A Campbell diagram from mode tables computed at each speed [rad/s] by other means (a model's ``modes``).
 
     The tables need ``frequency_hz``, ``damping_ratio`` and ``label``; whirl is not known there
-    (``whirl`` is ``"unknown"``).
+    (``whirl`` is ``"unknown"``). ``band_hz``: the band the tables were cut to [Hz] (:attr:`CampbellDiagram.band_hz`).
     """
     rows = []
     for speed, table in sorted(tables.items()):
@@ -295,4 +302,4 @@ def campbell_from_tables(tables: dict[float, pd.DataFrame], orders: Sequence[flo
             rows.append({"speed_rad_s": float(speed), "speed_rpm": float(speed) * 30.0 / np.pi, "mode": int(j) + 1,
                          "frequency_hz": float(row["frequency_hz"]), "damping_ratio": float(row["damping_ratio"]),
                          "whirl": "unknown", "whirl_index": np.nan, "label": row["label"]})
-    return CampbellDiagram(pd.DataFrame(rows), tuple(float(o) for o in orders))
+    return CampbellDiagram(pd.DataFrame(rows), tuple(float(o) for o in orders), float(band_hz))

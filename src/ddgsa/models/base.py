@@ -461,7 +461,7 @@ class Model(ABC):
         for w in np.asarray(speeds, dtype=float):
             table = self.modes(params, rotor_speed=float(w))
             tables[float(w)] = table[table["frequency_hz"] <= max_frequency_hz]
-        return campbell_from_tables(tables, tuple(float(o) for o in orders))
+        return campbell_from_tables(tables, tuple(float(o) for o in orders), max_frequency_hz)
 
     @classmethod
     def check_fidelity(cls, fidelity: str) -> None:

@@ -80,7 +80,7 @@ from ddgsa.mbs.system import (SystemArrays, evaluate_terms, integrate, integrate
                               static_state)
 from ddgsa.models.base import (Model, ModelOption, ModelOutput, ModelParameter, SignalOutput, controller_row,
                                register_model)
-from ddgsa.models.constants import tilted_gravity
+from ddgsa.models.constants import HUB_INERTIA_X, HUB_INERTIA_YZ, HUB_MASS, tilted_gravity
 from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE,
                                         bearing_damping, bending_damping)
 from ddgsa.objectives import damage_rate
@@ -95,7 +95,7 @@ PARAMETERS = (
     ModelParameter("shaft_length", 6.0, "m", "main shaft length L (hub at x = 0, generator at x = L)", 2.0, 20.0),
     ModelParameter("front_bearing_x", 1.0, "m", "front bearing position L1 from the hub", 0.05, 19.0),
     ModelParameter("rear_bearing_x", 5.0, "m", "rear bearing position L2 from the hub", 0.1, 19.9),
-    ModelParameter("hub_mass", 40000.0, "kg", "rotor hub (with blades) mass m1", 1.0, 1e6),
+    ModelParameter("hub_mass", HUB_MASS, "kg", "rotor hub (with blades) mass m1", 1.0, 1e6),
     ModelParameter("generator_mass", 30000.0, "kg", "generator rotor mass m2", 1.0, 1e6),
     ModelParameter("shaft_mass", 5030.0, "kg", "main shaft mass (hollow steel shaft)", 1.0, 1e5),
     ModelParameter("shaft_radius", 0.3258, "m", "main shaft outer radius (enters its polar inertia only)",
@@ -103,8 +103,9 @@ PARAMETERS = (
     ModelParameter("shaft_bending_stiffness", 1.0e9, "N m^2", "main shaft bending stiffness EI", 1e6, 1e12),
     ModelParameter("shaft_torsional_stiffness", 7.69e8, "N m^2", "main shaft torsional stiffness GJ", 1e6, 1e12),
     ModelParameter("shaft_axial_stiffness", 2.24e10, "N", "main shaft axial stiffness EA", 1e7, 1e13),
-    ModelParameter("hub_inertia_x", 1.96e6, "kg m^2", "rotor hub polar inertia about the shaft (m1 R1^2)", 1.0, 1e10),
-    ModelParameter("hub_inertia_yz", 0.98e6, "kg m^2", "rotor hub diametral inertia", 1.0, 1e10),
+    ModelParameter("hub_inertia_x", HUB_INERTIA_X, "kg m^2", "rotor hub polar inertia about the shaft (m1 R1^2)",
+                   1.0, 1e10),
+    ModelParameter("hub_inertia_yz", HUB_INERTIA_YZ, "kg m^2", "rotor hub diametral inertia", 1.0, 1e10),
     ModelParameter("generator_inertia_x", 7.5e3, "kg m^2", "generator rotor polar inertia", 1.0, 1e9),
     ModelParameter("generator_inertia_yz", 3.75e3, "kg m^2", "generator rotor diametral inertia", 1.0, 1e9),
     ModelParameter("k_front_x", 1e10, "N/m", "front bearing stiffness, axial", 0.0, 1e12),

@@ -430,7 +430,7 @@ class HssRig(Model):
         first = frame[frame["speed_rad_s"] == frame["speed_rad_s"].min()]
         keep = first.loc[first["frequency_hz"] < max_frequency_hz, "mode"]
         return CampbellDiagram(frame[frame["mode"].isin(keep)].reset_index(drop=True),
-                               tuple(float(o) for o in orders))
+                               tuple(float(o) for o in orders), max_frequency_hz)
 
     def scene_figures(self, scene: Any, params: Mapping[str, float] | None = None) -> list[tuple[Any, str]]:
         """Signal plots of one run at ``params`` (a study's report draws them at its nominal point).

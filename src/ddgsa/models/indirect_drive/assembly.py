@@ -11,16 +11,21 @@ Bodies (seed 001 §2.2, Fig. 2.2; frame of :mod:`ddgsa.loads.hubloads`, X along 
   gyroscopic moments, small, are left out), and they make every spinning body below rigid and
   axisymmetric with its markers on its axis, so the spin angles are cyclic and the linearised
   system is time-invariant.
-- ``rotor`` -- the rotor's polar inertia (blades and hub), on the LSS flange by a revolute joint:
-  :class:`~ddgsa.mbs.constraints.Spherical` at the flange and a
+- ``rotor`` -- the hub's polar inertia (``hub_inertia_x``, the direct drive's), on the LSS flange by
+  a revolute joint: :class:`~ddgsa.mbs.constraints.Spherical` at the flange and a
   :class:`~ddgsa.mbs.constraints.TransverseBearing` between a rotor point 1 m along its axis and the
   flange's section axes, which keeps the two axes parallel (:data:`JOINT_LEVER`); it keeps the
-  rotor's gyroscopic moments when the flange tilts.
+  hub's gyroscopic moments when the flange tilts.
+- ``blades`` -- the rest of the rotor's polar inertia (``rotor_inertia_x - hub_inertia_x``), turned
+  by the drive-train torsion only: a revolute joint to the bedplate at the hub (its axis does not
+  tilt: the blades' flap flexibility keeps their diametral and gyroscopic inertia off the shaft,
+  as in the direct drive) and a :class:`~ddgsa.mbs.constraints.PrescribedSpeed` tie of zero
+  relative spin to the ``rotor`` (``blades_tie``), so hub and blades turn as one in torsion.
 - ``wheel`` -- the gear wheel with the LSS's polar inertia, on the LSS at the mesh plane by a
   revolute joint; the NREL equivalent drive-train torsional spring-damper joins it to the rotor
   (:class:`~ddgsa.mbs.elements.TorsionalSpring`: shaft, gearbox and HSS compliance lumped into one
-  LSS spring as the NREL model does). Rotor and wheel masses and diametral inertias are 1 kg /
-  1 kg m^2 placeholders (the masses are on the LSS and in the housing).
+  LSS spring as the NREL model does). Rotor, blades and wheel masses and diametral inertias are
+  1 kg / 1 kg m^2 placeholders (the masses are on the LSS and in the housing).
 - ``hss`` -- rigid pinion shaft, axis parallel to the LSS at the centre distance above it,
   polar inertia = the generator inertia.
 - ``housing`` -- rigid gearbox housing, centre of mass on the LSS axis at the mesh plane, on two
@@ -30,7 +35,7 @@ Constraints: main bearing (spherical, LSS-ground), LSS bearings 1 and 3 (transve
 LSS-housing), HSS bearing 2 (spherical) and 4 (transverse-only) to the housing, gear mesh
 (eq. 2.4 along the line of action, :class:`~ddgsa.mbs.gear_mesh.GearMesh`) between wheel and pinion.
 
-Loads: hub force and moment on the rotor (the aerodynamic torque net of the inertial torque of
+Loads: hub force and moment on the rotor (the hub; the aerodynamic torque net of the inertial torque of
 the rotor inertia this model does not spin, see :func:`ddgsa.models.indirect_drive.model.scene_inputs`),
 gravity (shaft tilted 4 deg), generator torque ``T = (c_gen / N^2) (w_set,HSS - w_HSS)`` on the HSS
 with ``w_set,HSS = -N w_set`` (seed 000 eq. 25 referred through the gear; the HSS turns the other way).
@@ -63,7 +68,7 @@ FLEXIBLE_FIELDS = ("axial", "bending_y_1", "bending_z_1", "bending_y_2", "bendin
 LSS_BORE = 0.15
 #: longest FE element of the LSS mesh [m]
 MAX_ELEMENT = 0.25
-#: placeholder mass [kg] of the rotor and wheel spin bodies (their diametral inertia: 1 kg m^2)
+#: placeholder mass [kg] of the rotor, blades and wheel spin bodies (their diametral inertia: 1 kg m^2)
 _SPIN_BODY_MASS = 1.0
 #: axial distance of the second point of a revolute joint (its transverse constraint aligns the axes) [m]
 JOINT_LEVER = 1.0
@@ -78,7 +83,7 @@ class Assembly:
     Attributes
     ----------
     system : System
-    rotor, wheel, lss, hss, housing : Body
+    rotor, blades, wheel, lss, hss, housing : Body
     lss_origin : float
         x of the LSS body frame origin [m] (0 for the FFR shaft, its centre of mass if rigid).
     geometry : MeshGeometry
@@ -99,6 +104,7 @@ class Assembly:
 
     system: System
     rotor: Body
+    blades: Body
     wheel: Body
     lss: Body
     hss: Body
@@ -114,12 +120,16 @@ class Assembly:
 
 
 def check_geometry(p: Mapping[str, float]) -> None:
-    """Raise :class:`ModelError` unless the positions along the LSS are ordered as the topology needs."""
+    """Raise :class:`ModelError` unless the positions along the LSS are ordered as the topology needs
+    and the hub's polar inertia is a part of the rotor's."""
     order = ("main_bearing_x", "lss_bearing_1_x", "gear_x", "lss_bearing_3_x", "lss_length")
     vals = [p[k] for k in order]
     if not all(a < b for a, b in zip(vals, vals[1:])):
         raise ModelError("indirect_drive: positions must satisfy main_bearing_x < lss_bearing_1_x < gear_x < "
                          f"lss_bearing_3_x < lss_length; got {dict(zip(order, vals))}")
+    if not p["hub_inertia_x"] < p["rotor_inertia_x"]:
+        raise ModelError(f"indirect_drive: the hub's polar inertia hub_inertia_x ({p['hub_inertia_x']:.4g} kg m^2) "
+                         f"must be below the whole rotor's, rotor_inertia_x ({p['rotor_inertia_x']:.4g} kg m^2)")
     if not p["hss_bearing_2_x"] < p["gear_x"] < p["hss_bearing_4_x"]:
         raise ModelError(f"indirect_drive: the pinion must lie between its bearings: hss_bearing_2_x "
                          f"({p['hss_bearing_2_x']}) < gear_x ({p['gear_x']}) < hss_bearing_4_x ({p['hss_bearing_4_x']})")
@@ -176,7 +186,9 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
     geo = mesh_geometry(p["gear_pitch_radius"], n, p["pressure_angle"], HSS_OFFSET)
     gx, off = p["gear_x"], geo.centre_distance * geo.offset_direction
     ground = Ground("bedplate")
-    rotor = RigidBody("rotor", _SPIN_BODY_MASS, (p["rotor_inertia_x"], 1.0, 1.0), angle_rates=(spin, 0.0, 0.0))
+    rotor = RigidBody("rotor", _SPIN_BODY_MASS, (p["hub_inertia_x"], 1.0, 1.0), angle_rates=(spin, 0.0, 0.0))
+    blades = RigidBody("blades", _SPIN_BODY_MASS, (p["rotor_inertia_x"] - p["hub_inertia_x"], 1.0, 1.0),
+                       angle_rates=(spin, 0.0, 0.0))
     lss, x0 = _lss_body(p, fields)
     wheel = RigidBody("wheel", _SPIN_BODY_MASS, (lss_polar_inertia(p), 1.0, 1.0), position=(gx, 0.0, 0.0),
                       angle_rates=(spin, 0.0, 0.0))
@@ -197,6 +209,10 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
     constraints = [
         Spherical(hub, flange, name="hub_joint"),
         TransverseBearing(rotor.marker((JOINT_LEVER, 0.0, 0.0), "hub_axis"), flange, name="hub_alignment"),
+        Spherical(blades.marker((0.0, 0.0, 0.0), "centre"), ground.marker((0.0, 0.0, 0.0)), name="blades_joint"),
+        TransverseBearing(blades.marker((JOINT_LEVER, 0.0, 0.0), "axis"), ground.marker((0.0, 0.0, 0.0)),
+                          name="blades_alignment"),
+        PrescribedSpeed(hub, 0.0, reference=blades.marker((0.0, 0.0, 0.0), "tie"), name="blades_tie"),
         Spherical(wheel_centre, seat, name="wheel_joint"),
         TransverseBearing(wheel.marker((JOINT_LEVER, 0.0, 0.0), "wheel_axis"), seat, name="wheel_alignment"),
         Spherical(on_lss(p["main_bearing_x"], "main"), ground.marker((p["main_bearing_x"], 0.0, 0.0)), name="main"),
@@ -227,8 +243,8 @@ def build(p: Mapping[str, float], fields: tuple[str, ...], times: Array, hub_for
         AppliedLoad(rotor.marker((0.0, 0.0, 0.0), "hub_load"), times, hub_force, hub_moment, name="hub"),
     ]
     gravity = np.array(tilted_gravity())
-    system = System([rotor, wheel, lss, hss, housing], elements, constraints, gravity=gravity)
-    return Assembly(system, rotor, wheel, lss, hss, housing, x0, geo, np.array([gx, 0.0, 0.0]), mounts, gravity,
+    system = System([rotor, blades, wheel, lss, hss, housing], elements, constraints, gravity=gravity)
+    return Assembly(system, rotor, blades, wheel, lss, hss, housing, x0, geo, np.array([gx, 0.0, 0.0]), mounts, gravity,
                     spin_inertia(p), n, c_hss)
 
 

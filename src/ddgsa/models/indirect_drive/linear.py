@@ -3,13 +3,13 @@
 The constrained system is linearised about a steadily spinning operating state under the
 scene's mean loads, spinning at the drive's **mean speed** over the record (:func:`linearise`,
 the kernel's central differences on its compiled terms; the model takes the loads' mean speed,
-then its first response's): the rotor-tilt mode at ~2 Hz is gyroscopic (the rotor's polar
-inertia on a flange of small diametral inertia), so its frequency follows the speed used in the
-linearisation -- the torque balance of the mean inputs differs from the record's mean speed by
-~0.15 % on 20-60 s records (the speed mode relaxes in ``J / c_gen``, about 50 s), which moved
-that lightly damped mode by 0.12 % and the housing's lateral RMS by 3-5 %. The torque imbalance
-at the mean speed is a constant generalised force. What the linearisation cannot hold is the
-speed's variation within a record: docs/indirect_drive.md gives the resulting bias by scene.
+then its first response's): the rotor tilt/yaw modes (3.9 / 4.6 Hz at rated) carry the hub's
+gyroscopic moment, so their frequencies follow the speed used in the linearisation -- the torque
+balance of the mean inputs differs from the record's mean speed by ~0.15 % on 20-60 s records (the
+speed mode relaxes in ``J / c_gen``, about 50 s). The torque imbalance at the mean speed is a
+constant generalised force. What the linearisation cannot hold is the speed's variation within a
+record: docs/indirect_drive.md gives the resulting bias by scene (<= 0.6 % on the study outputs
+since the rotor's tilting inertia is the hub's, version 0.4.0; up to 13 % before).
 
 The linearised system is integrated as a first-order state space in reduced coordinates on the
 states that satisfy the **linearised constraints** (:func:`state_space`): ``H dq = 0`` for the holonomic rows and
@@ -27,7 +27,7 @@ round-off, so the nonlinear constraint residual of the record (``position_drift`
 fluctuations (tested).
 
 The linearisation is time-invariant because the spin angles are cyclic: the LSS carries its
-bending in non-rotating coordinates and every spinning body (rotor, wheel, HSS) is rigid and
+bending in non-rotating coordinates and every spinning body (rotor, blades, wheel, HSS) is rigid and
 axisymmetric with its markers on its axis (:mod:`.assembly`); linearised a quarter of a
 second later, the eigenvalues agree to 1e-8.
 """

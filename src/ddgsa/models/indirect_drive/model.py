@@ -282,7 +282,8 @@ class IndirectDrive(Model):
               lss_torque: float = 0.0) -> pd.DataFrame:
         """Damped modes of the constrained system about its operating state (kernel
         :func:`ddgsa.mbs.modal.modes`), at ``rotor_speed`` [rad/s] under ``lss_torque`` [N m];
-        labels ``<body>_<direction>`` (``rotor_spin`` is the drive-train torsion mode)."""
+        labels ``<body>_<direction>`` of the coordinate holding most of the mode's energy (``hss_spin``:
+        the drive-train torsion mode, whose energy is mostly the generator's)."""
         asm, q, qd = self.build(params, rotor_speed, lss_torque)
         return system_modes(asm.system, q, qd)
 
@@ -290,7 +291,7 @@ class IndirectDrive(Model):
                  max_frequency_hz: float = CAMPBELL_MAX_HZ) -> CampbellDiagram:
         """Campbell diagram (:meth:`Model.campbell`): :meth:`modes` below ``max_frequency_hz`` at each
         rotor speed of ``speeds`` [rad/s] (default 0 to 15 rpm), every body spinning at its operating
-        speed (rotor and wheel at the rotor speed, the HSS at -N times it), no load. Whirl directions
+        speed (rotor, blades and wheel at the rotor speed, the HSS at -N times it), no load. Whirl directions
         are not classified."""
         speeds = np.linspace(0.0, 15.0 * np.pi / 30.0, 11) if speeds is None else speeds
         return super().campbell(speeds, orders, params, max_frequency_hz)

@@ -13,8 +13,9 @@ Sources, in order of preference:
   or mount stiffnesses.
 - The loads model (:data:`ddgsa.loads.NREL5MW`): the rotor's polar inertia.
 - Seed 000 Table 2 / the direct drive (:mod:`ddgsa.models.direct_drive`): main-bearing position
-  1.0 m from the hub, hub mass and diametral inertia, generator torque constant, bearing load
-  ratings -- kept equal so that ``indirect_vs_direct`` compares drive trains, not rotors.
+  1.0 m from the hub, the hub's mass, polar and diametral inertia (one description of the rotor
+  hub for both wind models, :mod:`ddgsa.models.constants`), generator torque constant, bearing
+  load ratings -- kept equal so that ``indirect_vs_direct`` compares drive trains, not rotors.
 - **Assumptions** (no source gives them; each is a parameter a study can vary):
   LSS and HSS geometry, gearbox bearing positions, housing mass and inertia, mount positions,
   stiffnesses and damping, the pitch radius of the wheel. Stated one by one below.
@@ -58,6 +59,7 @@ import math
 
 from ddgsa.loads import C_GEN_DEFAULT, EXCITATION_FACTORS, NREL5MW
 from ddgsa.models.base import ModelParameter
+from ddgsa.models.constants import HUB_INERTIA_X, HUB_INERTIA_YZ, HUB_MASS
 
 #: NREL/TP-500-38060 Table 5-1: gearbox ratio [-]
 NREL_GEAR_RATIO = 97.0
@@ -88,12 +90,15 @@ PARAMETERS = (
     ModelParameter("hss_bearing_2_x", 3.2, "m", "front HSS bearing in the housing, point 2 (assumed)", 0.1, 25.0),
     ModelParameter("hss_bearing_4_x", 3.8, "m", "rear HSS bearing in the housing, point 4 (assumed)", 0.1, 25.0),
     # rotor
-    ModelParameter("hub_mass", 40000.0, "kg", "rotor mass on the LSS flange (seed 000 Table 2 m1, as the "
+    ModelParameter("hub_mass", HUB_MASS, "kg", "rotor mass on the LSS flange (seed 000 Table 2 m1, as the "
                    "direct drive)", 1.0, 1e6),
     ModelParameter("rotor_inertia_x", ROTOR_INERTIA, "kg m^2", "rotor (blades and hub) polar inertia, the "
-                   "loads model's NREL 5-MW rotor", 1.0, 1e9),
-    ModelParameter("hub_inertia_yz", 0.98e6, "kg m^2", "rotor diametral inertia carried by the shaft (as "
-                   "the direct drive: the blades' flap flexibility decouples the rest)", 1.0, 1e10),
+                   "loads model's NREL 5-MW rotor: the drive-train torsion turns all of it", 1.0, 1e9),
+    ModelParameter("hub_inertia_x", HUB_INERTIA_X, "kg m^2", "the part of the rotor's polar inertia that tilts "
+                   "with the LSS flange (the hub's, as the direct drive; the blades' flap flexibility "
+                   "decouples the rest), so its gyroscopic moment acts on the shaft", 1.0, 1e9),
+    ModelParameter("hub_inertia_yz", HUB_INERTIA_YZ, "kg m^2", "rotor diametral inertia carried by the shaft "
+                   "(the hub's, as the direct drive)", 1.0, 1e10),
     # low-speed shaft
     ModelParameter("lss_mass", 10360.0, "kg", "LSS mass (hollow steel, r 0.35 / 0.15 m, assumed)", 1.0, 1e5),
     ModelParameter("lss_radius", 0.35, "m", "LSS outer radius (enters its polar inertia only)", 0.01, 2.0),
