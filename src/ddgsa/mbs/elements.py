@@ -66,7 +66,7 @@ class CompiledForm:
     """What the packed system (:func:`ddgsa.mbs.compiled.pack`) stores of an element or constraint.
 
     ``kind`` selects the compiled kernel (:func:`element_wrench`,
-    :func:`ddgsa.mbs.constraints.constraint_values`), ``parameters`` are its flat numbers, and
+    :func:`ddgsa.mbs.constraints.constraint_rows`), ``parameters`` are its flat numbers, and
     ``series`` an input whose value at ``t`` the kernel reads (None: no input).
     """
 
@@ -132,13 +132,13 @@ class _Connector(Element):
         own = type(self)
         if own.wrench is not _Connector.wrench or own._deflection is not _Connector._deflection:
             return None
-        return CompiledForm(CONNECTOR, np.concatenate([[float(self.frame == "i"), float(self.free_spin)], self.rest_r,
-                                                       self.rest_a.ravel(), self.offset, self.k6.ravel(),
-                                                       self.c6.ravel()]))
+        flags = [float(self.frame == "i"), float(self.free_spin)]
+        return CompiledForm(CONNECTOR, np.concatenate([flags, self.rest_r, self.rest_a.ravel(), self.offset,
+                                                       self.k6.ravel(), self.c6.ravel()]))
 
     def potential_energy(self, states: list[MarkerState]) -> float:
         d = self._deflection(states)[0]
-        k, _ = connector_matrices(states[0].a, self.k6, self.c6, self.frame == "i")
+        k, _ = connector_matrices(np.ascontiguousarray(states[0].a, dtype=float), self.k6, self.c6, self.frame == "i")
         return float(0.5 * d @ k @ d)
 
 
