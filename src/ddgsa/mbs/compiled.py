@@ -13,7 +13,7 @@ and :func:`gen_alpha` runs the one generalised-alpha loop (:mod:`ddgsa.mbs.alpha
 - elements: :class:`SpringDamper3`, :class:`Bushing6`, :class:`TorsionalSpring` (with a fixed ``offset``),
   :class:`AppliedLoad`, and :class:`TorqueLaw` in its :meth:`~TorqueLaw.linear` form;
 - constraints: :class:`Spherical`, :class:`TransverseBearing`, :class:`GearContact`,
-  :class:`PrescribedSpeed` (constant speed or a :class:`Series`).
+  :class:`PrescribedSpeed` (constant speed or a :class:`Series`), :class:`Lock`.
 
 Anything else (a Python torque law, a general trajectory, a new element class) raises a
 :class:`~ddgsa.errors.ModelError` naming the part; the Python path runs it.

@@ -32,7 +32,7 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.bodies import Ground, Marker, MarkerState
 from ddgsa.mbs.elements import CompiledForm, stacked
 from ddgsa.mbs.series import Series
-from ddgsa.mbs.ffr import cross, mv, rotation_vector, skew
+from ddgsa.mbs.ffr import cross, mm, mv, rotation_vector, skew
 
 Array = NDArray[np.float64]
 
@@ -117,8 +117,52 @@ def prescribed_speed(r, a, v, w, i, j, speed):  # pragma: no cover (compiled)
     return np.zeros(0), np.array([acc - speed]), jac
 
 
+@njit(cache=True)
+def inverse_left_jacobian(phi):  # pragma: no cover (compiled)
+    """``J_l(phi)^-1``: maps a small global rotation ``dtheta`` of ``exp(phi)`` to ``d phi`` [-].
+
+    ``exp(dtheta^) exp(phi^) = exp((phi + J_l^-1 dtheta)^)`` to first order (the SO(3) left Jacobian).
+    """
+    angle = np.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
+    k = skew(phi)
+    kk = mm(k, k)
+    if angle < 1e-6:
+        coef = 1.0 / 12.0
+    else:
+        coef = 1.0 / angle ** 2 - (1.0 + np.cos(angle)) / (2.0 * angle * np.sin(angle))
+    return np.eye(3) - 0.5 * k + coef * kk
+
+
+@njit(cache=True)
+def relative_coordinates(r, a, v, w, i, j, rest_r, rest_a):  # pragma: no cover (compiled)
+    """``(x, x_dot, jac)`` of :class:`Lock` and :class:`PrescribedCoordinate`: the six relative
+    coordinates of marker ``i`` seen from marker ``j`` since the rest pose ``rest_r, rest_a``,
+    ``x = [A_j^T (r_i - r_j) - rest_r, rotvec(A_j^T A_i rest_a^T)]`` [m, rad], their rates and
+    their exact Jacobian (6, 12) over the markers' motions (the rotation through
+    :func:`inverse_left_jacobian`)."""
+    at = a[j].T.copy()
+    arm = r[i] - r[j]
+    phi = rotation_vector(mm(mm(at, a[i]), rest_a.T))
+    jl = mm(inverse_left_jacobian(phi), at)
+    sa = mm(at, skew(arm))
+    jac = np.zeros((6, 12))
+    for x in range(3):
+        for y in range(3):
+            jac[x, y] = at[x, y]
+            jac[x, 6 + y] = -at[x, y]
+            jac[x, 9 + y] = sa[x, y]
+            jac[3 + x, 3 + y] = jl[x, y]
+            jac[3 + x, 9 + y] = -jl[x, y]
+    value = np.zeros(6)
+    value[:3] = mv(at, arm) - rest_r
+    value[3:] = phi
+    rates = np.zeros(12)
+    rates[0:3], rates[3:6], rates[6:9], rates[9:12] = v[i], w[i], v[j], w[j]
+    return value, mv(jac, rates), jac
+
+
 #: the kinds of compiled constraint (:func:`constraint_rows`)
-SPHERICAL, TRANSVERSE, GEAR, SPEED = 0, 1, 2, 3
+SPHERICAL, TRANSVERSE, GEAR, SPEED, LOCK = 0, 1, 2, 3, 4
 
 
 @njit(cache=True)
@@ -135,6 +179,10 @@ def constraint_rows(kind, r, a, v, w, i, j, h, par, inputs):  # pragma: no cover
         return transverse_bearing(r, a, v, w, i, j)
     if kind == GEAR:
         return gear_contact(r, a, v, w, i, j, h, par[0:3].copy(), par[3:6].copy())
+    if kind == LOCK:                   # par: rest_r (3), rest_a (9), then the locked rows
+        value, rates, jac = relative_coordinates(r, a, v, w, i, j, par[0:3].copy(), par[3:12].copy().reshape(3, 3))
+        rows = par[12:].astype(np.int64)
+        return value[rows], rates[rows], jac[rows]
     return prescribed_speed(r, a, v, w, i, j, inputs[0] if inputs.size else par[0])
 
 
@@ -317,19 +365,6 @@ AXES = ("x", "y", "z", "rx", "ry", "rz")
 along and rotations about the x, y, z axes of the reference marker's frame."""
 
 
-def inverse_left_jacobian(phi: Array) -> Array:
-    """``J_l(phi)^-1``: maps a small global rotation ``dtheta`` of ``exp(phi)`` to ``d phi`` [-].
-
-    ``exp(dtheta^) exp(phi^) = exp((phi + J_l^-1 dtheta)^)`` to first order (the SO(3) left Jacobian).
-    """
-    angle = float(np.linalg.norm(phi))
-    k = skew(phi)
-    if angle < 1e-6:
-        return np.eye(3) - 0.5 * k + k @ k / 12.0
-    coef = 1.0 / angle ** 2 - (1.0 + np.cos(angle)) / (2.0 * angle * np.sin(angle))
-    return np.eye(3) - 0.5 * k + coef * k @ k
-
-
 class _RelativeCoordinates(Constraint):
     """Relative coordinates of marker ``i`` seen from marker ``j`` (default: the ground), from the rest pose.
 
@@ -358,17 +393,10 @@ class _RelativeCoordinates(Constraint):
         self.rest_r = sj.a.T @ (si.r - sj.r)
         self.rest_a = sj.a.T @ si.a
 
-    def relative(self, states: list[MarkerState]) -> tuple[Array, Array]:
-        """All six relative coordinates ``[d (3) [m], phi (3) [rad]]`` and their Jacobian (6, 12)."""
-        si, sj = states
-        at = sj.a.T
-        arm = si.r - sj.r
-        phi = rotation_vector(at @ si.a @ self.rest_a.T)
-        jl = inverse_left_jacobian(phi) @ at
-        jac = np.zeros((6, 12))
-        jac[0:3, 0:3], jac[0:3, 6:9], jac[0:3, 9:12] = at, -at, at @ skew(arm)
-        jac[3:6, 3:6], jac[3:6, 9:12] = jl, -jl
-        return np.concatenate([at @ arm - self.rest_r, phi]), jac
+    def relative(self, states: list[MarkerState]) -> tuple[Array, Array, Array]:
+        """All six relative coordinates ``[d (3) [m], phi (3) [rad]]``, their rates and their Jacobian
+        (6, 12) (:func:`relative_coordinates`)."""
+        return relative_coordinates(*stacked(states), 0, 1, self.rest_r, self.rest_a)
 
 
 class Lock(_RelativeCoordinates):
@@ -407,8 +435,16 @@ class Lock(_RelativeCoordinates):
         self.reaction = tuple(("force_on_j_" if a in "xyz" else "moment_on_j_") + a for a in self.axes)
 
     def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        value, jac = self.relative(states)
+        value, _, jac = self.relative(states)
         return value[self.rows], jac[self.rows]
+
+    def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        _, rates, jac = self.relative(states)
+        return rates[self.rows], jac[self.rows]
+
+    def compiled(self) -> CompiledForm:
+        """``[rest_r (3), rest_a (9), locked rows]`` for :func:`relative_coordinates`."""
+        return CompiledForm(LOCK, np.concatenate([self.rest_r, self.rest_a.ravel(), self.rows.astype(float)]))
 
 
 class PrescribedCoordinate(_RelativeCoordinates):
@@ -462,10 +498,9 @@ class PrescribedCoordinate(_RelativeCoordinates):
         self.reaction = (("force_on_j_" if axis in "xyz" else "moment_on_j_") + axis,)
 
     def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        value, jac = self.relative(states)
+        value, _, jac = self.relative(states)
         return value[self.rows] - float(self.value(t)), jac[self.rows]
 
     def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        _, jac = self.relative(states)
-        jac = jac[self.rows]
-        return jac @ _rates(states) - float(self.rate(t)), jac
+        _, rates, jac = self.relative(states)
+        return rates[self.rows] - float(self.rate(t)), jac[self.rows]
