@@ -48,13 +48,15 @@ class Cost:
     seconds: float          # model time at the measured cost per run [s]; NaN when none was measured
 
 
-def cost_to_confirm(result: "StudyResult", scene: int, output: str, tolerance: float = 0.02) -> Cost:
-    """Saltelli design that would likely confirm ``output`` in ``scene`` (see the module)."""
+def cost_to_confirm(result: "StudyResult", scene: int, output: str, tolerance: float = 0.02,
+                    n: int | None = None) -> Cost:
+    """Saltelli design that would likely confirm ``output`` in ``scene`` (see the module), or its cost
+    with the base sample ``n`` given."""
     t = result.indices
     g = t[(t["scene"] == scene) & (t["output"] == output)]
     st = (g.groupby("parameter", sort=False)["ST"]
           .agg(lambda s: s.dropna().median() if s.notna().any() else np.nan).to_numpy(float))
-    n = saltelli_n_to_confirm(st, tolerance)
+    n = saltelli_n_to_confirm(st, tolerance) if n is None else n
     study = result.study
     runs = n * (len(st) + 2) * study.spec.scenes.realisations
     sec = per_run_seconds(result)
@@ -84,13 +86,15 @@ def duration(seconds: float) -> str:
 
 
 def advice(result: "StudyResult", output: str, scenes: list[int], tolerance: float = 0.02) -> str:
-    """How to confirm ``output`` in ``scenes``: the largest Saltelli ``n`` any of them needs and the
-    runs and model time of all of them (one worker; divide by the workers), or the study's
-    ``confirm`` budget (points per scene) that would pay for that design (:mod:`ddgsa.gsa.escalate`)."""
+    """How to confirm ``output`` in ``scenes``: the largest Saltelli ``n`` any of them needs, with the
+    runs and model time of adding that method to the study, which runs it in every scene (one worker;
+    divide by the workers), or the study's ``confirm`` budget (points per scene) that would pay for the
+    design where it is needed (:mod:`ddgsa.gsa.escalate`)."""
     costs = [cost_to_confirm(result, s, output, tolerance) for s in scenes]
     n = max(c.n for c in costs)
-    runs = sum(c.runs for c in costs)
-    sec = sum(c.seconds for c in costs)
+    every = [cost_to_confirm(result, s, output, tolerance, n=n) for s in sorted(result.indices["scene"].unique())]
+    runs = sum(c.runs for c in every)
+    sec = sum(c.seconds for c in every)
     per = per_run_seconds(result)
     at = f" at {per:.3g} s per run measured here" if np.isfinite(per) else ""
     points = max(c.runs // max(1, result.study.spec.scenes.realisations) for c in costs)

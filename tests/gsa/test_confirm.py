@@ -202,3 +202,21 @@ def test_advice_after_a_stopped_escalation_asks_for_saltelli_not_a_larger_budget
     assert "a larger `confirm:` budget would not help" in text and "confirm: {budget" not in text
     fresh = SimpleNamespace(**{**vars(stopped), "provenance": {}})
     assert "or `confirm: {budget: " in advice(fresh, "y", [0])
+
+
+def test_advice_counts_the_runs_of_the_method_it_suggests() -> None:
+    """A `saltelli` method added to a study runs in every scene at one ``n``: the advice quotes that,
+    the largest ``n`` any unconfirmed scene needs times ``(d + 2)`` points times the realisations in
+    every scene (a newcomer trial found 'n: 4096 (532 480 runs)' where 4 096 in three scenes is 798 720).
+    Here scene 0 needs n = 256 (ST 0.7 / 0.3, as in test_report) and scene 1 is confirmed: 2 x 256 x 4 x 3."""
+    from types import SimpleNamespace
+
+    from ddgsa.confirm import advice, cost_to_confirm
+
+    rows = pd.DataFrame({"scene": [0, 0, 1, 1], "output": "y", "parameter": ["a", "b", "a", "b"],
+                         "ST": [0.7, 0.3, 0.9, 0.0]})
+    study = SimpleNamespace(spec=SimpleNamespace(scenes=SimpleNamespace(realisations=3)), targets=[])
+    res = SimpleNamespace(indices=rows, study=study, evaluations=pd.DataFrame({"seconds": [1.0]}), provenance={})
+    n = cost_to_confirm(res, 0, "y").n
+    assert n == 256
+    assert f"n: {n} ({2 * n * 4 * 3:,} runs".replace(",", " ") in advice(res, "y", [0])
