@@ -11,6 +11,7 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs import (AppliedLoad, Ground, Lock, PrescribedCoordinate, RadialForce, RigidBody, SpringDamper3, System,
                        TorsionalSpring, genalpha, modes)
 from ddgsa.mbs.assembly import accelerations
+from ddgsa.mbs.modal import linearise_system, modal_analysis
 from ddgsa.mbs.statics import static_equilibrium
 from ddgsa.mbs.ffr import rodrigues, rotation_vector
 from ddgsa.mbs.constraints import inverse_left_jacobian
@@ -76,6 +77,9 @@ def test_lock_gives_the_combined_body() -> None:
                  [lock12, Lock(b1.marker(), axes=("x", "y", "z", "ry", "rz"))])
     f_rot = math.sqrt(kt / (j1 + j2 + m2 * d ** 2)) / (2 * math.pi)
     assert modes(rot)["frequency_hz"].to_numpy() == pytest.approx([f_rot], rel=1e-9)
+    lin = linearise_system(rot, compiled=True)                    # the locks packed (compiled kernel)
+    table = modal_analysis(lin.m, lin.c, lin.k, rot.coord_names, rot.groups(), lin.basis, lin.m_full)
+    assert table["frequency_hz"].to_numpy() == pytest.approx([f_rot], rel=1e-9)
     b1b = RigidBody("b1", m1, (j1, 1.0, 1.0))
     b2b = RigidBody("b2", m2, (j2, 1.0, 1.0), position=(0.0, d, 0.0))
     trans = System([b1b, b2b], [SpringDamper3(b1b.marker(), ground, (0.0, ky, 0.0))],

@@ -1,15 +1,19 @@
 """The compiled nonlinear path: a System packed into arrays, evaluated and integrated in numba.
 
 :func:`pack` turns a :class:`~ddgsa.mbs.assembly.System` into flat arrays; the compiled
-:func:`_assemble` evaluates exactly what the Python objects do (same formulas, tested equal),
+:func:`_assemble` evaluates them by calling the same compiled functions the Python objects call
+(the connectors' :func:`~ddgsa.mbs.elements.connector_wrench`, the torque law's
+:func:`~ddgsa.mbs.elements.axial_torque_wrench`, the constraints' residuals and Jacobians in
+:mod:`ddgsa.mbs.constraints`, the rotation helpers of :mod:`ddgsa.mbs.ffr`, the inputs'
+:func:`~ddgsa.mbs.series.interpolate`) and maps their wrenches and Jacobians onto the coordinates,
 and :func:`gen_alpha` runs the one generalised-alpha loop (:mod:`ddgsa.mbs.alpha`) compiled on it. What packs:
 
 - bodies: :class:`RigidBody`, :class:`FlexibleBody`; :class:`Ground` and
   :class:`PrescribedBody.translating` (sampled translation);
-- elements: :class:`SpringDamper3`, :class:`Bushing6`, :class:`TorsionalSpring`,
+- elements: :class:`SpringDamper3`, :class:`Bushing6`, :class:`TorsionalSpring` (with a fixed ``offset``),
   :class:`AppliedLoad`, and :class:`TorqueLaw` in its :meth:`~TorqueLaw.linear` form;
 - constraints: :class:`Spherical`, :class:`TransverseBearing`, :class:`GearContact`,
-  :class:`PrescribedSpeed` (constant speed or a :class:`Series`).
+  :class:`PrescribedSpeed` (constant speed or a :class:`Series`), :class:`Lock`.
 
 Anything else (a Python torque law, a general trajectory, a new element class) raises a
 :class:`~ddgsa.errors.ModelError` naming the part; the Python path runs it.
@@ -27,16 +31,14 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.alpha import specialise
 from ddgsa.mbs.assembly import System, Terms
 from ddgsa.mbs.bodies import FlexibleBody, MarkerState, PrescribedBody
-from ddgsa.mbs.constraints import GearContact, PrescribedSpeed, Spherical, TransverseBearing
-from ddgsa.mbs.elements import AppliedLoad, TorqueLaw, _Connector, connector_tangent
-from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rodrigues, rotation, rotation_vector
+from ddgsa.mbs.constraints import PrescribedSpeed, constraint_rows
+from ddgsa.mbs.elements import TorqueLaw, element_wrench
+from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rodrigues, rotation
 from ddgsa.mbs.ffr import cross as _cross
-from ddgsa.mbs.series import Series
+from ddgsa.mbs.series import Series, interpolate
 
 Array = NDArray[np.float64]
 
-_SPHERICAL, _TRANSVERSE, _GEAR, _SPEED = 0, 1, 2, 3
-_CONNECTOR, _TORQUE, _LOAD = 0, 1, 2
 
 
 @dataclass(frozen=True)
@@ -72,17 +74,13 @@ class _SeriesTable:
             meta[:, 3].copy(), meta[:, 4].copy()
 
 
-def compiled_kind(el: object) -> int | None:
-    """The compiled kernel's kind of element ``el`` (connector, torque law, applied load), or None
-    when it has no compiled form (a Python torque law, a connector with its own deflection, a new
-    element class)."""
-    if isinstance(el, _Connector):
-        return _CONNECTOR if el.packable else None
-    if isinstance(el, TorqueLaw):
-        return _TORQUE if el.linear_form is not None else None
-    if isinstance(el, AppliedLoad):
-        return _LOAD
-    return None
+def _no_compiled_form(part: object, what: str) -> str:
+    """Why ``part`` does not pack (the refusal :func:`pack` raises)."""
+    if isinstance(part, TorqueLaw):
+        return f"torque law {part.name!r} is a Python function: no compiled form (use TorqueLaw.linear)"
+    if isinstance(part, PrescribedSpeed):
+        return f"prescribed speed {part.name!r} is a Python function: no compiled form (give a constant or a Series)"
+    return f"{what} {part.name!r} ({type(part).__name__}) has no compiled form"
 
 
 def pack(system: System, elements: list | None = None) -> Packed:
@@ -146,80 +144,33 @@ def pack(system: System, elements: list | None = None) -> Packed:
         else:
             pb_ser[p_i] = series.add(body.series)
     midx = {id(mk): i for i, mk in enumerate(system.markers)}
-    # elements
+    # elements and constraints (holonomic first): their compiled forms, parameters in one flat array each
     chosen = system.elements if elements is None else list(elements)
-    nel = len(chosen)
-    el_kind, el_idx = np.zeros(max(nel, 1), np.int64), np.zeros(max(nel, 1), np.int64)
-    cn, tq, ld = [], [], []
-    for e_i, el in enumerate(chosen):
-        kind = compiled_kind(el)
-        if kind is None and isinstance(el, TorqueLaw):
-            raise ModelError(f"torque law {el.name!r} is a Python function: no compiled form (use "
-                             "TorqueLaw.linear)")
-        if kind is None:
-            raise ModelError(f"element {el.name!r} ({type(el).__name__}) has no compiled form")
-        el_kind[e_i], el_idx[e_i] = kind, len((cn, tq, ld)[kind])
-        (cn, tq, ld)[kind].append(el)
-    ncn = max(len(cn), 1)
-    cn_m = np.zeros((ncn, 2), np.int64)
-    cn_k, cn_c = np.zeros((ncn, 6, 6)), np.zeros((ncn, 6, 6))
-    cn_flags = np.zeros((ncn, 2), np.int64)
-    cn_rest_r, cn_rest_a = np.zeros((ncn, 3)), np.zeros((ncn, 3, 3))
-    for i, el in enumerate(cn):
-        cn_m[i] = midx[id(el.markers[0])], midx[id(el.markers[1])]
-        cn_k[i], cn_c[i] = el.k6, el.c6
-        cn_flags[i] = int(el.frame == "i"), int(el.free_spin)
-        cn_rest_r[i], cn_rest_a[i] = el.rest_r, el.rest_a
-    ntq = max(len(tq), 1)
-    tq_m, tq_par, tq_ser = -np.ones((ntq, 2), np.int64), np.zeros((ntq, 3)), -np.ones(ntq, np.int64)
-    for i, el in enumerate(tq):
-        torque0, damping, ws = el.linear_form
-        tq_m[i, 0] = midx[id(el.markers[0])]
-        if len(el.markers) > 1:
-            tq_m[i, 1] = midx[id(el.markers[1])]
-        if isinstance(ws, Series):
-            tq_ser[i] = series.add(ws)
-            tq_par[i] = torque0, damping, 0.0
-        else:
-            tq_par[i] = torque0, damping, float(ws)
-    nld = max(len(ld), 1)
-    ld_m, ld_ser = np.zeros(nld, np.int64), np.zeros(nld, np.int64)
-    for i, el in enumerate(ld):
-        ld_m[i], ld_ser[i] = midx[id(el.markers[0])], series.add(el.series)
-    # constraints, holonomic first
     cons = [*system.holonomic, *system.nonholonomic]
-    ncs = max(len(cons), 1)
-    cs_kind, cs_row = np.zeros(ncs, np.int64), np.zeros(ncs, np.int64)
-    cs_m, cs_par, cs_ser = -np.ones((ncs, 3), np.int64), np.zeros((ncs, 7)), -np.ones(ncs, np.int64)
-    row = 0
-    for i, c in enumerate(cons):
-        cs_row[i] = row
-        row += c.n_eq
-        for k, mk in enumerate(c.markers):
-            cs_m[i, k] = midx[id(mk)]
-        if isinstance(c, Spherical):
-            cs_kind[i] = _SPHERICAL
-        elif isinstance(c, TransverseBearing):
-            cs_kind[i] = _TRANSVERSE
-        elif isinstance(c, GearContact):
-            cs_kind[i] = _GEAR
-            cs_par[i, :3], cs_par[i, 3:6] = c.contact, c.tangent
-        elif isinstance(c, PrescribedSpeed):
-            cs_kind[i] = _SPEED
-            if c.constant is not None:
-                cs_par[i, 6] = c.constant
-            elif isinstance(c.speed, Series):
-                cs_ser[i] = series.add(c.speed)
-            else:
-                raise ModelError(f"prescribed speed {c.name!r} is a Python function: no compiled form (give a "
-                                 "constant or a Series)")
-        else:
-            raise ModelError(f"constraint {c.name!r} ({type(c).__name__}) has no compiled form")
+    parts = []
+    for part in [*chosen, *cons]:
+        form = part.compiled()
+        if form is None:
+            raise ModelError(_no_compiled_form(part, "element" if part in chosen else "constraint"))
+        parts.append(form)
+    nel, ncs = len(chosen), len(cons)
+    kind, marker = np.zeros(nel + ncs, np.int64), -np.ones((nel + ncs, 3), np.int64)
+    ser, offsets = -np.ones(nel + ncs, np.int64), np.zeros(nel + ncs + 1, np.int64)
+    for p_i, (part, form) in enumerate(zip([*chosen, *cons], parts)):
+        kind[p_i] = form.kind
+        for k, mk in enumerate(part.markers):
+            marker[p_i, k] = midx[id(mk)]
+        if form.series is not None:
+            ser[p_i] = series.add(form.series)
+        offsets[p_i + 1] = offsets[p_i] + form.parameters.size
+    par = np.concatenate([np.zeros(1), *(form.parameters for form in parts)])[1:].copy()
+    cs_row = np.cumsum([0] + [c.n_eq for c in cons])[:-1].astype(np.int64) if cons else np.zeros(0, np.int64)
+    cs_neq = np.array([c.n_eq for c in cons], dtype=np.int64)
     arrays = (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, fl["ssum"], fl["k1"], fl["e"], fl["f4"], fl["h0"],
               fl["h1"], fl["kff"], fl["cff"], mk_body, mk_u0, mk_so, mk_s_a, mk_sr_a, pb_r0, pb_a0, pb_ser,
-              *series.arrays(), el_kind[:nel] if nel else el_kind[:0], el_idx, cn_m, cn_k, cn_c, cn_flags,
-              cn_rest_r, cn_rest_a, tq_m[:len(tq)], tq_par, tq_ser, ld_m[:len(ld)], ld_ser, cs_kind[:len(cons)],
-              cs_row, cs_m, cs_par, cs_ser, np.asarray(system.gravity, dtype=float))
+              *series.arrays(), np.int64(nel), kind, marker, ser, offsets, par, cs_row, cs_neq,
+              np.int64(system.n_holonomic),
+              np.asarray(system.gravity, dtype=float))
     return Packed(n, system.n_holonomic, system.n_constraints, nel, arrays)
 
 
@@ -229,28 +180,8 @@ def pack(system: System, elements: list | None = None) -> Packed:
 
 @njit(cache=True)
 def _series(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t, deriv):  # pragma: no cover (compiled)
-    """Value (or time derivative) of series ``idx`` at ``t`` (Catmull-Rom, as :class:`Series`)."""
-    n, k, dt = s_n[idx], s_k[idx], s_dt[idx]
-    pos = (t - s_t0[idx]) / dt
-    j = int(pos)
-    if j < 0:
-        j = 0
-    if j > n - 2:
-        j = n - 2
-    s = pos - j
-    out = np.empty(k)
-    base = s_off[idx]
-    stride = (n - 1) * k
-    for c in range(k):
-        c0 = coef[base + j * k + c]
-        c1 = coef[base + stride + j * k + c]
-        c2 = coef[base + 2 * stride + j * k + c]
-        c3 = coef[base + 3 * stride + j * k + c]
-        if deriv:
-            out[c] = (c1 + s * (2.0 * c2 + 3.0 * s * c3)) / dt
-        else:
-            out[c] = c0 + s * (c1 + s * (c2 + s * c3))
-    return out
+    """Value (or time derivative) of series ``idx`` of the table at ``t`` (:func:`ddgsa.mbs.series.interpolate`)."""
+    return interpolate(coef, s_off[idx], s_n[idx], s_k[idx], s_t0[idx], s_dt[idx], t, deriv)
 
 
 @njit(cache=True)
@@ -359,14 +290,6 @@ def _add_jtkj(kt, mj, lohi, a, b, k6, sign):  # pragma: no cover (compiled)
 
 
 @njit(cache=True)
-def _pair_tangent(kt, mj, lohi, i, j, k6):  # pragma: no cover (compiled)
-    _add_jtkj(kt, mj, lohi, i, i, k6, 1.0)
-    _add_jtkj(kt, mj, lohi, i, j, k6, -1.0)
-    _add_jtkj(kt, mj, lohi, j, i, k6, -1.0)
-    _add_jtkj(kt, mj, lohi, j, j, k6, 1.0)
-
-
-@njit(cache=True)
 def _add_blocks(kt, mj, lohi, i, j, t12):  # pragma: no cover (compiled)
     """``kt += J^T t12 J`` over the markers ``[i, j]``."""
     _add_jtkj(kt, mj, lohi, i, i, t12[0:6, 0:6].copy(), 1.0)
@@ -376,12 +299,38 @@ def _add_blocks(kt, mj, lohi, i, j, t12):  # pragma: no cover (compiled)
 
 
 @njit(cache=True)
+def _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t):  # pragma: no cover (compiled)
+    """The value at ``t`` of series ``idx`` of the table, empty for ``idx < 0`` (a part without input)."""
+    if idx < 0:
+        return np.zeros(0)
+    return _series(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t, False)
+
+
+@njit(cache=True)
+def _add_tangent(kt, mj, lohi, i, j, t):  # pragma: no cover (compiled)
+    """``kt += J^T t J`` over the element's markers ``[i]`` (t 6 x 6) or ``[i, j]`` (t 12 x 12)."""
+    if t.shape[0] == 6:
+        _add_jtkj(kt, mj, lohi, i, i, t, 1.0)
+    else:
+        _add_blocks(kt, mj, lohi, i, j, t)
+
+
+@njit(cache=True)
+def _add_rows(jac, mj, lohi, m, row, jx, slot):  # pragma: no cover (compiled)
+    """``jac[row:row + n_eq] += jx[:, slot] J_m``: a constraint's Jacobian over the motions of its marker
+    in ``slot`` (columns ``6 slot`` to ``6 slot + 6`` of ``jx``) mapped onto the coordinates of marker ``m``."""
+    for r in range(jx.shape[0]):
+        for col in range(lohi[m, 0], lohi[m, 1]):
+            for x in range(3):
+                jac[row + r, col] += jx[r, 6 * slot + x] * mj[m, x, col] + jx[r, 6 * slot + 3 + x] * mj[m, 3 + x, col]
+
+
+@njit(cache=True)
 def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
     """``M, Q, K_t, C_t, element outputs (n_el, 6), C_h, jac (n_c, n), V`` at ``(q, qd, t)``."""
     (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
-     mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt, el_kind, el_idx, cn_m, cn_k, cn_c,
-     cn_flags, cn_rest_r, cn_rest_a, tq_m, tq_par, tq_ser, ld_m, ld_ser, cs_kind, cs_row, cs_m, cs_par, cs_ser,
-     gravity) = P
+     mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt, nel, kind, marker, ser, offsets, par,
+     cs_row, cs_neq, nh, gravity) = P
     n = q.size
     m_mat, f = np.zeros((n, n)), np.zeros(n)
     kt, ct = np.zeros((n, n)), np.zeros((n, n))
@@ -404,153 +353,38 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
             kt[lo + 6:hi, lo + 6:hi] += kb
             ct[lo + 6:hi, lo + 6:hi] += cb
     mr, ma, mvel, mw, mj, lohi = _markers(q, qd, t, P)
-    nel = el_kind.size
     out = np.zeros((nel, 6))
     for el in range(nel):
-        kind, idx = el_kind[el], el_idx[el]
-        if kind == 0:
-            i, j = cn_m[idx, 0], cn_m[idx, 1]
-            frame_i, free = cn_flags[idx, 0] == 1, cn_flags[idx, 1] == 1
-            ai, aj = ma[i], ma[j]
-            rest = mv(ai, cn_rest_r[idx]) if frame_i else cn_rest_r[idx].copy()
-            d = np.zeros(6)
-            dd = np.zeros(6)
-            wxr = _cross(mw[i], rest) if frame_i else np.zeros(3)
-            for k in range(3):
-                d[k] = mr[j, k] - mr[i, k] - rest[k]
-                dd[k] = mvel[j, k] - mvel[i, k] - wxr[k]
-            dw = mw[j] - mw[i]
-            if free:
-                axis = ai[:, 0].copy()
-                th = _cross(axis, mm(aj, cn_rest_a[idx].T)[:, 0].copy())
-                proj = axis[0] * dw[0] + axis[1] * dw[1] + axis[2] * dw[2]
-                dw = dw - axis * proj
-            else:
-                th = rotation_vector(mm(mm(aj, cn_rest_a[idx].T), ai.T))
-            for k in range(3):
-                d[3 + k] = th[k]
-                dd[3 + k] = dw[k]
-            kg, cg = cn_k[idx], cn_c[idx]
-            if frame_i:
-                big = np.zeros((6, 6))
-                big[:3, :3] = ai
-                big[3:, 3:] = ai
-                kg = mm(mm(big, kg), big.T)
-                cg = mm(mm(big, cg), big.T)
-            fv = mv(kg, d) + mv(cg, dd)
-            arm = mr[j] - mr[i]
-            wj = np.empty(6)
-            mom = _cross(arm, fv[:3].copy())
-            for k in range(3):
-                wj[k] = -fv[k]
-                wj[3 + k] = -fv[3 + k] + mom[k]
-            _add_jtw(f, mj, lohi, i, fv, 1.0)
-            _add_jtw(f, mj, lohi, j, wj, 1.0)
-            turning = rest if frame_i else np.zeros(3)    # a global-frame rest offset does not turn with marker i
-            _add_blocks(kt, mj, lohi, i, j, connector_tangent(kg, turning, arm, fv[:3].copy()))
-            _add_blocks(ct, mj, lohi, i, j, connector_tangent(cg, turning, arm, np.zeros(3)))
-            out[el] = fv
-        elif kind == 1:
-            mk, rm = tq_m[idx, 0], tq_m[idx, 1]
-            axis = ma[mk][:, 0].copy()
-            wrel = mw[mk].copy()
-            if rm >= 0:
-                wrel -= mw[rm]
-            speed = axis[0] * wrel[0] + axis[1] * wrel[1] + axis[2] * wrel[2]
-            ws = tq_par[idx, 2]
-            if tq_ser[idx] >= 0:
-                ws = _series(coef, s_off, s_n, s_k, s_t0, s_dt, tq_ser[idx], t, False)[0]
-            torque = tq_par[idx, 0] + tq_par[idx, 1] * (ws - speed)
-            w6 = np.zeros(6)
-            w6[3:] = torque * axis
-            _add_jtw(f, mj, lohi, mk, w6, 1.0)
-            c6 = np.zeros((6, 6))
-            for r in range(3):
-                for c in range(3):
-                    c6[3 + r, 3 + c] = tq_par[idx, 1] * axis[r] * axis[c]
-            if rm >= 0:
-                _add_jtw(f, mj, lohi, rm, w6, -1.0)
-                _pair_tangent(ct, mj, lohi, mk, rm, c6)
-            else:
-                _add_jtkj(ct, mj, lohi, mk, mk, c6, 1.0)
-            out[el] = w6
-        else:
-            w6 = _series(coef, s_off, s_n, s_k, s_t0, s_dt, ld_ser[idx], t, False)
-            _add_jtw(f, mj, lohi, ld_m[idx], w6, 1.0)
-            out[el] = w6
+        i, j = marker[el, 0], marker[el, 1]
+        wr, kr, cr = element_wrench(kind[el], mr, ma, mvel, mw, i, j, par[offsets[el]:offsets[el + 1]],
+                                    _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, ser[el], t))
+        _add_jtw(f, mj, lohi, i, wr[0], 1.0)
+        if wr.shape[0] > 1:
+            _add_jtw(f, mj, lohi, j, wr[1], 1.0)
+        if kr.shape[0] > 0:
+            _add_tangent(kt, mj, lohi, i, j, kr)
+        if cr.shape[0] > 0:
+            _add_tangent(ct, mj, lohi, i, j, cr)
+        out[el] = wr[0]
     # constraints
-    ncs = cs_kind.size
+    ncs = cs_row.size
     nc = 0
-    nh = 0
     for c in range(ncs):
-        k = cs_kind[c]
-        neq = 3 if k == 0 else 2 if k == 1 else 1
-        nc += neq
-        if k <= 1:
-            nh += neq
+        nc += cs_neq[c]
     ch = np.zeros(nh)
     jac = np.zeros((nc, n))
     vel = np.zeros(nc)
     for c in range(ncs):
-        k, row = cs_kind[c], cs_row[c]
-        i, j, h = cs_m[c, 0], cs_m[c, 1], cs_m[c, 2]
-        if k == 0:
-            for r in range(3):
-                ch[row + r] = mr[i, r] - mr[j, r]
-                vel[row + r] = mvel[i, r] - mvel[j, r]
-                for col in range(lohi[i, 0], lohi[i, 1]):
-                    jac[row + r, col] += mj[i, r, col]
-                for col in range(lohi[j, 0], lohi[j, 1]):
-                    jac[row + r, col] -= mj[j, r, col]
-        elif k == 1:
-            d = mr[i] - mr[j]
-            for r in range(2):
-                nv = ma[j][:, 1 + r].copy()
-                nxd = _cross(nv, d)
-                ch[row + r] = nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2]
-                v = 0.0
-                for x in range(3):
-                    v += nv[x] * (mvel[i, x] - mvel[j, x]) + nxd[x] * mw[j, x]
-                vel[row + r] = v
-                for col in range(lohi[i, 0], lohi[i, 1]):
-                    for x in range(3):
-                        jac[row + r, col] += nv[x] * mj[i, x, col]
-                for col in range(lohi[j, 0], lohi[j, 1]):
-                    for x in range(3):
-                        jac[row + r, col] += -nv[x] * mj[j, x, col] + nxd[x] * mj[j, 3 + x, col]
-        elif k == 2:
-            p = mr[h] + mv(ma[h], cs_par[c, :3])
-            tan = mv(ma[h], cs_par[c, 3:6])
-            ci = _cross(p - mr[i], tan)
-            cj = _cross(p - mr[j], tan)
-            v = 0.0
-            for x in range(3):
-                v += tan[x] * mvel[i, x] + ci[x] * mw[i, x] - tan[x] * mvel[j, x] - cj[x] * mw[j, x]
-            vel[row] = v
-            for col in range(lohi[i, 0], lohi[i, 1]):
-                for x in range(3):
-                    jac[row, col] += tan[x] * mj[i, x, col] + ci[x] * mj[i, 3 + x, col]
-            for col in range(lohi[j, 0], lohi[j, 1]):
-                for x in range(3):
-                    jac[row, col] -= tan[x] * mj[j, x, col] + cj[x] * mj[j, 3 + x, col]
-        else:
-            axis = ma[i][:, 0].copy()
-            s = cs_par[c, 6]
-            if cs_ser[c] >= 0:
-                s = _series(coef, s_off, s_n, s_k, s_t0, s_dt, cs_ser[c], t, False)[0]
-            v = 0.0
-            for x in range(3):
-                v += axis[x] * mw[i, x]
-                if j >= 0:
-                    v -= axis[x] * mw[j, x]
-            vel[row] = v - s
-            for col in range(lohi[i, 0], lohi[i, 1]):
-                for x in range(3):
-                    jac[row, col] += axis[x] * mj[i, 3 + x, col]
-            if j >= 0:
-                for col in range(lohi[j, 0], lohi[j, 1]):
-                    for x in range(3):
-                        jac[row, col] -= axis[x] * mj[j, 3 + x, col]
+        p, row = nel + c, cs_row[c]
+        value, v, jx = constraint_rows(kind[p], mr, ma, mvel, mw, marker[p, 0], marker[p, 1], marker[p, 2],
+                                       par[offsets[p]:offsets[p + 1]],
+                                       _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, ser[p], t))
+        for r in range(v.size):
+            vel[row + r] = v[r]
+        for r in range(value.size):
+            ch[row + r] = value[r]
+        for slot in range(jx.shape[1] // 6):
+            _add_rows(jac, mj, lohi, marker[p, slot], row, jx, slot)
     return m_mat, f, kt, ct, out, ch, jac, vel
 
 
@@ -730,10 +564,10 @@ class HybridTerms:
         if system.n_constraints:
             raise ModelError("hybrid terms: constrained systems run on System.terms or the compiled kernel")
         self.system = system
-        kinds = [compiled_kind(el) for el in system.elements]
-        self.packed = pack(system, [el for el, k in zip(system.elements, kinds) if k is not None])
-        self.python = [(i, el) for i, (el, k) in enumerate(zip(system.elements, kinds)) if k is None]
-        self.compiled_rows = [i for i, k in enumerate(kinds) if k is not None]
+        packs = [el.compiled() is not None for el in system.elements]
+        self.packed = pack(system, [el for el, k in zip(system.elements, packs) if k])
+        self.python = [(i, el) for i, (el, k) in enumerate(zip(system.elements, packs)) if not k]
+        self.compiled_rows = [i for i, k in enumerate(packs) if k]
         index = {id(mk): i for i, mk in enumerate(system.markers)}
         self.marker_rows = [[index[id(mk)] for mk in el.markers] for _, el in self.python]
 

@@ -25,17 +25,165 @@ from abc import ABC
 from collections.abc import Callable
 
 import numpy as np
+from numba import njit
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs.bodies import Ground, Marker, MarkerState
-from ddgsa.mbs.ffr import cross, rotation_vector, skew
+from ddgsa.mbs.elements import CompiledForm, stacked
+from ddgsa.mbs.series import Series
+from ddgsa.mbs.ffr import cross, mm, mv, rotation_vector, skew
 
 Array = NDArray[np.float64]
 
 
 def _rates(states: list[MarkerState]) -> Array:
     return np.concatenate([np.concatenate([s.v, s.w]) for s in states])
+
+
+# ---------------------------------------------------------------------------------------------------
+# The constraints' residuals and Jacobians, compiled: each is the one implementation, which the
+# constraint calls from Python and the packed system (:mod:`ddgsa.mbs.compiled`) from its compiled
+# assembly. Each reads the markers ``i, j (, h)`` of the arrays ``r, a, v, w`` (positions,
+# orientations, velocities, angular velocities; :func:`ddgsa.mbs.elements.stacked`) and returns
+# ``(C, V, jac)``: the position-level residual (empty for a velocity-level constraint), the
+# velocity-level value and the Jacobian over the markers' motions ``[dr, dtheta]`` (n_eq, 6 n_markers).
+
+
+@njit(cache=True)
+def spherical(r, a, v, w, i, j):  # pragma: no cover (compiled)
+    """:class:`Spherical`: ``C = r_i - r_j`` (3,), ``V = v_i - v_j``."""
+    value, vel, jac = np.zeros(3), np.zeros(3), np.zeros((3, 12))
+    for k in range(3):
+        value[k] = r[i, k] - r[j, k]
+        vel[k] = v[i, k] - v[j, k]
+        jac[k, k] = 1.0
+        jac[k, 6 + k] = -1.0
+    return value, vel, jac
+
+
+@njit(cache=True)
+def transverse_bearing(r, a, v, w, i, j):  # pragma: no cover (compiled)
+    """:class:`TransverseBearing`: ``C_k = N_k . (r_i - r_j)`` with ``N_1, N_2`` marker j's y, z axes;
+    ``d C_k / d theta_j = N_k x (r_i - r_j)``."""
+    d = r[i] - r[j]
+    value, vel, jac = np.zeros(2), np.zeros(2), np.zeros((2, 12))
+    for row in range(2):
+        nv = a[j][:, 1 + row].copy()
+        nxd = cross(nv, d)
+        value[row] = nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2]
+        acc = 0.0
+        for x in range(3):
+            acc += nv[x] * (v[i, x] - v[j, x]) + nxd[x] * w[j, x]
+            jac[row, x] = nv[x]
+            jac[row, 6 + x] = -nv[x]
+            jac[row, 9 + x] = nxd[x]
+        vel[row] = acc
+    return value, vel, jac
+
+
+@njit(cache=True)
+def gear_contact(r, a, v, w, i, j, h, contact, tangent):  # pragma: no cover (compiled)
+    """:class:`GearContact` (seed 001 eq. 2.4): ``V = t . (v_i^A - v_j^A)`` at the contact point
+    ``A = r_h + A_h contact`` along ``t = A_h tangent`` (housing marker ``h``)."""
+    p = r[h] + mv(a[h], contact)
+    tan = mv(a[h], tangent)
+    ci = cross(p - r[i], tan)
+    cj = cross(p - r[j], tan)
+    jac = np.zeros((1, 18))
+    acc = 0.0
+    for x in range(3):
+        acc += tan[x] * v[i, x] + ci[x] * w[i, x] - tan[x] * v[j, x] - cj[x] * w[j, x]
+        jac[0, x] = tan[x]
+        jac[0, 3 + x] = ci[x]
+        jac[0, 6 + x] = -tan[x]
+        jac[0, 9 + x] = -cj[x]
+    return np.zeros(0), np.array([acc]), jac
+
+
+@njit(cache=True)
+def prescribed_speed(r, a, v, w, i, j, speed):  # pragma: no cover (compiled)
+    """:class:`PrescribedSpeed`: ``V = a_i^x . (w_i - w_j) - speed`` (``w_j`` left out when ``j < 0``)."""
+    axis = a[i][:, 0].copy()
+    jac = np.zeros((1, 6 if j < 0 else 12))
+    acc = 0.0
+    for x in range(3):
+        acc += axis[x] * w[i, x]
+        if j >= 0:
+            acc -= axis[x] * w[j, x]
+        jac[0, 3 + x] = axis[x]
+        if j >= 0:
+            jac[0, 9 + x] = -axis[x]
+    return np.zeros(0), np.array([acc - speed]), jac
+
+
+@njit(cache=True)
+def inverse_left_jacobian(phi):  # pragma: no cover (compiled)
+    """``J_l(phi)^-1``: maps a small global rotation ``dtheta`` of ``exp(phi)`` to ``d phi`` [-].
+
+    ``exp(dtheta^) exp(phi^) = exp((phi + J_l^-1 dtheta)^)`` to first order (the SO(3) left Jacobian).
+    """
+    angle = np.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
+    k = skew(phi)
+    kk = mm(k, k)
+    if angle < 1e-6:
+        coef = 1.0 / 12.0
+    else:
+        coef = 1.0 / angle ** 2 - (1.0 + np.cos(angle)) / (2.0 * angle * np.sin(angle))
+    return np.eye(3) - 0.5 * k + coef * kk
+
+
+@njit(cache=True)
+def relative_coordinates(r, a, v, w, i, j, rest_r, rest_a):  # pragma: no cover (compiled)
+    """``(x, x_dot, jac)`` of :class:`Lock` and :class:`PrescribedCoordinate`: the six relative
+    coordinates of marker ``i`` seen from marker ``j`` since the rest pose ``rest_r, rest_a``,
+    ``x = [A_j^T (r_i - r_j) - rest_r, rotvec(A_j^T A_i rest_a^T)]`` [m, rad], their rates and
+    their exact Jacobian (6, 12) over the markers' motions (the rotation through
+    :func:`inverse_left_jacobian`)."""
+    at = a[j].T.copy()
+    arm = r[i] - r[j]
+    phi = rotation_vector(mm(mm(at, a[i]), rest_a.T))
+    jl = mm(inverse_left_jacobian(phi), at)
+    sa = mm(at, skew(arm))
+    jac = np.zeros((6, 12))
+    for x in range(3):
+        for y in range(3):
+            jac[x, y] = at[x, y]
+            jac[x, 6 + y] = -at[x, y]
+            jac[x, 9 + y] = sa[x, y]
+            jac[3 + x, 3 + y] = jl[x, y]
+            jac[3 + x, 9 + y] = -jl[x, y]
+    value = np.zeros(6)
+    value[:3] = mv(at, arm) - rest_r
+    value[3:] = phi
+    rates = np.zeros(12)
+    rates[0:3], rates[3:6], rates[6:9], rates[9:12] = v[i], w[i], v[j], w[j]
+    return value, mv(jac, rates), jac
+
+
+#: the kinds of compiled constraint (:func:`constraint_rows`)
+SPHERICAL, TRANSVERSE, GEAR, SPEED, LOCK = 0, 1, 2, 3, 4
+
+
+@njit(cache=True)
+def constraint_rows(kind, r, a, v, w, i, j, h, par, inputs):  # pragma: no cover (compiled)
+    """``(C, V, jac)`` of a compiled constraint on markers ``i, j, h`` (-1: absent) of the arrays
+    ``r, a, v, w``, from its :class:`~ddgsa.mbs.elements.CompiledForm`: ``kind``, ``par`` and
+    ``inputs`` (its series' value at ``t``, empty without one). The packed system's one dispatch on
+    the constraint kinds: a new compiled constraint adds its kind and a branch here, and its
+    ``compiled()``.
+    """
+    if kind == SPHERICAL:
+        return spherical(r, a, v, w, i, j)
+    if kind == TRANSVERSE:
+        return transverse_bearing(r, a, v, w, i, j)
+    if kind == GEAR:
+        return gear_contact(r, a, v, w, i, j, h, par[0:3].copy(), par[3:6].copy())
+    if kind == LOCK:                   # par: rest_r (3), rest_a (9), then the locked rows
+        value, rates, jac = relative_coordinates(r, a, v, w, i, j, par[0:3].copy(), par[3:12].copy().reshape(3, 3))
+        rows = par[12:].astype(np.int64)
+        return value[rows], rates[rows], jac[rows]
+    return prescribed_speed(r, a, v, w, i, j, inputs[0] if inputs.size else par[0])
 
 
 class Constraint(ABC):
@@ -60,8 +208,33 @@ class Constraint(ABC):
         _, jac = self.position(t, states)
         return jac @ _rates(states), jac
 
+    def compiled(self) -> CompiledForm | None:
+        """The constraint's compiled form (:func:`constraint_rows` runs it in the packed system), or
+        None: Python only (the packed system refuses it)."""
+        return None
 
-class Spherical(Constraint):
+
+class _PointPair(Constraint):
+    """A holonomic constraint between two points whose residual, velocity-level value and Jacobian
+    are one compiled kernel ``kernel(r, a, v, w, 0, 1) -> (C, V, jac)``."""
+
+    holonomic = True
+    kernel: Callable
+    kind: int
+
+    def compiled(self) -> CompiledForm:
+        """No parameters."""
+        return CompiledForm(self.kind, np.zeros(0))
+
+    def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        value, _, jac = self.kernel(*stacked(states), 0, 1)
+        return value, jac
+
+    def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        return self.kernel(*stacked(states), 0, 1)[1:]
+
+
+class Spherical(_PointPair):
     """Spherical joint: the two markers coincide, ``r_i - r_j = 0`` (seed 001 eq. 2.3).
 
     The multipliers are the force [N] the joint exerts on marker ``j`` (global frame); marker
@@ -69,20 +242,15 @@ class Spherical(Constraint):
     """
 
     n_eq = 3
-    holonomic = True
     reaction = ("force_on_j_x", "force_on_j_y", "force_on_j_z")
+    kernel = staticmethod(spherical)
+    kind = SPHERICAL
 
     def __init__(self, marker_i: Marker, marker_j: Marker, name: str = "spherical") -> None:
         self.markers, self.name = (marker_i, marker_j), name
 
-    def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        jac = np.zeros((3, 12))
-        jac[:, 0:3] = np.eye(3)
-        jac[:, 6:9] = -np.eye(3)
-        return states[0].r - states[1].r, jac
 
-
-class TransverseBearing(Constraint):
+class TransverseBearing(_PointPair):
     """A bearing free along its axis: ``N_k^T (r_i - r_j) = 0``, k = 1, 2 (seed 001 §2.2).
 
     ``marker_i`` is on the shaft, ``marker_j`` on the (non-spinning) housing; the bearing axis is
@@ -91,21 +259,12 @@ class TransverseBearing(Constraint):
     """
 
     n_eq = 2
-    holonomic = True
     reaction = ("force_on_j_n1", "force_on_j_n2")
+    kernel = staticmethod(transverse_bearing)
+    kind = TRANSVERSE
 
     def __init__(self, marker_i: Marker, marker_j: Marker, name: str = "bearing") -> None:
         self.markers, self.name = (marker_i, marker_j), name
-
-    def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        si, sj = states
-        d = si.r - sj.r
-        n = sj.a[:, 1:3].T                                   # (2, 3): N1, N2
-        jac = np.zeros((2, 12))
-        jac[:, 0:3] = n
-        jac[:, 6:9] = -n
-        jac[:, 9:12] = np.array([cross(n[0], d), cross(n[1], d)])                      # d(n_k . d)/d theta_j = n_k x d
-        return n @ d, jac
 
 
 class GearContact(Constraint):
@@ -166,15 +325,11 @@ class GearContact(Constraint):
         self.tangent = sh.a.T @ cross(axis, e)
 
     def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        si, sj, sh = states
-        p = sh.r + sh.a @ self.contact
-        tan = sh.a @ self.tangent
-        jac = np.zeros((1, 18))
-        jac[0, 0:3] = tan
-        jac[0, 3:6] = cross(p - si.r, tan)
-        jac[0, 6:9] = -tan
-        jac[0, 9:12] = -cross(p - sj.r, tan)
-        return jac @ _rates(states), jac
+        return gear_contact(*stacked(states), 0, 1, 2, self.contact, self.tangent)[1:]
+
+    def compiled(self) -> CompiledForm:
+        """``[contact (3), tangent (3)]`` in the housing marker's frame."""
+        return CompiledForm(GEAR, np.concatenate([self.contact, self.tangent]))
 
 
 class PrescribedSpeed(Constraint):
@@ -196,30 +351,18 @@ class PrescribedSpeed(Constraint):
         self.name = name
 
     def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        axis = states[0].a[:, 0]
-        jac = np.zeros((1, 6 * len(states)))
-        jac[0, 3:6] = axis
-        if len(states) > 1:
-            jac[0, 9:12] = -axis
-        return jac @ _rates(states) - float(self.speed(t)), jac
+        return prescribed_speed(*stacked(states), 0, 1 if len(states) > 1 else -1, float(self.speed(t)))[1:]
+
+    def compiled(self) -> CompiledForm | None:
+        """``[speed]`` of a constant speed, a :class:`Series` as the input; None for a Python function."""
+        if self.constant is not None:
+            return CompiledForm(SPEED, np.array([self.constant]))
+        return CompiledForm(SPEED, np.zeros(1), self.speed) if isinstance(self.speed, Series) else None
 
 
 AXES = ("x", "y", "z", "rx", "ry", "rz")
 """Relative coordinates a :class:`Lock` or :class:`PrescribedCoordinate` can hold: translations
 along and rotations about the x, y, z axes of the reference marker's frame."""
-
-
-def inverse_left_jacobian(phi: Array) -> Array:
-    """``J_l(phi)^-1``: maps a small global rotation ``dtheta`` of ``exp(phi)`` to ``d phi`` [-].
-
-    ``exp(dtheta^) exp(phi^) = exp((phi + J_l^-1 dtheta)^)`` to first order (the SO(3) left Jacobian).
-    """
-    angle = float(np.linalg.norm(phi))
-    k = skew(phi)
-    if angle < 1e-6:
-        return np.eye(3) - 0.5 * k + k @ k / 12.0
-    coef = 1.0 / angle ** 2 - (1.0 + np.cos(angle)) / (2.0 * angle * np.sin(angle))
-    return np.eye(3) - 0.5 * k + coef * k @ k
 
 
 class _RelativeCoordinates(Constraint):
@@ -250,17 +393,10 @@ class _RelativeCoordinates(Constraint):
         self.rest_r = sj.a.T @ (si.r - sj.r)
         self.rest_a = sj.a.T @ si.a
 
-    def relative(self, states: list[MarkerState]) -> tuple[Array, Array]:
-        """All six relative coordinates ``[d (3) [m], phi (3) [rad]]`` and their Jacobian (6, 12)."""
-        si, sj = states
-        at = sj.a.T
-        arm = si.r - sj.r
-        phi = rotation_vector(at @ si.a @ self.rest_a.T)
-        jl = inverse_left_jacobian(phi) @ at
-        jac = np.zeros((6, 12))
-        jac[0:3, 0:3], jac[0:3, 6:9], jac[0:3, 9:12] = at, -at, at @ skew(arm)
-        jac[3:6, 3:6], jac[3:6, 9:12] = jl, -jl
-        return np.concatenate([at @ arm - self.rest_r, phi]), jac
+    def relative(self, states: list[MarkerState]) -> tuple[Array, Array, Array]:
+        """All six relative coordinates ``[d (3) [m], phi (3) [rad]]``, their rates and their Jacobian
+        (6, 12) (:func:`relative_coordinates`)."""
+        return relative_coordinates(*stacked(states), 0, 1, self.rest_r, self.rest_a)
 
 
 class Lock(_RelativeCoordinates):
@@ -299,8 +435,16 @@ class Lock(_RelativeCoordinates):
         self.reaction = tuple(("force_on_j_" if a in "xyz" else "moment_on_j_") + a for a in self.axes)
 
     def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        value, jac = self.relative(states)
+        value, _, jac = self.relative(states)
         return value[self.rows], jac[self.rows]
+
+    def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
+        _, rates, jac = self.relative(states)
+        return rates[self.rows], jac[self.rows]
+
+    def compiled(self) -> CompiledForm:
+        """``[rest_r (3), rest_a (9), locked rows]`` for :func:`relative_coordinates`."""
+        return CompiledForm(LOCK, np.concatenate([self.rest_r, self.rest_a.ravel(), self.rows.astype(float)]))
 
 
 class PrescribedCoordinate(_RelativeCoordinates):
@@ -354,10 +498,9 @@ class PrescribedCoordinate(_RelativeCoordinates):
         self.reaction = (("force_on_j_" if axis in "xyz" else "moment_on_j_") + axis,)
 
     def position(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        value, jac = self.relative(states)
+        value, _, jac = self.relative(states)
         return value[self.rows] - float(self.value(t)), jac[self.rows]
 
     def velocity(self, t: float, states: list[MarkerState]) -> tuple[Array, Array]:
-        _, jac = self.relative(states)
-        jac = jac[self.rows]
-        return jac @ _rates(states) - float(self.rate(t)), jac
+        _, rates, jac = self.relative(states)
+        return rates[self.rows] - float(self.rate(t)), jac[self.rows]

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -24,7 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs.bodies import Marker, MarkerState
-from ddgsa.mbs.ffr import cross, mm, rotation_vector, skew
+from ddgsa.mbs.ffr import cross, mm, mv, rotation_vector, skew
 from ddgsa.mbs.series import Series
 
 Array = NDArray[np.float64]
@@ -53,9 +54,45 @@ class Element(ABC):
         """What the element reports per time step: the wrench on its first marker (6,) [N, N m]."""
         return self.wrench(t, states)[0][0]
 
+    def compiled(self) -> "CompiledForm | None":
+        """The element's compiled form (:func:`element_wrench` runs it in the packed system), or None:
+        the element runs in Python only (the packed system refuses it; :class:`ddgsa.mbs.compiled.HybridTerms`
+        evaluates it in Python beside the compiled parts)."""
+        return None
+
+
+@dataclass(frozen=True)
+class CompiledForm:
+    """What the packed system (:func:`ddgsa.mbs.compiled.pack`) stores of an element or constraint.
+
+    ``kind`` selects the compiled kernel (:func:`element_wrench`,
+    :func:`ddgsa.mbs.constraints.constraint_rows`), ``parameters`` are its flat numbers, and
+    ``series`` an input whose value at ``t`` the kernel reads (None: no input).
+    """
+
+    kind: int
+    parameters: Array
+    series: Series | None = None
+
+
+#: the kinds of compiled element (:func:`element_wrench`)
+CONNECTOR, TORQUE, LOAD = 0, 1, 2
+
+
+def stacked(states: list[MarkerState]) -> tuple[Array, Array, Array, Array]:
+    """Positions (n, 3), orientations (n, 3, 3), velocities (n, 3) and angular velocities (n, 3) of
+    ``states``: the arrays the compiled element and constraint kernels read (the packed system
+    passes its own arrays of every marker)."""
+    return (np.array([s.r for s in states], dtype=float), np.array([s.a for s in states], dtype=float),
+            np.array([s.v for s in states], dtype=float), np.array([s.w for s in states], dtype=float))
+
 
 class _Connector(Element):
-    """A linear 6-DOF connector ``F = K d + C d_dot`` in the global frame or marker i's frame."""
+    """A linear 6-DOF connector ``F = K (d + offset) + C d_dot`` in the global frame or marker i's frame.
+
+    ``offset`` (6,) [m, rad], global frame, zero unless a subclass sets it: a fixed pre-deflection
+    (a coupling's misalignment, :class:`ddgsa.models.hss_rig.elements.MisalignedCoupling`).
+    """
 
     def __init__(self, marker_i: Marker, marker_j: Marker, k6: Array, c6: Array, frame: str, free_spin: bool,
                  name: str) -> None:
@@ -69,6 +106,7 @@ class _Connector(Element):
         self.frame, self.free_spin, self.name = frame, free_spin, name
         self.rest_r: Array = np.zeros(3)
         self.rest_a: Array = np.eye(3)
+        self.offset: Array = np.zeros(6)
 
     def bind(self, states: list[MarkerState]) -> None:
         si, sj = states
@@ -76,52 +114,130 @@ class _Connector(Element):
         self.rest_a = si.a.T @ sj.a
 
     def _deflection(self, states: list[MarkerState]) -> tuple[Array, Array, Array]:
-        si, sj = states
-        rest = si.a @ self.rest_r if self.frame == "i" else self.rest_r
-        dr = sj.r - si.r - rest
-        dw = sj.w - si.w
-        if self.free_spin:
-            axis = si.a[:, 0]
-            dth = cross(axis, (sj.a @ self.rest_a.T)[:, 0])
-            dw = dw - axis * (axis @ dw)
-        else:
-            dth = rotation_vector(sj.a @ self.rest_a.T @ si.a.T)
-        dv = sj.v - si.v - cross(si.w, rest) if self.frame == "i" else sj.v - si.v   # d/dt of dr
-        rot = si.a if self.frame == "i" else np.eye(3)
-        big = np.zeros((6, 6))
-        big[:3, :3] = big[3:, 3:] = rot
-        return np.concatenate([dr, dth]), np.concatenate([dv, dw]), big
-
-    @property
-    def packable(self) -> bool:
-        """Whether the compiled kernel computes this connector (:mod:`ddgsa.mbs.compiled`): the
-        plain deflection of this class, not one a subclass adds to."""
-        return type(self)._deflection is _Connector._deflection
-
-    def _matrices(self, big: Array) -> tuple[Array, Array]:
-        return big @ self.k6 @ big.T, big @ self.c6 @ big.T
+        """``(d + offset, d_dot, rest)``: the deflection and its rate (6,) [m, rad], [m/s, rad/s] and
+        the points' rest offset (3,) [m], global frame (:func:`connector_deflection`)."""
+        return connector_deflection(*stacked(states), 0, 1, self.frame == "i", self.free_spin, self.rest_r,
+                                    self.rest_a, self.offset)
 
     def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, Array, Array]:
-        d, dd, big = self._deflection(states)
-        k, c = self._matrices(big)
-        f = k @ d + c @ dd
-        arm = states[1].r - states[0].r
-        w = np.zeros((2, 6))
-        w[0] = f
-        w[1, :3] = -f[:3]
-        w[1, 3:] = -f[3:] + cross(arm, f[:3])
-        rest = states[0].a @ self.rest_r if self.frame == "i" else np.zeros(3)
-        return w, connector_tangent(k, rest, arm, f[:3]), connector_tangent(c, rest, arm, np.zeros(3))
+        d, dd, rest = self._deflection(states)
+        r = np.array([states[0].r, states[1].r], dtype=float)
+        ai = np.ascontiguousarray(states[0].a, dtype=float)
+        return connector_force(r, ai, self.frame == "i", rest, d, dd, self.k6, self.c6)[:3]
+
+    def compiled(self) -> CompiledForm | None:
+        """``[frame_i, free_spin, rest_r (3), rest_a (9), offset (6), k6 (36), c6 (36)]`` for
+        :func:`connector_wrench`; None for a subclass with a law of its own (its ``wrench`` or
+        ``_deflection`` overridden: Python only)."""
+        own = type(self)
+        if own.wrench is not _Connector.wrench or own._deflection is not _Connector._deflection:
+            return None
+        flags = [float(self.frame == "i"), float(self.free_spin)]
+        return CompiledForm(CONNECTOR, np.concatenate([flags, self.rest_r, self.rest_a.ravel(), self.offset,
+                                                       self.k6.ravel(), self.c6.ravel()]))
 
     def potential_energy(self, states: list[MarkerState]) -> float:
-        d, _, big = self._deflection(states)
-        k, _ = self._matrices(big)
+        d = self._deflection(states)[0]
+        k, _ = connector_matrices(np.ascontiguousarray(states[0].a, dtype=float), self.k6, self.c6, self.frame == "i")
         return float(0.5 * d @ k @ d)
 
 
-def _pair(k: Array) -> Array:
+@njit(cache=True)
+def connector_deflection(r, a, v, w, i, j, frame_i, free_spin, rest_r, rest_a, offset):  # pragma: no cover
+    """``(d, d_dot, rest)`` of a connector between markers ``i`` and ``j`` of the arrays ``r, a, v, w``.
+
+    ``d = [r_j - r_i - rest, theta] + offset`` (6,) [m, rad] with ``rest`` (3,) [m] the rest offset
+    of the points (turning with marker i when ``frame_i``), ``theta`` the rotation vector of the
+    relative rotation since the rest pose ``rest_a`` or, with ``free_spin``, the tilt ``a_i x a_j``
+    of the two x axes; ``d_dot`` its rate, without the spin about marker i's x axis when
+    ``free_spin``; both in the global frame.
+
+    Compiled, and the one implementation: the element (:class:`_Connector`) calls it from Python
+    and the packed system (:mod:`ddgsa.mbs.compiled`) from its compiled assembly.
+    """
+    ai, aj = a[i], a[j]
+    rest = mv(ai, rest_r) if frame_i else rest_r.copy()
+    d = np.zeros(6)
+    dd = np.zeros(6)
+    wxr = cross(w[i], rest) if frame_i else np.zeros(3)
+    for k in range(3):
+        d[k] = r[j, k] - r[i, k] - rest[k]
+        dd[k] = v[j, k] - v[i, k] - wxr[k]
+    dw = w[j] - w[i]
+    if free_spin:
+        axis = ai[:, 0].copy()
+        th = cross(axis, mm(aj, rest_a.T)[:, 0].copy())
+        proj = axis[0] * dw[0] + axis[1] * dw[1] + axis[2] * dw[2]
+        dw = dw - axis * proj
+    else:
+        th = rotation_vector(mm(mm(aj, rest_a.T), ai.T))
+    for k in range(3):
+        d[3 + k] = th[k]
+        dd[3 + k] = dw[k]
+    for k in range(6):
+        d[k] += offset[k]
+    return d, dd, rest
+
+
+@njit(cache=True)
+def connector_matrices(ai, k6, c6, frame_i):  # pragma: no cover (compiled)
+    """Stiffness and damping (6, 6) in the global frame: ``k6, c6`` as given, or turned by marker i's
+    orientation ``ai`` (``blockdiag(A_i, A_i) k6 blockdiag(A_i, A_i)^T``) when ``frame_i``."""
+    if not frame_i:
+        return k6.copy(), c6.copy()
+    big = np.zeros((6, 6))
+    big[:3, :3] = ai
+    big[3:, 3:] = ai
+    return mm(mm(big, k6), big.T), mm(mm(big, c6), big.T)
+
+
+@njit(cache=True)
+def connector_force(r, ai, frame_i, rest, d, dd, k6, c6):  # pragma: no cover (compiled)
+    """``(W (2, 6), K (12, 12), C (12, 12), F (6,))`` of a connector ``F = K d + C d_dot`` between
+    the points ``r[0]`` (marker i, orientation ``ai``) and ``r[1]`` (marker j) with the deflection
+    ``d``, its rate ``dd`` and the points' rest offset ``rest`` (:func:`connector_deflection`):
+    ``+F`` on marker i, ``-F`` and the couple ``(r_j - r_i) x F`` on marker j, and the tangents
+    (:func:`connector_tangent`).
+
+    Compiled, and the one implementation: the element (:class:`_Connector`) calls it from Python
+    and the packed system (:mod:`ddgsa.mbs.compiled`, through :func:`connector_wrench`) from its
+    compiled assembly.
+    """
+    kg, cg = connector_matrices(ai, k6, c6, frame_i)
+    fv = mv(kg, d) + mv(cg, dd)
+    arm = r[1] - r[0]
+    wr = np.zeros((2, 6))
+    mom = cross(arm, fv[:3].copy())
+    for k in range(3):
+        wr[0, k] = fv[k]
+        wr[0, 3 + k] = fv[3 + k]
+        wr[1, k] = -fv[k]
+        wr[1, 3 + k] = -fv[3 + k] + mom[k]
+    turning = rest if frame_i else np.zeros(3)    # a global-frame rest offset does not turn with marker i
+    return wr, connector_tangent(kg, turning, arm, fv[:3].copy()), connector_tangent(cg, turning, arm,
+                                                                                     np.zeros(3)), fv
+
+
+@njit(cache=True)
+def connector_wrench(r, a, v, w, i, j, frame_i, free_spin, rest_r, rest_a, offset, k6, c6):  # pragma: no cover
+    """:func:`connector_force` of :func:`connector_deflection` for markers ``i`` and ``j`` of the arrays
+    ``r, a, v, w`` (the packed system's connector)."""
+    d, dd, rest = connector_deflection(r, a, v, w, i, j, frame_i, free_spin, rest_r, rest_a, offset)
+    pts = np.empty((2, 3))
+    pts[0] = r[i]
+    pts[1] = r[j]
+    return connector_force(pts, a[i].copy(), frame_i, rest, d, dd, k6, c6)
+
+
+@njit(cache=True)
+def _pair(k: Array) -> Array:  # pragma: no cover (compiled)
     """Tangent of a two-marker connector over ``[x_i, x_j]``: ``[[K, -K], [-K, K]]``."""
-    return np.block([[k, -k], [-k, k]])
+    out = np.zeros((12, 12))
+    out[:6, :6] = k
+    out[:6, 6:] = -k
+    out[6:, :6] = -k
+    out[6:, 6:] = k
+    return out
 
 
 @njit(cache=True)
@@ -249,30 +365,75 @@ class TorqueLaw(Element):
         path (:mod:`ddgsa.mbs.compiled`).
         """
         ws = set_speed if isinstance(set_speed, Series) else (lambda t, c=float(set_speed): c)
-        law = cls(marker, lambda t, w: torque0 + damping * (float(ws(t)) - w), reaction,
-                  lambda t, w: -damping, name)
+        law = cls(marker, lambda t, w: linear_torque(float(torque0), float(damping), float(ws(t)), w), reaction,
+                  lambda t, w: -float(damping), name)
         law.linear_form = (float(torque0), float(damping), set_speed)
         return law
 
-    def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, Array, Array | None]:
-        axis = states[0].a[:, 0]
-        w_rel = states[0].w - (states[1].w if len(states) > 1 else 0.0)
-        speed = float(axis @ w_rel)
+    def compiled(self) -> CompiledForm | None:
+        """``[torque0, damping, set_speed]`` of the :meth:`linear` form (the set speed a series input
+        when it is a :class:`Series`); None for a Python law."""
+        if self.linear_form is None:
+            return None
+        torque0, damping, ws = self.linear_form
+        series = ws if isinstance(ws, Series) else None
+        return CompiledForm(TORQUE, np.array([torque0, damping, 0.0 if series is not None else float(ws)]), series)
+
+    def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, None, Array]:
+        _, a, _, w = stacked(states)
+        reaction = 1 if len(states) > 1 else -1
+        speed = float(spin_speed(a, w, 0, reaction))
         torque = float(self.law(t, speed))
         if self.slope is not None:
             slope = float(self.slope(t, speed))
         else:
             h = 1e-6 * max(1.0, abs(speed))
             slope = (float(self.law(t, speed + h)) - float(self.law(t, speed - h))) / (2 * h)
-        n = len(states)
-        w = np.zeros((n, 6))
-        w[0, 3:] = torque * axis
-        c = np.zeros((6 * n, 6 * n))
-        c[3:6, 3:6] = -slope * np.outer(axis, axis)
-        if n > 1:
-            w[1, 3:] = -torque * axis
-            c = _pair(c[:6, :6])
-        return w, None, c
+        wr, c = axial_torque_wrench(a, 0, reaction, torque, slope)
+        return wr, None, c
+
+
+@njit(cache=True)
+def spin_speed(a, w, i, j):  # pragma: no cover (compiled)
+    """Spin rate [rad/s] of marker ``i`` about its x axis, relative to marker ``j`` (none when ``j < 0``),
+    from the orientations ``a`` and angular velocities ``w`` of the markers.
+
+    Compiled, and the one implementation: :class:`TorqueLaw` calls it from Python and the packed
+    system (:mod:`ddgsa.mbs.compiled`) from its compiled assembly."""
+    axis = a[i][:, 0].copy()
+    wrel = w[i].copy()
+    if j >= 0:
+        wrel -= w[j]
+    return axis[0] * wrel[0] + axis[1] * wrel[1] + axis[2] * wrel[2]
+
+
+@njit(cache=True)
+def linear_torque(torque0, damping, set_speed, speed):  # pragma: no cover (compiled)
+    """``T = torque0 + damping (set_speed - speed)`` [N m] (:meth:`TorqueLaw.linear`, seed 000 eq. 25)."""
+    return torque0 + damping * (set_speed - speed)
+
+
+@njit(cache=True)
+def axial_torque_wrench(a, i, j, torque, slope):  # pragma: no cover (compiled)
+    """``(W (n, 6), C (6 n, 6 n))`` of a torque [N m] about marker ``i``'s x axis, reversed on marker
+    ``j`` (n = 2; n = 1 when ``j < 0``), with ``slope = dT/d speed`` [N m s/rad] giving the damping
+    tangent ``C = -dW/dx_dot``.
+
+    Compiled, and the one implementation: :class:`TorqueLaw` calls it from Python and the packed
+    system (:mod:`ddgsa.mbs.compiled`) from its compiled assembly."""
+    axis = a[i][:, 0].copy()
+    n = 1 if j < 0 else 2
+    wr = np.zeros((n, 6))
+    c6 = np.zeros((6, 6))
+    for r in range(3):
+        wr[0, 3 + r] = torque * axis[r]
+        for c in range(3):
+            c6[3 + r, 3 + c] = -slope * axis[r] * axis[c]
+    if n == 1:
+        return wr, c6
+    for r in range(3):
+        wr[1, 3 + r] = -wr[0, 3 + r]
+    return wr, _pair(c6)
 
 
 class AppliedLoad(Element):
@@ -298,8 +459,34 @@ class AppliedLoad(Element):
         self.markers = (marker,)
         self.name = name
 
+    def compiled(self) -> CompiledForm:
+        """No parameters: the force and moment are the series input."""
+        return CompiledForm(LOAD, np.zeros(0), self.series)
+
     def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, None, None]:
         return self.series(t).reshape(1, 6), None, None
+
+
+@njit(cache=True)
+def element_wrench(kind, r, a, v, w, i, j, par, inputs):  # pragma: no cover (compiled)
+    """``(W (n_m, 6), K, C)`` of a compiled element between markers ``i`` and ``j`` (``j < 0``: one
+    marker) of the arrays ``r, a, v, w``, from its :class:`CompiledForm`: ``kind``, ``par`` (its
+    parameters) and ``inputs`` (its series' value at ``t``, empty without one). ``K`` or ``C``
+    are (0, 0) where the element has none. The packed system's one dispatch on the element kinds:
+    a new compiled element adds its kind and a branch here, and :meth:`Element.compiled`.
+    """
+    none = np.zeros((0, 0))
+    if kind == CONNECTOR:
+        wr, kr, cr, _ = connector_wrench(r, a, v, w, i, j, par[0] == 1.0, par[1] == 1.0, par[2:5].copy(),
+                                         par[5:14].copy().reshape(3, 3), par[14:20].copy(),
+                                         par[20:56].copy().reshape(6, 6), par[56:92].copy().reshape(6, 6))
+        return wr, kr, cr
+    if kind == TORQUE:
+        ws = inputs[0] if inputs.size else par[2]
+        torque = linear_torque(par[0], par[1], ws, spin_speed(a, w, i, j))
+        wr, cr = axial_torque_wrench(a, i, j, torque, -par[1])
+        return wr, none, cr
+    return inputs.copy().reshape(1, 6), none, none
 
 
 class RadialForce(Element):

@@ -1,13 +1,15 @@
 """Sampled inputs and their C1 cubic (Catmull-Rom) interpolation, shared by every integrator.
 
-The one place the interpolation of a uniformly sampled input lives: :class:`Series` for a
-Python-side element (``value(t)``, ``value.derivative(t)``), :func:`catmull_rom_coefficients` for
-the packed and exact paths (:mod:`ddgsa.mbs.compiled`, :mod:`ddgsa.mbs.linear`).
+The one place the interpolation of a uniformly sampled input lives: :func:`catmull_rom_coefficients`
+(the cubic per interval) and :func:`interpolate` (its value or rate at a time, compiled), which
+:class:`Series` (``value(t)``, ``value.derivative(t)``) calls from Python and the packed and exact
+paths (:mod:`ddgsa.mbs.compiled`, :mod:`ddgsa.mbs.linear`) from compiled code.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
@@ -55,20 +57,39 @@ class Series:
             raise ModelError(f"a time series needs >= 2 increasing, uniformly spaced times; got {t.size} samples")
         self.t0, self.dt, self.n = float(t[0]), float(t[1] - t[0]), t.size
         self.coef = np.stack(catmull_rom_coefficients(v))           # (4, n_t - 1, k)
-
-    def _locate(self, t: float) -> tuple[int, float]:
-        k = min(max(int((t - self.t0) / self.dt), 0), self.n - 2)
-        return k, (t - self.t0) / self.dt - k
+        self._flat = self.coef.ravel()
 
     def __call__(self, t: float) -> Array:
-        k, s = self._locate(t)
-        c = self.coef[:, k]
-        out = c[0] + s * (c[1] + s * (c[2] + s * c[3]))
+        out = interpolate(self._flat, 0, self.n, self.coef.shape[2], self.t0, self.dt, float(t), False)
         return out[0] if self.scalar else out
 
     def derivative(self, t: float) -> Array:
         """Time derivative of the interpolant [unit/s]."""
-        k, s = self._locate(t)
-        c = self.coef[:, k]
-        out = (c[1] + s * (2 * c[2] + 3 * s * c[3])) / self.dt
+        out = interpolate(self._flat, 0, self.n, self.coef.shape[2], self.t0, self.dt, float(t), True)
         return out[0] if self.scalar else out
+
+
+@njit(cache=True)
+def interpolate(coef, base, n, k, t0, dt, t, deriv):  # pragma: no cover (compiled)
+    """Value (or, with ``deriv``, time derivative) (k,) at ``t`` of the C1 cubic of ``n`` samples from
+    ``t0`` every ``dt``, whose coefficients (4, n - 1, k) (:func:`catmull_rom_coefficients`) are
+    ``coef[base:]`` flattened; held cubic beyond the ends."""
+    pos = (t - t0) / dt
+    j = int(pos)
+    if j < 0:
+        j = 0
+    if j > n - 2:
+        j = n - 2
+    s = pos - j
+    out = np.empty(k)
+    stride = (n - 1) * k
+    for c in range(k):
+        c0 = coef[base + j * k + c]
+        c1 = coef[base + stride + j * k + c]
+        c2 = coef[base + 2 * stride + j * k + c]
+        c3 = coef[base + 3 * stride + j * k + c]
+        if deriv:
+            out[c] = (c1 + s * (2.0 * c2 + 3.0 * s * c3)) / dt
+        else:
+            out[c] = c0 + s * (c1 + s * (c2 + s * c3))
+    return out

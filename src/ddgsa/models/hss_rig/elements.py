@@ -50,17 +50,9 @@ class MisalignedCoupling(Bushing6):
             k[a], k[b] = mean * (1 + asymmetry), mean * (1 - asymmetry)
         super().__init__(marker_i, marker_j, np.diag(k), np.diag(np.asarray(damping, dtype=float)), frame="i",
                          name=name)
-        self.misalignment = np.array([0.0, offset, 0.0, 0.0, 0.0, angle])
-
-    @property
-    def packable(self) -> bool:
-        """Aligned, the coupling is a plain bushing the compiled kernel computes (its anisotropy is in ``k6``)."""
-        return not np.any(self.misalignment)
-
-    def _deflection(self, states: list[MarkerState]) -> tuple[Array, Array, Array]:
-        d, dd, big = super()._deflection(states)
-        # the shaft end sits at the aligned position; the hub (motor axis) is displaced by the misalignment
-        return d + self.misalignment, dd, big
+        # the shaft end sits at the aligned position; the hub (motor axis) is displaced by the misalignment: a
+        # fixed pre-deflection of the bushing, so the compiled kernel computes the coupling as it is
+        self.offset = np.array([0.0, offset, 0.0, 0.0, 0.0, angle])
 
 
 class EccentricMass(Element):
