@@ -52,3 +52,17 @@ def test_aliasing_guard_refuses_below_nyquist_and_warns_below_ten_samples():
         assert scene.sampling_checks({"BPFI harmonic": 400.0})[0]["verdict"] == "coarse"
     with pytest.raises(ModelError, match="would alias"):
         scene.sampling_checks({"bending mode": 1500.0})
+
+
+def test_default_step_divides_the_sensor_interval() -> None:
+    """Without a ``time_step`` the rig takes the largest step of at most 2e-4 s dividing the sensor
+    interval (a fixed 2e-4 s refused every 2 kHz scene of the integrated fidelities); a step given that
+    does not divide it is refused, naming both and the way out."""
+    from ddgsa.errors import ModelError
+    from ddgsa.models.hss_rig.model import HssRig
+
+    assert HssRig().step_for(1 / 2000) == pytest.approx((1 / 6000, 3))
+    assert HssRig().step_for(1 / 5000) == pytest.approx((2e-4, 1))
+    assert HssRig().step_for(1 / 20000) == pytest.approx((5e-5, 1))
+    with pytest.raises(ModelError, match="multiple of time_step = 0.0002 s.*leave time_step out"):
+        HssRig(time_step=2e-4).step_for(1 / 2000)

@@ -145,6 +145,10 @@ around each batch, so the same aliasing note came once per batch and worker; for
 inherit this set from the study's process, which checks the first scene before forking them."""
 
 
+#: the longest generalised-alpha step [s] the rig takes when none is given (its former fixed default)
+MAX_DEFAULT_STEP = 2e-4
+
+
 @register_model("hss_rig")
 class HssRig(Model):
     """High-speed-shaft test rig (seed 001 paper A) on the multibody kernel; see the module.
@@ -153,8 +157,10 @@ class HssRig(Model):
     ----------
     fidelity : str
         ``dq``, ``kloss`` or ``linear`` (``kloss`` with steady scenes linearised; see the module).
-    time_step : float
-        Generalised-alpha step [s] (``dq``, ``kloss``); the sensor interval must be a multiple.
+    time_step : float, optional
+        Generalised-alpha step [s] (``dq``, ``kloss`` and the ``linear`` transients); the sensor interval
+        must be a multiple. Default: the largest step of at most :data:`MAX_DEFAULT_STEP` that divides
+        the scene's sensor interval (2e-4 s at 5 kHz, 1.67e-4 s at 2 kHz).
     noise : bool
         Add seeded measurement noise to the sensors.
     bending_modes : int
@@ -169,14 +175,16 @@ class HssRig(Model):
 
     fidelities: ClassVar[tuple[str, ...]] = ("dq", "kloss", "linear")
     pilot_fidelities: ClassVar[tuple[str, ...]] = ("kloss", "linear")
-    options_note: ClassVar[str] = ("options: time_step [s] (generalised-alpha, default 2e-4), noise true | false; "
+    options_note: ClassVar[str] = ("options: time_step [s] (generalised-alpha, default the largest step <= 2e-4 "
+                                   "dividing the sensor interval), noise true | false; "
                                    "scenes are rig scenes: {kind: startup | steady | coastdown, speed_rpm, duration, "
                                    "sample_rate, settle, ramp_time, seed}")
     parameters = PARAMETERS
     outputs = OUTPUTS
     signal_outputs = SIGNALS
     scene_type = RigScene
-    options = (ModelOption("time_step", "number", "generalised-alpha step", 0.0, 1e-2, "s", low_open=True),
+    options = (ModelOption("time_step", "number", "generalised-alpha step (default: the largest step <= 2e-4 s "
+                           "dividing the sensor interval)", 0.0, 1e-2, "s", low_open=True, optional=True),
                ModelOption("noise", "bool", "seeded measurement noise on the sensors"),
                ModelOption("bending_modes", "integer", "high-speed shaft bending modes per plane (default 5)",
                            1, MAX_BENDING_MODES),
@@ -185,11 +193,12 @@ class HssRig(Model):
                            2, 256),
                ModelOption("shaft_axial", "bool", "axial elastic mode of the high-speed shaft (default true; false: axially rigid)"))
 
-    def __init__(self, fidelity: str = "dq", time_step: float = 2e-4, noise: bool = False, bending_modes: int = 5,
+    def __init__(self, fidelity: str = "dq", time_step: float | None = None, noise: bool = False, bending_modes: int = 5,
                  beam: str = "euler_bernoulli", shaft_elements: int = 32, shaft_axial: bool = True) -> None:
         self.check_options({"fidelity": fidelity, "time_step": time_step, "noise": noise, "bending_modes": bending_modes,
                             "beam": beam, "shaft_elements": shaft_elements, "shaft_axial": shaft_axial})
-        self.fidelity, self.time_step, self.noise = fidelity, float(time_step), noise
+        self.fidelity, self.noise = fidelity, noise
+        self.time_step = None if time_step is None else float(time_step)
         self.basis = ShaftBasis(bending_modes, beam, shaft_elements, shaft_axial)
 
     # -- assembly ------------------------------------------------------------------------------
@@ -262,24 +271,43 @@ class HssRig(Model):
             if raw["coupling_asymmetry"] > 0.0:
                 check_small(rig, q, t, spin)
         else:
-            every = int(round(h / self.time_step))
-            if every < 1 or abs(every * self.time_step - h) > 1e-9 * h:
-                raise ModelError(f"model 'hss_rig': the sensor interval 1/sample_rate = {h:.6g} s must be a multiple "
-                                 f"of time_step = {self.time_step:g} s")
+            step, every = self.step_for(h)
             if self.fidelity == "linear":
                 # the sweep carries the coupling's anisotropy and misalignment itself, from the sag of
                 # the anisotropic rig standing at hub angle 0 (as the nonlinear rig starts)
                 q0, _ = self.initial_state(rig, raw)
-                t, q, qd = transient.run(drive, raw, q0, sc.kind, spin, sc.duration, self.time_step, every,
+                t, q, qd = transient.run(drive, raw, q0, sc.kind, spin, sc.duration, step, every,
                                             self.basis)
             else:
                 q0, qd0 = self.initial_state(rig, p)
                 if sc.kind != "startup" and self.fidelity == "kloss":
                     q0, qd0 = self.periodic_state(rig, q0, qd0, spin)
-                run = genalpha.simulate(rig.system, sc.duration, self.time_step, q0=q0, qd0=qd0,
+                run = genalpha.simulate(rig.system, sc.duration, step, q0=q0, qd0=qd0,
                                         output_every=every)
                 t, q, qd = run.t, run.q, run.qd
         return self._sensors(rig, drive, sc, t, q, qd)
+
+    def step_for(self, interval: float) -> tuple[float, int]:
+        """The generalised-alpha step [s] for a sensor interval [s] and the steps per interval: the
+        ``time_step`` given (the interval must be a multiple of it), else the largest step of at most
+        :data:`MAX_DEFAULT_STEP` that divides the interval.
+
+        Examples
+        --------
+        >>> HssRig().step_for(5e-4)           # 2 kHz sensors: three steps a sample
+        (0.00016666666666666666, 3)
+        >>> HssRig(time_step=2.5e-4).step_for(5e-4)
+        (0.00025, 2)
+        """
+        if self.time_step is None:
+            every = max(1, math.ceil(interval / MAX_DEFAULT_STEP * (1.0 - 1e-9)))
+            return interval / every, every
+        every = int(round(interval / self.time_step))
+        if every < 1 or abs(every * self.time_step - interval) > 1e-9 * interval:
+            raise ModelError(f"model 'hss_rig': the sensor interval 1/sample_rate = {interval:.6g} s must be a multiple "
+                             f"of time_step = {self.time_step:g} s (or leave time_step out: the largest step of at most "
+                             f"{MAX_DEFAULT_STEP:g} s that divides the interval)")
+        return self.time_step, every
 
     @staticmethod
     def initial_state(rig: Rig, p: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
