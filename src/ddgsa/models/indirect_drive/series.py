@@ -56,24 +56,32 @@ def mount_forces(asm: Assembly, k: Array, c: Array, q_h: Array, qd_h: Array,
     arm = np.tensordot(a, asm.mount_points, axes=([2], [1])).transpose(0, 2, 1)      # (n_t, 2, 3): A r_m
     pts = q_h[:, None, :3] + arm
     rest = asm.housing_origin + asm.mount_points
-    w = _angular_velocity(q_h[:, 3:6], qd_h[:, 3:6])[:, None, :]
+    w = _angular_velocity(q_h[:, 3:6], qd_h[:, 3:6], a)[:, None, :]
     vel = qd_h[:, None, :3] + np.stack([w[..., 1] * arm[..., 2] - w[..., 2] * arm[..., 1],     # w x (A r_m)
                                         w[..., 2] * arm[..., 0] - w[..., 0] * arm[..., 2],
                                         w[..., 0] * arm[..., 1] - w[..., 1] * arm[..., 0]], axis=-1)
     return -(pts - rest) * k - vel * c, pts
 
 
-def _angular_velocity(ang: Array, rate: Array) -> Array:
+def _angular_velocity(ang: Array, rate: Array, a: Array | None = None) -> Array:
     """Global angular velocity (n_t, 3) of Bryant angles and rates (n_t, 3): ``A G_bar angles_dot`` (the
-    kernel's :func:`ddgsa.mbs.ffr.rotation` and :func:`ddgsa.mbs.ffr.g_bar` at each sample, compiled)."""
-    return _angular_velocities(np.ascontiguousarray(ang, dtype=float), np.ascontiguousarray(rate, dtype=float))
+    kernel's :func:`ddgsa.mbs.ffr.g_bar` at each sample, compiled); ``a``: the rotation matrices
+    (n_t, 3, 3) of ``ang`` where known (:func:`bryant`)."""
+    ang = np.ascontiguousarray(ang, dtype=float)
+    a = bryant(ang) if a is None else np.ascontiguousarray(a, dtype=float)
+    return _angular_velocities(ang, np.ascontiguousarray(rate, dtype=float), a)
 
 
 @njit(cache=True)
-def _angular_velocities(ang, rate):  # pragma: no cover (compiled)
+def _angular_velocities(ang, rate, a):  # pragma: no cover (compiled)
     out = np.empty_like(ang)
+    wb = np.empty(3)
     for i in range(ang.shape[0]):
-        out[i] = rotation(ang[i]) @ (g_bar(ang[i]) @ rate[i])
+        g = g_bar(ang[i])
+        for r in range(3):
+            wb[r] = g[r, 0] * rate[i, 0] + g[r, 1] * rate[i, 1] + g[r, 2] * rate[i, 2]
+        for r in range(3):
+            out[i, r] = a[i, r, 0] * wb[0] + a[i, r, 1] * wb[1] + a[i, r, 2] * wb[2]
     return out
 
 
