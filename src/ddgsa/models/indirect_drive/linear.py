@@ -3,7 +3,7 @@
 The constrained system is linearised about a steadily spinning operating state under the
 scene's mean loads, spinning at the drive's **mean speed** over the record (:func:`linearise`,
 the kernel's central differences on its compiled terms; the model takes the loads' mean speed,
-then its first response's): the rotor tilt/yaw modes (3.9 / 4.6 Hz at rated) carry the hub's
+:data:`~ddgsa.models.indirect_drive.model.SPEED_PASSES`): the rotor tilt/yaw modes (3.9 / 4.6 Hz at rated) carry the hub's
 gyroscopic moment, so their frequencies follow the speed used in the linearisation -- the torque
 balance of the mean inputs differs from the record's mean speed by ~0.15 % on 20-60 s records (the
 speed mode relaxes in ``J / c_gen``, about 50 s). The torque imbalance at the mean speed is a
