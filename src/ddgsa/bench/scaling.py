@@ -9,6 +9,9 @@ Three measurements of the ``linear`` direct drive on one 60 s turbulent scene (l
   its 32-point check sample)
   over the first ``n`` of the model's parameters (5 ... 31: the direct drive declares 31, so
   50 is out of its reach), in one process;
+- **models**: the same through the runner for the test rig (``hss_rig``, ``linear``, ``paper_a_subsystem``'s
+  steady scene) and the geared drive (``indirect_drive``, ``linear``, a 600 s scene), 10^2 ... 10^3 runs of
+  points +-10 % around nominal: their cost per run beside the direct drive's;
 - **workers**: the same 4 000 runs on 1 and 2 loky workers and on a Dask ``LocalCluster`` of 2
   single-thread workers; parallel efficiency ``t_1 / (k t_k)``. The loky workers are started
   before the timings (joblib reuses them); the Dask cluster is created by each run, as a study
@@ -41,28 +44,46 @@ PAPER_C_SPREAD = {"front_bearing_x": 0.1, "rear_bearing_x": 0.1, "k_front_y": 0.
                   "generator_mass": 0.1, "c_gen": 0.1}
 
 
-def _points(n: int, seed: int = 0) -> list[dict[str, float]]:
-    """``n`` scrambled Halton points of the paper-C structural space (uniform +- spread around nominal)."""
+RIG_SPREAD = {"hss_span": 0.1, "hss_diameter": 0.1, "disk_mass": 0.1, "support_stiffness": 0.1}
+GEARED_SPREAD = {"k_mount_z": 0.3, "mount_arm": 0.1, "gear_ratio": 0.1, "housing_mass": 0.1}
+
+
+def _model_scenes() -> dict[str, tuple[Any, dict[str, float]]]:
+    """Each measured model's scene and parameter spreads (the direct drive's: :data:`SCENE`)."""
+    from ddgsa.models.hss_rig.scenes import RigScene
+
+    return {"direct_drive": (SCENE, PAPER_C_SPREAD),
+            "hss_rig": (RigScene("steady", speed_rpm=1500, duration=1.2, sample_rate=2000, settle=0.2, seed=1),
+                        RIG_SPREAD),
+            "indirect_drive": (Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=600.0, seed=1),
+                               GEARED_SPREAD)}
+
+
+def _points(n: int, seed: int = 0, model: str = "direct_drive") -> list[dict[str, float]]:
+    """``n`` scrambled Halton points of ``model``'s space (uniform +- spread around nominal; the
+    direct drive's is paper C's structural space)."""
     from scipy.stats import qmc
 
     import ddgsa.models as models
 
-    nominal = models.get("direct_drive", fidelity="linear").nominal
-    names = list(PAPER_C_SPREAD)
+    spread = _model_scenes()[model][1]
+    nominal = models.get(model, fidelity="linear").nominal
+    names = list(spread)
     u = qmc.Halton(len(names), seed=seed).random(n)
-    x = np.array([nominal[k] for k in names]) * (1 + (2 * u - 1) * np.array([PAPER_C_SPREAD[k] for k in names]))
+    x = np.array([nominal[k] for k in names]) * (1 + (2 * u - 1) * np.array([spread[k] for k in names]))
     return [{**nominal, **dict(zip(names, row))} for row in x]
 
 
-def _run(n: int, jobs: int, backend: str = "loky") -> float:
-    """Wall seconds of ``n`` linear evaluations through the runner, from an empty store; workers
-    share the loads through files as in a study (:mod:`ddgsa.loads.cache`)."""
+def _run(n: int, jobs: int, backend: str = "loky", model: str = "direct_drive") -> float:
+    """Wall seconds of ``n`` linear evaluations of ``model`` through the runner, from an empty store;
+    workers share the loads through files as in a study (:mod:`ddgsa.loads.cache`)."""
     from ddgsa.loads import cache
     from ddgsa.pipeline import make_task, model_evaluator
     from ddgsa.runner import EvaluationStore, ModelId, run_tasks
 
-    mid = ModelId("direct_drive", "linear")
-    tasks = [make_task(mid, SCENE, p) for p in _points(n)]
+    mid = ModelId(model, "linear")
+    scene = _model_scenes()[model][0]
+    tasks = [make_task(mid, scene, p) for p in _points(n, model=model)]
     with tempfile.TemporaryDirectory() as tmp:
         store = EvaluationStore(Path(tmp) / "evaluations.sqlite")
         setup = functools.partial(cache.set_directory, Path(tmp) / "loads")
@@ -116,6 +137,10 @@ def _scaling(out: Path, quick: bool) -> dict[str, Any]:
                            "python": platform.python_version(), "scene": SCENE.to_dict(), "quick": quick,
                            "load_average": [round(x, 2) for x in os.getloadavg()]}
     res["runs"] = [{"runs": n, "jobs": 2, "wall_s": _run(n, 2)} for n in runs]
+    for model in ("hss_rig", "indirect_drive"):
+        _run(4, 2, model=model)                       # compile its kernels, generate its loads outside the timings
+    res["models"] = [{"model": m, "runs": n, "jobs": 2, "wall_s": _run(n, 2, model=m)}
+                     for m in ("hss_rig", "indirect_drive") for n in ([4, 16] if quick else [100, 300, 1000])]
     res["parameters"] = [dict(zip(("parameters", "wall_s", "runs"), (n, *_mdrm(n)))) for n in params]
     workers = [{"backend": "loky", "workers": 1, "wall_s": _run(n_workers_runs, 1)},
                {"backend": "loky", "workers": 2, "wall_s": _run(n_workers_runs, 2)}]
@@ -139,7 +164,8 @@ def _scaling(out: Path, quick: bool) -> dict[str, Any]:
 
 
 def plot(res: dict[str, Any]) -> Any:
-    """Three panels: wall time against runs, parameters and workers, each with its ideal line."""
+    """Three panels: wall time against runs (the three drive models), parameters and workers, each with
+    its ideal line."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -149,10 +175,18 @@ def plot(res: dict[str, Any]) -> Any:
     n = np.array([r["runs"] for r in res["runs"]], dtype=float)
     t = np.array([r["wall_s"] for r in res["runs"]])
     ax = axes[0]
-    ax.loglog(n, t, "o-", label=f"measured (exponent {res['runs_exponent']:.2f} above 10^3)")
+    ax.loglog(n, t, "o-", label=f"direct drive, 60 s scene (exponent {res['runs_exponent']:.2f} above 10^3)")
     ax.loglog(n, t[-1] * n / n[-1], "k--", label="ideal: proportional to runs")
-    ax.set(xlabel="model runs (linear, 60 s scene, 2 workers)", ylabel="wall time [s]", title="runs")
-    ax.legend(fontsize=8)
+    names = {"hss_rig": "test rig, steady 1.2 s", "indirect_drive": "geared drive, 600 s scene"}
+    for k, model in enumerate(names):
+        rows = [r for r in res.get("models", []) if r["model"] == model]
+        if rows:
+            nm, tm = (np.array([r[key] for r in rows], dtype=float) for key in ("runs", "wall_s"))
+            per = tm[-1] / nm[-1]
+            ax.loglog(nm, tm, "s-", color=f"C{k + 1}", label=f"{names[model]} ({per * 1e3:.0f} ms a run at {nm[-1]:.0f})")
+            ax.loglog(nm, per * nm, ":", color=f"C{k + 1}")
+    ax.set(xlabel="model runs (linear fidelity, 2 workers)", ylabel="wall time [s]", title="runs")
+    ax.legend(fontsize=7)
     ax = axes[1]
     p = np.array([r["parameters"] for r in res["parameters"]], dtype=float)
     tp = np.array([r["wall_s"] for r in res["parameters"]])
@@ -181,6 +215,8 @@ def format_scaling(res: dict[str, Any]) -> str:
     lines = [f"machine: {res['machine']}" + (" (QUICK sizes)" if res["quick"] else ""),
              "runs:       " + ", ".join(f"{r['runs']}: {r['wall_s']:.2f} s" for r in res["runs"])
              + f"  -> exponent {res['runs_exponent']:.2f}",
+             *(f"  {m}: " + ", ".join(f"{r['runs']}: {r['wall_s']:.2f} s" for r in res.get("models", [])
+                                       if r["model"] == m) for m in ("hss_rig", "indirect_drive")),
              "parameters: " + ", ".join(f"{r['parameters']} ({r['runs']} runs): {r['wall_s']:.2f} s"
                                         for r in res["parameters"])
              + f"  -> exponent in runs {res['parameters_exponent']:.2f}",
