@@ -366,7 +366,16 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
         if cr.shape[0] > 0:
             _add_tangent(ct, mj, lohi, i, j, cr)
         out[el] = wr[0]
-    # constraints
+    ch, jac, vel = _constraint_terms(n, t, P, mr, ma, mvel, mw, mj, lohi)
+    return m_mat, f, kt, ct, out, ch, jac, vel
+
+
+@njit(cache=True)
+def _constraint_terms(n, t, P, mr, ma, mvel, mw, mj, lohi):  # pragma: no cover (compiled)
+    """``C_h, jac (n_c, n), V`` of the packed constraints from the markers' states (:func:`_markers`)."""
+    (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
+     mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt, nel, kind, marker, ser, offsets, par,
+     cs_row, cs_neq, nh, gravity) = P
     ncs = cs_row.size
     nc = 0
     for c in range(ncs):
@@ -385,7 +394,14 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
             ch[row + r] = value[r]
         for slot in range(jx.shape[1] // 6):
             _add_rows(jac, mj, lohi, marker[p, slot], row, jx, slot)
-    return m_mat, f, kt, ct, out, ch, jac, vel
+    return ch, jac, vel
+
+
+@njit(cache=True)
+def _constraints(q, qd, t, P):  # pragma: no cover (compiled)
+    """``C_h, jac, V`` alone (no body or element terms): the constraint half of :func:`_assemble`."""
+    mr, ma, mvel, mw, mj, lohi = _markers(q, qd, t, P)
+    return _constraint_terms(q.size, t, P, mr, ma, mvel, mw, mj, lohi)
 
 
 @njit(cache=True)
@@ -438,7 +454,7 @@ def constraint_values(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Ar
     :meth:`System.holonomic_residual <ddgsa.mbs.assembly.System.holonomic_residual>` and
     :meth:`~ddgsa.mbs.assembly.System.velocity_residual` give them (the ``residuals`` of
     :meth:`~ddgsa.mbs.assembly.System.consistent_state`)."""
-    *_, ch, jac, vel = evaluate(packed, q, qd, t)
+    ch, jac, vel = _constraints(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays)
     return ch, jac[:packed.n_holonomic], vel, jac
 
 
