@@ -153,6 +153,15 @@ def spin_stiffness(system: System, q0: Array, qd0: Array) -> Array:
     return out
 
 
+#: scale of the central-difference steps over the coordinates [m, rad] (step ``rel_step * max(scale, |x|)``)
+POSITION_SCALE = 1e-3
+#: the same over the rates [m/s, rad/s]: 1, not the coordinates' 1e-3. The residual's rate terms are
+#: quadratic (gyroscopic) or smooth (torque laws), so a central difference has no truncation error to
+#: speak of at a 1e-6 step, while a 1e-9 step left round-off of 3e-5 relative on the rig's motor-torque
+#: ripple (a 4-ulp nudge of the parameters moved it by 5.6e-5; now 8.6e-7; tests/mbs)
+VELOCITY_SCALE = 1.0
+
+
 def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: float = 1e-6,
               spin_stiffening: bool = False, static: bool = False, compiled: bool = True) -> SpinLinearisation:
     """Linearise ``system`` about ``(q0, qd0)`` (steady spin) in non-rotating bending coordinates.
@@ -186,15 +195,15 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     zero = np.zeros(n)
 
     if compiled and isinstance(system.fast_terms, HybridTerms):
-        k = _hybrid_jacobian(system.fast_terms, base, 0, 1e-3, rel_step)
-        c = np.zeros((n, n)) if static else _hybrid_jacobian(system.fast_terms, base, 1, 1e-3, rel_step)
+        k = _hybrid_jacobian(system.fast_terms, base, 0, POSITION_SCALE, rel_step)
+        c = np.zeros((n, n)) if static else _hybrid_jacobian(system.fast_terms, base, 1, VELOCITY_SCALE, rel_step)
     else:
         def res(z: Array, zd: Array, zdd: Array) -> Array:
             return _residual(system, base, z, zd, zdd)
 
         args = [zero, zero, zero]
-        k = central_jacobian(res, args, 0, 1e-3, rel_step)
-        c = np.zeros((n, n)) if static else central_jacobian(res, args, 1, 1e-3, rel_step)
+        k = central_jacobian(res, args, 0, POSITION_SCALE, rel_step)
+        c = np.zeros((n, n)) if static else central_jacobian(res, args, 1, VELOCITY_SCALE, rel_step)
     q, qd, qdd = base.state(zero, zero, zero, t0)
     tm = system.terms(q, qd, t0)
     proj = base.projection(t0, zero)
