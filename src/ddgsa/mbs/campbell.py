@@ -81,8 +81,8 @@ class CampbellDiagram:
         The frequency axis ends (unless ``max_frequency_hz``) 12 % above the highest mode of a diagram
         computed for a finite band (:attr:`band_hz`: the model chose which modes matter), else at the
         larger of 1.5 times the highest order line and the lowest mode's highest frequency plus 10 %,
-        so the order lines and their crossings fill the plot; modes above it are counted in the title. Colours run through the
-        ten hues of a 20-colour map before its lighter shades, so up to 20 modes have distinct colours.
+        so the order lines and their crossings fill the plot; modes above it are counted in the title.
+        Colours run through the ten hues of a 20-colour map before its lighter shades, so up to 20 modes have distinct colours.
 
         Returns the matplotlib ``Axes``; the library never shows the figure.
         """
@@ -94,9 +94,13 @@ class CampbellDiagram:
         rpm = np.array([fr["speed_rpm"].min(), fr["speed_rpm"].max()])
         order_top = max(self.orders, default=1.0) * rpm[1] / 60.0
         lowest = fr.groupby("mode")["frequency_hz"].max().min()
-        highest = 1.05 * fr["frequency_hz"].max()
-        top = (max_frequency_hz if max_frequency_hz is not None
-               else 1.12 * fr["frequency_hz"].max() if np.isfinite(self.band_hz) else min(max(1.5 * order_top, 1.1 * lowest), highest))
+        peak = fr["frequency_hz"].max()
+        if max_frequency_hz is not None:
+            top = max_frequency_hz
+        elif np.isfinite(self.band_hz):
+            top = 1.12 * peak
+        else:
+            top = min(max(1.5 * order_top, 1.1 * lowest), 1.05 * peak)
         colours = plt.get_cmap("tab20")
         hidden = 0
         for k, (mode, grp) in enumerate(fr.groupby("mode")):

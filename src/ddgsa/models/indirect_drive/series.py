@@ -95,8 +95,9 @@ def spin_ratio(q_w: Array, qd_w: Array, q_p: Array, qd_p: Array, q_h: Array, qd_
     wheel centre), and differs by the wheel centre's velocity in the housing over the pitch
     velocity when the LSS bends between those bearings (flexible).
     """
-    e = bryant(q_h[:, 3:6])[:, :, 0]
-    w_h = _angular_velocity(q_h[:, 3:6], qd_h[:, 3:6])
+    a_h = bryant(q_h[:, 3:6])
+    e = a_h[:, :, 0]
+    w_h = _angular_velocity(q_h[:, 3:6], qd_h[:, 3:6], a_h)
     rel_w = np.einsum("ti,ti->t", _angular_velocity(q_w[:, 3:6], qd_w[:, 3:6]) - w_h, e)
     rel_p = np.einsum("ti,ti->t", _angular_velocity(q_p[:, 3:6], qd_p[:, 3:6]) - w_h, e)
     return rel_p / rel_w
