@@ -32,6 +32,7 @@ import math
 from collections.abc import Callable, Mapping
 
 import numpy as np
+from numba import njit
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
@@ -96,12 +97,23 @@ def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol
 
 def anisotropy(p: Mapping[str, float], theta: float) -> Array:
     """``dK(theta) = B K_hub B^T - K_mean`` (6, 6) [N/m, N m/rad] of the coupling at hub angle ``theta`` [rad]."""
+    return anisotropy_matrix(anisotropy_constants(p), float(theta))
+
+
+def anisotropy_constants(p: Mapping[str, float]) -> tuple[float, float]:
+    """``(a k_r, a k_a)`` [N/m, N m/rad]: the coupling's radial and angular stiffness times its
+    asymmetry ``a``, what :func:`anisotropy_matrix` reads."""
     a = p["coupling_asymmetry"]
-    kr, ka = p["coupling_radial_stiffness"], p["coupling_angular_stiffness"]
+    return float(a * p["coupling_radial_stiffness"]), float(a * p["coupling_angular_stiffness"])
+
+
+@njit(cache=True)
+def anisotropy_matrix(stiffness, theta):  # pragma: no cover (compiled)
+    """:func:`anisotropy` from :func:`anisotropy_constants` ``stiffness``."""
     # B diag(0, a k, -a k) B^T for B the hub frame's turn about x: a k [[cos 2t, sin 2t], [sin 2t, -cos 2t]]
     c2, s2 = math.cos(2 * theta), math.sin(2 * theta)
     out = np.zeros((6, 6))
-    for lo, k in ((1, a * kr), (4, a * ka)):
+    for lo, k in ((1, stiffness[0]), (4, stiffness[1])):
         out[lo, lo], out[lo, lo + 1], out[lo + 1, lo], out[lo + 1, lo + 1] = k * c2, k * s2, k * s2, -k * c2
     return out
 
