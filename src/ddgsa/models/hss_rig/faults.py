@@ -118,19 +118,22 @@ def anisotropy_matrix(stiffness, theta):  # pragma: no cover (compiled)
     return out
 
 
+@njit(cache=True)
+def _turning_wrench(stiffness, theta, stretch):  # pragma: no cover (compiled)
+    """``anisotropy_matrix(stiffness, theta_i) @ stretch`` (n_t, 6) for the hub angles ``theta`` (n_t,)."""
+    out = np.empty((theta.size, 6))
+    for i in range(theta.size):
+        out[i] = anisotropy_matrix(stiffness, theta[i]) @ stretch
+    return out
+
+
 def anisotropy_loads(p: Mapping[str, float], stretch: Array, spin: float, duration: float,
                        step: float) -> Callable[[dict[str, Marker]], list[Element]]:
     """``extra`` for :func:`~ddgsa.models.hss_rig.rig.build`: the loads ``+-dK(spin t) stretch`` on the
     hub and the shaft end (the markers coincide, so no couple), sampled every ``step`` [s] to
     ``duration`` [s] plus two samples (see the module)."""
     t = step * np.arange(int(round(duration / step)) + 3)
-    # anisotropy(p, spin t) @ stretch for every sample at once (the closed form of :func:`anisotropy`)
-    c2, s2 = np.cos(2 * spin * t), np.sin(2 * spin * t)
-    wrench = np.zeros((t.size, 6))
-    a = p["coupling_asymmetry"]
-    for lo, k in ((1, a * p["coupling_radial_stiffness"]), (4, a * p["coupling_angular_stiffness"])):
-        wrench[:, lo] = k * (c2 * stretch[lo] + s2 * stretch[lo + 1])
-        wrench[:, lo + 1] = k * (s2 * stretch[lo] - c2 * stretch[lo + 1])
+    wrench = _turning_wrench(anisotropy_constants(p), spin * t, np.asarray(stretch, dtype=float))
 
     def loads(markers: dict[str, Marker]) -> list[Element]:
         return [AppliedLoad(markers["hub"], t, wrench[:, :3], wrench[:, 3:], name="anisotropy_hub"),
