@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ddgsa.mbs import Bushing6, Ground, RigidBody, System, TorqueLaw, genalpha
+from ddgsa.mbs import Bushing6, EccentricMass, Ground, RigidBody, System, TorqueLaw, genalpha
 from ddgsa.mbs.compiled import evaluate, pack
 from ddgsa.mbs.statics import static_equilibrium
 
@@ -49,3 +49,32 @@ def test_linear_torque_law_spins_up_as_the_closed_form() -> None:
     for compiled in (True, False):
         run = genalpha.simulate(system, t_end=t_end, dt=1e-3, compiled=compiled)
         assert run.qd[-1, system.index("disc.rx")] == pytest.approx(exact, rel=2e-6)
+
+
+def test_power_torque_law_runs_down_as_the_closed_form() -> None:
+    """A disc spinning at ``w0`` against ``T = -T_L (w / w_r)^2`` slows as ``w(t) = w0 / (1 + a w0 t)``,
+    ``a = T_L / (J w_r^2)``: the compiled form (:meth:`TorqueLaw.power`) and the Python path both."""
+    j_x, t_l, w_r, w0 = 0.5, 3.0, 10.0, 20.0
+    disc = RigidBody("disc", mass=1.0, inertia=(j_x, 1.0, 1.0), angle_rates=(w0, 0.0, 0.0))
+    law = TorqueLaw.power(disc.marker(), t_l, 2.0, w_r, reaction=Ground().marker())
+    system = System([disc], [law], gravity=(0.0, 0.0, 0.0))
+    assert law.compiled() is not None
+    t_end = 0.5
+    exact = w0 / (1.0 + t_l / (j_x * w_r**2) * w0 * t_end)
+    for compiled in (True, False):
+        run = genalpha.simulate(system, t_end=t_end, dt=1e-3, compiled=compiled)
+        assert run.qd[-1, system.index("disc.rx")] == pytest.approx(exact, rel=2e-6)
+
+
+def test_eccentric_mass_pulls_m_e_w2_along_its_turning_axis() -> None:
+    """An unbalance ``m_u`` at ``e`` on a disc spinning at ``w`` about x, turned by ``phi``: the force is
+    ``m_u e w^2 (0, cos phi, sin phi)`` [N] (outward along the turned y axis), no moment, on both paths."""
+    mass, radius, w, phi = 0.01, 0.05, 150.0, 0.7
+    disc = RigidBody("disc", mass=1.0, inertia=(0.5, 1.0, 1.0), angles=(phi, 0.0, 0.0), angle_rates=(w, 0.0, 0.0))
+    system = System([disc], [EccentricMass(disc.marker(), mass, radius)], gravity=(0.0, 0.0, 0.0))
+    q0, qd0 = system.q0, system.qd0
+    exact = mass * radius * w**2 * np.array([0.0, np.cos(phi), np.sin(phi), 0.0, 0.0, 0.0])
+    python = system.terms(q0, qd0, 0.0).outputs[0]
+    compiled = evaluate(pack(system), q0, qd0, 0.0)[4][0]
+    for out in (python, compiled):
+        np.testing.assert_allclose(np.ravel(out), exact, rtol=1e-12, atol=1e-12)

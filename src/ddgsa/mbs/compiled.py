@@ -328,6 +328,20 @@ def _add_rows(jac, mj, lohi, m, row, jx, slot):  # pragma: no cover (compiled)
 @njit(cache=True)
 def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
     """``M, Q, K_t, C_t, element outputs (n_el, 6), C_h, jac (n_c, n), V`` at ``(q, qd, t)``."""
+    return _terms(q, qd, t, P, True)
+
+
+@njit(cache=True)
+def mass_and_force(q, qd, t, P):  # pragma: no cover (compiled)
+    """``M, Q`` at ``(q, qd, t)``: :func:`_assemble` without the tangents, element outputs and
+    constraints (what a central difference of the residual reads)."""
+    out = _terms(q, qd, t, P, False)
+    return out[0], out[1]
+
+
+@njit(cache=True)
+def _terms(q, qd, t, P, full):  # pragma: no cover (compiled)
+    """:func:`_assemble`; ``full`` False skips the tangents' scatter and the constraints."""
     (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
      mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt, nel, kind, marker, ser, offsets, par,
      cs_row, cs_neq, nh, gravity) = P
@@ -350,8 +364,9 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
             kb = kff[a2:a2 + nf * nf].reshape(nf, nf)
             cb = cff[a2:a2 + nf * nf].reshape(nf, nf)
             f[lo + 6:hi] -= mv(kb, q[lo + 6:hi]) + mv(cb, qd[lo + 6:hi])
-            kt[lo + 6:hi, lo + 6:hi] += kb
-            ct[lo + 6:hi, lo + 6:hi] += cb
+            if full:
+                kt[lo + 6:hi, lo + 6:hi] += kb
+                ct[lo + 6:hi, lo + 6:hi] += cb
     mr, ma, mvel, mw, mj, lohi = _markers(q, qd, t, P)
     out = np.zeros((nel, 6))
     for el in range(nel):
@@ -361,11 +376,13 @@ def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
         _add_jtw(f, mj, lohi, i, wr[0], 1.0)
         if wr.shape[0] > 1:
             _add_jtw(f, mj, lohi, j, wr[1], 1.0)
-        if kr.shape[0] > 0:
+        if full and kr.shape[0] > 0:
             _add_tangent(kt, mj, lohi, i, j, kr)
-        if cr.shape[0] > 0:
+        if full and cr.shape[0] > 0:
             _add_tangent(ct, mj, lohi, i, j, cr)
         out[el] = wr[0]
+    if not full:
+        return m_mat, f, kt, ct, out, np.zeros(0), np.zeros((0, n)), np.zeros(0)
     ch, jac, vel = _constraint_terms(n, t, P, mr, ma, mvel, mw, mj, lohi)
     return m_mat, f, kt, ct, out, ch, jac, vel
 

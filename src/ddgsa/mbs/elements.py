@@ -15,6 +15,7 @@ markers' relative pose when the system is built): the wrench on marker ``i`` is 
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -76,7 +77,7 @@ class CompiledForm:
 
 
 #: the kinds of compiled element (:func:`element_wrench`)
-CONNECTOR, TORQUE, LOAD = 0, 1, 2
+CONNECTOR, TORQUE, LOAD, POWER_TORQUE, ECCENTRIC = 0, 1, 2, 3, 4
 
 
 def stacked(states: list[MarkerState]) -> tuple[Array, Array, Array, Array]:
@@ -350,6 +351,8 @@ class TorqueLaw(Element):
     time_varying = True
     #: ``(torque0, c, set_speed)`` of a linear law (:meth:`linear`), which the compiled path can run
     linear_form: tuple[float, float, "float | Series"] | None = None
+    #: ``(T_L, n, w_rated)`` of a power law (:meth:`power`), which the compiled path can run
+    power_form: tuple[float, float, float] | None = None
 
     def __init__(self, marker: Marker, law: Callable[[float, float], float], reaction: Marker | None = None,
                  dtorque_dspeed: Callable[[float, float], float] | None = None, name: str = "torque") -> None:
@@ -370,9 +373,21 @@ class TorqueLaw(Element):
         law.linear_form = (float(torque0), float(damping), set_speed)
         return law
 
+    @classmethod
+    def power(cls, marker: Marker, torque: float, exponent: float, rated_speed: float,
+              reaction: Marker | None = None, name: str = "torque") -> "TorqueLaw":
+        """``T = -T_L (|w| / w_rated)^n sign(w)`` (a fan or pump load; ``n = 0``: ``-T_L tanh(w / 1 rad/s)``,
+        a load smooth through rest) [N m, -, rad/s]: :func:`power_torque`; also runs on the compiled path."""
+        form = (float(torque), float(exponent), float(rated_speed))
+        law = cls(marker, lambda t, w: power_torque(form, float(w)), reaction, name=name)
+        law.power_form = form
+        return law
+
     def compiled(self) -> CompiledForm | None:
         """``[torque0, damping, set_speed]`` of the :meth:`linear` form (the set speed a series input
-        when it is a :class:`Series`); None for a Python law."""
+        when it is a :class:`Series`), ``[T_L, n, w_rated]`` of the :meth:`power` form; None for a Python law."""
+        if self.power_form is not None:
+            return CompiledForm(POWER_TORQUE, np.array(self.power_form))
         if self.linear_form is None:
             return None
         torque0, damping, ws = self.linear_form
@@ -384,7 +399,9 @@ class TorqueLaw(Element):
         reaction = 1 if len(states) > 1 else -1
         speed = float(spin_speed(a, w, 0, reaction))
         torque = float(self.law(t, speed))
-        if self.slope is not None:
+        if self.power_form is not None:
+            slope = float(power_slope(self.power_form, speed))
+        elif self.slope is not None:
             slope = float(self.slope(t, speed))
         else:
             h = 1e-6 * max(1.0, abs(speed))
@@ -405,6 +422,39 @@ def spin_speed(a, w, i, j):  # pragma: no cover (compiled)
     if j >= 0:
         wrel -= w[j]
     return axis[0] * wrel[0] + axis[1] * wrel[1] + axis[2] * wrel[2]
+
+
+@njit(cache=True)
+def power_torque(law, speed):  # pragma: no cover (compiled)
+    """``T = -T_L (|w| / w_rated)^n sign(w)`` [N m] at ``speed`` [rad/s] for ``law = (T_L, n, w_rated)``
+    (:meth:`TorqueLaw.power`); ``-T_L tanh(w / 1 rad/s)`` for ``n = 0``."""
+    t_l, n, rated = law
+    if n > 0:
+        return -t_l * math.copysign(abs(speed / rated) ** n, speed)
+    return -t_l * math.tanh(speed / 1.0)
+
+
+@njit(cache=True)
+def power_slope(law, speed):  # pragma: no cover (compiled)
+    """``dT/dw`` [N m s/rad] of :func:`power_torque` by the central difference :meth:`TorqueLaw.wrench`
+    takes of a law without a slope (step ``1e-6 max(1, |w|)``: the power law's own slope is infinite at
+    rest for ``n < 1``)."""
+    h = 1e-6 * max(1.0, abs(speed))
+    return (power_torque(law, speed + h) - power_torque(law, speed - h)) / (2 * h)
+
+
+@njit(cache=True)
+def eccentric_force(a, w, i, mass, radius):  # pragma: no cover (compiled)
+    """``(1, 6)`` wrench of :class:`EccentricMass`: ``-m_u w x (w x r)`` [N] at marker ``i`` with
+    ``r = radius`` times its frame's y axis, for the markers' orientations ``a`` and angular velocities ``w``."""
+    r = a[i][:, 1] * radius
+    wi = w[i]
+    wr = wi[0] * r[0] + wi[1] * r[1] + wi[2] * r[2]
+    ww = wi[0] * wi[0] + wi[1] * wi[1] + wi[2] * wi[2]
+    out = np.zeros((1, 6))
+    for k in range(3):
+        out[0, k] = -mass * (wi[k] * wr - r[k] * ww)
+    return out
 
 
 @njit(cache=True)
@@ -467,6 +517,38 @@ class AppliedLoad(Element):
         return self.series(t).reshape(1, 6), None, None
 
 
+class EccentricMass(Element):
+    """Centrifugal force of an eccentric point mass on a turning section: an unbalance.
+
+    ``F = -m_u w x (w x r)`` [N] on the section's marker, ``r`` the mass's offset ``e`` along the
+    marker frame's y axis (which points at the mass at ``t = 0``), ``w`` the section's angular
+    velocity (:func:`eccentric_force`). The tangential term ``m_u e dw/dt`` (start-up, coast-down)
+    is left out, and with it the force's tangents: ``dw/dt / w^2`` is below 1 % above 100 rpm for a
+    rig's accelerations (docs/hss_rig.md).
+
+    Parameters
+    ----------
+    marker : Marker
+        The section (a disk centre).
+    mass : float
+        Eccentric mass ``m_u`` [kg].
+    radius : float
+        Its radius ``e`` [m].
+    """
+
+    def __init__(self, marker: Marker, mass: float, radius: float, name: str = "unbalance") -> None:
+        self.markers = (marker,)
+        self.mass, self.radius, self.name = float(mass), float(radius), name
+
+    def compiled(self) -> CompiledForm:
+        """``[m_u, e]``."""
+        return CompiledForm(ECCENTRIC, np.array([self.mass, self.radius]))
+
+    def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, None, None]:
+        _, a, _, w = stacked(states)
+        return eccentric_force(a, w, 0, self.mass, self.radius), None, None
+
+
 @njit(cache=True)
 def element_wrench(kind, r, a, v, w, i, j, par, inputs):  # pragma: no cover (compiled)
     """``(W (n_m, 6), K, C)`` of a compiled element between markers ``i`` and ``j`` (``j < 0``: one
@@ -486,6 +568,13 @@ def element_wrench(kind, r, a, v, w, i, j, par, inputs):  # pragma: no cover (co
         torque = linear_torque(par[0], par[1], ws, spin_speed(a, w, i, j))
         wr, cr = axial_torque_wrench(a, i, j, torque, -par[1])
         return wr, none, cr
+    if kind == POWER_TORQUE:
+        law = (par[0], par[1], par[2])
+        speed = spin_speed(a, w, i, j)
+        wr, cr = axial_torque_wrench(a, i, j, power_torque(law, speed), power_slope(law, speed))
+        return wr, none, cr
+    if kind == ECCENTRIC:
+        return eccentric_force(a, w, i, par[0], par[1]), none, none
     return inputs.copy().reshape(1, 6), none, none
 
 

@@ -34,7 +34,7 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody, MarkerState, mode_number
 from ddgsa.mbs.campbell import orbit_average, orbit_pairs
-from ddgsa.mbs.compiled import HybridTerms, _assemble, _markers
+from ddgsa.mbs.compiled import HybridTerms, _markers, mass_and_force
 from ddgsa.mbs.elements import Element
 from ddgsa.mbs.ffr import g_bar
 from ddgsa.mbs.linear import lti_response
@@ -272,7 +272,7 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
     res = np.zeros((2 * n, n))
     moved: dict[int, list] = {}
     for j in range(2 * n):
-        m_mat, f = _assemble(q[j], qd[j], t0, arrays)[:2]
+        m_mat, f = mass_and_force(q[j], qd[j], t0, arrays)
         res[j] = m_mat @ qdd[j] - f
         if any(j % n in span[r] for r in rows):
             moved[j] = _markers(q[j], qd[j], t0, arrays)[:5]

@@ -1,4 +1,4 @@
-"""Rig-specific force elements on the kernel's element interface (:class:`ddgsa.mbs.elements.Element`).
+"""The rig-specific force element on the kernel's element interface (:class:`ddgsa.mbs.elements.Element`).
 
 * :class:`MisalignedCoupling` -- the flexible coupling: a 6-DOF bushing in the frame of the
   motor-side hub (it turns with the shaft) whose lateral and angular stiffnesses differ by
@@ -9,10 +9,8 @@
   part ``k delta`` and a part ``asymmetry k delta`` turning at twice the shaft speed: the 2x
   signature of misalignment (e.g. Sekhar & Prabhu, JSV 185 (1995): misalignment excites the
   even harmonics through the coupling; here through its stiffness anisotropy, an assumption).
-* :class:`EccentricMass` -- the centrifugal force ``m_u w x (r x w)`` of a point mass ``m_u`` at
-  radius ``e`` on a section (the disk), turning with it. The tangential term ``m_u e dw/dt``
-  (start-up, coast-down) is left out: ``dw/dt / w^2`` is below 1 % above 100 rpm for the rig's
-  accelerations (stated in docs/hss_rig.md).
+
+The eccentric mass on the disk is the kernel's :class:`ddgsa.mbs.elements.EccentricMass`.
 """
 
 from __future__ import annotations
@@ -20,8 +18,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from ddgsa.mbs.bodies import Marker, MarkerState
-from ddgsa.mbs.elements import Bushing6, Element
+from ddgsa.mbs.bodies import Marker
+from ddgsa.mbs.elements import Bushing6
 
 Array = NDArray[np.float64]
 
@@ -53,29 +51,3 @@ class MisalignedCoupling(Bushing6):
         # the shaft end sits at the aligned position; the hub (motor axis) is displaced by the misalignment: a
         # fixed pre-deflection of the bushing, so the compiled kernel computes the coupling as it is
         self.offset = np.array([0.0, offset, 0.0, 0.0, 0.0, angle])
-
-
-class EccentricMass(Element):
-    """Centrifugal force of an eccentric point mass on a turning section (see the module).
-
-    Parameters
-    ----------
-    marker : Marker
-        The section (disk centre); its frame's y axis points at the mass at ``t = 0``.
-    mass : float
-        Eccentric mass ``m_u`` [kg].
-    radius : float
-        Its radius ``e`` [m].
-    """
-
-    def __init__(self, marker: Marker, mass: float, radius: float, name: str = "unbalance") -> None:
-        self.markers = (marker,)
-        self.mass, self.radius, self.name = mass, radius, name
-
-    def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, None, None]:
-        s = states[0]
-        r = s.a[:, 1] * self.radius
-        w = s.w
-        out = np.zeros((1, 6))
-        out[0, :3] = -self.mass * (w * (w @ r) - r * (w @ w))          # -m w x (w x r)
-        return out, None, None

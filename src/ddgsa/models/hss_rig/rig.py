@@ -36,15 +36,15 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
-from ddgsa.mbs import Bushing6, FlexibleBody, Ground, Marker, RigidBody, SpringDamper3, System, TorqueLaw
+from ddgsa.mbs import (Bushing6, EccentricMass, FlexibleBody, Ground, Marker, RigidBody, SpringDamper3, System,
+                      TorqueLaw)
 from ddgsa.mbs.beam import BeamSpec, mesh, shear_coefficient
 from ddgsa.mbs.bodies import Body, bending_fields
 from ddgsa.mbs.compiled import compile_terms
-from ddgsa.mbs.elements import Element
+from ddgsa.mbs.elements import Element, power_torque
 from ddgsa.models.constants import tilted_gravity
-from ddgsa.models.hss_rig.elements import EccentricMass, MisalignedCoupling
+from ddgsa.models.hss_rig.elements import MisalignedCoupling
 from ddgsa.models.hss_rig.parameters import RATED_SPEED
 
 GRAVITY = tilted_gravity(0.0)
@@ -118,29 +118,19 @@ def cantilever_stiffness(ei: float, length: float) -> np.ndarray:
 
 
 def load_law(p: Mapping[str, float]) -> Callable[[float, float], float]:
-    """Load torque ``-T_L (|w| / w_rated)^n sign(w)`` [N m] against the spin ``w`` [rad/s] (the
-    compiled :func:`load_torque` of :func:`load_constants`)."""
+    """Load torque ``-T_L (|w| / w_rated)^n sign(w)`` [N m] against the spin ``w`` [rad/s]: the kernel's
+    :func:`~ddgsa.mbs.elements.power_torque` of :func:`load_constants`."""
     law = load_constants(p)
 
     def torque(t: float, w: float) -> float:
-        return load_torque(law, float(w))
+        return power_torque(law, float(w))
 
     return torque
 
 
 def load_constants(p: Mapping[str, float]) -> tuple[float, float, float]:
-    """``(T_L, n, w_rated)`` [N m, -, rad/s] of the load law of parameters ``p``: what :func:`load_torque` reads."""
+    """``(T_L, n, w_rated)`` [N m, -, rad/s] of the load law of parameters ``p`` (:meth:`TorqueLaw.power`)."""
     return float(p["load_torque"]), float(p["load_speed_exponent"]), RATED_SPEED
-
-
-@njit(cache=True)
-def load_torque(law, w):  # pragma: no cover (compiled)
-    """Load torque [N m] at spin ``w`` [rad/s] for :func:`load_constants` ``law``: ``-T_L (|w| / w_rated)^n
-    sign(w)``, or ``-T_L tanh(w / 1 rad/s)`` for ``n = 0`` (a friction-like load, smooth through rest)."""
-    t_l, n, rated = law
-    if n > 0:
-        return -t_l * math.copysign(abs(w / rated) ** n, w)
-    return -t_l * math.tanh(w / 1.0)
 
 
 MotorParts = Callable[[Marker], tuple[list[Body], list[Element]]]
@@ -231,7 +221,7 @@ def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0,
     elements.append(SpringDamper3(mk["disk"], ground.marker((xd, 0.0, 0.0)), (0.0, 0.0, 0.0), (0.0, cd, cd),
                                   name="disk_damper"))
     elements.append(EccentricMass(mk["disk"], p["eccentric_mass"], p["eccentric_radius"]))
-    elements.append(TorqueLaw(mk["disk"], load_law(p), name="load"))
+    elements.append(TorqueLaw.power(mk["disk"], *load_constants(p), name="load"))
     extra_bodies, motor_elements = motor_parts(mk["motor"])
     bodies += extra_bodies
     elements += motor_elements

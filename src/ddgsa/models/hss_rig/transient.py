@@ -9,9 +9,9 @@ with four nonlinear inputs evaluated at every iteration as the ``kloss`` rig's e
 
 * the ``kloss`` motor torque (:func:`~ddgsa.models.hss_rig.drive.kloss_torque_at`) at the motor
   rotor's spin, on its angle;
-* the load torque law (:func:`~ddgsa.models.hss_rig.rig.load_law`) at the disk's spin;
+* the load torque law (:func:`~ddgsa.mbs.elements.power_torque`) at the disk's spin;
 * the eccentric mass's centrifugal force ``m_u e W^2`` at the disk, along the disk's actual angle
-  (its tangential part left out, as :class:`~ddgsa.models.hss_rig.elements.EccentricMass` does);
+  (its tangential part left out, as :class:`~ddgsa.mbs.elements.EccentricMass` does);
 * the coupling's turning anisotropy ``dK(theta)`` (:func:`~ddgsa.models.hss_rig.faults.anisotropy`,
   the steady path's formulation) on the coupling's stretch along the sweep (:class:`_CouplingInput`):
   the 2x the gravity sag's lift of the overhang makes, and the anisotropy acting on the vibration.
@@ -36,10 +36,11 @@ from numba import njit
 from numpy.typing import NDArray
 
 from ddgsa.mbs import nonrotating
+from ddgsa.mbs.elements import power_torque
 from ddgsa.mbs.sweep import Inputs, SweepModel, full_state, integrate, marker_rows, steady_orbit, sweep_model
 from ddgsa.models.hss_rig.drive import Drive, kloss_torque, kloss_torque_at
 from ddgsa.models.hss_rig.faults import anisotropy_constants, anisotropy_matrix, coupling_stretch
-from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, load_constants, load_law, load_torque
+from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, load_constants, load_law
 
 Array = NDArray[np.float64]
 SLOPE_STEP = 1e-6
@@ -119,7 +120,7 @@ def rig_inputs(t, z, zd, data, f):  # pragma: no cover (compiled)
         wm += motor[i] * zd[i]
         wd += disk[i] * zd[i]
         th += disk[i] * z[i]                         # the mass starts along +y, as in the rig
-    tm, tl = kloss_torque(drive, t, wm), load_torque(law, wd)
+    tm, tl = kloss_torque(drive, t, wm), power_torque(law, wd)
     fy, fz = me * wd * wd * math.cos(th), me * wd * wd * math.sin(th)
     for i in range(z.size):
         f[i] += motor[i] * tm + disk[i] * tl + fy * lateral[0, i] + fz * lateral[1, i]
