@@ -155,3 +155,24 @@ def test_stored_failures_run_again_only_when_forgotten(tmp_path: Path) -> None:
     assert [out[t.key].outputs for t in tasks[1:]] == [{"y": 2.0 * x} for x in range(1, 6)]
     assert out[tasks[0].key].outputs is None and "the model's bug" in out[tasks[0].key].error
     store.close()
+
+
+def test_the_main_process_keeps_blas_to_one_thread_while_workers_run() -> None:
+    """:func:`main_blas_threads`: one BLAS thread inside for ``jobs`` > 1, the previous count after; no
+    change for one job (the study's main process shares the cores with its workers)."""
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    from ddgsa.runner import main_blas_threads
+
+    def blas_threads() -> list[int]:
+        return [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
+
+    if not blas_threads():
+        pytest.skip("no BLAS library loaded that threadpoolctl can see")
+    with threadpool_limits(limits=2, user_api="blas"):
+        before = blas_threads()
+        with main_blas_threads(2):
+            assert set(blas_threads()) == {1}
+        assert blas_threads() == before
+        with main_blas_threads(1):
+            assert blas_threads() == before

@@ -32,7 +32,7 @@ from ddgsa.kinds.fault import FaultKind, FaultResult, fault_seed
 from ddgsa.kinds.gsa import GsaKind, GsaResult, auto_moments, moments, pooled_crosscheck
 from ddgsa.kinds.sweep import SweepKind, SweepResult
 from ddgsa.loads import cache as loads_cache
-from ddgsa.runner import EvaluationStore, ModelId, Task, local_workers
+from ddgsa.runner import EvaluationStore, ModelId, Task, local_workers, main_blas_threads
 from ddgsa.study import Study, plan_scenes
 
 __all__ = ["KINDS", "FaultResult", "GsaResult", "Runs", "StudyResult", "SweepResult", "auto_moments", "code_version",
@@ -51,9 +51,11 @@ def execute(study: Study, store: EvaluationStore, jobs: int | None = None, backe
     Wind-load realisations are shared by all workers through files beside the store
     (:mod:`ddgsa.loads.cache`): each is generated once per study, not once per worker process.
     Studies of a model with its own scene type (no wind loads) use no loads cache. The local
-    workers are forked once for the study, after the fidelity pilot's warm-up (:func:`ddgsa.runner.local_workers`).
+    workers are forked once for the study, after the fidelity pilot's warm-up (:func:`ddgsa.runner.local_workers`),
+    and while they run this process's BLAS keeps to one thread (:func:`ddgsa.runner.main_blas_threads`).
     ``retry_failed`` runs again the evaluations the store holds as failed (after their cause was fixed)."""
-    with loads_cache.shared(store.path.parent / "loads" if study.wind else None), local_workers():
+    with (loads_cache.shared(store.path.parent / "loads" if study.wind else None), local_workers(),
+          main_blas_threads(jobs or study.spec.run.jobs)):
         return _execute(study, store, jobs, backend, address, quiet, evaluate, retry_failed)
 
 
