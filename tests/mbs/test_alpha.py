@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.alpha import coefficients, python_loop, steps
+from ddgsa.mbs.alpha import coefficients, lu_factor, lu_solve, python_loop, steps
 
 M, C, K, F = 2.0, 0.3, 50.0, 4.0          # kg, N s/m, N/m, N
 
@@ -80,3 +80,21 @@ def test_steps_refuses_a_span_the_step_does_not_divide() -> None:
         steps(1.0, 0.3, 1, "test")
     with pytest.raises(ModelError, match="output_every = 3 must divide the 10 steps"):
         steps(1.0, 0.1, 3, "test")
+
+
+def test_lu_factors_solve_as_lapack_does_with_pivoting() -> None:
+    """:func:`lu_factor` / :func:`lu_solve` (modified Newton's kept factors) against LAPACK's solve, on a
+    random system, on one whose first pivot is zero (so rows must swap) and on a gyroscopic-like
+    non-symmetric matrix; a singular matrix gives non-finite values, which the loop reports."""
+    rng = np.random.default_rng(3)
+    cases = [rng.normal(size=(9, 9)), np.array([[0.0, 2.0, 1.0], [1.0, 1.0, 0.0], [3.0, 0.0, 1.0]])]
+    spd = rng.normal(size=(6, 6))
+    cases.append(spd @ spd.T + 6 * np.eye(6) + 40.0 * (np.triu(np.ones((6, 6)), 1) - np.tril(np.ones((6, 6)), -1)))
+    for a in cases:
+        b = rng.normal(size=a.shape[0])
+        lu, piv = np.zeros_like(a), np.zeros(a.shape[0], dtype=np.int64)
+        lu_factor(a, lu, piv)
+        np.testing.assert_allclose(lu_solve(lu, piv, b), np.linalg.solve(a, b), rtol=1e-12, atol=1e-12)
+    lu, piv = np.zeros((2, 2)), np.zeros(2, dtype=np.int64)
+    lu_factor(np.array([[1.0, 2.0], [2.0, 4.0]]), lu, piv)
+    assert not np.all(np.isfinite(lu_solve(lu, piv, np.array([1.0, 1.0]))))

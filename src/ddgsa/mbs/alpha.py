@@ -9,15 +9,17 @@ equations are evaluated: a **kind** is an ``evaluate(q, qd, t, step, ctx, m, f, 
 vel)`` that writes the mass matrix, generalised forces, tangents, outputs, holonomic residuals,
 constraint Jacobian and velocity residuals at a state into the arrays it is given. The loop is
 compiled once per compiled kind (:func:`specialise`: the packed System of
-:mod:`ddgsa.mbs.compiled`, the single-body kernel of :mod:`ddgsa.mbs.system`) and run as Python for
-a Python kind (:func:`python_loop`: any System in :mod:`ddgsa.mbs.integrate.genalpha`, the linear
-speed sweep of :mod:`ddgsa.mbs.sweep`), the Python run calling the same compiled step helpers.
+:mod:`ddgsa.mbs.compiled`, the single-body kernel of :mod:`ddgsa.mbs.system`, the linear speed sweep
+of :mod:`ddgsa.mbs.sweep` with its compiled inputs) and run as Python for a Python kind
+(:func:`python_loop`: any System in :mod:`ddgsa.mbs.integrate.genalpha`), the Python run calling the
+same compiled step helpers. A kind made of parts (the sweep's matrices plus a model's inputs) is a
+copy of a template with the part bound to a global name (:func:`bind`), as the loop is bound to its kind.
 
 Options of the loop (the kinds' choices, not separate loops): the predictor (the old acceleration,
 or the acceleration extrapolated linearly from the last two steps: about one Newton iteration a
 step on smooth forcing), the linear solve (general, or an in-place Cholesky for a symmetric
 unconstrained iteration matrix: LAPACK's call overhead dominates at n = 12), and modified Newton
-(the iteration matrix of the first iteration kept for the step).
+(the iteration matrix of the first iteration kept for the step, factorised once: :func:`lu_factor`).
 """
 
 from __future__ import annotations
@@ -88,6 +90,57 @@ def solve_spd(a, b):  # pragma: no cover (compiled)
         for k in range(i + 1, n):
             acc -= low[k, i] * x[k]
         x[i] = acc / low[i, i]
+    return x
+
+
+@njit(cache=True)
+def lu_factor(a, lu, piv):  # pragma: no cover (compiled)
+    """LU factorisation with partial pivoting of ``a`` (n, n) into ``lu`` (unit lower and upper
+    triangles) and the row swaps ``piv`` (n,): what modified Newton keeps for the step. A zero pivot
+    is left in place (:func:`lu_solve` then gives NaN, which the loop reports as a failed step)."""
+    n = a.shape[0]
+    lu[:, :] = a
+    for k in range(n):
+        p = k
+        big = abs(lu[k, k])
+        for i in range(k + 1, n):
+            if abs(lu[i, k]) > big:
+                p, big = i, abs(lu[i, k])
+        piv[k] = p
+        if p != k:
+            for j in range(n):
+                lu[k, j], lu[p, j] = lu[p, j], lu[k, j]
+        if lu[k, k] == 0.0:
+            continue
+        inv = 1.0 / lu[k, k]
+        pivot_row = lu[k, k + 1:]
+        for i in range(k + 1, n):
+            lik = lu[i, k] * inv
+            lu[i, k] = lik
+            row = lu[i, k + 1:]                            # row views: the update vectorises (2x at n = 42)
+            for j in range(row.size):
+                row[j] -= lik * pivot_row[j]
+
+
+@njit(cache=True)
+def lu_solve(lu, piv, b):  # pragma: no cover (compiled)
+    """``x`` with ``a x = b`` from :func:`lu_factor`'s ``lu`` and ``piv``."""
+    n = b.size
+    x = b.copy()
+    for k in range(n):
+        p = piv[k]
+        if p != k:
+            x[k], x[p] = x[p], x[k]
+    for i in range(n):
+        acc = x[i]
+        for k in range(i):
+            acc -= lu[i, k] * x[k]
+        x[i] = acc
+    for i in range(n - 1, -1, -1):
+        acc = x[i]
+        for k in range(i + 1, n):
+            acc -= lu[i, k] * x[k]
+        x[i] = acc / lu[i, i] if lu[i, i] != 0.0 else np.nan
     return x
 
 
@@ -172,7 +225,7 @@ def _record(slot, q, qd, lam, y, ch, vel, q_out, qd_out, lam_out, y_out, drift):
 
 
 _evaluate: Callable | None = None
-"""The kind's evaluation, bound in each copy of :func:`_loop` by :func:`_bound`."""
+"""The kind's evaluation, bound in each copy of :func:`_loop` by :func:`bind`."""
 
 
 def _loop(ctx, q0, qd0, acc0, lam0, t0, h, n_steps, output_every, am, af, gamma, beta, tol, max_iter, nh, n_y,
@@ -190,6 +243,7 @@ def _loop(ctx, q0, qd0, acc0, lam0, t0, h, n_steps, output_every, am, af, gamma,
     q_out, qd_out, lam_out = np.zeros((n_out, n)), np.zeros((n_out, n)), np.zeros((n_out, nc))
     y_out, drift = np.zeros((n_out, n_y)), np.zeros((n_out, 2))
     big, rhs = np.zeros((n + nc, n + nc)), np.zeros(n + nc)
+    lu, piv = np.zeros((n + nc, n + nc)), np.zeros(n + nc, dtype=np.int64)
     bp = beta * (1.0 - af) / (1.0 - am)
     gp = gamma * (1.0 - af) / (1.0 - am)
     bh2, gh = bp * h * h, gp * h
@@ -203,8 +257,14 @@ def _loop(ctx, q0, qd0, acc0, lam0, t0, h, n_steps, output_every, am, af, gamma,
         it = 0
         for it in range(max_iter):
             _evaluate(q, qd, t, step, ctx, m, f, kt, ct, y, ch, jac, vel)
-            cmax = _newton_rows(big, rhs, m, f, kt, ct, jac, lam, ch, vel, acc_new, bp, gp, h, it == 0 or not modified)
-            delta = solve_spd(big, rhs) if symmetric else np.linalg.solve(big, rhs)
+            build = it == 0 or not modified
+            cmax = _newton_rows(big, rhs, m, f, kt, ct, jac, lam, ch, vel, acc_new, bp, gp, h, build)
+            if modified:                                  # the step's factors kept
+                if build:
+                    lu_factor(big, lu, piv)
+                delta = lu_solve(lu, piv, rhs)
+            else:
+                delta = solve_spd(big, rhs) if symmetric else np.linalg.solve(big, rhs)
             if _correct(delta, acc_new, q, qd, lam, bh2, gh) < tol and cmax < tol:
                 converged = True
                 break
@@ -214,39 +274,46 @@ def _loop(ctx, q0, qd0, acc0, lam0, t0, h, n_steps, output_every, am, af, gamma,
         worst = max(worst, it + 1)
         _advance(acc, aux, acc_prev, acc_new, am, af)
         if step % output_every == 0:
-            _evaluate(q, qd, t, step, ctx, m, f, kt, ct, y, ch, jac, vel)
+            if n_y > 0 or nc > 0:                         # outputs and drift at the converged state
+                _evaluate(q, qd, t, step, ctx, m, f, kt, ct, y, ch, jac, vel)
             _record(slot, q, qd, lam, y, ch, vel, q_out, qd_out, lam_out, y_out, drift)
             slot += 1
     return q_out, qd_out, lam_out, y_out, drift, worst, total
 
 
-def _bound(evaluate: Callable, tag: str, loop: Callable | None = None) -> types.FunctionType:
-    """``loop`` (default :func:`_loop`) with its ``_evaluate`` bound to ``evaluate`` (its own name, so
-    numba caches each kind apart)."""
-    loop = _loop if loop is None else loop
-    scope = dict(loop.__globals__)
-    scope["_evaluate"] = evaluate
-    fn = types.FunctionType(loop.__code__, scope, loop.__name__, loop.__defaults__, loop.__closure__)
-    fn.__qualname__ = f"{loop.__name__}_{tag}"
-    fn.__module__ = loop.__module__
+def bind(function: Callable, tag: str, template: Callable, name: str = "_evaluate") -> types.FunctionType:
+    """A copy of ``template`` whose global ``name`` is ``function`` (its own name, ``template``'s with
+    ``tag``, so that numba caches each copy apart): how a loop gets its kind, and a kind its parts."""
+    scope = dict(template.__globals__)
+    scope[name] = function
+    fn = types.FunctionType(template.__code__, scope, template.__name__, template.__defaults__, template.__closure__)
+    fn.__qualname__ = f"{template.__name__}_{tag}"
+    fn.__module__ = template.__module__
     return fn
+
+
+def stamp(*functions: Callable) -> str:
+    """A short hash of the source files' modification times and sizes of ``functions`` (plain or
+    ``njit``): a tag that changes when any of them is edited.
+
+    numba checks a cached function against its own source file only; a copy made by :func:`bind`
+    that calls a function of another file carries this stamp in its name, so that editing that file
+    compiles the copy afresh instead of loading a stale one.
+    """
+    files = sorted({getattr(f, "py_func", f).__code__.co_filename for f in functions})
+    stamps = "|".join(f"{os.stat(f).st_mtime_ns}:{os.stat(f).st_size}" for f in files)
+    return hashlib.sha1(stamps.encode()).hexdigest()[:10]
 
 
 def specialise(evaluate: Callable, tag: str, loop: Callable | None = None) -> Callable:
     """The loop compiled (and cached) for a compiled kind ``evaluate`` (an ``njit`` function);
     ``loop``: another loop over kinds (:func:`ddgsa.mbs.statics._newton`), default :func:`_loop`.
-
-    numba checks a cached function against its own source file only; the copy's name carries the
-    stamps (modification time, size) of the loop's file and of the kind's, so that editing either
-    compiles the loop afresh instead of loading a stale copy.
-    """
+    The copy's name carries the :func:`stamp` of the loop's and the kind's files."""
     loop = _loop if loop is None else loop
-    files = sorted({loop.__code__.co_filename, evaluate.py_func.__code__.co_filename})
-    stamps = "|".join(f"{os.stat(f).st_mtime_ns}:{os.stat(f).st_size}" for f in files)
-    return njit(cache=True)(_bound(evaluate, f"{tag}_{hashlib.sha1(stamps.encode()).hexdigest()[:10]}", loop))
+    return njit(cache=True)(bind(evaluate, f"{tag}_{stamp(loop, evaluate)}", loop))
 
 
 def python_loop(evaluate: Callable, loop: Callable | None = None) -> Callable:
     """The loop (default :func:`_loop`) run as Python for a Python kind ``evaluate`` (its step
     helpers stay compiled)."""
-    return _bound(evaluate, "python", loop)
+    return bind(evaluate, "python", _loop if loop is None else loop)

@@ -20,9 +20,10 @@ difference, ``K_1`` and ``K_2`` from the skew and symmetric parts of the stiffne
 a quadratic fit only to 3e-2). The spin coordinates (``.rx`` of the rotating bodies) are the total
 angles, not perturbations about ``W_1 t``: their equations are linear in angle differences, and
 the matrices are made blind to the common (cyclic) angle. :func:`integrate` runs it with the
-kernel's generalised-alpha (:mod:`ddgsa.mbs.alpha`'s one loop, as a Python kind) on small dense
-matrices: the iteration matrix ``M + gamma' h C(W) + beta' h^2 K(W)`` at the step's spin (modified
-Newton: kept for the step), the inputs iterated to the kernel's tolerance. :func:`full_state` maps the
+kernel's generalised-alpha (:mod:`ddgsa.mbs.alpha`'s one loop, compiled for the sweep and the
+caller's compiled :class:`Inputs`) on small dense matrices: the iteration matrix
+``M + gamma' h C(W) + beta' h^2 K(W)`` at the step's spin (modified Newton: factorised once a step),
+the inputs iterated to the kernel's tolerance. :func:`full_state` maps the
 record back to the system's coordinates with the actual spin angles (for sensors), and
 :func:`steady_orbit` gives the periodic state a coast-down starts from.
 
@@ -37,8 +38,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property, lru_cache
 
 import numpy as np
+from numba import njit
 from numpy.typing import NDArray
 from scipy.linalg import null_space
 from scipy.optimize import NoConvergence, newton_krylov
@@ -46,11 +49,27 @@ from scipy.optimize import NoConvergence, newton_krylov
 from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import Marker
-from ddgsa.mbs.alpha import coefficients, python_loop, steps
+from ddgsa.mbs.alpha import bind, coefficients, specialise, stamp, steps
 from ddgsa.mbs.nonrotating import RIGID_RCOND, SpinLinearisation, full_states
 
 Array = NDArray[np.float64]
-Inputs = Callable[[float, Array, Array], Array]
+
+
+@dataclass(frozen=True)
+class Inputs:
+    """The nonlinear inputs ``f(t, z, z')`` of a sweep: a compiled function and what it reads.
+
+    Attributes
+    ----------
+    add : numba dispatcher
+        ``add(t, z, zd, data, f)``: adds the generalised forces [N, N m] at time ``t`` [s] and state
+        ``(z, z')`` to ``f`` (n,) in place (an ``njit`` function; the sweep's loop is compiled for it).
+    data : tuple
+        What ``add`` reads: arrays and floats (a numba-typable tuple).
+    """
+
+    add: Callable
+    data: tuple
 
 
 @dataclass(frozen=True)
@@ -91,6 +110,12 @@ class SweepModel:
     spin: Array
     rates: Array
     lin: SpinLinearisation
+
+    @cached_property
+    def arrays(self) -> tuple[Array, ...]:
+        """``(M, C_0, C_1, K_0, K_1, K_2, r_0, K_1 s, K_2 s, r_2, spin)``: what the compiled sweep reads."""
+        return (self.m, self.c0, self.c1, self.k0, self.k1, self.k2, self.r0, self.k1 @ self.sag,
+                self.k2 @ self.sag, self.r2, self.spin)
 
     def c(self, w: float) -> Array:
         """Damping and gyroscopic matrix at spin ``w`` [rad/s]."""
@@ -152,10 +177,13 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
               max_iter: int = 20) -> tuple[Array, Array, Array]:
     """Generalised-alpha run of the sweep model from ``(z0, zd0)`` at ``t = 0`` to ``t_end`` [s].
 
+    The kernel's loop (:mod:`ddgsa.mbs.alpha`) compiled for this sweep and its ``inputs``: the
+    matrices at the step's spin written in place, the inputs added, modified Newton.
+
     Parameters
     ----------
-    inputs : callable
-        ``inputs(t, z, zd) -> f`` (n,) the nonlinear generalised forces (torque laws, unbalance).
+    inputs : Inputs
+        The nonlinear generalised forces (torque laws, unbalance) as a compiled function.
     output_every : int
         Keep every ``output_every``-th step.
     rho_inf, tol, max_iter
@@ -168,25 +196,58 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
     ``(t, z, zd)`` at the kept steps.
     """
     n_steps = steps(t_end, dt, output_every, "sweep")
-    m = model.m
-
-    def evaluate(z: Array, zd: Array, t: float, step: int, ctx: None, m_out: Array, f: Array, kt: Array, ct: Array,
-                 y: Array, ch: Array, jac: Array, vel: Array) -> None:
-        w = float(model.spin @ zd)
-        c, k = model.c(w), model.k(w)
-        m_out[:], kt[:], ct[:] = m, k, c
-        f[:] = model.r(w) + inputs(t, z, zd) - c @ zd - k @ z
-
+    kind, loop = _compiled(inputs.add)
+    ctx = (model.arrays, inputs.data)
     z, zd = np.array(z0, dtype=float), np.array(zd0, dtype=float)
-    w0 = float(model.spin @ zd)
-    acc = np.linalg.solve(m, model.r(w0) + inputs(0.0, z, zd) - model.c(w0) @ zd - model.k(w0) @ z)
-    z_out, zd_out, _, _, _, status, _ = python_loop(evaluate)(None, z, zd, acc, np.zeros(0), 0.0, float(dt), n_steps,
-                                                              output_every, *coefficients(rho_inf), tol, max_iter, 0, 0,
-                                                              False, False, True)
+    n = z.size
+    m, f, kt, ct = np.zeros((n, n)), np.zeros(n), np.zeros((n, n)), np.zeros((n, n))
+    kind(z, zd, 0.0, 0, ctx, m, f, kt, ct, np.zeros(0), np.zeros(0), np.zeros((0, n)), np.zeros(0))
+    acc = np.linalg.solve(m, f)
+    z_out, zd_out, _, _, _, status, _ = loop(ctx, z, zd, acc, np.zeros(0), 0.0, float(dt), n_steps, output_every,
+                                             *coefficients(rho_inf), tol, max_iter, 0, 0, False, False, True)
     if status < 0:
         raise ModelError(f"sweep: the iteration did not converge in {max_iter} iterations at t = {-status * dt:.6g} s "
                          f"(step {dt} s), or the state is not finite; reduce the step")
     return dt * output_every * np.arange(n_steps // output_every + 1), z_out, zd_out
+
+
+@njit(cache=True)
+def _linear_terms(z, zd, arrays, m, f, kt, ct):  # pragma: no cover (compiled)
+    """``M``, ``K(W)``, ``C(W)`` and ``f = r(W) - C(W) z' - K(W) z`` at ``W = spin @ z'`` (see :class:`SweepModel`)."""
+    mm, c0, c1, k0, k1, k2, r0, k1s, k2s, r2, spin = arrays
+    n = z.size
+    w = 0.0
+    for i in range(n):
+        w += spin[i] * zd[i]
+    w2 = w * w
+    for i in range(n):
+        acc = r0[i] - w * k1s[i] - w2 * k2s[i] + w2 * r2[i]
+        for j in range(n):
+            kij = k0[i, j] + w * k1[i, j] + w2 * k2[i, j]
+            cij = c0[i, j] + w * c1[i, j]
+            m[i, j] = mm[i, j]
+            kt[i, j] = kij
+            ct[i, j] = cij
+            acc -= cij * zd[j] + kij * z[j]
+        f[i] = acc
+
+
+_inputs: Callable | None = None
+"""The sweep's inputs, bound in each copy of :func:`_kind` by :func:`_compiled`."""
+
+
+def _kind(z, zd, t, step, ctx, m, f, kt, ct, y, ch, jac, vel):  # pragma: no cover (compiled per inputs)
+    """The sweep as a kind of :mod:`ddgsa.mbs.alpha`'s loop: :func:`_linear_terms` plus the inputs."""
+    _linear_terms(z, zd, ctx[0], m, f, kt, ct)
+    _inputs(t, z, zd, ctx[1], f)
+
+
+@lru_cache(maxsize=None)
+def _compiled(add: Callable) -> tuple[Callable, Callable]:
+    """The kind and the loop compiled (and cached) for the inputs function ``add``."""
+    tag = f"sweep_{getattr(add, '__name__', 'inputs')}_{stamp(add)}"
+    kind = njit(cache=True)(bind(add, tag, _kind, name="_inputs"))
+    return kind, specialise(kind, tag)
 
 
 def full_state(model: SweepModel, z: Array, zd: Array) -> tuple[Array, Array]:

@@ -18,8 +18,10 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
+from numba import njit
 from numpy.typing import NDArray
 from scipy.optimize import brentq
 
@@ -29,7 +31,7 @@ from ddgsa.mbs.bodies import Body, MarkerState
 from ddgsa.mbs.elements import Element
 from ddgsa.mbs.first_order import FirstOrderStates
 from ddgsa.models.hss_rig.motor import (InductionMotor, Supply, dq_derivatives, phase_current, sequence_phasors,
-                                        steady_torque)
+                                        steady_torque, steady_torque_terms, supply_state)
 from ddgsa.models.hss_rig.scenes import RigScene
 
 Array = NDArray[np.float64]
@@ -58,19 +60,54 @@ class Drive:
 
     def state(self, t: float) -> tuple[float, float, float]:
         """``(theta_e, omega_e, v_peak)`` of the supply at ``t`` [s] (voltage 0 once cut)."""
-        theta, w, v = self.supply.state(self.motor, t)
-        return theta, w, 0.0 if (self.cut and t > 0.0) else v
+        return drive_state(self.constants, float(t))
 
     def states(self, t: Array) -> tuple[Array, Array, Array]:
-        """:meth:`state` along the times ``t`` [s] (n_t,): ``(theta_e, omega_e, v_peak)`` (n_t,) each;
-        at once where the supply's own state is a rotation at its frequency (direct-on-line), else
-        sample by sample (a ramp)."""
+        """:meth:`state` along the times ``t`` [s] (n_t,): ``(theta_e, omega_e, v_peak)`` (n_t,) each."""
         t = np.asarray(t, dtype=float)
-        if self.supply.ramp_time > 0.0:
-            return tuple(np.array([self.state(float(ti)) for ti in t]).reshape(-1, 3).T)
-        theta, w, v = self.supply.state(self.motor, t)      # w1 t, w1, v_peak
-        v = np.where(t > 0.0, 0.0, v) if self.cut else np.full(t.shape, v)
-        return theta, np.full(t.shape, w), v
+        out = np.empty((3, t.size))
+        _drive_states(self.constants, t.ravel(), out)
+        return out[0].reshape(t.shape), out[1].reshape(t.shape), out[2].reshape(t.shape)
+
+    @cached_property
+    def constants(self) -> tuple:
+        """``(circuit, unbalance, supply, cut)``: the motor's :attr:`~InductionMotor.circuit`, its supply
+        unbalance [-], the supply's :meth:`~ddgsa.models.hss_rig.motor.Supply.constants` and 1.0 once
+        cut at ``t = 0`` (else 0.0): what the compiled :func:`kloss_torque` reads."""
+        return (self.motor.circuit, float(self.motor.supply_unbalance), self.supply.constants(self.motor),
+                1.0 if self.cut else 0.0)
+
+
+@njit(cache=True)
+def drive_state(drive, t):  # pragma: no cover (compiled)
+    """:meth:`Drive.state` from :attr:`Drive.constants`."""
+    theta, w, v = supply_state(drive[2], t)
+    return theta, w, 0.0 if (drive[3] > 0.0 and t > 0.0) else v
+
+
+@njit(cache=True)
+def _drive_states(drive, t, out):  # pragma: no cover (compiled)
+    for j in range(t.size):
+        out[0, j], out[1, j], out[2, j] = drive_state(drive, t[j])
+
+
+@njit(cache=True)
+def kloss_torque(drive, t, speed):  # pragma: no cover (compiled)
+    """Air-gap torque [N m] of the steady equivalent circuit at time ``t`` [s] and rotor ``speed``
+    [rad/s], for :attr:`Drive.constants` ``drive``: the mean and twice-line-frequency ripple of
+    :func:`~ddgsa.models.hss_rig.motor.steady_torque` at the supply's instantaneous frequency and
+    voltage (0 where the supply is off)."""
+    theta, w, v = drive_state(drive, t)
+    if v == 0.0 or w <= 0.0:
+        return 0.0
+    mean, ripple, phase, _ = steady_torque_terms(drive[0], drive[1], w, speed, v)
+    return mean + ripple * math.cos(2 * theta + phase)
+
+
+@njit(cache=True)
+def _kloss_many(drive, t, speed, out):  # pragma: no cover (compiled)
+    for j in range(t.size):
+        out[j] = kloss_torque(drive, t[j], speed[j])
 
 
 def drive_for(p: Mapping[str, float], scene: RigScene, pole_pairs: int = 2) -> Drive:
@@ -87,27 +124,25 @@ def drive_for(p: Mapping[str, float], scene: RigScene, pole_pairs: int = 2) -> D
 
 
 def kloss_torque_at(drive: Drive, t: float, speed: float) -> float:
-    """Air-gap torque [N m] of the steady equivalent circuit at time ``t`` and rotor ``speed`` [rad/s]."""
-    theta, w, v = drive.state(t)
-    if v == 0.0 or w <= 0.0:
-        return 0.0
-    st = steady_torque(drive.motor, speed, w / (2 * math.pi), v * math.sqrt(1.5))
-    return st.mean + st.ripple * math.cos(2 * theta + st.phase)
+    """Air-gap torque [N m] of the steady equivalent circuit at time ``t`` and rotor ``speed`` [rad/s]
+    (the compiled :func:`kloss_torque`)."""
+    return kloss_torque(drive.constants, float(t), float(speed))
 
 
 def kloss_along(drive: Drive, t: Array, speed: Array) -> tuple[Array, Array]:
     """Air-gap torque [N m] and phase-a current [A] of the steady equivalent circuit (both sequences)
-    along a record: times ``t`` [s], rotor ``speed`` [rad/s] (n_t,); :func:`kloss_torque_at` elementwise.
+    along a record: times ``t`` [s], rotor ``speed`` [rad/s] (n_t,); :func:`kloss_torque` elementwise.
     Zero where the supply is off."""
+    t, speed = np.broadcast_arrays(np.asarray(t, dtype=float), np.asarray(speed, dtype=float))
+    torque = np.empty(t.size)
+    _kloss_many(drive.constants, t.ravel(), speed.ravel(), torque)
     theta, w, v = drive.states(t)
     on = (v != 0.0) & (w > 0.0)
     w_on = np.where(on, w, 1.0)
-    st = steady_torque(drive.motor, speed, w_on / (2 * math.pi), v * math.sqrt(1.5))
-    torque = np.where(on, st.mean + st.ripple * np.cos(2 * theta + st.phase), 0.0)
     i1 = sequence_phasors(drive.motor, w_on, speed, v)[0]
     i2 = sequence_phasors(drive.motor, -w_on, speed, drive.motor.supply_unbalance * v)[0]
     current = np.where(on, (i1 * np.exp(1j * theta) + i2 * np.exp(-1j * theta)).real, 0.0)
-    return torque, current
+    return torque.reshape(t.shape), current
 
 
 def kloss_parts(drive: Drive):

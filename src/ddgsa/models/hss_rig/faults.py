@@ -32,6 +32,7 @@ import math
 from collections.abc import Callable, Mapping
 
 import numpy as np
+from numba import njit
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
@@ -96,13 +97,33 @@ def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol
 
 def anisotropy(p: Mapping[str, float], theta: float) -> Array:
     """``dK(theta) = B K_hub B^T - K_mean`` (6, 6) [N/m, N m/rad] of the coupling at hub angle ``theta`` [rad]."""
+    return anisotropy_matrix(anisotropy_constants(p), float(theta))
+
+
+def anisotropy_constants(p: Mapping[str, float]) -> tuple[float, float]:
+    """``(a k_r, a k_a)`` [N/m, N m/rad]: the coupling's radial and angular stiffness times its
+    asymmetry ``a``, what :func:`anisotropy_matrix` reads."""
     a = p["coupling_asymmetry"]
-    kr, ka = p["coupling_radial_stiffness"], p["coupling_angular_stiffness"]
+    return float(a * p["coupling_radial_stiffness"]), float(a * p["coupling_angular_stiffness"])
+
+
+@njit(cache=True)
+def anisotropy_matrix(stiffness, theta):  # pragma: no cover (compiled)
+    """:func:`anisotropy` from :func:`anisotropy_constants` ``stiffness``."""
     # B diag(0, a k, -a k) B^T for B the hub frame's turn about x: a k [[cos 2t, sin 2t], [sin 2t, -cos 2t]]
     c2, s2 = math.cos(2 * theta), math.sin(2 * theta)
     out = np.zeros((6, 6))
-    for lo, k in ((1, a * kr), (4, a * ka)):
+    for lo, k in ((1, stiffness[0]), (4, stiffness[1])):
         out[lo, lo], out[lo, lo + 1], out[lo + 1, lo], out[lo + 1, lo + 1] = k * c2, k * s2, k * s2, -k * c2
+    return out
+
+
+@njit(cache=True)
+def _turning_wrench(stiffness, theta, stretch):  # pragma: no cover (compiled)
+    """``anisotropy_matrix(stiffness, theta_i) @ stretch`` (n_t, 6) for the hub angles ``theta`` (n_t,)."""
+    out = np.empty((theta.size, 6))
+    for i in range(theta.size):
+        out[i] = anisotropy_matrix(stiffness, theta[i]) @ stretch
     return out
 
 
@@ -112,13 +133,7 @@ def anisotropy_loads(p: Mapping[str, float], stretch: Array, spin: float, durati
     hub and the shaft end (the markers coincide, so no couple), sampled every ``step`` [s] to
     ``duration`` [s] plus two samples (see the module)."""
     t = step * np.arange(int(round(duration / step)) + 3)
-    # anisotropy(p, spin t) @ stretch for every sample at once (the closed form of :func:`anisotropy`)
-    c2, s2 = np.cos(2 * spin * t), np.sin(2 * spin * t)
-    wrench = np.zeros((t.size, 6))
-    a = p["coupling_asymmetry"]
-    for lo, k in ((1, a * p["coupling_radial_stiffness"]), (4, a * p["coupling_angular_stiffness"])):
-        wrench[:, lo] = k * (c2 * stretch[lo] + s2 * stretch[lo + 1])
-        wrench[:, lo + 1] = k * (s2 * stretch[lo] - c2 * stretch[lo + 1])
+    wrench = _turning_wrench(anisotropy_constants(p), spin * t, np.asarray(stretch, dtype=float))
 
     def loads(markers: dict[str, Marker]) -> list[Element]:
         return [AppliedLoad(markers["hub"], t, wrench[:, :3], wrench[:, 3:], name="anisotropy_hub"),

@@ -36,6 +36,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from ddgsa.mbs import Bushing6, FlexibleBody, Ground, Marker, RigidBody, SpringDamper3, System, TorqueLaw
 from ddgsa.mbs.beam import BeamSpec, mesh, shear_coefficient
@@ -117,13 +118,29 @@ def cantilever_stiffness(ei: float, length: float) -> np.ndarray:
 
 
 def load_law(p: Mapping[str, float]) -> Callable[[float, float], float]:
-    """Load torque ``-T_L (|w| / w_rated)^n sign(w)`` [N m] against the spin ``w`` [rad/s]."""
-    t_l, n = p["load_torque"], p["load_speed_exponent"]
+    """Load torque ``-T_L (|w| / w_rated)^n sign(w)`` [N m] against the spin ``w`` [rad/s] (the
+    compiled :func:`load_torque` of :func:`load_constants`)."""
+    law = load_constants(p)
 
-    def law(t: float, w: float) -> float:
-        return -t_l * math.copysign(abs(w / RATED_SPEED) ** n, w) if n > 0 else -t_l * math.tanh(w / 1.0)
+    def torque(t: float, w: float) -> float:
+        return load_torque(law, float(w))
 
-    return law
+    return torque
+
+
+def load_constants(p: Mapping[str, float]) -> tuple[float, float, float]:
+    """``(T_L, n, w_rated)`` [N m, -, rad/s] of the load law of parameters ``p``: what :func:`load_torque` reads."""
+    return float(p["load_torque"]), float(p["load_speed_exponent"]), RATED_SPEED
+
+
+@njit(cache=True)
+def load_torque(law, w):  # pragma: no cover (compiled)
+    """Load torque [N m] at spin ``w`` [rad/s] for :func:`load_constants` ``law``: ``-T_L (|w| / w_rated)^n
+    sign(w)``, or ``-T_L tanh(w / 1 rad/s)`` for ``n = 0`` (a friction-like load, smooth through rest)."""
+    t_l, n, rated = law
+    if n > 0:
+        return -t_l * math.copysign(abs(w / rated) ** n, w)
+    return -t_l * math.tanh(w / 1.0)
 
 
 MotorParts = Callable[[Marker], tuple[list[Body], list[Element]]]

@@ -32,13 +32,14 @@ import math
 from collections.abc import Mapping
 
 import numpy as np
+from numba import njit
 from numpy.typing import NDArray
 
 from ddgsa.mbs import nonrotating
-from ddgsa.mbs.sweep import SweepModel, full_state, integrate, marker_rows, steady_orbit, sweep_model
-from ddgsa.models.hss_rig.drive import Drive, kloss_torque_at
-from ddgsa.models.hss_rig.faults import anisotropy, coupling_stretch
-from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, load_law
+from ddgsa.mbs.sweep import Inputs, SweepModel, full_state, integrate, marker_rows, steady_orbit, sweep_model
+from ddgsa.models.hss_rig.drive import Drive, kloss_torque, kloss_torque_at
+from ddgsa.models.hss_rig.faults import anisotropy_constants, anisotropy_matrix, coupling_stretch
+from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, load_constants, load_law, load_torque
 
 Array = NDArray[np.float64]
 SLOPE_STEP = 1e-6
@@ -88,13 +89,8 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     me = p["eccentric_mass"] * p["eccentric_radius"]
     load = load_law(p)
     coupling = _CouplingInput(p, bare, model)
-
-    def inputs(t: float, z: Array, zd: Array) -> Array:
-        wm, wd = float(motor @ zd), float(disk @ zd)
-        th = float(disk @ z)                         # the mass starts along +y, as in the rig
-        f = motor * kloss_torque_at(drive, t, wm) + disk * load(t, wd) + coupling(z)
-        return f + me * wd * wd * (math.cos(th) * lateral[0] + math.sin(th) * lateral[1])
-
+    inputs = Inputs(rig_inputs, (motor, disk, np.ascontiguousarray(lateral), float(me), drive.constants,
+                                 load_constants(p), coupling.data))
     n = lin.q0.size
     if kind == "startup":
         z0, zd0 = np.zeros(n), np.zeros(n)
@@ -111,6 +107,41 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     t, z, zd = integrate(model, t_end, dt, z0, zd0, inputs, output_every)
     q, qd = full_state(model, z, zd)
     return t, q, qd
+
+
+@njit(cache=True)
+def rig_inputs(t, z, zd, data, f):  # pragma: no cover (compiled)
+    """The sweep's four nonlinear inputs (see the module) added to ``f``: ``data`` is ``(motor row,
+    disk row, lateral rows (2, n), m_u e [kg m], Drive.constants, load_constants, coupling data)``."""
+    motor, disk, lateral, me, drive, law, coupling = data
+    wm, wd, th = 0.0, 0.0, 0.0
+    for i in range(z.size):
+        wm += motor[i] * zd[i]
+        wd += disk[i] * zd[i]
+        th += disk[i] * z[i]                         # the mass starts along +y, as in the rig
+    tm, tl = kloss_torque(drive, t, wm), load_torque(law, wd)
+    fy, fz = me * wd * wd * math.cos(th), me * wd * wd * math.sin(th)
+    for i in range(z.size):
+        f[i] += motor[i] * tm + disk[i] * tl + fy * lateral[0, i] + fz * lateral[1, i]
+    coupling_force(z, coupling, f)
+
+
+@njit(cache=True)
+def coupling_force(z, coupling, f):  # pragma: no cover (compiled)
+    """:class:`_CouplingInput`'s force added to ``f``: ``-rows^T dK(theta) (s_sag + J z)`` with
+    ``theta = angle @ z``; ``coupling`` is its :attr:`_CouplingInput.data`."""
+    active, stiffness, rows, jac, sag, angle = coupling
+    if not active:
+        return
+    theta = 0.0
+    for i in range(z.size):
+        theta += angle[i] * z[i]
+    wrench = anisotropy_matrix(stiffness, theta) @ (sag + jac @ z)
+    for i in range(z.size):
+        acc = 0.0
+        for k in range(6):
+            acc += rows[k, i] * wrench[k]
+        f[i] -= acc
 
 
 class _CouplingInput:
@@ -140,13 +171,19 @@ class _CouplingInput:
         self.jac = np.where(model.rates != 0.0, 0.0, self.rows)                     # d(stretch) / dz
         self.sag = coupling_stretch(bare, lin.q0)
         self.angle = hub[3]                  # the hub's spin angle (0 at the sag, as the rig's hub frame)
-        self.active = p["coupling_asymmetry"] > 0.0
+        self.active = bool(p["coupling_asymmetry"] > 0.0)
 
-    def _force(self, theta: float, stretch: Array) -> Array:
-        # the wrench on the hub, reversed on the shaft end (coincident markers: no couple)
-        return -self.rows.T @ (anisotropy(self.p, theta) @ stretch)
+    @functools.cached_property
+    def data(self) -> tuple:
+        """``(active, (a k_r, a k_a), rows (6, n), J (6, n), s_sag (6,), angle row (n,))``: what the
+        compiled :func:`coupling_force` reads."""
+        return (self.active, anisotropy_constants(self.p), np.ascontiguousarray(self.rows),
+                np.ascontiguousarray(self.jac), np.asarray(self.sag, dtype=float), np.asarray(self.angle, dtype=float))
 
     def __call__(self, z: Array) -> Array | float:
+        """The force ``f(z)`` (n,) [N, N m] (0.0 when the coupling is axisymmetric)."""
         if not self.active:
             return 0.0
-        return self._force(float(self.angle @ z), self.sag + self.jac @ z)
+        f = np.zeros(z.size)
+        coupling_force(np.asarray(z, dtype=float), self.data, f)
+        return f
