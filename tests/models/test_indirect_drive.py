@@ -403,3 +403,17 @@ def test_lss_basis_is_converged_below_25_hz() -> None:
     assert len(freqs[0]) == len(freqs[1]) == 6
     np.testing.assert_allclose(freqs[0], freqs[1], rtol=5e-3)
     assert np.max(np.abs(freqs[0] / freqs[1] - 1)) > 1e-4           # six modes do move them: not the same basis
+
+
+def test_nominal_modes_are_computed_once_per_process_and_fields(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A study's checks and provenance ask several instances for the nominal modes (issue 27): the
+    second instance of the same fields reuses them without a new eigen-analysis, hands out a copy
+    (changing it changes nothing kept), and the drive-train torsion mode is among them."""
+    first = models.get("indirect_drive", fidelity="linear").nominal_modes
+    assert (first["label"] == "hss_spin").any()
+    second = models.get("indirect_drive", fidelity="flexible")        # the same LSS fields as linear
+    monkeypatch.setattr(type(second), "modes", lambda *a, **k: pytest.fail("modes computed again"))
+    again = second.nominal_modes
+    pd.testing.assert_frame_equal(again, first)
+    again.loc[:, "frequency_hz"] = 0.0
+    assert (second.nominal_modes["frequency_hz"] > 0).all()

@@ -251,3 +251,21 @@ def test_axial_torque_of_two_mounts() -> None:
     np.testing.assert_allclose(t, [-2 * f * d, -2 * f * d + 1e4], rtol=1e-12)
     drift = constraint_drift({"holonomic": np.array([[1e-12, -3e-11], [2e-12, 0.0]]), "gear": np.zeros(0)})
     assert drift == {"holonomic_drift": 3e-11, "gear_drift": 0.0}
+
+
+def test_axial_torque_about_any_axis_is_the_moment_of_the_forces_projected() -> None:
+    """About a tilted fixed axis and about a per-sample axis: ``(sum (r - o) x F + M) . e`` (numpy's
+    cross product); about X the x component alone, and a rotation vector without a reference is the
+    one relative to the identity."""
+    rng = np.random.default_rng(7)
+    forces, moments = rng.standard_normal((5, 2, 3)) * 1e5, rng.standard_normal((5, 2, 3)) * 1e3
+    pts, origin = rng.standard_normal((2, 3)), np.array([0.5, -0.2, 0.1])
+    total = (np.cross(pts - origin, forces) + moments).sum(axis=1)
+    tilted = np.array([0.0, 0.6, 0.8])
+    per_sample = rng.standard_normal((5, 3))
+    np.testing.assert_allclose(axial_torque(forces, moments, pts, origin, tilted), total @ tilted, rtol=1e-12)
+    np.testing.assert_allclose(axial_torque(forces, moments, pts, origin, per_sample),
+                               np.einsum("ti,ti->t", total, per_sample), rtol=1e-12)
+    np.testing.assert_allclose(axial_torque(forces, moments, pts, origin, X), total[:, 0], rtol=1e-12)
+    rot = np.array([[[np.cos(0.02), -np.sin(0.02), 0.0], [np.sin(0.02), np.cos(0.02), 0.0], [0.0, 0.0, 1.0]]])
+    np.testing.assert_allclose(rotation_vectors(rot), [[0.0, 0.0, 0.02]], atol=1e-15)

@@ -233,3 +233,30 @@ def test_sampling_table_has_a_variant_column_only_when_the_study_has_variants() 
     assert varied[2].startswith("| variant | interval |")
     assert varied[4].startswith("| stiff | scene dt |")
     assert sampling_markdown([ok]) == []
+
+
+def _fails() -> None:
+    raise ValueError("a figure that cannot be drawn")
+
+
+def test_figures_drawn_in_forked_processes_are_the_bytes_drawn_in_one(tmp_path: Path) -> None:
+    """render_figures draws a report's figures in forked processes (issue 27): the same files as drawn
+    here, every one written; a figure that fails in a process raises here."""
+    import functools
+    import sys
+
+    from ddgsa.report import render_figures
+
+    if not sys.platform.startswith("linux"):
+        pytest.skip("figures are drawn in forked processes on Linux only")
+    rows = [_rows({"pce": 0.3}), _rows({"pce": np.nan}), _rows({"mdrm": 0.2, "pce": 0.25}, trusted=False)]
+    jobs = {d: [(functools.partial(plot_scene_bars, r), tmp_path / d / f"{i}.png") for i, r in enumerate(rows)]
+            for d in ("one", "forked")}
+    for d in jobs:
+        (tmp_path / d).mkdir()
+    render_figures(jobs["one"], processes=1)
+    render_figures(jobs["forked"], processes=2)
+    for (_, one), (_, forked) in zip(jobs["one"], jobs["forked"]):
+        assert one.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and one.read_bytes() == forked.read_bytes()
+    with pytest.raises(ValueError, match="cannot be drawn"):
+        render_figures(jobs["one"][:2] + [(_fails, tmp_path / "x.png")], processes=2)

@@ -115,6 +115,9 @@ def _excited(scene: Scene, factors: tuple[float, ...]) -> dict[str, Array]:
     return out
 
 
+_NOMINAL_MODES: dict[tuple[str, ...], pd.DataFrame] = {}
+""":attr:`IndirectDrive.nominal_modes` per set of LSS fields (they depend on nothing else)."""
+
 STATIC_LIMIT = 0.1
 """Largest static housing roll [rad] and sag [m] a point may ask of the mounts (:meth:`IndirectDrive.point_problems`)."""
 
@@ -299,10 +302,13 @@ class IndirectDrive(Model):
         speeds = np.linspace(0.0, 15.0 * np.pi / 30.0, 11) if speeds is None else speeds
         return super().campbell(speeds, orders, params, max_frequency_hz)
 
-    @functools.cached_property
+    @property
     def nominal_modes(self) -> pd.DataFrame:
-        """:meth:`modes` at nominal parameters, standstill (computed once per instance)."""
-        return self.modes()
+        """:meth:`modes` at nominal parameters, standstill: computed once per process and set of
+        fields (a study's checks and its provenance ask it of several instances; ~0.5 s each)."""
+        if self.fields not in _NOMINAL_MODES:
+            _NOMINAL_MODES[self.fields] = self.modes()
+        return _NOMINAL_MODES[self.fields].copy()
 
     def _check_step(self) -> None:
         """Aliasing guard: warn when the step does not resolve the lowest mode."""

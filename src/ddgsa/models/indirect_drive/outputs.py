@@ -62,14 +62,17 @@ def point_displacement(position: NDArray[np.float64], rotation: NDArray[np.float
     return position + rotation @ point - (position_ref + rotation_ref @ point)
 
 
-def rotation_vectors(rotation: NDArray[np.float64], rotation_ref: NDArray[np.float64]) -> NDArray[np.float64]:
+def rotation_vectors(rotation: NDArray[np.float64],
+                     rotation_ref: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
     """Rotation vectors (n_t, 3) [rad] of ``rotation`` (n_t, 3, 3) relative to ``rotation_ref``, global frame.
 
     The exact logarithm of ``R R_ref^T`` for angles below pi (the kernel's
     :func:`ddgsa.mbs.bodies.rotation_vector`, vectorised, its angle from ``atan2(sin, cos)``: exact
     down to zero); for small angles its components are the rotations about the global X, Y, Z axes.
+    ``rotation_ref`` None: the identity, whose product is skipped (``R I`` is ``R`` exactly; the
+    stacked product was half of this function's time).
     """
-    r = rotation @ rotation_ref.T
+    r = rotation if rotation_ref is None else rotation @ rotation_ref.T
     axis2 = np.stack([r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0], r[:, 1, 0] - r[:, 0, 1]], axis=1)  # 2 sin(a) n
     angle = np.arctan2(0.5 * np.linalg.norm(axis2, axis=1), 0.5 * (np.trace(r, axis1=1, axis2=2) - 1.0))
     return (0.5 / np.sinc(angle / np.pi))[:, None] * axis2
@@ -190,14 +193,21 @@ def bearing_outputs(name: str, forces: NDArray[np.float64], axis: NDArray[np.flo
 
 def axial_torque(forces: NDArray[np.float64], moments: NDArray[np.float64], points: NDArray[np.float64],
                  origin: NDArray[np.float64], axis: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Torque (n_t,) [N m] about ``axis`` through ``origin`` of forces (n_t, k, 3) [N] at points
-    (n_t, k, 3) or (k, 3) [m] and moments (n_t, k, 3) [N m] -- the reaction torque of the mounts."""
+    """Torque (n_t,) [N m] about ``axis`` (3,) or (n_t, 3) through ``origin`` of forces (n_t, k, 3) [N] at
+    points (n_t, k, 3) or (k, 3) [m] and moments (n_t, k, 3) [N m] -- the reaction torque of the mounts.
+    About a fixed axis only its nonzero components are formed (about X: the x component alone)."""
     arm = np.broadcast_to(points - origin, forces.shape)
     total = moments.sum(axis=1)
-    for i in range(3):                                       # arm x force, summed over the points
+    if axis.ndim == 1:
+        out = np.zeros(len(forces))
+        for i in np.flatnonzero(axis):                        # (arm x force)_i, summed over the points
+            j, k = (i + 1) % 3, (i + 2) % 3
+            out += axis[i] * (total[:, i] + (arm[..., j] * forces[..., k] - arm[..., k] * forces[..., j]).sum(axis=1))
+        return out
+    for i in range(3):
         j, k = (i + 1) % 3, (i + 2) % 3
         total[:, i] += (arm[..., j] * forces[..., k] - arm[..., k] * forces[..., j]).sum(axis=1)
-    return total @ axis if axis.ndim == 1 else np.einsum("ti,ti->t", total, axis)
+    return np.einsum("ti,ti->t", total, axis)
 
 
 def constraint_drift(residuals: Mapping[str, NDArray[np.float64]]) -> dict[str, float]:
