@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from ddgsa.mbs import Bushing6, EccentricMass, Ground, RigidBody, System, TorqueLaw, genalpha
+from ddgsa.errors import ModelError
 from ddgsa.mbs.compiled import evaluate, pack
 from ddgsa.mbs.statics import static_equilibrium
 
@@ -78,3 +79,25 @@ def test_eccentric_mass_pulls_m_e_w2_along_its_turning_axis() -> None:
     compiled = evaluate(pack(system), q0, qd0, 0.0)[4][0]
     for out in (python, compiled):
         np.testing.assert_allclose(np.ravel(out), exact, rtol=1e-12, atol=1e-12)
+
+
+def test_machine_torque_law_is_the_equivalent_circuits_torque_on_both_paths() -> None:
+    """:meth:`TorqueLaw.machine` on a disc at 3 % slip of the lab motor on a balanced direct-on-line
+    supply: the torque about the spin axis is the per-phase equivalent circuit's ``3 |I_r|^2 R_r /
+    (s w_s)`` (:func:`~ddgsa.models.hss_rig.motor.circuit_torque`, an independent formula), by the
+    Python wrench and the packed system alike; with the supply cut (``t > 0``) it is zero."""
+    from ddgsa.models.hss_rig.motor import LAB_MOTOR, circuit_torque, machine_constants
+
+    slip = 0.03
+    speed = LAB_MOTOR.synchronous_speed * (1.0 - slip)
+    disc = RigidBody("rotor", mass=1.0, inertia=(0.089, 1.0, 1.0), angle_rates=(speed, 0.0, 0.0))
+    for cut, t, exact in ((False, 0.013, float(circuit_torque(LAB_MOTOR, slip))), (True, 0.013, 0.0)):
+        law = TorqueLaw.machine(disc.marker(), machine_constants(LAB_MOTOR, cut=cut))
+        system = System([disc], [law], gravity=(0.0, 0.0, 0.0))
+        assert law.compiled() is not None
+        python = system.terms(system.q0, system.qd0, t).outputs[0]
+        compiled = evaluate(pack(system), system.q0, system.qd0, t)[4][0]
+        for out in (python, compiled):
+            np.testing.assert_allclose(np.ravel(out)[3:], [exact, 0.0, 0.0], rtol=1e-12, atol=1e-12)
+    with pytest.raises(ModelError, match="13 constants"):
+        TorqueLaw.machine(disc.marker(), np.zeros(4))

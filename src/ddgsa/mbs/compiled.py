@@ -372,7 +372,7 @@ def _terms(q, qd, t, P, full):  # pragma: no cover (compiled)
     for el in range(nel):
         i, j = marker[el, 0], marker[el, 1]
         wr, kr, cr = element_wrench(kind[el], mr, ma, mvel, mw, i, j, par[offsets[el]:offsets[el + 1]],
-                                    _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, ser[el], t))
+                                    _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, ser[el], t), t)
         _add_jtw(f, mj, lohi, i, wr[0], 1.0)
         if wr.shape[0] > 1:
             _add_jtw(f, mj, lohi, j, wr[1], 1.0)

@@ -27,6 +27,8 @@ from numpy.typing import ArrayLike, NDArray
 from ddgsa.errors import ModelError
 from ddgsa.mbs.bodies import Marker, MarkerState
 from ddgsa.mbs.ffr import cross, mm, mv, rotation_vector, skew
+from ddgsa.mbs.machines import N_CONSTANTS as N_MACHINE
+from ddgsa.mbs.machines import induction_slope, induction_torque
 from ddgsa.mbs.series import Series
 
 Array = NDArray[np.float64]
@@ -77,7 +79,7 @@ class CompiledForm:
 
 
 #: the kinds of compiled element (:func:`element_wrench`)
-CONNECTOR, TORQUE, LOAD, POWER_TORQUE, ECCENTRIC = 0, 1, 2, 3, 4
+CONNECTOR, TORQUE, LOAD, POWER_TORQUE, ECCENTRIC, MACHINE_TORQUE = 0, 1, 2, 3, 4, 5
 
 
 def stacked(states: list[MarkerState]) -> tuple[Array, Array, Array, Array]:
@@ -353,6 +355,8 @@ class TorqueLaw(Element):
     linear_form: tuple[float, float, "float | Series"] | None = None
     #: ``(T_L, n, w_rated)`` of a power law (:meth:`power`), which the compiled path can run
     power_form: tuple[float, float, float] | None = None
+    #: the constants of an induction machine's steady torque (:meth:`machine`), which the compiled path can run
+    machine_form: Array | None = None
 
     def __init__(self, marker: Marker, law: Callable[[float, float], float], reaction: Marker | None = None,
                  dtorque_dspeed: Callable[[float, float], float] | None = None, name: str = "torque") -> None:
@@ -383,9 +387,25 @@ class TorqueLaw(Element):
         law.power_form = form
         return law
 
+    @classmethod
+    def machine(cls, marker: Marker, constants: ArrayLike, reaction: Marker | None = None,
+                name: str = "motor") -> "TorqueLaw":
+        """An induction machine's steady air-gap torque at the time and the spin speed
+        (:func:`ddgsa.mbs.machines.induction_torque`; ``constants`` in the layout of
+        :mod:`ddgsa.mbs.machines`); also runs on the compiled path."""
+        form = np.asarray(constants, dtype=float).copy()
+        if form.shape != (N_MACHINE,):
+            raise ModelError(f"torque law {name!r}: a machine needs {N_MACHINE} constants, got shape {form.shape}")
+        law = cls(marker, lambda t, w: induction_torque(form, float(t), float(w)), reaction, name=name)
+        law.machine_form = form
+        return law
+
     def compiled(self) -> CompiledForm | None:
         """``[torque0, damping, set_speed]`` of the :meth:`linear` form (the set speed a series input
-        when it is a :class:`Series`), ``[T_L, n, w_rated]`` of the :meth:`power` form; None for a Python law."""
+        when it is a :class:`Series`), ``[T_L, n, w_rated]`` of the :meth:`power` form, the machine's
+        constants of the :meth:`machine` form; None for a Python law."""
+        if self.machine_form is not None:
+            return CompiledForm(MACHINE_TORQUE, self.machine_form.copy())
         if self.power_form is not None:
             return CompiledForm(POWER_TORQUE, np.array(self.power_form))
         if self.linear_form is None:
@@ -399,7 +419,9 @@ class TorqueLaw(Element):
         reaction = 1 if len(states) > 1 else -1
         speed = float(spin_speed(a, w, 0, reaction))
         torque = float(self.law(t, speed))
-        if self.power_form is not None:
+        if self.machine_form is not None:
+            slope = float(induction_slope(self.machine_form, t, speed))
+        elif self.power_form is not None:
             slope = float(power_slope(self.power_form, speed))
         elif self.slope is not None:
             slope = float(self.slope(t, speed))
@@ -550,10 +572,11 @@ class EccentricMass(Element):
 
 
 @njit(cache=True)
-def element_wrench(kind, r, a, v, w, i, j, par, inputs):  # pragma: no cover (compiled)
+def element_wrench(kind, r, a, v, w, i, j, par, inputs, t):  # pragma: no cover (compiled)
     """``(W (n_m, 6), K, C)`` of a compiled element between markers ``i`` and ``j`` (``j < 0``: one
     marker) of the arrays ``r, a, v, w``, from its :class:`CompiledForm`: ``kind``, ``par`` (its
-    parameters) and ``inputs`` (its series' value at ``t``, empty without one). ``K`` or ``C``
+    parameters), ``inputs`` (its series' value at ``t``, empty without one) and the time ``t`` [s] (a
+    machine's supply). ``K`` or ``C``
     are (0, 0) where the element has none. The packed system's one dispatch on the element kinds:
     a new compiled element adds its kind and a branch here, and :meth:`Element.compiled`.
     """
@@ -575,6 +598,10 @@ def element_wrench(kind, r, a, v, w, i, j, par, inputs):  # pragma: no cover (co
         return wr, none, cr
     if kind == ECCENTRIC:
         return eccentric_force(a, w, i, par[0], par[1]), none, none
+    if kind == MACHINE_TORQUE:
+        speed = spin_speed(a, w, i, j)
+        wr, cr = axial_torque_wrench(a, i, j, induction_torque(par, t, speed), induction_slope(par, t, speed))
+        return wr, none, cr
     return inputs.copy().reshape(1, 6), none, none
 
 

@@ -21,7 +21,6 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 from scipy.optimize import brentq
 
@@ -30,8 +29,9 @@ from ddgsa.mbs import Marker, TorqueLaw
 from ddgsa.mbs.bodies import Body, MarkerState
 from ddgsa.mbs.elements import Element
 from ddgsa.mbs.first_order import FirstOrderStates
-from ddgsa.models.hss_rig.motor import (InductionMotor, Supply, dq_derivatives, phase_current, sequence_phasors,
-                                        steady_torque, steady_torque_terms, supply_state)
+from ddgsa.mbs.machines import induction_torque, supply_many, supply_on, torque_many
+from ddgsa.models.hss_rig.motor import (InductionMotor, Supply, dq_derivatives, machine_constants, phase_current,
+                                        sequence_phasors, steady_torque)
 from ddgsa.models.hss_rig.scenes import RigScene
 
 Array = NDArray[np.float64]
@@ -60,54 +60,20 @@ class Drive:
 
     def state(self, t: float) -> tuple[float, float, float]:
         """``(theta_e, omega_e, v_peak)`` of the supply at ``t`` [s] (voltage 0 once cut)."""
-        return drive_state(self.constants, float(t))
+        return supply_on(self.constants, float(t))
 
     def states(self, t: Array) -> tuple[Array, Array, Array]:
         """:meth:`state` along the times ``t`` [s] (n_t,): ``(theta_e, omega_e, v_peak)`` (n_t,) each."""
         t = np.asarray(t, dtype=float)
         out = np.empty((3, t.size))
-        _drive_states(self.constants, t.ravel(), out)
+        supply_many(self.constants, t.ravel(), out)
         return out[0].reshape(t.shape), out[1].reshape(t.shape), out[2].reshape(t.shape)
 
     @cached_property
-    def constants(self) -> tuple:
-        """``(circuit, unbalance, supply, cut)``: the motor's :attr:`~InductionMotor.circuit`, its supply
-        unbalance [-], the supply's :meth:`~ddgsa.models.hss_rig.motor.Supply.constants` and 1.0 once
-        cut at ``t = 0`` (else 0.0): what the compiled :func:`kloss_torque` reads."""
-        return (self.motor.circuit, float(self.motor.supply_unbalance), self.supply.constants(self.motor),
-                1.0 if self.cut else 0.0)
-
-
-@njit(cache=True)
-def drive_state(drive, t):  # pragma: no cover (compiled)
-    """:meth:`Drive.state` from :attr:`Drive.constants`."""
-    theta, w, v = supply_state(drive[2], t)
-    return theta, w, 0.0 if (drive[3] > 0.0 and t > 0.0) else v
-
-
-@njit(cache=True)
-def _drive_states(drive, t, out):  # pragma: no cover (compiled)
-    for j in range(t.size):
-        out[0, j], out[1, j], out[2, j] = drive_state(drive, t[j])
-
-
-@njit(cache=True)
-def kloss_torque(drive, t, speed):  # pragma: no cover (compiled)
-    """Air-gap torque [N m] of the steady equivalent circuit at time ``t`` [s] and rotor ``speed``
-    [rad/s], for :attr:`Drive.constants` ``drive``: the mean and twice-line-frequency ripple of
-    :func:`~ddgsa.models.hss_rig.motor.steady_torque` at the supply's instantaneous frequency and
-    voltage (0 where the supply is off)."""
-    theta, w, v = drive_state(drive, t)
-    if v == 0.0 or w <= 0.0:
-        return 0.0
-    mean, ripple, phase, _ = steady_torque_terms(drive[0], drive[1], w, speed, v)
-    return mean + ripple * math.cos(2 * theta + phase)
-
-
-@njit(cache=True)
-def _kloss_many(drive, t, speed, out):  # pragma: no cover (compiled)
-    for j in range(t.size):
-        out[j] = kloss_torque(drive, t[j], speed[j])
+    def constants(self) -> Array:
+        """The motor, its supply and the cut as the compiled machine functions read them
+        (:func:`~ddgsa.models.hss_rig.motor.machine_constants`, :mod:`ddgsa.mbs.machines`)."""
+        return machine_constants(self.motor, self.supply, self.cut)
 
 
 def drive_for(p: Mapping[str, float], scene: RigScene, pole_pairs: int = 2) -> Drive:
@@ -125,17 +91,17 @@ def drive_for(p: Mapping[str, float], scene: RigScene, pole_pairs: int = 2) -> D
 
 def kloss_torque_at(drive: Drive, t: float, speed: float) -> float:
     """Air-gap torque [N m] of the steady equivalent circuit at time ``t`` and rotor ``speed`` [rad/s]
-    (the compiled :func:`kloss_torque`)."""
-    return kloss_torque(drive.constants, float(t), float(speed))
+    (the compiled :func:`ddgsa.mbs.machines.induction_torque`)."""
+    return induction_torque(drive.constants, float(t), float(speed))
 
 
 def kloss_along(drive: Drive, t: Array, speed: Array) -> tuple[Array, Array]:
     """Air-gap torque [N m] and phase-a current [A] of the steady equivalent circuit (both sequences)
-    along a record: times ``t`` [s], rotor ``speed`` [rad/s] (n_t,); :func:`kloss_torque` elementwise.
+    along a record: times ``t`` [s], rotor ``speed`` [rad/s] (n_t,); :func:`kloss_torque_at` elementwise.
     Zero where the supply is off."""
     t, speed = np.broadcast_arrays(np.asarray(t, dtype=float), np.asarray(speed, dtype=float))
     torque = np.empty(t.size)
-    _kloss_many(drive.constants, t.ravel(), speed.ravel(), torque)
+    torque_many(drive.constants, t.ravel(), speed.ravel(), torque)
     theta, w, v = drive.states(t)
     on = (v != 0.0) & (w > 0.0)
     w_on = np.where(on, w, 1.0)
@@ -146,9 +112,10 @@ def kloss_along(drive: Drive, t: Array, speed: Array) -> tuple[Array, Array]:
 
 
 def kloss_parts(drive: Drive):
-    """``motor_parts`` for :func:`ddgsa.models.hss_rig.rig.build`: one torque law on the motor rotor."""
+    """``motor_parts`` for :func:`ddgsa.models.hss_rig.rig.build`: the kernel's compiled machine torque
+    law on the motor rotor (:meth:`ddgsa.mbs.elements.TorqueLaw.machine`)."""
     def parts(marker: Marker) -> tuple[list[Body], list[Element]]:
-        return [], [TorqueLaw(marker, lambda t, w: kloss_torque_at(drive, t, w), name="motor")]
+        return [], [TorqueLaw.machine(marker, drive.constants, name="motor")]
     return parts
 
 

@@ -43,16 +43,16 @@ rig's own motor data (seed 001 paper A) are not available to us.
 
 from __future__ import annotations
 
-import cmath
 import math
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
+from ddgsa.mbs.machines import (circuit_phasors, phasors_many, steady_torque_many, steady_torque_terms,
+                                supply_state)
 
 
 @dataclass(frozen=True)
@@ -126,12 +126,6 @@ class InductionMotor:
     def synchronous_speed(self) -> float:
         """Mechanical synchronous speed at the rated supply ``2 pi f / p`` [rad/s]."""
         return 2 * math.pi * self.supply_frequency / self.pole_pairs
-
-    @property
-    def circuit(self) -> tuple[float, float, float, float, float, float]:
-        """``(R_s, R_r, L_s, L_r, L_m, p)`` [Ohm, Ohm, H, H, H, -]: what the compiled circuit functions read."""
-        return (float(self.stator_resistance), float(self.rotor_resistance), self.stator_inductance,
-                self.rotor_inductance, float(self.magnetising_inductance), float(self.pole_pairs))
 
     @property
     def phase_voltage_peak(self) -> float:
@@ -231,32 +225,10 @@ def sequence_phasors(motor: InductionMotor, omega: float, rotor_speed: float,
     if np.ndim(omega) or np.ndim(rotor_speed) or np.ndim(voltage):     # a record: elementwise
         omega, rotor_speed, voltage = np.broadcast_arrays(omega, rotor_speed, voltage)
         out = np.empty((4,) + omega.shape, dtype=complex)
-        _phasors_many(motor.circuit, omega.ravel().astype(float), rotor_speed.ravel().astype(float),
-                      voltage.ravel().astype(complex), out.reshape(4, -1))
+        phasors_many(machine_constants(motor), omega.ravel().astype(float), rotor_speed.ravel().astype(float),
+                     voltage.ravel().astype(complex), out.reshape(4, -1))
         return out[0], out[1], out[2], out[3]
-    return _phasors(motor.circuit, float(omega), float(rotor_speed), complex(voltage))
-
-
-@njit(cache=True)
-def _phasors(circuit, omega, rotor_speed, voltage):  # pragma: no cover (compiled)
-    """:func:`sequence_phasors` for scalars; ``circuit`` is :attr:`InductionMotor.circuit`."""
-    rs, rr, ls, lr, lm, pole_pairs = circuit
-    w_slip = omega - pole_pairs * rotor_speed
-    # the 2 x 2 complex system [[a, b], [c, d]] (i_s, i_r) = (v, 0) by Cramer's rule
-    a = rs + 1j * omega * ls
-    b = 1j * omega * lm
-    c = 1j * w_slip * lm
-    d = rr + 1j * w_slip * lr
-    det = a * d - b * c
-    i_s, i_r = voltage * d / det, -voltage * c / det
-    return i_s, i_r, ls * i_s + lm * i_r, lm * i_s + lr * i_r
-
-
-@njit(cache=True)
-def _phasors_many(circuit, omega, rotor_speed, voltage, out):  # pragma: no cover (compiled)
-    """:func:`_phasors` elementwise into ``out`` (4, n)."""
-    for j in range(omega.size):
-        out[0, j], out[1, j], out[2, j], out[3, j] = _phasors(circuit, omega[j], rotor_speed[j], voltage[j])
+    return circuit_phasors(machine_constants(motor), float(omega), float(rotor_speed), complex(voltage))
 
 
 @dataclass(frozen=True)
@@ -297,33 +269,9 @@ def steady_torque(motor: InductionMotor, rotor_speed: float, frequency: float | 
     if np.ndim(w) or np.ndim(rotor_speed) or np.ndim(v):            # a record's speeds: elementwise
         w, speed, v = (a.ravel() for a in np.broadcast_arrays(w, np.asarray(rotor_speed, float), np.asarray(v, float)))
         out = np.empty((4, w.size))
-        _steady_torque_many(motor.circuit, float(motor.supply_unbalance), w, speed, v, out)
+        steady_torque_many(machine_constants(motor), w, speed, v, out)
         return SteadyTorque(*out)
-    return SteadyTorque(*steady_torque_terms(motor.circuit, float(motor.supply_unbalance), float(w), float(rotor_speed),
-                                        float(v)))
-
-
-@njit(cache=True)
-def steady_torque_terms(circuit, unbalance, w, rotor_speed, v):  # pragma: no cover (compiled)
-    """``(mean, ripple, phase, current)`` of :func:`steady_torque` at the electrical frequency ``w``
-    [rad/s] and the positive sequence's peak phase voltage ``v`` [V]."""
-    k = 1.5 * circuit[5]
-    i1, _, psi1, _ = _phasors(circuit, w, rotor_speed, v + 0j)
-    mean = k * (psi1.conjugate() * i1).imag
-    ripple = 0.0j
-    if unbalance > 0:
-        i2, _, psi2, _ = _phasors(circuit, -w, rotor_speed, unbalance * v + 0j)
-        mean += k * (psi2.conjugate() * i2).imag
-        ripple = k * (psi2.conjugate() * i1 - psi1 * i2.conjugate())
-    # Im(c e^{j x}) = |c| sin(x + arg c) = |c| cos(x + arg c - pi/2)
-    return mean, abs(ripple), cmath.phase(ripple) - math.pi / 2, abs(i1)
-
-
-@njit(cache=True)
-def _steady_torque_many(circuit, unbalance, w, rotor_speed, v, out):  # pragma: no cover (compiled)
-    """:func:`steady_torque_terms` elementwise into ``out`` (4, n)."""
-    for j in range(w.size):
-        out[0, j], out[1, j], out[2, j], out[3, j] = steady_torque_terms(circuit, unbalance, w[j], rotor_speed[j], v[j])
+    return SteadyTorque(*steady_torque_terms(machine_constants(motor), float(w), float(rotor_speed), float(v)))
 
 
 # -- supply and the dq model --------------------------------------------------------------------
@@ -346,29 +294,19 @@ class Supply:
     voltage_floor: float = 0.05
 
     def state(self, motor: InductionMotor, t: float) -> tuple[float, float, float]:
-        """``(theta_e [rad], omega_e [rad/s], v_peak [V])`` of the positive sequence at time ``t`` [s]."""
-        return supply_state(self.constants(motor), float(t))
-
-    def constants(self, motor: InductionMotor) -> tuple[float, float, float, float, float]:
-        """``(w_1, v_peak, ramp_time, w_0, voltage_floor)`` [rad/s, V, s, rad/s, -] of this supply to
-        ``motor``: what :func:`supply_state` reads."""
-        return (2 * math.pi * motor.supply_frequency, motor.phase_voltage_peak, float(self.ramp_time),
-                2 * math.pi * self.start_frequency, float(self.voltage_floor))
+        """``(theta_e [rad], omega_e [rad/s], v_peak [V])`` of the positive sequence at time ``t`` [s]
+        (:func:`ddgsa.mbs.machines.supply_state`)."""
+        return supply_state(machine_constants(motor, self), float(t))
 
 
-@njit(cache=True)
-def supply_state(supply, t):  # pragma: no cover (compiled)
-    """:meth:`Supply.state` at ``t`` [s] from :meth:`Supply.constants` ``supply``: ``(theta_e, omega_e, v_peak)``."""
-    w1, v_peak, tr, w0, floor = supply
-    if tr <= 0.0:
-        return w1 * t, w1, v_peak
-    if t < tr:
-        w = w0 + (w1 - w0) * t / tr
-        theta = w0 * t + 0.5 * (w1 - w0) * t * t / tr
-    else:
-        w = w1
-        theta = 0.5 * (w0 + w1) * tr + w1 * (t - tr)
-    return theta, w, v_peak * max(w / w1, floor)
+def machine_constants(motor: InductionMotor, supply: Supply | None = None, cut: bool = False) -> NDArray[np.float64]:
+    """The constants array of the compiled machine functions (:mod:`ddgsa.mbs.machines`, its layout)
+    for ``motor`` on ``supply`` (default direct-on-line), cut at ``t = 0`` when ``cut``."""
+    s = Supply() if supply is None else supply
+    return np.array([motor.stator_resistance, motor.rotor_resistance, motor.stator_inductance, motor.rotor_inductance,
+                     motor.magnetising_inductance, motor.pole_pairs, motor.supply_unbalance,
+                     2 * math.pi * motor.supply_frequency, motor.phase_voltage_peak, s.ramp_time,
+                     2 * math.pi * s.start_frequency, s.voltage_floor, 1.0 if cut else 0.0], dtype=float)
 
 
 def currents(motor: InductionMotor, flux: NDArray[np.float64]) -> tuple[complex, complex]:

@@ -37,8 +37,9 @@ from numpy.typing import NDArray
 
 from ddgsa.mbs import nonrotating
 from ddgsa.mbs.elements import power_torque
+from ddgsa.mbs.machines import induction_torque
 from ddgsa.mbs.sweep import Inputs, SweepModel, full_state, integrate, marker_rows, steady_orbit, sweep_model
-from ddgsa.models.hss_rig.drive import Drive, kloss_torque, kloss_torque_at
+from ddgsa.models.hss_rig.drive import Drive, kloss_torque_at
 from ddgsa.models.hss_rig.faults import anisotropy_constants, anisotropy_matrix, coupling_stretch
 from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, load_constants, load_law
 
@@ -120,7 +121,7 @@ def rig_inputs(t, z, zd, data, f):  # pragma: no cover (compiled)
         wm += motor[i] * zd[i]
         wd += disk[i] * zd[i]
         th += disk[i] * z[i]                         # the mass starts along +y, as in the rig
-    tm, tl = kloss_torque(drive, t, wm), power_torque(law, wd)
+    tm, tl = induction_torque(drive, t, wm), power_torque(law, wd)
     fy, fz = me * wd * wd * math.cos(th), me * wd * wd * math.sin(th)
     for i in range(z.size):
         f[i] += motor[i] * tm + disk[i] * tl + fy * lateral[0, i] + fz * lateral[1, i]
