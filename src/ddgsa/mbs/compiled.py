@@ -328,20 +328,21 @@ def _add_rows(jac, mj, lohi, m, row, jx, slot):  # pragma: no cover (compiled)
 @njit(cache=True)
 def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
     """``M, Q, K_t, C_t, element outputs (n_el, 6), C_h, jac (n_c, n), V`` at ``(q, qd, t)``."""
-    return _terms(q, qd, t, P, True)
+    return _terms(q, qd, t, P, True, True)
 
 
 @njit(cache=True)
 def mass_and_force(q, qd, t, P):  # pragma: no cover (compiled)
-    """``M, Q`` at ``(q, qd, t)``: :func:`_assemble` without the tangents, element outputs and
-    constraints (what a central difference of the residual reads)."""
-    out = _terms(q, qd, t, P, False)
+    """``M, Q`` at ``(q, qd, t)``: :func:`_assemble` without the tangents and constraints (what a
+    central difference of an unconstrained residual reads)."""
+    out = _terms(q, qd, t, P, False, False)
     return out[0], out[1]
 
 
 @njit(cache=True)
-def _terms(q, qd, t, P, full):  # pragma: no cover (compiled)
-    """:func:`_assemble`; ``full`` False skips the tangents' scatter and the constraints."""
+def _terms(q, qd, t, P, tangents, constraints):  # pragma: no cover (compiled)
+    """:func:`_assemble`; without ``tangents`` ``K_t`` and ``C_t`` stay zero (their scatter skipped),
+    without ``constraints`` ``C_h``, ``jac`` and ``V`` are empty."""
     (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
      mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt, nel, kind, marker, ser, offsets, par,
      cs_row, cs_neq, nh, gravity) = P
@@ -364,7 +365,7 @@ def _terms(q, qd, t, P, full):  # pragma: no cover (compiled)
             kb = kff[a2:a2 + nf * nf].reshape(nf, nf)
             cb = cff[a2:a2 + nf * nf].reshape(nf, nf)
             f[lo + 6:hi] -= mv(kb, q[lo + 6:hi]) + mv(cb, qd[lo + 6:hi])
-            if full:
+            if tangents:
                 kt[lo + 6:hi, lo + 6:hi] += kb
                 ct[lo + 6:hi, lo + 6:hi] += cb
     mr, ma, mvel, mw, mj, lohi = _markers(q, qd, t, P)
@@ -376,12 +377,12 @@ def _terms(q, qd, t, P, full):  # pragma: no cover (compiled)
         _add_jtw(f, mj, lohi, i, wr[0], 1.0)
         if wr.shape[0] > 1:
             _add_jtw(f, mj, lohi, j, wr[1], 1.0)
-        if full and kr.shape[0] > 0:
+        if tangents and kr.shape[0] > 0:
             _add_tangent(kt, mj, lohi, i, j, kr)
-        if full and cr.shape[0] > 0:
+        if tangents and cr.shape[0] > 0:
             _add_tangent(ct, mj, lohi, i, j, cr)
         out[el] = wr[0]
-    if not full:
+    if not constraints:
         return m_mat, f, kt, ct, out, np.zeros(0), np.zeros((0, n)), np.zeros(0)
     ch, jac, vel = _constraint_terms(n, t, P, mr, ma, mvel, mw, mj, lohi)
     return m_mat, f, kt, ct, out, ch, jac, vel
@@ -486,7 +487,8 @@ def accelerations(packed: Packed, q: Array, qd: Array, t: float, fd_step: float 
 def _residual_jacobians(q0, qd0, qdd0, lam0, t, P, scale, rel_step):  # pragma: no cover (compiled)
     """Central differences of ``M(q) qdd0 - Q(q, qd, t) + C_q(q)^T lam0`` over ``q`` and over ``qd``, and of
     the velocity-level constraint values over ``q``, as :func:`ddgsa.mbs.derivatives.central_jacobian`
-    takes them (step ``rel_step max(scale, |x_i|)``)."""
+    takes them (step ``rel_step max(scale, |x_i|)``); the tangents are not assembled, nor the constraints
+    for the velocity steps."""
     n = q0.size
     out = np.empty((2, n, n))
     dvel = np.empty((_assemble(q0, qd0, t, P)[7].size, n))
@@ -502,12 +504,16 @@ def _residual_jacobians(q0, qd0, qdd0, lam0, t, P, scale, rel_step):  # pragma: 
                     q[i] += sign * h
                 else:
                     qd[i] += sign * h
-                m_mat, f, kt, ct, y, ch, jac, vel = _assemble(q, qd, t, P)
-                r = np.dot(m_mat, qdd0) - f
-                if lam0.size:
-                    r += np.dot(jac.T, lam0)
+                if which == 0:
+                    m_mat, f, kt, ct, y, ch, jac, vel = _terms(q, qd, t, P, False, True)
+                    r = np.dot(m_mat, qdd0) - f
+                    if lam0.size:
+                        r += np.dot(jac.T, lam0)
+                    vcol += sign * vel
+                else:                   # C_q depends on q alone: its term drops out of a velocity difference
+                    m_mat, f = mass_and_force(q, qd, t, P)
+                    r = np.dot(m_mat, qdd0) - f
                 col += sign * r
-                vcol += sign * vel
             out[which, :, i] = col / (2.0 * h)
             if which == 0:
                 dvel[:, i] = vcol / (2.0 * h)
