@@ -35,7 +35,7 @@ from numpy.typing import NDArray
 from ddgsa.errors import MethodError
 from ddgsa.gsa.testfunctions import (bratley_k, ishigami, linear, oakley_ohagan, product, sobol_g,
                                      tensor_indices)
-from ddgsa.gsa.result import NEGLIGIBLE, SEPARATED, trusted_mask
+from ddgsa.gsa.result import NEGLIGIBLE, trusted_mask
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.space import ParameterSpace
 

@@ -21,7 +21,6 @@ from __future__ import annotations
 import cmath
 import math
 
-import numpy as np
 from numba import njit
 
 N_CONSTANTS = 13

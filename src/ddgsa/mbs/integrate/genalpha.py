@@ -90,7 +90,7 @@ def simulate(system: System, t_end: float, dt: float, q0: Array | None = None, q
 def _python(system: System, q0: Array, qd0: Array, t0: float, dt: float, n_steps: int, output_every: int,
             coef: tuple[float, float, float, float], tol: float, max_iter: int) -> tuple:
     """The loop run as Python on the System's objects (parts without a compiled form)."""
-    nh, nc, nel = system.n_holonomic, system.n_constraints, len(system.elements)
+    nh, nel = system.n_holonomic, len(system.elements)
     acc0, lam0 = accelerations(system, q0, qd0, t0)
     q, qd, lam, y, drift, status, total = python_loop(python_kind(system))(
         None, q0, qd0, acc0, np.asarray(lam0, dtype=float), float(t0), float(dt), n_steps, output_every, *coef, tol,
