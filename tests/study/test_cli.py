@@ -56,7 +56,7 @@ def test_results_identical_for_jobs_and_backends(write_study, tmp_path: Path) ->
 
 
 def test_kill_and_resume_evaluates_only_the_missing_points(write_study, tmp_path: Path) -> None:
-    study = write_study("slow", options="{delay_s: 0.01}", n=128, batch=4)
+    study = write_study("slow", options="{delay_s: 0.01}", n=32, batch=4)       # ~1 100 runs: killed after 200
     out = tmp_path / "killed"
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     proc = subprocess.Popen([sys.executable, "-m", "ddgsa.cli", "-q", "run", str(study), "--out", str(out)],
