@@ -149,9 +149,10 @@ def render_figures(figures: list[tuple[Callable[[], Any], Path]], processes: int
     """Draw and save each ``(make, path)``: ``make()`` returns the figure. A report's figures are
     independent and drawing them is most of its time (``indirect_drive_gsa``'s seven: ~10 s of its
     14 s), so on Linux, from :data:`FIGURE_PROCESSES_FROM` figures, they are drawn by ``processes``
-    (default: the CPU count) processes forked from this one, each figure by one of them, with the same
+    (default: the CPUs this process may use) processes forked from this one, each figure by one of them, with the same
     matplotlib state, so the files are the same bytes as drawn here (tested)."""
-    processes = min(len(figures), processes or os.cpu_count() or 1)
+    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    processes = min(len(figures), processes or usable or 1)
     if processes < 2 or len(figures) < FIGURE_PROCESSES_FROM or not sys.platform.startswith("linux"):
         for make, path in figures:
             _save_figure(make(), path)

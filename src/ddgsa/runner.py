@@ -531,9 +531,10 @@ def _blas_controller() -> Any:
 
 @contextmanager
 def main_blas_threads(jobs: int | None) -> Iterator[None]:
-    """BLAS on one thread in this process while ``jobs`` > 1 workers run beside it (a study's main
-    process: its fits are small, and a two-thread OpenBLAS on a core its workers keep busy waits
-    for the descheduled thread: a 2 001 x 7 QR took 24-47 ms instead of 0.1 ms, measured)."""
+    """BLAS on one thread in this process for the block, when the study runs ``jobs`` > 1 workers
+    (a study's main process: its fits and pilots are small, and a two-thread OpenBLAS on a core its
+    workers keep busy waits for the descheduled thread: a 2 001 x 7 QR took 24-47 ms instead of
+    0.1 ms, measured). With one job the process keeps its threads."""
     if not jobs or jobs <= 1:
         yield
         return

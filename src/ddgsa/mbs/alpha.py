@@ -292,17 +292,21 @@ def bind(function: Callable, tag: str, template: Callable, name: str = "_evaluat
     return fn
 
 
-def stamp(*functions: Callable) -> str:
-    """A short hash of the source files' modification times and sizes of ``functions`` (plain or
-    ``njit``): a tag that changes when any of them is edited.
+def stamp(*functions: Callable, folders: tuple[str, ...] = ()) -> str:
+    """A short hash of the paths, modification times and sizes of the source files of ``functions``
+    (plain or ``njit``) and of the ``.py`` files in ``folders``, with the functions' qualified names:
+    a tag that changes when any of them is edited.
 
     numba checks a cached function against its own source file only; a copy made by :func:`bind`
-    that calls a function of another file carries this stamp in its name, so that editing that file
-    compiles the copy afresh instead of loading a stale one.
+    that calls functions of other files carries this stamp in its name (give the folders of the
+    files its callees live in), so that editing one compiles the copy afresh instead of loading a
+    stale one.
     """
-    files = sorted({getattr(f, "py_func", f).__code__.co_filename for f in functions})
-    stamps = "|".join(f"{os.stat(f).st_mtime_ns}:{os.stat(f).st_size}" for f in files)
-    return hashlib.sha1(stamps.encode()).hexdigest()[:10]
+    files = {getattr(f, "py_func", f).__code__.co_filename for f in functions}
+    files |= {os.path.join(d, name) for d in folders for name in os.listdir(d) if name.endswith(".py")}
+    names = sorted(f"{getattr(f, '__module__', '')}.{getattr(f, '__qualname__', '')}" for f in functions)
+    stamps = "|".join(f"{f}:{os.stat(f).st_mtime_ns}:{os.stat(f).st_size}" for f in sorted(files))
+    return hashlib.sha1((stamps + "|" + "|".join(names)).encode()).hexdigest()[:10]
 
 
 def specialise(evaluate: Callable, tag: str, loop: Callable | None = None) -> Callable:

@@ -11,7 +11,8 @@ and :func:`gen_alpha` runs the one generalised-alpha loop (:mod:`ddgsa.mbs.alpha
 - bodies: :class:`RigidBody`, :class:`FlexibleBody`; :class:`Ground` and
   :class:`PrescribedBody.translating` (sampled translation);
 - elements: :class:`SpringDamper3`, :class:`Bushing6`, :class:`TorsionalSpring` (with a fixed ``offset``),
-  :class:`AppliedLoad`, and :class:`TorqueLaw` in its :meth:`~TorqueLaw.linear` form;
+  :class:`AppliedLoad`, :class:`EccentricMass`, and :class:`TorqueLaw` in its :meth:`~TorqueLaw.linear`,
+  :meth:`~TorqueLaw.power` and :meth:`~TorqueLaw.machine` forms;
 - constraints: :class:`Spherical`, :class:`TransverseBearing`, :class:`GearContact`,
   :class:`PrescribedSpeed` (constant speed or a :class:`Series`), :class:`Lock`.
 
@@ -77,7 +78,7 @@ class _SeriesTable:
 def _no_compiled_form(part: object, what: str) -> str:
     """Why ``part`` does not pack (the refusal :func:`pack` raises)."""
     if isinstance(part, TorqueLaw):
-        return f"torque law {part.name!r} is a Python function: no compiled form (use TorqueLaw.linear)"
+        return f"torque law {part.name!r} is a Python function: no compiled form (use TorqueLaw.linear, .power or .machine)"
     if isinstance(part, PrescribedSpeed):
         return f"prescribed speed {part.name!r} is a Python function: no compiled form (give a constant or a Series)"
     return f"{what} {part.name!r} ({type(part).__name__}) has no compiled form"

@@ -36,6 +36,7 @@ than what ``f`` computes.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
@@ -245,7 +246,9 @@ def _kind(z, zd, t, step, ctx, m, f, kt, ct, y, ch, jac, vel):  # pragma: no cov
 @lru_cache(maxsize=None)
 def _compiled(add: Callable) -> tuple[Callable, Callable]:
     """The kind and the loop compiled (and cached) for the inputs function ``add``."""
-    tag = f"sweep_{getattr(add, '__name__', 'inputs')}_{stamp(add)}"
+    # the stamp covers the kernel's files and the inputs' package (the physics the inputs call)
+    folders = (os.path.dirname(__file__), os.path.dirname(add.py_func.__code__.co_filename))
+    tag = f"sweep_{getattr(add, '__name__', 'inputs')}_{stamp(add, folders=folders)}"
     kind = njit(cache=True)(bind(add, tag, _kind, name="_inputs"))
     return kind, specialise(kind, tag)
 

@@ -1,10 +1,10 @@
 """The motor as kernel parts, at the two fidelities, and the supply a scene gives it.
 
 ``kloss``
-    A :class:`ddgsa.mbs.TorqueLaw` with the steady torque of the equivalent circuit at the
-    instantaneous supply frequency, voltage and rotor speed
-    (:func:`~ddgsa.models.hss_rig.motor.steady_torque`: mean plus the twice-line-frequency
-    ripple of a supply unbalance). No flux dynamics.
+    The kernel's compiled :meth:`ddgsa.mbs.TorqueLaw.machine`: the steady torque of the
+    equivalent circuit at the instantaneous supply frequency, voltage and rotor speed
+    (:func:`ddgsa.mbs.machines.induction_torque`, as :func:`~ddgsa.models.hss_rig.motor.steady_torque`:
+    mean plus the twice-line-frequency ripple of a supply unbalance). No flux dynamics.
 ``dq``
     :class:`DqMachine`: the fifth-order machine, its four fluxes carried by a
     :class:`ddgsa.mbs.first_order.FirstOrderStates` body and the rotor speed by the motor body.

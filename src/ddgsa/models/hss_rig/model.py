@@ -540,8 +540,9 @@ def _sag(items: tuple[tuple[str, float], ...], basis: ShaftBasis) -> np.ndarray:
     (the sorted parameter items; kept for the few calls of one run: an assembly, its steady stretch,
     its start)."""
     still = build(dict(items), lambda marker: ([], []), spin=0.0, basis=basis)
-    # at rest the Python elements (a massless unbalance, the load law at zero speed) put no force on the
-    # rig for any position, so the packed part alone gives the same stiffness, in compiled code
+    # the rig's parts are all compiled (the unbalance and the load law since issue 24); a Python element
+    # added to it would be checked here: one that puts no force on the rig at rest for any position
+    # leaves the packed part's stiffness the same, in compiled code
     system, hybrid = still.system, still.system.fast_terms
     idle = all(not np.any(el.wrench(0.0, system.states_of(el.markers, system.q0, system.qd0, 0.0))[0])
                for _, el in hybrid.python)

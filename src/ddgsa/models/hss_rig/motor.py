@@ -43,6 +43,7 @@ rig's own motor data (seed 001 paper A) are not available to us.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, fields, replace
 from typing import Any
@@ -51,7 +52,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.machines import (circuit_phasors, phasors_many, steady_torque_many, steady_torque_terms,
+from ddgsa.mbs.machines import (circuit_phasors, phasors_many, steady_torque_many, steady_torque_terms, supply_many,
                                 supply_state)
 
 
@@ -267,10 +268,10 @@ def steady_torque(motor: InductionMotor, rotor_speed: float, frequency: float | 
     v = motor.phase_voltage_peak * (1.0 if voltage is None else voltage / motor.supply_voltage)
     w = 2 * math.pi * np.asarray(f, dtype=float)
     if np.ndim(w) or np.ndim(rotor_speed) or np.ndim(v):            # a record's speeds: elementwise
-        w, speed, v = (a.ravel() for a in np.broadcast_arrays(w, np.asarray(rotor_speed, float), np.asarray(v, float)))
+        w, speed, v = np.broadcast_arrays(w, np.asarray(rotor_speed, float), np.asarray(v, float))
         out = np.empty((4, w.size))
-        steady_torque_many(machine_constants(motor), w, speed, v, out)
-        return SteadyTorque(*out)
+        steady_torque_many(machine_constants(motor), w.ravel(), speed.ravel(), v.ravel(), out)
+        return SteadyTorque(*out.reshape((4,) + w.shape))
     return SteadyTorque(*steady_torque_terms(machine_constants(motor), float(w), float(rotor_speed), float(v)))
 
 
@@ -295,13 +296,20 @@ class Supply:
 
     def state(self, motor: InductionMotor, t: float) -> tuple[float, float, float]:
         """``(theta_e [rad], omega_e [rad/s], v_peak [V])`` of the positive sequence at time ``t`` [s]
-        (:func:`ddgsa.mbs.machines.supply_state`)."""
+        (:func:`ddgsa.mbs.machines.supply_state`; elementwise for an array ``t``)."""
+        if np.ndim(t):
+            t = np.asarray(t, dtype=float)
+            out = np.empty((3, t.size))
+            supply_many(machine_constants(motor, self), t.ravel(), out)      # its cut flag is 0: the supply's own state
+            return out[0].reshape(t.shape), out[1].reshape(t.shape), out[2].reshape(t.shape)
         return supply_state(machine_constants(motor, self), float(t))
 
 
+@functools.lru_cache(maxsize=64)
 def machine_constants(motor: InductionMotor, supply: Supply | None = None, cut: bool = False) -> NDArray[np.float64]:
     """The constants array of the compiled machine functions (:mod:`ddgsa.mbs.machines`, its layout)
-    for ``motor`` on ``supply`` (default direct-on-line), cut at ``t = 0`` when ``cut``."""
+    for ``motor`` on ``supply`` (default direct-on-line), cut at ``t = 0`` when ``cut``; kept for the
+    latest motors and supplies (a dq run asks at every step), so it must not be modified."""
     s = Supply() if supply is None else supply
     return np.array([motor.stator_resistance, motor.rotor_resistance, motor.stator_inductance, motor.rotor_inductance,
                      motor.magnetising_inductance, motor.pole_pairs, motor.supply_unbalance,
