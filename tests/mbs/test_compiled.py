@@ -6,16 +6,18 @@ import numpy as np
 import pytest
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs import (AppliedLoad, Bushing6, FlexibleBody, GearContact, Ground, PrescribedBody, PrescribedSpeed,
-                       RigidBody, Spherical, SpringDamper3, System, TorqueLaw, TorsionalSpring, TransverseBearing,
-                       genalpha)
+from ddgsa.mbs import (AppliedLoad, Bushing6, EccentricMass, FlexibleBody, GearContact, Ground, PrescribedBody,
+                       PrescribedSpeed, RigidBody, Spherical, SpringDamper3, System, TorqueLaw, TorsionalSpring,
+                       TransverseBearing, genalpha)
 from ddgsa.mbs.beam import BeamSpec, mesh
 from ddgsa.mbs.compiled import evaluate, pack
 from ddgsa.mbs.series import Series
+from ddgsa.models.hss_rig.motor import LAB_MOTOR, Supply, machine_constants
 
 
 def every_part() -> System:
-    """A flexible shaft in a housing on a moving base, geared to a disc; one of every packable part."""
+    """A flexible shaft in a housing on a moving base, geared to a disc; one of every packable part
+    (an unbalance, a fan law and a ramped induction machine among the elements)."""
     times = np.linspace(0.0, 1.0, 11)
     base = PrescribedBody.translating("base", times, np.column_stack([0 * times, 1e-3 * np.sin(6 * times),
                                                                       1e-3 * times]))
@@ -37,7 +39,11 @@ def every_part() -> System:
            TorqueLaw.linear(pinion.marker(), 20.0, 3.0, Series(times, -6 + times), reaction=housing.marker(),
                             name="generator"),
            AppliedLoad(shaft.marker((0.0, 0.1, 0.0)), times, force=rng.normal(size=(11, 3)) * 1e3,
-                       moment=rng.normal(size=(11, 3)) * 1e2, name="hub")]
+                       moment=rng.normal(size=(11, 3)) * 1e2, name="hub"),
+           EccentricMass(disc.marker(), 0.5, 0.2, name="unbalance"),
+           TorqueLaw.power(disc.marker(), 40.0, 2.0, 3.0, reaction=housing.marker((2.0, 0, 0)), name="fan"),
+           TorqueLaw.machine(pinion.marker(), machine_constants(LAB_MOTOR, Supply(ramp_time=0.5, start_frequency=1.0)),
+                             reaction=housing.marker((2.0, 0, 0.3)), name="machine")]
     cons = [Spherical(shaft.marker((0.5, 0, 0)), housing.marker((0.5, 0, 0.4))),
             TransverseBearing(shaft.marker((1.5, 0, 0)), housing.marker((1.5, 0, 0.4))),
             Spherical(disc.marker((-0.1, 0, 0)), housing.marker((1.9, 0, 0))),
