@@ -154,9 +154,10 @@ def test_sweep_model_reproduces_a_third_linearisation():
     sweep = sweep_model(lins[0.0], lins[w1], system.index("hss.rx"), q0 - system.q0)
     free = np.eye(system.n) - np.outer(sweep.rates, sweep.rates) / (sweep.rates @ sweep.rates)
     half = lins[w1 / 2]
-    for got, want, rest in ((sweep.k(w1 / 2), half.k @ free, lins[0.0].k @ free),
-                            (sweep.c(w1 / 2), half.c @ free, lins[0.0].c @ free),
-                            (sweep.r(w1 / 2), half.r0, lins[0.0].r0)):
+    k, c, r = sweep.at_spin(w1 / 2)
+    for got, want, rest in ((k, half.k @ free, lins[0.0].k @ free),
+                            (c, half.c @ free, lins[0.0].c @ free),
+                            (r, half.r0, lins[0.0].r0)):
         change = np.max(np.abs(want - rest))
         assert change > 0.0
         assert np.max(np.abs(got - want)) <= 1e-4 * change

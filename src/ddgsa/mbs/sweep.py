@@ -118,17 +118,13 @@ class SweepModel:
         return (self.m, self.c0, self.c1, self.k0, self.k1, self.k2, self.r0, self.k1 @ self.sag,
                 self.k2 @ self.sag, self.r2, self.spin)
 
-    def c(self, w: float) -> Array:
-        """Damping and gyroscopic matrix at spin ``w`` [rad/s]."""
-        return self.c0 + w * self.c1
-
-    def k(self, w: float) -> Array:
-        """Stiffness at spin ``w`` [rad/s]."""
-        return self.k0 + w * self.k1 + w * w * self.k2
-
-    def r(self, w: float) -> Array:
-        """Static generalised force at spin ``w`` [rad/s]."""
-        return self.r0 - (w * self.k1 + w * w * self.k2) @ self.sag + w * w * self.r2
+    def at_spin(self, w: float) -> tuple[Array, Array, Array]:
+        """``(K(w), C(w), r(w))``: stiffness, damping and gyroscopic matrix, static generalised force at
+        spin ``w`` [rad/s] (the compiled :func:`_at_spin` the sweep's steps evaluate)."""
+        n = self.m.shape[0]
+        k, c, r = np.empty((n, n)), np.empty((n, n)), np.empty(n)
+        _at_spin(self.arrays, float(w), k, c, r)
+        return k, c, r
 
 
 def sweep_model(rest: SpinLinearisation, spinning: SpinLinearisation, spin_index: int, sag: Array) -> SweepModel:
@@ -213,23 +209,32 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
 
 
 @njit(cache=True)
+def _at_spin(arrays, w, k, c, r):  # pragma: no cover (compiled)
+    """``K(w) = K_0 + w K_1 + w^2 K_2``, ``C(w) = C_0 + w C_1`` and ``r(w) = r_0 - (w K_1 + w^2 K_2) s + w^2 r_2``
+    written into ``k``, ``c``, ``r`` (see :class:`SweepModel`; ``arrays`` is :attr:`SweepModel.arrays`)."""
+    _, c0, c1, k0, k1, k2, r0, k1s, k2s, r2, _ = arrays
+    w2 = w * w
+    for i in range(r.size):
+        r[i] = r0[i] - w * k1s[i] - w2 * k2s[i] + w2 * r2[i]
+        for j in range(r.size):
+            k[i, j] = k0[i, j] + w * k1[i, j] + w2 * k2[i, j]
+            c[i, j] = c0[i, j] + w * c1[i, j]
+
+
+@njit(cache=True)
 def _linear_terms(z, zd, arrays, m, f, kt, ct):  # pragma: no cover (compiled)
-    """``M``, ``K(W)``, ``C(W)`` and ``f = r(W) - C(W) z' - K(W) z`` at ``W = spin @ z'`` (see :class:`SweepModel`)."""
-    mm, c0, c1, k0, k1, k2, r0, k1s, k2s, r2, spin = arrays
+    """``M``, ``K(W)``, ``C(W)`` and ``f = r(W) - C(W) z' - K(W) z`` at ``W = spin @ z'`` (:func:`_at_spin`)."""
+    mm, spin = arrays[0], arrays[10]
     n = z.size
     w = 0.0
     for i in range(n):
         w += spin[i] * zd[i]
-    w2 = w * w
+    _at_spin(arrays, w, kt, ct, f)
     for i in range(n):
-        acc = r0[i] - w * k1s[i] - w2 * k2s[i] + w2 * r2[i]
+        acc = f[i]
         for j in range(n):
-            kij = k0[i, j] + w * k1[i, j] + w2 * k2[i, j]
-            cij = c0[i, j] + w * c1[i, j]
             m[i, j] = mm[i, j]
-            kt[i, j] = kij
-            ct[i, j] = cij
-            acc -= cij * zd[j] + kij * z[j]
+            acc -= ct[i, j] * zd[j] + kt[i, j] * z[j]
         f[i] = acc
 
 
@@ -287,12 +292,11 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
         ``turning(z) -> f`` (n,): an input that repeats with the revolution on the orbit (a turning
         anisotropy acting on the state), evaluated on the orbit including its spin angle.
     """
-    k = model.k(w)
+    k, c, r = model.at_spin(w)
     rigid = null_space(k, rcond=RIGID_RCOND)
     n_h = samples // 2
-    damping = model.c(w) + tangent
+    damping = c + tangent
     ops = [k - (j * w) ** 2 * model.m + 1j * j * w * damping for j in range(1, n_h)]
-    r = model.r(w)
     g = gauge @ rigid
     tau = 2 * np.pi / w * np.arange(samples) / samples
     phase = np.exp(1j * w * np.outer(tau, np.arange(1, n_h)))               # (samples, n_h - 1)
