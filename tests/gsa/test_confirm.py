@@ -28,14 +28,17 @@ def _three(x: np.ndarray) -> np.ndarray:
 
 @pytest.mark.parametrize("method, opts", [("mdrm", {}), ("pce", {"order": 4}), ("pce", {"fit": "sparse", "order": 5}),
                                           ("saltelli", {"n": 256}), ("fast", {"n": 256}), ("rbd_fast", {"n": 256}),
-                                          ("auto", {"budget": 300})])
+                                          ("auto", {"budget": 300}), ("saltelli", {"n": 256, "control": "gp"})])
 def test_every_method_is_scale_free(method: str, opts: dict) -> None:
-    """The same indices and flags for an output in any units (x 1e-12, x 1e12)."""
+    """The same indices and flags for an output in any units (x 1e-12, x 1e12). The outputs are
+    standardised first, to within round-off (1e-16); the controlled Saltelli's process solve
+    (condition up to 1e6) carries that to ~1e-7 in its indices, hence its looser tolerance."""
     base = ddgsa.sobol(_three, UNIT3, method, **opts).indices
+    atol = 1e-5 if opts.get("control") == "gp" else 1e-9
     for c in (1e-12, 1e12):
         got = ddgsa.sobol(lambda x, c=c: c * _three(x), UNIT3, method, **opts).indices
         np.testing.assert_allclose(got[["S1", "ST"]].to_numpy(float), base[["S1", "ST"]].to_numpy(float),
-                                   atol=1e-9, rtol=0)
+                                   atol=atol, rtol=0)
         pd.testing.assert_frame_equal(got[["trusted", "rank_confirmed"]], base[["trusted", "rank_confirmed"]])
 
 

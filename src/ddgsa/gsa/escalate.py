@@ -19,9 +19,16 @@ chooses the next design by what the pooled data say is cheapest:
   confirms every unconfirmed output (:func:`ddgsa.gsa.salib.saltelli_n_to_confirm`, from the best
   current ST), or, after a Saltelli stage that did not confirm, twice its base. Saltelli designs of
   one seed nest: a larger base reuses every point of the smaller (and of the study's own Saltelli
-  design when the seeds agree).
+  design when the seeds agree). For independent inputs the stage is estimated with a
+  Gaussian-process **control variate** per unconfirmed output (:mod:`ddgsa.gsa.control`), fitted on
+  the pooled points that are not Saltelli rows and fixed from the first Saltelli stage on (so the
+  estimate stays unbiased): the bound then goes as ``sqrt(min(ST, 2 e^2) / N)``, ``e`` the
+  process's leave-one-out error, and the base needed shrinks accordingly. Until a Saltelli stage
+  runs, the processes are refitted whenever the pool has doubled, and the pool is doubled with PCE
+  points (the pilot) while it is below half the planned Saltelli stage (:meth:`Escalation._pilot_step`).
 
-The cheaper of the two estimates runs; when neither fits in what is left, the rest of the budget
+The cheaper of the two estimates runs; when Saltelli's does not fit, the largest base that does runs
+if it is at least an eighth of the estimate (:data:`SHORT_BASE`); when neither fits, the rest of the budget
 goes to PCE points (they always refit the pooled expansion) and the escalation stops -- unless the
 rate has been measured and even the cheapest unconfirmed output needs more than :data:`HOPELESS`
 times what is left: then it stops at once and says so (an output with a resonance inside the
@@ -59,6 +66,10 @@ HOPELESS = 4.0
 """Stop before the budget is spent when, with the expansion's convergence rate measured (two fits)
 and no Saltelli base within what is left, even the cheapest unconfirmed output needs more than this
 many times the runs left: they would be spent without confirming anything."""
+SHORT_BASE = 8
+"""When the Saltelli base the estimate asks for does not fit in what is left but one at least
+``1 / SHORT_BASE`` of it does (and the pooled expansion looks no cheaper), that base runs rather than the
+escalation stopping: the estimate is a typical bound, and the budget is the user's to spend."""
 MAX_ORDER = 10
 """Highest degree of the escalation's pooled expansion (``auto`` fits up to 9 by regression)."""
 MAX_ENTRIES = 1_000_000
@@ -134,10 +145,17 @@ class Escalation:
         self._history: list[tuple[int, float]] = []     # (points, worst bound / needed bound) per fit
         self._salt_seed = self.seed + 1
         self._salt_n = 0
+        self._surrogates: dict[str, Any] = {}
+        self._fitted_at = 0                              # pool size at the processes' last fit
+        self._frozen = False                             # fixed once a Saltelli stage has run
+        self._not_saltelli = np.ones(len(self.x), dtype=bool)
         if self.saltelli is not None:
             design, yv = self.saltelli
             self._salt_seed, self._salt_n = int(design.options["seed"]), int(design.options["n"])
             self._salt_y = np.asarray(yv, dtype=float)
+            own = {row.tobytes() for row in np.asarray(design.points, dtype=float)}
+            self._not_saltelli = np.array([row.tobytes() not in own for row in self.x])
+            self._frozen = True                          # its rows were run before any process: none fitted
 
     # -- state ---------------------------------------------------------------------------
     @property
@@ -163,18 +181,52 @@ class Escalation:
         self._pending = None
         self.spent += len(pts)
         self.x, self.y = np.vstack([self.x, pts]), np.vstack([self.y, yv])
+        self._not_saltelli = np.concatenate([self._not_saltelli, np.full(len(pts), kind != "saltelli")])
         if kind == "saltelli":
             assert design is not None
             self._salt_y = yv if self._salt_n == 0 else np.vstack([self._salt_y, yv])
             self._salt_n = int(design.options["n"])
-            res = get_method("saltelli").analyze(self.space, design, self._salt_y, outputs=self.outputs)
-            res.method = SALTELLI_NAME
-            self.salt = res
+            self.salt = self._saltelli_result(design)
         self._refit()
         bad = self.unconfirmed()
         self.log.append(f"{kind} (+{len(pts)} runs, {self.spent} of {self.budget}): "
                         + ("every output confirmed" if not bad else f"unconfirmed: {', '.join(bad)}"))
         return self._next()
+
+    def _saltelli_result(self, design: Design) -> SobolResult:
+        """The Saltelli stage's indices: with the control variates when any process was fitted (each in
+        the standardised units :meth:`GsaMethod.analyze` gives the controlled estimator)."""
+        from ddgsa.gsa.base import standardise
+
+        if self._surrogates:
+            shift, scale = standardise(np.where(np.isfinite(self._salt_y), self._salt_y, 0.0))
+            mapped = {o: self._surrogates[o].affine(shift[j], scale[j]) for j, o in enumerate(self.outputs)
+                      if o in self._surrogates}
+            design = Design(design.method, design.points, {**design.options, "control": "gp"},
+                            {**design.meta, "surrogates": mapped})
+        res = get_method("saltelli").analyze(self.space, design, self._salt_y, outputs=self.outputs)
+        res.method = SALTELLI_NAME
+        return res
+
+    def _fit_surrogates(self, bad: list[str]) -> None:
+        """Gaussian processes of the outputs ``bad`` on the pooled points that are not Saltelli rows,
+        refitted while no Saltelli stage has run and the pool has doubled since the last fit (see the
+        module); none for dependent inputs or too few points."""
+        from ddgsa.gsa.control import GaussianSurrogate
+
+        n_train = int(self._not_saltelli.sum())
+        if self._frozen or self.space.dependent or n_train < max(2 * self._fitted_at, 2 * self.space.dim + 2):
+            return
+        self._fitted_at = n_train
+        u = np.column_stack([self.space[p].cdf(self.x[self._not_saltelli, i]) for i, p in enumerate(self.space.names)])
+        for o in bad:
+            yo = self.y[self._not_saltelli, self.outputs.index(o)]
+            ok = np.isfinite(yo)
+            g = GaussianSurrogate.fit(u[ok], yo[ok], seed=self.seed) if ok.sum() >= 2 * self.space.dim + 2 else None
+            if g is not None:
+                self._surrogates[o] = g
+            else:
+                self._surrogates.pop(o, None)
 
     def _refit(self) -> None:
         res = pooled_pce(self.space, self.x, self.y, self.outputs, self.tolerance, MAX_ORDER, MAX_ENTRIES)
@@ -226,7 +278,9 @@ class Escalation:
     def _saltelli_n(self, bad: list[str]) -> int:
         from ddgsa.gsa.salib import MAX_N, saltelli_n_to_confirm
 
-        n = max(saltelli_n_to_confirm(self._best_st(o), self.tolerance) for o in bad)
+        self._fit_surrogates(bad)
+        n = max(saltelli_n_to_confirm(self._best_st(o), self.tolerance,
+                                      self._surrogates[o].loo if o in self._surrogates else None) for o in bad)
         if self._salt_n > 0:                         # a Saltelli design that ran did not confirm: double it
             n = max(n, 2 * self._salt_n)
         return int(min(MAX_N, max(n, self._salt_n)))
@@ -243,11 +297,26 @@ class Escalation:
         add_salt = (n_salt - self._salt_n) * (d + 2)
         n_pool = len(self.x)
         add_pce = max(0.0, self._pce_need(bad) - n_pool)
-        if add_salt <= add_pce and add_salt <= left:
-            design = get_method("saltelli").design(self.space, n=n_salt, seed=self._salt_seed,
+        pilot = self._pilot_step(add_salt, add_pce, left)
+        if pilot:
+            self.log.append(f"next: pce points +{pilot} (pilot for the control variates: their error sets the "
+                            f"Saltelli base, now N={n_salt}, {add_salt} runs)")
+            return self._sobol_points(pilot)
+        n_fit = self._salt_n
+        while (2 * max(n_fit, 1) - self._salt_n) * (d + 2) <= left and 2 * max(n_fit, 1) <= n_salt:
+            n_fit = 2 * max(n_fit, 1)
+        short = add_salt > left and len(self._history) >= 2 and n_fit > self._salt_n \
+            and n_fit * SHORT_BASE >= n_salt and add_salt <= add_pce
+        if (add_salt <= add_pce and add_salt <= left) or short:
+            n_run = n_salt if not short else n_fit
+            design = get_method("saltelli").design(self.space, n=n_run, seed=self._salt_seed,
                                                    tolerance=self.tolerance)
             pts = design.points[self._salt_n * (d + 2):]
-            self.log.append(f"next: saltelli N={n_salt} ({len(pts)} new runs; pooled PCE estimate "
+            self._frozen = True
+            control = "" if not self._surrogates else ", Gaussian-process control variates (leave-one-out " + \
+                ", ".join(f"{o} {g.loo:.2g}" for o, g in self._surrogates.items() if o in bad) + ")"
+            why = "" if not short else f"; the largest base the budget allows, the estimate asks for N={n_salt}"
+            self.log.append(f"next: saltelli N={n_run} ({len(pts)} new runs{control}{why}; pooled PCE estimate "
                             f"{_fmt(add_pce)} runs)")
             self._pending = ("saltelli", pts, design)
             return pts
@@ -261,12 +330,31 @@ class Escalation:
         step = int(min(left, max(MIN_STEP, min(add_pce, max(n_pool, MIN_STEP)))))
         why = "the rest of the budget" if step == left else f"estimate {_fmt(add_pce)} more"
         self.log.append(f"next: pce points +{step} ({why}; saltelli N={n_salt} would add {add_salt} runs)")
+        return self._sobol_points(step)
+
+    def _sobol_points(self, step: int) -> NDArray[np.float64]:
+        """The next ``step`` points of the escalation's scrambled Sobol' sequence (PCE points), pending."""
         total = self._n_sobol + step
         sample = self.space.sample(1 << int(np.ceil(np.log2(total))), seed=self.seed + 2, rule="sobol")
         pts = sample[self._n_sobol:total]
         self._n_sobol = total
         self._pending = ("pce", pts, None)
         return pts
+
+    def _pilot_step(self, add_salt: int, add_pce: float, left: int) -> int:
+        """Points to add to the control variates' pilot before a first Saltelli stage (0: none). A
+        process's leave-one-out error falls about as ``n^-1/2``, and the controlled base as its square:
+        doubling the pilot about halves the Saltelli stage. So while Saltelli is the plan (cheaper than
+        the pooled expansion), the pilot is below :data:`~ddgsa.gsa.control.MAX_TRAIN` and below half the
+        Saltelli stage, the pilot doubles (within the budget) and the processes are refitted."""
+        from ddgsa.gsa.control import MAX_TRAIN
+
+        n_train = int(self._not_saltelli.sum())
+        if self._frozen or not self._surrogates or add_salt > add_pce or n_train >= MAX_TRAIN \
+                or 2 * n_train > add_salt:
+            return 0
+        step = min(n_train, MAX_TRAIN - n_train, left - 1)
+        return step if step >= MIN_STEP else 0
 
 
 def _fmt(n: float) -> str:
