@@ -68,8 +68,9 @@ and no Saltelli base within what is left, even the cheapest unconfirmed output n
 many times the runs left: they would be spent without confirming anything."""
 SHORT_BASE = 8
 """When the Saltelli base the estimate asks for does not fit in what is left but one at least
-``1 / SHORT_BASE`` of it does (and the pooled expansion looks no cheaper), that base runs rather than the
-escalation stopping: the estimate is a typical bound, and the budget is the user's to spend."""
+``1 / SHORT_BASE`` of the base estimated for the cheapest unconfirmed output does (and the pooled
+expansion looks no cheaper), that base runs rather than the escalation stopping: the estimate is a
+typical bound, some outputs may be confirmed by it, and the budget is the user's to spend."""
 MAX_ORDER = 10
 """Highest degree of the escalation's pooled expansion (``auto`` fits up to 9 by regression)."""
 MAX_ENTRIES = 1_000_000
@@ -275,15 +276,25 @@ class Escalation:
         with np.errstate(over="ignore"):
             return float(current.n_evals * max(ratio, 1.0) ** (1.0 / rate))
 
-    def _saltelli_n(self, bad: list[str]) -> int:
+    def _saltelli_ns(self, bad: list[str]) -> dict[str, int]:
+        """Per unconfirmed output, the Saltelli base the cost rule estimates would confirm it (with its
+        control variate's leave-one-out error where a process is fitted), at least twice a base that
+        ran and did not confirm."""
         from ddgsa.gsa.salib import MAX_N, saltelli_n_to_confirm
 
         self._fit_surrogates(bad)
-        n = max(saltelli_n_to_confirm(self._best_st(o), self.tolerance,
-                                      self._surrogates[o].loo if o in self._surrogates else None) for o in bad)
-        if self._salt_n > 0:                         # a Saltelli design that ran did not confirm: double it
-            n = max(n, 2 * self._salt_n)
-        return int(min(MAX_N, max(n, self._salt_n)))
+        out = {}
+        for o in bad:
+            n = saltelli_n_to_confirm(self._best_st(o), self.tolerance,
+                                      self._surrogates[o].loo if o in self._surrogates else None)
+            if self._salt_n > 0:                         # a Saltelli design that ran did not confirm: double it
+                n = max(n, 2 * self._salt_n)
+            out[o] = int(min(MAX_N, max(n, self._salt_n)))
+        return out
+
+    def _saltelli_n(self, bad: list[str]) -> int:
+        """The Saltelli base that would confirm every output of ``bad`` (:meth:`_saltelli_ns`)."""
+        return max(self._saltelli_ns(bad).values())
 
     def _next(self) -> NDArray[np.float64] | None:
         bad = self.unconfirmed()
@@ -293,7 +304,8 @@ class Escalation:
                 self.log.append(f"budget of {self.budget} runs spent; unconfirmed: {', '.join(bad)}")
             return None
         d = self.space.dim
-        n_salt = self._saltelli_n(bad)
+        per_output = self._saltelli_ns(bad)
+        n_salt = max(per_output.values())
         add_salt = (n_salt - self._salt_n) * (d + 2)
         n_pool = len(self.x)
         add_pce = max(0.0, self._pce_need(bad) - n_pool)
@@ -306,7 +318,7 @@ class Escalation:
         while (2 * max(n_fit, 1) - self._salt_n) * (d + 2) <= left and 2 * max(n_fit, 1) <= n_salt:
             n_fit = 2 * max(n_fit, 1)
         short = add_salt > left and len(self._history) >= 2 and n_fit > self._salt_n \
-            and n_fit * SHORT_BASE >= n_salt and add_salt <= add_pce
+            and n_fit * SHORT_BASE >= min(per_output.values()) and add_salt <= add_pce
         if (add_salt <= add_pce and add_salt <= left) or short:
             n_run = n_salt if not short else n_fit
             design = get_method("saltelli").design(self.space, n=n_run, seed=self._salt_seed,
@@ -350,7 +362,7 @@ class Escalation:
         from ddgsa.gsa.control import MAX_TRAIN
 
         n_train = int(self._not_saltelli.sum())
-        if self._frozen or not self._surrogates or add_salt > add_pce or n_train >= MAX_TRAIN \
+        if self._frozen or self.space.dependent or add_salt > add_pce or n_train >= MAX_TRAIN \
                 or 2 * n_train > add_salt:
             return 0
         step = min(n_train, MAX_TRAIN - n_train, left - 1)
