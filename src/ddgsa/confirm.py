@@ -106,8 +106,10 @@ def advice(result: "StudyResult", output: str, scenes: list[int], tolerance: flo
     if stopped:
         return (salt + "; the study's `confirm:` escalation stopped in scene"
                 + ("s " if len(stopped) > 1 else " ") + ", ".join(map(str, stopped))
-                + " because the pooled PCE's bound did not shrink (a non-smooth output, e.g. a resonance inside "
-                  "the ranges): a larger `confirm:` budget would not help")
+                + ": the pooled PCE's bound did not shrink (a non-smooth output, e.g. a resonance inside the "
+                  "ranges) and no Saltelli base within the budget (with its Gaussian-process control variate "
+                  "where one fits) was estimated to confirm it; a larger `confirm:` budget helps only as far as "
+                  "it pays for that Saltelli design")
     return (salt + f", or `confirm: {{budget: {points}}}` (points per scene; it reuses every run, tries cheaper PCE "
             "points first and stops when confirmed)")
 

@@ -188,9 +188,9 @@ def test_loo_error_over_the_drawn_points_equals_brute_force_refits() -> None:
 
 
 def test_advice_after_a_stopped_escalation_asks_for_saltelli_not_a_larger_budget() -> None:
-    """Where the study's ``confirm:`` escalation stopped because the pooled PCE's bound did not shrink,
-    the advice names the Saltelli design and says a larger budget would not help; elsewhere it offers
-    the budget (the one that pays for that design)."""
+    """Where the study's ``confirm:`` escalation stopped (the pooled PCE's bound did not shrink and no
+    Saltelli base fitted its budget), the advice names the Saltelli design and says a larger budget helps
+    only as far as it pays for it; elsewhere it offers the budget (the one that pays for that design)."""
     from types import SimpleNamespace
 
     from ddgsa.confirm import advice
@@ -202,7 +202,7 @@ def test_advice_after_a_stopped_escalation_asks_for_saltelli_not_a_larger_budget
                               provenance={"confirm": [{"scene": 0, "budget": 512, "spent": 123, "log": log}]})
     text = advice(stopped, "y", [0])
     assert "add `saltelli` with n: " in text and "escalation stopped in scene 0" in text
-    assert "a larger `confirm:` budget would not help" in text and "confirm: {budget" not in text
+    assert "helps only as far as it pays for that Saltelli design" in text and "confirm: {budget" not in text
     fresh = SimpleNamespace(**{**vars(stopped), "provenance": {}})
     assert "or `confirm: {budget: " in advice(fresh, "y", [0])
 
