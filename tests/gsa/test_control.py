@@ -124,3 +124,24 @@ def test_an_escalation_on_a_kinked_function_confirms_with_a_controlled_saltelli_
     ok = t["trusted"].to_numpy(bool)
     assert np.all(np.abs(t["S1"].to_numpy() - g6.S1)[ok] <= 0.02)
     assert np.all(np.abs(t["ST"].to_numpy() - g6.ST)[ok] <= 0.02)
+
+
+def test_a_controlled_designs_sub_samples_keep_its_pilot_and_its_draws_are_counted() -> None:
+    """The convergence curve analyses nested Saltelli prefixes: each keeps the whole pilot (the
+    process is fitted on it), so every level has finite indices near Ishigami's; the pilot rows are
+    draws of the input distribution (the given-data cross-check uses them), a group's rows are not."""
+    from ddgsa.gsa.base import get_method
+    from ddgsa.gsa.convergence import convergence, sub_rows
+    from ddgsa.gsa.givendata import drawn_rows
+
+    tf = ishigami()
+    design = get_method("saltelli").design(tf.space, n=256, control="gp", pilot=128)
+    rows = sub_rows(design, 64, 3)
+    assert len(rows) == 64 * 5 + 128 and rows[-1] == design.n_points - 1
+    curve = convergence(tf.space, design, tf.f(design.points)[:, None], ["y"])
+    assert sorted(curve["n_evals"].unique()) == [m * 5 + 128 for m in (8, 16, 32, 64, 128, 256)]
+    assert np.isfinite(curve[["S1", "ST"]].to_numpy(float)).all()
+    last = curve[curve["n_evals"] == 256 * 5 + 128]
+    assert np.all(np.abs(last["ST"].to_numpy() - tf.ST) < 0.05)
+    drawn = drawn_rows(design)
+    assert drawn.sum() == 2 * 256 + 128 and drawn[-128:].all()

@@ -53,11 +53,22 @@ def nested_sizes(design: Design, dim: int) -> list[int]:
     return sorted(sizes) if len(sizes) > 1 else []
 
 
+def sub_rows(design: Design, m: int, dim: int) -> NDArray[np.int64]:
+    """Rows of ``design`` that form its sub-design of the first ``m`` base points: the first ``m``
+    points, or Saltelli's first ``m (d + 2)`` rows -- followed, for a Saltelli design with a control
+    variate (``control: gp``), by its whole pilot (the last rows), which the process is fitted on."""
+    if design.method != "saltelli":
+        return np.arange(m)
+    rows = np.arange(m * (dim + 2))
+    pilot = int(design.meta.get("pilot", 0))
+    return np.concatenate([rows, np.arange(design.n_points - pilot, design.n_points)]) if pilot else rows
+
+
 def sub_design(design: Design, m: int, dim: int) -> Design:
-    """The design of the first ``m`` base points (``m`` one of :func:`nested_sizes`)."""
-    rows = m * (dim + 2) if design.method == "saltelli" else m
-    meta = {k: (v[:rows] if k == "unit" else v) for k, v in design.meta.items()}
-    return Design(design.method, design.points[:rows], {**design.options, "n": m}, meta)
+    """The design of the first ``m`` base points (``m`` one of :func:`nested_sizes`; rows :func:`sub_rows`)."""
+    rows = sub_rows(design, m, dim)
+    meta = {k: (v[rows] if k == "unit" else v) for k, v in design.meta.items()}
+    return Design(design.method, design.points[rows], {**design.options, "n": m}, meta)
 
 
 def convergence(space: ParameterSpace, design: Design, values: NDArray[np.float64],
@@ -83,7 +94,7 @@ def convergence(space: ParameterSpace, design: Design, values: NDArray[np.float6
     rows = []
     for m in nested_sizes(design, space.dim):
         sub = sub_design(design, m, space.dim)
-        res = method.analyze(space, sub, y[:sub.n_points], outputs=list(outputs))
+        res = method.analyze(space, sub, y[sub_rows(design, m, space.dim)], outputs=list(outputs))
         t = res.indices[["output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted"]].copy()
         for q in ("S1", "ST"):
             err = np.asarray(res.extras.get(f"{q}_error", []), dtype=float)

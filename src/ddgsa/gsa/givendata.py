@@ -111,8 +111,9 @@ def s1_with_bound(x: NDArray[np.float64], y: NDArray[np.float64], seed: int = 0
 
 def drawn_rows(design: Design) -> NDArray[np.bool_]:
     """Rows of ``design.points`` that are draws from the input distribution, none sharing
-    coordinates with another: M-DRM's check sample, Saltelli's ``A`` and ``B`` rows, a PCE
-    regression sample; nothing of the others (quadrature, cut lines, FAST's search curve)."""
+    coordinates with another: M-DRM's check sample, Saltelli's ``A`` and ``B`` rows (and a control
+    variate's pilot), a PCE regression sample; nothing of the others (quadrature, cut lines, a group's
+    ``AB_u`` rows, FAST's search curve)."""
     n = design.n_points
     mask = np.zeros(n, dtype=bool)
     o = design.options
@@ -120,8 +121,12 @@ def drawn_rows(design: Design) -> NDArray[np.bool_]:
         mask[n - int(o["check"]):] = True
     elif design.method == "saltelli":
         d = design.points.shape[1]
-        block = np.arange(n) % (d + 2)
-        mask = (block == 0) | (block == d + 1)
+        rows = int(o["n"]) * (d + 2)                  # then a group's AB_u rows or a control variate's pilot
+        block = np.arange(rows) % (d + 2)
+        mask[:rows] = (block == 0) | (block == d + 1)
+        pilot = int(design.meta.get("pilot", 0))
+        if pilot:
+            mask[n - pilot:] = True
     elif design.method == "pce" and o.get("fit") != "quadrature":
         mask[:] = True
     return mask
