@@ -155,8 +155,7 @@ class Escalation:
             self._salt_seed, self._salt_n = int(design.options["seed"]), int(design.options["n"])
             self._salt_y = np.asarray(yv, dtype=float)
             own = {row.tobytes() for row in np.asarray(design.points, dtype=float)}
-            self._not_saltelli = np.array([row.tobytes() not in own for row in self.x])
-            self._frozen = True                          # its rows were run before any process: none fitted
+            self._not_saltelli = np.array([row.tobytes() not in own for row in self.x])   # never trained on
 
     # -- state ---------------------------------------------------------------------------
     @property
