@@ -153,8 +153,9 @@ class Escalation:
         if self.saltelli is not None:
             design, yv = self.saltelli
             self._salt_seed, self._salt_n = int(design.options["seed"]), int(design.options["n"])
-            self._salt_y = np.asarray(yv, dtype=float)
-            own = {row.tobytes() for row in np.asarray(design.points, dtype=float)}
+            rows = self._salt_n * (self.space.dim + 2)   # Saltelli's rows; then a pilot or a group's rows
+            self._salt_y = np.asarray(yv, dtype=float)[:rows]
+            own = {row.tobytes() for row in np.asarray(design.points, dtype=float)[:rows]}
             self._not_saltelli = np.array([row.tobytes() not in own for row in self.x])   # never trained on
 
     # -- state ---------------------------------------------------------------------------
@@ -364,7 +365,7 @@ class Escalation:
         if self._frozen or self.space.dependent or add_salt > add_pce or n_train >= MAX_TRAIN \
                 or 2 * n_train > add_salt:
             return 0
-        step = min(n_train, MAX_TRAIN - n_train, left - 1)
+        step = min(max(n_train, MIN_STEP), MAX_TRAIN - n_train, left - 1)
         return step if step >= MIN_STEP else 0
 
 

@@ -339,8 +339,8 @@ def controlled_indices(space: ParameterSpace, unit: NDArray[np.float64], y: NDAr
         c = controlled_saltelli(y[:rows, j].reshape(n, d + 2), gv.reshape(n, d + 2), exact,
                                 resamples=options["num_resamples"], conf_level=options["conf_level"],
                                 seed=options["seed"], convergence_factor=_CONVERGENCE_FACTOR)
-        for a, v in zip(out, (c.S1, c.ST, c.S1_conf, c.ST_conf, _CONTROL_FACTOR * c.S1_error,
-                              _CONTROL_FACTOR * c.ST_error)):
+        factor = _CONTROL_FACTOR if g is not None else 1.0         # no process: the plain, calibrated rule
+        for a, v in zip(out, (c.S1, c.ST, c.S1_conf, c.ST_conf, factor * c.S1_error, factor * c.ST_error)):
             a[j] = v
         loo[j], variance[j] = (g.loo if g is not None else np.nan), c.variance
     S1, ST, S1c, STc, err1, errT = out
