@@ -28,8 +28,8 @@ chooses the next design by what the pooled data say is cheapest:
   points (the pilot) while it is below half the planned Saltelli stage (:meth:`Escalation._pilot_step`).
 
 The cheaper of the two estimates runs; when Saltelli's does not fit, the largest base that does runs
-if it is at least an eighth of the estimate (:data:`SHORT_BASE`); when neither fits, the rest of the budget
-goes to PCE points (they always refit the pooled expansion) and the escalation stops -- unless the
+if it is at least an eighth of the base estimated for the cheapest unconfirmed output
+(:data:`SHORT_BASE`); when neither fits, the rest of the budget goes to PCE points (they always refit the pooled expansion) and the escalation stops -- unless the
 rate has been measured and even the cheapest unconfirmed output needs more than :data:`HOPELESS`
 times what is left: then it stops at once and says so (an output with a resonance inside the
 parameter ranges, whose bound does not shrink, would otherwise take the whole budget for nothing). Only the
