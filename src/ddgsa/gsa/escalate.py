@@ -53,7 +53,7 @@ from numpy.typing import NDArray
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, as_value_matrix, get_method
 from ddgsa.gsa.pooled import pooled_pce
-from ddgsa.gsa.result import SobolResult
+from ddgsa.gsa.result import SobolResult, need_per_row
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.space import ParameterSpace
 
@@ -87,18 +87,6 @@ def confirmed_outputs(results: Sequence[SobolResult], outputs: Sequence[str]) ->
             if o in out and bool(v):
                 out[o] = True
     return out
-
-
-def need_per_row(st: NDArray[np.float64], tolerance: float) -> NDArray[np.float64]:
-    """Bound on each ST that would confirm its row: the tolerance, or half the row's distance to
-    zero and to every other row, whichever is larger (NaN rows: the tolerance)."""
-    st = np.asarray(st, dtype=float)
-    need = np.full(len(st), tolerance)
-    for i in range(len(st)):
-        if np.isfinite(st[i]):
-            gap = min(st[i], np.nanmin(np.abs(st[i] - np.delete(st, i)), initial=np.inf))
-            need[i] = max(tolerance, gap / 2.0)
-    return need
 
 
 @dataclass

@@ -267,3 +267,15 @@ def rank_claims(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics:
             elif lo[i] > 0.0 and np.all((lo[others] > hi[i]) | (hi[others] < lo[i])):
                 out[i] = SEPARATED
     return out
+
+
+def need_per_row(st: NDArray[np.float64], tolerance: float) -> NDArray[np.float64]:
+    """Bound on each ST that would confirm its row (:func:`rank_claims`, or trusted): the tolerance, or half the row's distance to
+    zero and to every other row, whichever is larger (NaN rows: the tolerance)."""
+    st = np.asarray(st, dtype=float)
+    need = np.full(len(st), tolerance)
+    for i in range(len(st)):
+        if np.isfinite(st[i]):
+            gap = min(st[i], np.nanmin(np.abs(st[i] - np.delete(st, i)), initial=np.inf))
+            need[i] = max(tolerance, gap / 2.0)
+    return need

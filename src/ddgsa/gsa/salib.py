@@ -39,7 +39,7 @@ from SALib.sample import sobol as sobol_sample
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, GsaMethod, PartialIndices, check_choice, check_fraction, check_int, register
 from ddgsa.gsa.groups import GroupIndices
-from ddgsa.gsa.result import Diagnostic
+from ddgsa.gsa.result import Diagnostic, need_per_row
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance, error_diagnostics
 from ddgsa.space import ParameterSpace
 
@@ -148,11 +148,15 @@ class Saltelli(_SalibMethod):
         return opts["n"] * (space.dim + 2 + groups) + self._pilot(space, opts)
 
     def _design(self, space: ParameterSpace, opts: dict[str, Any]) -> Design:
-        if opts["control"] == "gp":
-            return self._controlled_design(space, opts)
+        """Saltelli's rows (SALib's order), then each multi-member group's ``AB_u`` rows -- or, with
+        ``control: gp``, the pilot (another scrambled Sobol' sequence, ``seed + 3``) instead."""
         u = sobol_sample.sample(unit_problem(space.dim), opts["n"], calc_second_order=False,
                                 scramble=True, seed=np.random.default_rng(opts["seed"]))
         d = space.dim
+        if opts["control"] == "gp":
+            pilot = space.unit_sample(self._pilot(space, opts), seed=opts["seed"] + 3, rule="sobol")
+            both = np.vstack([u, pilot])
+            return Design(self.name, space.ppf(both), opts, {"unit": both, "pilot": len(pilot)})
         a, b = u[0::d + 2], u[d + 1::d + 2]
         blocks = [u]
         for cols in _multi_groups(space).values():      # AB_u: the group's columns from B, n runs each
@@ -161,14 +165,6 @@ class Saltelli(_SalibMethod):
             blocks.append(ab)
         u = np.vstack(blocks)
         return Design(self.name, space.ppf(u), opts, {"unit": u})
-
-    def _controlled_design(self, space: ParameterSpace, opts: dict[str, Any]) -> Design:
-        """Saltelli's rows, then the pilot points (another scrambled Sobol' sequence, ``seed + 3``)."""
-        u = sobol_sample.sample(unit_problem(space.dim), opts["n"], calc_second_order=False,
-                                scramble=True, seed=np.random.default_rng(opts["seed"]))
-        pilot = space.unit_sample(self._pilot(space, opts), seed=opts["seed"] + 3, rule="sobol")
-        both = np.vstack([u, pilot])
-        return Design(self.name, space.ppf(both), opts, {"unit": both, "pilot": len(pilot)})
 
     def _analyze(self, space: ParameterSpace, design: Design, y: NDArray[np.float64],
                  outputs: list[str]) -> PartialIndices:
@@ -390,11 +386,7 @@ def saltelli_n_to_confirm(st: np.ndarray, tolerance: float, control_loo: float |
     ``sqrt(min(ST, 2 loo^2) / N)`` (:func:`ddgsa.gsa.control.controlled_level`)."""
     st = np.asarray(st, dtype=float)
     known = np.where(np.isfinite(st), np.clip(st, 0.0, 1.0), np.nan)
-    need = np.full(len(st), tolerance)
-    for i in range(len(st)):
-        if np.isfinite(known[i]):
-            gap = min(known[i], np.nanmin(np.abs(known[i] - np.delete(known, i)), initial=np.inf))
-            need[i] = max(tolerance, gap / 2.0)
+    need = need_per_row(known, tolerance)
     level = np.where(np.isfinite(known), np.maximum(known, 1e-3), 1.0)
     if control_loo is not None and np.isfinite(control_loo):
         from ddgsa.gsa.control import controlled_level
