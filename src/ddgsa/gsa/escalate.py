@@ -201,7 +201,7 @@ class Escalation:
         """Gaussian processes of the outputs ``bad`` on the pooled points that are not Saltelli rows,
         refitted while no Saltelli stage has run and the pool has doubled since the last fit (see the
         module); none for dependent inputs or too few points."""
-        from ddgsa.gsa.control import GaussianSurrogate
+        from ddgsa.gsa.control import fit_control
 
         n_train = int(self._not_saltelli.sum())
         if self._frozen or self.space.dependent or n_train < max(2 * self._fitted_at, 2 * self.space.dim + 2):
@@ -211,7 +211,7 @@ class Escalation:
         for o in bad:
             yo = self.y[self._not_saltelli, self.outputs.index(o)]
             ok = np.isfinite(yo)
-            g = GaussianSurrogate.fit(u[ok], yo[ok], seed=self.seed) if ok.sum() >= 2 * self.space.dim + 2 else None
+            g = fit_control(u[ok], yo[ok], seed=self.seed) if ok.sum() >= 2 * self.space.dim + 2 else None
             if g is not None:
                 self._surrogates[o] = g
             else:
@@ -314,7 +314,8 @@ class Escalation:
             pts = design.points[self._salt_n * (d + 2):]
             self._frozen = True
             control = "" if not self._surrogates else ", Gaussian-process control variates (leave-one-out " + \
-                ", ".join(f"{o} {g.loo:.2g}" for o, g in self._surrogates.items() if o in bad) + ")"
+                ", ".join(f"{o} {g.loo:.2g}" + ("" if g.fitted_to == "y" else f" of {g.fitted_to}")
+                          for o, g in self._surrogates.items() if o in bad) + ")"
             why = "" if not short else f"; the largest base the budget allows, the estimate asks for N={n_salt}"
             self.log.append(f"next: saltelli N={n_run} ({len(pts)} new runs{control}{why}; pooled PCE estimate "
                             f"{_fmt(add_pce)} runs)")

@@ -315,26 +315,27 @@ def controlled_indices(space: ParameterSpace, unit: NDArray[np.float64], y: NDAr
 
     ``unit`` (rows, d) and ``y`` (rows, k, standardised as by :meth:`GsaMethod.analyze`): the design's
     first ``n (d + 2)`` rows are Saltelli's (SALib's order). ``surrogates`` (output name -> fitted
-    :class:`~ddgsa.gsa.control.GaussianSurrogate` of the standardised output, e.g. an escalation's,
+    control variate of the standardised output (:func:`~ddgsa.gsa.control.fit_control`), e.g. an escalation's,
     fitted on its earlier points): an output without one is estimated plainly (``g = 0``, SALib's
     estimates). Without ``surrogates`` each output's process is fitted on the rows after Saltelli's (the
     pilot). Same trust rule and diagnostics as the plain estimator; ``extras["control_loo"]`` (k,) is
     each process's relative leave-one-out error (NaN: none).
     """
-    from ddgsa.gsa.control import GaussianSurrogate, controlled_saltelli
+    from ddgsa.gsa.control import controlled_saltelli, fit_control
 
     d, k = space.dim, y.shape[1]
     rows = n * (d + 2)
     out = [np.full((k, d), np.nan) for _ in range(6)]
     loo, variance = np.full(k, np.nan), np.full(k, np.nan)
     for j in range(k):
-        g = GaussianSurrogate.fit(unit[rows:], y[rows:, j], seed=options["seed"]) if surrogates is None \
+        g = fit_control(unit[rows:], y[rows:, j], seed=options["seed"]) if surrogates is None \
             else surrogates.get(outputs[j])
         exact = g.variances() if g is not None else (0.0, np.zeros(d), np.zeros(d))
         gv = g(unit[:rows]) if g is not None else np.zeros(rows)
         c = controlled_saltelli(y[:rows, j].reshape(n, d + 2), gv.reshape(n, d + 2), exact,
                                 resamples=options["num_resamples"], conf_level=options["conf_level"],
-                                seed=options["seed"], convergence_factor=_CONVERGENCE_FACTOR)
+                                seed=options["seed"], convergence_factor=_CONVERGENCE_FACTOR,
+                                exact_error=g.variance_errors() if g is not None else None)
         factor = _CONTROL_FACTOR if g is not None else 1.0         # no process: the plain, calibrated rule
         for a, v in zip(out, (c.S1, c.ST, c.S1_conf, c.ST_conf, factor * c.S1_error, factor * c.ST_error)):
             a[j] = v
