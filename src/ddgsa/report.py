@@ -194,9 +194,9 @@ def evaluation_line(provenance: dict[str, Any]) -> str:
 def problems(result: StudyResult) -> list[str]:
     """What makes the run's answer incomplete: an output with no confirmed method in some scene
     (its indices refused, or neither trusted nor rank-confirmed; with the cheapest way to confirm
-    it, :func:`ddgsa.confirm.advice`; an output that is constant there -- zero spread in the
-    study's sample -- has nothing to rank and is not counted), failed sweep evaluations. Empty
-    when all is well."""
+    it, :func:`ddgsa.confirm.advice`; an output that is constant there -- a spread in the study's
+    sample of at most :data:`CONSTANT_CV` of its mean -- has nothing to rank and is not counted),
+    failed sweep evaluations. Empty when all is well."""
     out = []
     sobol = sobol_rows(result.indices)
     if len(sobol):
@@ -205,7 +205,7 @@ def problems(result: StudyResult) -> list[str]:
         any_ok = ok.groupby(level=["output", "scene"], sort=False).any()
         mom = result.moments
         if mom is not None and len(mom):     # a constant output has no sensitivity to rank: not a problem
-            constant = mom[(mom["std"] == 0) & (mom["mean"].notna())].set_index(["output", "scene"]).index
+            constant = mom[_constant(mom)].set_index(["output", "scene"]).index
             any_ok[any_ok.index.isin(constant)] = True
         for output, g in any_ok[~any_ok].groupby(level="output", sort=False):
             scenes = [int(s) for _, s in g.index]
@@ -228,6 +228,17 @@ def problems(result: StudyResult) -> list[str]:
         n = int(result.sweep["error"].notna().sum())
         out.append(f"{n} of {len(result.sweep)} sweep evaluations failed (their values are refused)")
     return out
+
+
+CONSTANT_CV = 1e-9
+"""An output whose standard deviation over a scene's sample is at most this fraction of its mean is
+constant to the model's numerical noise (solver tolerances leave ~1e-10 relative; a physical
+sensitivity that small is beyond any engineering use): no parameter moves it, there is nothing to rank."""
+
+
+def _constant(mom: pd.DataFrame) -> pd.Series:
+    """Rows of an output-moments table whose output is constant (:data:`CONSTANT_CV`)."""
+    return mom["mean"].notna() & ((mom["std"] == 0) | (mom["std"] <= CONSTANT_CV * mom["mean"].abs()))
 
 
 def _first_failure(result: StudyResult, scenes: list[int]) -> str:
@@ -536,13 +547,23 @@ def _confirmed_section(result: StudyResult) -> list[str]:
     """The share of (scene, output) pairs confirmed and the runs spent on them."""
     st = pair_status(sobol_rows(result.indices))
     n_runs = result.provenance.get("evaluations", {}).get("total", len(result.evaluations))
+    mom = result.moments
+    constant = 0
+    if mom is not None and len(mom):
+        flat = set(mom[_constant(mom)].set_index(["scene", "output"]).index)
+        constant = sum(1 for r in st.itertuples() if (r.scene, r.output) in flat and not r.confirmed)
+    open_ = int((~st["confirmed"]).sum()) - constant
     return [f"Confirmed: {int(st['confirmed'].sum())} of {len(st)} (scene, output) pairs "
-            f"({int(st['trusted'].sum())} with every value trusted, the rest rank-confirmed) at a cost of "
-            f"{n_runs} model runs" + (" (unconfirmed ones: see Problems)." if not st["confirmed"].all() else "."), ""]
+            f"({int(st['trusted'].sum())} with every value trusted, the rest rank-confirmed)"
+            + (f", {constant} constant (nothing to rank)" if constant else "") + f" at a cost of "
+            f"{n_runs} model runs" + (" (unconfirmed ones: see Problems)." if open_ else "."), ""]
 
 
 def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None) -> str:
     """One sentence on what drives ``output`` in one scene, from its first trusted method."""
+    if moment is not None and bool(_constant(pd.DataFrame([moment])).iloc[0]):
+        return (f"`{output}`: constant here (mean {moment['mean']:.6g}, CV {moment['cv']:.1e}, at most "
+                f"{CONSTANT_CV:.0e}: the model's numerical noise): no parameter moves it, there is nothing to rank.")
     trusted = [(m, gm) for m, gm in g.groupby("method", sort=False) if gm["trusted"].all()]
     ranked = [(m, gm) for m, gm in g.groupby("method", sort=False)
               if (gm["trusted"] | gm.get("rank_confirmed", False)).all()]

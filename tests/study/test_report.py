@@ -218,6 +218,24 @@ def test_a_constant_output_is_not_a_problem_but_an_untrusted_varying_one_is() ->
                              "when confirmed)"]
     res.moments = mom.assign(std=[1e-3, 0.3])                            # varies a little: counted
     assert len(problems(res)) == 2
+    # the test rig's steady motor current: 6.90963 A, spread 9.1e-10 A (CV 1.3e-10, solver noise) is
+    # constant; its coast-down current (CV 8.5e-7) varies, however little, and is counted
+    res.moments = mom.assign(mean=[6.90963, 1.0], std=[9.12e-10, 0.3])
+    assert len(problems(res)) == 1
+    res.moments = mom.assign(mean=[0.142622, 1.0], std=[1.2157e-7, 0.3])
+    assert len(problems(res)) == 2
+
+
+def test_a_constant_outputs_sentence_says_there_is_nothing_to_rank() -> None:
+    """The ranking sentence of an output constant to its numerical noise says so (it named no cause
+    and sent the user to a Saltelli design of 61 440 runs)."""
+    from ddgsa.report import _dominance
+
+    g = pd.DataFrame({"method": "mdrm", "parameter": ["a", "b"], "trusted": False, "rank_confirmed": False,
+                      "ST": [np.nan, np.nan], "S1": [np.nan, np.nan]})
+    text = _dominance(g, "rms_motor_current", {"mean": 6.90963, "std": 9.12e-10, "cv": 1.32e-10})
+    assert "constant here" in text and "nothing to rank" in text
+    assert "do not rank" in _dominance(g, "rms_motor_current", {"mean": 0.142622, "std": 1.2157e-7, "cv": 8.5e-7})
 
 
 def test_sampling_table_has_a_variant_column_only_when_the_study_has_variants() -> None:
