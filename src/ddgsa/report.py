@@ -32,7 +32,7 @@ import pandas as pd  # noqa: E402
 from ddgsa.report_beyond import SHAPLEY_ADVICE, beyond_markdown, group_table, plot_groups, sobol_rows
 from ddgsa.confirm import advice as confirm_advice, pair_status  # noqa: E402
 from ddgsa.detection import FaultDetectability  # noqa: E402
-from ddgsa.gsa.result import draw_index_bars  # noqa: E402
+from ddgsa.gsa.result import CONSTANT_CV, draw_index_bars  # noqa: E402
 from ddgsa.html_report import HTML_NAME, model_words, write_html  # noqa: E402
 from ddgsa.loads.scene import AUTO_BEM_INCLINATION_DEG  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
@@ -195,7 +195,7 @@ def problems(result: StudyResult) -> list[str]:
     """What makes the run's answer incomplete: an output with no confirmed method in some scene
     (its indices refused, or neither trusted nor rank-confirmed; with the cheapest way to confirm
     it, :func:`ddgsa.confirm.advice`; an output that is constant there -- a spread in the study's
-    sample of at most :data:`CONSTANT_CV` of its mean -- has nothing to rank and is not counted),
+    sample of at most :data:`~ddgsa.gsa.result.CONSTANT_CV` of its mean -- has nothing to rank and is not counted),
     failed sweep evaluations. Empty when all is well."""
     out = []
     sobol = sobol_rows(result.indices)
@@ -230,15 +230,10 @@ def problems(result: StudyResult) -> list[str]:
     return out
 
 
-CONSTANT_CV = 1e-9
-"""An output whose standard deviation over a scene's sample is at most this fraction of its mean is
-constant to the model's numerical noise (solver tolerances leave ~1e-10 relative; a physical
-sensitivity that small is beyond any engineering use): no parameter moves it, there is nothing to rank."""
-
-
 def _constant(mom: pd.DataFrame) -> pd.Series:
-    """Rows of an output-moments table whose output is constant (:data:`CONSTANT_CV`)."""
-    return mom["mean"].notna() & ((mom["std"] == 0) | (mom["std"] <= CONSTANT_CV * mom["mean"].abs()))
+    """Rows of an output-moments table whose output is constant
+    (:data:`ddgsa.gsa.result.CONSTANT_CV`)."""
+    return mom["mean"].notna() & (mom["std"] <= CONSTANT_CV * mom["mean"].abs())
 
 
 def _first_failure(result: StudyResult, scenes: list[int]) -> str:
@@ -561,12 +556,12 @@ def _confirmed_section(result: StudyResult) -> list[str]:
 
 def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None) -> str:
     """One sentence on what drives ``output`` in one scene, from its first trusted method."""
-    if moment is not None and bool(_constant(pd.DataFrame([moment])).iloc[0]):
-        return (f"`{output}`: constant here (mean {moment['mean']:.6g}, CV {moment['cv']:.1e}, at most "
-                f"{CONSTANT_CV:.0e}: the model's numerical noise): no parameter moves it, there is nothing to rank.")
     trusted = [(m, gm) for m, gm in g.groupby("method", sort=False) if gm["trusted"].all()]
     ranked = [(m, gm) for m, gm in g.groupby("method", sort=False)
               if (gm["trusted"] | gm.get("rank_confirmed", False)).all()]
+    if not trusted and not ranked and moment is not None and bool(_constant(pd.DataFrame([moment])).iloc[0]):
+        return (f"`{output}`: constant here (mean {moment['mean']:.6g}, CV {moment['cv']:.1e}, at most "
+                f"{CONSTANT_CV:.0e}: the model's numerical noise): no parameter moves it, there is nothing to rank.")
     if not trusted and not ranked:
         return (f"`{output}`: no method's indices are trusted or rank-confirmed here; do not rank its parameters "
                 "(see Problems for what would confirm them).")

@@ -119,3 +119,30 @@ def test_an_escalation_that_cannot_confirm_says_why_and_claims_nothing_false() -
 
     s1, st = tensor_indices(f, space, [400, 400, 4])
     _no_false_claim(c.results, TestFunction("resonance", space, f, s1.ravel(), st.ravel()))
+
+def test_a_resonance_is_confirmed_with_focus_points_that_the_pooled_expansion_never_sees() -> None:
+    """The same resonance, positive (no constant taken off): its control variate is a process of
+    ``1 / y^2`` (:mod:`ddgsa.gsa.control`), so every other pilot step is of focus points where that
+    process is least certain -- near the peak. The escalation confirms it at 1 616 of 2 000 runs with a
+    controlled Saltelli N = 256 (without focus points it was not confirmed at 5 456 runs), nothing
+    reported is trusted or rank-confirmed falsely (the 400 x 400 x 4 tensor Gauss rule), and the
+    pooled expansion is fitted on the drawn points only."""
+    from ddgsa.gsa.testfunctions import TestFunction, tensor_indices
+    from ddgsa.space import ParameterSpace
+
+    space = ParameterSpace.from_dict({"a": {"dist": "uniform", "low": 0.8, "high": 1.2},
+                                      "b": {"dist": "uniform", "low": 0.8, "high": 1.2},
+                                      "c": {"dist": "uniform", "low": 0.9, "high": 1.1}})
+
+    def f(x: np.ndarray) -> np.ndarray:
+        r = x[:, 0] * x[:, 1]
+        return x[:, 2] / np.sqrt((1 - r**2) ** 2 + (0.02 * r) ** 2)
+
+    c = confirm(f, space, "mdrm", budget=2000)
+    assert c.confirmed == {"y": True} and c.n_evals == 48 + 1616
+    steps = [line.split(" (")[0] for line in c.log if line.startswith("next:")]
+    assert steps[:3] == ["next: pce points +48", "next: focus points +96", "next: pce points +192"]
+    pce = next(r for r in c.results if r.method == "confirm_pce")
+    assert pce.n_evals == 48 + 1616 - 96
+    s1, st = tensor_indices(f, space, [400, 400, 4])
+    _no_false_claim(c.results, TestFunction("resonance", space, f, s1.ravel(), st.ravel()))

@@ -45,8 +45,9 @@ Heavy-tailed residuals (a peak the process still misses) keep it above that.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -88,16 +89,22 @@ class GaussianSurrogate:
     first: NDArray[np.float64]
     total: NDArray[np.float64]
     loo_values: NDArray[np.float64]   # (n,) leave-one-out predictions at the training points
+    regressor: Any = field(default=None, compare=False, repr=False)   # (sklearn regressor, values' sd): the posterior
 
     @classmethod
     def fit(cls, u: NDArray[np.float64], y: NDArray[np.float64], seed: int = 0,
-            max_loo: float = MAX_LOO, exact: bool = True) -> "GaussianSurrogate | None":
+            max_loo: float = MAX_LOO, exact: bool = True,
+            drawn: NDArray[np.bool_] | None = None) -> "GaussianSurrogate | None":
         """Fit to finite values ``y`` (n,) at unit-cube points ``u`` (n, d): hyperparameters by maximum
         likelihood on at most :data:`FIT_POINTS` of them, the weights on at most :data:`MAX_TRAIN`,
         with the first of :data:`NUGGETS` whose exact variances round off by less than
         :data:`MAX_ROUNDOFF`; None when none does, when its leave-one-out error exceeds ``max_loo``
         or when the values are constant. ``exact=False``: a process whose variances are not needed
-        (that of a :class:`TransformedSurrogate`), with the fitted nugget and zero variances."""
+        (that of a :class:`TransformedSurrogate`; its variances are left at zero, never read), keeping
+        its fitted regressor for the posterior. ``drawn`` (n,): the points drawn from the input
+        distribution (default all); the leave-one-out error is taken over those of the training
+        points, so that it estimates the error under the input distribution when others (focus
+        points) are among them."""
         import warnings
 
         from scipy.linalg import cho_solve
@@ -110,6 +117,9 @@ class GaussianSurrogate:
         n, d = u.shape
         train = _spread(n, MAX_TRAIN)
         u, y = u[train], y[train]
+        mine = np.ones(len(train), dtype=bool) if drawn is None else np.asarray(drawn, dtype=bool)[train]
+        if not mine.any():
+            mine = np.ones(len(train), dtype=bool)
         offset, sd = float(y.mean()), float(y.std())
         if not sd > 0:
             return None
@@ -135,8 +145,11 @@ class GaussianSurrogate:
             if variances is not None:
                 kinv_diag = cho_solve((gp.L_, True), np.eye(len(u))).diagonal()
                 gap = gp.alpha_ / kinv_diag                               # z minus its leave-one-out prediction
-                loo = float(np.sqrt(np.mean(gap ** 2)))                   # z has unit variance
-                return cls(u, a, length, offset, loo, *variances, y - sd * gap) if loo <= max_loo else None
+                spread = float(z[mine].std()) if mine.sum() > 1 else 1.0
+                loo = float(np.sqrt(np.mean(gap[mine] ** 2)) / spread) if spread > 0 else np.inf
+                if loo > max_loo:
+                    return None
+                return cls(u, a, length, offset, loo, *variances, y - sd * gap, None if exact else (gp, sd))
         return None
 
     def affine(self, shift: float, scale: float) -> "GaussianSurrogate":
@@ -165,6 +178,10 @@ class GaussianSurrogate:
     def fitted_to(self) -> str:
         """What the process was fitted to: the output itself."""
         return "y"
+
+    def without_posterior(self) -> "GaussianSurrogate":
+        """Itself (its variances are closed forms; it keeps no regressor)."""
+        return self
 
     def variance_errors(self) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
         """Standard errors of :meth:`variances`: zero (closed forms)."""
@@ -198,6 +215,15 @@ class _PowerProcess:
 
     def __call__(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
         return self.ref * _untransform(np.clip(self.process(u), self.low, self.high), self.power)
+
+    def error(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The mapped-back process's linearised posterior standard deviation at ``u`` (m, d), in the
+        output's units: ``ref |h'(m(u))|`` times the process's posterior standard deviation."""
+        gp, sd = self.process.regressor
+        _, std = gp.predict(u, return_std=True)
+        z = np.clip(self.process(u), self.low, self.high)
+        slope = np.exp(z) if self.power == 0 else np.abs(z ** (1.0 / self.power - 1.0) / self.power)
+        return self.ref * slope * sd * std
 
     @cached_property
     def moments(self) -> tuple[tuple[float, NDArray[np.float64], NDArray[np.float64]],
@@ -242,11 +268,24 @@ class TransformedSurrogate:
         """The surrogate of ``(y - shift) / scale``."""
         return TransformedSurrogate(self.core, self.loo, self.shift + shift * self.scale, self.scale * scale)
 
+    def without_posterior(self) -> "TransformedSurrogate":
+        """The same surrogate without the process's regressor (its n x n factor): once the pilot is
+        chosen, :meth:`error` is no longer needed."""
+        from dataclasses import replace
+
+        core = replace(self.core, process=replace(self.core.process, regressor=None))
+        return TransformedSurrogate(core, self.loo, self.shift, self.scale)
+
     def variances(self) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
         """Variance under uniform inputs, and first-order and total variances per input (estimates)."""
         var, first, total = self.core.moments[0]
         c2 = self.scale ** 2
         return var / c2, first / c2, total / c2
+
+    def error(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Where the surrogate is least certain: its linearised posterior standard deviation at ``u``
+        (m, d), in the units it maps to."""
+        return self.core.error(u) / abs(self.scale)
 
     def variance_errors(self) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
         """Standard errors of :meth:`variances` (the spread of the scrambles)."""
@@ -255,20 +294,26 @@ class TransformedSurrogate:
         return var / c2, first / c2, total / c2
 
 
-def fit_control(u: NDArray[np.float64], y: NDArray[np.float64], seed: int = 0
-                ) -> GaussianSurrogate | TransformedSurrogate | None:
+def fit_control(u: NDArray[np.float64], y: NDArray[np.float64], seed: int = 0,
+                drawn: NDArray[np.bool_] | None = None) -> GaussianSurrogate | TransformedSurrogate | None:
     """The control variate of ``y`` (n,) at unit-cube points ``u`` (n, d): the Gaussian process of the
     values (:meth:`GaussianSurrogate.fit`) or, for an output positive everywhere whose own process is
     not within :data:`GOOD_LOO`, of one of its :data:`POWERS` mapped back, whichever has the smallest
-    leave-one-out error in the output's units; None when none is within :data:`MAX_LOO`."""
+    leave-one-out error in the output's units; None when none is within :data:`MAX_LOO`. ``drawn``
+    (n,): the points drawn from the input distribution, over which the leave-one-out errors are taken
+    (default all; see :meth:`GaussianSurrogate.fit`)."""
     u = np.asarray(u, dtype=float)
     y = np.asarray(y, dtype=float)
-    best: GaussianSurrogate | TransformedSurrogate | None = GaussianSurrogate.fit(u, y, seed=seed)
+    best: GaussianSurrogate | TransformedSurrogate | None = GaussianSurrogate.fit(u, y, seed=seed, drawn=drawn)
     if not np.all(y > 0) or (best is not None and best.loo <= GOOD_LOO):
         return best
     train = _spread(len(y), MAX_TRAIN)
-    yt, sd = y[train], float(y[train].std())
-    ref = float(np.median(yt))                    # the output's scale: the same transform in any unit
+    mine = np.ones(len(train), dtype=bool) if drawn is None else np.asarray(drawn, dtype=bool)[train]
+    if mine.sum() < 2:
+        mine = np.ones(len(train), dtype=bool)
+    yt = y[train]
+    sd = float(yt[mine].std())
+    ref = float(np.median(yt[mine]))              # the output's scale: the same transform in any unit
     candidates = []
     for power in POWERS:
         z_all = _transform(y / ref, power)
@@ -279,7 +324,7 @@ def fit_control(u: NDArray[np.float64], y: NDArray[np.float64], seed: int = 0
         low, high = _clip_range(z, power)
         with np.errstate(all="ignore"):
             back = ref * _untransform(np.clip(process.loo_values, low, high), power)
-            loo = float(np.sqrt(np.mean((yt - back) ** 2)) / sd)
+            loo = float(np.sqrt(np.mean((yt - back)[mine] ** 2)) / sd) if sd > 0 else np.inf
         if np.isfinite(loo):
             candidates.append((loo, power, process, low, high))
     if not candidates:
@@ -311,20 +356,26 @@ def _sampled_variances(g: Callable[[NDArray[np.float64]], NDArray[np.float64]], 
                                   tuple[float, NDArray[np.float64], NDArray[np.float64]]]:
     """Variance and first-order and total variances of ``g`` under uniform inputs, and their standard
     errors: the mean and spread of :data:`REPLICATES` scrambled Sobol' Saltelli designs (Saltelli
-    2010's first-order, Jansen's total estimator)."""
+    2010's first-order, Jansen's total estimator), on values less a constant."""
     from scipy.stats import qmc
 
     base = 1 << max(4, int(np.floor(np.log2(SURROGATE_RUNS / (REPLICATES * (d + 2))))))
     var, first, total = np.empty(REPLICATES), np.empty((REPLICATES, d)), np.empty((REPLICATES, d))
+    # scrambles of their own (not the Saltelli design's, which SALib draws from default_rng(seed)), so
+    # this estimate and the model rows' are independent, as the bound's quadrature sum assumes
+    *streams, own = np.random.SeedSequence([seed, 0x5A17E11]).spawn(REPLICATES + 1)
+    # one constant off every value, drawn apart from the replicates: the estimators do not move with
+    # a shift, their variance does (f_B (f_ABi - f_A) grows with the mean)
+    centre = float(np.median(g(qmc.Sobol(d, scramble=True, seed=np.random.default_rng(own)).random(256))))
     for r in range(REPLICATES):
-        ab = qmc.Sobol(2 * d, scramble=True, seed=np.random.default_rng([seed, r])).random(base)
+        ab = qmc.Sobol(2 * d, scramble=True, seed=np.random.default_rng(streams[r])).random(base)
         a, b = ab[:, :d], ab[:, d:]
-        fa, fb = g(a), g(b)
+        fa, fb = g(a) - centre, g(b) - centre
         var[r] = np.var(np.concatenate([fa, fb]))
         for i in range(d):
             mixed = a.copy()
             mixed[:, i] = b[:, i]
-            fab = g(mixed)
+            fab = g(mixed) - centre
             first[r, i] = np.mean(fb * (fab - fa))
             total[r, i] = 0.5 * np.mean((fa - fab) ** 2)
     se = np.sqrt(1.0 / REPLICATES)

@@ -36,9 +36,12 @@ parameter ranges, whose bound does not shrink, would otherwise take the whole bu
 newest pooled expansion and the newest Saltelli stage are reported (methods ``confirm_pce`` and
 ``confirm_saltelli``): earlier stages are superseded, never shopped among.
 
-Not done: points concentrated where the surrogate's error is largest. The leave-one-out error
-that bounds the pooled expansion's indices estimates the L2 error under the input distribution
-only from points drawn from it; concentrating points would make that bound optimistic.
+Where an unconfirmed output's control variate is a process of a power of it (a peak,
+:class:`~ddgsa.gsa.control.TransformedSurrogate`), every other pilot step is of **focus points**:
+points where that surrogate is least certain (:meth:`Escalation._focus_points`). They train the
+processes only (whose leave-one-out errors are taken over the other points): the pooled expansion
+is fitted without them, since its leave-one-out bound estimates the error under the input
+distribution only from points drawn from it.
 """
 
 from __future__ import annotations
@@ -53,11 +56,14 @@ from numpy.typing import NDArray
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, as_value_matrix, get_method
 from ddgsa.gsa.pooled import pooled_pce
-from ddgsa.gsa.result import SobolResult, need_per_row
+from ddgsa.gsa.result import SobolResult, is_constant, need_per_row
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.space import ParameterSpace
 
 PCE_NAME, SALTELLI_NAME = "confirm_pce", "confirm_saltelli"
+FOCUS_CANDIDATES = 8
+"""Candidates per focus point: the pilot's focus points are the top eighth of a Sobol' sample by the
+control variates' uncertainty (:meth:`Escalation._focus_points`)."""
 MIN_STEP = 32
 """Fewest points a PCE stage adds (smaller steps cost a refit for little change)."""
 MIN_RATE = 0.05
@@ -138,6 +144,9 @@ class Escalation:
         self._fitted_at = 0                              # pool size at the processes' last fit
         self._frozen = False                             # fixed once a Saltelli stage has run
         self._not_saltelli = np.ones(len(self.x), dtype=bool)
+        self._drawn = np.ones(len(self.x), dtype=bool)   # False: focus points (not draws of the inputs)
+        self._n_focus = 0
+        self._last_pilot = ""
         if self.saltelli is not None:
             design, yv = self.saltelli
             self._salt_seed, self._salt_n = int(design.options["seed"]), int(design.options["n"])
@@ -153,9 +162,10 @@ class Escalation:
         return [r for r in (self.pce, self.salt) if r is not None]
 
     def unconfirmed(self) -> list[str]:
-        """Outputs no result (the scene's or the escalation's) confirms."""
+        """Outputs no result (the scene's or the escalation's) confirms and that are not constant over the
+        pool (:func:`~ddgsa.gsa.result.is_constant`: nothing to rank)."""
         ok = confirmed_outputs(self.results + self.stages, self.outputs)
-        return [o for o in self.outputs if not ok[o]]
+        return [o for j, o in enumerate(self.outputs) if not ok[o] and not is_constant(self.y[:, j])]
 
     def start(self) -> NDArray[np.float64] | None:
         """The first points to evaluate (None: nothing to confirm or no budget)."""
@@ -171,12 +181,14 @@ class Escalation:
         self.spent += len(pts)
         self.x, self.y = np.vstack([self.x, pts]), np.vstack([self.y, yv])
         self._not_saltelli = np.concatenate([self._not_saltelli, np.full(len(pts), kind != "saltelli")])
+        self._drawn = np.concatenate([self._drawn, np.full(len(pts), kind != "focus")])
         if kind == "saltelli":
             assert design is not None
             self._salt_y = yv if self._salt_n == 0 else np.vstack([self._salt_y, yv])
             self._salt_n = int(design.options["n"])
             self.salt = self._saltelli_result(design)
-        self._refit()
+        if kind != "focus":                              # the drawn points, and so the expansion, are as they were
+            self._refit()
         bad = self.unconfirmed()
         self.log.append(f"{kind} (+{len(pts)} runs, {self.spent} of {self.budget}): "
                         + ("every output confirmed" if not bad else f"unconfirmed: {', '.join(bad)}"))
@@ -208,21 +220,25 @@ class Escalation:
             return
         self._fitted_at = n_train
         u = np.column_stack([self.space[p].cdf(self.x[self._not_saltelli, i]) for i, p in enumerate(self.space.names)])
+        drawn = self._drawn[self._not_saltelli]
         for o in bad:
             yo = self.y[self._not_saltelli, self.outputs.index(o)]
             ok = np.isfinite(yo)
-            g = fit_control(u[ok], yo[ok], seed=self.seed) if ok.sum() >= 2 * self.space.dim + 2 else None
+            g = fit_control(u[ok], yo[ok], seed=self.seed, drawn=drawn[ok]) \
+                if ok.sum() >= 2 * self.space.dim + 2 else None
             if g is not None:
                 self._surrogates[o] = g
             else:
                 self._surrogates.pop(o, None)
 
     def _refit(self) -> None:
-        res = pooled_pce(self.space, self.x, self.y, self.outputs, self.tolerance, MAX_ORDER, MAX_ENTRIES)
+        """The pooled expansion on the drawn points (focus points would make its bound optimistic)."""
+        res = pooled_pce(self.space, self.x[self._drawn], self.y[self._drawn], self.outputs, self.tolerance,
+                         MAX_ORDER, MAX_ENTRIES)
         if res is not None:
             res.method = PCE_NAME
             self.pce = res
-            self._history.append((len(self.x), self._pce_ratio(res, self.outputs)))
+            self._history.append((int(self._drawn.sum()), self._pce_ratio(res, self.outputs)))
 
     # -- choice --------------------------------------------------------------------------
     def _best_st(self, output: str) -> NDArray[np.float64]:
@@ -295,12 +311,19 @@ class Escalation:
         per_output = self._saltelli_ns(bad)
         n_salt = max(per_output.values())
         add_salt = (n_salt - self._salt_n) * (d + 2)
-        n_pool = len(self.x)
+        n_pool = int(self._drawn.sum())                  # the points the pooled expansion is fitted on
         add_pce = max(0.0, self._pce_need(bad) - n_pool)
         pilot = self._pilot_step(add_salt, add_pce, left)
         if pilot:
-            self.log.append(f"next: pce points +{pilot} (pilot for the control variates: their error sets the "
-                            f"Saltelli base, now N={n_salt}, {add_salt} runs)")
+            peaks = [o for o in bad if o in self._surrogates and self._surrogates[o].fitted_to != "y"]
+            why = f"their error sets the Saltelli base, now N={n_salt}, {add_salt} runs"
+            if peaks and self._last_pilot == "pce":
+                self._last_pilot = "focus"
+                self.log.append(f"next: focus points +{pilot} (pilot where the control variates of "
+                                f"{', '.join(peaks)} are least certain; {why})")
+                return self._focus_points(pilot, peaks)
+            self._last_pilot = "pce"
+            self.log.append(f"next: pce points +{pilot} (pilot for the control variates: {why})")
             return self._sobol_points(pilot)
         n_fit = self._salt_n
         while (2 * max(n_fit, 1) - self._salt_n) * (d + 2) <= left and 2 * max(n_fit, 1) <= n_salt:
@@ -313,6 +336,7 @@ class Escalation:
                                                    tolerance=self.tolerance)
             pts = design.points[self._salt_n * (d + 2):]
             self._frozen = True
+            self._surrogates = {o: g.without_posterior() for o, g in self._surrogates.items()}
             control = "" if not self._surrogates else ", Gaussian-process control variates (leave-one-out " + \
                 ", ".join(f"{o} {g.loo:.2g}" + ("" if g.fitted_to == "y" else f" of {g.fitted_to}")
                           for o, g in self._surrogates.items() if o in bad) + ")"
@@ -340,6 +364,28 @@ class Escalation:
         pts = sample[self._n_sobol:total]
         self._n_sobol = total
         self._pending = ("pce", pts, None)
+        return pts
+
+    def _focus_points(self, step: int, outputs: list[str]) -> NDArray[np.float64]:
+        """``step`` pilot points where the transformed control variates of ``outputs`` are least certain
+        (pending): of the next :data:`FOCUS_CANDIDATES` x ``step`` points of a Sobol' sequence of their
+        own (``seed + 4``), those with the largest posterior standard deviation in the output's units,
+        each output's scaled to its largest (:meth:`~ddgsa.gsa.control.TransformedSurrogate.error`).
+        A resonance's peak is where a process of ``1 / y^2`` mapped back errs most; concentrating
+        the pilot there shrinks the controlled estimate's heavy-tailed residual. Never used by the
+        pooled expansion (not draws of the inputs) and never a Saltelli row, so every estimate stays
+        unbiased."""
+        total = self._n_focus + FOCUS_CANDIDATES * step
+        sample = self.space.sample(1 << int(np.ceil(np.log2(total))), seed=self.seed + 4, rule="sobol")
+        cand = sample[self._n_focus:total]
+        self._n_focus = total
+        u = np.column_stack([self.space[p].cdf(cand[:, i]) for i, p in enumerate(self.space.names)])
+        score = np.zeros(len(cand))
+        for o in outputs:
+            e = np.nan_to_num(self._surrogates[o].error(u), nan=0.0, posinf=0.0)
+            score = np.fmax(score, e / e.max() if e.max() > 0 else e)
+        pts = cand[np.sort(np.argsort(-score, kind="stable")[:step])]
+        self._pending = ("focus", pts, None)
         return pts
 
     def _pilot_step(self, add_salt: int, add_pce: float, left: int) -> int:

@@ -279,3 +279,18 @@ def need_per_row(st: NDArray[np.float64], tolerance: float) -> NDArray[np.float6
             gap = min(st[i], np.nanmin(np.abs(st[i] - np.delete(st, i)), initial=np.inf))
             need[i] = max(tolerance, gap / 2.0)
     return need
+
+
+CONSTANT_CV = 1e-9
+"""An output whose standard deviation over a scene's points is at most this fraction of its mean is
+constant to the model's numerical noise (solver tolerances leave ~1e-10 relative; a physical
+sensitivity that small is beyond any engineering use): no parameter moves it, there is nothing to rank."""
+
+
+def is_constant(values: NDArray[np.float64]) -> bool:
+    """Whether the finite ``values`` are constant by :data:`CONSTANT_CV` (False with fewer than two)."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    if len(v) < 2:
+        return False
+    return bool(np.std(v) <= CONSTANT_CV * abs(np.mean(v)) or np.ptp(v) == 0)
