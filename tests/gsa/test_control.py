@@ -269,3 +269,33 @@ def test_the_transform_is_chosen_whatever_the_outputs_unit(resonance_control) ->
         h = fit_control(u, c * y, seed=2)
         assert h.power == g.power and h.loo == pytest.approx(g.loo, rel=1e-6)
         np.testing.assert_allclose(h(u[:50]) / c, g(u[:50]), rtol=1e-6)
+
+
+def test_the_leave_one_out_error_is_taken_over_the_drawn_points() -> None:
+    """With points off the input distribution among the training points (focus points), the
+    leave-one-out error is the RMS of the drawn points' leave-one-out residuals over their spread:
+    here the resonance's peak region, where the process errs most, is left out of it."""
+    from scipy.stats import qmc
+
+    u = qmc.Sobol(3, seed=4).random(256)
+    y = _resonance_unit(u)
+    drawn = np.arange(256) % 2 == 0
+    g = GaussianSurrogate.fit(u, y, max_loo=10.0, drawn=drawn)
+    gap = (y - g.loo_values)[drawn]
+    assert g.loo == pytest.approx(np.sqrt(np.mean(gap ** 2)) / y[drawn].std(), rel=1e-9)
+    assert GaussianSurrogate.fit(u, y, max_loo=10.0).loo != pytest.approx(g.loo, rel=1e-3)
+
+
+def test_a_constant_output_is_not_escalated() -> None:
+    """An output constant to its numerical noise (spread 1e-10 of its mean) has nothing to rank:
+    the escalation does not spend runs on it (``ddgsa.gsa.result.is_constant``)."""
+    from ddgsa.gsa.escalate import Escalation
+    from ddgsa.gsa.result import is_constant
+    from ddgsa.space import ParameterSpace
+
+    space = ParameterSpace.from_dict({"a": {"low": 0.0, "high": 1.0}, "b": {"low": 0.0, "high": 1.0}})
+    x = np.random.default_rng(0).random((40, 2))
+    flat = 6.9 * (1 + 1e-10 * x[:, 0])
+    assert is_constant(flat) and not is_constant(6.9 * (1 + 1e-6 * x[:, 0]))
+    esc = Escalation(space, ["flat"], 1000, x, flat[:, None])
+    assert esc.unconfirmed() == [] and esc.start() is None

@@ -119,7 +119,9 @@ class Saltelli(_SalibMethod):
     ``num_resamples``, ``conf_level``, ``tolerance``; ``control: gp`` estimates with a Gaussian-process
     control variate fitted on ``pilot`` further scrambled Sobol' points (default :func:`default_pilot`;
     :mod:`ddgsa.gsa.control`): the same estimators, unbiased, with a fraction of their variance where
-    the process fits (no group indices then).
+    the process fits (no group indices then). Here the process is of the output itself: the values
+    reach the estimator centred, so the power transforms of :func:`~ddgsa.gsa.control.fit_control`
+    (for a positive output with a peak) and the focus points apply in a study's ``confirm:`` stages.
     """
 
     defaults = {"n": 1024, **_COMMON, "control": "none", "pilot": None}
