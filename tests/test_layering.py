@@ -137,3 +137,15 @@ def test_the_runner_evaluates_any_factory_with_plain_scene_dicts(tmp_path: Path)
         assert [got[t.key].outputs["y"] for t in tasks] == [2.0, 4.0, 6.0, 20.0, 40.0, 60.0]  # type: ignore[index]
         assert run_tasks(tasks, store, double_it, quiet=True)["cached"] == 6
         store.close()
+
+
+def test_the_package_version_is_the_one_pyproject_declares() -> None:
+    """``ddgsa.__version__`` (written into every provenance.json) and pyproject's version agree: a
+    bump of one alone left the 0.5.0 studies saying 0.4.0."""
+    import tomllib
+    from pathlib import Path
+
+    import ddgsa
+
+    meta = tomllib.loads((Path(__file__).resolve().parents[1] / "pyproject.toml").read_text())
+    assert ddgsa.__version__ == meta["project"]["version"]
