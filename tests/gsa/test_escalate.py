@@ -120,7 +120,7 @@ def test_an_escalation_that_cannot_confirm_says_why_and_claims_nothing_false() -
     s1, st = tensor_indices(f, space, [400, 400, 4])
     _no_false_claim(c.results, TestFunction("resonance", space, f, s1.ravel(), st.ravel()))
 
-def test_a_resonance_is_confirmed_with_focus_points_that_the_pooled_expansion_never_sees() -> None:
+def test_a_resonance_is_confirmed_with_focus_points_that_the_pooled_expansion_never_sees(monkeypatch) -> None:
     """The same resonance, positive (no constant taken off): its control variate is a process of
     ``1 / y^2`` (:mod:`ddgsa.gsa.control`), so every other pilot step is of focus points where that
     process is least certain -- near the peak. The escalation confirms it at 1 616 of 2 000 runs with a
@@ -138,6 +138,9 @@ def test_a_resonance_is_confirmed_with_focus_points_that_the_pooled_expansion_ne
         r = x[:, 0] * x[:, 1]
         return x[:, 2] / np.sqrt((1 - r**2) ** 2 + (0.02 * r) ** 2)
 
+    import ddgsa.gsa.control as control
+
+    monkeypatch.setattr(control, "SURROGATE_RUNS", 1 << 18)      # the process's variances: an eighth of the default
     c = confirm(f, space, "mdrm", budget=2000)
     assert c.confirmed == {"y": True} and c.n_evals == 48 + 1616
     steps = [line.split(" (")[0] for line in c.log if line.startswith("next:")]
