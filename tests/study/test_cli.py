@@ -55,6 +55,7 @@ def test_results_identical_for_jobs_and_backends(write_study, tmp_path: Path) ->
     assert all(t == tables[0] for t in tables[1:])
 
 
+@pytest.mark.slow  # ~25 s of subprocess study runs; tests/test_runner.py's SIGKILL tests stay in the default run
 def test_kill_and_resume_evaluates_only_the_missing_points(write_study, tmp_path: Path) -> None:
     study = write_study("slow", options="{delay_s: 0.01}", n=32, batch=4)       # ~1 100 runs: killed after 200
     out = tmp_path / "killed"
