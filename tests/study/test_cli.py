@@ -43,16 +43,26 @@ def test_run_writes_report_and_equals_the_python_api(write_study, tmp_path: Path
     assert main(["-q", "report", str(out), "--allow-untrusted"]) == 0
 
 
-def test_results_identical_for_jobs_and_backends(write_study, tmp_path: Path) -> None:
+def _identical_for(write_study, tmp_path: Path, runs: list[list[str]]) -> None:
+    """The same study's indices.csv, byte for byte, under each of ``runs``' command-line options."""
     study = write_study()
     tables = []
-    for args in (["--jobs", "1"], ["--jobs", "2"], ["--jobs", "2", "--backend", "dask"]):
+    for args in runs:
         if "dask" in args:
             pytest.importorskip("dask.distributed")
         out = tmp_path / "_".join(args).replace("-", "")
         assert main(["-q", "run", str(study), "--out", str(out), "--allow-untrusted", *args]) == 0
         tables.append((out / "indices.csv").read_text())
     assert all(t == tables[0] for t in tables[1:])
+
+
+def test_results_identical_for_one_and_two_workers(write_study, tmp_path: Path) -> None:
+    _identical_for(write_study, tmp_path, [["--jobs", "1"], ["--jobs", "2"]])
+
+
+@pytest.mark.slow  # a Dask LocalCluster's start-up (~7 s)
+def test_results_identical_with_the_dask_backend(write_study, tmp_path: Path) -> None:
+    _identical_for(write_study, tmp_path, [["--jobs", "1"], ["--jobs", "2", "--backend", "dask"]])
 
 
 @pytest.mark.slow  # ~25 s of subprocess study runs; tests/test_runner.py's SIGKILL tests stay in the default run
