@@ -283,10 +283,18 @@ def test_the_leave_one_out_error_is_taken_over_the_drawn_points() -> None:
     here the resonance's peak region, where the process errs most, is left out of it."""
     from scipy.stats import qmc
 
+    from sklearn.gaussian_process import GaussianProcessRegressor
+
     u = qmc.Sobol(3, seed=4).random(256)
     y = _resonance_unit(u)
     drawn = np.arange(256) % 2 == 0
-    g = GaussianSurrogate.fit(u, y, max_loo=10.0, drawn=drawn)
+    g = GaussianSurrogate.fit(u, y, max_loo=10.0, drawn=drawn, exact=False)
+    gp, sd = g.regressor
+    # the closed-form leave-one-out predictions against refits without the point (same kernel)
+    for i in (0, 17, 200):
+        rest = np.arange(256) != i
+        alone = GaussianProcessRegressor(gp.kernel, optimizer=None).fit(u[rest], (y[rest] - g.offset) / sd)
+        assert g.loo_values[i] == pytest.approx(g.offset + sd * alone.predict(u[i:i + 1])[0], rel=1e-6)
     gap = (y - g.loo_values)[drawn]
     assert g.loo == pytest.approx(np.sqrt(np.mean(gap ** 2)) / y[drawn].std(), rel=1e-9)
     assert GaussianSurrogate.fit(u, y, max_loo=10.0).loo != pytest.approx(g.loo, rel=1e-3)

@@ -45,7 +45,7 @@ Heavy-tailed residuals (a peak the process still misses) keep it above that.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Any
 
@@ -117,9 +117,7 @@ class GaussianSurrogate:
         n, d = u.shape
         train = _spread(n, MAX_TRAIN)
         u, y = u[train], y[train]
-        mine = np.ones(len(train), dtype=bool) if drawn is None else np.asarray(drawn, dtype=bool)[train]
-        if not mine.any():
-            mine = np.ones(len(train), dtype=bool)
+        mine = _drawn_among(train, drawn)
         offset, sd = float(y.mean()), float(y.std())
         if not sd > 0:
             return None
@@ -145,7 +143,7 @@ class GaussianSurrogate:
             if variances is not None:
                 kinv_diag = cho_solve((gp.L_, True), np.eye(len(u))).diagonal()
                 gap = gp.alpha_ / kinv_diag                               # z minus its leave-one-out prediction
-                spread = float(z[mine].std()) if mine.sum() > 1 else 1.0
+                spread = float(z[mine].std())
                 loo = float(np.sqrt(np.mean(gap[mine] ** 2)) / spread) if spread > 0 else np.inf
                 if loo > max_loo:
                     return None
@@ -271,8 +269,6 @@ class TransformedSurrogate:
     def without_posterior(self) -> "TransformedSurrogate":
         """The same surrogate without the process's regressor (its n x n factor): once the pilot is
         chosen, :meth:`error` is no longer needed."""
-        from dataclasses import replace
-
         core = replace(self.core, process=replace(self.core.process, regressor=None))
         return TransformedSurrogate(core, self.loo, self.shift, self.scale)
 
@@ -308,9 +304,7 @@ def fit_control(u: NDArray[np.float64], y: NDArray[np.float64], seed: int = 0,
     if not np.all(y > 0) or (best is not None and best.loo <= GOOD_LOO):
         return best
     train = _spread(len(y), MAX_TRAIN)
-    mine = np.ones(len(train), dtype=bool) if drawn is None else np.asarray(drawn, dtype=bool)[train]
-    if mine.sum() < 2:
-        mine = np.ones(len(train), dtype=bool)
+    mine = _drawn_among(train, drawn)
     yt = y[train]
     sd = float(yt[mine].std())
     ref = float(np.median(yt[mine]))              # the output's scale: the same transform in any unit
@@ -370,14 +364,10 @@ def _sampled_variances(g: Callable[[NDArray[np.float64]], NDArray[np.float64]], 
     for r in range(REPLICATES):
         ab = qmc.Sobol(2 * d, scramble=True, seed=np.random.default_rng(streams[r])).random(base)
         a, b = ab[:, :d], ab[:, d:]
-        fa, fb = g(a) - centre, g(b) - centre
-        var[r] = np.var(np.concatenate([fa, fb]))
-        for i in range(d):
-            mixed = a.copy()
-            mixed[:, i] = b[:, i]
-            fab = g(mixed) - centre
-            first[r, i] = np.mean(fb * (fab - fa))
-            total[r, i] = 0.5 * np.mean((fa - fab) ** 2)
+        mixed = np.repeat(a[:, None, :], d, axis=1)                      # AB_i: A with column i from B
+        mixed[:, np.arange(d), np.arange(d)] = b
+        blocks = np.column_stack([g(a), g(mixed.reshape(-1, d)).reshape(base, d), g(b)]) - centre
+        var[r], first[r], total[r] = _saltelli_variances(blocks)
     se = np.sqrt(1.0 / REPLICATES)
     return ((float(var.mean()), first.mean(axis=0), total.mean(axis=0)),
             (float(var.std(ddof=1) * se), first.std(axis=0, ddof=1) * se, total.std(axis=0, ddof=1) * se))
@@ -405,6 +395,13 @@ def _exact_variances(c: NDArray[np.float64], a: NDArray[np.float64], length: NDA
         ai = a * one[i]
         total[i] = var - (ai @ others @ ai - mean ** 2)
     return var, first, total
+
+
+def _drawn_among(train: NDArray[np.int64], drawn: NDArray[np.bool_] | None) -> NDArray[np.bool_]:
+    """Which of the training points ``train`` (indices) are drawn points, over which leave-one-out
+    errors are taken; all of them without ``drawn`` or with fewer than two drawn."""
+    mine = np.ones(len(train), dtype=bool) if drawn is None else np.asarray(drawn, dtype=bool)[train]
+    return mine if mine.sum() >= 2 else np.ones(len(train), dtype=bool)
 
 
 def _spread(n: int, most: int) -> NDArray[np.int64]:
@@ -445,17 +442,22 @@ class Controlled:
     variance: float
 
 
+def _saltelli_variances(blocks: NDArray[np.float64]) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
+    """Variance, first-order (Saltelli 2010) and total (Jansen) variances (d,) of one function from its
+    Saltelli blocks (N, d + 2): A, AB_1..AB_d, B -- the one place these estimators are written."""
+    fa, fb, fab = blocks[:, 0], blocks[:, -1], blocks[:, 1:-1]
+    return (float(np.var(np.concatenate([fa, fb]))), np.mean(fb[:, None] * (fab - fa[:, None]), axis=0),
+            0.5 * np.mean((fa[:, None] - fab) ** 2, axis=0))
+
+
 def _estimates(f: NDArray[np.float64], g: NDArray[np.float64], exact: tuple[float, NDArray[np.float64],
                NDArray[np.float64]], rows: NDArray[np.int64]) -> tuple[NDArray[np.float64], ...]:
     """S1, ST and the variance from the Saltelli blocks ``rows`` of ``f`` and ``g`` (each (N, d + 2):
-    A, AB_1..AB_d, B)."""
-    var_g, first_g, total_g = exact
-    fa, fb, fab = f[rows, 0], f[rows, -1], f[rows, 1:-1]
-    ga, gb, gab = g[rows, 0], g[rows, -1], g[rows, 1:-1]
-    both_f, both_g = np.concatenate([fa, fb]), np.concatenate([ga, gb])
-    var = var_g + np.var(both_f) - np.var(both_g)
-    first = first_g + np.mean(fb[:, None] * (fab - fa[:, None]) - gb[:, None] * (gab - ga[:, None]), axis=0)
-    total = total_g + 0.5 * np.mean((fa[:, None] - fab) ** 2 - (ga[:, None] - gab) ** 2, axis=0)
+    A, AB_1..AB_d, B): ``g``'s ``exact`` variances plus the difference of the two functions' estimates."""
+    (var_f, first_f, total_f), (var_g, first_g, total_g) = _saltelli_variances(f[rows]), _saltelli_variances(g[rows])
+    var = exact[0] + var_f - var_g
+    first = exact[1] + first_f - first_g
+    total = exact[2] + total_f - total_g
     return first / var, total / var, np.asarray(var)
 
 
