@@ -32,6 +32,7 @@ def _outputs(model, point: dict[str, float], harmonic: bool) -> dict[str, float]
     return objectives(model._sensors(rig, drive, SCENE, t, q, qd), SCENE, drive_for(p, SCENE, POLE_PAIRS))
 
 
+@pytest.mark.slow  # two nonlinear time-domain rig runs (~20 s cold); the rig's paths against kloss stay in the default run
 @pytest.mark.parametrize("point", [{}, {"eccentric_mass": 0.02, "support_stiffness": 5e6}])
 def test_frequency_domain_steady_state_equals_the_time_domain_run(point):
     model = models.get("hss_rig", fidelity="linear")

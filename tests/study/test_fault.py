@@ -110,6 +110,7 @@ def test_indices_with_and_without_the_fault(shift_run: Path) -> None:
     assert v[v["output"] == "full"]["ST_fault"].iloc[0] > 0.5
 
 
+@pytest.mark.slow  # three small fault studies and a report rebuild (~9 s)
 def test_seed_drives_every_sample(write_study, tmp_path: Path) -> None:
     """Same study, same seed: identical tables (also with two workers, and rebuilt from the store);
     another ``fault.seed``: other noise, other numbers (that run also names its combined sensors)."""
