@@ -33,6 +33,7 @@ from ddgsa.mbs.alpha import specialise
 from ddgsa.mbs.assembly import System, Terms
 from ddgsa.mbs.bodies import FlexibleBody, MarkerState, PrescribedBody
 from ddgsa.mbs.constraints import PrescribedSpeed, constraint_rows
+from ddgsa.mbs.derivatives import central_difference
 from ddgsa.mbs.elements import TorqueLaw, element_wrench
 from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rodrigues, rotation
 from ddgsa.mbs.ffr import cross as _cross
@@ -485,40 +486,26 @@ def accelerations(packed: Packed, q: Array, qd: Array, t: float, fd_step: float 
 
 
 @njit(cache=True)
-def _residual_jacobians(q0, qd0, qdd0, lam0, t, P, scale, rel_step):  # pragma: no cover (compiled)
-    """Central differences of ``M(q) qdd0 - Q(q, qd, t) + C_q(q)^T lam0`` over ``q`` and over ``qd``, and of
-    the velocity-level constraint values over ``q``, as :func:`ddgsa.mbs.derivatives.central_jacobian`
-    takes them (step ``rel_step max(scale, |x_i|)``); the tangents are not assembled, nor the constraints
-    for the velocity steps."""
-    n = q0.size
-    out = np.empty((2, n, n))
-    dvel = np.empty((_assemble(q0, qd0, t, P)[7].size, n))
-    for which in range(2):
-        x0 = q0 if which == 0 else qd0
-        for i in range(n):
-            h = rel_step * max(scale, abs(x0[i]))
-            col = np.zeros(n)
-            vcol = np.zeros(dvel.shape[0])
-            for sign in (1.0, -1.0):
-                q, qd = q0.copy(), qd0.copy()
-                if which == 0:
-                    q[i] += sign * h
-                else:
-                    qd[i] += sign * h
-                if which == 0:
-                    m_mat, f, kt, ct, y, ch, jac, vel = _terms(q, qd, t, P, False, True)
-                    r = np.dot(m_mat, qdd0) - f
-                    if lam0.size:
-                        r += np.dot(jac.T, lam0)
-                    vcol += sign * vel
-                else:                   # C_q depends on q alone: its term drops out of a velocity difference
-                    m_mat, f = mass_and_force(q, qd, t, P)
-                    r = np.dot(m_mat, qdd0) - f
-                col += sign * r
-            out[which, :, i] = col / (2.0 * h)
-            if which == 0:
-                dvel[:, i] = vcol / (2.0 * h)
-    return out[0], out[1], dvel
+def _residuals(qs, qds, qdd0, lam0, t, P, over_q):  # pragma: no cover (compiled)
+    """``M(q) qdd0 - Q(q, qd, t) + C_q(q)^T lam0`` at each row of ``qs``, ``qds`` (k, n), followed, where
+    ``over_q``, by the velocity-level constraint values (k, n + n_v); for steps of the velocities
+    (``over_q`` False) the constraints are not assembled: ``C_q`` depends on ``q`` alone, so its term
+    drops out of their difference. The tangents are not assembled."""
+    k, n = qs.shape
+    n_v = _assemble(qs[0], qds[0], t, P)[7].size if over_q else 0
+    out = np.empty((k, n + n_v))
+    for j in range(k):
+        if over_q:
+            m_mat, f, kt, ct, y, ch, jac, vel = _terms(qs[j], qds[j], t, P, False, True)
+            r = np.dot(m_mat, qdd0) - f
+            if lam0.size:
+                r += np.dot(jac.T, lam0)
+            out[j, n:] = vel
+        else:
+            m_mat, f = mass_and_force(qs[j], qds[j], t, P)
+            r = np.dot(m_mat, qdd0) - f
+        out[j, :n] = r
+    return out
 
 
 def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Array, t: float, scale: float,
@@ -526,9 +513,14 @@ def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Arr
     """``(K, C, B0)``: the Jacobians of ``M q_ddot - Q + C_q^T lambda`` over ``q`` and ``q_dot`` at ``(q, qd, t)``
     with ``q_ddot, lambda`` held (the stiffness and damping of :func:`ddgsa.mbs.modal.linearise_system`), and
     of the velocity-level constraint values ``V`` over ``q`` (``d(C_q q_dot)/dq``), by central differences
-    in one compiled loop."""
-    return _residual_jacobians(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), np.asarray(qdd, dtype=float),
-                               np.asarray(lam, dtype=float), float(t), packed.arrays, float(scale), float(rel_step))
+    (:func:`~ddgsa.mbs.derivatives.central_difference`) of residuals evaluated in one compiled call per
+    argument (:func:`_residuals`)."""
+    q, qd, qdd, lam = (np.asarray(x, dtype=float) for x in (q, qd, qdd, lam))
+    args = (qdd, lam, float(t), packed.arrays)
+    over_q = central_difference(lambda x: _residuals(x, np.tile(qd, (len(x), 1)), *args, True), q, scale, rel_step)
+    over_qd = central_difference(lambda x: _residuals(np.tile(q, (len(x), 1)), x, *args, False), qd, scale, rel_step)
+    n = q.size
+    return over_q[:n], over_qd, over_q[n:]
 
 
 def gen_alpha(packed: Packed, q0: Array, qd0: Array, t0: float, dt: float, n_steps: int, output_every: int,

@@ -26,6 +26,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs.bodies import Marker, MarkerState
+from ddgsa.mbs.derivatives import central_step
 from ddgsa.mbs.ffr import cross, mm, mv, rotation_vector, skew
 from ddgsa.mbs.machines import N_CONSTANTS as N_MACHINE
 from ddgsa.mbs.machines import induction_slope, induction_torque
@@ -426,7 +427,7 @@ class TorqueLaw(Element):
         elif self.slope is not None:
             slope = float(self.slope(t, speed))
         else:
-            h = 1e-6 * max(1.0, abs(speed))
+            h = central_step(speed, 1.0, 1e-6)
             slope = (float(self.law(t, speed + h)) - float(self.law(t, speed - h))) / (2 * h)
         wr, c = axial_torque_wrench(a, 0, reaction, torque, slope)
         return wr, None, c
@@ -461,7 +462,7 @@ def power_slope(law, speed):  # pragma: no cover (compiled)
     """``dT/dw`` [N m s/rad] of :func:`power_torque` by the central difference :meth:`TorqueLaw.wrench`
     takes of a law without a slope (step ``1e-6 max(1, |w|)``: the power law's own slope is infinite at
     rest for ``n < 1``)."""
-    h = 1e-6 * max(1.0, abs(speed))
+    h = central_step(speed, 1.0, 1e-6)
     return (power_torque(law, speed + h) - power_torque(law, speed - h)) / (2 * h)
 
 

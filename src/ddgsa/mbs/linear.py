@@ -40,6 +40,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 from numpy.typing import NDArray
 from scipy.linalg import expm
 
+from ddgsa.mbs.derivatives import central_difference
 from ddgsa.mbs.series import CATMULL_ROM, _padded
 from ddgsa.mbs.system import SystemArrays, terms
 
@@ -118,29 +119,16 @@ def _residual_and_springs(p, v, a, u, iy, iz, sys):  # pragma: no cover (compile
 
 
 @njit(cache=True)
-def _central_columns(p0, v0, a0, u0, which, scale, rel_step, iy, iz, ny, sys):  # pragma: no cover (compiled)
-    """Central-difference Jacobians of the residual and the spring forces with respect to
-    argument ``which`` (0 p, 1 v, 2 a, 3 u); the step of entry ``i`` is ``rel_step max(scale, |x_i|)``."""
-    x0 = (p0, v0, a0, u0)[which]
-    jr = np.empty((v0.size, x0.size))
-    jy = np.empty((ny, x0.size))
-    for i in range(x0.size):
-        h = rel_step * max(scale, abs(x0[i]))
-        cols = []
-        for sign in (1.0, -1.0):
-            p, v, a, u = p0.copy(), v0.copy(), a0.copy(), u0.copy()
-            if which == 0:
-                p[i] += sign * h
-            elif which == 1:
-                v[i] += sign * h
-            elif which == 2:
-                a[i] += sign * h
-            else:
-                u[i] += sign * h
-            cols.append(_residual_and_springs(p, v, a, u, iy, iz, sys))
-        jr[:, i] = (cols[0][0] - cols[1][0]) / (2.0 * h)
-        jy[:, i] = (cols[0][1] - cols[1][1]) / (2.0 * h)
-    return jr, jy
+def _residuals_and_springs(ps, vs, us, a0, iy, iz, sys):  # pragma: no cover (compiled)
+    """:func:`_residual_and_springs` at each row of ``ps``, ``vs``, ``us`` (k, .) with the accelerations
+    ``a0``: the residuals and the spring forces side by side (k, n + n_springs)."""
+    r, fs, _ = _residual_and_springs(ps[0], vs[0], a0, us[0], iy, iz, sys)
+    out = np.empty((ps.shape[0], r.size + fs.size))
+    for j in range(ps.shape[0]):
+        r, fs, _ = _residual_and_springs(ps[j], vs[j], a0, us[j], iy, iz, sys)
+        out[j, :r.size] = r
+        out[j, r.size:] = fs
+    return out
 
 
 def linearise_spinning(sys: SystemArrays, p0: NDArray[np.float64], spin: float, u0: NDArray[np.float64],
@@ -170,8 +158,18 @@ def linearise_spinning(sys: SystemArrays, p0: NDArray[np.float64], spin: float, 
     iz = np.array([j for _, j in pairs], dtype=np.int64)
     args = sys.args()
     r_base, y0, m = _residual_and_springs(p0, v0, a0, u0, iy, iz, args)
-    jac = {w: _central_columns(p0, v0, a0, u0, w, s, rel_step, iy, iz, y0.size, args)
-           for w, s in ((0, 1e-3), (1, 1e-3), (3, 1.0))}
+    base = (p0, v0, u0)
+
+    def over(which: int, scale: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The residual's and the spring forces' Jacobians over ``p``, ``v`` or ``u`` (``which`` 0, 1, 2)."""
+        def batch(x: NDArray[np.float64]) -> NDArray[np.float64]:
+            rows = [x if k == which else np.tile(b, (len(x), 1)) for k, b in enumerate(base)]
+            return _residuals_and_springs(*rows, a0, iy, iz, args)
+
+        jac = central_difference(batch, base[which], scale, rel_step)
+        return jac[:n], jac[n:]
+
+    jac = {0: over(0, 1e-3), 1: over(1, 1e-3), 3: over(2, 1.0)}
     # the residual is linear in the accelerations: d/da = M d(q_ddot)/da, exactly, where the spin
     # acceleration (a[3]) enters the body's elastic accelerations as -J xi
     m_a = m.copy()

@@ -23,6 +23,8 @@ import math
 
 from numba import njit
 
+from ddgsa.mbs.derivatives import central_step
+
 N_CONSTANTS = 13
 """Length of a machine's constants array (see the module)."""
 
@@ -125,7 +127,7 @@ def induction_slope(c, t, speed):  # pragma: no cover (compiled)
     """``dT/dw`` [N m s/rad] of :func:`induction_torque` by a central difference of step
     ``1e-6 max(1, |w|)`` (as :meth:`TorqueLaw.wrench <ddgsa.mbs.elements.TorqueLaw.wrench>` takes it
     of a law without a slope)."""
-    h = 1e-6 * max(1.0, abs(speed))
+    h = central_step(speed, 1.0, 1e-6)
     return (induction_torque(c, t, speed + h) - induction_torque(c, t, speed - h)) / (2 * h)
 
 

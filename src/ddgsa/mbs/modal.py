@@ -23,7 +23,7 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System, accelerations
 from ddgsa.mbs.compiled import Packed, evaluate, pack, residual_jacobians
 from ddgsa.mbs.compiled import accelerations as compiled_accelerations
-from ddgsa.mbs.derivatives import central_jacobian
+from ddgsa.mbs.derivatives import central_difference, central_jacobian
 
 Terms = Callable[[NDArray[np.float64], NDArray[np.float64]], tuple[NDArray[np.float64], NDArray[np.float64]]]
 
@@ -48,15 +48,18 @@ def linearise(terms: Terms, q0: NDArray[np.float64], qd0: NDArray[np.float64],
     """
     idx = np.arange(q0.size) if keep is None else np.asarray(keep)
     m0, _ = terms(q0, qd0)
-    n = idx.size
-    k, c = np.zeros((n, n)), np.zeros((n, n))
-    for col, i in enumerate(idx):
-        h = rel_step * max(1.0, abs(q0[i]))
-        dq = np.zeros_like(q0)
-        dq[i] = h
-        k[:, col] = -(terms(q0 + dq, qd0)[1] - terms(q0 - dq, qd0)[1])[idx] / (2 * h)
-        hv = rel_step * max(1e-3, abs(qd0[i]))
-        c[:, col] = -(terms(q0, qd0 + dq * hv / h)[1] - terms(q0, qd0 - dq * hv / h)[1])[idx] / (2 * hv)
+
+    def minus_force(x: NDArray[np.float64], over_q: bool) -> NDArray[np.float64]:
+        """``-Q`` on the kept coordinates at each row of ``x`` (the kept positions or velocities)."""
+        out = np.empty((len(x), idx.size))
+        for j, xj in enumerate(x):
+            q, qd = q0.copy(), qd0.copy()
+            (q if over_q else qd)[idx] = xj
+            out[j] = -terms(q, qd)[1][idx]
+        return out
+
+    k = central_difference(lambda x: minus_force(x, True), q0[idx], 1.0, rel_step)
+    c = central_difference(lambda x: minus_force(x, False), qd0[idx], 1e-3, rel_step)
     return m0[np.ix_(idx, idx)], c, k
 
 

@@ -38,7 +38,7 @@ from ddgsa.mbs.compiled import HybridTerms, _markers, mass_and_force
 from ddgsa.mbs.elements import Element
 from ddgsa.mbs.ffr import g_bar
 from ddgsa.mbs.linear import lti_response
-from ddgsa.mbs.derivatives import central_jacobian
+from ddgsa.mbs.derivatives import central_difference, central_jacobian
 
 Array = NDArray[np.float64]
 RIGID_RCOND = 1e-12
@@ -251,12 +251,12 @@ def _project(lin: SpinLinearisation, cos: Array, sin: Array, spin_col: Array, v:
 
 def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, scale: float,
                      rel_step: float) -> Array:
-    """Central differences of the projected residual over ``z`` (``which`` 0) or ``z'`` (1) at zero, as
-    :func:`~ddgsa.mbs.derivatives.central_jacobian` takes them of :func:`_residual` (step
-    ``rel_step * scale``): the steps' states at once (:func:`_spin_map`), the packed part by the compiled
-    kernel, each Python element (:attr:`HybridTerms.python`) once at the operating state and again for
-    the steps of its markers' bodies' coordinates only (a step of another body's coordinate, turned
-    within that body, leaves its markers and so its force as they were)."""
+    """Central differences (:func:`~ddgsa.mbs.derivatives.central_difference`, step ``rel_step * scale``) of
+    the projected residual over ``z`` (``which`` 0) or ``z'`` (1) at zero, as of :func:`_residual`:
+    the steps' states at once (:func:`_spin_map`), the packed part by the compiled kernel, each Python
+    element (:attr:`HybridTerms.python`) once at the operating state and again for the steps of its
+    markers' bodies' coordinates only (a step of another body's coordinate, turned within that body,
+    leaves its markers and so its force as they were)."""
     n = lin.q0.size
     rows = sorted({r for rs in terms.marker_rows for r in rs})
     arrays = terms.packed.arrays
@@ -265,27 +265,29 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
     q, qd = (x[0] for x in _spin_map(lin, zero, zero)[:2])
     *base, lohi = _markers(q, qd, t0, arrays)
     span = {r: range(lohi[r, 0], lohi[r, 1]) for r in rows}         # the coordinates that move marker r
-    h = rel_step * scale
-    steps = np.vstack([h * np.eye(n), -h * np.eye(n)])                 # (2n, n): +h then -h on each coordinate
-    nil = np.zeros_like(steps)
-    q, qd, qdd, cos, sin, spin_col = _spin_map(lin, *((steps, nil) if which == 0 else (nil, steps)))
-    res = np.zeros((2 * n, n))
-    moved: dict[int, list] = {}
-    for j in range(2 * n):
-        m_mat, f = mass_and_force(q[j], qd[j], t0, arrays)
-        res[j] = m_mat @ qdd[j] - f
-        if any(j % n in span[r] for r in rows):
-            moved[j] = _markers(q[j], qd[j], t0, arrays)[:5]
-    for (_, el), el_rows in zip(terms.python, terms.marker_rows):
-        f0 = _element_force(el, t0, [MarkerState(*(arr[r] for arr in base)) for r in el_rows])
-        cols = set().union(*(span[r] for r in el_rows))
+
+    def batch(steps: Array) -> Array:
+        """The projected residual at each stepped row (row ``j`` steps coordinate ``j % n``)."""
+        nil = np.zeros_like(steps)
+        q, qd, qdd, cos, sin, spin_col = _spin_map(lin, *((steps, nil) if which == 0 else (nil, steps)))
+        res = np.zeros((2 * n, n))
+        moved: dict[int, list] = {}
         for j in range(2 * n):
-            if j % n in cols:
-                res[j] -= _element_force(el, t0, [MarkerState(*(arr[r] for arr in moved[j])) for r in el_rows])
-            else:
-                res[j] -= f0
-    proj = _project(lin, cos, sin, spin_col, res)
-    return ((proj[:n] - proj[n:]) / (2 * h)).T
+            m_mat, f = mass_and_force(q[j], qd[j], t0, arrays)
+            res[j] = m_mat @ qdd[j] - f
+            if any(j % n in span[r] for r in rows):
+                moved[j] = _markers(q[j], qd[j], t0, arrays)[:5]
+        for (_, el), el_rows in zip(terms.python, terms.marker_rows):
+            f0 = _element_force(el, t0, [MarkerState(*(arr[r] for arr in base)) for r in el_rows])
+            cols = set().union(*(span[r] for r in el_rows))
+            for j in range(2 * n):
+                if j % n in cols:
+                    res[j] -= _element_force(el, t0, [MarkerState(*(arr[r] for arr in moved[j])) for r in el_rows])
+                else:
+                    res[j] -= f0
+        return _project(lin, cos, sin, spin_col, res)
+
+    return central_difference(batch, np.zeros(n), scale, rel_step)
 
 
 def _element_force(el: Element, t: float, states: list[MarkerState]) -> Array:

@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 from ddgsa.errors import ModelError
 from ddgsa.mbs.alpha import python_loop, specialise
 from ddgsa.mbs.assembly import System, python_kind
+from ddgsa.mbs.derivatives import central_step
 
 Array = NDArray[np.float64]
 
@@ -84,7 +85,7 @@ def _newton(ctx, q, t, hold, tol, max_iter, nh, nc, n_y, analytic):  # pragma: n
                 if hold[j]:
                     continue
                 x = q[j]
-                h = FD_STEP * max(FD_SCALE, abs(x))
+                h = central_step(x, FD_SCALE, FD_STEP)
                 q[j] = x + h
                 _evaluate(q, qd, t, 0, ctx, m, f, kt, ct, y, ch, jac, vel)
                 _residual(rp, f, ch, jac, lam, q, q_start)
