@@ -509,17 +509,19 @@ def _residuals(qs, qds, qdd0, lam0, t, P, over_q):  # pragma: no cover (compiled
 
 
 def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Array, t: float, scale: float,
-                       rel_step: float) -> tuple[Array, Array, Array]:
+                       rel_step: float, static: bool = False) -> tuple[Array, Array, Array]:
     """``(K, C, B0)``: the Jacobians of ``M q_ddot - Q + C_q^T lambda`` over ``q`` and ``q_dot`` at ``(q, qd, t)``
     with ``q_ddot, lambda`` held (the stiffness and damping of :func:`ddgsa.mbs.modal.linearise_system`), and
     of the velocity-level constraint values ``V`` over ``q`` (``d(C_q q_dot)/dq``), by central differences
     (:func:`~ddgsa.mbs.derivatives.central_difference`) of residuals evaluated in one compiled call per
-    argument (:func:`_residuals`)."""
+    argument (:func:`_residuals`). ``static``: ``C`` is left at zero (half the evaluations)."""
     q, qd, qdd, lam = (np.asarray(x, dtype=float) for x in (q, qd, qdd, lam))
     args = (qdd, lam, float(t), packed.arrays)
     over_q = central_difference(lambda x: _residuals(x, np.tile(qd, (len(x), 1)), *args, True), q, scale, rel_step)
-    over_qd = central_difference(lambda x: _residuals(np.tile(q, (len(x), 1)), x, *args, False), qd, scale, rel_step)
     n = q.size
+    if static:
+        return over_q[:n], np.zeros((n, n)), over_q[n:]
+    over_qd = central_difference(lambda x: _residuals(np.tile(q, (len(x), 1)), x, *args, False), qd, scale, rel_step)
     return over_q[:n], over_qd, over_q[n:]
 
 

@@ -20,47 +20,54 @@ from numpy.typing import NDArray
 from scipy.linalg import eig, null_space
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.assembly import System, accelerations
+from ddgsa.mbs.assembly import System, accelerations, python_kind
 from ddgsa.mbs.compiled import Packed, evaluate, pack, residual_jacobians
 from ddgsa.mbs.compiled import accelerations as compiled_accelerations
-from ddgsa.mbs.derivatives import central_difference, central_jacobian
+from ddgsa.mbs.derivatives import central_difference
 
-Terms = Callable[[NDArray[np.float64], NDArray[np.float64]], tuple[NDArray[np.float64], NDArray[np.float64]]]
+def kind_jacobians(kind: Callable[..., None], ctx: object, sizes: tuple[int, int, int],
+                   q0: NDArray[np.float64], qd0: NDArray[np.float64], t0: float, qdd0: NDArray[np.float64],
+                   lam0: NDArray[np.float64], keep: Sequence[int] | None = None, scales: tuple[float, float] = (1e-3, 1e-3),
+                   rel_step: float = 1e-6, static: bool = False) -> tuple[NDArray[np.float64], ...]:
+    """``(M, C, K)`` of ``M(q) q_ddot - Q(q, q_dot, t0) + C_q(q)^T lambda_0`` at ``(q0, qd0)`` on the kept coordinates.
 
-
-def linearise(terms: Terms, q0: NDArray[np.float64], qd0: NDArray[np.float64],
-              keep: Sequence[int] | None = None, rel_step: float = 1e-6) -> tuple[NDArray[np.float64], ...]:
-    """Mass, damping and stiffness matrices at ``(q0, qd0)`` by central differences.
+    The system is any ``kind`` of :mod:`ddgsa.mbs.alpha`'s loop (``kind(q, qd, t, step, ctx, m, f, kt, ct,
+    y, ch, jac, vel)``: a System's own objects, :func:`~ddgsa.mbs.assembly.python_kind`; the single-body
+    kernel, :func:`ddgsa.mbs.system.kind_context`), so one linearisation serves them all. ``K`` and
+    ``C`` are central differences (:func:`~ddgsa.mbs.derivatives.central_difference`, steps
+    ``rel_step max(scale, |x_i|)`` with ``scales`` for the positions and the velocities) with
+    ``q_ddot = qdd0`` and ``lambda = lam0`` held; ``M`` is exact (the residual is linear in the
+    accelerations). The other coordinates are held (e.g. a cyclic spin angle). ``static=True``
+    leaves ``C`` at zero (half the evaluations).
 
     Parameters
     ----------
-    terms : callable
-        ``terms(q, qd) -> (M, Q)``.
-    keep : sequence of int, optional
-        Coordinates to keep (e.g. without a cyclic spin angle); the others are held fixed.
-    rel_step : float
-        Finite-difference step relative to ``max(1, |q_i|)`` (and to 1e-3 for velocities).
-
-    Returns
-    -------
-    M, C, K : ndarray
-        ``M dq_ddot + C dq_dot + K dq = 0`` on the kept coordinates.
+    sizes : ``(n_y, n_h, n_c)`` the kind's output, holonomic and constraint counts
     """
-    idx = np.arange(q0.size) if keep is None else np.asarray(keep)
-    m0, _ = terms(q0, qd0)
+    n = q0.size
+    n_y, n_h, n_c = sizes
+    idx = np.arange(n) if keep is None else np.asarray(keep)
+    m, f, kt, ct = np.zeros((n, n)), np.zeros(n), np.zeros((n, n)), np.zeros((n, n))
+    y, ch, jac, vel = np.zeros(n_y), np.zeros(n_h), np.zeros((n_c, n)), np.zeros(n_c)
+    kind(q0, qd0, t0, 0, ctx, m, f, kt, ct, y, ch, jac, vel)
+    m0 = m[np.ix_(idx, idx)].copy()
 
-    def minus_force(x: NDArray[np.float64], over_q: bool) -> NDArray[np.float64]:
-        """``-Q`` on the kept coordinates at each row of ``x`` (the kept positions or velocities)."""
+    def batch(x: NDArray[np.float64], over_q: bool) -> NDArray[np.float64]:
+        """The residual on the kept coordinates at each row of ``x`` (kept positions or velocities)."""
         out = np.empty((len(x), idx.size))
         for j, xj in enumerate(x):
             q, qd = q0.copy(), qd0.copy()
             (q if over_q else qd)[idx] = xj
-            out[j] = -terms(q, qd)[1][idx]
+            kind(q, qd, t0, 0, ctx, m, f, kt, ct, y, ch, jac, vel)
+            r = m @ qdd0 - f
+            if lam0.size:
+                r = r + jac.T @ lam0
+            out[j] = r[idx]
         return out
 
-    k = central_difference(lambda x: minus_force(x, True), q0[idx], 1.0, rel_step)
-    c = central_difference(lambda x: minus_force(x, False), qd0[idx], 1e-3, rel_step)
-    return m0[np.ix_(idx, idx)], c, k
+    k = central_difference(lambda x: batch(x, True), q0[idx], scales[0], rel_step)
+    c = np.zeros_like(k) if static else central_difference(lambda x: batch(x, False), qd0[idx], scales[1], rel_step)
+    return m0, c, k
 
 
 def damped_eigen(m: NDArray[np.float64], c: NDArray[np.float64],
@@ -198,19 +205,20 @@ def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0:
                      compiled: bool | Packed = False, static: bool = False) -> ConstrainedLinearisation:
     """Linearise a constrained system about ``(q0, qd0, t0)`` and reduce it on the null space of ``C_q``.
 
-    The full matrices are central differences (:func:`~ddgsa.mbs.derivatives.central_jacobian`) of the
-    residual ``M(q) q_ddot - Q(q, q_dot, t0) + C_q(q)^T lambda_0``; ``q0, qd0`` default to the
-    system's (consistent) initial state. ``analytic=True`` takes ``K`` and ``C`` from the parts'
-    own tangents (:meth:`~ddgsa.mbs.assembly.System.terms`): exact for a system at rest whose
-    elements give exact tangents and whose multipliers add no geometric stiffness (no spin, no
-    gyroscopic terms); one evaluation instead of ``4 n``. ``compiled=True`` takes every residual
-    from the packed system (:func:`ddgsa.mbs.compiled.evaluate`: the same terms to round-off, about
-    13x faster; every part must pack), the accelerations too, and takes the central differences in
-    one compiled loop (:func:`ddgsa.mbs.compiled.residual_jacobians`); a :class:`~ddgsa.mbs.compiled.Packed` of
-    ``system`` is taken as packed already (a caller that linearises one system often).
-    ``static=True`` (unconstrained systems) leaves ``C`` at zero and takes ``K`` alone, by
-    :func:`~ddgsa.mbs.derivatives.central_jacobian` over the same residual (half the residual calls:
-    a caller that needs the static part ``K z = r0`` only, such as a gravity sag).
+    The full matrices are central differences of the residual ``M(q) q_ddot - Q(q, q_dot, t0) +
+    C_q(q)^T lambda_0`` (:func:`kind_jacobians` on the System's own objects, the kernel's one
+    linearisation); ``q0, qd0`` default to the system's (consistent) initial state.
+    ``analytic=True`` takes ``K`` and ``C`` from the parts' own tangents
+    (:meth:`~ddgsa.mbs.assembly.System.terms`): exact for a system at rest whose elements give exact
+    tangents and whose multipliers add no geometric stiffness (no spin, no gyroscopic terms); one
+    evaluation instead of ``4 n``. ``compiled=True`` takes every residual from the packed system
+    (the same terms to round-off, about 13x faster; every part must pack), the accelerations too,
+    all stepped residuals of an argument in one compiled call
+    (:func:`ddgsa.mbs.compiled.residual_jacobians`: the same differences); a
+    :class:`~ddgsa.mbs.compiled.Packed` of ``system`` is taken as packed already (a caller that
+    linearises one system often). ``static=True`` (unconstrained systems) leaves ``C`` at zero and
+    takes ``K`` alone (half the residual calls: a caller that needs the static part ``K z = r0``
+    only, such as a gravity sag).
     """
     if q0 is None or qd0 is None:
         q0, qd0 = system.consistent_state(q0, qd0, t0)
@@ -230,29 +238,19 @@ def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0:
             jac = system.constraint_jacobian(q, qd, t0) if system.n_constraints else np.zeros((0, system.n))
             return tm.m, tm.q, jac
 
-    def residual(q: NDArray[np.float64], qd: NDArray[np.float64], qdd: NDArray[np.float64]) -> NDArray[np.float64]:
-        m, f, jac = mass_force_jacobian(q, qd)
-        out = m @ qdd - f
-        if lam0.size:
-            out = out + jac.T @ lam0
-        return out
-
     m0, f0, jac0 = mass_force_jacobian(q0, qd0)
     curvature = None
-    if static:
-        if system.n_constraints:
-            raise ModelError("linearise_system: static=True takes unconstrained systems only")
-        k_full = central_jacobian(residual, [q0, qd0, qdd0], 0, 1e-3, rel_step)
-        c_full = np.zeros_like(k_full)
-    elif analytic:
+    if static and system.n_constraints:
+        raise ModelError("linearise_system: static=True takes unconstrained systems only")
+    if analytic:
         tm = system.terms(q0, qd0, t0)
         k_full, c_full = tm.k, tm.c
     elif compiled is not False:
-        k_full, c_full, curvature = residual_jacobians(packed, q0, qd0, qdd0, lam0, t0, 1e-3, rel_step)
+        k_full, c_full, curvature = residual_jacobians(packed, q0, qd0, qdd0, lam0, t0, 1e-3, rel_step, static)
     else:
-        args = [q0, qd0, qdd0]
-        k_full = central_jacobian(residual, args, 0, 1e-3, rel_step)
-        c_full = central_jacobian(residual, args, 1, 1e-3, rel_step)
+        sizes = (6 * len(system.elements), system.n_holonomic, system.n_constraints)
+        _, c_full, k_full = kind_jacobians(python_kind(system), None, sizes, q0, qd0, t0, qdd0, lam0,
+                                           rel_step=rel_step, static=static)
     basis = null_space(jac0) if system.n_constraints else np.eye(system.n)
     return ConstrainedLinearisation(basis.T @ m0 @ basis, basis.T @ c_full @ basis, basis.T @ k_full @ basis,
                                     basis, m0, c_full, k_full, q0, qd0, t0, qdd0, lam0, basis.T @ f0,

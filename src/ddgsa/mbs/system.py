@@ -354,12 +354,25 @@ def static_state(sys: SystemArrays, force: NDArray[np.float64], moment: NDArray[
     :class:`~ddgsa.errors.ModelError` when ``max_iter`` iterations do not converge.
     """
     n, ns = sys.n_dof, sys.sp_k.shape[0]
-    row = np.zeros(13)
-    row[0:3], row[3:6] = force, moment
-    ctx = (np.stack([row, row]), 1, float(torque0), np.empty(13), np.empty((ns, 3)), np.empty((ns + 1, 3, n)),
-           sys.args())
     q = np.zeros(n) if q_guess is None else np.asarray(q_guess, dtype=float)
-    return solve(_static, ctx, q, 0.0, (3,), tol, max_iter, 0, 0, 3 * ns + 1, True)[0]
+    return solve(_static, kind_context(sys, force, moment, 0.0, torque0), q, 0.0, (3,), tol, max_iter, 0, 0,
+                 3 * ns + 1, True)[0]
+
+
+def kind_context(sys: SystemArrays, force: NDArray[np.float64], moment: NDArray[np.float64], w_set: float = 0.0,
+                 torque0: float = 0.0) -> tuple:
+    """The single-body kernel's context as a kind (:func:`_evaluate`) under constant inputs: ``force`` [N] and
+    ``moment`` [N m] at the load point, the torque law's set speed ``w_set`` [rad/s] and constant ``torque0``
+    [N m] (its statics, its linearisation: :func:`ddgsa.mbs.modal.kind_jacobians` with :data:`kind`)."""
+    n, ns = sys.n_dof, sys.sp_k.shape[0]
+    row = np.zeros(13)
+    row[0:3], row[3:6], row[6] = force, moment, w_set
+    return (np.stack([row, row]), 1, float(torque0), np.empty(13), np.empty((ns, 3)), np.empty((ns + 1, 3, n)),
+            sys.args())
+
+
+kind = _evaluate
+"""The single-body kernel as a kind of :mod:`ddgsa.mbs.alpha`'s loops (with :func:`kind_context`)."""
 
 
 def integrate_reference(sys: SystemArrays, q0: NDArray[np.float64], qd0: NDArray[np.float64], times: NDArray[np.float64],

@@ -72,12 +72,12 @@ from ddgsa.mbs.assembly import System
 from ddgsa.mbs.beam import BEAMS, BeamSpec, mesh, shear_coefficient
 from ddgsa.mbs.bodies import MAX_BENDING_MODES, FlexibleBody, Ground, bending_fields
 from ddgsa.mbs.elements import AppliedLoad, SpringDamper3, TorqueLaw
-from ddgsa.mbs.modal import linearise, modal_analysis
+from ddgsa.mbs.modal import kind_jacobians, modal_analysis
 from ddgsa.mbs.linear import (initial_state, input_window, linearise_spinning, lti_response,
                               modal_output_matrix, modal_step, state_matrices)
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
-from ddgsa.mbs.system import (SystemArrays, evaluate_terms, integrate, integrate_reference, single_body_arrays,
-                              static_state)
+from ddgsa.mbs.system import (SystemArrays, integrate, integrate_reference, kind, kind_context,
+                              single_body_arrays, static_state)
 from ddgsa.models.base import (Model, ModelOption, ModelOutput, ModelParameter, SignalOutput, controller_row,
                                register_model)
 from ddgsa.models.constants import HUB_INERTIA_X, HUB_INERTIA_YZ, HUB_MASS, tilted_gravity
@@ -668,9 +668,10 @@ class DirectDrive(Model):
     def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0) -> pd.DataFrame:
         """Natural frequencies [Hz], damping ratios and labels about the static state under gravity.
 
-        Linearised by central differences (:func:`ddgsa.mbs.modal.linearise`) with the spin
-        angle removed (cyclic) and the rotor turning at ``rotor_speed`` [rad/s] (0: standstill;
-        the bearings are anisotropic, so a spinning linearisation is a snapshot at spin angle 0).
+        Linearised by the kernel's linearisation (:func:`ddgsa.mbs.modal.kind_jacobians` on the
+        single-body kernel) with the spin angle held (cyclic) and the rotor turning at ``rotor_speed``
+        [rad/s] (0: standstill; the bearings are anisotropic, so a spinning linearisation is a snapshot
+        at spin angle 0).
         """
         asm = self.build(params)
         zero = np.zeros(3)
@@ -678,12 +679,9 @@ class DirectDrive(Model):
         qd0 = np.zeros_like(q0)
         qd0[3] = rotor_speed
         keep = [i for i in range(q0.size) if i != 3]
-
-        def terms(q: NDArray[np.float64], qd: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
-            m, f, *_ = evaluate_terms(asm.system, q, qd, zero, zero, rotor_speed)
-            return m, f
-
-        m, c, k = linearise(terms, q0, qd0, keep=keep)
+        sizes = (3 * asm.system.sp_k.shape[0] + 1, 0, 0)
+        m, c, k = kind_jacobians(kind, kind_context(asm.system, zero, zero, rotor_speed), sizes, q0, qd0, 0.0,
+                                 np.zeros_like(q0), np.zeros(0), keep=keep, scales=(1.0, 1e-3))
         names = [self.coordinate_names[i] for i in keep]
         return modal_analysis(m, c, k, names, {n: MODE_GROUPS[n] for n in names})
 
