@@ -27,15 +27,16 @@ from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody, Ground, Marker, PrescribedBody, RigidBody
 from ddgsa.mbs.constraints import (GearContact, Lock, PrescribedCoordinate, PrescribedSpeed, Spherical,
                                    TransverseBearing)
-from ddgsa.mbs.elements import (AppliedLoad, Bushing6, EccentricMass, RadialForce, SpringDamper3, TorqueLaw,
-                                TorsionalSpring)
+from ddgsa.mbs.elements import (AirGapPull, AppliedLoad, Bushing6, EccentricMass, RadialForce, SpringDamper3,
+                                TorqueLaw, TorsionalSpring)
 from ddgsa.mbs.integrate import Trajectory, exact, genalpha, reference
 from ddgsa.mbs.modal import linearise_system, modes
 from ddgsa.mbs.statics import static_equilibrium
 
 __all__ = [
     "System", "RigidBody", "FlexibleBody", "Ground", "PrescribedBody", "Marker",
-    "SpringDamper3", "Bushing6", "TorsionalSpring", "TorqueLaw", "AppliedLoad", "RadialForce", "EccentricMass",
+    "SpringDamper3", "Bushing6", "TorsionalSpring", "TorqueLaw", "AppliedLoad", "RadialForce", "AirGapPull",
+    "EccentricMass",
     "Spherical", "TransverseBearing", "GearContact", "PrescribedSpeed", "Lock", "PrescribedCoordinate",
     "genalpha", "reference", "exact", "Trajectory", "linearise_system", "modes", "static_equilibrium",
 ]

@@ -29,7 +29,7 @@ from ddgsa.mbs.bodies import Marker, MarkerState
 from ddgsa.mbs.derivatives import central_step
 from ddgsa.mbs.ffr import cross, mm, mv, rotation_vector, skew
 from ddgsa.mbs.machines import N_CONSTANTS as N_MACHINE
-from ddgsa.mbs.machines import induction_slope, induction_torque
+from ddgsa.mbs.machines import air_gap_pull, induction_slope, induction_torque
 from ddgsa.mbs.series import Series
 
 Array = NDArray[np.float64]
@@ -80,7 +80,7 @@ class CompiledForm:
 
 
 #: the kinds of compiled element (:func:`element_wrench`)
-CONNECTOR, TORQUE, LOAD, POWER_TORQUE, ECCENTRIC, MACHINE_TORQUE = 0, 1, 2, 3, 4, 5
+CONNECTOR, TORQUE, LOAD, POWER_TORQUE, ECCENTRIC, MACHINE_TORQUE, AIR_GAP = 0, 1, 2, 3, 4, 5, 6
 
 
 def stacked(states: list[MarkerState]) -> tuple[Array, Array, Array, Array]:
@@ -603,7 +603,64 @@ def element_wrench(kind, r, a, v, w, i, j, par, inputs, t):  # pragma: no cover 
         speed = spin_speed(a, w, i, j)
         wr, cr = axial_torque_wrench(a, i, j, induction_torque(par, t, speed), induction_slope(par, t, speed))
         return wr, none, cr
+    if kind == AIR_GAP:
+        e = radial_displacement(r, a, i, j, par[0:2].copy())
+        force, slope = air_gap_pull(par[2:], e[0], e[1])
+        wr, kr = radial_wrench(r, a, i, j, force, slope)
+        return wr, kr, none
     return inputs.copy().reshape(1, 6), none, none
+
+
+@njit(cache=True)
+def radial_displacement(r, a, i, j, rest):  # pragma: no cover (compiled)
+    """``e = P A_j^T (r_i - r_j) - rest`` (2,) [m]: marker i's displacement in marker j's y, z axes."""
+    e = np.zeros(2)
+    for k in range(2):
+        e[k] = (a[j][0, k + 1] * (r[i][0] - r[j][0]) + a[j][1, k + 1] * (r[i][1] - r[j][1])
+                + a[j][2, k + 1] * (r[i][2] - r[j][2])) - rest[k]
+    return e
+
+
+@njit(cache=True)
+def radial_wrench(r, a, i, j, force, slope):  # pragma: no cover (compiled)
+    """``(W (2, 6), K (12, 12))`` of :class:`RadialForce`: ``F = A_j P^T force`` on marker ``i``, ``-F`` and the
+    pair's couple ``(r_j - r_i) x F`` on marker ``j``, and the tangent ``-A_j P^T slope P A_j^T`` of the
+    translations (exact for coincident markers whose frame j does not turn)."""
+    axes = a[j][:, 1:3].copy()
+    f = np.zeros(3)
+    k = np.zeros((6, 6))
+    for m in range(3):
+        f[m] = axes[m, 0] * force[0] + axes[m, 1] * force[1]
+    for m in range(3):
+        for n in range(3):
+            acc = 0.0
+            for p in range(2):
+                for q in range(2):
+                    acc += axes[m, p] * slope[p, q] * axes[n, q]
+            k[m, n] = -acc
+    w = np.zeros((2, 6))
+    w[0, :3] = f
+    w[1, :3] = -f
+    w[1, 3:] = cross(r[j] - r[i], f)
+    return w, _pair(k)
+
+
+@dataclass(frozen=True)
+class AirGapPull:
+    """The magnetic pull of a surface-PM air gap (:func:`ddgsa.mbs.machines.air_gap_pull`, compiled) as
+    the law of a :class:`RadialForce`, which then packs (its constants are the element's parameters).
+
+    Parameters
+    ----------
+    constants : (7,) ``[g, h_m / mu_r, k_C, B_r, alpha_p, R L beta, N]`` (see the function;
+        :attr:`ddgsa.models.electromagnetic.PMGenerator.constants` builds them)
+    """
+
+    constants: Array
+
+    def __call__(self, e: Array) -> tuple[Array, Array]:
+        """``(F (2,) [N], dF/de (2, 2) [N/m])`` at the eccentricity ``e`` (2,) [m]."""
+        return air_gap_pull(self.constants, float(e[0]), float(e[1]))
 
 
 class RadialForce(Element):
@@ -612,14 +669,15 @@ class RadialForce(Element):
     The displacement ``e = P A_j^T (r_i - r_j) - e_0`` (``P`` picks marker j's y and z axes,
     ``e_0`` its rest value) sets ``F = law(e)`` (2,) [N] on marker ``i`` along those axes and
     ``-F`` on marker ``j``; with ``dF/de`` (2, 2) [N/m] from the law, the tangent is exact for
-    coincident markers whose frame j does not turn (a rotor centre in a stator, the magnetic pull
-    of an air gap: the law lives with the model, e.g. :mod:`ddgsa.models.electromagnetic`).
+    coincident markers whose frame j does not turn (a rotor centre in a stator). The geometry is
+    compiled (:func:`radial_displacement`, :func:`radial_wrench`); an :class:`AirGapPull` law (the
+    magnetic pull of an air gap) is compiled too and the element packs, any other law runs in Python.
 
     Parameters
     ----------
     marker_i, marker_j : Marker
     law : callable
-        ``law(e) -> (F (2,), dF/de (2, 2))`` with ``e`` (2,) [m].
+        ``law(e) -> (F (2,), dF/de (2, 2))`` with ``e`` (2,) [m], e.g. :class:`AirGapPull`.
     name : str
 
     Examples
@@ -627,8 +685,8 @@ class RadialForce(Element):
     >>> from ddgsa.mbs import Ground, RigidBody
     >>> pull = RadialForce(RigidBody("rotor", 1.0, (1.0, 1.0, 1.0)).marker(), Ground().marker(),
     ...                    lambda e: (-1e6 * e, -1e6 * np.eye(2)))
-    >>> pull.markers[1].body.name
-    'ground'
+    >>> pull.markers[1].body.name, pull.compiled() is None
+    ('ground', True)
     """
 
     def __init__(self, marker_i: Marker, marker_j: Marker,
@@ -642,17 +700,17 @@ class RadialForce(Element):
 
     def displacement(self, states: list[MarkerState]) -> Array:
         """The radial displacement ``e`` (2,) [m] of marker i from its rest position, marker j's y, z axes."""
-        si, sj = states
-        return sj.a[:, 1:3].T @ (si.r - sj.r) - self.rest
+        r, a, _, _ = stacked(states)
+        return radial_displacement(r, a, 0, 1, self.rest)
+
+    def compiled(self) -> CompiledForm | None:
+        """``[rest (2), air gap constants (7)]`` for an :class:`AirGapPull` law; None (Python only) for another law."""
+        if not isinstance(self.law, AirGapPull):
+            return None
+        return CompiledForm(AIR_GAP, np.concatenate([self.rest, self.law.constants]))
 
     def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, Array, None]:
-        si, sj = states
-        axes = sj.a[:, 1:3]                                        # (3, 2): marker j's y and z axes
-        force, slope = (np.asarray(x, dtype=float) for x in self.law(self.displacement(states)))
-        f = axes @ force.reshape(2)
-        w = np.zeros((2, 6))
-        w[0, :3], w[1, :3] = f, -f
-        w[1, 3:] = cross(sj.r - si.r, f)                           # the pair's couple, kept by marker j
-        k = np.zeros((6, 6))
-        k[:3, :3] = -axes @ slope.reshape(2, 2) @ axes.T
-        return w, _pair(k), None
+        r, a, _, _ = stacked(states)
+        force, slope = (np.asarray(x, dtype=float) for x in self.law(radial_displacement(r, a, 0, 1, self.rest)))
+        w, k = radial_wrench(r, a, 0, 1, force.reshape(2), slope.reshape(2, 2))
+        return w, k, None

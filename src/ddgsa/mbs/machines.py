@@ -21,6 +21,7 @@ from __future__ import annotations
 import cmath
 import math
 
+import numpy as np
 from numba import njit
 
 from ddgsa.mbs.derivatives import central_step
@@ -136,3 +137,44 @@ def torque_many(c, t, speed, out):  # pragma: no cover (compiled)
     """:func:`induction_torque` elementwise into ``out`` (n,)."""
     for j in range(t.size):
         out[j] = induction_torque(c, t[j], speed[j])
+
+
+MU_0 = 4e-7 * math.pi
+"""Vacuum permeability [H/m]."""
+
+N_AIR_GAP = 7
+"""Length of an air gap's constants array (:func:`air_gap_pull`)."""
+
+
+@njit(cache=True)
+def air_gap_pull(c, ey, ez):  # pragma: no cover (compiled)
+    """Net magnetic pull ``(F_y, F_z)`` [N] of a surface-PM air gap on an eccentric rotor and its slope
+    ``dF/de`` (2, 2) [N/m], for the eccentricity ``(ey, ez)`` [m]: the sector model (the physics and its
+    sources: :mod:`ddgsa.models.electromagnetic`, whose Python API calls this function).
+
+    ``c = [g, h_m / mu_r, k_C, B_r, alpha_p, R L beta, N]``: mechanical gap [m], magnet height over its
+    recoil permeability [m], Carter's factor, remanence [T], pole-arc ratio, sector area [m^2] and the
+    number of sectors ``N`` (centres at ``beta/2 + i beta``, ``beta = 2 pi / N``). Sector ``i``'s gap is
+    ``g - e . n_i``, its flux density ``B_r h / (h + k_C gap)`` and its pull ``alpha_p B^2 / (2 mu_0)``
+    times the area along ``n_i``. Raises ValueError where the eccentricity closes the gap.
+    """
+    g, hm, kc, br, alpha, area, n = c[0], c[1], c[2], c[3], c[4], c[5], int(c[6])
+    if math.hypot(ey, ez) >= g:
+        raise ValueError("the rotor's eccentricity closes the air gap")
+    beta = 2 * math.pi / n
+    force = np.zeros(2)
+    slope = np.zeros((2, 2))
+    for i in range(n):
+        theta = beta / 2 + beta * i
+        ny, nz = math.cos(theta), math.sin(theta)
+        gap = g - (ey * ny + ez * nz)
+        b = br * hm / (hm + kc * gap)
+        p = alpha * b * b / (2 * MU_0) * area
+        force[0] += p * ny
+        force[1] += p * nz
+        s = alpha * b * b * kc / (MU_0 * (hm + kc * gap)) * area      # -dp/dgap times the area
+        slope[0, 0] += s * ny * ny
+        slope[0, 1] += s * ny * nz
+        slope[1, 1] += s * nz * nz
+    slope[1, 0] = slope[0, 1]
+    return force, slope

@@ -37,9 +37,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
+from ddgsa.mbs.machines import MU_0, air_gap_pull
 
-MU_0 = 4e-7 * math.pi
-"""Vacuum permeability [H/m]."""
+__all__ = ["MU_0", "PMGenerator", "linear_stiffness", "pull_jacobian", "pull_vector", "radial_pull"]
+
 
 
 @dataclass(frozen=True)
@@ -97,6 +98,14 @@ class PMGenerator:
         return replace(self, **changes)
 
     @property
+    def constants(self) -> NDArray[np.float64]:
+        """The air gap's constants for the kernel's compiled pull (:func:`ddgsa.mbs.machines.air_gap_pull`)."""
+        beta = 2 * math.pi / self.sectors
+        return np.array([self.air_gap, self.magnet_height / self.relative_permeability, self.carter_factor,
+                         self.magnet_remanence, self.pole_arc_ratio, self.air_gap_radius * self.core_length * beta,
+                         float(self.sectors)])
+
+    @property
     def magnetic_gap(self) -> float:
         """Effective gap ``h_m / mu_r + k_C g`` at zero eccentricity [m]."""
         return self.magnet_height / self.relative_permeability + self.carter_factor * self.air_gap
@@ -105,10 +114,6 @@ class PMGenerator:
         """Air-gap flux density under a pole [T] for the local mechanical gap ``gap`` [m]."""
         hm = self.magnet_height / self.relative_permeability
         return self.magnet_remanence * hm / (hm + self.carter_factor * np.asarray(gap, dtype=float))
-
-    def pressure(self, gap: ArrayLike) -> NDArray[np.float64]:
-        """Mean Maxwell pressure ``alpha_p B^2 / (2 mu_0)`` [Pa] across the local gap ``gap`` [m]."""
-        return self.pole_arc_ratio * self.flux_density(gap) ** 2 / (2 * MU_0)
 
 
 def pull_vector(ecc_y: ArrayLike, ecc_z: ArrayLike, gen: PMGenerator = PMGenerator()) -> NDArray[np.float64]:
@@ -125,17 +130,8 @@ def pull_vector(ecc_y: ArrayLike, ecc_z: ArrayLike, gen: PMGenerator = PMGenerat
     if np.any(np.hypot(ey, ez) >= gen.air_gap):
         raise ValueError(f"eccentricity {float(np.max(np.hypot(ey, ez))):.4g} m closes the "
                          f"{gen.air_gap} m air gap")
-    (ny, nz), area = _sectors(gen)
-    gap = gen.air_gap - (ey[..., None] * ny + ez[..., None] * nz)
-    force = gen.pressure(gap) * area
-    return np.stack([force @ ny, force @ nz], axis=-1)
-
-
-def _sectors(gen: PMGenerator) -> tuple[NDArray[np.float64], float]:
-    """Unit radial vectors (2, N) at the sector centres ``beta/2 + i beta`` and the sector area ``R L beta`` [m^2]."""
-    beta = 2 * math.pi / gen.sectors
-    theta = beta / 2 + beta * np.arange(gen.sectors)
-    return np.stack([np.cos(theta), np.sin(theta)]), gen.air_gap_radius * gen.core_length * beta
+    c = gen.constants
+    return np.array([air_gap_pull(c, y, z)[0] for y, z in zip(ey.ravel(), ez.ravel())]).reshape(*ey.shape, 2)
 
 
 def radial_pull(eccentricity: ArrayLike, gen: PMGenerator = PMGenerator()) -> NDArray[np.float64]:
@@ -157,9 +153,4 @@ def linear_stiffness(gen: PMGenerator = PMGenerator()) -> float:
 
 def pull_jacobian(ecc_y: float, ecc_z: float, gen: PMGenerator = PMGenerator()) -> NDArray[np.float64]:
     """``d(F_y, F_z)/d(e_y, e_z)`` [N/m] of :func:`pull_vector` at one eccentricity (analytic)."""
-    n, area = _sectors(gen)
-    gap = gen.air_gap - (ecc_y * n[0] + ecc_z * n[1])
-    b = gen.flux_density(gap)
-    dp_dgap = -gen.pole_arc_ratio * b ** 2 * gen.carter_factor / (
-        MU_0 * (gen.magnet_height / gen.relative_permeability + gen.carter_factor * gap))
-    return (n * (-dp_dgap * area)) @ n.T
+    return air_gap_pull(gen.constants, float(ecc_y), float(ecc_z))[1]

@@ -61,7 +61,7 @@ from numpy.typing import ArrayLike, NDArray
 from ddgsa.errors import ModelError
 from ddgsa.loads import generate
 from ddgsa.loads.scene import Scene
-from ddgsa.mbs import AppliedLoad, Ground, Lock, RadialForce, RigidBody, SpringDamper3, System
+from ddgsa.mbs import AirGapPull, AppliedLoad, Ground, Lock, RadialForce, RigidBody, SpringDamper3, System
 from ddgsa.mbs.statics import static_equilibrium
 from ddgsa.mbs.constraints import AXES
 from ddgsa.mbs.linear import lti_response, state_matrices
@@ -224,8 +224,9 @@ class GeneratorRadial(Model):
         return j[: ecc.size, : ecc.size]
 
     def _law(self, gen: PMGenerator) -> Any:
-        """The pull of the air gap as the law of a :class:`~ddgsa.mbs.RadialForce` (force, tangent)."""
-        return lambda e: (pull_vector(e[0], e[1], gen), pull_jacobian(float(e[0]), float(e[1]), gen))
+        """The pull of the air gap as the law of a :class:`~ddgsa.mbs.RadialForce` (force, tangent): the
+        kernel's compiled air gap (:class:`~ddgsa.mbs.AirGapPull`), so the element packs."""
+        return AirGapPull(gen.constants)
 
     def build(self, params: Mapping[str, float] | None = None,
                mean_hub_force: NDArray[np.float64] | None = None) -> tuple[System, RigidBody, Any]:
