@@ -133,3 +133,53 @@ def test_air_gap_pull_packs_and_its_slope_is_the_derivative_of_its_force() -> No
     assert f[1] > 0 and f[2] < 0
     with pytest.raises(ValueError, match="closes the air gap"):
         law(np.array([gen.air_gap, 0.0]))
+
+
+def test_dq_machine_tangent_is_the_closed_form_of_its_linear_flux_equations() -> None:
+    """The dq machine's flux equations are linear in the fluxes at a fixed speed: ``d psi_s' / d psi_s =
+    -R_s L_r / D - j w``, ``d psi_s' / d psi_r = R_s L_m / D``, ``d psi_r' / d psi_s = R_r L_m / D``,
+    ``d psi_r' / d psi_r = -R_r L_s / D - j (w - p w_m)`` (``D = L_s L_r - L_m^2``), and
+    ``d psi_r' / d w_m = j p psi_r``; the compiled element's damping ``C = -dW/dv`` holds them."""
+    from ddgsa.mbs.machines import dq_wrench, supply_on
+    from ddgsa.models.hss_rig.motor import InductionMotor, machine_constants
+
+    c = machine_constants(InductionMotor())
+    rs, rr, ls, lr, lm, p = c[:6]
+    d = ls * lr - lm * lm
+    t, speed = 0.013, 140.0
+    _, w, _ = supply_on(c, t)
+    psi = np.array([0.8, -0.3, 0.7, -0.25])
+    a = np.stack([np.eye(3), np.eye(3)])
+    omega = np.stack([np.array([speed, 0.0, 0.0]), np.array([psi[3], 0.0, 0.0])])
+    vel = np.stack([np.zeros(3), psi[:3]])
+    _, damping = dq_wrench(c, t, a, omega, vel, 0, 1)
+
+    def block(z: complex) -> np.ndarray:
+        """The real 2x2 form of multiplication by ``z``."""
+        return np.array([[z.real, -z.imag], [z.imag, z.real]])
+
+    exact = np.block([[block(-rs * lr / d - 1j * w), block(complex(rs * lm / d))],
+                      [block(complex(rr * lm / d)), block(-rr * ls / d - 1j * (w - p * speed))]])
+    np.testing.assert_allclose(-damping[6:10, 6:10], exact, rtol=1e-6, atol=1e-6 * np.abs(exact).max())
+    d_speed = 1j * p * complex(psi[2], psi[3])
+    np.testing.assert_allclose(-damping[8:10, 3], [d_speed.real, d_speed.imag], rtol=1e-6)
+
+
+def test_the_rigs_dq_machine_and_its_flux_states_pack() -> None:
+    """The rig's ``dq`` fidelity (a :class:`~ddgsa.mbs.first_order.FirstOrderStates` body of four fluxes and
+    the dq machine) packs: the packed system's mass matrix, forces and tangents equal the Python objects'
+    at a state with nonzero fluxes, spin and flux rates (the compiled generalised-alpha runs it)."""
+    from ddgsa import models
+    from ddgsa.models.hss_rig.scenes import RigScene
+
+    rig = models.get("hss_rig", fidelity="dq").build(None, RigScene("steady", speed_rpm=1500.0, duration=0.45,
+                                                                    sample_rate=2000.0, settle=0.05))[0]
+    system = rig.system
+    system.fast_terms = None                      # the Python objects' own assembly
+    packed = pack(system)
+    rng = np.random.default_rng(7)
+    q, qd = system.q0 + 1e-5 * rng.standard_normal(system.n), system.qd0 + 1e-2 * rng.standard_normal(system.n)
+    python = system.terms(q, qd, 0.031)
+    m, f, kt, ct, *_ = evaluate(packed, q, qd, 0.031)
+    for mine, theirs in ((m, python.m), (f, python.q), (kt, python.k), (ct, python.c)):
+        np.testing.assert_allclose(mine, theirs, rtol=1e-12, atol=1e-12 * np.abs(theirs).max())

@@ -35,6 +35,7 @@ from ddgsa.mbs.bodies import FlexibleBody, MarkerState, PrescribedBody
 from ddgsa.mbs.constraints import PrescribedSpeed, constraint_rows
 from ddgsa.mbs.derivatives import central_difference
 from ddgsa.mbs.elements import TorqueLaw, element_wrench
+from ddgsa.mbs.first_order import FirstOrderStates
 from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rodrigues, rotation
 from ddgsa.mbs.ffr import cross as _cross
 from ddgsa.mbs.series import Series, interpolate
@@ -100,6 +101,10 @@ def pack(system: System, elements: list | None = None) -> Packed:
     flat: dict[str, list[Array]] = {k: [] for k in ("ssum", "k1", "e", "f4", "h0", "h1", "kff", "cff")}
     c1 = c2 = 0
     for b_i, b in enumerate(system.bodies):
+        if isinstance(b, FirstOrderStates):       # unit-mass coordinates whose rates are the states: b_nf = -n
+            b_off[b_i], b_nf[b_i] = system.slices[id(b)].start, -b.n_coords
+            o1[b_i], o2[b_i] = c1, c2
+            continue
         if not isinstance(b, FlexibleBody):
             raise ModelError(f"body {b.name!r} ({type(b).__name__}) has no compiled form")
         inv = b.invariants
@@ -214,6 +219,16 @@ def _markers(q, qd, t, P):  # pragma: no cover (compiled)
             mvel[m] = v0
             continue
         lo, nf = b_off[b], b_nf[b]
+        if nf < 0:                               # first-order states: v, w are the rates of its -nf coordinates
+            lohi[m, 0], lohi[m, 1] = lo, lo - nf
+            ma[m] = np.eye(3)
+            for k in range(-nf):
+                mj[m, k, lo + k] = 1.0
+                if k < 3:
+                    mvel[m, k] = qd[lo + k]
+                else:
+                    mw[m, k - 3] = qd[lo + k]
+            continue
         ang = q[lo + 3:lo + 6]
         a = rotation(ang)
         ag = mm(a, g_bar(ang))
@@ -353,6 +368,10 @@ def _terms(q, qd, t, P, tangents, constraints):  # pragma: no cover (compiled)
     kt, ct = np.zeros((n, n)), np.zeros((n, n))
     for b in range(b_off.size):
         lo, nf = b_off[b], b_nf[b]
+        if nf < 0:                               # first-order states: unit mass, no force of their own
+            for k in range(-nf):
+                m_mat[lo + k, lo + k] = 1.0
+            continue
         hi = lo + 6 + nf
         a1, a2 = o1[b], o2[b]
         mb, fb = body_terms_inv(q[lo:hi].copy(), qd[lo:hi].copy(), b_mass[b], b_first0[b],
@@ -578,7 +597,7 @@ def _one_marker(arrays: tuple, m: int) -> tuple:
     marker without computing every other marker at every sample."""
     mk_body, mk_u0, mk_so, mk_s, mk_sr = arrays[15:20]
     b = mk_body[m]
-    size = 3 * arrays[1][b] if b >= 0 else 0
+    size = 3 * max(arrays[1][b], 0) if b >= 0 else 0
     so = mk_so[m]
     shapes = (mk_s[so:so + size].copy(), mk_sr[so:so + size].copy()) if size else (np.zeros(1), np.zeros(1))
     return (*arrays[:15], mk_body[m:m + 1].copy(), mk_u0[m:m + 1].copy(), np.zeros(1, np.int64), *shapes,

@@ -29,7 +29,7 @@ from ddgsa.mbs.bodies import Marker, MarkerState
 from ddgsa.mbs.derivatives import central_step
 from ddgsa.mbs.ffr import cross, mm, mv, rotation_vector, skew
 from ddgsa.mbs.machines import N_CONSTANTS as N_MACHINE
-from ddgsa.mbs.machines import air_gap_pull, induction_slope, induction_torque
+from ddgsa.mbs.machines import air_gap_pull, dq_wrench, induction_slope, induction_torque
 from ddgsa.mbs.series import Series
 
 Array = NDArray[np.float64]
@@ -80,7 +80,7 @@ class CompiledForm:
 
 
 #: the kinds of compiled element (:func:`element_wrench`)
-CONNECTOR, TORQUE, LOAD, POWER_TORQUE, ECCENTRIC, MACHINE_TORQUE, AIR_GAP = 0, 1, 2, 3, 4, 5, 6
+CONNECTOR, TORQUE, LOAD, POWER_TORQUE, ECCENTRIC, MACHINE_TORQUE, AIR_GAP, DQ_MACHINE = 0, 1, 2, 3, 4, 5, 6, 7
 
 
 def stacked(states: list[MarkerState]) -> tuple[Array, Array, Array, Array]:
@@ -608,6 +608,9 @@ def element_wrench(kind, r, a, v, w, i, j, par, inputs, t):  # pragma: no cover 
         force, slope = air_gap_pull(par[2:], e[0], e[1])
         wr, kr = radial_wrench(r, a, i, j, force, slope)
         return wr, kr, none
+    if kind == DQ_MACHINE:
+        wr, cr = dq_wrench(par, t, a, w, v, i, j)
+        return wr, none, cr
     return inputs.copy().reshape(1, 6), none, none
 
 

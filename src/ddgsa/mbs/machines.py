@@ -178,3 +178,76 @@ def air_gap_pull(c, ey, ez):  # pragma: no cover (compiled)
         slope[1, 1] += s * nz * nz
     slope[1, 0] = slope[0, 1]
     return force, slope
+
+
+@njit(cache=True)
+def dq_currents(c, psi):  # pragma: no cover (compiled)
+    """Stator and rotor current space vectors ``(i_s, i_r)`` [A] from the fluxes
+    ``psi = (psi_sd, psi_sq, psi_rd, psi_rq)`` [Wb]: the inverse of the inductance matrix."""
+    ls, lr, lm = c[2], c[3], c[4]
+    det = ls * lr - lm * lm
+    psi_s = complex(psi[0], psi[1])
+    psi_r = complex(psi[2], psi[3])
+    return (lr * psi_s - lm * psi_r) / det, (ls * psi_r - lm * psi_s) / det
+
+
+@njit(cache=True)
+def dq_rates(c, t, psi, speed):  # pragma: no cover (compiled)
+    """Rates of the four flux linkages [Wb/s] and the air-gap torque [N m] of the fifth-order (dq)
+    induction machine at time ``t`` [s], fluxes ``psi = (psi_sd, psi_sq, psi_rd, psi_rq)`` [Wb] in the
+    frame of the positive-sequence supply angle and mechanical rotor ``speed`` [rad/s]:
+    ``psi_s' = v_s - R_s i_s - j w psi_s``, ``psi_r' = -R_r i_r - j (w - p w_m) psi_r``,
+    ``T = 3/2 p Im(conj(psi_s) i_s)``, the currents :func:`dq_currents`, the supply from
+    :func:`supply_on` (its unbalance a negative sequence; 0 V once cut). The rig's motor module
+    (:func:`ddgsa.models.hss_rig.motor.dq_derivatives`) and its dq element call it."""
+    rs, rr, pole_pairs, unbalance = c[0], c[1], c[5], c[6]
+    theta, w, v = supply_on(c, t)
+    v_s = v * (1.0 + unbalance * complex(math.cos(2 * theta), -math.sin(2 * theta)))
+    psi_s = complex(psi[0], psi[1])
+    psi_r = complex(psi[2], psi[3])
+    i_s, i_r = dq_currents(c, psi)
+    d_s = v_s - rs * i_s - 1j * w * psi_s
+    d_r = -rr * i_r - 1j * (w - pole_pairs * speed) * psi_r
+    rates = np.empty(4)
+    rates[0], rates[1], rates[2], rates[3] = d_s.real, d_s.imag, d_r.real, d_r.imag
+    return rates, 1.5 * pole_pairs * (psi_s.conjugate() * i_s).imag
+
+
+@njit(cache=True)
+def dq_wrench(c, t, a, w, v, i, j):  # pragma: no cover (compiled)
+    """``(W (2, 6), C (12, 12))`` of a dq machine between the rotor marker ``i`` and the marker ``j`` of its
+    flux states (their rates are marker j's velocity ``v[j]`` and angular velocity ``w[j][0]``): the
+    torque :func:`dq_rates` about marker i's x axis and the flux rates on marker j, and ``C = -dW/d``
+    (marker velocities) by central differences over the rotor's spin rate (step ``1e-6 max(1, |w_m|)``)
+    and the four fluxes (step ``1e-7 max(1e-3, max |psi|)``)."""
+    axis = a[i][:, 0].copy()
+    speed = axis[0] * w[i][0] + axis[1] * w[i][1] + axis[2] * w[i][2]
+    psi = np.array([v[j][0], v[j][1], v[j][2], w[j][0]])
+    rates, torque = dq_rates(c, t, psi, speed)
+    out = np.zeros((2, 6))
+    out[0, 3:] = torque * axis
+    out[1, :3] = rates[:3]
+    out[1, 3] = rates[3]
+    damping = np.zeros((12, 12))
+    h_psi = central_step(np.max(np.abs(psi)), 1e-3, 1e-7)
+    for col in range(5):                         # the rotor's spin, then the four fluxes
+        if col == 0:
+            h = central_step(speed, 1.0, 1e-6)
+            dp, tp = dq_rates(c, t, psi, speed + h)
+            dm, tm = dq_rates(c, t, psi, speed - h)
+        else:
+            h = h_psi
+            step = np.zeros(4)
+            step[col - 1] = h
+            dp, tp = dq_rates(c, t, psi + step, speed)
+            dm, tm = dq_rates(c, t, psi - step, speed)
+        vec = np.zeros(12)
+        vec[3:6] = (tp - tm) / (2 * h) * axis                  # torque on the rotor
+        vec[6:10] = (dp - dm) / (2 * h)                        # flux rates
+        if col == 0:
+            for m in range(12):
+                for n in range(3):
+                    damping[m, 3 + n] = -vec[m] * axis[n]
+        else:
+            damping[:, 5 + col] = -vec
+    return out, damping

@@ -27,10 +27,10 @@ from scipy.optimize import brentq
 from ddgsa.errors import ModelError
 from ddgsa.mbs import Marker, TorqueLaw
 from ddgsa.mbs.bodies import Body, MarkerState
-from ddgsa.mbs.elements import Element
+from ddgsa.mbs.elements import DQ_MACHINE, CompiledForm, Element, stacked
 from ddgsa.mbs.first_order import FirstOrderStates
-from ddgsa.mbs.machines import induction_torque, supply_many, supply_on, torque_many
-from ddgsa.models.hss_rig.motor import (InductionMotor, Supply, dq_derivatives, machine_constants, phase_current,
+from ddgsa.mbs.machines import dq_rates, dq_wrench, induction_torque, supply_many, supply_on, torque_many
+from ddgsa.models.hss_rig.motor import (InductionMotor, Supply, machine_constants, phase_current,
                                         sequence_phasors, steady_torque)
 from ddgsa.models.hss_rig.scenes import RigScene
 
@@ -130,8 +130,9 @@ class DqMachine(Element):
     """The dq machine between the motor rotor (marker 0) and its flux states (marker 1).
 
     The torque acts about the rotor marker's x axis (reaction on the ground); the flux rates
-    are applied to the :class:`FirstOrderStates` body. Tangents by central differences over the
-    four fluxes and the rotor speed.
+    are applied to the :class:`FirstOrderStates` body. Physics and tangents (central differences
+    over the four fluxes and the rotor speed) are the kernel's compiled
+    :func:`~ddgsa.mbs.machines.dq_wrench`.
     """
 
     def __init__(self, rotor: Marker, flux: Marker, drive: Drive, name: str = "motor") -> None:
@@ -140,42 +141,18 @@ class DqMachine(Element):
 
     def rates(self, t: float, psi: Array, speed: float) -> tuple[Array, float]:
         """Flux rates [Wb/s] and air-gap torque [N m] at ``t`` for fluxes ``psi`` and rotor ``speed`` (0 V once cut)."""
-        motor = self.drive.motor
-        if self.drive.cut and t > 0.0:
-            motor = motor.updated({"supply_voltage": 1e-300, "supply_unbalance": 0.0})
-        return dq_derivatives(motor, self.drive.supply, t, psi, speed)
+        rates, torque = dq_rates(self.drive.constants, float(t), np.asarray(psi, dtype=float), float(speed))
+        return rates, float(torque)
+
+    def compiled(self) -> CompiledForm:
+        """The machine's constants (:func:`~ddgsa.models.hss_rig.motor.machine_constants`): the packed system
+        runs :func:`~ddgsa.mbs.machines.dq_wrench` with them."""
+        return CompiledForm(DQ_MACHINE, self.drive.constants.copy())
 
     def wrench(self, t: float, states: list[MarkerState]) -> tuple[Array, None, Array]:
-        rot, fx = states
-        axis = rot.a[:, 0]
-        speed = float(axis @ rot.w)
-        psi = np.concatenate([fx.v, fx.w[:1]])
-        d, torque = self.rates(t, psi, speed)
-        w = np.zeros((2, 6))
-        w[0, 3:] = torque * axis
-        w[1, :3], w[1, 3] = d[:3], d[3]
-        # C = -d wrench / d (marker velocities): columns for the rotor spin and the four fluxes
-        c = np.zeros((12, 12))
-        cols = [(3, 3), (6, 0), (7, 1), (8, 2), (9, 3)]      # (marker-motion index, which input)
-        for col, which in cols:
-            h = 1e-6 * max(1.0, abs(speed)) if col == 3 else 1e-7 * max(1e-3, float(np.max(np.abs(psi))))
-            if col == 3:
-                dp, tp = self.rates(t, psi, speed + h)
-                dm, tm = self.rates(t, psi, speed - h)
-            else:
-                e = np.zeros(4)
-                e[which] = h
-                dp, tp = self.rates(t, psi + e, speed)
-                dm, tm = self.rates(t, psi - e, speed)
-            deriv = (np.concatenate([dp, [tp]]) - np.concatenate([dm, [tm]])) / (2 * h)
-            vec = np.zeros(12)
-            vec[3:6] = deriv[4] * axis                       # torque on the rotor
-            vec[6:10] = deriv[:4]                            # flux rates
-            if col == 3:
-                c[:, 3:6] = -np.outer(vec, axis)
-            else:
-                c[:, col] = -vec
-        return w, None, c
+        _, a, v, w = stacked(states)
+        out, damping = dq_wrench(self.drive.constants, float(t), a, w, v, 0, 1)
+        return out, None, damping
 
     def phase_current(self, t: float, psi: Array) -> float:
         """Phase-a stator current [A] at time ``t`` from the fluxes ``psi`` [Wb]."""

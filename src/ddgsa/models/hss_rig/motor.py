@@ -52,8 +52,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.mbs.machines import (circuit_phasors, phasors_many, steady_torque_many, steady_torque_terms, supply_many,
-                                supply_state)
+from ddgsa.mbs.machines import (circuit_phasors, dq_currents, dq_rates, phasors_many, steady_torque_many,
+                                steady_torque_terms, supply_many, supply_state)
 
 
 @dataclass(frozen=True)
@@ -319,18 +319,13 @@ def machine_constants(motor: InductionMotor, supply: Supply | None = None, cut: 
 
 def currents(motor: InductionMotor, flux: NDArray[np.float64]) -> tuple[complex, complex]:
     """Stator and rotor current space vectors [A] from ``flux = (psi_sd, psi_sq, psi_rd, psi_rq)`` [Wb]."""
-    m = motor
-    det = m.stator_inductance * m.rotor_inductance - m.magnetising_inductance**2
-    psi_s = complex(flux[0], flux[1])
-    psi_r = complex(flux[2], flux[3])
-    i_s = (m.rotor_inductance * psi_s - m.magnetising_inductance * psi_r) / det
-    i_r = (m.stator_inductance * psi_r - m.magnetising_inductance * psi_s) / det
-    return i_s, i_r
+    return dq_currents(machine_constants(motor), np.asarray(flux, dtype=float))
 
 
 def dq_derivatives(motor: InductionMotor, supply: Supply, t: float, flux: NDArray[np.float64],
                    rotor_speed: float) -> tuple[NDArray[np.float64], float]:
-    """Rates of the four flux linkages [Wb/s] and the air-gap torque [N m] of the dq model.
+    """Rates of the four flux linkages [Wb/s] and the air-gap torque [N m] of the dq model (the kernel's
+    compiled :func:`ddgsa.mbs.machines.dq_rates`).
 
     Parameters
     ----------
@@ -341,15 +336,9 @@ def dq_derivatives(motor: InductionMotor, supply: Supply, t: float, flux: NDArra
     rotor_speed : float
         Mechanical rotor speed ``w_m`` [rad/s].
     """
-    theta, w, v = supply.state(motor, t)
-    v_s = v * (1.0 + motor.supply_unbalance * complex(math.cos(2 * theta), -math.sin(2 * theta)))
-    i_s, i_r = currents(motor, flux)
-    psi_s = complex(flux[0], flux[1])
-    psi_r = complex(flux[2], flux[3])
-    d_s = v_s - motor.stator_resistance * i_s - 1j * w * psi_s
-    d_r = -motor.rotor_resistance * i_r - 1j * (w - motor.pole_pairs * rotor_speed) * psi_r
-    torque = 1.5 * motor.pole_pairs * (psi_s.conjugate() * i_s).imag
-    return np.array([d_s.real, d_s.imag, d_r.real, d_r.imag]), float(torque)
+    rates, torque = dq_rates(machine_constants(motor, supply), float(t), np.asarray(flux, dtype=float),
+                             float(rotor_speed))
+    return rates, float(torque)
 
 
 def phase_current(motor: InductionMotor, supply: Supply, t: float, flux: NDArray[np.float64]) -> float:
