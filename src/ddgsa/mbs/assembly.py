@@ -20,6 +20,7 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.bodies import Body, Marker, MarkerState
 from ddgsa.mbs.constraints import Constraint
 from ddgsa.mbs.elements import Element
+from ddgsa.mbs.scatter import add_wrench, constraint_rows_over
 
 Array = NDArray[np.float64]
 
@@ -143,10 +144,6 @@ class System:
     def _states_of(self, part: Element | Constraint, states: list[MarkerState]) -> list[MarkerState]:
         return [states[self._index[id(mk)]] for mk in part.markers]
 
-    @staticmethod
-    def _jac(states: list[MarkerState]) -> Array:
-        return np.vstack([s.jac for s in states])
-
     # -- equations --------------------------------------------------------------------------------
     def terms(self, q: Array, qd: Array, t: float, states: list[MarkerState] | None = None) -> Terms:
         """Mass matrix, forces and tangents at ``(q, qd, t)``."""
@@ -163,12 +160,7 @@ class System:
         for el in self.elements:
             st = self._states_of(el, states)
             w, k_el, c_el = el.wrench(t, st)
-            jac = self._jac(st)
-            f += jac.T @ w.ravel()
-            if k_el is not None:
-                kt += jac.T @ k_el @ jac
-            if c_el is not None:
-                ct += jac.T @ c_el @ jac
+            add_wrench(f, kt, ct, st, w, k_el, c_el)
             outputs.append(w[0])
         return Terms(m, f, kt, ct, outputs)
 
@@ -181,7 +173,7 @@ class System:
             st = self._states_of(c, states)
             v, jx = c.position(t, st)
             vals.append(v)
-            jacs.append(jx @ self._jac(st))
+            jacs.append(constraint_rows_over(jx, st))
         return np.concatenate(vals), np.vstack(jacs)
 
     def velocity_residual(self, q: Array, qd: Array, t: float,
@@ -193,7 +185,7 @@ class System:
             st = self._states_of(c, states)
             v, jx = c.velocity(t, st)
             vals.append(v)
-            jacs.append(jx @ self._jac(st))
+            jacs.append(constraint_rows_over(jx, st))
         return np.concatenate(vals), np.vstack(jacs)
 
     def constraint_jacobian(self, q: Array, qd: Array, t: float) -> Array:

@@ -38,6 +38,7 @@ from ddgsa.mbs.elements import TorqueLaw, element_wrench
 from ddgsa.mbs.first_order import FirstOrderStates
 from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rodrigues, rotation
 from ddgsa.mbs.ffr import cross as _cross
+from ddgsa.mbs.scatter import add_element, add_rows, add_wrench
 from ddgsa.mbs.series import Series, interpolate
 
 Array = NDArray[np.float64]
@@ -276,70 +277,11 @@ def _markers(q, qd, t, P):  # pragma: no cover (compiled)
 
 
 @njit(cache=True)
-def _add_jtw(f, mj, lohi, m, w, sign):  # pragma: no cover (compiled)
-    for c in range(lohi[m, 0], lohi[m, 1]):
-        acc = 0.0
-        for k in range(6):
-            acc += mj[m, k, c] * w[k]
-        f[c] += sign * acc
-
-
-@njit(cache=True)
-def _add_jtkj(kt, mj, lohi, a, b, k6, sign):  # pragma: no cover (compiled)
-    """``kt += sign J_a^T k6 J_b``."""
-    lo_b, hi_b = lohi[b, 0], lohi[b, 1]
-    lo_a, hi_a = lohi[a, 0], lohi[a, 1]
-    if hi_a == lo_a or hi_b == lo_b:
-        return
-    tmp = np.zeros((6, hi_b - lo_b))
-    for r in range(6):
-        for k in range(6):
-            kv = k6[r, k]
-            if kv != 0.0:
-                for c in range(lo_b, hi_b):
-                    tmp[r, c - lo_b] += kv * mj[b, k, c]
-    for r in range(lo_a, hi_a):
-        for k in range(6):
-            jv = mj[a, k, r]
-            if jv != 0.0:
-                for c in range(lo_b, hi_b):
-                    kt[r, c] += sign * jv * tmp[k, c - lo_b]
-
-
-@njit(cache=True)
-def _add_blocks(kt, mj, lohi, i, j, t12):  # pragma: no cover (compiled)
-    """``kt += J^T t12 J`` over the markers ``[i, j]``."""
-    _add_jtkj(kt, mj, lohi, i, i, t12[0:6, 0:6].copy(), 1.0)
-    _add_jtkj(kt, mj, lohi, i, j, t12[0:6, 6:12].copy(), 1.0)
-    _add_jtkj(kt, mj, lohi, j, i, t12[6:12, 0:6].copy(), 1.0)
-    _add_jtkj(kt, mj, lohi, j, j, t12[6:12, 6:12].copy(), 1.0)
-
-
-@njit(cache=True)
 def _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t):  # pragma: no cover (compiled)
     """The value at ``t`` of series ``idx`` of the table, empty for ``idx < 0`` (a part without input)."""
     if idx < 0:
         return np.zeros(0)
     return _series(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t, False)
-
-
-@njit(cache=True)
-def _add_tangent(kt, mj, lohi, i, j, t):  # pragma: no cover (compiled)
-    """``kt += J^T t J`` over the element's markers ``[i]`` (t 6 x 6) or ``[i, j]`` (t 12 x 12)."""
-    if t.shape[0] == 6:
-        _add_jtkj(kt, mj, lohi, i, i, t, 1.0)
-    else:
-        _add_blocks(kt, mj, lohi, i, j, t)
-
-
-@njit(cache=True)
-def _add_rows(jac, mj, lohi, m, row, jx, slot):  # pragma: no cover (compiled)
-    """``jac[row:row + n_eq] += jx[:, slot] J_m``: a constraint's Jacobian over the motions of its marker
-    in ``slot`` (columns ``6 slot`` to ``6 slot + 6`` of ``jx``) mapped onto the coordinates of marker ``m``."""
-    for r in range(jx.shape[0]):
-        for col in range(lohi[m, 0], lohi[m, 1]):
-            for x in range(3):
-                jac[row + r, col] += jx[r, 6 * slot + x] * mj[m, x, col] + jx[r, 6 * slot + 3 + x] * mj[m, 3 + x, col]
 
 
 @njit(cache=True)
@@ -395,13 +337,7 @@ def _terms(q, qd, t, P, tangents, constraints):  # pragma: no cover (compiled)
         i, j = marker[el, 0], marker[el, 1]
         wr, kr, cr = element_wrench(kind[el], mr, ma, mvel, mw, i, j, par[offsets[el]:offsets[el + 1]],
                                     _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, ser[el], t), t)
-        _add_jtw(f, mj, lohi, i, wr[0], 1.0)
-        if wr.shape[0] > 1:
-            _add_jtw(f, mj, lohi, j, wr[1], 1.0)
-        if tangents and kr.shape[0] > 0:
-            _add_tangent(kt, mj, lohi, i, j, kr)
-        if tangents and cr.shape[0] > 0:
-            _add_tangent(ct, mj, lohi, i, j, cr)
+        add_element(f, kt, ct, mj, lohi, i, j, wr, kr, cr, tangents)
         out[el] = wr[0]
     if not constraints:
         return m_mat, f, kt, ct, out, np.zeros(0), np.zeros((0, n)), np.zeros(0)
@@ -432,7 +368,7 @@ def _constraint_terms(n, t, P, mr, ma, mvel, mw, mj, lohi):  # pragma: no cover 
         for r in range(value.size):
             ch[row + r] = value[r]
         for slot in range(jx.shape[1] // 6):
-            _add_rows(jac, mj, lohi, marker[p, slot], row, jx, slot)
+            add_rows(jac, mj, lohi, marker[p, slot], row, jx, slot)
     return ch, jac, vel
 
 
@@ -650,12 +586,7 @@ class HybridTerms:
         for (i, el), rows in zip(self.python, self.marker_rows):
             states = [MarkerState(mr[r], ma[r], mvel[r], mw[r], mj[r]) for r in rows]
             w, k_el, c_el = el.wrench(t, states)
-            jac = np.vstack([s.jac for s in states])
-            f += jac.T @ w.ravel()
-            if k_el is not None:
-                kt += jac.T @ k_el @ jac
-            if c_el is not None:
-                ct += jac.T @ c_el @ jac
+            add_wrench(f, kt, ct, states, w, k_el, c_el)
             outputs[i] = w[0]
         return Terms(m, f, kt, ct, outputs)
 
