@@ -165,3 +165,35 @@ def test_bad_options_and_unstable_designs_are_reported() -> None:
     model = models.get("generator_radial", config="one_mass")
     out = model.evaluate({"bearing_stiffness": 1e8}, Scene(wind_speed=11.0, duration=10.0))
     assert np.isnan(out.iloc[0, 0]) and "pull" in out.attrs["failures"][0]
+
+
+def test_air_gap_pull_packs_and_its_slope_is_the_derivative_of_its_force() -> None:
+    """The generator's magnetic pull (:class:`~ddgsa.mbs.AirGapPull` in a RadialForce) packs; the packed
+    system and the Python objects give the same force and tangent (one compiled law and geometry), the
+    law's analytic slope equals a central difference of its force at an eccentric rotor, and the slope
+    at the centre equals the closed-form ``pi R L alpha_p k_C B0^2 / (mu_0 (h_m / mu_r + k_C g))``."""
+    from ddgsa.mbs import AirGapPull, Ground, Lock, RadialForce, RigidBody, System
+    from ddgsa.mbs.compiled import evaluate, pack
+    from ddgsa.mbs.derivatives import central_jacobian
+
+    gen = PMGenerator()
+    law = AirGapPull(gen.constants)
+    rotor = RigidBody("rotor", 1000.0, (1.0, 1.0, 1.0), position=(0.0, 0.0, 0.0))
+    pull = RadialForce(rotor.marker(), Ground().marker(), law)
+    system = System([rotor], [pull], [Lock(rotor.marker(), axes=("x", "rx", "ry", "rz"))], gravity=(0.0, 0.0, 0.0))
+    assert pull.compiled() is not None
+    q = system.q0.copy()
+    q[1], q[2] = 1.2e-3, -0.7e-3                                  # eccentric in y and z
+    qd = np.zeros(system.n)
+    python = system.terms(q, qd, 0.0)
+    m, f, kt, *_ = evaluate(pack(system), q, qd, 0.0)
+    np.testing.assert_allclose(f, python.q, rtol=1e-12, atol=1e-6)
+    np.testing.assert_allclose(kt, python.k, rtol=1e-12, atol=1e-3)
+    e = np.array([1.2e-3, -0.7e-3])
+    fd = central_jacobian(lambda x: law(x)[0], [e], 0, 1e-3, rel_step=1e-4)
+    np.testing.assert_allclose(law(e)[1], fd, rtol=1e-6)
+    np.testing.assert_allclose(law(np.zeros(2))[1], linear_stiffness(gen) * np.eye(2), rtol=1e-9, atol=1e-3)
+    # the pull along the eccentricity: a negative stiffness on the rotor (force towards the smallest gap)
+    assert f[1] > 0 and f[2] < 0
+    with pytest.raises(ValueError, match="closes the air gap"):
+        law(np.array([gen.air_gap, 0.0]))
