@@ -228,5 +228,5 @@ def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0,
     if extra is not None:
         elements += extra(mk)
     system = System(bodies, elements, gravity=GRAVITY if gravity else (0.0, 0.0, 0.0))
-    compile_terms(system)           # the structure in compiled code, the motor, load and unbalance in Python
+    compile_terms(system)           # every part packs (tests/models/test_models_pack.py): terms in compiled code
     return Rig(system, mk, {"bearing_1": x1, "disk": xd, "bearing_2": x2}, basis)
