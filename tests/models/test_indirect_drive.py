@@ -417,3 +417,29 @@ def test_nominal_modes_are_computed_once_per_process_and_fields(monkeypatch: pyt
     pd.testing.assert_frame_equal(again, first)
     again.loc[:, "frequency_hz"] = 0.0
     assert (second.nominal_modes["frequency_hz"] > 0).all()
+
+
+@pytest.mark.slow
+def test_modes_are_converged_in_the_linearisation_step() -> None:
+    """The geared drive's modes take its linear fidelity's step (1e-3 relative: 1e-6 m and m/s near zero):
+    at 1e-3 and 1e-2 the frequencies agree to 1e-10 and the damping ratios to 1e-9 (converged), while the
+    kernel's default (1e-6 relative: 1e-9 steps, where round-off of the ~1e6 N forces dominates) is off by
+    more than 1e-9 and 1e-8. The regression guard's modes were regenerated for it (version 0.6.0)."""
+    from ddgsa.mbs import modal
+
+    model = models.get("indirect_drive", fidelity="flexible")
+    asm, q, qd = model.build(None, 1.2, 0.0)
+
+    def table(step: float) -> np.ndarray:
+        lin = modal.linearise_system(asm.system, q, qd, rel_step=step)
+        t = modal.modal_analysis(lin.m, lin.c, lin.k, asm.system.coord_names, asm.system.groups(), lin.basis,
+                                 lin.m_full)
+        return t[["frequency_hz", "damping_ratio"]].to_numpy()
+
+    chosen = model.modes(rotor_speed=1.2)[["frequency_hz", "damping_ratio"]].to_numpy()
+    coarse, fine = table(1e-2), table(1e-6)
+    np.testing.assert_array_equal(chosen, table(1e-3))
+    np.testing.assert_allclose(chosen[:, 0], coarse[:, 0], rtol=1e-10)
+    np.testing.assert_allclose(chosen[:, 1], coarse[:, 1], rtol=1e-9)
+    assert np.max(np.abs(fine[:, 0] / chosen[:, 0] - 1)) > 1e-9
+    assert np.max(np.abs(fine[:, 1] / chosen[:, 1] - 1)) > 1e-8

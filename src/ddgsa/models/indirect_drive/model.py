@@ -22,8 +22,8 @@ from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
 from ddgsa.models.base import Model, ModelOption, ModelOutput, controller_row, register_model
 from ddgsa.models.constants import GRAVITY
 from ddgsa.models.indirect_drive.assembly import FLEXIBLE_FIELDS, Assembly, build, check_geometry, spin_inertia
-from ddgsa.models.indirect_drive.linear import (StateSpace, linear_response, operating_state, reduced_response,
-                                                state_space)
+from ddgsa.models.indirect_drive.linear import (LINEARISATION_STEP, StateSpace, linear_response, operating_state,
+                                                reduced_response, state_space)
 from ddgsa.models.indirect_drive.outputs import (bearing_outputs, constraint_drift, gear_force_outputs,
                                                   housing_motion_outputs, rotated_x_axis, signal_statistics)
 from ddgsa.models.indirect_drive.parameters import BEARINGS, PARAMETERS
@@ -287,11 +287,13 @@ class IndirectDrive(Model):
     def modes(self, params: Mapping[str, float] | None = None, rotor_speed: float = 0.0,
               lss_torque: float = 0.0) -> pd.DataFrame:
         """Damped modes of the constrained system about its operating state (kernel
-        :func:`ddgsa.mbs.modal.modes`), at ``rotor_speed`` [rad/s] under ``lss_torque`` [N m];
+        :func:`ddgsa.mbs.modal.modes` with the linear fidelity's step
+        :data:`~ddgsa.models.indirect_drive.linear.LINEARISATION_STEP`), at ``rotor_speed`` [rad/s] under
+        ``lss_torque`` [N m];
         labels ``<body>_<direction>`` of the coordinate holding most of the mode's energy (``hss_spin``:
         the drive-train torsion mode, whose energy is mostly the generator's)."""
         asm, q, qd = self.build(params, rotor_speed, lss_torque)
-        return system_modes(asm.system, q, qd)
+        return system_modes(asm.system, q, qd, rel_step=LINEARISATION_STEP)
 
     def campbell(self, speeds: Any = None, orders: Any = (1.0, 3.0), params: Mapping[str, float] | None = None,
                  max_frequency_hz: float = CAMPBELL_MAX_HZ) -> CampbellDiagram:
