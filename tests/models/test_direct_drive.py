@@ -243,15 +243,19 @@ def test_linear_batch_path_matches_its_time_series_and_the_dense_recurrence(monk
 @pytest.mark.slow
 def test_bench_quick_variant_produces_every_target_row() -> None:
     """``ddgsa bench --quick`` (small problems, ~1 min): every target of the speed issue has a row
-    with a measured value and a verdict, in the table and in the JSON. Timings are judged by the
+    with a measured value and a verdict (but the seed studies that only the full bench runs), in the
+    table and in the JSON. Timings are judged by the
     bench, never here; the only numbers checked are ones that do not depend on the machine."""
     import json as json_module
 
-    from ddgsa.bench.speed import TARGETS, format_speed, speed
+    from ddgsa.bench.speed import FULL_ONLY, TARGETS, format_speed, speed
 
     res = speed(quick=True)
     assert [t["key"] for t in res["targets"]] == [t[0] for t in TARGETS]
-    assert all(t["measured"] is not None and t["pass"] in (True, False) for t in res["targets"]), res["targets"]
+    measured = [t for t in res["targets"] if t["key"] not in FULL_ONLY]
+    assert all(t["measured"] is not None and t["pass"] in (True, False) for t in measured), res["targets"]
+    # the seed studies of the rig and the geared drive run in the full bench only, and say so
+    assert all(t["measured"] is None and t["note"] == "not measured" for t in res["targets"] if t["key"] in FULL_ONLY)
     table = format_speed(res)
     assert all(t["target"] in table for t in res["targets"])
     assert json_module.loads(json_module.dumps(res))["targets"] == res["targets"]
