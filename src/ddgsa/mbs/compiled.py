@@ -447,20 +447,25 @@ def _residuals(qs, qds, qdd0, lam0, t, P, over_q):  # pragma: no cover (compiled
     (``over_q`` False) the constraints are not assembled: ``C_q`` depends on ``q`` alone, so its term
     drops out of their difference. The tangents are not assembled."""
     k, n = qs.shape
-    n_v = _assemble(qs[0], qds[0], t, P)[7].size if over_q else 0
-    out = np.empty((k, n + n_v))
-    for j in range(k):
-        if over_q:
-            m_mat, f, kt, ct, y, ch, jac, vel = _terms(qs[j], qds[j], t, P, False, True)
-            r = np.dot(m_mat, qdd0) - f
-            if lam0.size:
-                r += np.dot(jac.T, lam0)
-            out[j, n:] = vel
-        else:
-            m_mat, f = mass_and_force(qs[j], qds[j], t, P)
-            r = np.dot(m_mat, qdd0) - f
-        out[j, :n] = r
+    first = _residual_row(qs[0], qds[0], qdd0, lam0, t, P, over_q)      # its size sets the table's
+    out = np.empty((k, first.size))
+    out[0] = first
+    for j in range(1, k):
+        out[j] = _residual_row(qs[j], qds[j], qdd0, lam0, t, P, over_q)
     return out
+
+
+@njit(cache=True)
+def _residual_row(q, qd, qdd0, lam0, t, P, over_q):  # pragma: no cover (compiled)
+    """One row of :func:`_residuals`."""
+    if not over_q:
+        m_mat, f = mass_and_force(q, qd, t, P)
+        return np.dot(m_mat, qdd0) - f
+    m_mat, f, kt, ct, y, ch, jac, vel = _terms(q, qd, t, P, False, True)
+    r = np.dot(m_mat, qdd0) - f
+    if lam0.size:
+        r += np.dot(jac.T, lam0)
+    return np.concatenate((r, vel))
 
 
 def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Array, t: float, scale: float,

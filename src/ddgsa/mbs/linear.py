@@ -122,10 +122,11 @@ def _residual_and_springs(p, v, a, u, iy, iz, sys):  # pragma: no cover (compile
 def _residuals_and_springs(ps, vs, us, a0, iy, iz, sys):  # pragma: no cover (compiled)
     """:func:`_residual_and_springs` at each row of ``ps``, ``vs``, ``us`` (k, .) with the accelerations
     ``a0``: the residuals and the spring forces side by side (k, n + n_springs)."""
-    r, fs, _ = _residual_and_springs(ps[0], vs[0], a0, us[0], iy, iz, sys)
-    out = np.empty((ps.shape[0], r.size + fs.size))
+    out = np.empty((0, 0))
     for j in range(ps.shape[0]):
         r, fs, _ = _residual_and_springs(ps[j], vs[j], a0, us[j], iy, iz, sys)
+        if j == 0:                                   # the first row's sizes set the table's
+            out = np.empty((ps.shape[0], r.size + fs.size))
         out[j, :r.size] = r
         out[j, r.size:] = fs
     return out
