@@ -247,7 +247,8 @@ def _loop(ctx, q0, qd0, acc0, lam0, t0, h, n_steps, output_every, am, af, gamma,
     bp = beta * (1.0 - af) / (1.0 - am)
     gp = gamma * (1.0 - af) / (1.0 - am)
     bh2, gh = bp * h * h, gp * h
-    _evaluate(q, qd, t0, 0, ctx, m, f, kt, ct, y, ch, jac, vel)
+    _evaluate(q, qd, t0, np.int64(0), ctx, m, f, kt, ct, y, ch, jac, vel)   # an int64 step, not a literal 0:
+    # numba would compile the kind (and link the whole element tree) a second time for the literal
     _record(0, q, qd, lam, y, ch, vel, q_out, qd_out, lam_out, y_out, drift)
     slot, worst, total = 1, 0, 0
     for step in range(1, n_steps + 1):

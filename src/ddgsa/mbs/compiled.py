@@ -287,21 +287,23 @@ def _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t):  # pragma: no cover (com
 @njit(cache=True)
 def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
     """``M, Q, K_t, C_t, element outputs (n_el, 6), C_h, jac (n_c, n), V`` at ``(q, qd, t)``."""
-    return _terms(q, qd, t, P, True, True)
+    return _terms(q, qd, t, P, np.bool_(True), np.bool_(True))     # run-time flags: see :func:`_terms`
 
 
 @njit(cache=True)
 def mass_and_force(q, qd, t, P):  # pragma: no cover (compiled)
     """``M, Q`` at ``(q, qd, t)``: :func:`_assemble` without the tangents and constraints (what a
     central difference of an unconstrained residual reads)."""
-    out = _terms(q, qd, t, P, False, False)
+    out = _terms(q, qd, t, P, np.bool_(False), np.bool_(False))
     return out[0], out[1]
 
 
 @njit(cache=True)
 def _terms(q, qd, t, P, tangents, constraints):  # pragma: no cover (compiled)
     """:func:`_assemble`; without ``tangents`` ``K_t`` and ``C_t`` stay zero (their scatter skipped),
-    without ``constraints`` ``C_h``, ``jac`` and ``V`` are empty."""
+    without ``constraints`` ``C_h``, ``jac`` and ``V`` are empty. Callers pass the flags as run-time
+    booleans (``np.bool_``): numba compiles a function once per *literal* argument value, and this one,
+    with every element law under it, takes most of the kernel's first-run compilation."""
     (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
      mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt, nel, kind, marker, ser, offsets, par,
      cs_row, cs_neq, nh, gravity) = P
@@ -461,7 +463,7 @@ def _residual_row(q, qd, qdd0, lam0, t, P, over_q):  # pragma: no cover (compile
     if not over_q:
         m_mat, f = mass_and_force(q, qd, t, P)
         return np.dot(m_mat, qdd0) - f
-    m_mat, f, kt, ct, y, ch, jac, vel = _terms(q, qd, t, P, False, True)
+    m_mat, f, kt, ct, y, ch, jac, vel = _terms(q, qd, t, P, np.bool_(False), np.bool_(True))
     r = np.dot(m_mat, qdd0) - f
     if lam0.size:
         r += np.dot(jac.T, lam0)
