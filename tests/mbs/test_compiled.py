@@ -130,15 +130,15 @@ def test_compiled_linearisation_and_consistent_state_equal_python() -> None:
 
 
 def test_mass_and_force_are_the_assemblys_first_two_terms_bit_for_bit() -> None:
-    """:func:`ddgsa.mbs.compiled.mass_and_force` (what the central differences assemble) is
-    :func:`_assemble` without its tangents and constraints: the same ``M`` and ``Q``, bit for bit,
-    on a constrained system at a moved, moving state."""
-    from ddgsa.mbs.compiled import _assemble, mass_and_force
+    """:func:`ddgsa.mbs.compiled.mass_and_force` (what the central differences assemble) is the
+    assembly (:func:`_terms`) without its tangents and constraints: the same ``M`` and ``Q``, bit for
+    bit, on a constrained system at a moved, moving state."""
+    from ddgsa.mbs.compiled import _terms, mass_and_force
 
     system = every_part()
     packed = pack(system)
     q = system.q0 + 1e-3 * np.sin(np.arange(system.n))
     qd = 0.1 * np.cos(np.arange(system.n))
-    m_full, f_full = _assemble(q, qd, 0.3, packed.arrays)[:2]
+    m_full, f_full = _terms(q, qd, 0.3, packed.arrays, True, True)[:2]
     m, f = mass_and_force(q, qd, 0.3, packed.arrays)
     assert np.array_equal(m, m_full) and np.array_equal(f, f_full)

@@ -1,7 +1,7 @@
 """The compiled nonlinear path: a System packed into arrays, evaluated and integrated in numba.
 
 :func:`pack` turns a :class:`~ddgsa.mbs.assembly.System` into flat arrays; the compiled
-:func:`_assemble` evaluates them by calling the same compiled functions the Python objects call
+:func:`_terms` evaluates them by calling the same compiled functions the Python objects call
 (the connectors' :func:`~ddgsa.mbs.elements.connector_wrench`, the torque law's
 :func:`~ddgsa.mbs.elements.axial_torque_wrench`, the constraints' residuals and Jacobians in
 :mod:`ddgsa.mbs.constraints`, the rotation helpers of :mod:`ddgsa.mbs.ffr`, the inputs'
@@ -284,26 +284,24 @@ def _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t):  # pragma: no cover (com
     return _series(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t, False)
 
 
-@njit(cache=True)
-def _assemble(q, qd, t, P):  # pragma: no cover (compiled)
-    """``M, Q, K_t, C_t, element outputs (n_el, 6), C_h, jac (n_c, n), V`` at ``(q, qd, t)``."""
-    return _terms(q, qd, t, P, np.bool_(True), np.bool_(True))     # run-time flags: see :func:`_terms`
-
-
-@njit(cache=True)
-def mass_and_force(q, qd, t, P):  # pragma: no cover (compiled)
-    """``M, Q`` at ``(q, qd, t)``: :func:`_assemble` without the tangents and constraints (what a
+def mass_and_force(q: Array, qd: Array, t: float, P: tuple) -> tuple[Array, Array]:
+    """``M, Q`` at ``(q, qd, t)``: :func:`_terms` without the tangents and constraints (what a
     central difference of an unconstrained residual reads)."""
-    out = _terms(q, qd, t, P, np.bool_(False), np.bool_(False))
+    out = _terms(q, qd, t, P, False, False)
     return out[0], out[1]
 
 
 @njit(cache=True)
 def _terms(q, qd, t, P, tangents, constraints):  # pragma: no cover (compiled)
-    """:func:`_assemble`; without ``tangents`` ``K_t`` and ``C_t`` stay zero (their scatter skipped),
-    without ``constraints`` ``C_h``, ``jac`` and ``V`` are empty. Callers pass the flags as run-time
-    booleans (``np.bool_``): numba compiles a function once per *literal* argument value, and this one,
-    with every element law under it, takes most of the kernel's first-run compilation."""
+    """``M, Q, K_t, C_t, element outputs (n_el, 6), C_h, jac (n_c, n), V`` at ``(q, qd, t)``; without
+    ``tangents`` ``K_t`` and ``C_t`` stay zero (their scatter skipped), without ``constraints``
+    ``C_h``, ``jac`` and ``V`` are empty.
+
+    This function, with every element law under it, is most of the kernel's first-run compilation,
+    and numba links a full copy of it into every compiled function that calls it. So it is called
+    directly (no compiled wrappers around it), by few compiled functions, and with run-time flags
+    (``np.bool_`` in compiled code, plain ``bool`` from Python): a *literal* ``True`` or ``False``
+    would compile it once per value."""
     (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
      mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt, nel, kind, marker, ser, offsets, par,
      cs_row, cs_neq, nh, gravity) = P
@@ -376,7 +374,7 @@ def _constraint_terms(n, t, P, mr, ma, mvel, mw, mj, lohi):  # pragma: no cover 
 
 @njit(cache=True)
 def _constraints(q, qd, t, P):  # pragma: no cover (compiled)
-    """``C_h, jac, V`` alone (no body or element terms): the constraint half of :func:`_assemble`."""
+    """``C_h, jac, V`` alone (no body or element terms): the constraint half of :func:`_terms`."""
     mr, ma, mvel, mw, mj, lohi = _markers(q, qd, t, P)
     return _constraint_terms(q.size, t, P, mr, ma, mvel, mw, mj, lohi)
 
@@ -384,14 +382,15 @@ def _constraints(q, qd, t, P):  # pragma: no cover (compiled)
 @njit(cache=True)
 def _accelerations(q, qd, t, P, fd_step):  # pragma: no cover (compiled)
     """Index-1 accelerations and multipliers (no stabilisation), as :func:`ddgsa.mbs.assembly.accelerations`."""
-    m_mat, f, kt, ct, out, ch, jac, vel = _assemble(q, qd, t, P)
+    full = np.bool_(True)
+    m_mat, f, kt, ct, out, ch, jac, vel = _terms(q, qd, t, P, full, full)
     n = q.size
     nc = vel.size
     if nc == 0:
         return np.linalg.solve(m_mat, f), np.zeros(0)
     h = fd_step
-    vp = _assemble(q + h * qd, qd, t + h, P)[7]
-    vm = _assemble(q - h * qd, qd, t - h, P)[7]
+    vp = _terms(q + h * qd, qd, t + h, P, full, full)[7]
+    vm = _terms(q - h * qd, qd, t - h, P, full, full)[7]
     big = np.zeros((n + nc, n + nc))
     big[:n, :n] = m_mat
     big[:n, n:] = jac.T
@@ -405,8 +404,8 @@ def _accelerations(q, qd, t, P, fd_step):  # pragma: no cover (compiled)
 
 @njit(cache=True)
 def _evaluate(q, qd, t, step, P, m, f, kt, ct, y, ch, jac, vel):  # pragma: no cover (compiled)
-    """The packed System as a kind of :mod:`ddgsa.mbs.alpha`'s loop: :func:`_assemble` written into its arrays."""
-    m_mat, fv, ktv, ctv, out, chv, jacv, velv = _assemble(q, qd, t, P)
+    """The packed System as a kind of :mod:`ddgsa.mbs.alpha`'s loop: :func:`_terms` written into its arrays."""
+    m_mat, fv, ktv, ctv, out, chv, jacv, velv = _terms(q, qd, t, P, np.bool_(True), np.bool_(True))
     m[:] = m_mat
     f[:] = fv
     kt[:] = ktv
@@ -422,7 +421,7 @@ _loop = specialise(_evaluate, "packed")
 
 def evaluate(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, ...]:
     """``(M, Q, K_t, C_t, outputs, C_h, C_q, V)`` of the packed system at one state (for tests)."""
-    return _assemble(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays)
+    return _terms(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays, True, True)
 
 
 def constraint_values(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, Array, Array, Array]:
@@ -449,25 +448,18 @@ def _residuals(qs, qds, qdd0, lam0, t, P, over_q):  # pragma: no cover (compiled
     (``over_q`` False) the constraints are not assembled: ``C_q`` depends on ``q`` alone, so its term
     drops out of their difference. The tangents are not assembled."""
     k, n = qs.shape
-    first = _residual_row(qs[0], qds[0], qdd0, lam0, t, P, over_q)      # its size sets the table's
-    out = np.empty((k, first.size))
-    out[0] = first
-    for j in range(1, k):
-        out[j] = _residual_row(qs[j], qds[j], qdd0, lam0, t, P, over_q)
+    out = np.empty((k, 0))
+    for j in range(k):
+        m_mat, f, kt, ct, y, ch, jac, vel = _terms(qs[j], qds[j], t, P, np.bool_(False), over_q)
+        r = np.dot(m_mat, qdd0) - f
+        if over_q:
+            if lam0.size:
+                r += np.dot(jac.T, lam0)
+            r = np.concatenate((r, vel))
+        if j == 0:                                       # the first row sizes the table
+            out = np.empty((k, r.size))
+        out[j] = r
     return out
-
-
-@njit(cache=True)
-def _residual_row(q, qd, qdd0, lam0, t, P, over_q):  # pragma: no cover (compiled)
-    """One row of :func:`_residuals`."""
-    if not over_q:
-        m_mat, f = mass_and_force(q, qd, t, P)
-        return np.dot(m_mat, qdd0) - f
-    m_mat, f, kt, ct, y, ch, jac, vel = _terms(q, qd, t, P, np.bool_(False), np.bool_(True))
-    r = np.dot(m_mat, qdd0) - f
-    if lam0.size:
-        r += np.dot(jac.T, lam0)
-    return np.concatenate((r, vel))
 
 
 def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Array, t: float, scale: float,
@@ -505,12 +497,14 @@ def gen_alpha(packed: Packed, q0: Array, qd0: Array, t0: float, dt: float, n_ste
 def _along(q, qd, times, P, nh):  # pragma: no cover (compiled)
     """Generalised forces, element outputs and constraint drift at each row of ``q, qd`` (times ``times``)."""
     n_t, n = q.shape
-    m0, f0, k0, c0, out0, ch0, jac0, vel0 = _assemble(q[0], qd[0], times[0], P)
+    full = np.bool_(True)
     forces = np.zeros((n_t, n))
-    outs = np.zeros((n_t, out0.shape[0], 6))
+    outs = np.zeros((n_t, 0, 6))
     pdrift, vdrift = np.zeros(n_t), np.zeros(n_t)
     for i in range(n_t):
-        m_mat, f, kt, ct, out, ch, jac, vel = _assemble(q[i], qd[i], times[i], P)
+        m_mat, f, kt, ct, out, ch, jac, vel = _terms(q[i], qd[i], times[i], P, full, full)
+        if i == 0:                                       # the first row sizes the outputs' table
+            outs = np.zeros((n_t, out.shape[0], 6))
         forces[i] = f
         outs[i] = out
         if nh > 0:
@@ -584,7 +578,7 @@ class HybridTerms:
         """:class:`~ddgsa.mbs.assembly.Terms` at ``(q, qd, t)``."""
         system = self.system
         q, qd, t = np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t)
-        m, f, kt, ct, out = _assemble(q, qd, t, self.packed.arrays)[:5]
+        m, f, kt, ct, out = _terms(q, qd, t, self.packed.arrays, True, True)[:5]
         outputs: list = [None] * len(system.elements)
         for row, i in enumerate(self.compiled_rows):
             outputs[i] = out[row]
