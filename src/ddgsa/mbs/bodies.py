@@ -364,7 +364,8 @@ class FlexibleBody(Body):
         return out
 
     def terms(self, q: Array, qd: Array, gravity: Array) -> tuple[Array, Array, Array, Array]:
-        m, f = body_terms_inv(q, qd, *self._inv_args, gravity)
+        m, f = body_terms_inv(np.ascontiguousarray(q), np.ascontiguousarray(qd), *self._inv_args, gravity)  # one layout:
+        # numba compiles the body kernel once per layout of its arguments (a strided view is another)
         n = self.n_coords
         kt, ct = np.zeros((n, n)), np.zeros((n, n))
         if self.n_elastic:

@@ -429,7 +429,7 @@ def single_body_arrays(system: System) -> SystemArrays:
                              "body to a ground or prescribed marker")
     load, law = loads[0].markers[0], laws[0].markers[0]
     arrays = SystemArrays(
-        pm=pm, pu=pu, ps=ps, gravity=system.gravity.copy(), kff=body.kff, cff=body.cff,
+        pm=pm, pu=pu, ps=ps, gravity=system.gravity.copy(), kff=np.array(body.kff), cff=np.array(body.cff),
         sp_u0=np.array([s.markers[0].position for s in springs]), sp_s=np.stack([s.markers[0].shapes for s in springs]),
         sp_k=np.array([np.diag(s.k6)[:3] for s in springs]), sp_c=np.array([np.diag(s.c6)[:3] for s in springs]),
         sp_ground=np.array([s.markers[1].body.marker_state(s.markers[1], np.zeros(0), np.zeros(0), 0.0)[0]
@@ -437,4 +437,6 @@ def single_body_arrays(system: System) -> SystemArrays:
         ld_u0=load.position.copy(), ld_s=load.shapes.copy(), ld_srot=load.rotation_shapes.copy(),
         gn_srot=law.rotation_shapes.copy(), c_torque=laws[0].linear_form[1])
     arrays.__dict__["invariants"] = body.invariants      # computed once, by the body (cached property)
+    # kff and cff are copied: a body's matrices may be read-only (a shaft's own) or not (scaled), and numba
+    # compiles the whole kernel once per read-only flag of each argument
     return arrays
