@@ -142,3 +142,33 @@ def test_mass_and_force_are_the_assemblys_first_two_terms_bit_for_bit() -> None:
     m_full, f_full = _terms(q, qd, 0.3, packed.arrays, True, True)[:2]
     m, f = mass_and_force(q, qd, 0.3, packed.arrays)
     assert np.array_equal(m, m_full) and np.array_equal(f, f_full)
+
+
+def test_the_assembly_is_compiled_once_whatever_its_callers_pass() -> None:
+    """Guard on first-run compilation time (not on numbers). :func:`ddgsa.mbs.compiled._terms`, with
+    every element law under it, is linked whole into each compiled caller and compiled once per
+    argument *type*; a literal ``True`` / ``False`` / ``0`` passed by compiled code is a type of its own
+    and compiles it (~25 s) again. So no compiled function of the kernel may pass a literal to it or to
+    the packed kind (read from the source: a warm on-disk cache hides the extra copies from
+    ``signatures``); and the single-body kernel's arrays must all be writeable and C-contiguous (the
+    direct drive's read-only shaft matrices compiled its kernel twice)."""
+    import ast
+    import inspect
+
+    from ddgsa.mbs import alpha, compiled
+    from ddgsa.models.direct_drive import DirectDrive
+
+    literal_calls = []
+    for module in (compiled, alpha):
+        for fn in ast.walk(ast.parse(inspect.getsource(module))):
+            if not isinstance(fn, ast.FunctionDef) or not any("njit" in ast.unparse(d) for d in fn.decorator_list):
+                continue
+            for call in ast.walk(fn):
+                if isinstance(call, ast.Call) and ast.unparse(call.func) in ("_terms", "_evaluate") and \
+                        any(isinstance(a, ast.Constant) for a in call.args):
+                    literal_calls.append(f"{module.__name__}.{fn.name}: {ast.unparse(call)}")
+    assert not literal_calls, literal_calls
+    arrays = DirectDrive().build().system.args()
+    loose = [i for i, a in enumerate(arrays) if isinstance(a, np.ndarray)
+             and not (a.flags.writeable and a.flags.c_contiguous)]
+    assert not loose, f"single-body arrays {loose} are read-only or not C-contiguous"
