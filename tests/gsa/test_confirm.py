@@ -12,7 +12,7 @@ import pytest
 
 import ddgsa
 from ddgsa.bench.calibration import false_rank_claims
-from ddgsa.gsa.result import NEGLIGIBLE, SEPARATED, Diagnostic, rank_claims
+from ddgsa.gsa.result import NEGLIGIBLE, SEPARATED, TIED, Diagnostic, rank_claims, rank_structure
 from ddgsa.gsa.testfunctions import linear, product
 from ddgsa.space import ParameterSpace
 
@@ -104,6 +104,48 @@ def test_rank_claims_by_hand() -> None:
     # an error-estimate rule does not stop a rank claim (that is its point)
     err = [Diagnostic("pce_index_error", "", "untrusted", output="y", parameter="p0")]
     assert rank_claims(t, np.array([0.05, 0.05, 0.02, 0.005]), err, 0.02)[0] == SEPARATED
+
+
+def test_ties_and_the_negligible_group_by_hand() -> None:
+    """Issue 51: ST 0.100 and 0.102 with bounds 0.004 can never be ordered (their intervals overlap for
+    ever) but their difference lies in [-0.006, 0.010], inside the margin 0.02: a confirmed tie; twenty
+    inert parameters below the floor form one negligible group; the ranking reads 1, 2=, 2=, negligible."""
+    st = [0.7, 0.102, 0.100] + [0.001] * 20
+    t = _table(st)
+    err = np.array([0.01, 0.004, 0.004] + [0.003] * 20)
+    codes, ranks = rank_structure(t, err, [], 0.02)
+    assert codes.tolist() == [SEPARATED, TIED, TIED] + [NEGLIGIBLE] * 20
+    assert ranks.tolist()[:4] == ["1", "2=", "2=", "negligible"]
+    # a margin below the difference interval's reach (0.010): no tie is claimed, nothing placed but p0
+    codes, _ = rank_structure(t, err, [], 0.02, margin=0.005)
+    assert codes.tolist()[:3] == [SEPARATED, 0, 0]
+    # a floor below the inert rows' upper bound (0.004): they are no longer negligible, and with
+    # overlapping intervals around zero no place is certain for them
+    codes, _ = rank_structure(t, err, [], 0.02, floor=0.003)
+    assert codes.tolist()[3:] == [0] * 20
+
+
+def test_a_tie_chain_that_is_not_a_clique_is_not_confirmed() -> None:
+    """a ~ b and b ~ c within the margin but a, c apart: b has no well-defined place, so none of the
+    chain is claimed; competition ranking skips places after a tied group."""
+    t = _table([0.50, 0.30, 0.2875, 0.275, 0.05])
+    err = np.array([0.01, 0.002, 0.002, 0.002, 0.01])
+    codes, ranks = rank_structure(t, err, [], 0.02)
+    # 0.30 ~ 0.2875 (0.0165), 0.2875 ~ 0.275 (0.0165), but 0.30 vs 0.275: 0.029 > 0.02 and apart
+    assert codes.tolist() == [SEPARATED, 0, 0, 0, SEPARATED]
+    assert ranks.tolist() == ["1", "", "", "", "5"]
+    codes, ranks = rank_structure(_table([0.5, 0.3, 0.295, 0.1]), np.array([0.01, 0.002, 0.002, 0.01]), [], 0.02)
+    assert ranks.tolist() == ["1", "2=", "2=", "4"]
+
+
+def test_false_tie_claims_against_the_truth() -> None:
+    est = np.array([[0.5, 0.30, 0.295, 0.1]])
+    claims = np.array([[SEPARATED, TIED, TIED, SEPARATED]])
+    ranks = np.array([["1", "2=", "2=", "4"]], dtype=object)
+    assert not false_rank_claims(est, np.array([[0.5, 0.29, 0.30, 0.1]]), claims, 0.02, ranks).any()
+    # the truth 0.03 apart: both tied rows are false; p3 is truly above p1, false too
+    bad = false_rank_claims(est, np.array([[0.5, 0.32, 0.29, 0.31]]), claims, 0.02, ranks)
+    assert bad.tolist() == [[False, True, True, True]]
 
 
 def test_false_rank_claims_against_the_truth() -> None:

@@ -35,7 +35,7 @@ from numpy.typing import NDArray
 from ddgsa.errors import MethodError
 from ddgsa.gsa.testfunctions import (bratley_k, ishigami, linear, oakley_ohagan, product, sobol_g,
                                      tensor_indices)
-from ddgsa.gsa.result import NEGLIGIBLE, trusted_mask
+from ddgsa.gsa.result import NEGLIGIBLE, TIED, trusted_mask
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.space import ParameterSpace
 
@@ -72,7 +72,7 @@ def _tensor_case(name: str, kind: str, space: ParameterSpace, f: Func, points: i
 
 
 def cases() -> dict[str, Case]:
-    """The 16 reference functions (kind in the second field)."""
+    """The 20 reference functions (kind in the second field)."""
     lognormal = ParameterSpace.from_dict({f"x{i + 1}": {"dist": "lognormal", "mu": 0.0, "sigma": s}
                                           for i, s in enumerate((0.5, 0.4, 0.3, 0.2, 0.1))})
     heavy = ParameterSpace.from_dict({f"x{i + 1}": {"dist": "lognormal", "mu": 0.0, "sigma": s}
@@ -103,8 +103,34 @@ def cases() -> dict[str, Case]:
         _bearing_life(),
         _borehole(),
         _resonance(),
+        *ranking_cases(),
     ]
     return {c.name: c for c in out}
+
+
+RANKING = ("exact_ties", "tied_product", "near_ties", "inert_40")
+"""The functions that test the ranking rule's ties and negligible group (issue 51): exact ties in an
+additive and in an interacting function, two parameters 0.002 apart in ST, and 40 inputs of which 36
+are nearly inert."""
+
+
+def ranking_cases() -> list[Case]:
+    """The :data:`RANKING` functions, exact indices in closed form.
+
+    * ``exact_ties``: ``sum b_i x_i`` on [0, 1]^6 with ``b = (1, 1, 1, 0.5, 0.5, 0.2)``: ST 0.282 (x3),
+      0.070 (x2), 0.011;
+    * ``tied_product``: ``prod (1 + c_i (x_i - 1/2) sqrt 12)`` with ``c = (0.5, 0.5, 0.3, 0.3, 0, 0)``:
+      interacting, two tied pairs and two exactly inert inputs;
+    * ``near_ties``: ``sum b_i x_i`` with ``b_i^2`` proportional to (0.498, 0.300, 0.102, 0.100): ST 0.102 and
+      0.100, a tie within any margin above 0.002;
+    * ``inert_40``: Sobol' G with ``a = (0, 1, 4.5, 9)`` and 36 inputs at ``a = 99`` (ST ~1e-4 each).
+    """
+    return [
+        _from_tf("exact_ties", "exact ties", linear(_unit(6), [1.0, 1.0, 1.0, 0.5, 0.5, 0.2])),
+        _from_tf("tied_product", "tied, interacting", product(_unit(6), [0.5, 0.5, 0.3, 0.3, 0.0, 0.0])),
+        _from_tf("near_ties", "near ties", linear(_unit(4), np.sqrt([0.498, 0.300, 0.102, 0.100]).tolist())),
+        _from_tf("inert_40", "40 inputs, 36 inert", sobol_g([0.0, 1.0, 4.5, 9.0] + [99.0] * 36)),
+    ]
 
 
 def _steps_indices() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -256,7 +282,8 @@ def score(case: Case, res: Any, tolerance: float) -> pd.DataFrame:
     other = [g for g in res.diagnostics if not g.name.endswith("index_error")]
     passes_others = trusted_mask(t, other).reshape(k, d)
     claims = np.asarray(res.extras["rank_claims"]).reshape(k, d)
-    wrong = false_rank_claims(st, case.ST, claims, tolerance)
+    ranks = t["rank"].to_numpy(object).reshape(k, d) if "rank" in t else None
+    wrong = false_rank_claims(st, case.ST, claims, tolerance, ranks)
     confirmed = trusted | (claims > 0)
     s1_conf = t["S1_conf"].to_numpy(float).reshape(k, d)
     with np.errstate(invalid="ignore"):
@@ -266,28 +293,37 @@ def score(case: Case, res: Any, tolerance: float) -> pd.DataFrame:
                          "passes_other_rules": passes_others.ravel(),
                          "false_trust": (trusted & (err > tolerance)).ravel(),
                          "false_alarm": (~trusted & (err <= tolerance)).ravel(),
-                         "rank_confirmed": (claims > 0).ravel(), "false_rank": wrong.ravel(),
+                         "rank_confirmed": (claims > 0).ravel(), "tied": (claims == TIED).ravel(),
+                         "false_rank": wrong.ravel(),
                          "confirmed": confirmed.ravel(),
                          "false_confirmed": ((trusted & (err > tolerance)) | wrong).ravel(),
                          "s1_within_bound": within.ravel()})
 
 
 def false_rank_claims(st: NDArray[np.float64], true_st: NDArray[np.float64], claims: NDArray[np.int8],
-                      tolerance: float) -> NDArray[np.bool_]:
-    """Rank confirmations (:func:`~ddgsa.gsa.result.rank_claims`, arrays (k, d)) the exact total
-    indices contradict: a negligible row whose true ST exceeds ``tolerance``; a separated row whose
-    true ST is zero, or whose order against any other row of the output is not the estimated one
-    (a true tie counts as wrong: the claim is a strict order)."""
+                      tolerance: float, ranks: NDArray[np.object_] | None = None,
+                      margin: float | None = None) -> NDArray[np.bool_]:
+    """Rank confirmations (:func:`~ddgsa.gsa.result.rank_structure`, arrays (k, d)) the exact total
+    indices contradict: a negligible row whose true ST exceeds ``tolerance``; a placed row whose true
+    ST is zero; a row tied (same ``ranks`` label ending in ``=``) with one whose true ST differs from
+    its own by more than ``margin`` (default ``tolerance``); a placed row whose order against any row
+    it is not tied with is not the estimated one (a true tie counts as wrong: that claim is a strict
+    order)."""
+    margin = tolerance if margin is None else margin
+    labels = np.full(claims.shape, "", dtype=object) if ranks is None else np.asarray(ranks, dtype=object)
     wrong = np.zeros(claims.shape, dtype=bool)
     for j, i in zip(*np.nonzero(claims)):
         if claims[j, i] == NEGLIGIBLE:
             wrong[j, i] = true_st[j, i] > tolerance
             continue
         others = np.arange(st.shape[1]) != i
-        above = st[j, others] > st[j, i]
-        truly_above = true_st[j, others] > true_st[j, i]
-        truly_below = true_st[j, others] < true_st[j, i]
-        wrong[j, i] = true_st[j, i] <= 1e-12 or bool(np.any(np.where(above, ~truly_above, ~truly_below)))
+        tied = others & (labels[j] == labels[j, i]) & str(labels[j, i]).endswith("=")
+        apart = others & ~tied
+        above = st[j, apart] > st[j, i]
+        truly_above = true_st[j, apart] > true_st[j, i]
+        truly_below = true_st[j, apart] < true_st[j, i]
+        wrong[j, i] = (true_st[j, i] <= 1e-12 or bool(np.any(np.where(above, ~truly_above, ~truly_below)))
+                       or bool(np.any(np.abs(true_st[j, tied] - true_st[j, i]) > margin)))
     return wrong
 
 

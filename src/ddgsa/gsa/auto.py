@@ -60,7 +60,7 @@ from numpy.typing import NDArray
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, as_value_matrix, check_int, get_method
 from ddgsa.gsa.pce import _MAX_MATRIX_ENTRIES, n_terms
-from ddgsa.gsa.result import Diagnostic, SobolResult, index_error_rule, rank_claims, trusted_mask
+from ddgsa.gsa.result import Diagnostic, SobolResult, index_error_rule, rank_structure, trusted_mask
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance
 from ddgsa.space import ParameterSpace
 
@@ -281,12 +281,15 @@ class AutoSobol:
                                     f"{', '.join(g['parameter'])} within the budget of {self.options['budget']} "
                                     "runs; those rows are the best untrusted stage's (column source)", "warning",
                                     output=out, value=float(len(g))))
-        claims = rank_claims(indices, np.asarray(st_err, dtype=float), diags, self.options["tolerance"])
+        st_err = np.asarray(st_err, dtype=float)
+        claims, ranks = rank_structure(indices, st_err, diags, self.options["tolerance"])
         indices["rank_confirmed"] = claims > 0
+        indices["rank"] = ranks
         self.result = SobolResult(indices, n_evals=self.x.shape[0], method="auto", options=dict(self.options),
                                   diagnostics=diags,
                                   extras={"auto_log": list(self.log), "stages": [lab for _, lab in self.stages],
-                                          "moments": self._moments(), "rank_claims": claims})
+                                          "moments": self._moments(), "rank_claims": claims,
+                                          "rank_error": st_err})
         self._pending = None
 
     def _moments(self) -> dict[str, Any]:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
@@ -15,8 +15,12 @@ from ddgsa.gsa.groups import GROUP_COLUMNS
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-INDEX_COLUMNS = ["output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted", "rank_confirmed"]
+INDEX_COLUMNS = ["output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted", "rank_confirmed", "rank"]
 Severity = Literal["info", "warning", "untrusted"]
+ROW_COLUMNS = frozenset({"study", "scene", "method", "output", "parameter", "S1", "S1_conf", "ST", "ST_conf",
+                         "trusted", "rank_confirmed", "rank", "verdict", "n_evals", "output_unit", "source"})
+"""Columns of a study's ``indices.csv`` that describe the row, not its scene: every other column is a
+scene field (wind speed, scene kind...). Readers of the file (HTML report, NetCDF export) split on it."""
 
 
 @dataclass(frozen=True)
@@ -61,7 +65,8 @@ class SobolResult:
     ----------
     indices : pandas.DataFrame
         One row per (output, parameter): ``output, parameter, S1, S1_conf, ST, ST_conf,
-        trusted, rank_confirmed`` (:func:`rank_claims`). NaN where the method does not give a quantity (e.g. ``ST`` for
+        trusted, rank_confirmed, rank`` (:func:`rank_structure`: ``rank`` is the confirmed place by ST,
+        ``"2="`` in a tied group, ``"negligible"``, or empty). NaN where the method does not give a quantity (e.g. ``ST`` for
         RBD-FAST) or where the result was refused (see ``diagnostics``).
     n_evals : int
         Model evaluations the method spent.
@@ -113,10 +118,24 @@ class SobolResult:
         diags = list(diagnostics or [])
         table["trusted"] = trusted_mask(table, diags)
         err = arr(ST_conf if ST_error is None else ST_error).ravel()
-        claims = rank_claims(table, err, diags, (options or {}).get("tolerance", 0.02))
+        claims, ranks = rank_structure(table, err, diags, (options or {}).get("tolerance", 0.02))
         table["rank_confirmed"] = claims > 0
+        table["rank"] = ranks
         return cls(indices=table, n_evals=int(n_evals), method=method, options=dict(options or {}),
-                   diagnostics=diags, extras={**(extras or {}), "rank_claims": claims})
+                   diagnostics=diags, extras={**(extras or {}), "rank_claims": claims, "rank_error": err})
+
+    def rerank(self, margin: float | None = None, floor: float | None = None) -> "SobolResult":
+        """This result with its rank claims made again with a tie ``margin`` and a negligible ``floor``
+        (:func:`rank_structure`; default: the method's tolerance) [-]; values and trust unchanged."""
+        err = self.extras.get("rank_error")
+        if err is None:
+            return self
+        table = self.indices.copy()
+        claims, ranks = rank_structure(table, np.asarray(err, dtype=float), self.diagnostics,
+                                       self.options.get("tolerance", 0.02), margin, floor)
+        table["rank_confirmed"] = claims > 0
+        table["rank"] = ranks
+        return replace(self, indices=table, extras={**self.extras, "rank_claims": claims})
 
     @property
     def confirmed(self) -> bool:
@@ -230,13 +249,15 @@ def index_error_rule(name: str) -> bool:
     return name.endswith("index_error")
 
 
-NEGLIGIBLE, SEPARATED = 1, 2
+NEGLIGIBLE, SEPARATED, TIED = 1, 2, 3
 """Codes of :func:`rank_claims` (0: no claim)."""
 
 
-def rank_claims(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics: list[Diagnostic],
-                tolerance: float) -> NDArray[np.int8]:
-    """Rows whose place in their output's ranking by ``ST`` the error bounds guarantee, and how.
+def rank_structure(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics: list[Diagnostic],
+                   tolerance: float, margin: float | None = None,
+                   floor: float | None = None) -> tuple[NDArray[np.int8], NDArray[np.object_]]:
+    """Rows whose place in their output's ranking by ``ST`` the error bounds guarantee, how, and
+    the ranking as tied groups.
 
     Each row's total index lies in ``[ST - e, ST + e]`` (``e`` = ``st_error``, the method's
     calibrated estimate) when no other ``untrusted`` rule (one that is not an error-estimate rule:
@@ -244,29 +265,104 @@ def rank_claims(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics:
     hits, or without a finite ``ST`` and ``e``, may hold anything in [0, 1]. A row is
     **rank-confirmed** when either
 
-    * its interval lies within ``[0, tolerance]``: the parameter is confirmed negligible (the
-      order among negligible parameters is not claimed; code :data:`NEGLIGIBLE`), or
-    * its interval excludes zero and is disjoint from the interval of every other row of the
-      output: it matters, and its place in the order by ``ST`` is certain (code :data:`SEPARATED`).
+    * its interval lies within ``[0, floor]``: the parameter is confirmed negligible; the
+      negligible parameters form one group whose inner order is not claimed (code :data:`NEGLIGIBLE`), or
+    * its interval excludes zero and, against every other row of the output, either the two
+      intervals are disjoint (the order is certain) or the interval of the difference,
+      ``|ST_i - ST_j| + e_i + e_j``, lies within ``margin``: a **confirmed tie** (an equivalence
+      test, two one-sided bounds). A row with no tie has code :data:`SEPARATED`, else :data:`TIED`.
+      Ties must form cliques: rows joined by ties into one group are all pairwise tied, or none of
+      that group is confirmed (a chain a ~ b ~ c with a, c apart has no well-defined place).
 
-    Returns the code per row (0: not confirmed). ``ddgsa bench trust`` scores the claims against
-    the exact indices (false rank-confirmation).
+    Parameters
+    ----------
+    table : DataFrame
+        The indices table (``output, parameter, S1, ST``...).
+    st_error : array
+        Each row's ST error bound [-].
+    diagnostics : list of Diagnostic
+        The method's findings (non-error-estimate ``untrusted`` rules void a row's interval).
+    tolerance : float
+        The trust tolerance [-]: the default of ``margin`` and ``floor``.
+    margin : float, optional
+        Largest ST difference still called a tie [-] (default ``tolerance``).
+    floor : float, optional
+        ST below which a parameter is negligible [-] (default ``tolerance``).
+
+    Returns
+    -------
+    codes : ndarray of int8
+        Per row: 0 (not confirmed), :data:`NEGLIGIBLE`, :data:`SEPARATED` or :data:`TIED`.
+    ranks : ndarray of str
+        Per row: the confirmed rank by ST, ``"1"``, ``"2="`` for a tied group (standard competition
+        ranking: a group of two at 2 is followed by 4), ``"negligible"``, or ``""`` (not confirmed).
+        ``ddgsa bench trust`` scores the claims against the exact indices (false rank-confirmation).
+
+    Examples
+    --------
+    >>> t = pd.DataFrame({"output": ["y"] * 4, "parameter": list("abcd"), "S1": [0.5, 0.2, 0.2, 0.0],
+    ...                   "ST": [0.60, 0.200, 0.205, 0.001]})
+    >>> codes, ranks = rank_structure(t, np.array([0.01, 0.004, 0.004, 0.002]), [], 0.02)
+    >>> codes.tolist(), ranks.tolist()
+    ([2, 3, 3, 1], ['1', '2=', '2=', 'negligible'])
     """
+    tol = float(tolerance)
+    margin = tol if margin is None else float(margin)
+    floor = tol if floor is None else float(floor)
     st = table["ST"].to_numpy(float)
     err = np.asarray(st_error, dtype=float)
     usable = trusted_mask(table, [d for d in diagnostics if not index_error_rule(d.name)]) \
         & np.isfinite(st) & np.isfinite(err)
     lo = np.where(usable, np.clip(st - err, 0.0, 1.0), 0.0)
     hi = np.where(usable, np.clip(st + err, 0.0, 1.0), 1.0)
-    out = np.zeros(len(table), dtype=np.int8)
+    codes = np.zeros(len(table), dtype=np.int8)
+    ranks = np.full(len(table), "", dtype=object)
     for _, idx in table.groupby("output", sort=False).indices.items():
-        for i in idx[usable[idx]]:
-            others = idx[idx != i]
-            if hi[i] <= tolerance:
-                out[i] = NEGLIGIBLE
-            elif lo[i] > 0.0 and np.all((lo[others] > hi[i]) | (hi[others] < lo[i])):
-                out[i] = SEPARATED
+        neg = usable[idx] & (hi[idx] <= floor)
+        codes[idx[neg]] = NEGLIGIBLE
+        ranks[idx[neg]] = "negligible"
+        apart = (lo[idx][:, None] > hi[idx][None, :]) | (hi[idx][:, None] < lo[idx][None, :])
+        with np.errstate(invalid="ignore"):
+            tied = usable[idx][:, None] & usable[idx][None, :] & ~neg[:, None] & ~neg[None, :] \
+                & (np.abs(st[idx][:, None] - st[idx][None, :]) + err[idx][:, None] + err[idx][None, :] <= margin)
+        np.fill_diagonal(tied, False)
+        ok = usable[idx] & ~neg & (lo[idx] > 0.0)
+        ok &= np.all(apart | tied | np.eye(len(idx), dtype=bool), axis=1)
+        groups = _tie_groups(tied & ok[:, None] & ok[None, :], ok)
+        for g in groups:                       # a chain that is not a clique: no place is claimed
+            if len(g) > 1 and not tied[np.ix_(g, g)][~np.eye(len(g), dtype=bool)].all():
+                ok[g] = False
+        groups = [g for g in groups if ok[g].all()]
+        for g in groups:                       # every other row is apart from the group: its place is certain
+            place = 1 + int(np.sum(np.delete(st[idx], g) > np.mean(st[idx[g]])))
+            codes[idx[g]] = TIED if len(g) > 1 else SEPARATED
+            ranks[idx[g]] = f"{place}=" if len(g) > 1 else f"{place}"
+    return codes, ranks
+
+
+def _tie_groups(tied: NDArray[np.bool_], members: NDArray[np.bool_]) -> list[NDArray[np.intp]]:
+    """Connected components of the tie graph over the ``members`` (positions within the output)."""
+    seen = ~members.copy()
+    out = []
+    for start in np.flatnonzero(members):
+        if seen[start]:
+            continue
+        comp, todo = [], [start]
+        seen[start] = True
+        while todo:
+            k = todo.pop()
+            comp.append(k)
+            nxt = np.flatnonzero(tied[k] & ~seen)
+            seen[nxt] = True
+            todo.extend(nxt.tolist())
+        out.append(np.array(sorted(comp), dtype=np.intp))
     return out
+
+
+def rank_claims(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics: list[Diagnostic],
+                tolerance: float, margin: float | None = None, floor: float | None = None) -> NDArray[np.int8]:
+    """The codes of :func:`rank_structure` alone (0: no claim)."""
+    return rank_structure(table, st_error, diagnostics, tolerance, margin, floor)[0]
 
 
 def need_per_row(st: NDArray[np.float64], tolerance: float) -> NDArray[np.float64]:
@@ -287,10 +383,26 @@ constant to the model's numerical noise (solver tolerances leave ~1e-10 relative
 sensitivity that small is beyond any engineering use): no parameter moves it, there is nothing to rank."""
 
 
-def is_constant(values: NDArray[np.float64]) -> bool:
-    """Whether the finite ``values`` are constant by :data:`CONSTANT_CV` (False with fewer than two)."""
+def nothing_to_rank(values: NDArray[np.float64], resolution: float = 0.0) -> bool:
+    """Whether the finite ``values`` (an output over a design) spread no more than the output's
+    ``resolution`` (the model's declared noise, in the output's unit) or than :data:`CONSTANT_CV` of
+    their mean (the numerical floor): no parameter moves the output by more than the model can tell
+    from its noise, so there is nothing to rank (False with fewer than two values).
+
+    Examples
+    --------
+    >>> nothing_to_rank(np.array([1.2e-5, 1.5e-5, 0.9e-5]), resolution=0.05)   # 3e-6 N m against 0.05 N m noise
+    True
+    >>> nothing_to_rank(np.array([1.0, 2.0, 3.0]), resolution=0.05)
+    False
+    """
     v = np.asarray(values, dtype=float)
     v = v[np.isfinite(v)]
     if len(v) < 2:
         return False
-    return bool(np.std(v) <= CONSTANT_CV * abs(np.mean(v)) or np.ptp(v) == 0)
+    return bool(below_resolution(float(np.std(v, ddof=1)), float(np.mean(v)), resolution) or np.ptp(v) == 0)
+
+
+def below_resolution(std: float, mean: float, resolution: float = 0.0) -> bool:
+    """The rule of :func:`nothing_to_rank` on an output's standard deviation and mean [unit]."""
+    return bool(np.isfinite(std) and np.isfinite(mean) and std <= max(float(resolution), CONSTANT_CV * abs(mean)))
