@@ -302,14 +302,14 @@ def test_the_leave_one_out_error_is_taken_over_the_drawn_points() -> None:
 
 def test_a_constant_output_is_not_escalated() -> None:
     """An output constant to its numerical noise (spread 1e-10 of its mean) has nothing to rank:
-    the escalation does not spend runs on it (``ddgsa.gsa.result.is_constant``)."""
+    the escalation does not spend runs on it (``ddgsa.gsa.result.nothing_to_rank``)."""
     from ddgsa.gsa.escalate import Escalation
-    from ddgsa.gsa.result import is_constant
+    from ddgsa.gsa.result import nothing_to_rank
     from ddgsa.space import ParameterSpace
 
     space = ParameterSpace.from_dict({"a": {"low": 0.0, "high": 1.0}, "b": {"low": 0.0, "high": 1.0}})
     x = np.random.default_rng(0).random((40, 2))
     flat = 6.9 * (1 + 1e-10 * x[:, 0])
-    assert is_constant(flat) and not is_constant(6.9 * (1 + 1e-6 * x[:, 0]))
+    assert nothing_to_rank(flat) and not nothing_to_rank(6.9 * (1 + 1e-6 * x[:, 0]))
     esc = Escalation(space, ["flat"], 1000, x, flat[:, None])
     assert esc.unconfirmed() == [] and esc.start() is None

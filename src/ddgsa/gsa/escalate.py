@@ -56,7 +56,7 @@ from numpy.typing import NDArray
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, as_value_matrix, get_method
 from ddgsa.gsa.pooled import pooled_pce
-from ddgsa.gsa.result import SobolResult, is_constant, need_per_row
+from ddgsa.gsa.result import SobolResult, need_per_row, nothing_to_rank
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.space import ParameterSpace
 
@@ -114,6 +114,9 @@ class Escalation:
         Seed of the PCE points' Sobol' sequence (``seed + 2``) and of the Saltelli designs (``seed + 1``).
     saltelli : (Design, values), optional
         A Saltelli design the scene already ran; a larger base of the same seed extends it.
+    resolution : dict, optional
+        Each output's declared resolution [its unit] (:attr:`ddgsa.models.base.ModelOutput.resolution`):
+        an output that spreads no more over the pool has nothing to rank and is not escalated.
     """
 
     space: ParameterSpace
@@ -125,6 +128,7 @@ class Escalation:
     tolerance: float = DEFAULT_TOLERANCE
     seed: int = 0
     saltelli: tuple[Design, NDArray[np.float64]] | None = None
+    resolution: dict[str, float] = field(default_factory=dict)
     spent: int = 0
     log: list[str] = field(default_factory=list)
     pce: SobolResult | None = None
@@ -162,10 +166,11 @@ class Escalation:
         return [r for r in (self.pce, self.salt) if r is not None]
 
     def unconfirmed(self) -> list[str]:
-        """Outputs no result (the scene's or the escalation's) confirms and that are not constant over the
-        pool (:func:`~ddgsa.gsa.result.is_constant`: nothing to rank)."""
+        """Outputs no result (the scene's or the escalation's) confirms and that spread over the pool by
+        more than their resolution (:func:`~ddgsa.gsa.result.nothing_to_rank`)."""
         ok = confirmed_outputs(self.results + self.stages, self.outputs)
-        return [o for j, o in enumerate(self.outputs) if not ok[o] and not is_constant(self.y[:, j])]
+        return [o for j, o in enumerate(self.outputs)
+                if not ok[o] and not nothing_to_rank(self.y[:, j], self.resolution.get(o, 0.0))]
 
     def start(self) -> NDArray[np.float64] | None:
         """The first points to evaluate (None: nothing to confirm or no budget)."""

@@ -190,6 +190,8 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
     pooled, _ = plan.blocks["gsa"]
     tol = min([d.options.get("tolerance", DEFAULT_TOLERANCE) for _, d in designs] or [DEFAULT_TOLERANCE])
     salt = next((d for name, d in designs if name == "saltelli"), None)
+    model = study.make_model()
+    resolution = {o: study.output_declaration(model, o).resolution for o in outputs}
     escs, pending = [], {}
     for i, ps in enumerate(plan.scenes):
         y = plan.values(runs.store, "gsa", ps, outputs, aggregate)
@@ -199,7 +201,8 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
         _, first = np.unique(x_all, axis=0, return_index=True)     # a point twice would flatter the LOO error
         keep = np.sort(first)
         esc = Escalation(study.space, outputs, spec.budget, x_all[keep], y_all[keep], have, tol, seed=spec.seed,
-                         saltelli=None if salt is None else (salt, y[row_index(pooled, salt.points)]))
+                         saltelli=None if salt is None else (salt, y[row_index(pooled, salt.points)]),
+                         resolution=resolution)
         escs.append(esc)
         x = esc.start()
         if x is not None:

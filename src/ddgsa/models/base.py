@@ -137,27 +137,37 @@ class ModelOutput(str):
     low, high : float
         Plausible range [unit]: values outside are possible but suggest an input or model
         problem; :meth:`Model.evaluate` warns (:class:`ImplausibleOutputWarning`) and reports flag them.
+    resolution : float
+        Smallest spread of the output the model can tell from its own noise [unit]: a sensor's
+        measurement noise, a solver's tolerance. An output whose standard deviation over a study's
+        design is at most this (or at most :data:`~ddgsa.gsa.result.CONSTANT_CV` of its mean, the
+        numerical floor every output has) has nothing to rank (:func:`~ddgsa.gsa.result.nothing_to_rank`).
+        0 for a deterministic output read from a converged solution: only the numerical floor applies.
 
     Examples
     --------
     >>> out = ModelOutput("rms_deflection_hub", "m", "RMS radial deflection at the hub", 0.0, 0.05)
-    >>> out == "rms_deflection_hub", out.unit, out.label
-    (True, 'm', 'rms_deflection_hub [m]')
+    >>> out == "rms_deflection_hub", out.unit, out.label, out.resolution
+    (True, 'm', 'rms_deflection_hub [m]', 0.0)
     """
 
     unit: str
     description: str
     low: float
     high: float
+    resolution: float
 
     def __new__(cls, name: str, unit: str = "", description: str = "", low: float = -math.inf,
-                high: float = math.inf) -> "ModelOutput":
+                high: float = math.inf, resolution: float = 0.0) -> "ModelOutput":
+        if not resolution >= 0.0:
+            raise ValueError(f"output {name!r}: resolution must be >= 0 [{unit}], got {resolution!r}")
         self = super().__new__(cls, name)
         self.unit, self.description, self.low, self.high = unit, description, float(low), float(high)
+        self.resolution = float(resolution)
         return self
 
-    def __getnewargs__(self) -> tuple[str, str, str, float, float]:  # type: ignore[override]
-        return str(self), self.unit, self.description, self.low, self.high
+    def __getnewargs__(self) -> tuple[str, str, str, float, float, float]:  # type: ignore[override]
+        return str(self), self.unit, self.description, self.low, self.high, self.resolution
 
     @property
     def name(self) -> str:

@@ -103,26 +103,51 @@ _KINDS = {"rms": "RMS about the record's mean", "peak": "peak about the record's
           "order1x": "1x order amplitude (order tracking)", "order2x": "2x order amplitude (order tracking)"}
 
 
+def _noise_scale(sensor: str) -> float:
+    """Measurement-noise standard deviation of ``sensor`` (:data:`NOISE`)."""
+    for kind in ("housing", "disk"):
+        if sensor.startswith(kind):
+            return NOISE[kind]
+    return NOISE[sensor]
+
+
 def _sensor_unit(sensor: str) -> tuple[str, float]:
     return next(v for k, v in _SENSOR_UNIT.items() if sensor.startswith(k))
 
 
-OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {s}", 0.0, _sensor_unit(s)[1])
+_BAND_SHARE = 3 * 0.5 / 64.0
+"""Share of white noise's mean square in the ball-pass bands: three bands of 0.5 orders out of the
+64 orders below the angle domain's Nyquist order (:data:`SAMPLES_PER_REV` / 2)."""
+
+
+def _resolution(sensor: str, kind: str = "amplitude") -> float:
+    """An output's resolution (:attr:`ModelOutput.resolution`) from its sensor's noise (:data:`NOISE`):
+    the noise's standard deviation for an amplitude [sensor unit], its mean square in the bands
+    (:data:`_BAND_SHARE`) for a band energy [sensor unit^2]."""
+    sd = _noise_scale(sensor)
+    return sd if kind == "amplitude" else sd ** 2 * _BAND_SHARE
+
+
+OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {s}", 0.0, _sensor_unit(s)[1],
+                            _resolution(s))
                 for k, what in _KINDS.items() for s in SENSORS) + tuple(
     ModelOutput(f"{k}_{s}", "m^2/s^4", f"{k.upper()} band energy of {s}: mean square in +-0.25 orders around the "
-                "first three ball-pass orders of the 6205", 0.0, 1e6)
+                "first three ball-pass orders of the 6205", 0.0, 1e6, _resolution(s, "band"))
     for k in ("bpfo", "bpfi") for s in ACCELEROMETERS) + tuple(
     ModelOutput(f"envbpfo_{s}", "m^2/s^4", f"BPFO band energy of the envelope of {s} band-passed to "
-                "500-2000 Hz (envelope analysis; the upper end at most 0.45 of the sample rate)", 0.0, 1e6)
+                "500-2000 Hz (envelope analysis; the upper end at most 0.45 of the sample rate)", 0.0, 1e6,
+                _resolution(s, "band"))
     for s in ACCELEROMETERS) + (
     ModelOutput("torque_2f", "N m", "motor air-gap torque at twice the supply frequency (supply unbalance)",
-                0.0, 1e3),
-    ModelOutput("current_line", "A", "phase current at the supply frequency", 0.0, 200.0),
+                0.0, 1e3, _resolution("motor_torque")),
+    ModelOutput("current_line", "A", "phase current at the supply frequency", 0.0, 200.0,
+                _resolution("motor_current")),
     ModelOutput("current_sideband_1x", "A", "mean phase current at f -+ f_r (mechanical 1x load modulation)",
-                0.0, 200.0),
+                0.0, 200.0, _resolution("motor_current")),
     ModelOutput("current_sideband_2s", "A", "mean phase current at f (1 -+ 2 s) (broken-bar band; leakage here)",
-                0.0, 200.0),
-    ModelOutput("mean_speed_rpm", "rpm", "mean shaft speed over the analysed record", 0.0, 4000.0))
+                0.0, 200.0, _resolution("motor_current")),
+    ModelOutput("mean_speed_rpm", "rpm", "mean shaft speed over the analysed record (deterministic: the "
+                "numerical floor only)", 0.0, 4000.0))
 TRACK_FRACTIONS = np.round(np.arange(0.40, 0.951, 0.05), 2)
 """Grid of the 1x order tracks: shaft speeds as fractions of the scene's synchronous speed [-]."""
 SIGNALS = tuple(SignalOutput(f"order1x_track_{sensor}", unit, f"1x order amplitude of {sensor} against shaft speed "
@@ -573,14 +598,6 @@ def _defect_loads(p: Mapping[str, float], scene: RigScene, spin: float):
         return [AppliedLoad(markers["housing_2"], t, force, name="defect_housing"),
                 AppliedLoad(markers["bearing_2"], t, -force, name="defect_shaft")]
     return loads
-
-
-def _noise_scale(sensor: str) -> float:
-    """Measurement-noise standard deviation of ``sensor`` (:data:`NOISE`)."""
-    for kind in ("housing", "disk"):
-        if sensor.startswith(kind):
-            return NOISE[kind]
-    return NOISE[sensor]
 
 
 def _anti_alias(t: np.ndarray, f_r: float):
