@@ -1,8 +1,18 @@
-"""Which answers of a study are confirmed, and what confirming the rest would cost (issue 25).
+"""Which answers of a study are confirmed, and what confirming the rest would cost (issues 25, 51).
 
-A (scene, output) pair is **confirmed** when some method's rows of it are all ``trusted`` (value
-within the tolerance) or ``rank_confirmed`` (place in the order by ST certain:
-:func:`ddgsa.gsa.result.rank_claims`). For a pair that is not, :func:`cost_to_confirm` estimates
+Each (scene, output) pair gets one **verdict** (:func:`confirmation_table`, written as
+``confirmation.csv``; the console, the exit code, ``summary.md``, the HTML report and the NetCDF export
+all read it):
+
+* ``nothing to rank`` -- the output spreads over the design by no more than its declared resolution
+  (:attr:`ddgsa.models.base.ModelOutput.resolution`, a sensor's noise) or the numerical floor
+  (:func:`ddgsa.gsa.result.below_resolution`): whatever ranking the methods give is a ranking of noise;
+* ``trusted`` -- some method's rows of it are all within the tolerance;
+* ``rank-confirmed`` / ``confirmed tie`` -- some method's rows are all trusted or have a certain place in
+  the order by ST (:func:`ddgsa.gsa.result.rank_structure`), with at least one confirmed tie for the latter;
+* ``unconfirmed`` -- none of these, with the cheapest next step and its cost.
+
+For a pair that is not confirmed, :func:`cost_to_confirm` estimates
 the cheapest Saltelli design that would confirm it
 (:func:`ddgsa.gsa.salib.saltelli_n_to_confirm`): Saltelli's error bound (bootstrap and half-sample)
 scales as ``SALTELLI_K sqrt(ST / N)``, and every row needs an error below the tolerance (trusted)
@@ -18,25 +28,125 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
+from ddgsa.gsa.result import CONSTANT_CV, below_resolution
 from ddgsa.gsa.salib import saltelli_n_to_confirm
 
 if TYPE_CHECKING:  # pragma: no cover
     from ddgsa.pipeline import StudyResult
 
+VERDICTS = ("trusted", "rank-confirmed", "confirmed tie", "nothing to rank", "unconfirmed")
+"""The verdicts of a (scene, output) pair, best first (see the module)."""
+CONFIRMED = VERDICTS[:4]
+"""The verdicts that need no more runs (exit 0)."""
+CONFIRMATION_COLUMNS = ["scene", "output", "verdict", "method", "runs", "std", "resolution", "ranking",
+                        "next_step", "next_runs", "next_seconds"]
+
 def pair_status(indices: pd.DataFrame) -> pd.DataFrame:
     """Per (scene, output): ``confirmed`` (some method has every row trusted or rank-confirmed),
     ``trusted`` (some method has every row trusted), ``method`` (the first such, else the method
     with the most confirmed rows) and ``unconfirmed`` (that method's rows neither)."""
-    t = indices.assign(ok=indices["trusted"].astype(bool) | indices["rank_confirmed"].astype(bool))
+    t = indices.assign(ok=indices["trusted"].astype(bool) | indices["rank_confirmed"].astype(bool),
+                       tie=indices["rank"].astype(str).str.endswith("=") if "rank" in indices else False)
     rows = []
     for (scene, out), g in t.groupby(["scene", "output"], sort=False):
         per = g.groupby("method", sort=False).agg(trusted=("trusted", "all"), confirmed=("ok", "all"),
-                                                  n_ok=("ok", "sum"), n=("ok", "size"))
+                                                  n_ok=("ok", "sum"), n=("ok", "size"), tie=("tie", "any"))
         best = per.sort_values(["trusted", "confirmed", "n_ok"], ascending=False, kind="stable").index[0]
         rows.append({"scene": scene, "output": out, "confirmed": bool(per["confirmed"].any()),
                      "trusted": bool(per["trusted"].any()), "method": best,
-                     "unconfirmed": int(per.loc[best, "n"] - per.loc[best, "n_ok"])})
-    return pd.DataFrame(rows, columns=["scene", "output", "confirmed", "trusted", "method", "unconfirmed"])
+                     "unconfirmed": int(per.loc[best, "n"] - per.loc[best, "n_ok"]),
+                     "tie": bool(per.loc[best, "tie"])})
+    return pd.DataFrame(rows, columns=["scene", "output", "confirmed", "trusted", "method", "unconfirmed", "tie"])
+
+
+def ranking_text(g: pd.DataFrame) -> str:
+    """One method's confirmed ranking of one output as text: ``a > b = c > {d, e negligible}`` (rows
+    not placed: ``?``)."""
+    placed = g[g["rank"].astype(str).str.len() > 0] if "rank" in g else g.iloc[:0]
+    if not len(placed):
+        return ""
+    parts, neg = [], []
+    for rank, h in placed.groupby("rank", sort=False):
+        if rank == "negligible":
+            neg = list(h["parameter"])
+            continue
+        parts.append((int(str(rank).rstrip("=")), " = ".join(h["parameter"])))
+    text = " > ".join(p for _, p in sorted(parts))
+    if len(placed) < len(g):
+        text += (" > " if text else "") + "? (" + ", ".join(g[g["rank"].astype(str).str.len() == 0]["parameter"]) + ")"
+    if neg:
+        text += (" > " if text else "") + "{" + ", ".join(neg) + " negligible}"
+    return text
+
+
+def confirmation_table(result: "StudyResult") -> pd.DataFrame:
+    """The study's verdict per (scene, output) (see the module; columns :data:`CONFIRMATION_COLUMNS`).
+
+    ``runs`` are the model runs of the method that gave the verdict (all realisations); ``std`` the
+    output's standard deviation over the scene's design [output unit] against its ``resolution``;
+    ``ranking`` the confirmed order by ST (:func:`ranking_text`); for an unconfirmed pair
+    ``next_step`` says the cheapest way to confirm it, ``next_runs`` and ``next_seconds`` its cost
+    (model runs; model time on one worker [s], NaN when no run time was measured)."""
+    from ddgsa.report import output_info
+    from ddgsa.report_beyond import sobol_rows
+
+
+    sobol = sobol_rows(result.indices)
+    if not len(sobol):
+        return pd.DataFrame(columns=CONFIRMATION_COLUMNS)
+    info = output_info(result) if hasattr(result.study, "make_model") else {}
+    mom = result.moments
+    moments = {} if mom is None or not len(mom) else \
+        {(int(r.scene), str(r.output)): (float(r.std), float(r.mean)) for r in mom.itertuples()}
+    real = max(1, int(result.study.spec.scenes.realisations))
+    tol = study_tolerance(result)
+    rows = []
+    for r in pair_status(sobol).itertuples():
+        scene, out = int(r.scene), str(r.output)
+        res = info[out].resolution if out in info else 0.0
+        std, mean = moments.get((scene, out), (np.nan, np.nan))
+        g = sobol[(sobol["scene"] == r.scene) & (sobol["output"] == out) & (sobol["method"] == r.method)]
+        row = {"scene": scene, "output": out, "method": r.method, "std": std, "resolution": res,
+               "runs": int(g["n_evals"].max()) * real if "n_evals" in g and len(g) else 0,
+               "ranking": ranking_text(g), "next_step": "", "next_runs": 0, "next_seconds": 0.0}
+        if below_resolution(std, mean, res):
+            row["verdict"], row["ranking"] = "nothing to rank", ""
+            row["next_step"] = (f"none: the output spreads by {std:.3g} over the design, within its resolution "
+                                f"{max(res, CONSTANT_CV * abs(mean)):.3g}")
+        elif r.trusted:
+            row["verdict"] = "trusted"
+        elif r.confirmed:
+            row["verdict"] = "confirmed tie" if r.tie else "rank-confirmed"
+        else:
+            cost = cost_to_confirm(result, scene, out, tol)
+            row.update(verdict="unconfirmed", next_step=next_step(result, out, [scene], tol),
+                       next_runs=cost.runs, next_seconds=cost.seconds)
+        rows.append(row)
+    return pd.DataFrame(rows, columns=CONFIRMATION_COLUMNS)
+
+
+def study_tolerance(result: "StudyResult") -> float:
+    """The study's trust tolerance (the smallest of its methods')."""
+    tols = [res.options.get("tolerance") for _, res in result.results]
+    return min([t for t in tols if t is not None], default=0.02)
+
+
+def next_step(result: "StudyResult", output: str, scenes: list[int], tolerance: float) -> str:
+    """The cheapest way to confirm ``output`` in ``scenes``: rerun failed evaluations when the indices
+    were refused over them, Shapley's sizes for correlated inputs, else :func:`advice`."""
+    from ddgsa.report_beyond import SHAPLEY_ADVICE
+
+    d = result.diagnostics
+    names = set(d[(d["output"].isin([output, None]) | d["output"].isna()) & (d["severity"] == "untrusted")
+                  & d["scene"].isin(scenes)]["name"]) if len(d) else set()
+    failed = (getattr(result, "provenance", None) or {}).get("failures", [])
+    if failed and "nonfinite_values" in names:
+        return ("no design confirms indices over failed evaluations: remove their cause (narrow the "
+                "parameters' support away from the failing points; `ddgsa validate` checks the support), "
+                "or, where the model was at fault and is fixed, run them again with `ddgsa run --retry-failed`")
+    if getattr(getattr(result.study, "space", None), "dependent", False):
+        return SHAPLEY_ADVICE
+    return advice(result, output, scenes, tolerance)
 
 
 @dataclass(frozen=True)

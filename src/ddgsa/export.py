@@ -34,6 +34,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from ddgsa.confirm import VERDICTS
+from ddgsa.gsa.result import ROW_COLUMNS
+
 from ddgsa.errors import OutputFolderError
 
 INDEX_VARS = {"S1": "first-order Sobol index", "ST": "total Sobol index",
@@ -55,7 +58,7 @@ FORMATS = ("netcdf", "zarr", "csv")
 def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataFrame | None = None,
                fault: pd.DataFrame | None = None, fault_indices: pd.DataFrame | None = None,
                diagnostics: pd.DataFrame | None = None, attrs: dict[str, Any] | None = None,
-               units: dict[str, str] | None = None) -> xr.Dataset:
+               units: dict[str, str] | None = None, confirmation: pd.DataFrame | None = None) -> xr.Dataset:
     """The tables of a study as one :class:`xarray.Dataset` (see the module docstring).
 
     Parameters
@@ -71,6 +74,9 @@ def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataF
         Global attributes (study name, model, provenance summary).
     units : dict of str to str, optional
         Unit of each output (else ``indices["output_unit"]`` where present).
+    confirmation : DataFrame, optional
+        The study's verdict per (scene, output) (``confirmation.csv``,
+        :func:`ddgsa.confirm.confirmation_table`): variables ``verdict`` and ``next_runs``.
     """
     idx = indices.copy()
     idx["trusted"] = idx["trusted"].astype(str).str.lower().eq("true").astype("int8")
@@ -96,6 +102,14 @@ def to_dataset(indices: pd.DataFrame, scene_fields: list[str], moments: pd.DataF
         ds["mean"].attrs = {"long_name": "mean of the output", "units_from": "output_unit"}
         ds["std"].attrs = {"long_name": "standard deviation of the output", "units_from": "output_unit"}
         ds["cv"].attrs = {"units": "1", "long_name": "coefficient of variation std / |mean|"}
+    if confirmation is not None and len(confirmation):
+        conf = confirmation.set_index(["scene", "output"])
+        ds = ds.merge(xr.Dataset.from_dataframe(conf[["verdict", "next_runs"]]), join="left")
+        ds["verdict"] = ds["verdict"].fillna("").astype(str)
+        ds["verdict"].attrs = {"long_name": "the study's verdict on the (scene, output) pair: "
+                               + ", ".join(VERDICTS) + " (confirmation.csv)"}
+        ds["next_runs"].attrs = {"units": "1", "long_name": "model runs the cheapest next step would take "
+                                 "(0: confirmed or nothing to rank)"}
     if fault is not None and len(fault):
         fv = fault.rename(columns={"faulty": "fault_level"}).set_index(["scene", "output", "fault_level"])
         cols = [c for c in FAULT_VARS if c in fv]
@@ -162,8 +176,7 @@ def folder_dataset(folder: Path) -> xr.Dataset:
         p = folder / name
         return pd.read_csv(p) if p.is_file() and p.stat().st_size else None
 
-    meta = {"study", "scene", "method", "output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted",
-            "n_evals", "output_unit", "source", *EXTRA_INDEX_VARS}
+    meta = {*ROW_COLUMNS, *EXTRA_INDEX_VARS}
     fields = [c for c in indices.columns if c not in meta]
     prov = read_json(folder / "provenance.json")
     attrs = {k: v for k, v in {"study": prov.get("study") or folder.name,
@@ -173,7 +186,8 @@ def folder_dataset(folder: Path) -> xr.Dataset:
                                "ddgsa_commit": (prov.get("code") or {}).get("commit"),
                                "source": str(folder)}.items() if v}
     return to_dataset(indices, fields, table("output_moments.csv"), table("fault_verdicts.csv"),
-                      table("fault_indices.csv"), table("diagnostics.csv"), attrs)
+                      table("fault_indices.csv"), table("diagnostics.csv"), attrs,
+                      confirmation=table("confirmation.csv"))
 
 
 def export_folder(folder: Path, fmt: str = "netcdf", out: Path | None = None) -> Path:

@@ -34,6 +34,7 @@ from PIL import Image
 from ruamel.yaml import YAML
 
 from ddgsa.errors import DdgsaError, OutputFolderError
+from ddgsa.gsa.result import ROW_COLUMNS
 from ddgsa.models import get as get_model
 from ddgsa.signal_report import SIGNAL_TABLES, convergence_section, signals_section
 from ddgsa.svgplot import Bars, Guide, Heat, Line, bar_chart, heatmap, num, xy_chart
@@ -110,6 +111,7 @@ def render(folder: Path) -> str:
 
     add("summary", "Summary", _summary(folder))
     add("problems", "Problems and what would fix them", _problems(folder))
+    add("confirmation", "Verdicts", _confirmation(folder))
     add("indices", "Sensitivity indices", _indices(folder, units))
     add("fault", "Fault detectability", _fault(folder, units))
     add("sweep", "Sweep", _sweep(folder, units))
@@ -231,13 +233,29 @@ def _figure(svg: str, caption: str, kind: str) -> str:
     return f'<figure class="plot" data-kind="{kind}">{svg}<figcaption>{escape(caption)}</figcaption></figure>'
 
 
+def _confirmation(folder: Path) -> str:
+    """The study's verdict per (scene, output), as ``confirmation.csv`` holds it (the one table the
+    console, the exit code, the summary and the NetCDF export read too)."""
+    table = _csv(folder, "confirmation.csv")
+    if table is None or not len(table):
+        return ""
+    count = table["verdict"].value_counts()
+    words = ", ".join(f"{int(n)} {v}" for v, n in count.items())
+    shown = table.assign(trusted=table["verdict"] != "unconfirmed")
+    return (f"<p>One verdict per (scene, output): {escape(words)}. <em>trusted</em>: every index within the "
+            "tolerance; <em>rank-confirmed</em> / <em>confirmed tie</em>: the order by ST certain, ties within the "
+            "tie margin; <em>nothing to rank</em>: the output spreads by no more than its resolution; "
+            "<em>unconfirmed</em> rows are shaded, with the cheapest next step and its cost.</p>"
+            + _table(shown.drop(columns=["trusted"]).assign(trusted=shown["trusted"]), "confirmation",
+                     "confirmation.csv"))
+
+
 def _indices(folder: Path, units: dict[str, str]) -> str:
     idx = _csv(folder, "indices.csv")
     if idx is None or not len(idx):
         return ""
     idx["trusted"] = idx["trusted"].astype(str).str.lower().eq("true")
-    meta = {"study", "scene", "method", "output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted",
-            "n_evals", "output_unit", "source"}
+    meta = ROW_COLUMNS
     fields = [c for c in idx.columns if c not in meta]
     parts = ['<p>Bars: S1 and ST of each method, whiskers: each method\'s error estimate '
              '(M-DRM, PCE: a bound; SALib: bootstrap half-width). Pale, dashed bars and open markers are '
@@ -411,7 +429,7 @@ def _convergence(folder: Path) -> str:
     return "".join(parts)
 
 
-_SHOWN = {"indices.csv", "output_moments.csv", "accuracy.csv", "diagnostics.csv", "fidelity_selection.csv",
+_SHOWN = {"indices.csv", "confirmation.csv", "output_moments.csv", "accuracy.csv", "diagnostics.csv", "fidelity_selection.csv",
           "fault_verdicts.csv", "fault_smallest.csv", "fault_indices.csv", "sweep_summary.csv", "campbell.csv",
           *SIGNAL_TABLES}
 

@@ -30,7 +30,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from ddgsa.report_beyond import SHAPLEY_ADVICE, beyond_markdown, group_table, plot_groups, sobol_rows
-from ddgsa.confirm import advice as confirm_advice, pair_status  # noqa: E402
+from ddgsa.confirm import CONFIRMED, VERDICTS, confirmation_table, next_step, study_tolerance  # noqa: E402
 from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.result import CONSTANT_CV, draw_index_bars  # noqa: E402
 from ddgsa.html_report import HTML_NAME, model_words, write_html  # noqa: E402
@@ -84,8 +84,11 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
         for fig, name in plot_sweep(summary, result.study.outputs, list(result.study.spec.grid), info, fields):
             save_fig(fig, name)
     if len(result.indices):
-        save_csv(result.indices.assign(output_unit=result.indices["output"].map(lambda o: info[o].unit)),
-                 "indices.csv")
+        verdicts = confirmation_table(result)
+        if len(verdicts):
+            save_csv(verdicts, "confirmation.csv")
+        save_csv(with_verdicts(result.indices, verdicts).assign(
+            output_unit=result.indices["output"].map(lambda o: info[o].unit)), "indices.csv")
         save_csv(result.diagnostics, "diagnostics.csv")
         if result.moments is not None and len(result.moments):
             save_csv(result.moments.assign(unit=result.moments["output"].map(lambda o: info[o].unit)),
@@ -192,48 +195,26 @@ def evaluation_line(provenance: dict[str, Any]) -> str:
 
 
 def problems(result: StudyResult) -> list[str]:
-    """What makes the run's answer incomplete: an output with no confirmed method in some scene
-    (its indices refused, or neither trusted nor rank-confirmed; with the cheapest way to confirm
-    it, :func:`ddgsa.confirm.advice`; an output that is constant there -- a spread in the study's
-    sample of at most :data:`~ddgsa.gsa.result.CONSTANT_CV` of its mean -- has nothing to rank and is not counted),
-    failed sweep evaluations. Empty when all is well."""
+    """What makes the run's answer incomplete: an output left ``unconfirmed`` in some scene by
+    :func:`ddgsa.confirm.confirmation_table` (its indices refused, or neither trusted nor rank-confirmed;
+    with the cheapest way to confirm it, :func:`ddgsa.confirm.next_step`; an output with nothing to rank
+    -- a spread within its resolution -- is not counted), failed sweep evaluations. Empty when all is well."""
     out = []
-    sobol = sobol_rows(result.indices)
-    if len(sobol):
-        rows = sobol.assign(ok=sobol["trusted"].astype(bool) | sobol.get("rank_confirmed", False))
-        ok = rows.groupby(["output", "scene", "method"], sort=False)["ok"].all()
-        any_ok = ok.groupby(level=["output", "scene"], sort=False).any()
-        mom = result.moments
-        if mom is not None and len(mom):     # a constant output has no sensitivity to rank: not a problem
-            constant = mom[_constant(mom)].set_index(["output", "scene"]).index
-            any_ok[any_ok.index.isin(constant)] = True
-        for output, g in any_ok[~any_ok].groupby(level="output", sort=False):
-            scenes = [int(s) for _, s in g.index]
-            d = result.diagnostics
-            names = sorted(set(d[(d["output"].isin([output, None]) | d["output"].isna())
-                                 & (d["severity"] == "untrusted") & d["scene"].isin(scenes)]["name"])) if len(d) else []
-            failed = _first_failure(result, scenes)
-            # indices over failed evaluations are refused whatever the design: the way forward is the failures
-            if failed and "nonfinite_values" in names:
-                way = ("no design confirms indices over failed evaluations: remove their cause (narrow the "
-                       "parameters' support away from the failing points; `ddgsa validate` checks the support), "
-                       "or, where the model was at fault and is fixed, run them again with `ddgsa run --retry-failed`")
-            elif getattr(getattr(result.study, "space", None), "dependent", False):
-                way = SHAPLEY_ADVICE
-            else:
-                way = confirm_advice(result, output, scenes, _tolerance(result))
-            out.append(f"output {output!r}: no method's indices are confirmed (trusted or rank-confirmed) in "
-                       f"{_scenes(scenes)}" + (f" ({', '.join(names)})" if names else "") + failed + "; " + way)
+    table = confirmation_table(result)
+    open_ = table[table["verdict"] == "unconfirmed"]
+    for output, g in open_.groupby("output", sort=False):
+        scenes = [int(s) for s in g["scene"]]
+        d = result.diagnostics
+        names = sorted(set(d[(d["output"].isin([output, None]) | d["output"].isna())
+                             & (d["severity"] == "untrusted") & d["scene"].isin(scenes)]["name"])) if len(d) else []
+        way = next_step(result, output, scenes, study_tolerance(result))
+        out.append(f"output {output!r}: no method's indices are confirmed (trusted or rank-confirmed) in "
+                   f"{_scenes(scenes)}" + (f" ({', '.join(names)})" if names else "")
+                   + _first_failure(result, scenes) + "; " + way)
     if result.sweep is not None and result.sweep["error"].notna().any():
         n = int(result.sweep["error"].notna().sum())
         out.append(f"{n} of {len(result.sweep)} sweep evaluations failed (their values are refused)")
     return out
-
-
-def _constant(mom: pd.DataFrame) -> pd.Series:
-    """Rows of an output-moments table whose output is constant
-    (:data:`ddgsa.gsa.result.CONSTANT_CV`)."""
-    return mom["mean"].notna() & (mom["std"] <= CONSTANT_CV * mom["mean"].abs())
 
 
 def _first_failure(result: StudyResult, scenes: list[int]) -> str:
@@ -247,12 +228,6 @@ def _first_failure(result: StudyResult, scenes: list[int]) -> str:
     mine = [f for f in fails if any(all(f["scene"].get(k) == grid[s].get(k) for k in fields) for s in scenes
                                     if s in grid)] or fails
     return f"; {len(mine)} evaluations failed, the first: {mine[0]['error']}" if mine else ""
-
-
-def _tolerance(result: StudyResult) -> float:
-    """The study's trust tolerance (the smallest of its methods')."""
-    tols = [res.options.get("tolerance") for _, res in result.results]
-    return min([t for t in tols if t is not None], default=0.02)
 
 
 def _scenes(scenes: list[int]) -> str:
@@ -539,29 +514,48 @@ def _mark(trusted: bool, rank_confirmed: bool) -> str:
 
 
 def _confirmed_section(result: StudyResult) -> list[str]:
-    """The share of (scene, output) pairs confirmed and the runs spent on them."""
-    st = pair_status(sobol_rows(result.indices))
+    """The count of each verdict over the (scene, output) pairs (:func:`ddgsa.confirm.confirmation_table`,
+    ``confirmation.csv``) and the runs spent."""
+    table = confirmation_table(result)
     n_runs = result.provenance.get("evaluations", {}).get("total", len(result.evaluations))
-    mom = result.moments
-    constant = 0
-    if mom is not None and len(mom):
-        flat = set(mom[_constant(mom)].set_index(["scene", "output"]).index)
-        constant = sum(1 for r in st.itertuples() if (r.scene, r.output) in flat and not r.confirmed)
-    open_ = int((~st["confirmed"]).sum()) - constant
-    return [f"Confirmed: {int(st['confirmed'].sum())} of {len(st)} (scene, output) pairs "
-            f"({int(st['trusted'].sum())} with every value trusted, the rest rank-confirmed)"
-            + (f", {constant} constant (nothing to rank)" if constant else "") + f" at a cost of "
-            f"{n_runs} model runs" + (" (unconfirmed ones: see Problems)." if open_ else "."), ""]
+    count = table["verdict"].value_counts()
+    done = int(table["verdict"].isin(CONFIRMED).sum())
+    parts = [f"{int(count[v])} {v}" for v in VERDICTS[:4] if count.get(v, 0)]
+    flat = table[table["verdict"] == "nothing to rank"]
+    lines = [f"Confirmed: {done} of {len(table)} (scene, output) pairs" + (f" ({', '.join(parts)})" if parts else "")
+             + f" at a cost of {n_runs} model runs" + (" (unconfirmed ones: see Problems)." if done < len(table) else "."),
+             ""]
+    if len(flat):
+        lines += ["Nothing to rank (the spread over the design is within the output's resolution, a sensor's noise "
+                  "or the numerical floor; no runs are advised): "
+                  + ", ".join(f"`{r.output}` in scene {r.scene} ({r.std:.2g} against {r.resolution:.2g})"
+                              for r in flat.itertuples()) + ".", ""]
+    return lines
 
 
-def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None) -> str:
-    """One sentence on what drives ``output`` in one scene, from its first trusted method."""
+def with_verdicts(indices: pd.DataFrame, verdicts: pd.DataFrame) -> pd.DataFrame:
+    """``indices`` with the verdict of each row's (scene, output) pair (:func:`ddgsa.confirm.confirmation_table`)
+    in a column ``verdict`` (empty for rows no verdict covers: screening methods)."""
+    if not len(verdicts) or "scene" not in indices:
+        return indices.assign(verdict="")
+    key = verdicts.set_index(["scene", "output"])["verdict"]
+    pairs = pd.MultiIndex.from_arrays([indices["scene"].astype(int), indices["output"]])
+    got = key.reindex(pairs).to_numpy(object)
+    screening = ~indices.index.isin(sobol_rows(indices).index)
+    return indices.assign(verdict=np.where(pd.isna(got) | screening, "", got))
+
+
+def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None, verdict: Any = None) -> str:
+    """One sentence on what drives ``output`` in one scene, from its first trusted method (``verdict``:
+    the pair's row of :func:`ddgsa.confirm.confirmation_table`, which says when there is nothing to rank),
+    and the confirmed ranking as tied groups where the verdict has one."""
     trusted = [(m, gm) for m, gm in g.groupby("method", sort=False) if gm["trusted"].all()]
     ranked = [(m, gm) for m, gm in g.groupby("method", sort=False)
               if (gm["trusted"] | gm.get("rank_confirmed", False)).all()]
-    if not trusted and not ranked and moment is not None and bool(_constant(pd.DataFrame([moment])).iloc[0]):
-        return (f"`{output}`: constant here (mean {moment['mean']:.6g}, CV {moment['cv']:.1e}, at most "
-                f"{CONSTANT_CV:.0e}: the model's numerical noise): no parameter moves it, there is nothing to rank.")
+    if verdict is not None and verdict.verdict == "nothing to rank":
+        return (f"`{output}`: nothing to rank here: it spreads by {verdict.std:.3g} over the design, within its "
+                f"resolution (a sensor's noise, {verdict.resolution:.3g}, or the numerical floor, {CONSTANT_CV:.0e} of "
+                "its mean): no parameter moves it by more than the model can tell.")
     if not trusted and not ranked:
         return (f"`{output}`: no method's indices are trusted or rank-confirmed here; do not rank its parameters "
                 "(see Problems for what would confirm them).")
@@ -580,7 +574,9 @@ def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None) -> s
     else:
         what = f"no parameter reaches ST 0.1 (largest: `{first['parameter']}`, {first['ST']:.2f})"
     inter = " ST - S1 shows interactions." if (top["ST"] - top["S1"]).max() > 0.1 else ""
-    return f"`{output}`: {what}, by {meth}.{inter}{quiet}"
+    order = (f" Confirmed ranking ({verdict.verdict}): {verdict.ranking}." if verdict is not None
+             and verdict.verdict in ("rank-confirmed", "confirmed tie") and verdict.ranking else "")
+    return f"`{output}`: {what}, by {meth}.{inter}{quiet}{order}"
 
 
 def plot_fault_indices(rows: pd.DataFrame, fault: str, title: str) -> Any:
@@ -748,16 +744,18 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                   "trusted = every index of the row (S1 and ST) within ±tolerance (absolute) of the truth, "
                   "by the method's own error estimate (docs/methods.md: \"When M-DRM is not to be trusted\"); "
                   "a method is `yes` when all its rows are. rank confirmed = every row trusted or placed by its "
-                  "error bounds (negligible, or apart from zero and from every other row). In the ranking `*` marks "
+                  "error bounds (negligible, or apart from zero and, against every other row, apart or a confirmed "
+                  "tie: their ST difference within the tie margin). In the ranking `*` marks "
                   "an untrusted value whose place is confirmed, `?` one that is neither. A method's runs (indices.csv "
                   "`n_evals`) count its whole design, any check sample of its own included; the evaluation count "
                   "above counts each distinct point once, as methods share equal points.", ""]
         lines += _confirmed_section(result) if ranked else []
+        verdicts = {(int(r.scene), r.output): r for r in confirmation_table(result).itertuples()} if ranked else {}
         for (scene, out), g in sobol_rows(result.indices).groupby(["scene", "output"]):
             fields = scene_text({f: g[f].iloc[0] for f in result.study.scene_fields})
             lines.append(f"### scene {scene} ({fields}) - `{out}` [{info.get(out, declared(out)).unit or '?'}]")
             lines.append("")
-            lines += [_dominance(g, out, mom.get((scene, out))), ""]
+            lines += [_dominance(g, out, mom.get((scene, out)), verdicts.get((int(scene), out))), ""]
             if "n_evals" in g and g["n_evals"].notna().all():
                 runs = g.groupby("method", sort=False)["n_evals"].first()
                 lines += ["runs per method (indices.csv `n_evals`): " + ", ".join(f"{m} {int(n)}" for m, n in runs.items()),

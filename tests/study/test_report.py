@@ -233,9 +233,44 @@ def test_a_constant_outputs_sentence_says_there_is_nothing_to_rank() -> None:
 
     g = pd.DataFrame({"method": "mdrm", "parameter": ["a", "b"], "trusted": False, "rank_confirmed": False,
                       "ST": [np.nan, np.nan], "S1": [np.nan, np.nan]})
-    text = _dominance(g, "rms_motor_current", {"mean": 6.90963, "std": 9.12e-10, "cv": 1.32e-10})
-    assert "constant here" in text and "nothing to rank" in text
-    assert "do not rank" in _dominance(g, "rms_motor_current", {"mean": 0.142622, "std": 1.2157e-7, "cv": 8.5e-7})
+    from types import SimpleNamespace
+
+    flat = SimpleNamespace(verdict="nothing to rank", std=9.12e-10, resolution=0.02, ranking="")
+    text = _dominance(g, "rms_motor_current", {"mean": 6.90963, "std": 9.12e-10, "cv": 1.32e-10}, flat)
+    assert "nothing to rank" in text and "9.12e-10" in text and "0.02" in text
+    open_ = SimpleNamespace(verdict="unconfirmed", std=1.2157e-7, resolution=0.0, ranking="")
+    assert "do not rank" in _dominance(g, "rms_motor_current", {"mean": 0.142622, "std": 1.2157e-7, "cv": 8.5e-7},
+                                       open_)
+
+
+def test_an_output_within_its_declared_resolution_has_nothing_to_rank() -> None:
+    """Issue 51: the test rig's steady peak motor torque spreads by 3e-6 N m against its torque
+    transducer's 0.05 N m noise (the model's declaration): verdict "nothing to rank", no problem
+    (exit 0), no advice to spend runs; the same spread on an output declared without a resolution
+    (a deterministic one, numerical floor 1e-9 of the mean) is unconfirmed and advised a design."""
+    from types import SimpleNamespace
+
+    from ddgsa.confirm import confirmation_table
+    from ddgsa.models import get
+    from ddgsa.report import problems
+
+    rig = get("hss_rig")
+    assert rig.output("peak_motor_torque").resolution == 0.05
+    outs = ["peak_motor_torque", "mean_speed_rpm"]
+    idx = pd.DataFrame({"output": np.repeat(outs, 2), "scene": 0, "method": "mdrm", "parameter": ["a", "b"] * 2,
+                        "trusted": False, "rank_confirmed": False, "ST": [0.6, 0.5] * 2, "n_evals": 37})
+    diags = pd.DataFrame({"output": outs, "scene": 0, "severity": "untrusted", "name": "mdrm_index_error"})
+    mom = pd.DataFrame({"scene": [0, 0], "output": outs, "mean": [1.2e-5, 1.2e-5], "std": [3e-6, 3e-6]})
+    study = SimpleNamespace(spec=SimpleNamespace(scenes=SimpleNamespace(realisations=1)), make_model=lambda: rig,
+                            output_declaration=lambda model, o: model.output(o), analysed_outputs=outs)
+    res = SimpleNamespace(indices=idx, diagnostics=diags, moments=mom, sweep=None, results=[], study=study,
+                          evaluations=pd.DataFrame({"seconds": [0.1]}))
+    table = confirmation_table(res)
+    assert table.set_index("output")["verdict"].to_dict() == {"peak_motor_torque": "nothing to rank",
+                                                              "mean_speed_rpm": "unconfirmed"}
+    assert table.set_index("output").loc["peak_motor_torque", "next_runs"] == 0
+    bad = problems(res)
+    assert len(bad) == 1 and bad[0].startswith("output 'mean_speed_rpm'")
 
 
 def test_sampling_table_has_a_variant_column_only_when_the_study_has_variants() -> None:

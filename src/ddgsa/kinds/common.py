@@ -66,8 +66,11 @@ class StudyResult:
 
         model = self.study.make_model()
         units = {o: model.output(o).unit for o in self.study.outputs if o in model.outputs}
+        from ddgsa.confirm import confirmation_table
+
         return to_dataset(self.indices, self.study.scene_fields, self.moments, self.fault, self.fault_indices,
-                          self.diagnostics, {"study": self.study.name, "model": self.study.spec.model.name}, units)
+                          self.diagnostics, {"study": self.study.name, "model": self.study.spec.model.name}, units,
+                          confirmation=confirmation_table(self) if len(self.indices) else None)
 
     def __repr__(self) -> str:
         return (f"StudyResult(study={self.study.name!r}, {len(self.indices)} index rows, "
