@@ -245,6 +245,21 @@ class ConfirmSpec(BaseModel):
     seed: int = Field(0, ge=0, description="seed of the added points")
 
 
+class RankingSpec(BaseModel):
+    """``ranking:`` -- how a ranking by ST is confirmed (:func:`ddgsa.gsa.result.rank_structure`): two
+    parameters whose ST difference is surely within ``tie_margin`` are a confirmed tie; parameters whose ST
+    is surely below ``negligible`` form the negligible group. Both default to the methods' trust tolerance."""
+
+    model_config = _STRICT
+    tie_margin: float | None = Field(None, gt=0.0, lt=1.0, description="largest ST difference still a tie [-]")
+    negligible: float | None = Field(None, gt=0.0, lt=1.0, description="ST below which a parameter is negligible [-]")
+
+    @property
+    def pair(self) -> tuple[float | None, float | None]:
+        """(tie margin, negligible floor); None: the tolerance."""
+        return self.tie_margin, self.negligible
+
+
 class FaultRange(BaseModel):
     """``fault.faulty: {start, stop, num}`` -- evenly spaced fault levels, both ends included."""
 
@@ -391,6 +406,9 @@ class StudySpec(BaseModel):
     methods: list[MethodSpec] = Field(default_factory=list)
     fault: FaultSpec | None = None
     confirm: ConfirmSpec | None = None
+    ranking: RankingSpec = Field(default_factory=RankingSpec, exclude=True,
+                                 description="tie margin and negligible floor of confirmed rankings (analysis only, "
+                                             "so not part of the digest: stored runs are reused)")
     run: RunSpec = Field(default_factory=RunSpec)
 
     @model_validator(mode="before")

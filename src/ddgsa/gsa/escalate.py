@@ -83,11 +83,13 @@ MAX_ENTRIES = 1_000_000
 """Largest regression matrix (points x terms) of a refit: its least-angle path costs seconds."""
 
 
-def confirmed_outputs(results: Sequence[SobolResult], outputs: Sequence[str]) -> dict[str, bool]:
-    """Per output: some result has every row of it ``trusted`` or ``rank_confirmed``."""
+def confirmed_outputs(results: Sequence[SobolResult], outputs: Sequence[str],
+                      ranking: tuple[float | None, float | None] = (None, None)) -> dict[str, bool]:
+    """Per output: some result has every row of it ``trusted`` or ``rank_confirmed`` (rank claims made
+    with ``ranking`` = (tie margin, negligible floor), :meth:`SobolResult.rerank`; None: the tolerance)."""
     out = {o: False for o in outputs}
     for res in results:
-        t = res.indices
+        t = res.rerank(*ranking).indices if ranking != (None, None) else res.indices
         ok = (t["trusted"].astype(bool) | t["rank_confirmed"].astype(bool)).groupby(t["output"]).all()
         for o, v in ok.items():
             if o in out and bool(v):
@@ -114,6 +116,8 @@ class Escalation:
         Seed of the PCE points' Sobol' sequence (``seed + 2``) and of the Saltelli designs (``seed + 1``).
     saltelli : (Design, values), optional
         A Saltelli design the scene already ran; a larger base of the same seed extends it.
+    ranking : (float or None, float or None)
+        The study's tie margin and negligible floor [-] (``ranking:``; None: the tolerance).
     resolution : dict, optional
         Each output's declared resolution [its unit] (:attr:`ddgsa.models.base.ModelOutput.resolution`):
         an output that spreads no more over the pool has nothing to rank and is not escalated.
@@ -129,6 +133,7 @@ class Escalation:
     seed: int = 0
     saltelli: tuple[Design, NDArray[np.float64]] | None = None
     resolution: dict[str, float] = field(default_factory=dict)
+    ranking: tuple[float | None, float | None] = (None, None)
     spent: int = 0
     log: list[str] = field(default_factory=list)
     pce: SobolResult | None = None
@@ -168,7 +173,7 @@ class Escalation:
     def unconfirmed(self) -> list[str]:
         """Outputs no result (the scene's or the escalation's) confirms and that spread over the pool by
         more than their resolution (:func:`~ddgsa.gsa.result.nothing_to_rank`)."""
-        ok = confirmed_outputs(self.results + self.stages, self.outputs)
+        ok = confirmed_outputs(self.results + self.stages, self.outputs, self.ranking)
         return [o for j, o in enumerate(self.outputs)
                 if not ok[o] and not nothing_to_rank(self.y[:, j], self.resolution.get(o, 0.0))]
 

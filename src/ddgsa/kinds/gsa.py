@@ -163,7 +163,10 @@ def _signals_and_convergence(plan: Plan, store: EvaluationStore, designs: list[t
 
 def _add_result(study: Study, ps: PlannedScene, res: SobolResult, result: GsaResult, rows: list[pd.DataFrame],
                 diag_rows: list[pd.DataFrame]) -> None:
-    """One scene's result: kept, its table with the scene fields, its diagnostics."""
+    """One scene's result with the study's ranking rule (``ranking:``): kept, its table with the scene
+    fields, its diagnostics."""
+    if study.spec.ranking.pair != (None, None):
+        res = res.rerank(*study.spec.ranking.pair)
     result.results.append((ps, res))
     table = res.to_frame()
     for key, v in ps.fields.items():
@@ -202,7 +205,7 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
         keep = np.sort(first)
         esc = Escalation(study.space, outputs, spec.budget, x_all[keep], y_all[keep], have, tol, seed=spec.seed,
                          saltelli=None if salt is None else (salt, y[row_index(pooled, salt.points)]),
-                         resolution=resolution)
+                         resolution=resolution, ranking=study.spec.ranking.pair)
         escs.append(esc)
         x = esc.start()
         if x is not None:

@@ -1,0 +1,97 @@
+"""One verdict everywhere (issues 48.2, 51.6): a study's ``confirmation.csv`` is the one place its
+verdict per (scene, output) lives, and the console, the exit code, ``summary.md``, ``indices.csv``,
+``report.html`` and the NetCDF export say the same, row by row; ``ranking:`` changes the claims, not
+the runs."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from ddgsa.cli import main
+
+xr = pytest.importorskip("xarray")
+
+STUDY = """\
+name: verdicts
+model: {{name: analytic, fidelity: exact}}
+parameters:
+  x1: {{low: -3.14159265, high: 3.14159265}}
+  x2: {{low: -3.14159265, high: 3.14159265}}
+  x3: {{low: -3.14159265, high: 3.14159265}}
+scenes: {{wind_speed: [8.0, 11.0], turbulence_intensity: 0.0, duration: 1.0, dt: 0.05}}
+outputs: [y, y_positive]
+methods: [{{method: saltelli, n: {n}, seed: 0}}]
+{extra}"""
+# y_positive = 12 + (wind / 11) Ishigami: ST 0.558, 0.442, 0.244 (no ties, none negligible); y is the
+# same function less 12, so its indices are the same
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, int, str]:
+    tmp = tmp_path_factory.mktemp("verdicts")
+    study = tmp / "verdicts.yaml"
+    study.write_text(STUDY.format(n=128, extra=""))
+    import contextlib
+    import io
+
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main(["run", str(study), "--out", str(tmp / "out"), "--quiet"])
+    return tmp / "out", code, err.getvalue()
+
+
+def test_every_reader_says_the_verdict_of_confirmation_csv(folder: tuple[Path, int, str]) -> None:
+    out, code, console = folder
+    table = pd.read_csv(out / "confirmation.csv", keep_default_na=False)
+    assert len(table) == 4 and set(table["verdict"]) <= {"trusted", "rank-confirmed", "confirmed tie",
+                                                          "nothing to rank", "unconfirmed"}
+    verdict = {(int(r.scene), r.output): r.verdict for r in table.itertuples()}
+    open_ = {k for k, v in verdict.items() if v == "unconfirmed"}
+    # exit code and console: exit 3 exactly when a pair is unconfirmed; the console names those outputs
+    assert code == (3 if open_ else 0)
+    named = set(re.findall(r"output '(\w+)': no method's indices are confirmed", console))
+    assert named == {o for _, o in open_}
+    # summary.md: the count of each verdict
+    summary = (out / "summary.md").read_text()
+    done = sum(v != "unconfirmed" for v in verdict.values())
+    assert f"Confirmed: {done} of 4 (scene, output) pairs" in summary
+    # indices.csv: each row carries its pair's verdict
+    idx = pd.read_csv(out / "indices.csv", keep_default_na=False)
+    assert all(verdict[(int(r.scene), r.output)] == r.verdict for r in idx.itertuples())
+    # report.html: the Verdicts table holds the same rows
+    html = (out / "report.html").read_text()
+    section = html[html.index('id="confirmation"'):]
+    section = section[:section.index("</table>")]
+    cells = re.findall(r"<tr[^>]*><td>(\d+)</td><td>(\w+)</td><td>([\w -]+)</td>", section)
+    assert {(int(s), o): v for s, o, v in cells} == verdict
+    # the NetCDF export: variable verdict over (scene, output)
+    assert main(["export", str(out)]) == 0
+    ds = xr.open_dataset(out / "indices.nc")
+    got = {(int(s), str(o)): str(ds["verdict"].sel(scene=s, output=o).item())
+           for s in ds["scene"].values for o in ds["output"].values}
+    assert got == verdict
+    # the rows no longer carry a per-scene rank_confirmed coordinate (it was read as a scene field)
+    assert "rank_confirmed" not in ds.coords and "rank_confirmed" not in html.split('id="indices"')[1][:2000]
+
+
+def test_a_ranking_block_changes_the_claims_and_keeps_the_runs(tmp_path: Path) -> None:
+    """``ranking: {tie_margin: 0.5}``: with a margin that wide x1 (0.558) and x2 (0.442) are a confirmed
+    tie wherever their intervals (+-~0.1 at n = 128) allow it; the digest and the stored runs stay."""
+    from ddgsa.study import load_study
+
+    plain, wide = tmp_path / "a.yaml", tmp_path / "b.yaml"
+    plain.write_text(STUDY.format(n=128, extra=""))
+    wide.write_text(STUDY.format(n=128, extra="ranking: {tie_margin: 0.5, negligible: 0.01}\n"))
+    assert load_study(plain).digest == load_study(wide).digest
+    main(["run", str(wide), "--out", str(tmp_path / "out"), "--quiet"])
+    idx = pd.read_csv(tmp_path / "out" / "indices.csv", keep_default_na=False)
+    ranks = idx[(idx["scene"] == 0) & (idx["output"] == "y_positive")
+                & (idx["method"] == "saltelli")].set_index("parameter")["rank"]
+    assert ranks["x1"] == ranks["x2"] == "1="
+    bad = tmp_path / "c.yaml"
+    bad.write_text(STUDY.format(n=128, extra="ranking: {tie_margin: 2}\n"))
+    assert main(["validate", str(bad)]) == 2
