@@ -58,6 +58,9 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--retry-failed", action="store_true",
                      help="run again the evaluations the folder's store holds as failed (after fixing their cause; "
                           "by default a failure is kept with its reason and not rerun)")
+    run.add_argument("--confirm-time", metavar="TIME",
+                     help="spend at most this wall time confirming what the methods left unconfirmed, cheapest "
+                          "pairs first (e.g. '10 min'; sets or adds the study's confirm: {time: ...}, kind gsa)")
     run.add_argument("--backend", choices=["loky", "dask"], help="joblib loky (default) or a Dask cluster")
     run.add_argument("--address", help="Dask scheduler HOST:PORT (default: a LocalCluster)")
     val = sub.add_parser("validate", help="check a study file; exit 0 or 2", parents=[common])
@@ -173,6 +176,8 @@ def _dispatch(args: argparse.Namespace) -> int:
             return EXIT_INPUT
         if args.jobs is None and "jobs" not in study.spec.run.model_fields_set:
             args.jobs = default_jobs()
+        if args.confirm_time is not None:
+            study = study.with_confirm_time(args.confirm_time)
         return _run(study, args)
     if args.command == "report":
         return _report(args)

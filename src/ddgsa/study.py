@@ -36,7 +36,7 @@ import json
 import re
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Literal
 
@@ -63,7 +63,8 @@ _STRICT = ConfigDict(extra="forbid")
 
 _LATER_DEFAULTS: dict[tuple[str, str], Any] = {("scenes", "loads"): {"fidelity": "table",
                                                                      "inclination_convention": "upflow"},
-                                               ("fault", "design"): "population"}
+                                               ("fault", "design"): "population",
+                                               ("confirm", "time"): None}
 """Study fields added in the third stage, with their defaults: left out of :attr:`Study.digest` at
 the default (the scene's rotor aerodynamics and inclination convention, key by key; the fault
 study's design)."""
@@ -241,8 +242,36 @@ class ConfirmSpec(BaseModel):
     (:mod:`ddgsa.gsa.escalate`)."""
 
     model_config = _STRICT
-    budget: int = Field(ge=0, le=1_000_000, description="most new points per scene (each run in every realisation)")
+    budget: int | None = Field(None, ge=0, le=1_000_000,
+                               description="most new points per scene (each run in every realisation)")
+    time: float | None = Field(None, gt=0.0, le=30 * 86400.0,
+                               description="most wall time the escalation may spend, e.g. '10 min' [s]: it runs the "
+                                           "stages that fit, cheapest first, then stops and says what the rest "
+                                           "would cost")
     seed: int = Field(0, ge=0, description="seed of the added points")
+
+    @field_validator("time", mode="before")
+    @classmethod
+    def _time(cls, value: Any) -> Any:
+        """``time: 10 min`` (any time unit; a plain number is seconds)."""
+        if value is None or isinstance(value, bool):
+            return value
+        try:
+            return convert(value, "s")
+        except UnitError as exc:
+            raise ValueError(f"{exc} (a wall time such as '10 min', '1.5 h' or seconds)") from None
+
+    @model_validator(mode="after")
+    def _some_limit(self) -> "ConfirmSpec":
+        if self.budget is None and self.time is None:
+            raise ValueError("a 'confirm' block needs 'budget' (most new points per scene), 'time' (most wall time, "
+                             "e.g. '10 min') or both")
+        return self
+
+    @property
+    def points(self) -> int:
+        """The point budget per scene (the cap, 1 000 000, when only a time is given)."""
+        return 1_000_000 if self.budget is None else self.budget
 
 
 class RankingSpec(BaseModel):
@@ -514,6 +543,25 @@ class Study:
     def name(self) -> str:
         """The study's name."""
         return self.spec.name
+
+    def with_confirm_time(self, value: Any) -> "Study":
+        """This study with ``confirm: {time: value}`` (``ddgsa run --confirm-time``): the study's own
+        ``confirm`` block keeps its budget and seed.
+
+        Raises
+        ------
+        StudyError
+            For an unreadable time, or a study that is not of kind gsa.
+        """
+        if self.spec.kind != "gsa":
+            raise StudyError(f"{_where(self.path)}: --confirm-time needs a study of kind gsa (this one is "
+                             f"{self.spec.kind!r})")
+        old = self.spec.confirm.model_dump() if self.spec.confirm is not None else {}
+        try:
+            confirm = ConfirmSpec(**{**old, "time": value})
+        except ValidationError as exc:
+            raise StudyError(f"--confirm-time {value!r}: {exc.errors()[0]['msg']}") from None
+        return replace(self, spec=self.spec.model_copy(update={"confirm": confirm}))
 
     @property
     def digest(self) -> str:

@@ -95,3 +95,41 @@ def test_a_ranking_block_changes_the_claims_and_keeps_the_runs(tmp_path: Path) -
     bad = tmp_path / "c.yaml"
     bad.write_text(STUDY.format(n=128, extra="ranking: {tie_margin: 2}\n"))
     assert main(["validate", str(bad)]) == 2
+
+
+def test_the_wall_budget_runs_the_cheapest_stages_that_fit() -> None:
+    from ddgsa.kinds.gsa import WallBudget
+
+    clock = WallBudget(10.0, 0.01)                   # 10 s, 10 ms a run: 1 000 runs fit
+    assert clock.fitting({0: 800, 1: 150, 2: 100}) == [2, 1]       # 100 + 150 fit, 800 more would not
+    assert clock.fitting({0: 2000}) == []
+    assert "stopped by the time budget (10 s)" in clock.stopped(2000)
+    assert WallBudget(None, 0.01).fitting({0: 10 ** 9}) == [0]      # no limit: everything
+    assert WallBudget(10.0, float("nan")).fitting({0: 50, 1: 5}) == [1]   # no estimate: the smallest, to measure
+
+
+def test_a_time_budget_stops_cleanly_and_says_what_the_rest_would_cost(tmp_path: Path) -> None:
+    """``ddgsa run --confirm-time '1 s'`` on a model that takes 20 ms a point: the escalations' first
+    stages (32 points a scene, >= 0.64 s each) do not both fit, so one scene's runs and the other stops,
+    saying so in provenance, and the unconfirmed pairs carry their cost in confirmation.csv."""
+    import json
+
+    study = tmp_path / "slow.yaml"
+    study.write_text(STUDY.format(n=16, extra="").replace("fidelity: exact}", "fidelity: exact, options: "
+                                                           "{delay_s: 0.02}}"))
+    code = main(["run", str(study), "--out", str(tmp_path / "out"), "--quiet", "--jobs", "1",
+                 "--confirm-time", "1 s"])
+    prov = json.loads((tmp_path / "out" / "provenance.json").read_text())
+    assert all(c["time_s"] == 1.0 for c in prov["confirm"])
+    assert sum(c["spent"] for c in prov["confirm"]) <= 32      # at >= 20 ms a run, 1 s holds 50 runs at most
+    table = pd.read_csv(tmp_path / "out" / "confirmation.csv", keep_default_na=False)
+    assert code == (3 if (table["verdict"] == "unconfirmed").any() else 0)
+    assert (table[table["verdict"] == "unconfirmed"]["next_runs"] > 0).all()
+    assert any("stopped by the time budget (1 s)" in line for c in prov["confirm"] for line in c["log"])
+    assert main(["validate", str(study)]) == 0
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(STUDY.format(n=16, extra="confirm: {time: 10 parsecs}\n"))
+    assert main(["validate", str(bad)]) == 2
+    none = tmp_path / "none.yaml"
+    none.write_text(STUDY.format(n=16, extra="confirm: {seed: 1}\n"))
+    assert main(["validate", str(none)]) == 2

@@ -5,6 +5,9 @@ convergence curves."""
 from __future__ import annotations
 
 import sys
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 from dataclasses import dataclass, field
 from typing import Any
@@ -181,6 +184,59 @@ def _add_result(study: Study, ps: PlannedScene, res: SobolResult, result: GsaRes
         diag_rows.append(d)
 
 
+class WallBudget:
+    """``confirm: {time}``: the wall time the escalation may spend [s] (None: no limit) and the measured
+    wall time per model run [s] (from the study's runs so far, then from each stage), which decide which
+    pending stages still fit: the smallest first, so the time goes to the pairs cheapest to confirm."""
+
+    def __init__(self, limit: float | None, per_task: float) -> None:
+        self.limit, self.per_task = limit, per_task
+        self.start = time.monotonic()
+
+    def left(self) -> float:
+        """Seconds left of the limit (inf without one)."""
+        return np.inf if self.limit is None else self.limit - (time.monotonic() - self.start)
+
+    def fitting(self, sizes: dict[int, int]) -> list[int]:
+        """The pending escalations (their stages' runs in ``sizes``) to run now: every one without a
+        limit; with one, the smallest first while the estimated wall time fits in what is left (with no
+        estimate yet, the smallest alone, to measure one)."""
+        if self.limit is None:
+            return list(sizes)
+        left, out = self.left(), []
+        for i in sorted(sizes, key=lambda i: (sizes[i], i)):
+            need = sizes[i] * self.per_task
+            if np.isfinite(need) and need <= left:
+                out.append(i)
+                left -= need
+            elif not np.isfinite(need) and not out and left > 0:
+                out.append(i)
+                left = 0.0
+        return out
+
+    def stopped(self, runs: int) -> str:
+        """The log line of an escalation the time budget stops."""
+        need = runs * self.per_task
+        return (f"stopped by the time budget ({self.limit:.0f} s): the next stage's {runs} runs would take "
+                f"~{need:.0f} s, {max(self.left(), 0.0):.0f} s were left")
+
+    @contextmanager
+    def timing(self, runs: int) -> Iterator[None]:
+        """Time a stage of ``runs`` model runs; the per-run estimate becomes the largest measured (wall)."""
+        t0 = time.monotonic()
+        yield
+        measured = (time.monotonic() - t0) / max(runs, 1)
+        self.per_task = measured if not np.isfinite(self.per_task) else max(self.per_task, measured)
+
+
+def _seconds_per_task(runs: Runs, tasks: list[Any], jobs: int | None) -> float:
+    """Wall seconds per model run estimated from the stored run times of ``tasks`` (the median, over
+    the workers; NaN when none is stored: the first confirm stage measures it)."""
+    got = runs.store.get(t.key for t in tasks[-2000:])
+    sec = np.array([o.seconds for o in got.values() if o.seconds is not None and o.seconds > 0], dtype=float)
+    return float(np.median(sec)) / max(1, int(jobs or 1)) if len(sec) else float("nan")
+
+
 def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs: list[str],
              result: GsaResult) -> list[dict[str, Any]]:
     """``confirm: {budget}``: per scene, an :class:`~ddgsa.gsa.escalate.Escalation` from every point
@@ -203,7 +259,7 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
         y_all = np.vstack([y] + [ay for _, ay in plan.auto_points.get(i, [])])
         _, first = np.unique(x_all, axis=0, return_index=True)     # a point twice would flatter the LOO error
         keep = np.sort(first)
-        esc = Escalation(study.space, outputs, spec.budget, x_all[keep], y_all[keep], have, tol, seed=spec.seed,
+        esc = Escalation(study.space, outputs, spec.points, x_all[keep], y_all[keep], have, tol, seed=spec.seed,
                          saltelli=None if salt is None else (salt, y[row_index(pooled, salt.points)]),
                          resolution=resolution, ranking=study.spec.ranking.pair)
         escs.append(esc)
@@ -221,14 +277,24 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
             told[i] = len(esc.log)
 
     tell()
+    clock = WallBudget(spec.time, _seconds_per_task(runs, plan.tasks, runs.run_opts.get("jobs")))
     while pending:
-        tasks = [plan.task(plan.scenes[i], scene, p) for i, x in pending.items()
-                 for scene in plan.scenes[i].scenes for p in plan_points(study, x, names)]
+        stage = {i: [plan.task(plan.scenes[i], scene, p) for scene in plan.scenes[i].scenes
+                     for p in plan_points(study, x, names)] for i, x in pending.items()}
+        fits = clock.fitting({i: len(t) for i, t in stage.items()})
+        for i in set(pending) - set(fits):
+            escs[i].log.append(clock.stopped(len(stage[i])))
+        pending = {i: pending[i] for i in fits}
+        tasks = [t for i in fits for t in stage[i]]
+        if not tasks:
+            break
         plan.tasks += tasks
-        runs(tasks)
+        with clock.timing(len(tasks)):
+            runs(tasks)
         pending = {i: nxt for i, x in pending.items() if (nxt := escs[i].feed(
             plan.values_at(runs.store, x, names, plan.scenes[i], outputs, aggregate))) is not None}
         tell()
+    tell()
     rows, diag_rows = [result.indices], [result.diagnostics] if len(result.diagnostics) else []
     for ps, esc in zip(plan.scenes, escs):
         for res in esc.stages:
@@ -236,7 +302,7 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
     result.indices = pd.concat(rows, ignore_index=True)
     if diag_rows:
         result.diagnostics = pd.concat(diag_rows, ignore_index=True)
-    return [{"scene": ps.index, "budget": spec.budget, "spent": esc.spent, "log": esc.log}
+    return [{"scene": ps.index, "budget": spec.budget, "time_s": spec.time, "spent": esc.spent, "log": esc.log}
             for ps, esc in zip(plan.scenes, escs)]
 
 
