@@ -100,7 +100,7 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
         sobol = sobol_rows(result.indices)
         for scene in sorted(sobol["scene"].unique()):
             later_fig(functools.partial(plot_scene_bars, sobol[sobol["scene"] == scene], info,
-                                        result.study.scene_fields), f"bars_scene{scene}.png")
+                                        result.study.scene_fields, verdicts), f"bars_scene{scene}.png")
         groups = group_table(result)
         if len(groups):
             save_csv(groups, "groups.csv")
@@ -360,42 +360,71 @@ def plot_agreement(indices: pd.DataFrame) -> Any:
     return fig
 
 
+CROSSCHECKS = ("pooled_pce", "given_data_s1")
+"""Methods a study runs without being asked (cross-checks at zero extra runs): shown in their own
+section, never as a study's answer."""
+
+_MARKERS = ("D", "s", "^", "v", "P", "X")
+
+
 def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None,
-                    fields: Sequence[str] = WIND_LABEL_FIELDS) -> Any:
-    """S1/ST bars, parameters down the y axis, with confidence bars where a method gives an
-    interval: one panel per output and method (titled with the output's unit), at most three
-    panels a row; an output whose indices are refused says so in its panel; hatched bars are
-    untrusted (said in the legend, below the panels, only when some are); the title names the
-    scene by its label ``fields``."""
+                    fields: Sequence[str] = WIND_LABEL_FIELDS, verdicts: pd.DataFrame | None = None) -> Any:
+    """One panel per output (at most three a row), parameters down the y axis: S1/ST bars of the
+    estimate the summary reports -- the method of the pair's verdict (``verdicts``,
+    :func:`ddgsa.confirm.confirmation_table`), said in the panel's title with the verdict -- with
+    confidence bars where it gives an interval, and the ST of every other requested method as a
+    marker beside it (cross-checks, :data:`CROSSCHECKS`, are left to their own table). Hatched bars
+    are untrusted (said in the legend, below the panels, only when some are); an output whose indices
+    are refused says so; the title names the scene by its label ``fields``."""
+    from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    outputs, methods = list(scene_rows["output"].unique()), list(scene_rows["method"].unique())
-    panels = [(out, meth) for out in outputs for meth in methods]
-    ncols = len(methods) if len(methods) > 1 else min(3, len(outputs))
-    nrows = -(-len(panels) // ncols)
-    n_par = scene_rows["parameter"].nunique()
-    fig, axes = plt.subplots(nrows, ncols, figsize=(3.6 * ncols + 1.2, (0.28 * n_par + 1.0) * nrows + 0.8),
+    rows = scene_rows[~scene_rows["method"].isin(CROSSCHECKS)]
+    rows = rows if len(rows) else scene_rows
+    outputs = list(rows["output"].unique())
+    scene = int(rows["scene"].iloc[0]) if "scene" in rows else 0
+    chosen = ({} if verdicts is None or not len(verdicts) else
+              {r.output: (r.method, r.verdict) for r in verdicts[verdicts["scene"] == scene].itertuples()})
+    ncols = min(3, len(outputs))
+    nrows = -(-len(outputs) // ncols)
+    n_par = rows["parameter"].nunique()
+    fig, axes = plt.subplots(nrows, ncols, figsize=(3.8 * ncols + 1.2, (0.28 * n_par + 1.0) * nrows + 0.9),
                              squeeze=False, sharey=True, layout="constrained")
-    for ax, (out, meth) in zip(axes.flat, panels):
-        t = scene_rows[(scene_rows["output"] == out) & (scene_rows["method"] == meth)]
+    marks: dict[str, str] = {}
+    for ax, out in zip(axes.flat, outputs):
+        g = rows[rows["output"] == out]
+        meth, verdict = chosen.get(out, (str(g["method"].iloc[0]), ""))
+        meth = meth if meth in set(g["method"]) else str(g["method"].iloc[0])
+        t = g[g["method"] == meth]
         draw_index_bars(ax, t, fontsize=7, horizontal=True)
-        ax.set_title(f"{(info or {}).get(out, declared(out)).label} - {meth}", fontsize=8)
-        ax.set_xlim(min(-0.05, float(np.nanmin(t[["S1", "ST"]].to_numpy(float), initial=0))), 1.05)
+        y = np.arange(len(t))
+        for other in [m for m in g["method"].unique() if m != meth]:
+            st = g[g["method"] == other].set_index("parameter")["ST"].reindex(t["parameter"]).to_numpy(float)
+            if np.isfinite(st).any():
+                marker = marks.setdefault(other, _MARKERS[len(marks) % len(_MARKERS)])
+                ax.plot(st, y + 0.19, linestyle="none", marker=marker, markersize=4, markerfacecolor="none",
+                        markeredgecolor="0.15", markeredgewidth=0.8)
+        ax.set_title(f"{(info or {}).get(out, declared(out)).label}\n{meth}" + (f": {verdict}" if verdict else ""),
+                     fontsize=8)
+        ax.set_xlim(min(-0.05, float(np.nanmin(g[["S1", "ST"]].to_numpy(float), initial=0))), 1.05)
         ax.tick_params(axis="x", labelsize=7)
         if not np.isfinite(t[["S1", "ST"]].to_numpy(float)).any():
             ax.text(0.5, 0.5, "indices refused\n(failed evaluations;\nsee summary.md)", transform=ax.transAxes,
                     ha="center", va="center", fontsize=8, color="0.3")
-    for ax in list(axes.flat)[len(panels):]:
+    for ax in list(axes.flat)[len(outputs):]:
         ax.set_visible(False)
-    handles = [Patch(facecolor="tab:blue", label="S1"), Patch(facecolor="tab:orange", label="ST")]  # unhatched
-    untrusted = ~scene_rows["trusted"].astype(bool)
-    placed = scene_rows["rank_confirmed"].astype(bool) if "rank_confirmed" in scene_rows else untrusted & False
+    handles: list[Any] = [Patch(facecolor="tab:blue", label="S1"), Patch(facecolor="tab:orange", label="ST")]
+    shown = rows[rows.apply(lambda r: chosen.get(r["output"], (None,))[0] in (None, r["method"]), axis=1)]
+    untrusted = ~shown["trusted"].astype(bool)
+    placed = shown["rank_confirmed"].astype(bool) if "rank_confirmed" in shown else untrusted & False
     if (untrusted & placed).any():
         handles.append(Patch(facecolor="tab:blue", edgecolor="white", hatch="..", label="untrusted, rank confirmed"))
     if (untrusted & ~placed).any():
         handles.append(Patch(facecolor="tab:blue", edgecolor="white", hatch="///", label="untrusted"))
-    fig.legend(handles=handles, fontsize=7, loc="outside lower center", ncols=len(handles))   # clear of the title
-    fig.suptitle("Sobol indices, " + scene_text({f: scene_rows[f].iloc[0] for f in fields}), fontsize=9)
+    handles += [Line2D([], [], linestyle="none", marker=m, markerfacecolor="none", markeredgecolor="0.15",
+                       label=f"ST, {meth}") for meth, m in marks.items()]
+    fig.legend(handles=handles, fontsize=7, loc="outside lower center", ncols=min(len(handles), 5))
+    fig.suptitle("Sobol indices, " + scene_text({f: rows[f].iloc[0] for f in fields}), fontsize=9)
     return fig
 
 
@@ -531,6 +560,26 @@ def _confirmed_section(result: StudyResult) -> list[str]:
                   + ", ".join(f"`{r.output}` in scene {r.scene} ({r.std:.2g} against {r.resolution:.2g})"
                               for r in flat.itertuples()) + ".", ""]
     return lines
+
+
+def crosscheck_lines(sobol: pd.DataFrame) -> list[str]:
+    """``summary.md``'s section on the cross-checks the study ran without being asked
+    (:data:`CROSSCHECKS`, at zero extra runs): per scene and output, whether each agrees with the
+    study's own methods' ST within their bounds, and its trust; none when the study has no other rows."""
+    cross = sobol[sobol["method"].isin(CROSSCHECKS)] if len(sobol) else sobol
+    own = sobol[~sobol["method"].isin(CROSSCHECKS)] if len(sobol) else sobol
+    if not len(cross) or not len(own):
+        return []
+    lines = ["## Cross-checks (not requested; fitted on the study's own runs at no extra cost)", "",
+             "They check the requested methods, they are not the study's answer: `pooled_pce` is a sparse PCE on "
+             "every point of a scene, `given_data_s1` first-order indices from the drawn points (never trusted: "
+             "it has no ST).", "", "| scene | output | method | trusted rows | largest S1 (parameter) |",
+             "|---|---|---|---|---|"]
+    for (scene, out, meth), g in cross.groupby(["scene", "output", "method"], sort=False):
+        top = g.loc[g["S1"].astype(float).idxmax()] if g["S1"].notna().any() else None
+        big = f"{top['S1']:.2f} ({top['parameter']})" if top is not None else "-"
+        lines.append(f"| {scene} | `{out}` | {meth} | {int(g['trusted'].astype(bool).sum())} of {len(g)} | {big} |")
+    return lines + [""]
 
 
 def with_verdicts(indices: pd.DataFrame, verdicts: pd.DataFrame) -> pd.DataFrame:
@@ -763,6 +812,8 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
             lines.append("| method | tolerance | trusted | rank confirmed | ranking: parameter ST (S1) |")
             lines.append("|---|---|---|---|---|")
             for meth, gm in g.groupby("method", sort=False):
+                if meth in CROSSCHECKS and len(set(g["method"]) - set(CROSSCHECKS)):
+                    continue                                         # in "Cross-checks" below
                 by = "ST" if gm["ST"].notna().any() else "S1"        # a first-order-only method (given_data_s1)
                 top = gm.sort_values(by, ascending=False, na_position="last").head(RANKED)
                 rank = ", ".join((f"{r.parameter} {r.ST:.2f} ({r.S1:.2f})" if by == "ST" else
@@ -775,6 +826,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                              f"{'yes' if gm['trusted'].all() else '**no**'} | "
                              f"{'yes' if (gm['trusted'] | gm['rank_confirmed']).all() else '**no**'} | {rank} |")
             lines.append("")
+        lines += crosscheck_lines(sobol_rows(result.indices))
         lines += no_effect_lines(result)
         lines += signal_summary_lines(result.signal_generalised)
         lines += beyond_markdown(result)

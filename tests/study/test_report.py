@@ -110,17 +110,28 @@ def test_accuracy_never_compares_mdrm_with_autos_own_mdrm_stage() -> None:
 
 
 def test_bars_have_a_y_label_and_error_bars_only_where_there_is_an_interval() -> None:
+    """Issue 48.6: one panel per output, the bars of the method the pair's verdict names (titled with
+    it), every other requested method's ST a marker beside them; cross-checks left out."""
     info = {"y": get("analytic").output("y")}
-    fig = plot_scene_bars(_rows({"pce": np.nan, "saltelli": 0.05}), info)
-    no_interval, interval = fig.axes[0], fig.axes[1]
-    assert no_interval.get_xlabel() == "Sobol index [-]"                 # horizontal bars: parameters down y
-    assert not [c for c in no_interval.containers if isinstance(c, ErrorbarContainer)]
-    assert len([c for c in interval.containers if isinstance(c, ErrorbarContainer)]) == 2     # S1 and ST
-    assert no_interval.get_title() == "y [-] - pce"
-    legend = [t.get_text() for t in fig.legends[0].get_texts()]            # one legend, outside the panels
-    assert legend == ["S1", "ST"] and "untrusted" not in fig._suptitle.get_text()
-    fig = plot_scene_bars(pd.concat([_rows({"pce": np.nan}), _rows({"mdrm": np.nan}, trusted=False)]), info)
-    assert [t.get_text() for t in fig.legends[0].get_texts()] == ["S1", "ST", "untrusted"]
+    rows = pd.concat([_rows({"pce": np.nan, "saltelli": 0.05}), _rows({"given_data_s1": 0.1})])
+    fig = plot_scene_bars(rows, info)
+    assert len([ax for ax in fig.axes if ax.get_visible()]) == 1             # one output, one panel
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "Sobol index [-]"                              # horizontal bars: parameters down y
+    assert not [c for c in ax.containers if isinstance(c, ErrorbarContainer)]   # pce: no interval
+    assert ax.get_title() == "y [-]\npce"
+    marks = [ln for ln in ax.get_lines() if ln.get_marker() not in (None, "None", "")]
+    assert len(marks) == 1 and marks[0].get_xdata().tolist() == [0.6, 0.5]   # saltelli's ST; given_data_s1 not drawn
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]              # one legend, outside the panels
+    assert legend == ["S1", "ST", "ST, saltelli"] and "untrusted" not in fig._suptitle.get_text()
+    verdicts = pd.DataFrame({"scene": [0], "output": ["y"], "method": ["saltelli"], "verdict": ["rank-confirmed"]})
+    ax = plot_scene_bars(rows, info, verdicts=verdicts).axes[0]
+    assert len([c for c in ax.containers if isinstance(c, ErrorbarContainer)]) == 2    # S1 and ST of saltelli
+    assert ax.get_title() == "y [-]\nsaltelli: rank-confirmed"
+    rows = pd.concat([_rows({"pce": np.nan}), _rows({"mdrm": np.nan}, trusted=False)])
+    mdrm = verdicts.assign(method="mdrm", verdict="unconfirmed")
+    fig = plot_scene_bars(rows, info, verdicts=mdrm)
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == ["S1", "ST", "untrusted", "ST, pce"]
 
 
 def test_heatmap_tick_labels_overlap_no_neighbouring_panel() -> None:
