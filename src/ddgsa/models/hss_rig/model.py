@@ -316,7 +316,7 @@ class HssRig(Model):
         Spin rates and flux states are the rig's own (:meth:`build`); the sag is solved on the
         linearised rig standing still, so a run starts without a gravity transient.
         """
-        sag = _sag(tuple(sorted({**p, **_NO_TURNING_LOADS}.items())), rig.basis)
+        sag = _sag(still_key(p), rig.basis)
         q0 = rig.system.q0.copy()
         q0[: sag.size] += sag
         return q0, rig.system.qd0.copy()
@@ -555,11 +555,18 @@ _NO_TURNING_LOADS = {"eccentric_mass": 0.0, "supply_unbalance": 0.0}
 """Parameters that put no force on the rig at rest: the sag is the same without them (cached once)."""
 
 
-@functools.lru_cache(maxsize=8)
 def _sag(items: tuple[tuple[str, float], ...], basis: ShaftBasis) -> np.ndarray:
     """Static gravity sag (n_still,) of the rig at rest, motor and load off, for parameters ``items``
-    (the sorted parameter items; kept for the few calls of one run: an assembly, its steady stretch,
-    its start)."""
+    (the sorted parameter items): :func:`still_rig`'s first part."""
+    return still_rig(items, basis)[0]
+
+
+@functools.lru_cache(maxsize=8)
+def still_rig(items: tuple[tuple[str, float], ...], basis: ShaftBasis) -> tuple[np.ndarray, np.ndarray]:
+    """Static gravity sag (n_still,) of the rig at rest, motor and load off, for parameters ``items``
+    (the sorted parameter items), and the stiffness (n, n) it was solved with (kept for the few calls of
+    one run: an assembly, its steady stretch, its start; the block path's chord iteration takes the
+    stiffness as its tangent)."""
     still = build(dict(items), lambda marker: ([], []), spin=0.0, basis=basis)
     # the rig's parts are all compiled (the unbalance and the load law since issue 24); a Python element
     # added to it would be checked here: one that puts no force on the rig at rest for any position
@@ -570,7 +577,14 @@ def _sag(items: tuple[tuple[str, float], ...], basis: ShaftBasis) -> np.ndarray:
     lin = linearise_system(system, compiled=hybrid.packed if idle else False, static=True)
     sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
     sag.flags.writeable = False
-    return sag
+    k = lin.basis @ lin.k @ lin.basis.T
+    k.flags.writeable = False
+    return sag, k
+
+
+def still_key(p: Mapping[str, float]) -> tuple[tuple[str, float], ...]:
+    """The key of :func:`still_rig` for parameters ``p``: their sorted items without the turning loads."""
+    return tuple(sorted({**p, **_NO_TURNING_LOADS}.items()))
 
 
 def _defect_loads(p: Mapping[str, float], scene: RigScene, spin: float):

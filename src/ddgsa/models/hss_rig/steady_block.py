@@ -1,13 +1,14 @@
 """The linear fidelity's steady scene for a block of points at once (issue 46).
 
-Per point the kernel does what only it can: the rig is built (:func:`~ddgsa.models.hss_rig.rig.build`),
-linearised once in non-rotating coordinates about its gravity sag as the per-point path
-(:func:`ddgsa.mbs.nonrotating.linearise`; about the undeformed rig the unbalance would put no 1x
-torque on the shaft, whose sagged disk it turns about, and the motor's torque ripple would vanish), the coupling's static stretch is found by a
-chord iteration on that linearisation's stiffness
-(:func:`~ddgsa.models.hss_rig.faults.operating_stretch` with ``tangent``: one residual a step instead
-of a linearisation), the inputs of one revolution (unbalance, motor, the coupling's 2x load) are taken
-at :data:`FORCE_SAMPLES` angles, and the sensors are mapped linearly onto the coordinates. Then the
+Per point the kernel does what only it can, on the same system as the per-point path: the coupling's
+static stretch by a chord iteration whose tangent is the stiffness the gravity sag was solved with
+(:func:`~ddgsa.models.hss_rig.faults.operating_stretch` with ``tangent``, :func:`~ddgsa.models.hss_rig.model.still_rig`:
+one residual a step instead of a linearisation a step), the rig with the coupling's 2x load built
+(:func:`~ddgsa.models.hss_rig.rig.build`) and linearised once in non-rotating coordinates about its sag
+(:func:`ddgsa.mbs.nonrotating.linearise`; about the undeformed rig the unbalance would put no 1x torque on
+the shaft, whose sagged disk it turns about), the inputs of one revolution (unbalance, motor, the
+coupling's load) taken at :data:`FORCE_SAMPLES` angles, and the disk probe mapped linearly onto the
+coordinates. Then the
 block goes together: one stability and on-mode check (:func:`ddgsa.mbs.nonrotating.harmonic_validity`),
 one stacked harmonic solve (:func:`ddgsa.mbs.nonrotating.harmonic_response`), the sensors' records
 synthesised from their harmonics (:func:`ddgsa.mbs.nonrotating.synthesis`), and the outputs of all
@@ -47,16 +48,17 @@ if TYPE_CHECKING:
 Array = NDArray[np.float64]
 
 FORCE_SAMPLES = 64
-"""Samples of one revolution the block's inputs are taken at: harmonics up to 7 (the unbalance is 1x
-and the coupling's load 2x in non-rotating coordinates, the motor's torque constant at a steady speed);
-the per-point path takes 64."""
+"""Samples of one revolution the block's inputs are taken at, as the per-point path
+(:func:`ddgsa.mbs.nonrotating.periodic`): harmonics up to 31. The inputs are 1x and 2x but for small higher
+harmonics (the turning loads projected through the sagged shaft, the coupling load's interpolated table);
+with 16 samples the bearing-band outputs, numerically zero (1e-12 to 1e-8), lost them and moved by up to 100 %."""
 CHECK_SAMPLES = 16
 """Samples of one revolution the coupling's 2x check (:func:`~ddgsa.models.hss_rig.faults.check_small`)
 reads: its fit of the mean, 1x, 2x and 3x is exact on them for a periodic response."""
 _COORDS = ("housing_1.y", "housing_1.z", "housing_2.y", "housing_2.z", "motor.rx", "hss.rx")
 """Coordinates the sensors read directly (rates: accelerometers, motor speed; angle and speed of the shaft)."""
-_VARYING = ("unbalance", "motor")
-"""The rig's own elements whose inputs turn with the shaft in a steady scene (the coupling's 2x load is added)."""
+_VARYING = ("unbalance", "motor", "anisotropy_hub", "anisotropy_shaft")
+"""The rig's elements whose inputs turn with the shaft in a steady scene (the per-point path's, less the defect)."""
 
 
 def holds(model: "HssRig", params: pd.DataFrame, scene: RigScene, signals: tuple[str, ...]) -> NDArray[np.bool_]:
@@ -84,26 +86,25 @@ class _Point:
 
 def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Point:
     """The kernel's part of one point (see the module)."""
-    from ddgsa.models.hss_rig.model import POLE_PAIRS
+    from ddgsa.models.hss_rig.model import POLE_PAIRS, still_key, still_rig
 
     drive = drive_for(raw, scene, POLE_PAIRS)
     spin = steady_speed(drive, raw["load_torque"], raw["load_speed_exponent"], RATED_SPEED)
     eff = model.effective(raw)
-    rig = build(eff, kloss_parts(drive), spin=spin, basis=model.basis)
-    system = rig.system
-    q0, qd0 = model.initial_state(rig, eff)
-    lin = nonrotating.linearise(system, q0, qd0)
-    period = 2 * math.pi / spin
-    tp = lin.t0 + period * np.arange(FORCE_SAMPLES) / FORCE_SAMPLES
-    varying = [e for e in system.elements if e.name in _VARYING]
-    forces = nonrotating._inputs(system, lin, tp, varying) + lin.r0
+    extra = None
     if raw["coupling_asymmetry"] > 0.0:
         steady = {**eff, "eccentric_mass": 0.0, "supply_unbalance": 0.0}
         plain = build(steady, kloss_parts(drive), spin=spin, basis=model.basis)
-        stretch = operating_stretch(plain, *model.initial_state(plain, steady), tangent=lin.k)
-        extra = anisotropy_loads(raw, stretch, spin, scene.duration, 1.0 / scene.sample_rate)(rig.markers)
-        forces = forces + nonrotating._inputs(system, lin, tp, extra, relative=False)
-    f_hat = nonrotating.input_harmonics(forces)
+        tangent = still_rig(still_key(steady), model.basis)[1]
+        stretch = operating_stretch(plain, *model.initial_state(plain, steady), tangent=tangent)
+        extra = anisotropy_loads(raw, stretch, spin, scene.duration, 1.0 / scene.sample_rate)
+    rig = build(eff, kloss_parts(drive), spin=spin, extra=extra, basis=model.basis)
+    system = rig.system
+    lin = nonrotating.linearise(system, *model.initial_state(rig, eff))
+    period = 2 * math.pi / spin
+    tp = lin.t0 + period * np.arange(FORCE_SAMPLES) / FORCE_SAMPLES
+    varying = [e for e in system.elements if e.name in _VARYING]
+    f_hat = nonrotating.input_harmonics(nonrotating._inputs(system, lin, tp, varying) + lin.r0)
     disk = rig.markers["disk"]
 
     def positions(z: Array) -> Array:
