@@ -63,14 +63,18 @@ def test_block_agrees_with_the_per_point_path_on_64_points(name: str) -> None:
 
 
 def test_points_the_block_does_not_hold_go_one_by_one_in_order() -> None:
-    """A supply unbalance (a 2f ripple, not once per revolution) takes the per-point path; rows keep their order."""
+    """A supply unbalance (a 2f ripple, not once per revolution) takes the per-point path; a lighter load
+    turns the rig faster (its own group of the block); rows keep their order."""
     model = HssRig(fidelity="linear", time_step=5e-4)
     scene = {"kind": "steady", "speed_rpm": 1500.0, "duration": 0.6, "sample_rate": 2000.0, "settle": 0.1}
-    points = pd.DataFrame({"supply_unbalance": [0.0, 0.01, 0.0], "eccentric_mass": [0.005, 0.005, 0.01]})
+    points = pd.DataFrame({"supply_unbalance": [0.0, 0.01, 0.0, 0.0], "eccentric_mass": [0.005, 0.005, 0.01, 0.005],
+                           "load_torque": [10.0, 10.0, 10.0, 6.0]})
     out = model.evaluate(points, scene)
-    assert out.attrs["block_points"] == 2
+    assert out.attrs["block_points"] == 3
     ref = Model._evaluate_block(model, model.resolve(points), model._scene(scene))
-    np.testing.assert_allclose(out["order1x_disk_y"], ref["order1x_disk_y"], rtol=RTOL)
+    for col in ("order1x_disk_y", "peak_housing_1_y", "mean_speed_rpm", "current_line"):
+        np.testing.assert_allclose(out[col], ref[col], rtol=RTOL, err_msg=col)
+    assert out["mean_speed_rpm"][3] > out["mean_speed_rpm"][0] + 10.0
     assert out["torque_2f"][1] > 1e3 * out["torque_2f"][0]      # the unbalanced supply's ripple, from its own row
 
 
