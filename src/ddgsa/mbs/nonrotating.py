@@ -217,7 +217,7 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     return SpinLinearisation(m, c, k, proj.T @ (tm.q - tm.m @ qdd), base.q0, base.qd0, t0, pairs, xi0)
 
 
-def _spin_map(lin: SpinLinearisation, z: Array, zd: Array) -> tuple[Array, ...]:
+def spin_map(lin: SpinLinearisation, z: Array, zd: Array) -> tuple[Array, ...]:
     """:meth:`SpinLinearisation.state` at ``t0`` with ``zdd = 0`` for a batch of perturbations ``z``, ``zd``
     (m, n) at once: ``(q, qd, qdd)`` (m, n) and ``T(z)``'s pair entries, per pair ``cos phi``, ``sin phi``
     (m, n_pairs) of ``R(-phi) = [[c, s], [-s, c]]`` and the spin column ``-J R(-phi) xi = (r_z, -r_y)``
@@ -243,7 +243,7 @@ def _spin_map(lin: SpinLinearisation, z: Array, zd: Array) -> tuple[Array, ...]:
 
 
 def _project(lin: SpinLinearisation, cos: Array, sin: Array, spin_col: Array, v: Array) -> Array:
-    """``T^T v`` (m, n) for a batch of ``v`` (m, n) with ``T`` given by :func:`_spin_map`'s pair entries."""
+    """``T^T v`` (m, n) for a batch of ``v`` (m, n) with ``T`` given by :func:`spin_map`'s pair entries."""
     out = v.copy()
     for k, (iy, iz, isp) in enumerate(lin.pairs):
         c, s = cos[:, k], sin[:, k]
@@ -257,7 +257,7 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
                      rel_step: float) -> Array:
     """Central differences (:func:`~ddgsa.mbs.derivatives.central_difference`, step ``rel_step * scale``) of
     the projected residual over ``z`` (``which`` 0) or ``z'`` (1) at zero, as of :func:`_residual`:
-    the steps' states at once (:func:`_spin_map`), the packed part by the compiled kernel, each Python
+    the steps' states at once (:func:`spin_map`), the packed part by the compiled kernel, each Python
     element (:attr:`HybridTerms.python`) once at the operating state and again for the steps of its
     markers' bodies' coordinates only (a step of another body's coordinate, turned within that body,
     leaves its markers and so its force as they were)."""
@@ -266,14 +266,14 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
     arrays = terms.packed.arrays
     t0 = float(lin.t0)
     zero = np.zeros((1, n))
-    q, qd = (x[0] for x in _spin_map(lin, zero, zero)[:2])
+    q, qd = (x[0] for x in spin_map(lin, zero, zero)[:2])
     *base, lohi = _markers(q, qd, t0, arrays)
     span = {r: range(lohi[r, 0], lohi[r, 1]) for r in rows}         # the coordinates that move marker r
 
     def batch(steps: Array) -> Array:
         """The projected residual at each stepped row (row ``j`` steps coordinate ``j % n``)."""
         nil = np.zeros_like(steps)
-        q, qd, qdd, cos, sin, spin_col = _spin_map(lin, *((steps, nil) if which == 0 else (nil, steps)))
+        q, qd, qdd, cos, sin, spin_col = spin_map(lin, *((steps, nil) if which == 0 else (nil, steps)))
         res = np.zeros((2 * n, n))
         moved: dict[int, list] = {}
         for j in range(2 * n):
@@ -300,10 +300,9 @@ def _element_force(el: Element, t: float, states: list[MarkerState]) -> Array:
     return np.vstack([s.jac for s in states]).T @ w.ravel()
 
 
-def _inputs(system: System, lin: SpinLinearisation, times: Array, elements: Sequence[Element],
-            relative: bool = True) -> Array:
-    """``T(t)^T (Q_sel(t) - Q_sel(t0))`` of the listed elements along the operating trajectory (n_t, n);
-    ``relative=False``: ``T(t)^T Q_sel(t)`` (elements that are not the system's, so not in ``r0``)."""
+def projected_inputs(system: System, lin: SpinLinearisation, times: Array, elements: Sequence[Element]) -> Array:
+    """``T(t)^T (Q_sel(t) - Q_sel(t0))`` of the listed elements along the operating trajectory (n_t, n): the
+    inputs of the linearisation (its ``r0`` holds them at ``t0``)."""
     times = np.concatenate([[lin.t0], np.asarray(times, dtype=float)])
     zero = np.zeros((times.size, lin.q0.size))
     q, qd = full_states(lin, times, zero, zero)
@@ -317,7 +316,7 @@ def _inputs(system: System, lin: SpinLinearisation, times: Array, elements: Sequ
         # T^T: the pair's rows turned back by R(-phi)^T, the spin row gains (-J R(-phi) xi) . f_pair
         out[:, iy], out[:, iz] = c * f[:, iy] - s * f[:, iz], s * f[:, iy] + c * f[:, iz]
         out[:, isp] += rz * f[:, iy] - ry * f[:, iz]
-    return out[1:] - out[0] if relative else out[1:]
+    return out[1:] - out[0]
 
 
 def simulate(system: System, lin: SpinLinearisation, t_end: float, dt: float, elements: Sequence[Element],
@@ -333,7 +332,7 @@ def simulate(system: System, lin: SpinLinearisation, t_end: float, dt: float, el
     k = max(8, int(np.ceil(period / dt)))
     h = period / k
     tp = lin.t0 + h * np.arange(k + 1)
-    xt = lti_response(a, bw, np.column_stack([_inputs(system, lin, tp, elements), np.ones(k + 1)]), h,
+    xt = lti_response(a, bw, np.column_stack([projected_inputs(system, lin, tp, elements), np.ones(k + 1)]), h,
                       np.zeros(2 * n))[-1]
     # rigid directions of the positions (null space of K: the common spin angle) drift freely; the
     # rest of the state repeats after one period
@@ -344,7 +343,7 @@ def simulate(system: System, lin: SpinLinearisation, t_end: float, dt: float, el
     x0 = e @ y
     n_out = int(round((t_end - lin.t0) / dt)) + 1
     times = lin.t0 + dt * np.arange(n_out)
-    x = lti_response(a, bw, np.column_stack([_inputs(system, lin, times, elements), np.ones(n_out)]), dt, x0)
+    x = lti_response(a, bw, np.column_stack([projected_inputs(system, lin, times, elements), np.ones(n_out)]), dt, x0)
     return (times, *full_states(lin, times, x[:, :n], x[:, n:]))
 
 
@@ -369,7 +368,7 @@ def periodic(system: System, lin: SpinLinearisation, t_end: float, dt: float, el
         raise ModelError(f"periodic response: samples must be an even number >= 8, got {samples}")
     tp = lin.t0 + period * np.arange(samples) / samples
     w = 2 * np.pi / period
-    f_hat = input_harmonics(_inputs(system, lin, tp, elements) + lin.r0)
+    f_hat = input_harmonics(projected_inputs(system, lin, tp, elements) + lin.r0)
     z0, z_hat = harmonic_response(lin.m[None], lin.c[None], lin.k[None], f_hat[None], w)
     n_out = int(round((t_end - lin.t0) / dt)) + 1
     times = lin.t0 + dt * np.arange(n_out)

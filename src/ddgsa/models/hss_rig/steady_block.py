@@ -104,11 +104,11 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
     period = 2 * math.pi / spin
     tp = lin.t0 + period * np.arange(FORCE_SAMPLES) / FORCE_SAMPLES
     varying = [e for e in system.elements if e.name in _VARYING]
-    f_hat = nonrotating.input_harmonics(nonrotating._inputs(system, lin, tp, varying) + lin.r0)
+    f_hat = nonrotating.input_harmonics(nonrotating.projected_inputs(system, lin, tp, varying) + lin.r0)
     disk = rig.markers["disk"]
 
     def positions(z: Array) -> Array:
-        q = nonrotating._spin_map(lin, z, np.zeros_like(z))[0]
+        q = nonrotating.spin_map(lin, z, np.zeros_like(z))[0]
         return system.positions(disk, q, np.zeros_like(q), np.full(len(q), lin.t0))[:, 1:]
 
     n = system.n
