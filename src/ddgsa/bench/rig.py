@@ -98,3 +98,48 @@ def format_rig_speed(res: dict[str, Any]) -> str:
                      f"{r['speedup_cpu']:8.1f}x {r['max_rel_error']:15.2%} "
                      f"{r['fraction_of_600s_reference']:14.4f}  {r['worst_output']}")
     return "\n".join(lines)
+
+
+BLOCK_POINTS = 16
+"""Points of a timed block (the runner hands ``run: {batch_size}`` points a call; the rig studies ask 8)."""
+
+
+def block_speed(points: int = BLOCK_POINTS, reference_points: int = 4, quick: bool = False) -> dict[str, Any]:
+    """The rig's steady scene per run: the block path (:mod:`ddgsa.models.hss_rig.steady_block`) against the
+    per-point ``linear`` path (:meth:`ddgsa.models.base.Model._evaluate_block`'s loop), timed in one run.
+
+    Points are uniform draws of ``paper_a_subsystem``'s space, new ones for every timed repeat (so no
+    per-parameter cache of the rig's sag or shaft modes is reused); the block path is repeated for at
+    least :data:`~ddgsa.bench.speed.MIN_TIMED_S` and its best run kept, the per-point path is timed once
+    on ``reference_points`` points. ``quick``: 0.6 s records. Returns CPU and wall seconds a run, the
+    ratio (CPU) and the largest relative difference of the two paths' outputs on the reference points.
+    """
+    import numpy as np
+    import pandas as pd
+
+    import ddgsa.models as models
+    from ddgsa.bench.speed import RIG_STUDY
+    from ddgsa.models.base import Model
+    from ddgsa.study import load_study
+
+    study = load_study(RIG_STUDY)
+    model = models.get("hss_rig", fidelity="linear", time_step=LINEAR_STEP)
+    scene = model._scene({"kind": "steady", "speed_rpm": 1500.0, "duration": 0.6 if quick else 1.2,
+                          "sample_rate": 2000.0, "settle": 0.2, "seed": 1})
+    draws = iter(range(1_000_000))
+
+    def block_of(n: int) -> pd.DataFrame:
+        u = np.random.default_rng(next(draws)).random((n, study.space.dim))
+        return model.resolve(pd.DataFrame(study.space.ppf(u), columns=list(study.space.names)))
+
+    model._evaluate_block(block_of(2), scene)                # kernels loaded outside the timing
+    ref_params = block_of(reference_points)
+    ref_wall, ref_cpu, ref = timed(lambda: Model._evaluate_block(model, ref_params, scene), min_total=0.0, max_repeat=1)
+    fast = model._evaluate_block(ref_params, scene)
+    wall, cpu, out = timed(lambda: model._evaluate_block(block_of(points), scene))
+    diff = float(np.nanmax(np.abs(fast.to_numpy() - ref.to_numpy()) / np.abs(ref.to_numpy())))
+    return {"points": points, "reference_points": reference_points, "block_cpu_s_per_run": cpu / points,
+            "block_wall_s_per_run": wall / points, "per_point_cpu_s_per_run": ref_cpu / reference_points,
+            "per_point_wall_s_per_run": ref_wall / reference_points,
+            "speedup_cpu": (ref_cpu / reference_points) / (cpu / points), "max_rel_difference": diff,
+            "block_points": int(out.attrs["block_points"]), "load_average": list(os.getloadavg())}

@@ -56,6 +56,8 @@ TARGETS = (
     ("paper_c_memory", "paper_c_structural: peak memory, all processes", 1.0, "GiB", False),
     ("runner_overhead", "runner overhead per evaluation (store, scheduling), 2 jobs", 0.10, "rel", False),
     ("rig_study_ratio", "paper_a_subsystem (methods), 2 jobs, empty folder: wall / one reference", 0.10, "x", False),
+    ("rig_block_steady", "rig steady scene: block path per run vs the per-point linear path, same run, CPU", 50.0,
+     "x", True),
     ("geared_study_ratio", "indirect_drive_gsa (methods), 2 jobs, empty folder: wall / one reference", 0.25, "x", False),
 )
 FULL_ONLY = ("rig_study_ratio", "geared_study_ratio")
@@ -322,10 +324,16 @@ def _speed(ref_seconds: float, quick: bool, study: Path | None) -> dict[str, Any
         "loads_600s_bem": (bem_cpu, f"wall {bem_wall:.3f} s; {bem_cpu / loads_cpu:.1f}x the table rotor's CPU"),
         "runner_overhead": (overhead[1]["overhead"], f"1 job: {overhead[0]['overhead']:.1%}"),
     }
+    from ddgsa.bench.rig import block_speed
+
+    block = block_speed(quick=quick)
+    measured["rig_block_steady"] = (block["speedup_cpu"], f"{block['block_cpu_s_per_run'] * 1e3:.1f} ms against "
+                                    f"{block['per_point_cpu_s_per_run'] * 1e3:.1f} ms CPU a run ({block['points']}-point "
+                                    f"blocks); outputs within {block['max_rel_difference']:.1e} of the per-point path")
     out: dict[str, Any] = {
         "machine": f"{platform.machine()}, {os.cpu_count()} cores, {platform.processor() or 'cpu'}",
         "python": platform.python_version(), "quick": quick, "scene": scene.to_dict(), "reference": reference,
-        "fidelities": fidelities, "runner": overhead, "load_average": _load_average()}
+        "fidelities": fidelities, "runner": overhead, "rig_block": block, "load_average": _load_average()}
     if study is not None:
         st = _study(study, quick)
         out["study"] = st

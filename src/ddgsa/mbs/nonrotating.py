@@ -163,7 +163,8 @@ VELOCITY_SCALE = 1.0
 
 
 def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: float = 1e-6,
-              spin_stiffening: bool = False, static: bool = False, compiled: bool = True) -> SpinLinearisation:
+              spin_stiffening: bool = False, static: bool = False, compiled: bool = True,
+              residual_only: bool = False) -> SpinLinearisation:
     """Linearise ``system`` about ``(q0, qd0)`` (steady spin) in non-rotating bending coordinates.
 
     ``spin_stiffening`` adds :func:`spin_stiffness`, the centrifugal stiffness of the rigid inertias'
@@ -179,7 +180,8 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     differences of its packed part straight from the compiled kernel, all steps' states at once, and
     calls its Python elements only where a step moves their markers (:func:`_hybrid_jacobian`: the
     same differences to round-off, 3-4x faster); any other system, or ``compiled=False``, takes them
-    through ``system.terms``.
+    through ``system.terms``. ``residual_only=True`` leaves ``K`` and ``C`` at zero too: the map and
+    ``r0`` only, one evaluation of the terms (a chord iteration with a tangent it already has).
     """
     if system.n_constraints:
         raise ModelError("the non-rotating linearisation takes unconstrained systems only "
@@ -194,7 +196,9 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
                              np.asarray(qd0, float), t0, pairs, xi0)
     zero = np.zeros(n)
 
-    if compiled and isinstance(system.fast_terms, HybridTerms):
+    if residual_only:
+        k, c = np.zeros((n, n)), np.zeros((n, n))
+    elif compiled and isinstance(system.fast_terms, HybridTerms):
         k = _hybrid_jacobian(system.fast_terms, base, 0, POSITION_SCALE, rel_step)
         c = np.zeros((n, n)) if static else _hybrid_jacobian(system.fast_terms, base, 1, VELOCITY_SCALE, rel_step)
     else:
@@ -213,7 +217,7 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     return SpinLinearisation(m, c, k, proj.T @ (tm.q - tm.m @ qdd), base.q0, base.qd0, t0, pairs, xi0)
 
 
-def _spin_map(lin: SpinLinearisation, z: Array, zd: Array) -> tuple[Array, ...]:
+def spin_map(lin: SpinLinearisation, z: Array, zd: Array) -> tuple[Array, ...]:
     """:meth:`SpinLinearisation.state` at ``t0`` with ``zdd = 0`` for a batch of perturbations ``z``, ``zd``
     (m, n) at once: ``(q, qd, qdd)`` (m, n) and ``T(z)``'s pair entries, per pair ``cos phi``, ``sin phi``
     (m, n_pairs) of ``R(-phi) = [[c, s], [-s, c]]`` and the spin column ``-J R(-phi) xi = (r_z, -r_y)``
@@ -239,7 +243,7 @@ def _spin_map(lin: SpinLinearisation, z: Array, zd: Array) -> tuple[Array, ...]:
 
 
 def _project(lin: SpinLinearisation, cos: Array, sin: Array, spin_col: Array, v: Array) -> Array:
-    """``T^T v`` (m, n) for a batch of ``v`` (m, n) with ``T`` given by :func:`_spin_map`'s pair entries."""
+    """``T^T v`` (m, n) for a batch of ``v`` (m, n) with ``T`` given by :func:`spin_map`'s pair entries."""
     out = v.copy()
     for k, (iy, iz, isp) in enumerate(lin.pairs):
         c, s = cos[:, k], sin[:, k]
@@ -253,7 +257,7 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
                      rel_step: float) -> Array:
     """Central differences (:func:`~ddgsa.mbs.derivatives.central_difference`, step ``rel_step * scale``) of
     the projected residual over ``z`` (``which`` 0) or ``z'`` (1) at zero, as of :func:`_residual`:
-    the steps' states at once (:func:`_spin_map`), the packed part by the compiled kernel, each Python
+    the steps' states at once (:func:`spin_map`), the packed part by the compiled kernel, each Python
     element (:attr:`HybridTerms.python`) once at the operating state and again for the steps of its
     markers' bodies' coordinates only (a step of another body's coordinate, turned within that body,
     leaves its markers and so its force as they were)."""
@@ -262,14 +266,14 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
     arrays = terms.packed.arrays
     t0 = float(lin.t0)
     zero = np.zeros((1, n))
-    q, qd = (x[0] for x in _spin_map(lin, zero, zero)[:2])
+    q, qd = (x[0] for x in spin_map(lin, zero, zero)[:2])
     *base, lohi = _markers(q, qd, t0, arrays)
     span = {r: range(lohi[r, 0], lohi[r, 1]) for r in rows}         # the coordinates that move marker r
 
     def batch(steps: Array) -> Array:
         """The projected residual at each stepped row (row ``j`` steps coordinate ``j % n``)."""
         nil = np.zeros_like(steps)
-        q, qd, qdd, cos, sin, spin_col = _spin_map(lin, *((steps, nil) if which == 0 else (nil, steps)))
+        q, qd, qdd, cos, sin, spin_col = spin_map(lin, *((steps, nil) if which == 0 else (nil, steps)))
         res = np.zeros((2 * n, n))
         moved: dict[int, list] = {}
         for j in range(2 * n):
@@ -296,8 +300,9 @@ def _element_force(el: Element, t: float, states: list[MarkerState]) -> Array:
     return np.vstack([s.jac for s in states]).T @ w.ravel()
 
 
-def _inputs(system: System, lin: SpinLinearisation, times: Array, elements: Sequence[Element]) -> Array:
-    """``T(t)^T (Q_sel(t) - Q_sel(t0))`` of the listed elements along the operating trajectory (n_t, n)."""
+def projected_inputs(system: System, lin: SpinLinearisation, times: Array, elements: Sequence[Element]) -> Array:
+    """``T(t)^T (Q_sel(t) - Q_sel(t0))`` of the listed elements along the operating trajectory (n_t, n): the
+    inputs of the linearisation (its ``r0`` holds them at ``t0``)."""
     times = np.concatenate([[lin.t0], np.asarray(times, dtype=float)])
     zero = np.zeros((times.size, lin.q0.size))
     q, qd = full_states(lin, times, zero, zero)
@@ -327,7 +332,7 @@ def simulate(system: System, lin: SpinLinearisation, t_end: float, dt: float, el
     k = max(8, int(np.ceil(period / dt)))
     h = period / k
     tp = lin.t0 + h * np.arange(k + 1)
-    xt = lti_response(a, bw, np.column_stack([_inputs(system, lin, tp, elements), np.ones(k + 1)]), h,
+    xt = lti_response(a, bw, np.column_stack([projected_inputs(system, lin, tp, elements), np.ones(k + 1)]), h,
                       np.zeros(2 * n))[-1]
     # rigid directions of the positions (null space of K: the common spin angle) drift freely; the
     # rest of the state repeats after one period
@@ -338,7 +343,7 @@ def simulate(system: System, lin: SpinLinearisation, t_end: float, dt: float, el
     x0 = e @ y
     n_out = int(round((t_end - lin.t0) / dt)) + 1
     times = lin.t0 + dt * np.arange(n_out)
-    x = lti_response(a, bw, np.column_stack([_inputs(system, lin, times, elements), np.ones(n_out)]), dt, x0)
+    x = lti_response(a, bw, np.column_stack([projected_inputs(system, lin, times, elements), np.ones(n_out)]), dt, x0)
     return (times, *full_states(lin, times, x[:, :n], x[:, n:]))
 
 
@@ -354,29 +359,113 @@ def periodic(system: System, lin: SpinLinearisation, t_end: float, dt: float, el
     the same record for such inputs (the check of this path), at the cost of the whole record's
     inputs and two matrix exponentials. Inputs that do not repeat with ``period`` (a defect
     impulse train at a non-integer order, a supply ripple at twice the line frequency) need
-    :func:`simulate`.
+    :func:`simulate`. The solve and the sum are those of a block of points (:func:`harmonic_response`,
+    :func:`synthesis`) for one point.
 
     Returns ``(t, q, qd)`` of the full system.
     """
     if samples < 8 or samples % 2:
         raise ModelError(f"periodic response: samples must be an even number >= 8, got {samples}")
     tp = lin.t0 + period * np.arange(samples) / samples
-    f_hat = np.fft.rfft(_inputs(system, lin, tp, elements) + lin.r0, axis=0) / samples      # (samples/2 + 1, n)
     w = 2 * np.pi / period
-    harmonics = np.arange(1, samples // 2)                  # the Nyquist term is left out (band limit)
-    z0 = np.linalg.lstsq(lin.k, f_hat[0].real, rcond=RIGID_RCOND)[0]
-    z_hat = np.array([np.linalg.solve(lin.k - (j * w) ** 2 * lin.m + 1j * j * w * lin.c, f_hat[j])
-                      for j in harmonics])                  # (J, n)
+    f_hat = input_harmonics(projected_inputs(system, lin, tp, elements) + lin.r0)
+    z0, z_hat = harmonic_response(lin.m[None], lin.c[None], lin.k[None], f_hat[None], w)
     n_out = int(round((t_end - lin.t0) / dt)) + 1
     times = lin.t0 + dt * np.arange(n_out)
-    # sum of the harmonics in real arithmetic, positions and rates in one product:
-    # 2 Re(e^{i j W t} Z) = 2 (cos Re Z - sin Im Z), the rates' amplitudes i j W Z
-    phase = np.outer(times - lin.t0, harmonics * w)                                  # (n_t, J)
+    z, zd = synthesis(times - lin.t0, w, z_hat)
+    return (times, *full_states(lin, times, z0[0] + z[0], zd[0]))
+
+
+def input_harmonics(forces: Array) -> Array:
+    """Complex harmonics ``F_j`` (..., samples/2, n) of inputs ``forces`` (..., samples, n) sampled at
+    ``samples`` equal steps of one period (``F(t) = F_0 + 2 Re sum_j F_j e^{i j W t}``); the Nyquist
+    term is left out (band limit)."""
+    samples = forces.shape[-2]
+    return (np.fft.rfft(forces, axis=-2) / samples)[..., : samples // 2, :]
+
+
+def harmonic_response(m: Array, c: Array, k: Array, f_hat: Array, w: float) -> tuple[Array, NDArray[np.complex128]]:
+    """The periodic steady state of a block of ``P`` linear systems, harmonic by harmonic.
+
+    ``(K - (j W)^2 M + i j W C) Z_j = F_j`` for every point and harmonic ``j >= 1`` in one stacked
+    solve (``np.linalg.solve`` over (P, J) matrices), the static part ``K Z_0 = F_0`` by least
+    squares per point (the rigid spin direction carries no steady displacement).
+
+    Parameters
+    ----------
+    m, c, k : (P, n, n)
+        Mass [kg, kg m^2], damping [N s/m] and stiffness [N/m] matrices of each point (any consistent units).
+    f_hat : (P, J + 1, n) complex
+        Harmonics of the inputs (:func:`input_harmonics`), ``f_hat[:, 0]`` the static part.
+    w : float
+        The fundamental ``W`` [rad/s].
+
+    Returns
+    -------
+    z0 : (P, n)
+        Static parts.
+    z_hat : (P, J, n) complex
+        Harmonics ``Z_j``, ``j = 1..J``.
+    """
+    j = np.arange(1, f_hat.shape[1])[None, :, None, None] * w
+    dynamic = k[:, None] - j**2 * m[:, None] + 1j * j * c[:, None]
+    z_hat = np.linalg.solve(dynamic, f_hat[:, 1:, :, None])[..., 0]
+    z0 = np.array([np.linalg.lstsq(kp, fp.real, rcond=RIGID_RCOND)[0] for kp, fp in zip(k, f_hat[:, 0])])
+    return z0, z_hat
+
+
+def synthesis(times: Array, w: float, z_hat: NDArray[np.complex128]) -> tuple[Array, Array]:
+    """The periodic parts ``z = 2 Re sum_j Z_j e^{i j W t}`` and their rates at ``times`` [s] (from the
+    phase origin) of harmonics ``z_hat`` (..., J, n): ``(z, zd)`` each (..., n_t, n).
+
+    In real arithmetic, positions and rates in one product: ``2 Re(e^{i j W t} Z) = 2 (cos Re Z - sin Im Z)``,
+    the rates' amplitudes ``i j W Z``."""
+    harmonics = np.arange(1, z_hat.shape[-2] + 1)
     jw = (harmonics * w)[:, None]
-    amp = np.block([[z_hat.real, -jw * z_hat.imag], [-z_hat.imag, -jw * z_hat.real]])    # (2J, 2n)
-    both = 2 * (np.hstack([np.cos(phase), np.sin(phase)]) @ amp)
-    n = z_hat.shape[1]
-    return (times, *full_states(lin, times, z0 + both[:, :n], both[:, n:]))
+    phase = np.outer(times, harmonics * w)                                            # (n_t, J)
+    basis = np.hstack([np.cos(phase), np.sin(phase)])                                 # (n_t, 2J)
+    amp = np.concatenate([np.concatenate([z_hat.real, -jw * z_hat.imag], axis=-1),
+                          np.concatenate([-z_hat.imag, -jw * z_hat.real], axis=-1)], axis=-2)   # (..., 2J, 2n)
+    both = 2 * (basis @ amp)
+    n = z_hat.shape[-1]
+    return both[..., :n], both[..., n:]
+
+
+GROWTH = 0.01
+"""Largest growth over the record, ``exp(Re(lambda) horizon) - 1`` [-], of a mode of a linearisation that
+counts as stable: the rigid spin direction's zero eigenvalue comes out of the finite differences as a few
+1e-5 1/s either side (the test rig), which no record sees."""
+ON_MODE = 1e-6
+"""Smallest relative distance ``|lambda - i j W| / (j W)`` of an eigenvalue from a harmonic the block
+accepts: closer, the order lies on an undamped mode and its response is not finite."""
+
+
+def harmonic_validity(m: Array, c: Array, k: Array, w: float, harmonics: int, horizon: float) -> list[str | None]:
+    """Why the periodic response of each of a block of ``P`` linearisations (``m, c, k`` (P, n, n)) does not
+    hold, or None where it does: an unstable linearisation (a mode of the first-order system that grows by
+    more than :data:`GROWTH` over ``horizon`` [s], the record), or a harmonic ``j W`` (``j = 1..harmonics``,
+    ``w`` [rad/s]) on an undamped mode (:data:`ON_MODE`). One stacked eigenvalue call for the block."""
+    p, n = m.shape[0], m.shape[1]
+    minv_k = np.linalg.solve(m, k)
+    minv_c = np.linalg.solve(m, c)
+    a = np.zeros((p, 2 * n, 2 * n))
+    a[:, :n, n:] = np.eye(n)
+    a[:, n:, :n], a[:, n:, n:] = -minv_k, -minv_c
+    lam = np.linalg.eigvals(a)                                                        # (P, 2n)
+    out: list[str | None] = []
+    for row in lam:
+        worst = row[np.argmax(row.real)]
+        if worst.real * horizon > np.log1p(GROWTH):
+            out.append(f"unstable linearisation: eigenvalue {worst.real:.4g} {worst.imag:+.4g}i 1/s grows by "
+                       f"more than {GROWTH:.0%} over the {horizon:g} s record")
+            continue
+        jw = w * np.arange(1, harmonics + 1)
+        gap = np.abs(row[None, :] - 1j * jw[:, None]) / jw[:, None]
+        j, e = np.unravel_index(np.argmin(gap), gap.shape)
+        out.append(None if gap[j, e] > ON_MODE else
+                   f"order {j + 1} on an undamped mode at {abs(row[e].imag) / (2 * np.pi):.6g} Hz "
+                   f"(damping {-row[e].real:.3g} 1/s): no finite periodic response")
+    return out
 
 
 def full_states(lin: SpinLinearisation, times: Array, z: Array, zd: Array) -> tuple[Array, Array]:

@@ -407,8 +407,22 @@ class Model(ABC):
         gets NaN outputs and its reason in ``result.attrs["failures"]`` ({row: reason}); it is
         never imputed. With ``signals`` (names of :attr:`signal_outputs`), ``result.attrs["signals"]``
         maps each to an array (n_points, n_bins) on :meth:`signal_axis` (NaN rows where a point failed).
+        The points are resolved (:meth:`resolve`) and handed to :meth:`_evaluate_block` as one block.
         """
-        params = self.resolve(points)
+        out = self._evaluate_block(self.resolve(points), scene, tuple(signals))
+        for msg in self.implausible(out):
+            warnings.warn(msg, ImplausibleOutputWarning, stacklevel=2)
+        return out
+
+    def _evaluate_block(self, params: pd.DataFrame, scene: Any, signals: tuple[str, ...] = ()) -> pd.DataFrame:
+        """Outputs of a block of resolved points ``params`` (one row per point, every declared
+        parameter a column, SI) in ``scene``: the block contract of :meth:`evaluate`.
+
+        Returns one row per point (in order) and one column per output, ``attrs["failures"]``
+        ({row: reason}, NaN outputs in that row) and, with ``signals``, ``attrs["signals"]`` ({name:
+        (n_points, n_bins)}). The default loops over the points (:meth:`_evaluate_one`,
+        :meth:`_evaluate_signals_one`); a model that computes a block at once overrides it.
+        """
         rows, failures = [], {}
         vectors: dict[str, list[NDArray[np.float64]]] = {s: [] for s in signals}
         axes = {s: self.signal_axis(s, scene) for s in signals}
@@ -431,8 +445,6 @@ class Model(ABC):
         out.attrs["failures"] = failures
         if signals:
             out.attrs["signals"] = {s: np.vstack(v) if v else np.zeros((0, len(axes[s]))) for s, v in vectors.items()}
-        for msg in self.implausible(out):
-            warnings.warn(msg, ImplausibleOutputWarning, stacklevel=2)
         return out
 
     @abstractmethod

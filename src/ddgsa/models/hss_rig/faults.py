@@ -69,7 +69,8 @@ def coupling_stretch(rig: Rig, q: Array, coupling: MisalignedCoupling | None = N
     return coupling._deflection(states)[0]
 
 
-def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol: float = 1e-4) -> Array:
+def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol: float = 1e-4,
+                      tangent: Array | None = None) -> Array:
     """The coupling's static stretch ``s_0`` (6,) at the spinning rig's operating point.
 
     Newton's method on the steady spinning rig from ``(q0, qd0)`` (the rig at rest's sag): each
@@ -79,11 +80,17 @@ def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol
     of its start with the finite-difference tangent). One step is not enough: the transmitted
     torque twists the coupling across the stretch (at the nominal values the first step's
     angular stretch is off by its whole size; from the second step on the stretch agrees with the
-    mean of a nonlinear ``kloss`` run to 0.5 %)."""
+    mean of a nonlinear ``kloss`` run to 0.5 %).
+
+    With ``tangent`` (n, n) given (a stiffness of the same rig the caller has, e.g. of its full
+    linearisation) the steps keep it (a chord method): one evaluation of the residual a step
+    instead of a linearisation, more steps (``iterations`` is then at least 30) to the same point.
+    """
     q, last = q0, None
-    for _ in range(iterations):
-        lin = nonrotating.linearise(rig.system, q, qd0, static=True)
-        z0 = np.linalg.lstsq(lin.k, lin.r0, rcond=nonrotating.RIGID_RCOND)[0]
+    steps = iterations if tangent is None else max(iterations, 30)
+    for _ in range(steps):
+        lin = nonrotating.linearise(rig.system, q, qd0, static=True, residual_only=tangent is not None)
+        z0 = np.linalg.lstsq(lin.k if tangent is None else tangent, lin.r0, rcond=nonrotating.RIGID_RCOND)[0]
         zero = np.zeros_like(z0)
         q = lin.state(z0, zero, zero, lin.t0)[0]
         stretch = coupling_stretch(rig, q)
@@ -91,7 +98,7 @@ def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol
             return stretch
         last = stretch
     raise ModelError(f"model 'hss_rig': the coupling's static stretch at the operating point did not settle in "
-                     f"{iterations} Newton steps (last change {np.linalg.norm(stretch - last):.3g} of "
+                     f"{steps} Newton steps (last change {np.linalg.norm(stretch - last):.3g} of "
                      f"{np.linalg.norm(stretch):.3g})")
 
 

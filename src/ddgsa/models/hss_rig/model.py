@@ -79,7 +79,7 @@ from ddgsa.mbs.bodies import MAX_BENDING_MODES
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.mbs.sampling import AliasingWarning
 from ddgsa.models.base import Model, ModelOption, ModelOutput, SignalOutput, register_model
-from ddgsa.models.hss_rig import transient
+from ddgsa.models.hss_rig import steady_block, transient
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligned, operating_stretch
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_along, kloss_parts,
@@ -341,7 +341,7 @@ class HssRig(Model):
         Spin rates and flux states are the rig's own (:meth:`build`); the sag is solved on the
         linearised rig standing still, so a run starts without a gravity transient.
         """
-        sag = _sag(tuple(sorted({**p, **_NO_TURNING_LOADS}.items())), rig.basis)
+        sag = _sag(still_key(p), rig.basis)
         q0 = rig.system.q0.copy()
         q0[: sag.size] += sag
         return q0, rig.system.qd0.copy()
@@ -419,6 +419,27 @@ class HssRig(Model):
         sc = self._scene(scene)
         self.sampling_checks(sc)                             # refuses an aliased record before running
         return super().evaluate(points, sc, signals)
+
+    def _evaluate_block(self, params: pd.DataFrame, scene: Any, signals: tuple[str, ...] = ()) -> pd.DataFrame:
+        """The block's outputs: the ``linear`` fidelity's steady points whose inputs repeat once per
+        revolution at once (:mod:`ddgsa.models.hss_rig.steady_block`), the others one by one
+        (:meth:`Model._evaluate_block`); ``attrs["block_points"]`` counts the first."""
+        sc = self._scene(scene)
+        block = steady_block.holds(self, params, sc, signals)
+        if not block.any():
+            out = super()._evaluate_block(params, sc, signals)
+        else:
+            out = steady_block.steady_block(self, params[block].reset_index(drop=True), sc)
+            if not block.all():
+                rest = super()._evaluate_block(params[~block].reset_index(drop=True), sc, signals)
+                rows = np.concatenate([np.flatnonzero(block), np.flatnonzero(~block)])
+                failures = {int(rows[i]): why for i, why in out.attrs["failures"].items()}
+                failures.update({int(rows[block.sum() + i]): why for i, why in rest.attrs["failures"].items()})
+                out = pd.concat([out, rest], ignore_index=True).iloc[np.argsort(rows, kind="stable")]
+                out = out.reset_index(drop=True)
+                out.attrs["failures"] = dict(sorted(failures.items()))
+        out.attrs["block_points"] = int(block.sum())
+        return out
 
     def signal_axis(self, name: str, scene: Any) -> np.ndarray:
         """Shaft speeds [rpm] of the 1x order tracks: :data:`TRACK_FRACTIONS` of the synchronous speed;
@@ -559,11 +580,18 @@ _NO_TURNING_LOADS = {"eccentric_mass": 0.0, "supply_unbalance": 0.0}
 """Parameters that put no force on the rig at rest: the sag is the same without them (cached once)."""
 
 
-@functools.lru_cache(maxsize=8)
 def _sag(items: tuple[tuple[str, float], ...], basis: ShaftBasis) -> np.ndarray:
     """Static gravity sag (n_still,) of the rig at rest, motor and load off, for parameters ``items``
-    (the sorted parameter items; kept for the few calls of one run: an assembly, its steady stretch,
-    its start)."""
+    (the sorted parameter items): :func:`still_rig`'s first part."""
+    return still_rig(items, basis)[0]
+
+
+@functools.lru_cache(maxsize=8)
+def still_rig(items: tuple[tuple[str, float], ...], basis: ShaftBasis) -> tuple[np.ndarray, np.ndarray]:
+    """Static gravity sag (n_still,) of the rig at rest, motor and load off, for parameters ``items``
+    (the sorted parameter items), and the stiffness (n, n) it was solved with (kept for the few calls of
+    one run: an assembly, its steady stretch, its start; the block path's chord iteration takes the
+    stiffness as its tangent)."""
     still = build(dict(items), lambda marker: ([], []), spin=0.0, basis=basis)
     # the rig's parts are all compiled (the unbalance and the load law since issue 24); a Python element
     # added to it would be checked here: one that puts no force on the rig at rest for any position
@@ -574,7 +602,14 @@ def _sag(items: tuple[tuple[str, float], ...], basis: ShaftBasis) -> np.ndarray:
     lin = linearise_system(system, compiled=hybrid.packed if idle else False, static=True)
     sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
     sag.flags.writeable = False
-    return sag
+    k = lin.basis @ lin.k @ lin.basis.T
+    k.flags.writeable = False
+    return sag, k
+
+
+def still_key(p: Mapping[str, float]) -> tuple[tuple[str, float], ...]:
+    """The key of :func:`still_rig` for parameters ``p``: their sorted items without the turning loads."""
+    return tuple(sorted({**p, **_NO_TURNING_LOADS}.items()))
 
 
 def _defect_loads(p: Mapping[str, float], scene: RigScene, spin: float):
@@ -629,35 +664,48 @@ def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str,
     t_all = series.index.to_numpy()
     keep = t_all >= (scene.settle if scene.kind == "steady" else 0.0) - 1e-12
     s = series.loc[keep]
-    t = s.index.to_numpy()
-    angle = s["angle"].to_numpy()
-    out: dict[str, float] = {}
+    xs = np.column_stack([s[name].to_numpy() for name in SENSORS])[:, None, :]
     f_r = float(np.mean(s["speed"])) / (2 * math.pi)
+    return record_objectives(s.index.to_numpy(), xs, s["angle"].to_numpy(), f_r, scene, drive)[0]
+
+
+def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: float, scene: RigScene,
+                      drive: Drive) -> list[dict[str, float]]:
+    """The outputs of ``P`` analysed records that share their times ``t`` [s] (n_t,), shaft ``angle``
+    [rad] (n_t,), shaft speed ``f_r`` [Hz] and motor: ``xs`` (n_t, P, len(SENSORS)) the sensors in
+    :data:`SENSORS` order. Every signal operation runs once on all the records' columns (one record:
+    :func:`objectives`; a block of points: :mod:`ddgsa.models.hss_rig.steady_block`)."""
+    n_t, n_rec, n_s = xs.shape
+    flat = xs.reshape(n_t, n_rec * n_s)
     smooth = _anti_alias(t, f_r) if scene.kind == "steady" else (lambda x: x)
     bpfo, bpfi = float(BEARING_GEOMETRY.bpfo()), float(BEARING_GEOMETRY.bpfi())
-    xs = np.column_stack([s[name].to_numpy() for name in SENSORS])
-    phi, ys = resample_to_angle(t, smooth(xs), angle, SAMPLES_PER_REV)     # once: orders and bands
-    amps = angle_amplitudes(phi, ys, [1.0, 2.0])
+    phi, ys = resample_to_angle(t, smooth(flat), angle, SAMPLES_PER_REV)     # once: orders and bands
+    amps = angle_amplitudes(phi, ys, [1.0, 2.0]).reshape(2, n_rec, n_s)
     revs = phi / (2 * math.pi)
-    acc = slice(0, len(ACCELEROMETERS))                # the accelerometers lead SENSORS
-    env = dict(zip(ACCELEROMETERS, _envelope_bpfo(t, xs[:, acc], angle)))
-    bands = dict(zip(ACCELEROMETERS, band_energies(revs, ys[:, acc], [bpfo, bpfi], 0.25, harmonics=3).T))
-    for j, name in enumerate(SENSORS):
-        dev = xs[:, j] - xs[:, j].mean()
-        out[f"rms_{name}"] = float(np.sqrt(np.mean(dev**2)))
-        out[f"peak_{name}"] = float(np.max(np.abs(dev)))
-        out[f"order1x_{name}"], out[f"order2x_{name}"] = float(amps[0, j]), float(amps[1, j])
-        if name in ACCELEROMETERS:
-            out[f"bpfo_{name}"], out[f"bpfi_{name}"] = map(float, bands[name])
-            out[f"envbpfo_{name}"] = float(env[name])
+    acc = (np.arange(n_rec)[:, None] * n_s + np.arange(len(ACCELEROMETERS))).ravel()   # the accelerometers lead SENSORS
+    env = _envelope_bpfo(t, flat[:, acc], angle).reshape(n_rec, len(ACCELEROMETERS))
+    bands = band_energies(revs, ys[:, acc], [bpfo, bpfi], 0.25, harmonics=3).reshape(2, n_rec, len(ACCELEROMETERS))
+    dev = xs - xs.mean(axis=0)
+    rms, peak = np.sqrt(np.mean(dev**2, axis=0)), np.max(np.abs(dev), axis=0)
     f = drive.motor.supply_frequency
     slip = 1.0 - f_r * drive.motor.pole_pairs / f
-    out["torque_2f"] = float(harmonic_amplitudes(t, s["motor_torque"].to_numpy(), [2 * f])[0])
-    cur = s["motor_current"].to_numpy()
-    amps = harmonic_amplitudes(t, cur, [f, f - f_r, f + f_r])
-    out["current_line"] = float(amps[0])
-    out["current_sideband_1x"] = float(0.5 * (amps[1] + amps[2]))
-    lo, hi = f * (1 - 2 * slip), f * (1 + 2 * slip)
-    out["current_sideband_2s"] = float(np.mean(harmonic_amplitudes(t, cur, [f, lo, hi])[1:]))
-    out["mean_speed_rpm"] = f_r * 60.0
-    return out
+    torque, cur = xs[:, :, SENSORS.index("motor_torque")], xs[:, :, SENSORS.index("motor_current")]
+    torque_2f = harmonic_amplitudes(t, torque, [2 * f])[0]
+    lines = harmonic_amplitudes(t, cur, [f, f - f_r, f + f_r])
+    slips = harmonic_amplitudes(t, cur, [f, f * (1 - 2 * slip), f * (1 + 2 * slip)])[1:]
+    outs = []
+    for r in range(n_rec):
+        out: dict[str, float] = {}
+        for j, name in enumerate(SENSORS):
+            out[f"rms_{name}"], out[f"peak_{name}"] = float(rms[r, j]), float(peak[r, j])
+            out[f"order1x_{name}"], out[f"order2x_{name}"] = float(amps[0, r, j]), float(amps[1, r, j])
+            if j < len(ACCELEROMETERS):
+                out[f"bpfo_{name}"], out[f"bpfi_{name}"] = float(bands[0, r, j]), float(bands[1, r, j])
+                out[f"envbpfo_{name}"] = float(env[r, j])
+        out["torque_2f"] = float(torque_2f[r])
+        out["current_line"] = float(lines[0, r])
+        out["current_sideband_1x"] = float(0.5 * (lines[1, r] + lines[2, r]))
+        out["current_sideband_2s"] = float(np.mean(slips[:, r]))
+        out["mean_speed_rpm"] = f_r * 60.0
+        outs.append(out)
+    return outs

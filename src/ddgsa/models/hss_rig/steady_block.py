@@ -1,0 +1,192 @@
+"""The linear fidelity's steady scene for a block of points at once (issue 46).
+
+Per point the kernel does what only it can, on the same system as the per-point path: the coupling's
+static stretch by a chord iteration whose tangent is the stiffness the gravity sag was solved with
+(:func:`~ddgsa.models.hss_rig.faults.operating_stretch` with ``tangent``, :func:`~ddgsa.models.hss_rig.model.still_rig`:
+one residual a step instead of a linearisation a step), the rig with the coupling's 2x load built
+(:func:`~ddgsa.models.hss_rig.rig.build`) and linearised once in non-rotating coordinates about its sag
+(:func:`ddgsa.mbs.nonrotating.linearise`; about the undeformed rig the unbalance would put no 1x torque on
+the shaft, whose sagged disk it turns about), the inputs of one revolution (unbalance, motor, the
+coupling's load) taken at :data:`FORCE_SAMPLES` angles, and the disk probe mapped linearly onto the
+coordinates. Then the
+block goes together: one stability and on-mode check (:func:`ddgsa.mbs.nonrotating.harmonic_validity`),
+one stacked harmonic solve (:func:`ddgsa.mbs.nonrotating.harmonic_response`), the sensors' records
+synthesised from their harmonics (:func:`ddgsa.mbs.nonrotating.synthesis`), and the outputs of all
+records by one run of each signal operation (:func:`~ddgsa.models.hss_rig.model.record_objectives`).
+
+It holds where :meth:`HssRig._linear_run` solves in the frequency domain: the ``linear`` fidelity, a
+steady scene, no supply unbalance and no defect (every input repeats once per revolution), no
+measurement noise. The records of a block share their shaft angle: the rigid spin ``spin t`` (the
+torsional vibration's angle modulation, below 1e-5 rad, is left out of the angle resampling). A point
+whose linearisation is unstable, whose orders lie on an undamped mode, or whose coupling vibrates at 2x
+beyond :data:`~ddgsa.models.hss_rig.faults.MAX_VIBRATION_RATIO` of its stretch is a failure with that
+reason; the per-point path (:meth:`HssRig._evaluate_one`) is the check of the rest
+(``tests/models/test_hss_rig_block.py``: every output within 1 % on 64 points of each paper A study).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from ddgsa.mbs import nonrotating
+from ddgsa.mbs.derivatives import central_difference
+from ddgsa.models.hss_rig.drive import Drive, drive_for, kloss_along, kloss_parts, steady_speed
+from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, operating_stretch
+from ddgsa.models.hss_rig.parameters import RATED_SPEED
+from ddgsa.models.hss_rig.rig import Rig, build
+from ddgsa.models.hss_rig.scenes import RigScene
+
+if TYPE_CHECKING:
+    from ddgsa.models.hss_rig.model import HssRig
+
+Array = NDArray[np.float64]
+
+FORCE_SAMPLES = 64
+"""Samples of one revolution the block's inputs are taken at, as the per-point path
+(:func:`ddgsa.mbs.nonrotating.periodic`): harmonics up to 31. The inputs are 1x and 2x but for small higher
+harmonics (the turning loads projected through the sagged shaft, the coupling load's interpolated table);
+with 16 samples the bearing-band outputs, numerically zero (1e-12 to 1e-8), lost them and moved by up to 100 %."""
+CHECK_SAMPLES = 16
+"""Samples of one revolution the coupling's 2x check (:func:`~ddgsa.models.hss_rig.faults.check_small`)
+reads: its fit of the mean, 1x, 2x and 3x is exact on them for a periodic response."""
+_COORDS = ("housing_1.y", "housing_1.z", "housing_2.y", "housing_2.z", "motor.rx", "hss.rx")
+"""Coordinates the sensors read directly (rates: accelerometers, motor speed; angle and speed of the shaft)."""
+_VARYING = ("unbalance", "motor", "anisotropy_hub", "anisotropy_shaft")
+"""The rig's elements whose inputs turn with the shaft in a steady scene (the per-point path's, less the defect)."""
+
+
+def holds(model: "HssRig", params: pd.DataFrame, scene: RigScene, signals: tuple[str, ...]) -> NDArray[np.bool_]:
+    """Which rows of the resolved ``params`` the block path takes (see the module)."""
+    if model.fidelity != "linear" or scene.kind != "steady" or signals or model.noise:
+        return np.zeros(len(params), dtype=bool)
+    return ((params["supply_unbalance"] == 0.0) & (params["defect_amplitude"] == 0.0)).to_numpy()
+
+
+@dataclass
+class _Point:
+    """One point's linear rig: its matrices, input harmonics and the sensors' map onto its coordinates."""
+
+    raw: dict[str, float]
+    rig: Rig
+    drive: Drive
+    spin: float
+    lin: nonrotating.SpinLinearisation
+    f_hat: NDArray[np.complex128]
+    sensors: Array
+    """(8, n): rows ``_COORDS`` (unit rows) and the disk's y and z [m per coordinate unit]."""
+    disk0: Array
+    """(2,) the disk centre's y and z [m] on the operating trajectory (z = 0)."""
+
+
+def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Point:
+    """The kernel's part of one point (see the module)."""
+    from ddgsa.models.hss_rig.model import POLE_PAIRS, still_key, still_rig
+
+    drive = drive_for(raw, scene, POLE_PAIRS)
+    spin = steady_speed(drive, raw["load_torque"], raw["load_speed_exponent"], RATED_SPEED)
+    eff = model.effective(raw)
+    extra = None
+    if raw["coupling_asymmetry"] > 0.0:
+        steady = {**eff, "eccentric_mass": 0.0, "supply_unbalance": 0.0}
+        plain = build(steady, kloss_parts(drive), spin=spin, basis=model.basis)
+        tangent = still_rig(still_key(steady), model.basis)[1]
+        stretch = operating_stretch(plain, *model.initial_state(plain, steady), tangent=tangent)
+        extra = anisotropy_loads(raw, stretch, spin, scene.duration, 1.0 / scene.sample_rate)
+    rig = build(eff, kloss_parts(drive), spin=spin, extra=extra, basis=model.basis)
+    system = rig.system
+    lin = nonrotating.linearise(system, *model.initial_state(rig, eff))
+    period = 2 * math.pi / spin
+    tp = lin.t0 + period * np.arange(FORCE_SAMPLES) / FORCE_SAMPLES
+    varying = [e for e in system.elements if e.name in _VARYING]
+    f_hat = nonrotating.input_harmonics(nonrotating.projected_inputs(system, lin, tp, varying) + lin.r0)
+    disk = rig.markers["disk"]
+
+    def positions(z: Array) -> Array:
+        q = nonrotating.spin_map(lin, z, np.zeros_like(z))[0]
+        return system.positions(disk, q, np.zeros_like(q), np.full(len(q), lin.t0))[:, 1:]
+
+    n = system.n
+    rows = np.zeros((len(_COORDS), n))
+    rows[np.arange(len(_COORDS)), [system.index(c) for c in _COORDS]] = 1.0
+    slope = central_difference(positions, np.zeros(n), nonrotating.POSITION_SCALE)
+    return _Point(raw, rig, drive, spin, lin, f_hat, np.vstack([rows, slope]), positions(np.zeros((1, n)))[0])
+
+
+def steady_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.DataFrame:
+    """Outputs of the rows of ``params`` (resolved, all :func:`holds`) in a steady ``scene``; failures with their
+    reasons in ``attrs["failures"]`` (see the module)."""
+    failures: dict[int, str] = {}
+    points: dict[int, _Point] = {}
+    for i, raw in enumerate(params.to_dict("records")):
+        try:
+            points[i] = _linearised(model, raw, scene)
+        except (ArithmeticError, RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
+            failures[i] = f"{type(exc).__name__}: {exc}"
+    outputs: dict[int, dict[str, float]] = {}
+    by_spin: dict[float, list[int]] = {}
+    for i, pt in points.items():
+        by_spin.setdefault(pt.spin, []).append(i)
+    for spin, idx in by_spin.items():
+        done, bad = _solve_group(model, [points[i] for i in idx], scene, spin)
+        outputs.update({idx[j]: out for j, out in done.items()})
+        failures.update({idx[j]: why for j, why in bad.items()})
+    names = [str(o) for o in model.outputs]
+    nan = {o: math.nan for o in names}
+    out = pd.DataFrame([outputs.get(i, nan) for i in range(len(params))], columns=names)
+    out.attrs["failures"] = failures
+    return out
+
+
+def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
+                 spin: float) -> tuple[dict[int, dict[str, float]], dict[int, str]]:
+    """Outputs (by position in ``pts``) and failures of points sharing their ``spin`` [rad/s]."""
+    from ddgsa.models.hss_rig.model import SENSORS, record_objectives
+
+    m, c, k = (np.stack([getattr(pt.lin, a) for pt in pts]) for a in ("m", "c", "k"))
+    f_hat = np.stack([pt.f_hat for pt in pts])
+    why = nonrotating.harmonic_validity(m, c, k, spin, f_hat.shape[1] - 1, scene.duration)
+    z0, z_hat = nonrotating.harmonic_response(m, c, k, f_hat, spin)
+    bad: dict[int, str] = {}
+    period = 2 * math.pi / spin
+    t_check = period * np.arange(CHECK_SAMPLES) / CHECK_SAMPLES
+    for j, pt in enumerate(pts):
+        if why[j] is None and pt.raw["coupling_asymmetry"] > 0.0:
+            z, zd = nonrotating.synthesis(t_check, spin, z_hat[j])
+            q = nonrotating.full_states(pt.lin, pt.lin.t0 + t_check, z0[j] + z, zd)[0]
+            try:
+                check_small(pt.rig, q, pt.lin.t0 + t_check, spin)
+            except ValueError as exc:
+                why[j] = f"{type(exc).__name__}: {exc}"
+        if why[j] is not None:
+            bad[j] = why[j]
+    ok = [j for j in range(len(pts)) if j not in bad]
+    if not ok:
+        return {}, bad
+    t0 = pts[0].lin.t0
+    dt = 1.0 / scene.sample_rate
+    times = t0 + dt * np.arange(int(round(scene.duration / dt)) + 1)
+    keep = times >= scene.settle - 1e-12
+    g = np.stack([pts[j].sensors for j in ok])                                   # (P, 8, n)
+    y_hat = np.einsum("psn,pjn->pjs", g, z_hat[ok])
+    y, yd = nonrotating.synthesis(times - t0, spin, y_hat)                       # (P, n_t, 8)
+    # the accelerometers as the per-point path takes them: second-order differences of the housings' rates
+    acc = np.gradient(yd[:, :, :4], times, axis=1, edge_order=2)[:, keep]       # (the rates' constant part drops)
+    motor = _COORDS.index("motor.rx")
+    xs = np.empty((len(ok), keep.sum(), len(SENSORS)))
+    xs[:, :, :4] = acc
+    for r, j in enumerate(ok):
+        pt = pts[j]
+        disk = pt.disk0 + pt.sensors[6:] @ z0[j] + y[r, keep, 6:]
+        xs[r, :, 4], xs[r, :, 5] = disk[:, 0], disk[:, 1]
+        speed = pt.lin.qd0[pt.rig.system.index("motor.rx")] + yd[r, :, motor]
+        torque, current = kloss_along(pt.drive, times, speed)
+        xs[r, :, 6], xs[r, :, 7] = torque[keep], current[keep]
+    angle = pts[0].lin.q0[pts[0].rig.system.index("hss.rx")] + spin * (times[keep] - t0)
+    outs = record_objectives(times[keep], xs.transpose(1, 0, 2), angle, spin / (2 * math.pi), scene, pts[ok[0]].drive)
+    return dict(zip(ok, outs)), bad

@@ -1,0 +1,116 @@
+"""The rig's steady scene for a block of points (issue 46, ``ddgsa.models.hss_rig.steady_block``) against
+the per-point path (``HssRig._evaluate_one``: the rig built, linearised and solved one point at a time),
+and the kernel's block solve against closed forms."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from ddgsa.mbs import nonrotating
+from ddgsa.models.base import Model
+from ddgsa.models.hss_rig.model import HssRig
+from ddgsa.study import load_study
+
+STUDIES = Path(__file__).parents[2] / "studies"
+RTOL = 0.01
+"""The block path's agreement with the per-point path (issue 46: 1 %)."""
+def _study_points(name: str, n: int, seed: int) -> tuple[HssRig, pd.DataFrame, dict]:
+    """``n`` seeded uniform points of study ``name``'s parameter space (its fixed values too), its model and
+    its steady scene."""
+    study = load_study(STUDIES / f"{name}.yaml")
+    space = study.space
+    u = np.random.default_rng(seed).random((n, space.dim))
+    points = pd.DataFrame(space.ppf(u), columns=list(space.names))
+    for key, value in study.spec.fixed.items():
+        points[key] = value
+    fields = {k: v for k, v in study.spec.scenes.fields.items() if k != "kind"}
+    return study.make_model(), points, {"kind": "steady", "seed": study.spec.scenes.seed, **fields}
+
+
+def _compare(model: HssRig, points: pd.DataFrame, scene: dict) -> None:
+    params = model.resolve(points)
+    sc = model._scene(scene)
+    block = model._evaluate_block(params, sc)
+    ref = Model._evaluate_block(model, params, sc)
+    assert block.attrs["block_points"] == len(points)
+    assert block.attrs["failures"] == ref.attrs["failures"] == {}
+    worst = {}
+    for col in ref.columns:
+        a, b = ref[col].to_numpy(), block[col].to_numpy()
+        excess = np.abs(a - b) - RTOL * np.abs(a)
+        worst[col] = (float(excess.max()), float(np.max(np.abs(a - b) / np.maximum(np.abs(a), 1e-300))))
+    bad = {c: w for c, w in worst.items() if w[0] > 0.0}
+    assert not bad, f"outputs beyond 1 %: {bad}"
+
+
+@pytest.mark.parametrize("name", ["paper_a_subsystem", "paper_a_structural"])
+def test_block_agrees_with_the_per_point_path_on_four_points(name: str) -> None:
+    model, points, scene = _study_points(name, 4, seed=46)
+    _compare(model, points, scene)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["paper_a_subsystem", "paper_a_structural"])
+def test_block_agrees_with_the_per_point_path_on_64_points(name: str) -> None:
+    """Issue 46 item 2: 64 seeded random points of each paper A study's space, steady scene."""
+    model, points, scene = _study_points(name, 64, seed=2046)
+    _compare(model, points, scene)
+
+
+def test_points_the_block_does_not_hold_go_one_by_one_in_order() -> None:
+    """A supply unbalance (a 2f ripple, not once per revolution) takes the per-point path; a lighter load
+    turns the rig faster (its own group of the block); rows keep their order."""
+    model = HssRig(fidelity="linear", time_step=5e-4)
+    scene = {"kind": "steady", "speed_rpm": 1500.0, "duration": 0.6, "sample_rate": 2000.0, "settle": 0.1}
+    points = pd.DataFrame({"supply_unbalance": [0.0, 0.01, 0.0, 0.0], "eccentric_mass": [0.005, 0.005, 0.01, 0.005],
+                           "load_torque": [10.0, 10.0, 10.0, 6.0]})
+    out = model.evaluate(points, scene)
+    assert out.attrs["block_points"] == 3
+    ref = Model._evaluate_block(model, model.resolve(points), model._scene(scene))
+    for col in ("order1x_disk_y", "peak_housing_1_y", "mean_speed_rpm", "current_line"):
+        np.testing.assert_allclose(out[col], ref[col], rtol=RTOL, err_msg=col)
+    assert out["mean_speed_rpm"][3] > out["mean_speed_rpm"][0] + 10.0
+    assert out["torque_2f"][1] > 1e3 * out["torque_2f"][0]      # the unbalanced supply's ripple, from its own row
+
+
+def test_harmonic_response_of_oscillators_is_the_closed_form() -> None:
+    """Two uncoupled damped oscillators at two points: ``Z_j = F_j / (k - (j w)^2 m + i j w c)``, ``Z_0 = F_0 / k``."""
+    m = np.array([np.diag([2.0, 1.0]), np.diag([1.5, 3.0])])
+    c = np.array([np.diag([0.4, 0.1]), np.diag([0.2, 0.3])])
+    k = np.array([np.diag([50.0, 20.0]), np.diag([40.0, 90.0])])
+    f_hat = np.zeros((2, 3, 2), dtype=complex)
+    f_hat[:, 0] = [[1.0, 2.0], [3.0, 4.0]]
+    f_hat[:, 1] = [[1.0 + 1j, 0.5], [2.0, -1j]]
+    f_hat[:, 2] = [[0.0, 1.0], [1.0j, 0.0]]
+    w = 3.0
+    z0, z_hat = nonrotating.harmonic_response(m, c, k, f_hat, w)
+    diag = np.diagonal
+    np.testing.assert_allclose(z0, f_hat[:, 0].real / diag(k, axis1=1, axis2=2), rtol=1e-12)
+    for j in (1, 2):
+        dyn = diag(k, axis1=1, axis2=2) - (j * w) ** 2 * diag(m, axis1=1, axis2=2) + 1j * j * w * diag(c, axis1=1, axis2=2)
+        np.testing.assert_allclose(z_hat[:, j - 1], f_hat[:, j] / dyn, rtol=1e-12)
+    # the synthesis: 2 Re(Z e^{i j w t}) and its rate
+    t = np.linspace(0.0, 2.0, 7)
+    z, zd = nonrotating.synthesis(t, w, z_hat[0])
+    want = sum(2 * (z_hat[0, j - 1][None, :] * np.exp(1j * j * w * t)[:, None]).real for j in (1, 2))
+    rate = sum(2 * (1j * j * w * z_hat[0, j - 1][None, :] * np.exp(1j * j * w * t)[:, None]).real for j in (1, 2))
+    np.testing.assert_allclose(z, want, atol=1e-12)
+    np.testing.assert_allclose(zd, rate, atol=1e-12)
+
+
+def test_validity_names_an_unstable_point_and_an_order_on_an_undamped_mode() -> None:
+    """Point 0 is stable and off its modes; point 1 has negative damping (grows); point 2 is undamped with its
+    mode at twice the fundamental."""
+    w = 2.0
+    m = np.ones((3, 1, 1))
+    k = np.array([[[10.0]], [[10.0]], [[(2 * w) ** 2]]])
+    c = np.array([[[0.5]], [[-0.5]], [[0.0]]])
+    why = nonrotating.harmonic_validity(m, c, k, w, harmonics=3, horizon=1.0)
+    assert why[0] is None
+    assert why[1] is not None and why[1].startswith("unstable linearisation")
+    assert why[2] is not None and why[2].startswith("order 2 on an undamped mode at") and f"{2 * w / (2 * math.pi):.6g} Hz" in why[2]
