@@ -118,18 +118,35 @@ def _sensor_unit(sensor: str) -> tuple[str, float]:
 _BAND_SHARE = 3 * 0.5 / 64.0
 """Share of white noise's mean square in the ball-pass bands: three bands of 0.5 orders out of the
 64 orders below the angle domain's Nyquist order (:data:`SAMPLES_PER_REV` / 2)."""
+_RECORD_SAMPLES = 2000
+"""Samples of the shortest record the committed rig studies analyse (1.2 s at 2 kHz less the 0.2 s
+settle): a statistic averaged over a record sees the noise reduced by ``sqrt(2 / n)``."""
 
 
-def _resolution(sensor: str, kind: str = "amplitude") -> float:
-    """An output's resolution (:attr:`ModelOutput.resolution`) from its sensor's noise (:data:`NOISE`):
-    the noise's standard deviation for an amplitude [sensor unit], its mean square in the bands
-    (:data:`_BAND_SHARE`) for a band energy [sensor unit^2]."""
+def _resolution(sensor: str, kind: str) -> float:
+    """An output's resolution (:attr:`ModelOutput.resolution`) from its sensor's noise standard deviation
+    ``sd`` (:data:`NOISE`) [sensor unit]: for a record's peak the standard deviation of the largest of
+    ``n`` (:data:`_RECORD_SAMPLES`) noise samples, ``sd pi / sqrt(12 ln n)`` (Gumbel's limit: 0.33 sd),
+    by which the noise alone moves a peak from record to record; ``sd sqrt(2 / n)`` for a statistic
+    averaged over the record -- an RMS, an order or a spectral line's amplitude; for a band energy
+    [sensor unit^2] the noise's mean square in the bands (:data:`_BAND_SHARE`) times that factor.
+
+    Examples
+    --------
+    >>> float(round(_resolution("housing_1_y", "peak"), 4)), float(round(_resolution("housing_1_y", "average"), 5))
+    (0.0164, 0.00158)
+    """
     sd = _noise_scale(sensor)
-    return sd if kind == "amplitude" else sd ** 2 * _BAND_SHARE
+    average = np.sqrt(2.0 / _RECORD_SAMPLES)
+    if kind == "peak":
+        return sd * np.pi / np.sqrt(12.0 * np.log(_RECORD_SAMPLES))
+    if kind == "band":
+        return sd ** 2 * _BAND_SHARE * average
+    return sd * average
 
 
 OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {s}", 0.0, _sensor_unit(s)[1],
-                            _resolution(s))
+                            _resolution(s, "peak" if k == "peak" else "average"))
                 for k, what in _KINDS.items() for s in SENSORS) + tuple(
     ModelOutput(f"{k}_{s}", "m^2/s^4", f"{k.upper()} band energy of {s}: mean square in +-0.25 orders around the "
                 "first three ball-pass orders of the 6205", 0.0, 1e6, _resolution(s, "band"))
@@ -139,13 +156,13 @@ OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {
                 _resolution(s, "band"))
     for s in ACCELEROMETERS) + (
     ModelOutput("torque_2f", "N m", "motor air-gap torque at twice the supply frequency (supply unbalance)",
-                0.0, 1e3, _resolution("motor_torque")),
+                0.0, 1e3, _resolution("motor_torque", "average")),
     ModelOutput("current_line", "A", "phase current at the supply frequency", 0.0, 200.0,
-                _resolution("motor_current")),
+                _resolution("motor_current", "average")),
     ModelOutput("current_sideband_1x", "A", "mean phase current at f -+ f_r (mechanical 1x load modulation)",
-                0.0, 200.0, _resolution("motor_current")),
+                0.0, 200.0, _resolution("motor_current", "average")),
     ModelOutput("current_sideband_2s", "A", "mean phase current at f (1 -+ 2 s) (broken-bar band; leakage here)",
-                0.0, 200.0, _resolution("motor_current")),
+                0.0, 200.0, _resolution("motor_current", "average")),
     ModelOutput("mean_speed_rpm", "rpm", "mean shaft speed over the analysed record (deterministic: the "
                 "numerical floor only)", 0.0, 4000.0))
 TRACK_FRACTIONS = np.round(np.arange(0.40, 0.951, 0.05), 2)
