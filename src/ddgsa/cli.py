@@ -94,6 +94,9 @@ def _parser() -> argparse.ArgumentParser:
     ben.add_argument("--out", type=Path, default=None,
                      help="folder for the CSVs and charts (default results/accuracy_cost, results/trust_calibration "
                           "or results/scaling)")
+    ben.add_argument("--held-out", action="store_true",
+                     help="trust: only the held-out suite of twelve drawn block-sum functions (issue 51's targets: "
+                          "false trust of trusted rows, auto at 1 000 runs, M-DRM's share; ddgsa.bench.heldout)")
     ben.add_argument("--quick", action="store_true",
                      help="small problems: checks the bench itself (accuracy: Saltelli/RBD-FAST up to 2^10, "
                           "2 seeds, no drive train; trust: 7 functions x 3 seeds; speed: 60 s scene, shortened "
@@ -461,9 +464,10 @@ def _bench(args: argparse.Namespace) -> int:
     from ddgsa.bench.speed import format_speed, speed
 
     if args.what == "trust":
-        from ddgsa.bench.calibration import OUT, bench
+        from ddgsa.bench.calibration import OUT, bench, held_out
 
-        head = bench(args.out or OUT, quick=args.quick)
+        head = (held_out(args.out or OUT, seeds=3 if args.quick else 20) if args.held_out
+                else bench(args.out or OUT, quick=args.quick))
         print(json.dumps(head, indent=2))
         return EXIT_OK
     if args.what == "accuracy":
