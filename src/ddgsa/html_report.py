@@ -260,9 +260,14 @@ def _indices(folder: Path, units: dict[str, str]) -> str:
     parts = ['<p>Bars: S1 and ST of each method, whiskers: each method\'s error estimate '
              '(M-DRM, PCE: a bound; SALib: bootstrap half-width). Pale, dashed bars and open markers are '
              'untrusted rows. Click a legend entry to hide a series; hover a mark for its values.</p>']
+    conf = _csv(folder, "confirmation.csv")
+    verdict = {} if conf is None else {(int(r.scene), str(r.output)): r for r in conf.fillna("").itertuples()}
     for scene, gs in idx.groupby("scene", sort=True):
         label = _scene_label(gs.iloc[0], fields)
         for out, g in gs.groupby("output", sort=False):
+            v = verdict.get((int(scene), str(out)))
+            said = "" if v is None else f"; verdict {v.verdict} ({v.method})" + (
+                f", confirmed ranking {v.ranking}" if v.ranking else "")
             top = g.groupby("parameter", sort=False)["ST"].max().sort_values(ascending=False, na_position="last")
             params = list(top.index[:BAR_PARAMETERS])
             more = f"; the {len(top) - len(params)} others in the heatmap and table" if len(top) > len(params) else ""
@@ -275,7 +280,8 @@ def _indices(folder: Path, units: dict[str, str]) -> str:
             parts.append(_figure(bar_chart(params, series, "Sobol index [-]", f"{out} [{units.get(out) or '?'}]",
                                            xlim=(-0.05, 1.05)),
                                  f"scene {scene} ({label}): indices of {out}"
-                                 + (f", the {len(params)} parameters of largest ST{more}" if more else ""), "bars"))
+                                 + (f", the {len(params)} parameters of largest ST{more}" if more else "") + said,
+                                 "bars"))
     outputs = list(dict.fromkeys(idx["output"]))
     params = list(dict.fromkeys(idx["parameter"]))
     if len(outputs) > 1 or idx["scene"].nunique() > 1:
