@@ -34,6 +34,9 @@ from ddgsa.gsa.salib import saltelli_n_to_confirm
 if TYPE_CHECKING:  # pragma: no cover
     from ddgsa.pipeline import StudyResult
 
+CROSSCHECKS = ("pooled_pce", "given_data_s1")
+"""Methods a study runs without being asked (cross-checks at zero extra runs): they may confirm a pair,
+but an unconfirmed pair is shown with a requested method's estimate."""
 VERDICTS = ("trusted", "rank-confirmed", "confirmed tie", "nothing to rank", "unconfirmed")
 """The verdicts of a (scene, output) pair, best first (see the module)."""
 CONFIRMED = VERDICTS[:4]
@@ -44,14 +47,22 @@ CONFIRMATION_COLUMNS = ["scene", "output", "verdict", "method", "runs", "std", "
 def pair_status(indices: pd.DataFrame) -> pd.DataFrame:
     """Per (scene, output): ``confirmed`` (some method has every row trusted or rank-confirmed),
     ``trusted`` (some method has every row trusted), ``method`` (the first such, else the method
-    with the most confirmed rows) and ``unconfirmed`` (that method's rows neither)."""
+    with the most confirmed rows, then a requested one, the most finite indices, the most runs), ``unconfirmed``
+    (that method's rows neither) and ``tie`` (that method's ranking has a confirmed tie)."""
     t = indices.assign(ok=indices["trusted"].astype(bool) | indices["rank_confirmed"].astype(bool),
-                       tie=indices["rank"].astype(str).str.endswith("=") if "rank" in indices else False)
+                       tie=indices["rank"].astype(str).str.endswith("=") if "rank" in indices else False,
+                       finite=np.isfinite(indices["ST"].to_numpy(float)) if "ST" in indices else True,
+                       runs=indices["n_evals"] if "n_evals" in indices else 0,
+                       asked=~indices["method"].isin(CROSSCHECKS))
     rows = []
     for (scene, out), g in t.groupby(["scene", "output"], sort=False):
         per = g.groupby("method", sort=False).agg(trusted=("trusted", "all"), confirmed=("ok", "all"),
-                                                  n_ok=("ok", "sum"), n=("ok", "size"), tie=("tie", "any"))
-        best = per.sort_values(["trusted", "confirmed", "n_ok"], ascending=False, kind="stable").index[0]
+                                                  n_ok=("ok", "sum"), n=("ok", "size"), tie=("tie", "any"),
+                                                  finite=("finite", "sum"), runs=("runs", "max"), asked=("asked", "all"))
+        # unconfirmed everywhere: the method with the most rows placed, a requested one, then the most finite
+        # indices, then the most runs
+        best = per.sort_values(["trusted", "confirmed", "n_ok", "asked", "finite", "runs"], ascending=False,
+                               kind="stable").index[0]
         rows.append({"scene": scene, "output": out, "confirmed": bool(per["confirmed"].any()),
                      "trusted": bool(per["trusted"].any()), "method": best,
                      "unconfirmed": int(per.loc[best, "n"] - per.loc[best, "n_ok"]),
@@ -85,8 +96,9 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
     ``runs`` are the model runs of the method that gave the verdict (all realisations); ``std`` the
     output's standard deviation over the scene's design [output unit] against its ``resolution``;
     ``ranking`` the confirmed order by ST (:func:`ranking_text`); for an unconfirmed pair
-    ``next_step`` says the cheapest way to confirm it, ``next_runs`` and ``next_seconds`` its cost
-    (model runs; model time on one worker [s], NaN when no run time was measured)."""
+    ``next_step`` says the cheapest way to confirm it, ``next_runs`` and ``next_seconds`` the cost of
+    the Saltelli design it names, added to the study (every scene; model runs, model time on one
+    worker [s], NaN when no run time was measured)."""
     from ddgsa.report import output_info
     from ddgsa.report_beyond import sobol_rows
 
@@ -118,9 +130,9 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
         elif r.confirmed:
             row["verdict"] = "confirmed tie" if r.tie else "rank-confirmed"
         else:
-            cost = cost_to_confirm(result, scene, out, tol)
+            _, runs, sec = study_cost(result, out, [scene], tol)
             row.update(verdict="unconfirmed", next_step=next_step(result, out, [scene], tol),
-                       next_runs=cost.runs, next_seconds=cost.seconds)
+                       next_runs=runs, next_seconds=sec)
         rows.append(row)
     return pd.DataFrame(rows, columns=CONFIRMATION_COLUMNS)
 
@@ -195,16 +207,22 @@ def duration(seconds: float) -> str:
     return f"~{seconds / 3600:.1f} h"
 
 
+def study_cost(result: "StudyResult", output: str, scenes: list[int], tolerance: float = 0.02
+               ) -> tuple[int, int, float]:
+    """The Saltelli base ``n`` the worst of ``scenes`` needs to confirm ``output``, and the runs and
+    model time [s] of adding it to the study, which runs it in every scene (:func:`advice` says it)."""
+    n = max(cost_to_confirm(result, s, output, tolerance).n for s in scenes)
+    every = [cost_to_confirm(result, s, output, tolerance, n=n) for s in sorted(result.indices["scene"].unique())]
+    return n, sum(c.runs for c in every), sum(c.seconds for c in every)
+
+
 def advice(result: "StudyResult", output: str, scenes: list[int], tolerance: float = 0.02) -> str:
     """How to confirm ``output`` in ``scenes``: the largest Saltelli ``n`` any of them needs, with the
     runs and model time of adding that method to the study, which runs it in every scene (one worker;
     divide by the workers), or the study's ``confirm`` budget (points per scene) that would pay for the
     design where it is needed (:mod:`ddgsa.gsa.escalate`)."""
     costs = [cost_to_confirm(result, s, output, tolerance) for s in scenes]
-    n = max(c.n for c in costs)
-    every = [cost_to_confirm(result, s, output, tolerance, n=n) for s in sorted(result.indices["scene"].unique())]
-    runs = sum(c.runs for c in every)
-    sec = sum(c.seconds for c in every)
+    n, runs, sec = study_cost(result, output, scenes, tolerance)
     per = per_run_seconds(result)
     at = f" at {per:.3g} s per run measured here" if np.isfinite(per) else ""
     points = max(c.runs // max(1, result.study.spec.scenes.realisations) for c in costs)

@@ -30,7 +30,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from ddgsa.report_beyond import SHAPLEY_ADVICE, beyond_markdown, group_table, plot_groups, sobol_rows
-from ddgsa.confirm import CONFIRMED, VERDICTS, confirmation_table, next_step, study_tolerance  # noqa: E402
+from ddgsa.confirm import CONFIRMED, CROSSCHECKS, VERDICTS, confirmation_table, next_step, study_tolerance  # noqa: E402
 from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.result import CONSTANT_CV, draw_index_bars  # noqa: E402
 from ddgsa.html_report import HTML_NAME, model_words, write_html  # noqa: E402
@@ -360,10 +360,6 @@ def plot_agreement(indices: pd.DataFrame) -> Any:
     return fig
 
 
-CROSSCHECKS = ("pooled_pce", "given_data_s1")
-"""Methods a study runs without being asked (cross-checks at zero extra runs): shown in their own
-section, never as a study's answer."""
-
 _MARKERS = ("D", "s", "^", "v", "P", "X")
 
 
@@ -409,7 +405,7 @@ def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | Non
         ax.set_xlim(min(-0.05, float(np.nanmin(g[["S1", "ST"]].to_numpy(float), initial=0))), 1.05)
         ax.tick_params(axis="x", labelsize=7)
         if not np.isfinite(t[["S1", "ST"]].to_numpy(float)).any():
-            ax.text(0.5, 0.5, "indices refused\n(failed evaluations;\nsee summary.md)", transform=ax.transAxes,
+            ax.text(0.5, 0.5, "indices refused\n(see summary.md)", transform=ax.transAxes,
                     ha="center", va="center", fontsize=8, color="0.3")
     for ax in list(axes.flat)[len(outputs):]:
         ax.set_visible(False)
