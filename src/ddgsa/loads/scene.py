@@ -6,7 +6,7 @@ import math
 from dataclasses import asdict, dataclass
 from typing import Any, ClassVar
 
-from ddgsa.errors import SceneError
+from ddgsa.errors import SceneError, with_hint
 
 #: samples per period of the highest rotor harmonic the loads must resolve (3P at rated speed)
 SAMPLES_PER_3P = 8
@@ -77,11 +77,12 @@ class Scene:
 
     def __post_init__(self) -> None:
         if self.loads_fidelity not in LOADS_FIDELITIES:
-            raise SceneError(f"scene field 'loads_fidelity' must be one of {', '.join(LOADS_FIDELITIES)}, "
-                             f"got {self.loads_fidelity!r}")
+            raise SceneError(with_hint(f"scene field 'loads_fidelity' must be one of {', '.join(LOADS_FIDELITIES)}, "
+                                       f"got {self.loads_fidelity!r}", self.loads_fidelity, LOADS_FIDELITIES))
         if self.inclination_convention not in INCLINATION_CONVENTIONS:
-            raise SceneError(f"scene field 'inclination_convention' must be one of "
-                             f"{', '.join(INCLINATION_CONVENTIONS)}, got {self.inclination_convention!r}")
+            raise SceneError(with_hint(f"scene field 'inclination_convention' must be one of "
+                                       f"{', '.join(INCLINATION_CONVENTIONS)}, got {self.inclination_convention!r}",
+                                       self.inclination_convention, INCLINATION_CONVENTIONS))
         for name in ("wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent",
                      "duration", "dt"):
             value = getattr(self, name)

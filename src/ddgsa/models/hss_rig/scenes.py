@@ -31,7 +31,7 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, fields
 from typing import Any, ClassVar
 
-from ddgsa.errors import SceneError
+from ddgsa.errors import SceneError, with_hint
 from ddgsa.mbs.sampling import check_interval, sampling_row
 
 KINDS = ("startup", "steady", "coastdown")
@@ -84,7 +84,8 @@ class RigScene:
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
-            raise SceneError(f"rig scene field 'kind' must be one of {', '.join(KINDS)}, got {self.kind!r}")
+            raise SceneError(with_hint(f"rig scene field 'kind' must be one of {', '.join(KINDS)}, got {self.kind!r}",
+                                       self.kind, KINDS))
         for name in ("speed_rpm", "duration", "sample_rate", "settle", "ramp_time"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
