@@ -20,6 +20,44 @@ INCLINATION_CONVENTIONS = ("upflow", "downflow_horizontal")
 
 
 @dataclass(frozen=True)
+class Interval:
+    """The allowed range of a scene field [its unit], each end included or not; ``str`` writes it as
+    the docs quote it (``(0, 50]``, ``> 0``), which ``tests/test_docs.py`` checks.
+
+    Examples
+    --------
+    >>> str(Interval(0.0, 50.0, low_closed=False)), str(Interval(0.0, low_closed=False)), 50.0 in Interval(0.0, 50.0)
+    ('(0, 50]', '> 0', True)
+    """
+
+    low: float
+    high: float = math.inf
+    low_closed: bool = True
+    high_closed: bool = True
+
+    def __contains__(self, value: float) -> bool:
+        above = value >= self.low if self.low_closed else value > self.low
+        below = value <= self.high if self.high_closed else value < self.high
+        return above and below
+
+    def __str__(self) -> str:
+        if math.isinf(self.high):
+            return f"{'>=' if self.low_closed else '>'} {self.low:g}"
+        return f"{'[' if self.low_closed else '('}{self.low:g}, {self.high:g}{']' if self.high_closed else ')'}"
+
+    def must(self, unit: str = "") -> str:
+        """``in (0, 50] m/s`` or ``> 0 s``: what a message says a value must be."""
+        return ("" if math.isinf(self.high) else "in ") + str(self) + (f" {unit}" if unit not in ("", "-") else "")
+
+
+#: the allowed range of each numeric field of a wind :class:`Scene` [the field's unit]
+SCENE_LIMITS = {"wind_speed": Interval(0.0, 50.0, low_closed=False),
+                "turbulence_intensity": Interval(0.0, 1.0, high_closed=False),
+                "inclination_deg": Interval(-30.0, 30.0), "shear_exponent": Interval(0.0, 1.0),
+                "duration": Interval(0.0, low_closed=False), "dt": Interval(0.0, low_closed=False)}
+
+
+@dataclass(frozen=True)
 class Scene:
     """Wind conditions of one simulation; a realisation of the loads is a pure function of it.
 
@@ -37,7 +75,8 @@ class Scene:
     duration : float
         Record length [s], > 0.
     dt : float
-        Time step of the loads [s]; at most ``1 / (8 f_3P)`` at rated rotor speed (0.165 s).
+        Time step of the loads [s]; at most ``1 / (8 f_3P)`` at rated rotor speed (:func:`max_time_step`:
+        0.207 s).
     seed : int
         Seed of the turbulence realisation (>= 0); all parameter points of a scene see the
         same realisation (common random numbers).
@@ -91,17 +130,10 @@ class Scene:
             object.__setattr__(self, name, float(value))
         if not isinstance(self.seed, int) or isinstance(self.seed, bool) or self.seed < 0:
             raise SceneError(f"scene field 'seed' must be an integer >= 0, got {self.seed!r}")
-        checks = (
-            ("wind_speed", 0.0 < self.wind_speed <= 50.0, "in (0, 50] m/s"),
-            ("turbulence_intensity", 0.0 <= self.turbulence_intensity < 1.0, "in [0, 1)"),
-            ("inclination_deg", -30.0 <= self.inclination_deg <= 30.0, "in [-30, 30] deg"),
-            ("shear_exponent", 0.0 <= self.shear_exponent <= 1.0, "in [0, 1]"),
-            ("duration", self.duration > 0.0, "> 0 s"),
-            ("dt", self.dt > 0.0, "> 0 s"),
-        )
-        for name, ok, allowed in checks:
-            if not ok:
-                raise SceneError(f"scene field {name!r} must be {allowed}, got {getattr(self, name)}")
+        for name, allowed in SCENE_LIMITS.items():
+            if getattr(self, name) not in allowed:
+                raise SceneError(f"scene field {name!r} must be {allowed.must(self.units[name])}, "
+                                 f"got {getattr(self, name)}")
         dt_max = max_time_step()
         if self.dt > dt_max:
             raise SceneError(f"scene field 'dt' = {self.dt} s is too coarse for the rotor's 3P frequency "
