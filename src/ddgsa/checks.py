@@ -34,7 +34,7 @@ import numpy as np
 from ddgsa.errors import DdgsaError
 from ddgsa.mbs.sampling import AliasingWarning
 from ddgsa.study import Study, plan_scenes, scene_text
-from ddgsa.units import scene_hints
+from ddgsa.units import prefixed_unit, scene_hints
 
 SAMPLE = 64
 """Sobol' points of the support checked against the model's valid region."""
@@ -222,7 +222,9 @@ def _unit_hints(study: Study, model: Any) -> list[Finding]:
         if decl.nominal > 0 and value > 0:
             ratio = value / decl.nominal
             if ratio >= SLIP or ratio <= 1 / SLIP:
-                example = f" (e.g. unit: k{decl.unit} for thousands)" if ratio < 1 and decl.unit not in ("", "-") else ""
+                scale = 10.0 ** min(6, max(-6, 3 * round(-math.log10(ratio) / 3)))
+                unit = prefixed_unit(decl.unit, scale) if scale != 1.0 else None
+                example = f" (e.g. unit: {unit} if the number is in {unit})" if unit else ""
                 out.append(Finding("hint", f"{section[name]}.{name}",
                                    f"{value:.4g} {decl.unit} is {max(ratio, 1 / ratio):,.0f}x "
                                    f"{'above' if ratio > 1 else 'below'} the model's nominal {decl.nominal:.4g} "

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import difflib
 import reprlib
+from collections.abc import Iterable
 
 
 class DdgsaError(Exception):
@@ -82,6 +83,26 @@ LIST_AT_MOST = 12
 """Known names listed in full in an unknown-name message; longer lists give only close matches."""
 
 
+def did_you_mean(name: object, known: Iterable[str]) -> str:
+    """``"did you mean 'a' or 'b'?"`` for the close matches of ``name`` among ``known`` (difflib,
+    at most three), empty when none is close: the one spelling hint of every message.
+
+    Examples
+    --------
+    >>> did_you_mean("mdmr", ["mdrm", "pce", "saltelli"]), did_you_mean("xyz", ["mdrm"])
+    ("did you mean 'mdrm'?", '')
+    """
+    text = str(name)
+    close = difflib.get_close_matches(text, sorted(known), n=3, cutoff=0.5) if len(text) <= 200 else []
+    return f"did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+
+
+def with_hint(message: str, name: object, known: Iterable[str]) -> str:
+    """``message`` followed by ``"; did you mean ...?"`` where :func:`did_you_mean` finds one."""
+    hint = did_you_mean(name, known)
+    return f"{message}; {hint}" if hint else message
+
+
 def unknown_name_message(kind: str, name: object, known: "list[str] | tuple[str, ...]", where: str = "") -> str:
     """Message for an unknown name: the close matches ("did you mean"), and the known names
     when there are at most :data:`LIST_AT_MOST` of them (or no close match).
@@ -103,9 +124,8 @@ def unknown_name_message(kind: str, name: object, known: "list[str] | tuple[str,
     "unknown model 'drect'; known: analytic, direct_drive; did you mean 'direct_drive'?"
     """
     names = sorted(known)
-    close = difflib.get_close_matches(str(name), names, n=3, cutoff=0.5) if len(str(name)) <= 200 else []
-    hint = f"did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
-    if len(names) <= LIST_AT_MOST or not close:
+    hint = did_you_mean(name, names)
+    if len(names) <= LIST_AT_MOST or not hint:
         return f"unknown {kind} {clip(name)}; known: {', '.join(names)}" + (f"; {hint}" if hint else "")
     see = f"`{where}` lists all {len(names)}" if where else f"{len(names)} known"
     return f"unknown {kind} {clip(name)}; {hint} ({see})"

@@ -48,7 +48,7 @@ import pandas as pd
 from numpy.typing import NDArray
 from scipy.stats import norm, qmc
 
-from ddgsa.errors import SpaceError
+from ddgsa.errors import SpaceError, with_hint
 
 DIST_NAMES: tuple[str, ...] = ("uniform", "normal", "lognormal", "truncnormal", "triangular")
 _META_KEYS = {"dist", "nominal", "unit", "description"}
@@ -132,13 +132,14 @@ class Parameter:
                              f"got {type(spec).__name__} {spec!r}")
         dist = spec.get("dist", "uniform")
         if dist not in _DIST_KEYS:
-            raise SpaceError(f"parameter {name!r}: unknown dist {dist!r}; allowed: {', '.join(DIST_NAMES)}")
+            raise SpaceError(with_hint(f"parameter {name!r}: unknown dist {dist!r}; allowed: {', '.join(DIST_NAMES)}",
+                                       dist, DIST_NAMES))
         given = set(spec) - _META_KEYS
         allowed = set().union(*_DIST_KEYS[dist])
         unknown = given - allowed
         if unknown:
-            raise SpaceError(f"parameter {name!r}: unknown key(s) {sorted(unknown)} for dist {dist!r}; "
-                             f"allowed: {sorted(allowed | _META_KEYS)}")
+            raise SpaceError(with_hint(f"parameter {name!r}: unknown key(s) {sorted(unknown)} for dist {dist!r}; "
+                                       f"allowed: {sorted(allowed | _META_KEYS)}", min(unknown), allowed | _META_KEYS))
         forms = _DIST_KEYS[dist]
         form = next((f for f in forms if f == given), None)
         if form is None:

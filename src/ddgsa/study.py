@@ -46,7 +46,7 @@ from pydantic import (BaseModel, ConfigDict, Field, PrivateAttr, ValidationError
                       field_validator, model_validator)
 from pydantic_core import InitErrorDetails, PydanticCustomError
 
-from ddgsa.errors import DdgsaError, StudyError, clip, unknown_name_message
+from ddgsa.errors import DdgsaError, StudyError, clip, unknown_name_message, with_hint
 from ddgsa.gsa.auto import resolve_auto_options
 from ddgsa.gsa.base import METHODS, get_method
 from ddgsa.gsa.target import Target
@@ -738,12 +738,13 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         if key not in names:
             raise StudyError(f"{where}: field 'grid.{key}': not a parameter of model {spec.model.name!r}: "
                              f"{_unknown_parameter(key, names)}")
-        decl = model.parameter(key)
         assert isinstance(values, list)
-        bad = [v for v in values if not decl.low <= v <= decl.high]
-        if bad:
-            raise StudyError(f"{where}: field 'grid.{key}': value {bad[0]:g} leaves the allowed range "
-                             f"[{decl.low:g}, {decl.high:g}] {decl.unit}")
+        for v in values:
+            if problem := model.parameter(key).range_problem(v):
+                raise StudyError(f"{where}: field 'grid.{key}': {problem}")
+    for key, value in spec.fixed.items():
+        if isinstance(value, (int, float)) and (problem := model.parameter(key).range_problem(value)):
+            raise StudyError(f"{where}: field 'fixed.{key}': {problem}")
     overlap = (set(spec.parameters) | set(spec.grid)) & set(spec.fixed)
     if overlap:
         raise StudyError(f"{where}: field 'fixed': {sorted(overlap)} are also uncertain 'parameters' or 'grid' entries")
@@ -759,8 +760,8 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
                 "signal output", sig, declared_signals, where=f"ddgsa models {spec.model.name}"))
     for key, unit in spec.output_units.items():
         if key not in spec.outputs:
-            raise StudyError(f"{where}: field 'output_units.{key}': not an output of the study; "
-                             f"known: {', '.join(spec.outputs)}")
+            raise StudyError(with_hint(f"{where}: field 'output_units.{key}': not an output of the study; "
+                                       f"known: {', '.join(spec.outputs)}", key, spec.outputs))
         try:
             factor(unit, model.output(key).unit)
         except UnitError as exc:
@@ -778,11 +779,8 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             head, _, rest = str(exc).partition(": ")
             raise StudyError(f"{where}: field '{head}': {rest}") from None
         for p in space.parameters:
-            decl = model.parameter(p.name)
-            lo, hi = p.support
-            if lo < decl.low or hi > decl.high:
-                raise StudyError(f"{where}: field 'parameters.{p.name}': support [{lo:g}, {hi:g}] leaves the "
-                                 f"allowed range [{decl.low:g}, {decl.high:g}] {decl.unit}")
+            if problem := model.parameter(p.name).range_problem(p.support, what="support"):
+                raise StudyError(f"{where}: field 'parameters.{p.name}': {problem}")
     check_run_size(where, spec, space, len(spec.outputs or model.outputs))     # before any design is built
     nominal = {**dict(spec.fixed), **(space.nominal if space is not None else {})}
     for problem in model.point_problems(nominal):
@@ -803,8 +801,8 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
                 raise StudyError(f"{where}: field 'methods[{i}]': {exc}") from None
             continue
         if m.method not in METHODS:
-            raise StudyError(f"{where}: field 'methods[{i}].method': unknown GSA method {m.method!r}; "
-                             f"known: {', '.join(sorted([*METHODS, 'auto']))}")
+            raise StudyError(f"{where}: field 'methods[{i}].method': "
+                             + unknown_name_message("GSA method", m.method, [*METHODS, "auto"]))
         try:
             get_method(m.method).design(space, **m.options) if space is not None else None
         except DdgsaError as exc:
@@ -899,22 +897,20 @@ def _validate_fault(where: str, spec: StudySpec, model: Any) -> None:
     if fault.parameter not in spec.parameters:
         raise StudyError(f"{where}: field 'fault.parameter': {fault.parameter!r} must also be an "
                          f"uncertain parameter (under 'parameters')")
-    decl = model.parameter(fault.parameter)
     for value in [fault.healthy, *fault.levels]:
-        if not decl.low <= value <= decl.high:
-            raise StudyError(f"{where}: field 'fault': level {value:g} of {fault.parameter!r} leaves the allowed "
-                             f"range [{decl.low:g}, {decl.high:g}] {decl.unit}")
+        if problem := model.parameter(fault.parameter).range_problem(value, what="level"):
+            raise StudyError(f"{where}: field 'fault': {problem}")
     if fault.healthy in fault.levels:
         raise StudyError(f"{where}: field 'fault.faulty': contains the healthy value {fault.healthy:g}")
     outputs = spec.outputs or list(model.outputs)
     for key in fault.noise:
         if key not in outputs:
-            raise StudyError(f"{where}: field 'fault.noise.{key}': not an output of the study; "
-                             f"known: {', '.join(outputs)}")
+            raise StudyError(with_hint(f"{where}: field 'fault.noise.{key}': not an output of the study; "
+                                       f"known: {', '.join(outputs)}", key, outputs))
     for i, key in enumerate(fault.combine or []):
         if key not in outputs:
-            raise StudyError(f"{where}: field 'fault.combine[{i}]': not an output of the study; "
-                             f"known: {', '.join(outputs)}")
+            raise StudyError(with_hint(f"{where}: field 'fault.combine[{i}]': not an output of the study; "
+                                       f"known: {', '.join(outputs)}", key, outputs))
     if fault.design == "paired" and spec.scenes.realisations < 4:
         raise StudyError(f"{where}: field 'fault.design': paired compares each point's record r with its own "
                          "healthy record r - 1; two such changes are independent only on four distinct records: "

@@ -208,6 +208,60 @@ def parameter_in(spec: Mapping[str, Any], expected: str) -> dict[str, Any]:
     return out
 
 
+PREFIX_SCALES = (1e3, 1e-3, 1e6, 1e-6)
+"""The factors a unit hint tries: a value typed in N/m where kN/m was meant is 1e3 too small."""
+_PREFIXES = ("", "k", "M", "G", "m", "u")
+
+
+@lru_cache(maxsize=256)
+def prefixed_unit(unit: str, scale: float) -> str | None:
+    """A unit that differs from ``unit`` by a prefix on its first symbol (or by ``t`` for ``kg``)
+    and is ``scale`` times it, checked with :func:`factor`; ``None`` if there is none.
+
+    Examples
+    --------
+    >>> prefixed_unit("N/m", 1e3), prefixed_unit("kg m^2", 1e3), prefixed_unit("kg", 1e3), prefixed_unit("m", 1e-3)
+    ('kN/m', 't m^2', 't', 'mm')
+    """
+    match = re.match(r"([A-Za-z]+)(.*)$", unit.strip())
+    if match is None or unit.strip() in _DIMENSIONLESS:
+        return None
+    first, rest = match[1], match[2]
+    stems = [first] + ([first[1:]] if len(first) > 1 and first[0] in "kMGmu" else [])
+    candidates = (["t"] if first == "kg" else []) + [p + s for s in stems for p in _PREFIXES]
+    for cand in dict.fromkeys(c + rest for c in candidates):
+        try:
+            if cand != unit and math.isclose(factor(cand, unit), scale, rel_tol=1e-12):
+                return cand
+        except UnitError:
+            continue
+    return None
+
+
+def prefix_hint(values: tuple[float, ...], unit: str, low: float, high: float) -> str:
+    """A hint for numbers outside ``[low, high]`` [unit] that a unit prefix would bring inside
+    (all of ``values`` times one of :data:`PREFIX_SCALES`), e.g. a stiffness typed in kN/m where
+    N/m is declared; empty when no prefix does.
+
+    Examples
+    --------
+    >>> prefix_hint((1e7,), "N/m", 1e8, 1e12)
+    ' (hint: 1e+07 kN/m = 1e+10 N/m is inside it: if the number is in kN/m, write unit: kN/m)'
+    >>> prefix_hint((5.0,), "N/m", 1e8, 1e12)
+    ''
+    """
+    for scale in PREFIX_SCALES:
+        scaled = [v * scale for v in values]
+        if all(low <= v <= high for v in scaled):
+            cand = prefixed_unit(unit, scale)
+            if cand is not None:
+                given = ", ".join(f"{v:g}" for v in values)
+                inside = ", ".join(f"{v:g}" for v in scaled)
+                return (f" (hint: {given} {cand} = {inside} {unit} is inside it: if the number is in {cand}, "
+                        f"write unit: {cand})")
+    return ""
+
+
 def scene_hints(scene_type: type, values: dict[str, list[Any]]) -> list[tuple[str, str]]:
     """``(field, hint)`` for scene values that look written in another unit: a field in rpm below
     60 (Hz?), in Hz below 100 (kHz?), a wind speed above 30 m/s (km/h?)."""

@@ -1,6 +1,6 @@
 """SALib interop: a ProblemSpec round-trips through ``ParameterSpace.from_salib`` / ``to_salib``; on
 the same samples SALib and ddgsa give the same indices; a study reads its parameters from a SALib
-problem file."""
+problem file; ddgsa's seed is SALib's sample given ``numpy.random.default_rng(seed)``."""
 
 from __future__ import annotations
 
@@ -9,6 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 from SALib import ProblemSpec
+from SALib.sample import fast_sampler, latin
+from SALib.sample import sobol as salib_sobol
+from scipy.stats import qmc
 
 from ddgsa.errors import SpaceError, StudyError
 from ddgsa.gsa.base import get_method
@@ -58,6 +61,42 @@ def test_same_samples_give_the_same_indices_in_salib_and_ddgsa() -> None:
     np.testing.assert_allclose(ours["S1"], sp.analysis["S1"], atol=1e-9)
     np.testing.assert_allclose(ours["ST"], sp.analysis["ST"], atol=1e-9)
     assert ours["ST"].max() > 0.3          # not a trivially zero comparison
+
+
+UNIT = {"names": ["a", "b", "c"], "bounds": [[0.0, 1.0]] * 3}
+
+
+@pytest.mark.parametrize("method, sampler, options", [
+    ("saltelli", lambda problem, seed: salib_sobol.sample(problem, 16, calc_second_order=False, seed=seed), {"n": 16}),
+    ("fast", lambda problem, seed: fast_sampler.sample(problem, 65, M=4, seed=seed), {"n": 65, "M": 4}),
+    ("rbd_fast", lambda problem, seed: latin.sample(problem, 32, seed=seed), {"n": 32}),
+])
+@pytest.mark.parametrize("seed", [0, 7])
+def test_a_ddgsa_seed_is_salibs_sample_given_a_fresh_generator(method: str, sampler, options: dict, seed: int) -> None:
+    """ddgsa hands each SALib sampler ``numpy.random.default_rng(seed)``. SALib's ``handle_seed`` and
+    scipy's ``qmc.Sobol`` spawn a child of a Generator they are given (``Generator.spawn(1)[0]``: the
+    seed sequence ``SeedSequence(seed).spawn(1)[0]``) but seed an integer directly
+    (``default_rng(seed)``). So SALib gives ddgsa's exact unit sample for
+    ``seed=numpy.random.default_rng(seed)`` (a fresh one per call: each spawn advances it), and SALib's
+    own samplers for that child seed sequence; the bare integer gives another sample (docs: SALib)."""
+    ours = get_method(method).design(ParameterSpace.from_salib(UNIT), seed=seed, **options).meta["unit"]
+    problem = dict(UNIT, num_vars=3)
+    np.testing.assert_array_equal(sampler(problem, np.random.default_rng(seed)), ours)
+    if method != "saltelli":        # SALib's own samplers take a SeedSequence (scipy's qmc does not)
+        np.testing.assert_array_equal(sampler(problem, np.random.SeedSequence(seed).spawn(1)[0]), ours)
+    assert not np.array_equal(sampler(problem, seed), ours)
+
+
+def test_the_saltelli_design_is_sobols_sequence_in_saltellis_layout() -> None:
+    """Independently of SALib: the rows are A, AB_1 .. AB_d, B per base point (A and B the two halves
+    of one scrambled Sobol' sequence in 2d dimensions, scipy's ``qmc.Sobol`` seeded as above)."""
+    d, n = 3, 16
+    base = qmc.Sobol(2 * d, scramble=True, rng=np.random.default_rng(5)).random(n)
+    a, b = base[:, :d], base[:, d:]
+    blocks = [a] + [np.where(np.arange(d) == i, b, a) for i in range(d)] + [b]
+    expected = np.stack(blocks, axis=1).reshape(n * (d + 2), d)
+    ours = get_method("saltelli").design(ParameterSpace.from_salib(UNIT), n=n, seed=5).meta["unit"]
+    np.testing.assert_array_equal(ours, expected)
 
 
 @pytest.mark.parametrize("problem, match", [

@@ -1,4 +1,5 @@
-"""Objectives and modes of ``generator_radial`` on fixed points and scenes: its port's regression table.
+"""Objectives and modes of ``generator_radial`` on fixed points and scenes: its port's regression table,
+a guard (the code must keep reproducing it), not an oracle (it holds what the code computed, right or not).
 
 ``python tests/models/generator_port_regression.py`` (with ``PYTHONPATH=src``) writes
 ``tests/models/data/generator_radial_objectives.csv`` and ``generator_radial_modes.csv`` from the code

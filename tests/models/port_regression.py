@@ -1,9 +1,10 @@
-"""Objectives of the direct drive on a fixed set of points and scenes: the port's regression table.
+"""Objectives of the direct drive on a fixed set of points and scenes: the port's regression table, a
+guard (the code must keep reproducing it), not an oracle (it holds what the code computed, right or not).
 
 ``python tests/models/port_regression.py`` (with ``PYTHONPATH=src``) writes
 ``tests/models/data/direct_drive_objectives.csv`` from the code as it is; the table committed before
 the direct drive moved onto ``ddgsa.mbs``'s System is what ``test_direct_drive_port.py`` holds the
-ported model to (1e-6 relative).
+ported model to (1e-6 relative; the tolerances and why: ``test_direct_drive_port.py``).
 """
 
 from __future__ import annotations

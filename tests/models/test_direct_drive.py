@@ -31,9 +31,9 @@ def test_registry_and_parameters() -> None:
         models.get("drect")
     with pytest.raises(ModelError, match="unknown fidelity 'soft'"):
         models.get("direct_drive", fidelity="soft")
-    with pytest.raises(ModelError, match=r"has no parameter\(s\) \['k_front'\]"):
+    with pytest.raises(ModelError, match="unknown parameter 'k_front'; did you mean 'k_front_z' or 'k_front_y' or 'k_front_x'"):
         m.resolve({"k_front": 1.0})
-    with pytest.raises(ModelError, match="'k_front_y' = -1.0 is outside its allowed range"):
+    with pytest.raises(ModelError, match="parameter 'k_front_y' = -1 N/m leaves its allowed range"):
         m.resolve({"k_front_y": -1.0})
 
 
@@ -297,7 +297,8 @@ def test_linear_fidelity_keeps_its_recorded_600s_objectives() -> None:
     """Regression guard for ports of the model (recorded by ``benchmarks/regression.py``; the
     recorded linear figures are within 3e-8 of the dense-recurrence implementation they replaced,
     the difference being its linearised end displacements). Tolerance 1e-6 relative: round-off of
-    a reordered computation passes, a change of physics or discretisation does not."""
+    a reordered computation passes, a change of physics or discretisation does not; another BLAS
+    kernel (OpenBLAS's Nehalem against Haswell, numba's generic target) moved them by 2.7e-8 (issue 48)."""
     recorded, now = _regression("linear")
     np.testing.assert_allclose(now[recorded.columns].to_numpy(), recorded.to_numpy(), rtol=1e-6, atol=0.0)
 

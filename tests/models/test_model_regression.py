@@ -1,7 +1,7 @@
 """Regression guards of ``hss_rig`` and ``indirect_drive`` for the kernel's consolidation (issue 24).
 
 These are regression guards, not oracles: the tables in ``data/`` were written by the code before
-the consolidation (``model_regression.py``), and every number must come back to 1e-9 relative, so
+the consolidation (``model_regression.py``), and every number must come back to :data:`RTOL`, so
 that a move of code that changes a result is seen. Whether the numbers are right is checked
 elsewhere against independent answers (Radau reference, closed forms, ROSS, seed 000 Table 1).
 Slow (about two minutes together): run them with ``-m slow`` before merging a kernel change.
@@ -19,19 +19,26 @@ import pytest
 from model_regression import (GEARED_MODES, GEARED_OBJECTIVES, RIG_MODES, RIG_OBJECTIVES, geared_modes,
                               geared_objectives, rig_modes, rig_objectives)
 
-RTOL = 1e-9
-#: absolute round-off floors [output unit] of outputs that are themselves round-off where the constraints
-#: hold to the Newton tolerance: the geared drive's ``gear_drift`` [m/s] of the nonlinear fidelities is
-#: ~3e-12 m/s, the gear's velocity residual ``t . (v_i^A - v_j^A)`` summed from terms of ~2.3 m/s (eps x
-#: terms = 5e-16 m/s, :func:`test_round_off_floors`); the model's own Python and compiled evaluations of the
-#: same record differed by up to 3.6e-16 m/s before the constraints' kernels were shared (issue 24), and
-#: sharing them moved the flexible and rigid rows by that much (up to 0.98 of the 1e-9 guard's 3.7e-16).
-FLOORS = {"gear_drift": 2e-15}
+RTOL = 1e-6
+"""Relative tolerance, and absolute tolerance in units of each column's largest value, of every number.
+It holds across CPUs and BLAS builds (issue 48). The tables were written on another machine: the same
+code here (OpenBLAS 0.3.31, Haswell kernels) and on OpenBLAS's Nehalem kernels (``OPENBLAS_CORETYPE``,
+numba's generic CPU target; 1 or 2 BLAS threads change no bit) differs from them by up to 3.2e-8 of a
+column's largest value and 6.7e-8 relative on values above 1e-3 of it (the geared drive's linear
+fidelity, whose modal basis comes from LAPACK's eigensolver; the rig's objectives 5.4e-8; damping
+ratios 3.6e-8, frequencies 1.2e-10): at most 1.6 % of this allowance. Values far below their column's
+largest are round-off there and are held only to ``RTOL`` times it: the rig's order and sideband lines
+far below their column's largest moved by up to 9e-6 of themselves, and the nonlinear fidelities' ``gear_drift``
+(~3e-12 m/s, the gear's velocity constraint after Newton's tolerance, beside the linear fidelity's
+5e-5 m/s and more) by 1.2e-14 m/s, six times the ulp-based floor of 2e-15 m/s these guards held it to
+before. The former 1e-9 failed both here and on the Nehalem kernels (9.2e-6 on the rig's torque_2f,
+1.8e-8 on its damping ratios). A 1e-4 change of one bearing stiffness moves the direct drive's
+outputs by 5e-6 - 2e-5 (``test_direct_drive_port.py``); not measured on these two models."""
 
 
 def same_table(path: Path, make: Callable[[], pd.DataFrame], keys: int) -> None:
     """``make()`` has ``path``'s columns, key columns (the first ``keys``) and labels, and its
-    numbers within :data:`RTOL` relative (absolute ``RTOL`` times the column's scale for zeros)."""
+    numbers within :data:`RTOL` relative or :data:`RTOL` times the column's largest value."""
     before, after = pd.read_csv(path), make().reset_index(drop=True)
     assert list(after.columns) == list(before.columns) and len(after) == len(before)
     values = before.iloc[:, keys:].drop(columns=["label"], errors="ignore")
@@ -53,8 +60,7 @@ def same_table(path: Path, make: Callable[[], pd.DataFrame], keys: int) -> None:
             continue
         b, a = before[col].to_numpy(float), after[col].to_numpy(float)
         scale = np.nanmax(np.abs(b), initial=0.0)
-        atol = max(RTOL * scale * 1e-3, FLOORS.get(col, 0.0))
-        np.testing.assert_allclose(a, b, rtol=RTOL, atol=atol, equal_nan=True, err_msg=col)
+        np.testing.assert_allclose(a, b, rtol=RTOL, atol=RTOL * scale, equal_nan=True, err_msg=col)
 
 
 @pytest.mark.slow
@@ -81,21 +87,3 @@ def test_geared_drive_objectives_unchanged() -> None:
 def test_geared_drive_modes_unchanged() -> None:
     """Frequencies, damping ratios and labels of the geared drive (flexible, rigid) at 2 points x 2 speeds."""
     same_table(GEARED_MODES, geared_modes, keys=3)
-
-
-@pytest.mark.slow
-def test_round_off_floors() -> None:
-    """Each floor of :data:`FLOORS` is a few ulps of the terms its output sums, measured at the geared
-    drive's operating state (rated rotor speed): ``eps sum |C_q,gear| |q_dot|`` <= floor <= 8 times that,
-    and far below the linear fidelity's drift (5e-5 m/s and more), which the guard still holds to 1e-9."""
-    from ddgsa import models
-
-    model = models.get("indirect_drive", fidelity="flexible")
-    asm, q, qd = model.build(model.nominal, rotor_speed=1.2)
-    system = asm.system
-    _, cq = system.velocity_residual(q, qd, 0.0)
-    terms = np.abs(cq[system.multiplier_names.index("gear.normal_force_on_j")]) @ np.abs(qd)
-    ulp = np.finfo(float).eps * terms
-    assert ulp <= FLOORS["gear_drift"] <= 8 * ulp
-    linear = pd.read_csv(GEARED_OBJECTIVES).query("fidelity == 'linear'")["gear_drift"]
-    assert FLOORS["gear_drift"] < 1e-9 * linear.min()

@@ -147,7 +147,7 @@ BASE = Path(__file__).with_name("conftest.py")
     ("REPLACE:name: demo|name: my demo", "field 'name': String should match pattern"),
     ("REPLACE:name: demo|name: demo\nkind: fault", "kind 'fault' needs a 'fault' block"),
     ("REPLACE:x1: {low: -3.14159, high: 3.14159}|x1: {dist: normal, mean: 0, std: 1}",
-     "field 'parameters.x1': support [-inf, inf] leaves the allowed range"),
+     "field 'parameters.x1': parameter 'x1' support [-inf, inf] leaves its allowed range"),
     ("REPLACE:run: {jobs: 1|run: {jobs: 0", "field 'run.jobs': Input should be greater than or equal to 1"),
     ("REPLACE:name: demo|name: demo\ngrid: {x1: [0.0]}", "'grid' and 'model.variants' need kind: sweep"),
     ("REPLACE:method: mdrm, points: 5|method: auto, budget: 5", "field 'methods[0]': method 'auto': option 'budget'"),
@@ -216,7 +216,7 @@ def test_variant_and_grid_sweep_reproduce_seed003_frequencies(tmp_path: Path) ->
 
 
 @pytest.mark.parametrize("edit, message", [
-    ("grid: {bearing_stiffness: [1e3]}", "field 'grid.bearing_stiffness': value 1000 leaves the allowed range"),
+    ("grid: {bearing_stiffness: [1e3]}", "field 'grid.bearing_stiffness': parameter 'bearing_stiffness' = 1000 N/m leaves its allowed range"),
     ("grid: {stiffness: [1e9]}", "field 'grid.stiffness': not a parameter"),
     ("REPLACE:{config: one_mass, magnetic: false}|{config: one_mas}", "field 'model.variants[0]'"),
     ("REPLACE:outputs: [bearing_frequency_hz|outputs: [tower_frequency_hz",

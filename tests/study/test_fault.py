@@ -169,7 +169,7 @@ def test_failures_refuse_the_verdict(write_study, tmp_path: Path, fail_above: fl
     ("{parameter: fault, healthy: 0, faulty: [1], pod_target: 1.5}", r"field 'fault.pod_target'"),
     ("{parameter: fault, healthy: 0, faulty: [1], confidence: 0.3}", r"field 'fault.confidence'"),
     ("{parameter: fault, healthy: 0, faulty: [0, 1]}", r"field 'fault.faulty': contains the healthy value 0"),
-    ("{parameter: fault, healthy: 0, faulty: [2000]}", r"level 2000 of 'fault' leaves the allowed range"),
+    ("{parameter: fault, healthy: 0, faulty: [2000]}", r"field 'fault': parameter 'fault' level 2000 leaves its allowed range"),
     ("{parameter: fault, healthy: 0, faulty: {start: 1, stop: 2}}",
      r"field 'fault.faulty': .*a range of levels is \{start, stop, num >= 2\} \(num: Field required\)"),
     ("{parameter: fault, healthy: 0, faulty: [1], design: pairs}", r"field 'fault.design': unknown value 'pairs'; known: .*did you mean 'paired'"),

@@ -93,3 +93,75 @@ def test_no_lock_file_is_left_behind(tmp_path: Path) -> None:
     assert not (tmp_path / "out" / LOCK_NAME).exists()
     with claim(tmp_path / "out", "demo"):                   # and the folder can be claimed again
         pass
+
+
+RIG = """\
+name: typo
+model: {name: hss_rig, fidelity: linear}
+parameters:
+  bearing_stiffness: {nominal: 2e7, spread: 0.2}
+scenes: {kind: steady, speed_rpm: 1500, duration: 0.5}
+outputs: [rms_disk_z]
+methods:
+  - {method: mdrm, points: 3}
+"""
+GENERATOR = BASE.replace("{name: direct_drive, fidelity: rigid}", "{name: generator_radial, options: {config: one_mass}}") \
+    .replace("k_front_z: {nominal: 1e10", "bearing_stiffness: {nominal: 1e10").replace("damage_front", "bearing_frequency_hz")
+
+
+@pytest.mark.parametrize(("base", "old", "new", "message"), [
+    (BASE, "method: mdrm", "method: mdmr", r"field 'methods\[0\]\.method': unknown GSA method 'mdmr'; known: auto, "
+                                           r"fast, hsic, mdrm, pce, rbd_fast, saltelli, shapley; did you mean 'mdrm'\?"),
+    (BASE, "fidelity: rigid", "fidelity: rigd", r"field 'model': model 'direct_drive': unknown fidelity 'rigd'; known: "
+                                                r"flexible, rigid, linear; did you mean 'rigid'\?"),
+    (BASE, "spread: 0.2", "sprad: 0.2", r"parameter 'k_front_z': unknown key\(s\) \['sprad'\] for dist 'uniform'; "
+                                        r"allowed: .*; did you mean 'spread'\?"),
+    (BASE, "{nominal: 1e10, spread: 0.2}", "{dist: normall, mean: 1e10, std: 1e9}",
+     r"unknown dist 'normall'; allowed: .*; did you mean 'normal' or"),
+    (BASE, "fidelity: rigid}", "fidelity: rigid, options: {beam: timoshenk}}",
+     r"field 'model\.options': model 'direct_drive': option 'beam' must be one of euler_bernoulli, timoshenko, got "
+     r"'timoshenk'; did you mean 'timoshenko'\?"),
+    (BASE, "fidelity: rigid}", "fidelity: rigid, options: {integrater: gen_alpha}}",
+     r"unknown option 'integrater'; known: .*; did you mean 'integrator'\?"),
+    (BASE, "fidelity: rigid}", "fidelity: rigid, options: {deflection: totl}}",
+     r"option 'deflection' must be one of total, frame, elastic, got 'totl'; did you mean 'total'\?"),
+    (GENERATOR, "config: one_mass", "config: one_mas", r"option 'config' must be one of one_mass, substructure, "
+                                                       r"tower_side_to_side, tower_torsion, got 'one_mas'; did you mean 'one_mass'\?"),
+    (GENERATOR, "config: one_mass", "confg: one_mass", r"unknown option 'confg'; known: .*; did you mean 'config'\?"),
+    (RIG, "kind: steady", "kind: stedy", r"rig scene field 'kind' must be one of startup, steady, coastdown, got "
+                                         r"'stedy'; did you mean 'steady'\?"),
+    (BASE, "duration: 60}", "duration: 60, loads: {fidelity: bme}}",
+     r"field 'scenes\.loads\.fidelity': unknown value 'bme'; known: auto, bem, table; did you mean 'bem' or"),
+    (BASE, "[damage_front]", "[damage_frnt]", r"field 'outputs\[0\]': unknown output 'damage_frnt'.*did you mean "
+                                              r"'damage_front'"),
+    (BASE, "[damage_front]", "[{name: damage_front, unit: '-'}]\noutput_units: {damage_frnt: '-'}",
+     r"field 'output_units\.damage_frnt': not an output of the study; known: damage_front; did you mean 'damage_front'\?"),
+    (BASE, "method: mdrm, points: 3", "method: pce, order: 2, fit: regresion",
+     r"method 'pce': option 'fit' must be one of regression, sparse, quadrature; got 'regresion'; did you mean "
+     r"'regression'\?"),
+    # unit hints: a value 10^3 or 10^6 outside the range that a prefix brings inside
+    (BASE, "spread: 0.2}", "spread: 0.2}\n  k_front_y: {nominal: 5e5, spread: 0.1}",
+     r"field 'parameters\.k_front_y': parameter 'k_front_y' support \[450000, 550000\] N/m leaves its allowed range "
+     r"\[1e\+06, 1e\+12\] N/m \(hint: 450000, 550000 kN/m = 4\.5e\+08, 5\.5e\+08 N/m is inside it: if the number is "
+     r"in kN/m, write unit: kN/m\)"),
+    (BASE, "outputs:", "fixed: {shaft_length: 6000}\noutputs:",
+     r"field 'fixed\.shaft_length': parameter 'shaft_length' = 6000 m leaves its allowed range \[2, 20\] m \(hint: "
+     r"6000 mm = 6 m is inside it: if the number is in mm, write unit: mm\)"),
+    (BASE, "outputs:", "fixed: {hub_mass: 4e7}\noutputs:", r"parameter 'hub_mass' = 4e\+07 kg leaves its allowed "
+                                                           r"range \[1, 1e\+06\] kg \(hint: 4e\+07 g = 40000 kg"),
+    (BASE, "outputs:", "fixed: {bearing_C_front: 10}\noutputs:", r"'bearing_C_front' = 10 N leaves its allowed range "
+                                                                 r"\[100000, 1e\+09\] N \(hint: 10 MN = 1e\+07 N"),
+    (BASE, "outputs:", "fixed: {shaft_length: 60}\noutputs:", r"'shaft_length' = 60 m leaves its allowed range "
+                                                              r"\[2, 20\] m$"),
+])
+def test_validate_says_what_was_meant(tmp_path: Path, capsys, base: str, old: str, new: str, message: str) -> None:
+    """``ddgsa validate`` on a study with one mistake exits 2 with the field, the known values and the
+    close match (difflib, the one helper ``errors.did_you_mean``), or the unit prefix that brings a
+    value 10^3 or 10^6 outside its range inside it (none for a value 3x off)."""
+    assert old in base
+    path = tmp_path / "typo.yaml"
+    path.write_text(base.replace(old, new, 1))
+    assert main(["validate", str(path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    import re
+    assert any(re.search(message, line) for line in err), err

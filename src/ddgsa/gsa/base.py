@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from ddgsa.errors import MethodError, unknown_name_message
+from ddgsa.errors import MethodError, unknown_name_message, with_hint
 from ddgsa.registry import Registry
 from ddgsa.gsa.groups import GroupIndices, group_frame
 from ddgsa.gsa.result import Diagnostic, SobolResult
@@ -307,7 +307,8 @@ def check_int(method: str, key: str, value: Any, low: int, high: int | None = No
 def check_choice(method: str, key: str, value: Any, allowed: Sequence[str]) -> str:
     """A string option among ``allowed`` or a :class:`MethodError` naming it."""
     if value not in allowed:
-        raise MethodError(f"method {method!r}: option {key!r} must be one of {', '.join(allowed)}; got {value!r}")
+        raise MethodError(with_hint(f"method {method!r}: option {key!r} must be one of {', '.join(allowed)}; "
+                                    f"got {value!r}", value, allowed))
     return str(value)
 
 

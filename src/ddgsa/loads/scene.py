@@ -6,7 +6,7 @@ import math
 from dataclasses import asdict, dataclass
 from typing import Any, ClassVar
 
-from ddgsa.errors import SceneError
+from ddgsa.errors import SceneError, with_hint
 
 #: samples per period of the highest rotor harmonic the loads must resolve (3P at rated speed)
 SAMPLES_PER_3P = 8
@@ -17,6 +17,44 @@ LOADS_FIDELITIES = ("table", "bem", "auto")
 AUTO_BEM_INCLINATION_DEG = 2.5
 #: how ``inclination_deg`` and ``wind_speed`` describe an inclined flow (see :attr:`Scene.inclination_convention`)
 INCLINATION_CONVENTIONS = ("upflow", "downflow_horizontal")
+
+
+@dataclass(frozen=True)
+class Interval:
+    """The allowed range of a scene field [its unit], each end included or not; ``str`` writes it as
+    the docs quote it (``(0, 50]``, ``> 0``), which ``tests/test_docs.py`` checks.
+
+    Examples
+    --------
+    >>> str(Interval(0.0, 50.0, low_closed=False)), str(Interval(0.0, low_closed=False)), 50.0 in Interval(0.0, 50.0)
+    ('(0, 50]', '> 0', True)
+    """
+
+    low: float
+    high: float = math.inf
+    low_closed: bool = True
+    high_closed: bool = True
+
+    def __contains__(self, value: float) -> bool:
+        above = value >= self.low if self.low_closed else value > self.low
+        below = value <= self.high if self.high_closed else value < self.high
+        return above and below
+
+    def __str__(self) -> str:
+        if math.isinf(self.high):
+            return f"{'>=' if self.low_closed else '>'} {self.low:g}"
+        return f"{'[' if self.low_closed else '('}{self.low:g}, {self.high:g}{']' if self.high_closed else ')'}"
+
+    def must(self, unit: str = "") -> str:
+        """``in (0, 50] m/s`` or ``> 0 s``: what a message says a value must be."""
+        return ("" if math.isinf(self.high) else "in ") + str(self) + (f" {unit}" if unit not in ("", "-") else "")
+
+
+#: the allowed range of each numeric field of a wind :class:`Scene` [the field's unit]
+SCENE_LIMITS = {"wind_speed": Interval(0.0, 50.0, low_closed=False),
+                "turbulence_intensity": Interval(0.0, 1.0, high_closed=False),
+                "inclination_deg": Interval(-30.0, 30.0), "shear_exponent": Interval(0.0, 1.0),
+                "duration": Interval(0.0, low_closed=False), "dt": Interval(0.0, low_closed=False)}
 
 
 @dataclass(frozen=True)
@@ -37,7 +75,8 @@ class Scene:
     duration : float
         Record length [s], > 0.
     dt : float
-        Time step of the loads [s]; at most ``1 / (8 f_3P)`` at rated rotor speed (0.165 s).
+        Time step of the loads [s]; at most ``1 / (8 f_3P)`` at rated rotor speed (:func:`max_time_step`:
+        0.207 s).
     seed : int
         Seed of the turbulence realisation (>= 0); all parameter points of a scene see the
         same realisation (common random numbers).
@@ -77,11 +116,12 @@ class Scene:
 
     def __post_init__(self) -> None:
         if self.loads_fidelity not in LOADS_FIDELITIES:
-            raise SceneError(f"scene field 'loads_fidelity' must be one of {', '.join(LOADS_FIDELITIES)}, "
-                             f"got {self.loads_fidelity!r}")
+            raise SceneError(with_hint(f"scene field 'loads_fidelity' must be one of {', '.join(LOADS_FIDELITIES)}, "
+                                       f"got {self.loads_fidelity!r}", self.loads_fidelity, LOADS_FIDELITIES))
         if self.inclination_convention not in INCLINATION_CONVENTIONS:
-            raise SceneError(f"scene field 'inclination_convention' must be one of "
-                             f"{', '.join(INCLINATION_CONVENTIONS)}, got {self.inclination_convention!r}")
+            raise SceneError(with_hint(f"scene field 'inclination_convention' must be one of "
+                                       f"{', '.join(INCLINATION_CONVENTIONS)}, got {self.inclination_convention!r}",
+                                       self.inclination_convention, INCLINATION_CONVENTIONS))
         for name in ("wind_speed", "turbulence_intensity", "inclination_deg", "shear_exponent",
                      "duration", "dt"):
             value = getattr(self, name)
@@ -90,17 +130,10 @@ class Scene:
             object.__setattr__(self, name, float(value))
         if not isinstance(self.seed, int) or isinstance(self.seed, bool) or self.seed < 0:
             raise SceneError(f"scene field 'seed' must be an integer >= 0, got {self.seed!r}")
-        checks = (
-            ("wind_speed", 0.0 < self.wind_speed <= 50.0, "in (0, 50] m/s"),
-            ("turbulence_intensity", 0.0 <= self.turbulence_intensity < 1.0, "in [0, 1)"),
-            ("inclination_deg", -30.0 <= self.inclination_deg <= 30.0, "in [-30, 30] deg"),
-            ("shear_exponent", 0.0 <= self.shear_exponent <= 1.0, "in [0, 1]"),
-            ("duration", self.duration > 0.0, "> 0 s"),
-            ("dt", self.dt > 0.0, "> 0 s"),
-        )
-        for name, ok, allowed in checks:
-            if not ok:
-                raise SceneError(f"scene field {name!r} must be {allowed}, got {getattr(self, name)}")
+        for name, allowed in SCENE_LIMITS.items():
+            if getattr(self, name) not in allowed:
+                raise SceneError(f"scene field {name!r} must be {allowed.must(self.units[name])}, "
+                                 f"got {getattr(self, name)}")
         dt_max = max_time_step()
         if self.dt > dt_max:
             raise SceneError(f"scene field 'dt' = {self.dt} s is too coarse for the rotor's 3P frequency "

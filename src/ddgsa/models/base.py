@@ -13,11 +13,12 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from ddgsa.errors import ModelError, clip, unknown_name_message
+from ddgsa.errors import ModelError, clip, unknown_name_message, with_hint
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables
 from ddgsa.mbs.sampling import sampling_row
 from ddgsa.registry import Registry
+from ddgsa.units import prefix_hint
 
 MODELS: Registry[type["Model"]] = Registry("model", ModelError)
 register_model = MODELS.register
@@ -44,6 +45,31 @@ class ModelParameter:
     description: str
     low: float = -math.inf
     high: float = math.inf
+
+    def range_problem(self, values: float | tuple[float, float], what: str = "=") -> str:
+        """Why ``values`` [unit] leave the allowed range, with a unit hint where a prefix would bring
+        them in (:func:`~ddgsa.units.prefix_hint`); empty when inside. The one check of a value
+        against its range, for the Python API (:meth:`Model.resolve`) and the study file alike.
+
+        Parameters
+        ----------
+        values : float or (float, float)
+            A value, or an interval such as a distribution's support [unit].
+        what : str
+            What the values are, e.g. ``"support"``.
+
+        Examples
+        --------
+        >>> ModelParameter("k", 1e10, "N/m", "stiffness", 1e8, 1e12).range_problem(1e7)
+        "parameter 'k' = 1e+07 N/m leaves its allowed range [1e+08, 1e+12] N/m (hint: 1e+07 kN/m = 1e+10 N/m is inside it: if the number is in kN/m, write unit: kN/m)"
+        """
+        given = (values,) if isinstance(values, (int, float, np.floating)) else tuple(values)
+        if all(self.low <= float(v) <= self.high for v in given):
+            return ""
+        text = f"{float(given[0]):g}" if len(given) == 1 else f"[{', '.join(f'{float(v):g}' for v in given)}]"
+        unit = "" if self.unit in ("", "-", "1") else f" {self.unit}"
+        return (f"parameter {self.name!r} {what} {text}{unit} leaves its allowed range "
+                f"[{self.low:g}, {self.high:g}]{unit}" + prefix_hint(given, self.unit, self.low, self.high))
 
 
 @dataclass(frozen=True)
@@ -115,7 +141,8 @@ class ModelOption:
         else:
             ok = self._number(value) and (self.kind != "integer" or isinstance(value, int))
         if not ok:
-            raise ModelError(f"model {model!r}: option {self.name!r} must be {self.allowed()}, got {clip(value)}")
+            message = f"model {model!r}: option {self.name!r} must be {self.allowed()}, got {clip(value)}"
+            raise ModelError(with_hint(message, value, self.choices) if self.kind == "choice" else message)
 
     def _number(self, v: Any) -> bool:
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -344,36 +371,68 @@ class Model(ABC):
         beyond each parameter's own range (e.g. bearings that cross); empty when valid."""
         return []
 
-    def resolve(self, points: pd.DataFrame | Mapping[str, Any] | None) -> pd.DataFrame:
+    def resolve(self, points: pd.DataFrame | Mapping[str, Any] | NDArray[np.float64] | None) -> pd.DataFrame:
         """Full parameter table: given columns, nominal values for the missing ones.
+
+        Parameters
+        ----------
+        points : DataFrame, mapping, 2-D array or None
+            A table with one column per given parameter; a mapping of parameter names to scalars
+            (one point) or to equal-length arrays or lists (columns); a 2-D array of shape
+            (n_points, n_parameters), columns in :attr:`parameters`' declared order; ``None`` for
+            the nominal point. Values in each parameter's unit.
 
         Raises
         ------
         ModelError
-            For an unknown parameter name or a value outside its declared range.
+            For an unknown parameter name, an array of the wrong shape, columns of unequal length,
+            a value that is not a number, or one outside its declared range (the message of
+            :meth:`ModelParameter.range_problem`, as a study file gets it).
         """
-        if points is None:
-            frame = pd.DataFrame([{}])
-        elif isinstance(points, Mapping):
-            frame = pd.DataFrame([dict(points)])
-        else:
-            frame = points.reset_index(drop=True)
+        frame = self._points_frame(points)
         column = {p.name: j for j, p in enumerate(self.parameters)}
         unknown = [c for c in frame.columns if c not in column]
         if unknown:
-            raise ModelError(f"model {self.name!r} has no parameter(s) {unknown}; known: {', '.join(sorted(column))}")
+            raise ModelError(f"model {self.name!r}: " + unknown_name_message("parameter", unknown[0], list(column),
+                                                                            where=f"ddgsa models {self.name}"))
         # one float block, filled column by column (a frame per column cost ~2 ms a batch)
         values = np.tile(np.array([p.nominal for p in self.parameters], dtype=float), (len(frame), 1))
         for name in frame.columns:
-            values[:, column[name]] = frame[name].to_numpy(dtype=float)
+            try:
+                values[:, column[name]] = frame[name].to_numpy(dtype=float)
+            except (TypeError, ValueError):
+                raise ModelError(f"model {self.name!r}: parameter {name!r} must be numbers [{self.parameter(name).unit}], "
+                                 f"got {clip(frame[name].tolist())}") from None
         low, high = (np.array([getattr(p, b) for p in self.parameters]) for b in ("low", "high"))
         bad = ~((values >= low) & (values <= high))
         if bad.any():
             j = int(np.flatnonzero(bad.any(axis=0))[0])
-            p = self.parameters[j]
-            raise ModelError(f"model {self.name!r}: parameter {p.name!r} = {values[bad[:, j], j][0]} is outside its "
-                             f"allowed range [{p.low}, {p.high}] {p.unit}")
+            raise ModelError(f"model {self.name!r}: " + self.parameters[j].range_problem(float(values[bad[:, j], j][0])))
         return pd.DataFrame(values, columns=list(column))
+
+    def _points_frame(self, points: pd.DataFrame | Mapping[str, Any] | NDArray[np.float64] | None) -> pd.DataFrame:
+        """``points`` as a table of given columns (see :meth:`resolve`)."""
+        if points is None:
+            return pd.DataFrame([{}])
+        if isinstance(points, pd.DataFrame):
+            return points.reset_index(drop=True)
+        if isinstance(points, Mapping):
+            if all(np.ndim(v) == 0 for v in points.values()):
+                return pd.DataFrame([dict(points)])
+            shapes = {str(k): np.shape(v) for k, v in points.items()}
+            if len(set(shapes.values())) != 1 or len(next(iter(shapes.values()))) != 1:
+                raise ModelError(f"model {self.name!r}: a mapping of points gives every parameter one number, or "
+                                 f"every parameter a 1-D column of one length; got shapes {clip(shapes)}")
+            return pd.DataFrame({k: list(v) for k, v in points.items()})
+        if isinstance(points, np.ndarray):
+            names = [p.name for p in self.parameters]
+            if points.ndim != 2 or points.shape[1] != len(names):
+                raise ModelError(f"model {self.name!r}: an array of points has shape (n_points, {len(names)}), "
+                                 f"one column per parameter in the declared order ({', '.join(names)}; "
+                                 f"one point: array.reshape(1, -1)); got shape {points.shape}")
+            return pd.DataFrame(points, columns=names)
+        raise ModelError(f"model {self.name!r}: points are a DataFrame, a mapping of parameter names to numbers "
+                         f"or columns, or a 2-D array (n_points, {len(self.parameters)}); got {type(points).__name__}")
 
     def signal_output(self, name: str) -> SignalOutput:
         """The declaration of signal output ``name``."""
@@ -495,7 +554,8 @@ class Model(ABC):
             Naming the model, the fidelity given and the known ones.
         """
         if fidelity not in cls.fidelities:
-            raise ModelError(f"model {cls.name!r}: unknown fidelity {fidelity!r}; known: {', '.join(cls.fidelities)}")
+            raise ModelError(with_hint(f"model {cls.name!r}: unknown fidelity {fidelity!r}; "
+                                       f"known: {', '.join(cls.fidelities)}", fidelity, cls.fidelities))
 
     def standstill_only(self, rotor_speed: float) -> None:
         """Refuse a nonzero ``rotor_speed`` [rad/s] for a model whose modes have no rotor speed.

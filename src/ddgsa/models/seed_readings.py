@@ -38,7 +38,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from ddgsa.errors import ModelError
+from ddgsa.errors import ModelError, with_hint
 
 BENDING_RAYLEIGH = ("physical", "printed")
 BEARING_DAMPING = ("modal", "stiffness_proportional")
@@ -49,8 +49,8 @@ DEFLECTION_REFERENCE = ("static", "mean")
 def checked(option: str, value: object, allowed: Sequence[str]) -> str:
     """``value`` if it is one of ``allowed``, else a :class:`~ddgsa.errors.ModelError` naming the option."""
     if value not in allowed:
-        raise ModelError(f"model 'direct_drive': option {option!r} must be one of {', '.join(allowed)}; "
-                         f"got {value!r}")
+        raise ModelError(with_hint(f"model 'direct_drive': option {option!r} must be one of {', '.join(allowed)}; "
+                                   f"got {value!r}", value, allowed))
     return str(value)
 
 

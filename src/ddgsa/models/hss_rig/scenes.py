@@ -31,12 +31,19 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, fields
 from typing import Any, ClassVar
 
-from ddgsa.errors import SceneError
+from ddgsa.errors import SceneError, with_hint
+from ddgsa.loads.scene import Interval
 from ddgsa.mbs.sampling import check_interval, sampling_row
 
 KINDS = ("startup", "steady", "coastdown")
 MIN_STEADY_REVS = 8
 """Whole shaft revolutions the analysed steady record must hold (order resolution 1/8)."""
+MIN_SAMPLES = 64
+"""Samples a record must hold (``duration * sample_rate``)."""
+RIG_SCENE_LIMITS = {"speed_rpm": Interval(0.0, 6000.0, low_closed=False), "duration": Interval(0.0, low_closed=False),
+                    "sample_rate": Interval(0.0, low_closed=False)}
+"""The allowed range of the rig scene's numeric fields with fixed bounds [the field's unit]; ``settle`` and
+``ramp_time`` lie in [0, duration)."""
 SLIP_ALLOWANCE = 0.1
 """Slip the revolution count allows for [-]: the shaft turns slower than ``speed_rpm`` by the
 motor's slip (3-6 % for the rig's motor at its load; 10 % leaves room for a GSA's extremes)."""
@@ -84,7 +91,8 @@ class RigScene:
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
-            raise SceneError(f"rig scene field 'kind' must be one of {', '.join(KINDS)}, got {self.kind!r}")
+            raise SceneError(with_hint(f"rig scene field 'kind' must be one of {', '.join(KINDS)}, got {self.kind!r}",
+                                       self.kind, KINDS))
         for name in ("speed_rpm", "duration", "sample_rate", "settle", "ramp_time"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
@@ -93,9 +101,8 @@ class RigScene:
         if not isinstance(self.seed, int) or isinstance(self.seed, bool) or self.seed < 0:
             raise SceneError(f"rig scene field 'seed' must be an integer >= 0, got {self.seed!r}")
         checks = (
-            ("speed_rpm", 0.0 < self.speed_rpm <= 6000.0, "in (0, 6000] rpm"),
-            ("duration", self.duration > 0.0, "> 0 s"),
-            ("sample_rate", self.sample_rate > 0.0, "> 0 Hz"),
+            *((name, getattr(self, name) in allowed, allowed.must(self.units[name]))
+              for name, allowed in RIG_SCENE_LIMITS.items()),
             ("settle", 0.0 <= self.settle and (self.kind != "steady" or self.settle < self.duration),
              f"in [0, duration = {self.duration:g}) s"),
             ("ramp_time", 0.0 <= self.ramp_time < self.duration, f"in [0, duration = {self.duration:g}) s"),
@@ -103,9 +110,9 @@ class RigScene:
         for name, ok, allowed in checks:
             if not ok:
                 raise SceneError(f"rig scene field {name!r} must be {allowed}, got {getattr(self, name):g}")
-        if self.duration * self.sample_rate < 64:
+        if self.duration * self.sample_rate < MIN_SAMPLES:
             raise SceneError(f"rig scene: duration {self.duration:g} s at sample_rate {self.sample_rate:g} Hz gives "
-                             f"{self.duration * self.sample_rate:.0f} samples; need at least 64")
+                             f"{self.duration * self.sample_rate:.0f} samples; need at least {MIN_SAMPLES}")
         if self.kind == "steady":
             revs = self.analysed_duration * self.speed_rpm / 60.0 * (1.0 - SLIP_ALLOWANCE)
             if revs < MIN_STEADY_REVS:
