@@ -59,7 +59,7 @@ import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
@@ -81,8 +81,8 @@ from ddgsa.mbs.system import (SystemArrays, integrate, integrate_reference, kind
 from ddgsa.models.base import (Model, ModelOption, ModelOutput, ModelParameter, SignalOutput, controller_row,
                                register_model)
 from ddgsa.models.constants import HUB_INERTIA_X, HUB_INERTIA_YZ, HUB_MASS, tilted_gravity
-from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE,
-                                        bearing_damping, bending_damping)
+from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE, SHAFT,
+                                        bearing_damping, bending_damping, table1_shaft)
 from ddgsa.objectives import damage_rate
 from ddgsa.signals import band_rms_spectrum
 
@@ -97,7 +97,7 @@ PARAMETERS = (
     ModelParameter("rear_bearing_x", 5.0, "m", "rear bearing position L2 from the hub", 0.1, 19.9),
     ModelParameter("hub_mass", HUB_MASS, "kg", "rotor hub (with blades) mass m1", 1.0, 1e6),
     ModelParameter("generator_mass", 30000.0, "kg", "generator rotor mass m2", 1.0, 1e6),
-    ModelParameter("shaft_mass", 5030.0, "kg", "main shaft mass (hollow steel shaft)", 1.0, 1e5),
+    ModelParameter("shaft_mass", 5030.0, "kg", "main shaft mass", 1.0, 1e5),
     ModelParameter("shaft_radius", 0.3258, "m", "main shaft outer radius (enters its polar inertia only)",
                    0.01, 2.0),
     ModelParameter("shaft_bending_stiffness", 1.0e9, "N m^2", "main shaft bending stiffness EI", 1e6, 1e12),
@@ -136,6 +136,23 @@ OUTPUTS = (
     ModelOutput("front_Fa_mean", "N", "time-mean axial force magnitude on the front bearing", 0.0, 1e7),
     ModelOutput("rear_Fa_mean", "N", "time-mean axial force magnitude on the rear bearing", 0.0, 1e7),
 )
+DEFAULT_SHAFT = "table2"
+"""The shaft reading of a model built without ``shaft`` (:data:`~ddgsa.models.seed_readings.SHAFT`)."""
+SHAFT_BORE = {"table1": 0.0, "table2": _BORE}
+"""Bore radius [m] of each shaft reading's section (its polar inertia and Timoshenko shear stiffness)."""
+
+
+def shaft_parameters(shaft: str) -> tuple[ModelParameter, ...]:
+    """:data:`PARAMETERS` with the nominal values of the shaft reading ``shaft`` (``table2``: as declared;
+    ``table1``: :func:`~ddgsa.models.seed_readings.table1_shaft` of the declared radius, length and end masses)."""
+    if shaft == "table2":
+        return PARAMETERS
+    nominal = {p.name: p.nominal for p in PARAMETERS}
+    solid = table1_shaft(nominal["shaft_radius"], nominal["shaft_length"], nominal["hub_mass"],
+                         nominal["generator_mass"])
+    return tuple(dataclasses.replace(p, nominal=solid.get(p.name, p.nominal)) for p in PARAMETERS)
+
+
 SPECTRUM_BAND_HZ = 0.05
 """Width of the signal outputs' frequency bands [Hz] (the records need >= 2 / 0.05 = 40 s)."""
 SPECTRUM_EDGES_HZ = SPECTRUM_BAND_HZ * np.arange(51)
@@ -187,14 +204,16 @@ def bearing_order_problem(p: Mapping[str, float]) -> str:
 
 
 def build(p: Mapping[str, float], fields: tuple[str, ...],
-             damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli") -> Assembly:
+          damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli",
+          shaft: str = DEFAULT_SHAFT) -> Assembly:
     """Build the system for one parameter set and the retained elastic fields.
 
     ``damping``: the readings of seed 000's bending Rayleigh law and bearing damping
     (:mod:`ddgsa.models.seed_readings`: ``bending_rayleigh``, ``bearing_damping``). ``beam``: the
     shaft's FE bending elements (:data:`ddgsa.mbs.beam.BEAMS`); ``timoshenko`` takes the shear
-    stiffness ``kappa G A`` of the hollow section (Cowper's ``kappa``, ``G = GJ / J``, Poisson's
-    ratio from ``EI / I`` and ``G``) and gives the shaft its rotary inertia.
+    stiffness ``kappa G A`` of the section (Cowper's ``kappa``, ``G = GJ / J``, Poisson's
+    ratio from ``EI / I`` and ``G``) and gives the shaft its rotary inertia. ``shaft``: the shaft
+    reading whose section (bore :data:`SHAFT_BORE`, 0 for the solid ``table1``) ``p``'s shaft has.
 
     Written on the kernel's parts (:mod:`ddgsa.mbs`): the shaft is a
     :meth:`~ddgsa.mbs.bodies.FlexibleBody.shaft` on its FE modes with the hub and generator as end
@@ -208,10 +227,10 @@ def build(p: Mapping[str, float], fields: tuple[str, ...],
     problem = bearing_order_problem(p)
     if problem:
         raise ModelError(problem)
-    r_o = p["shaft_radius"]
+    r_o, bore = p["shaft_radius"], SHAFT_BORE[shaft]
     spec = BeamSpec(nodes=mesh([0.0, l1, l2, length], _MAX_ELEMENT), mass=p["shaft_mass"],
-                    shear_stiffness=_shear_stiffness(p) if beam == "timoshenko" else None,
-                    polar_inertia=p["shaft_mass"] * (r_o ** 2 + min(_BORE, 0.8 * r_o) ** 2) / 2.0,
+                    shear_stiffness=_shear_stiffness(p, bore) if beam == "timoshenko" else None,
+                    polar_inertia=p["shaft_mass"] * (r_o ** 2 + min(bore, 0.8 * r_o) ** 2) / 2.0,
                     EI=p["shaft_bending_stiffness"], EA=p["shaft_axial_stiffness"],
                     GJ=p["shaft_torsional_stiffness"],
                     end_masses=((0.0, p["hub_mass"], p["hub_inertia_x"], p["hub_inertia_yz"]),
@@ -279,10 +298,10 @@ def input_map(p: Mapping[str, float]) -> NDArray[np.float64]:
     return m
 
 
-def _shear_stiffness(p: Mapping[str, float]) -> float:
-    """``kappa G A`` [N] of the hollow shaft (outer radius ``shaft_radius``, bore :data:`_BORE`)."""
+def _shear_stiffness(p: Mapping[str, float], bore: float) -> float:
+    """``kappa G A`` [N] of the shaft (outer radius ``shaft_radius``, bore radius ``bore`` [m], at most 0.8 of it)."""
     r_o = p["shaft_radius"]
-    r_i = min(_BORE, 0.8 * r_o)
+    r_i = min(bore, 0.8 * r_o)
     area, j = np.pi * (r_o ** 2 - r_i ** 2), np.pi * (r_o ** 4 - r_i ** 4) / 2
     g = p["shaft_torsional_stiffness"] / j
     poisson = p["shaft_bending_stiffness"] / (j / 2) / (2 * g) - 1.0
@@ -309,7 +328,8 @@ def _shaft(spec: BeamSpec, fields: tuple[str, ...], damping_ratio: float, raylei
 
 @functools.lru_cache(maxsize=256)
 def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...],
-              damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli") -> Assembly:
+              damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli",
+              shaft: str = DEFAULT_SHAFT) -> Assembly:
     """:func:`build` kept per exact parameter point (~30 % of a linear point's cost).
 
     A study evaluates every point in each scene and realisation (paper C: 60 times), and a
@@ -317,7 +337,7 @@ def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...],
     system depends on the parameters only (loads are inputs) and nothing modifies it, so
     sharing it is exact. 256 systems of ~30 kB: more than a batch's points.
     """
-    return build(dict(params), fields, damping, beam)
+    return build(dict(params), fields, damping, beam, shaft)
 
 
 @register_model("direct_drive")
@@ -360,12 +380,21 @@ class DirectDrive(Model):
         Seed eq. (28)'s reference: the static equilibrium under the scene's mean loads (shaft not
         turning) or the record's time mean (the turning shaft's steady state; the two differ where
         the shaft's damping turns with it, as under the printed Rayleigh law).
+    shaft : {"table1", "table2"}, optional
+        The shaft reading (:mod:`ddgsa.models.seed_readings`): ``table1``, the solid steel shaft and
+        thin-disc end inertias whose modes seed 000's Table 1 prints, or ``table2``, Table 2's
+        EI = 1e9 N m^2 (a hollow 5 t shaft) with R1, R2 as radii of gyration. It sets the nominal
+        values of the shaft's mass, EI, GJ, EA and the end inertias (:func:`shaft_parameters`) and
+        the section's bore; default :data:`DEFAULT_SHAFT` (``docs/seed000_readings.md`` says why).
     """
 
-    parameters = PARAMETERS
+    parameters = shaft_parameters(DEFAULT_SHAFT)
     outputs = OUTPUTS
     signal_outputs = SIGNALS
     fidelities = ("flexible", "rigid", "linear")
+    options_note: ClassVar[str] = ("option shaft: table1 (solid steel shaft and disc end inertias of seed 000 Table 1) "
+                                   "| table2 (Table 2's EI, hollow shaft) sets the nominal shaft mass, EI, GJ, EA "
+                                   "and end inertias")
     options = (ModelOption("axial", "bool", "axial elastic coordinate"),
                ModelOption("second_bending", "bool", "second bending mode per plane"),
                ModelOption("bending_modes", "integer", "bending modes per plane (default 5; 1 without second_bending)",
@@ -383,7 +412,9 @@ class DirectDrive(Model):
                            choices=BEARING_DAMPING),
                ModelOption("deflection", "choice", "what the deflection outputs measure", choices=DEFLECTION),
                ModelOption("deflection_reference", "choice", "the deflection's quasi-static reference",
-                           choices=DEFLECTION_REFERENCE))
+                           choices=DEFLECTION_REFERENCE),
+               ModelOption("shaft", "choice", "shaft and end inertias: seed 000 Table 1's solid shaft or Table 2's EI",
+                           choices=SHAFT, optional=True))
 
     def unused_parameters(self) -> dict[str, str]:
         """The shaft's elasticity, damping and radius at fidelity ``rigid`` (no elastic coordinates;
@@ -405,12 +436,14 @@ class DirectDrive(Model):
                  rho_inf: float = 0.8, equivalent_load: str = "iso281",
                  integrator: str = "gen_alpha", bending_rayleigh: str = "physical",
                  bearing_damping: str = "modal", deflection: str = "total",
-                 deflection_reference: str = "static") -> None:
+                 deflection_reference: str = "static", shaft: str | None = None) -> None:
         self.check_options({"fidelity": fidelity, "axial": axial, "second_bending": second_bending,
                             "bending_modes": bending_modes, "beam": beam, "time_step": time_step, "rho_inf": rho_inf,
                             "equivalent_load": equivalent_load, "integrator": integrator,
                             "bending_rayleigh": bending_rayleigh, "bearing_damping": bearing_damping,
-                            "deflection": deflection, "deflection_reference": deflection_reference})
+                            "deflection": deflection, "deflection_reference": deflection_reference, "shaft": shaft})
+        self.shaft = DEFAULT_SHAFT if shaft is None else shaft
+        self.parameters = shaft_parameters(self.shaft)
         if time_step is None:
             time_step = 0.01 if fidelity == "rigid" else 0.005
         self.integrator = integrator
@@ -439,7 +472,7 @@ class DirectDrive(Model):
     def build(self, params: Mapping[str, float] | None = None) -> Assembly:
         """The system for ``params`` (missing -> nominal): the single-body kernel's arrays and the
         :class:`~ddgsa.mbs.assembly.System` they were packed from (:class:`Assembly`)."""
-        return build(self.resolve(params).iloc[0].to_dict(), self.fields, self.damping, self.beam)
+        return build(self.resolve(params).iloc[0].to_dict(), self.fields, self.damping, self.beam, self.shaft)
 
     def static(self, asm: Assembly, force: NDArray[np.float64], moment: NDArray[np.float64],
                q_guess: NDArray[np.float64] | None = None, tol: float = 1e-12) -> NDArray[np.float64]:
@@ -468,7 +501,7 @@ class DirectDrive(Model):
     def _simulate(self, scene: Scene, p: Mapping[str, float], states: bool) -> pd.DataFrame:
         """:meth:`simulate` for resolved parameters ``p``; ``states=False`` lets the linear fidelity
         skip the coordinate columns (the objective functions do not read them)."""
-        asm = build(p, self.fields, self.damping, self.beam)
+        asm = build(p, self.fields, self.damping, self.beam, self.shaft)
         inputs = self._scene_inputs(scene)
         to_u = input_map(p)
         u = inputs.channels @ to_u
@@ -617,7 +650,7 @@ class DirectDrive(Model):
     def _linear_series(self, p: dict[str, float], scene: Scene) -> tuple[NDArray[np.float64], ...]:
         """The linear fidelity's records straight from the response arrays (no time-series frame):
         shaft-end deflections (n_t, 6) about the objectives' reference, speed, front and rear forces."""
-        asm = assembled(tuple(p.items()), self.fields, self.damping, self.beam)
+        asm = assembled(tuple(p.items()), self.fields, self.damping, self.beam, self.shaft)
         inputs = self._scene_inputs(scene)
         to_u = input_map(p)
         u0 = inputs.mean @ to_u

@@ -1,6 +1,6 @@
-"""Two readings of seed 000's damping laws and deflection objective: the physical one and the printed one.
+"""Readings of seed 000 where it is ambiguous: its shaft, damping laws and deflection objective.
 
-Seed 000 (Asadi & Johansson 2020) admits two readings in three places; the direct drive
+Seed 000 (Asadi & Johansson 2020) admits two readings in five places; the direct drive
 (:mod:`ddgsa.models.direct_drive`) takes each as a model option, the physical reading by default
 (``docs/seed000_readings.md`` says why and what each changes):
 
@@ -40,6 +40,14 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
 
+SHAFT = ("table1", "table2")
+TABLE1_HZ = {"bending": (6.0816, 29.5397), "axial": (127.8008, 462.4371), "torsion": (37.8392, 266.7413)}
+"""Seed 000 Table 1's FE eigenfrequencies [Hz], first and second mode of each family."""
+TABLE1_STEEL = (200e9, 0.3, 7850.0)
+"""Young's modulus [Pa], Poisson's ratio [-] and density [kg/m^3] of the ``table1`` shaft (handbook steel;
+Table 1's own elongation wavenumber 0.1591 1/m at 127.8 Hz gives sqrt(E / rho) = 5047 m/s, E / rho of this steel)."""
+TABLE1_DISC_RADII = (7.0, 0.5)
+"""Hub and generator-rotor disc radii R1, R2 [m] (seed Table 2) of the ``table1`` end inertias."""
 BENDING_RAYLEIGH = ("physical", "printed")
 BEARING_DAMPING = ("modal", "stiffness_proportional")
 DEFLECTION = ("total", "frame", "elastic")
@@ -88,3 +96,39 @@ def bearing_damping(k: NDArray[np.float64], mass: float, zeta: float, reading: s
         return 2.0 * zeta * np.sqrt(np.asarray(k, dtype=float) * mass / 2.0)
     return zeta * np.asarray(k, dtype=float)
 
+
+
+def table1_shaft(radius: float, length: float, hub_mass: float, generator_mass: float) -> dict[str, float]:
+    """The direct drive's parameters that the ``table1`` shaft reading sets (module notes).
+
+    Parameters
+    ----------
+    radius : float
+        Shaft radius R_ms [m] (solid section).
+    length : float
+        Shaft length L [m].
+    hub_mass, generator_mass : float
+        End masses m1, m2 [kg], thin discs of radii :data:`TABLE1_DISC_RADII`.
+
+    Returns
+    -------
+    dict
+        ``shaft_mass`` [kg], ``shaft_bending_stiffness`` EI and ``shaft_torsional_stiffness`` GJ
+        [N m^2], ``shaft_axial_stiffness`` EA [N], and the hub's and generator's polar (``_x``) and
+        diametral (``_yz``) inertias [kg m^2].
+
+    Examples
+    --------
+    >>> p = table1_shaft(0.3258, 6.0, 40000.0, 30000.0)
+    >>> round(p["shaft_mass"]), f"{p['shaft_bending_stiffness']:.3g}", p["hub_inertia_x"]
+    (15706, '1.77e+09', 980000.0)
+    """
+    young, poisson, density = TABLE1_STEEL
+    area, second_moment = np.pi * radius ** 2, np.pi * radius ** 4 / 4.0
+    out = {"shaft_mass": density * area * length, "shaft_bending_stiffness": young * second_moment,
+           "shaft_torsional_stiffness": young / (2.0 * (1.0 + poisson)) * 2.0 * second_moment,
+           "shaft_axial_stiffness": young * area}
+    for end, mass, disc in (("hub", hub_mass, TABLE1_DISC_RADII[0]), ("generator", generator_mass, TABLE1_DISC_RADII[1])):
+        out[f"{end}_inertia_x"] = mass * disc ** 2 / 2.0
+        out[f"{end}_inertia_yz"] = mass * disc ** 2 / 4.0
+    return {k: float(v) for k, v in out.items()}
