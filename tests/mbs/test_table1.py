@@ -17,24 +17,18 @@ import numpy as np
 import pytest
 
 from ddgsa.mbs import Ground, Spherical, System, TransverseBearing, modes
-from ddgsa.mbs.beam import BeamSpec, mesh, shaft_modes
+from ddgsa.mbs.beam import BeamSpec, shaft_modes
 from ddgsa.mbs.bodies import FlexibleBody
 from ddgsa.models.direct_drive import shaft_parameters
-from ddgsa.models.seed_readings import TABLE1_HZ as TABLE1
+from ddgsa.models.seed_readings import TABLE1_HZ as TABLE1, table1_spec
 
 P = {p.name: p.nominal for p in shaft_parameters("table1")}      # the direct drive's `shaft: table1` reading
-RADIUS, LENGTH, L1, L2 = P["shaft_radius"], P["shaft_length"], P["front_bearing_x"], P["rear_bearing_x"]
+L1, L2 = P["front_bearing_x"], P["rear_bearing_x"]
 
 
 def table1_shaft(axial_spring: float | None = 1e10) -> BeamSpec:
-    """The ``table1`` shaft (solid, handbook steel: ``seed_readings.TABLE1_STEEL``) with its disc end
-    inertias, meshed finely (5 cm), on the supports of Table 1's families."""
-    ends = tuple((x, P[f"{end}_mass"], P[f"{end}_inertia_x"], P[f"{end}_inertia_yz"])
-                 for x, end in ((0.0, "hub"), (LENGTH, "generator")))
-    return BeamSpec(nodes=mesh([0.0, L1, L2, LENGTH], 0.05), mass=P["shaft_mass"],
-                    polar_inertia=P["shaft_mass"] * RADIUS ** 2 / 2, EI=P["shaft_bending_stiffness"],
-                    EA=P["shaft_axial_stiffness"], GJ=P["shaft_torsional_stiffness"], end_masses=ends,
-                    supports=(L1, L2), axial_support=L1, axial_spring=axial_spring)
+    """Table 1's problem (``seed_readings.table1_spec``) on the ``table1`` shaft, meshed finely (5 cm)."""
+    return table1_spec(P, axial_spring)
 
 
 def test_table1_bending_and_torsion_rows() -> None:

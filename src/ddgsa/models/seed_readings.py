@@ -33,12 +33,13 @@ Seed 000 (Asadi & Johansson 2020) admits two readings in five places; the direct
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
+from ddgsa.mbs.beam import BeamSpec, mesh
 
 SHAFT = ("table1", "table2")
 TABLE1_HZ = {"bending": (6.0816, 29.5397), "axial": (127.8008, 462.4371), "torsion": (37.8392, 266.7413)}
@@ -132,3 +133,18 @@ def table1_shaft(radius: float, length: float, hub_mass: float, generator_mass: 
         out[f"{end}_inertia_x"] = mass * disc ** 2 / 2.0
         out[f"{end}_inertia_yz"] = mass * disc ** 2 / 4.0
     return {k: float(v) for k, v in out.items()}
+
+
+def table1_spec(p: Mapping[str, float], axial_spring: float | None, element: float = 0.05) -> BeamSpec:
+    """Seed 000 Table 1's FE problem for the direct drive's parameters ``p`` (SI; the ``table1`` reading's
+    reproduce the table): the solid shaft (polar inertia ``m r^2 / 2``) with the hub and generator as end
+    masses and inertias, bending on rigid supports at the bearings, torsion free-free, elongation free on
+    the front bearing's axial spring ``axial_spring`` [N/m] (``None``: held at the front bearing), elements
+    of at most ``element`` [m]; its modes: :func:`ddgsa.mbs.beam.shaft_modes`."""
+    length, l1, l2 = p["shaft_length"], p["front_bearing_x"], p["rear_bearing_x"]
+    ends = tuple((x, p[f"{end}_mass"], p[f"{end}_inertia_x"], p[f"{end}_inertia_yz"])
+                 for x, end in ((0.0, "hub"), (length, "generator")))
+    return BeamSpec(nodes=mesh([0.0, l1, l2, length], element), mass=p["shaft_mass"],
+                    polar_inertia=p["shaft_mass"] * p["shaft_radius"] ** 2 / 2.0, EI=p["shaft_bending_stiffness"],
+                    EA=p["shaft_axial_stiffness"], GJ=p["shaft_torsional_stiffness"], end_masses=ends,
+                    supports=(l1, l2), axial_support=l1, axial_spring=axial_spring)
