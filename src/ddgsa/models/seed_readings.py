@@ -8,7 +8,7 @@ Seed 000 (Asadi & Johansson 2020) admits two readings in five places; the direct
     ``physical`` (default): ``delta = 2 zeta / (w1 + w2)``, ``eta = 2 zeta w1 w2 / (w1 + w2)``, the
     Rayleigh pair that gives ratio ``zeta`` at the first two bending frequencies ``w1, w2``;
     ``printed``: eq. (44a) as printed, ``delta = 2 zeta (w1 + w2)`` [s] (eq. 44b's ``eta`` is the
-    physical one). With zeta = 0.01 and the nominal shaft (FE bending frequencies 3.28 and
+    physical one). With zeta = 0.01 and the ``table2`` shaft (FE bending frequencies 3.28 and
     21.9 Hz), delta = 3.17 s: a bending mode at ``w`` gets ratio ``(eta / w + delta w) / 2``, far
     above 1 -- the shaft creeps to its elastic deflection with a time constant of seconds.
 ``bearing_damping`` -- the main bearings' dampers (seed eq. 48-49, Table 2's "longitudinal damping
