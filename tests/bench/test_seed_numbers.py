@@ -46,11 +46,11 @@ def test_model_and_result_rows_follow_from_the_code(committed):
 @pytest.mark.slow
 def test_result_rows_follow_from_the_model():
     """The ViDyn-comparison rows rerun: the flexible table1 model at 6 / 11 / 18 m/s, 3 x 300 s (the study's
-    scenes and seeds), mean RMS hub deflection equal to the committed results' within 1e-6 (same code,
-    same seeds: only summation order may differ)."""
+    scenes and seeds), mean RMS hub deflection equal to the committed results' within 5e-6 (same code,
+    same seeds; the study's summary table holds 6 significant digits, whose rounding is up to 5e-6)."""
     model = models.get("direct_drive", fidelity="flexible", shaft="table1", beam="euler_bernoulli", bending_modes=2)
     for speed in seed_numbers.VIDYN_MM:
         runs = [model.evaluate(None, Scene(wind_speed=speed, turbulence_intensity=0.12, duration=300.0, seed=seed))
                 for seed in (1, 2, 3)]
         got = np.mean([r["rms_deflection_hub"].iloc[0] for r in runs]) * 1e3
-        assert got == pytest.approx(seed_numbers.hub_deflection_mm("seed000_full_vs_rigid_table1", speed), rel=1e-6)
+        assert got == pytest.approx(seed_numbers.hub_deflection_mm("seed000_full_vs_rigid_table1", speed), rel=5e-6)
