@@ -129,3 +129,15 @@ def test_shaft_reading_sets_the_nominal_values_and_is_validated():
     assert two["shaft_bending_stiffness"] == 1e9 and one["shaft_bending_stiffness"] == pytest.approx(1.7698e9, rel=1e-4)
     with pytest.raises(ModelError, match=r"option 'shaft' must be one of table1, table2, got 'table3'"):
         models.get("direct_drive", shaft="table3")
+
+
+def test_a_study_with_an_unknown_shaft_reading_is_refused_before_it_runs(tmp_path, capsys):
+    """``ddgsa validate``: exit 2, naming the file, the field, the option and the allowed readings."""
+    from ddgsa.cli import main
+
+    study = tmp_path / "bad.yaml"
+    study.write_text("name: bad\nkind: sweep\nmodel: {name: direct_drive, fidelity: rigid, options: {shaft: table3}}\n"
+                     "scenes: {wind_speed: 11, duration: 60}\noutputs: [damage_front]\n")
+    assert main(["validate", str(study)]) == 2
+    err = capsys.readouterr().err
+    assert f"{study}: field 'model.options': model 'direct_drive': option 'shaft' must be one of table1, table2" in err
