@@ -110,7 +110,7 @@ PARAMETERS = (
     ModelParameter("shaft_bending_stiffness", 1.0e9, "N m^2", "main shaft bending stiffness EI", 1e6, 1e12),
     ModelParameter("shaft_torsional_stiffness", 7.69e8, "N m^2", "main shaft torsional stiffness GJ", 1e6, 1e12),
     ModelParameter("shaft_axial_stiffness", 2.24e10, "N", "main shaft axial stiffness EA", 1e7, 1e13),
-    ModelParameter("hub_inertia_x", HUB_INERTIA_X, "kg m^2", "rotor hub polar inertia about the shaft (m1 R1^2)",
+    ModelParameter("hub_inertia_x", HUB_INERTIA_X, "kg m^2", "rotor hub polar inertia about the shaft (m1 R1^2 / 2, disc: table1; m1 R1^2: table2)",
                    1.0, 1e10),
     ModelParameter("hub_inertia_yz", HUB_INERTIA_YZ, "kg m^2", "rotor hub diametral inertia", 1.0, 1e10),
     ModelParameter("generator_inertia_x", 7.5e3, "kg m^2", "generator rotor polar inertia", 1.0, 1e9),
