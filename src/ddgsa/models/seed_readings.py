@@ -129,7 +129,7 @@ def table1_shaft(radius: float, length: float, hub_mass: float, generator_mass: 
     out = {"shaft_mass": density * area * length, "shaft_bending_stiffness": young * second_moment,
            "shaft_torsional_stiffness": young / (2.0 * (1.0 + poisson)) * 2.0 * second_moment,
            "shaft_axial_stiffness": young * area}
-    for end, mass, disc in (("hub", hub_mass, TABLE1_DISC_RADII[0]), ("generator", generator_mass, TABLE1_DISC_RADII[1])):
+    for end, mass, disc in zip(("hub", "generator"), (hub_mass, generator_mass), TABLE1_DISC_RADII):
         out[f"{end}_inertia_x"] = mass * disc ** 2 / 2.0
         out[f"{end}_inertia_yz"] = mass * disc ** 2 / 4.0
     return {k: float(v) for k, v in out.items()}
