@@ -6,7 +6,9 @@ rho = 7850 kg/m^3: handbook steel) with thin-disc end inertias about radii 7 m (
 bending on rigid supports at L1 = 1 m and L2 = 5 m with the end masses and diametral inertias,
 torsion free-free with the polar inertias, elongation free with the front bearing's axial spring
 (k_front_x = 1e10 N/m of Table 2), whose first mode (49.9 Hz, the shaft bouncing on the spring)
-the table does not list. Table 2's EI and shaft mass disagree with this shaft.
+the table does not list. Table 2's EI and shaft mass disagree with this shaft. The shaft and its end
+inertias are the direct drive's ``shaft: table1`` reading (``tests/models/test_direct_drive_shaft.py``
+checks the model's modes under it against Table 1 and a closed form).
 """
 
 from __future__ import annotations
@@ -15,22 +17,18 @@ import numpy as np
 import pytest
 
 from ddgsa.mbs import Ground, Spherical, System, TransverseBearing, modes
-from ddgsa.mbs.beam import BeamSpec, mesh, shaft_modes
+from ddgsa.mbs.beam import BeamSpec, shaft_modes
 from ddgsa.mbs.bodies import FlexibleBody
+from ddgsa.models.direct_drive import shaft_parameters
+from ddgsa.models.seed_readings import TABLE1_HZ as TABLE1, table1_spec
 
-E, NU, RHO = 200e9, 0.3, 7850.0
-RADIUS, LENGTH, L1, L2 = 0.3258, 6.0, 1.0, 5.0
-HUB, GEN = (40000.0, 7.0), (30000.0, 0.5)          # mass [kg], disc radius [m]
-TABLE1 = {"bending": (6.0816, 29.5397), "axial": (127.8008, 462.4371), "torsion": (37.8392, 266.7413)}
+P = {p.name: p.nominal for p in shaft_parameters("table1")}      # the direct drive's `shaft: table1` reading
+L1, L2 = P["front_bearing_x"], P["rear_bearing_x"]
 
 
 def table1_shaft(axial_spring: float | None = 1e10) -> BeamSpec:
-    area, inertia = np.pi * RADIUS ** 2, np.pi * RADIUS ** 4 / 4
-    mass = RHO * area * LENGTH
-    ends = tuple((x, m, m * r ** 2 / 2, m * r ** 2 / 4) for x, (m, r) in ((0.0, HUB), (LENGTH, GEN)))
-    return BeamSpec(nodes=mesh([0.0, L1, L2, LENGTH], 0.05), mass=mass, polar_inertia=mass * RADIUS ** 2 / 2,
-                    EI=E * inertia, EA=E * area, GJ=E / (2 * (1 + NU)) * 2 * inertia, end_masses=ends,
-                    supports=(L1, L2), axial_support=L1, axial_spring=axial_spring)
+    """Table 1's problem (``seed_readings.table1_spec``) on the ``table1`` shaft, meshed finely (5 cm)."""
+    return table1_spec(P, axial_spring)
 
 
 def test_table1_bending_and_torsion_rows() -> None:

@@ -119,7 +119,7 @@ def direct_modes() -> pd.DataFrame:
     """``modes()`` of the direct drive at every fidelity, nominal parameters, standstill."""
     frames = []
     for fidelity in ("flexible", "rigid", "linear"):
-        table = models.get("direct_drive", fidelity=fidelity).modes().reset_index(drop=True)
+        table = models.get("direct_drive", fidelity=fidelity, shaft="table2").modes().reset_index(drop=True)
         table = table[["label", "frequency_hz", "damping_ratio"]]
         table.insert(0, "fidelity", fidelity)
         frames.append(table)

@@ -75,9 +75,10 @@ def test_converged_rig_basis_is_a_note(tmp_path: Path, options: str) -> None:
 
 def test_direct_drive_band_is_its_loads_band() -> None:
     """The default basis (5 Timoshenko modes per plane) is converged in the band of every load interval the
-    flexible fidelity takes (dt >= 5 ms: 150 Hz); at dt 2 ms (375 Hz) it misses the 284 / 329 Hz pair and six
-    modes converge it. The seed's basis (2 Euler-Bernoulli modes) holds the 3.25 Hz pair at dt 0.05 s (15 Hz)
-    and misses the 32.8 / 44.1 Hz pair at 0.01 s (75 Hz), where three modes converge it."""
+    flexible fidelity takes (dt >= 5 ms: 150 Hz) on either shaft reading; at dt 2 ms (375 Hz) it misses a pair
+    (table2: the 284 / 329 Hz pair) and six modes converge it. On the table2 shaft the seed's basis (2
+    Euler-Bernoulli modes) holds the 3.25 Hz pair at dt 0.05 s (15 Hz) and misses the 32.8 / 44.1 Hz pair at
+    0.01 s (75 Hz), where three modes converge it."""
     from ddgsa.loads.scene import Scene
 
     def report(dt: float, **options: object) -> dict:
@@ -86,14 +87,16 @@ def test_direct_drive_band_is_its_loads_band() -> None:
         assert out is not None
         return out
 
-    for dt in (0.05, 0.01, 0.005):
-        default = report(dt)
-        assert default["band_hz"] == pytest.approx(0.75 / dt) and default["converged"], dt
-    assert default["basis"] == {"bending_modes": 5, "beam": "timoshenko", "axial": True}
-    fine = report(0.002)
-    assert not fine["converged"] and fine["advice"].startswith("set model options bending_modes: 6")
-    assert fine["reference_hz"] == pytest.approx(283.98, rel=1e-4)          # the pair the basis lacks
-    seed = {"beam": "euler_bernoulli", "bending_modes": 2}
+    for shaft in ("table1", "table2"):                     # both shaft readings (issue 47)
+        for dt in (0.05, 0.01, 0.005):
+            default = report(dt, shaft=shaft)
+            assert default["band_hz"] == pytest.approx(0.75 / dt) and default["converged"], (shaft, dt)
+        assert default["basis"] == {"bending_modes": 5, "beam": "timoshenko", "axial": True, "shaft": shaft}
+        fine = report(0.002, shaft=shaft)
+        assert not fine["converged"] and fine["advice"].startswith("set model options bending_modes: 6")
+    assert report(0.002)["basis"]["shaft"] == "table1"                      # the default reading
+    assert fine["reference_hz"] == pytest.approx(283.98, rel=1e-4)          # the pair table2's basis lacks
+    seed = {"beam": "euler_bernoulli", "bending_modes": 2, "shaft": "table2"}
     assert report(0.05, **seed)["converged"]
     coarse = report(0.01, **seed)
     assert not coarse["converged"] and coarse["advice"].startswith("set model options bending_modes: 3")
@@ -101,19 +104,23 @@ def test_direct_drive_band_is_its_loads_band() -> None:
 
 
 def test_default_direct_drive_modes_are_converged_below_150_hz() -> None:
-    """The stored table (``basis_modes.json``, from ``DirectDrive.modes()``) holds the default basis converged:
-    every mode below 283 Hz of either basis within 0.5 % of the 10-mode reference (below 150 Hz 0.05 %), and
-    the 2-mode seed basis not (its third lateral pair 23 % / 64 % high)."""
+    """The stored table (``basis_modes.json``, from ``DirectDrive.modes()``) holds the default basis converged
+    below 150 Hz against the 10-mode reference on both shaft readings: the default table1 shaft within 0.1 %
+    (measured 0.064 %, its bearing_y_3 mode at 77.7 Hz), table2's within 0.05 % and up to 283 Hz within
+    0.5 % (table1's stiffer shaft is not converged up there: its fifth bending pair, 286 Hz, is 13 % off);
+    the 2-mode seed basis not (table2: its third lateral pair 23 % / 64 % high; table1: 12 %)."""
     from ddgsa.models.basis import TOLERANCE, frequencies, worst_error
 
     default = basis_of(get_model("direct_drive"))
-    assert default is not None
-    reference = frequencies("direct_drive", {**default, **REFERENCE["direct_drive"]})
-    assert worst_error(frequencies("direct_drive", default), reference, 150.0)["error"] < 0.1 * TOLERANCE
-    assert worst_error(frequencies("direct_drive", default), reference, 283.0)["error"] < TOLERANCE
-    seed = {**default, "beam": "euler_bernoulli", "bending_modes": 2}
-    seed_reference = frequencies("direct_drive", {**seed, **REFERENCE["direct_drive"]})
-    assert worst_error(frequencies("direct_drive", seed), seed_reference, 150.0)["error"] > 0.15
+    assert default is not None and default["shaft"] == "table1"
+    for shaft, low_band in (("table1", 0.2 * TOLERANCE), ("table2", 0.1 * TOLERANCE)):
+        basis = {**default, "shaft": shaft}
+        reference = frequencies("direct_drive", {**basis, **REFERENCE["direct_drive"]})
+        assert worst_error(frequencies("direct_drive", basis), reference, 150.0)["error"] < low_band
+        seed = {**basis, "beam": "euler_bernoulli", "bending_modes": 2}
+        seed_reference = frequencies("direct_drive", {**seed, **REFERENCE["direct_drive"]})
+        assert worst_error(frequencies("direct_drive", seed), seed_reference, 150.0)["error"] > 0.1
+    assert worst_error(frequencies("direct_drive", basis), reference, 283.0)["error"] < TOLERANCE
 
 
 def test_stored_direct_drive_modes_are_the_models() -> None:

@@ -25,7 +25,7 @@ def _bending_block(reading: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, tu
     (the two-mode example, on seed 000's basis: Euler-Bernoulli, two modes per plane), its first two FE
     bending frequencies [rad/s] and its whole damping matrix."""
     body = models.get("direct_drive", fidelity="flexible", bending_rayleigh=reading, beam="euler_bernoulli",
-                      bending_modes=2).build().kernel.bodies[0]
+                      bending_modes=2, shaft="table2").build().kernel.bodies[0]
     pm, _, ps = body.points
     m_ff = np.einsum("j,jai,jak->ik", pm, ps, ps)                  # the lumped points' elastic mass
     ix = np.ix_(*[[body.fields.index("bending_y_1"), body.fields.index("bending_y_2")]] * 2)
@@ -83,7 +83,7 @@ def test_bearing_damping_readings_on_the_elements() -> None:
     mass = 40000.0 + 30000.0 + 5030.0
     k = np.array([[1e10, 3e9, 1e10], [0.0, 3e9, 1e10]])
     for reading, expected in (("modal", 2 * ZETA * np.sqrt(k * mass / 2)), ("stiffness_proportional", ZETA * k)):
-        asm = models.get("direct_drive", fidelity="rigid", bearing_damping=reading).build()
+        asm = models.get("direct_drive", fidelity="rigid", bearing_damping=reading, shaft="table2").build()
         np.testing.assert_allclose(asm.system.sp_c, expected, rtol=1e-12)
     assert 2 * ZETA * math.sqrt(3e9 * mass / 2) == pytest.approx(2.12e5, rel=1e-3)       # 1/141 of zeta K
 

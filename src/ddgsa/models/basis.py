@@ -79,7 +79,7 @@ def basis_of(model: Any) -> dict[str, Any] | None:
                 "shaft_axial": b.axial}
     if key == "direct_drive" and model.fields:                            # not the rigid fidelity
         return {"bending_modes": sum(f.startswith("bending_y") for f in model.fields), "beam": model.beam,
-                "axial": "axial" in model.fields}
+                "axial": "axial" in model.fields, "shaft": model.shaft}
     return None
 
 
@@ -113,6 +113,11 @@ def _nominal_digest(key: str) -> str:
     from ddgsa.models import MODELS
 
     nominal = {p.name: p.nominal for p in MODELS.lookup(key).parameters}
+    if key == "direct_drive":                   # the shaft readings' nominal values (issue 47), not the default's only
+        from ddgsa.models.direct_drive import shaft_parameters
+        from ddgsa.models.seed_readings import SHAFT
+
+        nominal = {s: {p.name: p.nominal for p in shaft_parameters(s)} for s in SHAFT}  # type: ignore[misc]
     return hashlib.sha256(json.dumps(nominal, sort_keys=True).encode()).hexdigest()[:16]
 
 
@@ -145,18 +150,24 @@ def frequencies(key: str, options: dict[str, Any], stored: bool = True) -> tuple
 def tabulated_bases(key: str) -> list[dict[str, Any]]:
     """The bases :data:`TABLE` holds for a model: its default and :data:`LIGHT`, each with every
     :data:`LADDER` step, and :data:`REFERENCE`, for each beam theory (with the model's other basis
-    options at their defaults)."""
+    options at their defaults), and for the direct drive each shaft reading."""
     from ddgsa.models import get as get_model
 
     default = basis_of(get_model(key, fidelity="kloss" if key == "hss_rig" else "flexible"))
     assert default is not None
+    defaults = [default]
+    if key == "direct_drive":                   # each shaft reading (issue 47), the default's first
+        from ddgsa.models.seed_readings import SHAFT
+
+        defaults += [{**default, "shaft": s} for s in SHAFT if s != default["shaft"]]
     out: list[dict[str, Any]] = []
-    for beam in ("euler_bernoulli", "timoshenko"):
-        for base in (default, {**default, **LIGHT[key]}):
-            for step in [{}, *(s for s, _ in LADDER[key]), REFERENCE[key]]:
-                basis = {**base, "beam": beam, **step}
-                if basis not in out:
-                    out.append(basis)
+    for start in defaults:
+        for beam in ("euler_bernoulli", "timoshenko"):
+            for base in (start, {**start, **LIGHT[key]}):
+                for step in [{}, *(s for s, _ in LADDER[key]), REFERENCE[key]]:
+                    basis = {**base, "beam": beam, **step}
+                    if basis not in out:
+                        out.append(basis)
     return out
 
 

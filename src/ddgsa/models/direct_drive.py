@@ -19,19 +19,26 @@ per plane: ``beam: euler_bernoulli, bending_modes: 2``; docs/physics.md says wha
 
 Parameter choices (seed 000 Table 2 is not self-consistent; each value is a parameter):
 
-- ``shaft_bending_stiffness`` EI = 1e9 N m^2 and ``shaft_radius`` 0.3258 m are kept: a solid
-  steel shaft of that radius would have EI = 1.86e9, so the shaft is taken **hollow**, bore
-  radius 0.2686 m (E = 210 GPa). That shaft weighs 5.03 t (``shaft_mass``), not Table 2's 1 t;
-  GJ = EI / (1 + nu) = 7.69e8 N m^2 (nu = 0.3), EA = 2.24e10 N.
-- Hub body: Table 2's hub mass m1 = 40 t with its equivalent radius R1 = 7 m read as radius of
-  gyration, J_x = m1 R1^2 = 1.96e6 kg m^2, diametral half (the extracted "0.095 kg m^2" is
+- The shaft and end inertias are a named reading, option ``shaft`` (issue 47,
+  :mod:`ddgsa.models.seed_readings`). ``table1`` (the default): the shaft whose FE modes seed 000's
+  Table 1 prints, **solid** steel of radius 0.3258 m (E = 200 GPa, rho = 7850 kg/m^3): 15.7 t,
+  EI = 1.77e9, GJ = 1.36e9 N m^2, EA = 6.67e10 N, with the hub and generator rotor as thin discs
+  of radii R1 = 7 m, R2 = 0.5 m (J_x = m R^2 / 2: 9.8e5 and 3 750 kg m^2, diametral half of that).
+  It reproduces Table 1's first bending and torsion frequencies (6.08, 37.84 Hz on its rigid
+  supports; 5.94 / 6.02 and 37.84 Hz in the model on its bearings). ``table2``: Table 2's
+  EI = 1e9 N m^2 at ``shaft_radius`` 0.3258 m, so the shaft is taken **hollow**, bore radius
+  0.2686 m (E = 210 GPa), 5.03 t (``shaft_mass``), not Table 2's 1 t; GJ = EI / (1 + nu) =
+  7.69e8 N m^2 (nu = 0.3), EA = 2.24e10 N; its first bending mode is 3.21 Hz, 46 % below Table 1.
+  The declared nominal values below are ``table2``'s; :func:`shaft_parameters` gives each reading's.
+- Hub body (``table2``): Table 2's hub mass m1 = 40 t with its equivalent radius R1 = 7 m read as
+  radius of gyration, J_x = m1 R1^2 = 1.96e6 kg m^2, diametral half (the extracted "0.095 kg m^2" is
   garbled). As in seed 000, where the hub loads came from a full turbine simulation, the blades
   are not bodies of this model: their inertia is in the loads model (NREL 5-MW rotor,
   3.87e7 kg m^2), and the hub torque this model receives is the aerodynamic torque net of the
   blades' inertial torque, ``M_x - (J_rotor,loads - J_hub - J_gen) d(w_loads)/dt``, so the shaft
   turns at the loads model's speed. (A rigid 126 m rotor's diametral inertia, 1.9e7 kg m^2, on
   this soft shaft would put a rotor-rocking mode at 0.74 Hz, at 3P; the blades' flap
-  flexibility decouples most of that inertia from the shaft.) Generator rotor: Table 2's
+  flexibility decouples most of that inertia from the shaft.) Generator rotor (``table2``): Table 2's
   R2 = 0.5 m read the same way, J = m2 R2^2 = 7.5e3 kg m^2, diametral half.
 - Bearing damping: Table 2's ratio 0.01 as ``C_i = 2 zeta sqrt(K_i m / 2)`` per direction
   (m the total mass); shaft damping Rayleigh (seed 000 eq. 43-44) with ratio 0.01. These are the
@@ -59,7 +66,7 @@ import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
@@ -81,8 +88,8 @@ from ddgsa.mbs.system import (SystemArrays, integrate, integrate_reference, kind
 from ddgsa.models.base import (Model, ModelOption, ModelOutput, ModelParameter, SignalOutput, controller_row,
                                register_model)
 from ddgsa.models.constants import HUB_INERTIA_X, HUB_INERTIA_YZ, HUB_MASS, tilted_gravity
-from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE,
-                                        bearing_damping, bending_damping)
+from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE, SHAFT,
+                                        bearing_damping, bending_damping, table1_shaft)
 from ddgsa.objectives import damage_rate
 from ddgsa.signals import band_rms_spectrum
 
@@ -97,14 +104,14 @@ PARAMETERS = (
     ModelParameter("rear_bearing_x", 5.0, "m", "rear bearing position L2 from the hub", 0.1, 19.9),
     ModelParameter("hub_mass", HUB_MASS, "kg", "rotor hub (with blades) mass m1", 1.0, 1e6),
     ModelParameter("generator_mass", 30000.0, "kg", "generator rotor mass m2", 1.0, 1e6),
-    ModelParameter("shaft_mass", 5030.0, "kg", "main shaft mass (hollow steel shaft)", 1.0, 1e5),
+    ModelParameter("shaft_mass", 5030.0, "kg", "main shaft mass", 1.0, 1e5),
     ModelParameter("shaft_radius", 0.3258, "m", "main shaft outer radius (enters its polar inertia only)",
                    0.01, 2.0),
     ModelParameter("shaft_bending_stiffness", 1.0e9, "N m^2", "main shaft bending stiffness EI", 1e6, 1e12),
     ModelParameter("shaft_torsional_stiffness", 7.69e8, "N m^2", "main shaft torsional stiffness GJ", 1e6, 1e12),
     ModelParameter("shaft_axial_stiffness", 2.24e10, "N", "main shaft axial stiffness EA", 1e7, 1e13),
-    ModelParameter("hub_inertia_x", HUB_INERTIA_X, "kg m^2", "rotor hub polar inertia about the shaft (m1 R1^2)",
-                   1.0, 1e10),
+    ModelParameter("hub_inertia_x", HUB_INERTIA_X, "kg m^2",
+                   "rotor hub polar inertia about the shaft (m1 R1^2 / 2, disc: table1; m1 R1^2: table2)", 1.0, 1e10),
     ModelParameter("hub_inertia_yz", HUB_INERTIA_YZ, "kg m^2", "rotor hub diametral inertia", 1.0, 1e10),
     ModelParameter("generator_inertia_x", 7.5e3, "kg m^2", "generator rotor polar inertia", 1.0, 1e9),
     ModelParameter("generator_inertia_yz", 3.75e3, "kg m^2", "generator rotor diametral inertia", 1.0, 1e9),
@@ -136,6 +143,25 @@ OUTPUTS = (
     ModelOutput("front_Fa_mean", "N", "time-mean axial force magnitude on the front bearing", 0.0, 1e7),
     ModelOutput("rear_Fa_mean", "N", "time-mean axial force magnitude on the rear bearing", 0.0, 1e7),
 )
+DEFAULT_SHAFT = "table1"
+"""The shaft reading of a model built without ``shaft`` (:data:`~ddgsa.models.seed_readings.SHAFT`): Table 1's,
+which reproduces 15 of the 22 numbers seed 000 prints about its shaft, its modes and its deflection, Table 2's 4
+(``docs/seed000_readings.md``, "The shaft")."""
+SHAFT_BORE = {"table1": 0.0, "table2": _BORE}
+"""Bore radius [m] of each shaft reading's section (its polar inertia and Timoshenko shear stiffness)."""
+
+
+def shaft_parameters(shaft: str) -> tuple[ModelParameter, ...]:
+    """:data:`PARAMETERS` with the nominal values of the shaft reading ``shaft`` (``table2``: as declared;
+    ``table1``: :func:`~ddgsa.models.seed_readings.table1_shaft` of the declared radius, length and end masses)."""
+    if shaft == "table2":
+        return PARAMETERS
+    nominal = {p.name: p.nominal for p in PARAMETERS}
+    solid = table1_shaft(nominal["shaft_radius"], nominal["shaft_length"], nominal["hub_mass"],
+                         nominal["generator_mass"])
+    return tuple(dataclasses.replace(p, nominal=solid.get(p.name, p.nominal)) for p in PARAMETERS)
+
+
 SPECTRUM_BAND_HZ = 0.05
 """Width of the signal outputs' frequency bands [Hz] (the records need >= 2 / 0.05 = 40 s)."""
 SPECTRUM_EDGES_HZ = SPECTRUM_BAND_HZ * np.arange(51)
@@ -156,8 +182,10 @@ DEFAULT_BENDING_MODES = 5
 """Bending modes per plane of the default shaft (Timoshenko elements): the smallest basis whose natural
 frequencies below 150 Hz are within 0.5 % of a converged one (docs/physics.md). 150 Hz is the band of
 interest (:mod:`ddgsa.models.basis`: 1.5 x the load interval's Nyquist frequency) of the finest load
-interval the flexible fidelity takes, its 5 ms step, so the default is converged in every such scene; its
-lateral modes below 150 Hz are within 0.1 % of ROSS (``tests/models/test_direct_drive_oracles.py``)."""
+interval the flexible fidelity takes, its 5 ms step, so the default is converged in every such scene on
+either shaft reading (table1: 0.064 %, table2: 0.03 %); the table2 shaft's lateral modes below 150 Hz are
+within 0.1 % of ROSS (``tests/models/test_direct_drive_oracles.py``), the table1 shaft's first bending and
+torsion modes within 0.42 % of an exact continuous-shaft solution (``tests/models/test_direct_drive_shaft.py``)."""
 RIGID_NAMES = ("R_x", "R_y", "R_z", "phi", "theta", "psi")
 MODE_GROUPS = {"R_x": "bearing_axial", "R_y": "bearing_y", "psi": "bearing_y", "R_z": "bearing_z",
                "theta": "bearing_z", "phi": "spin", "axial": "axial_1", "torsion": "torsion_1",
@@ -187,14 +215,16 @@ def bearing_order_problem(p: Mapping[str, float]) -> str:
 
 
 def build(p: Mapping[str, float], fields: tuple[str, ...],
-             damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli") -> Assembly:
+          damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli",
+          shaft: str = DEFAULT_SHAFT) -> Assembly:
     """Build the system for one parameter set and the retained elastic fields.
 
     ``damping``: the readings of seed 000's bending Rayleigh law and bearing damping
     (:mod:`ddgsa.models.seed_readings`: ``bending_rayleigh``, ``bearing_damping``). ``beam``: the
     shaft's FE bending elements (:data:`ddgsa.mbs.beam.BEAMS`); ``timoshenko`` takes the shear
-    stiffness ``kappa G A`` of the hollow section (Cowper's ``kappa``, ``G = GJ / J``, Poisson's
-    ratio from ``EI / I`` and ``G``) and gives the shaft its rotary inertia.
+    stiffness ``kappa G A`` of the section (Cowper's ``kappa``, ``G = GJ / J``, Poisson's
+    ratio from ``EI / I`` and ``G``) and gives the shaft its rotary inertia. ``shaft``: the shaft
+    reading whose section (bore :data:`SHAFT_BORE`, 0 for the solid ``table1``) ``p``'s shaft has.
 
     Written on the kernel's parts (:mod:`ddgsa.mbs`): the shaft is a
     :meth:`~ddgsa.mbs.bodies.FlexibleBody.shaft` on its FE modes with the hub and generator as end
@@ -208,10 +238,10 @@ def build(p: Mapping[str, float], fields: tuple[str, ...],
     problem = bearing_order_problem(p)
     if problem:
         raise ModelError(problem)
-    r_o = p["shaft_radius"]
+    r_o, bore = p["shaft_radius"], SHAFT_BORE[shaft]
     spec = BeamSpec(nodes=mesh([0.0, l1, l2, length], _MAX_ELEMENT), mass=p["shaft_mass"],
-                    shear_stiffness=_shear_stiffness(p) if beam == "timoshenko" else None,
-                    polar_inertia=p["shaft_mass"] * (r_o ** 2 + min(_BORE, 0.8 * r_o) ** 2) / 2.0,
+                    shear_stiffness=_shear_stiffness(p, bore) if beam == "timoshenko" else None,
+                    polar_inertia=p["shaft_mass"] * (r_o ** 2 + min(bore, 0.8 * r_o) ** 2) / 2.0,
                     EI=p["shaft_bending_stiffness"], EA=p["shaft_axial_stiffness"],
                     GJ=p["shaft_torsional_stiffness"],
                     end_masses=((0.0, p["hub_mass"], p["hub_inertia_x"], p["hub_inertia_yz"]),
@@ -279,10 +309,10 @@ def input_map(p: Mapping[str, float]) -> NDArray[np.float64]:
     return m
 
 
-def _shear_stiffness(p: Mapping[str, float]) -> float:
-    """``kappa G A`` [N] of the hollow shaft (outer radius ``shaft_radius``, bore :data:`_BORE`)."""
+def _shear_stiffness(p: Mapping[str, float], bore: float) -> float:
+    """``kappa G A`` [N] of the shaft (outer radius ``shaft_radius``, bore radius ``bore`` [m], at most 0.8 of it)."""
     r_o = p["shaft_radius"]
-    r_i = min(_BORE, 0.8 * r_o)
+    r_i = min(bore, 0.8 * r_o)
     area, j = np.pi * (r_o ** 2 - r_i ** 2), np.pi * (r_o ** 4 - r_i ** 4) / 2
     g = p["shaft_torsional_stiffness"] / j
     poisson = p["shaft_bending_stiffness"] / (j / 2) / (2 * g) - 1.0
@@ -309,7 +339,8 @@ def _shaft(spec: BeamSpec, fields: tuple[str, ...], damping_ratio: float, raylei
 
 @functools.lru_cache(maxsize=256)
 def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...],
-              damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli") -> Assembly:
+              damping: tuple[str, str] = ("physical", "modal"), beam: str = "euler_bernoulli",
+              shaft: str = DEFAULT_SHAFT) -> Assembly:
     """:func:`build` kept per exact parameter point (~30 % of a linear point's cost).
 
     A study evaluates every point in each scene and realisation (paper C: 60 times), and a
@@ -317,7 +348,7 @@ def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...],
     system depends on the parameters only (loads are inputs) and nothing modifies it, so
     sharing it is exact. 256 systems of ~30 kB: more than a batch's points.
     """
-    return build(dict(params), fields, damping, beam)
+    return build(dict(params), fields, damping, beam, shaft)
 
 
 @register_model("direct_drive")
@@ -360,12 +391,21 @@ class DirectDrive(Model):
         Seed eq. (28)'s reference: the static equilibrium under the scene's mean loads (shaft not
         turning) or the record's time mean (the turning shaft's steady state; the two differ where
         the shaft's damping turns with it, as under the printed Rayleigh law).
+    shaft : {"table1", "table2"}, optional
+        The shaft reading (:mod:`ddgsa.models.seed_readings`): ``table1``, the solid steel shaft and
+        thin-disc end inertias whose modes seed 000's Table 1 prints, or ``table2``, Table 2's
+        EI = 1e9 N m^2 (a hollow 5 t shaft) with R1, R2 as radii of gyration. It sets the nominal
+        values of the shaft's mass, EI, GJ, EA and the end inertias (:func:`shaft_parameters`) and
+        the section's bore; default :data:`DEFAULT_SHAFT` (``docs/seed000_readings.md`` says why).
     """
 
-    parameters = PARAMETERS
+    parameters = shaft_parameters(DEFAULT_SHAFT)
     outputs = OUTPUTS
     signal_outputs = SIGNALS
     fidelities = ("flexible", "rigid", "linear")
+    options_note: ClassVar[str] = ("option shaft: table1 (solid steel shaft and disc end inertias of seed 000 Table 1) "
+                                   "| table2 (Table 2's EI, hollow shaft) sets the nominal shaft mass, EI, GJ, EA "
+                                   "and end inertias")
     options = (ModelOption("axial", "bool", "axial elastic coordinate"),
                ModelOption("second_bending", "bool", "second bending mode per plane"),
                ModelOption("bending_modes", "integer", "bending modes per plane (default 5; 1 without second_bending)",
@@ -383,7 +423,9 @@ class DirectDrive(Model):
                            choices=BEARING_DAMPING),
                ModelOption("deflection", "choice", "what the deflection outputs measure", choices=DEFLECTION),
                ModelOption("deflection_reference", "choice", "the deflection's quasi-static reference",
-                           choices=DEFLECTION_REFERENCE))
+                           choices=DEFLECTION_REFERENCE),
+               ModelOption("shaft", "choice", "shaft and end inertias: seed 000 Table 1's solid shaft or Table 2's EI",
+                           choices=SHAFT, optional=True))
 
     def unused_parameters(self) -> dict[str, str]:
         """The shaft's elasticity, damping and radius at fidelity ``rigid`` (no elastic coordinates;
@@ -405,12 +447,14 @@ class DirectDrive(Model):
                  rho_inf: float = 0.8, equivalent_load: str = "iso281",
                  integrator: str = "gen_alpha", bending_rayleigh: str = "physical",
                  bearing_damping: str = "modal", deflection: str = "total",
-                 deflection_reference: str = "static") -> None:
+                 deflection_reference: str = "static", shaft: str | None = None) -> None:
         self.check_options({"fidelity": fidelity, "axial": axial, "second_bending": second_bending,
                             "bending_modes": bending_modes, "beam": beam, "time_step": time_step, "rho_inf": rho_inf,
                             "equivalent_load": equivalent_load, "integrator": integrator,
                             "bending_rayleigh": bending_rayleigh, "bearing_damping": bearing_damping,
-                            "deflection": deflection, "deflection_reference": deflection_reference})
+                            "deflection": deflection, "deflection_reference": deflection_reference, "shaft": shaft})
+        self.shaft = DEFAULT_SHAFT if shaft is None else shaft
+        self.parameters = shaft_parameters(self.shaft)
         if time_step is None:
             time_step = 0.01 if fidelity == "rigid" else 0.005
         self.integrator = integrator
@@ -439,7 +483,7 @@ class DirectDrive(Model):
     def build(self, params: Mapping[str, float] | None = None) -> Assembly:
         """The system for ``params`` (missing -> nominal): the single-body kernel's arrays and the
         :class:`~ddgsa.mbs.assembly.System` they were packed from (:class:`Assembly`)."""
-        return build(self.resolve(params).iloc[0].to_dict(), self.fields, self.damping, self.beam)
+        return build(self.resolve(params).iloc[0].to_dict(), self.fields, self.damping, self.beam, self.shaft)
 
     def static(self, asm: Assembly, force: NDArray[np.float64], moment: NDArray[np.float64],
                q_guess: NDArray[np.float64] | None = None, tol: float = 1e-12) -> NDArray[np.float64]:
@@ -468,7 +512,7 @@ class DirectDrive(Model):
     def _simulate(self, scene: Scene, p: Mapping[str, float], states: bool) -> pd.DataFrame:
         """:meth:`simulate` for resolved parameters ``p``; ``states=False`` lets the linear fidelity
         skip the coordinate columns (the objective functions do not read them)."""
-        asm = build(p, self.fields, self.damping, self.beam)
+        asm = build(p, self.fields, self.damping, self.beam, self.shaft)
         inputs = self._scene_inputs(scene)
         to_u = input_map(p)
         u = inputs.channels @ to_u
@@ -617,7 +661,7 @@ class DirectDrive(Model):
     def _linear_series(self, p: dict[str, float], scene: Scene) -> tuple[NDArray[np.float64], ...]:
         """The linear fidelity's records straight from the response arrays (no time-series frame):
         shaft-end deflections (n_t, 6) about the objectives' reference, speed, front and rear forces."""
-        asm = assembled(tuple(p.items()), self.fields, self.damping, self.beam)
+        asm = assembled(tuple(p.items()), self.fields, self.damping, self.beam, self.shaft)
         inputs = self._scene_inputs(scene)
         to_u = input_map(p)
         u0 = inputs.mean @ to_u
