@@ -38,12 +38,8 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-<<<<<<< HEAD
 from ddgsa.errors import ModelError, with_hint
-=======
-from ddgsa.errors import ModelError
 from ddgsa.mbs.beam import BeamSpec, mesh
->>>>>>> seeds-shaft
 
 SHAFT = ("table1", "table2")
 TABLE1_HZ = {"bending": (6.0816, 29.5397), "axial": (127.8008, 462.4371), "torsion": (37.8392, 266.7413)}
