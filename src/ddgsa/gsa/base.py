@@ -19,6 +19,7 @@ from ddgsa.errors import MethodError, unknown_name_message
 from ddgsa.registry import Registry
 from ddgsa.gsa.groups import GroupIndices, group_frame
 from ddgsa.gsa.result import Diagnostic, SobolResult
+from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.space import ParameterSpace
 
 METHODS: Registry[type["GsaMethod"]] = Registry("GSA method", MethodError)
@@ -184,7 +185,8 @@ class GsaMethod(ABC):
                                       diagnostics=diags, extras=extras, ST_error=st_err)
         for name, values in columns.items():
             res.indices[name] = values.ravel()
-        res.groups = group_frame(names, space.groups, groups if self.gives_groups else None)
+        res.groups = group_frame(names, space.groups, groups if self.gives_groups else None, diags,
+                                 res.options.get("tolerance", DEFAULT_TOLERANCE))
         return res
 
     gives_sobol: ClassVar[bool] = True
