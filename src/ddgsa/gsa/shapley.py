@@ -29,7 +29,9 @@ not given.
 Error: a bootstrap (``num_resamples``) over the outer draws of every subset, the ``n_v`` draws
 and, with random permutations, the permutations; its ``conf_level`` half-width is each index's
 ``_conf``. Diagnostic ``shapley_index_error`` (untrusted) where a half-width of Sh, S1 or ST
-exceeds ``tolerance``.
+exceeds ``tolerance``: a ``trusted`` row has all three within it. The rows are ranked by ``Sh``
+(``rank``, ``rank_confirmed``: :func:`~ddgsa.gsa.result.rank_structure` with ``Sh_conf`` as the
+bound), the importance measure that stays a share of the variance under dependence.
 """
 
 from __future__ import annotations
@@ -68,6 +70,7 @@ class Shapley(GsaMethod):
     defaults = {"permutations": "exact", "n_v": 1000, "n_o": 200, "n_i": 3, "seed": 0, "num_resamples": 200,
                 "conf_level": 0.95, "tolerance": DEFAULT_TOLERANCE}
     dependent_inputs = True
+    rank_by = "Sh"
 
     def check_options(self, space: ParameterSpace, opts: dict[str, Any]) -> None:
         perms = opts["permutations"]
