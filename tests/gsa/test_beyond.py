@@ -230,6 +230,39 @@ def test_target_indices_of_a_known_threshold_problem(kind: str, S1: float, ST: f
     np.testing.assert_array_equal(Target("y", 1.0).apply(np.array([0.5, 1.5, np.nan])), [0.0, 1.0, np.nan])
 
 
+def _min_indicator(limit: float) -> tuple[ddgsa.ParameterSpace, object, np.ndarray]:
+    """1{min(a, b) > t} = 1{a > t} 1{b > t}, a, b ~ U(0, 1): a product of two Bernoulli(q = 1 - t), so
+    Var = q^2 (1 - q^2), Var E[.|a] = q^3 (1 - q) and E Var(.|b) = q^2 (1 - q): S1 = q / (1 + q),
+    ST = 1 / (1 + q) for both inputs."""
+    space = ddgsa.ParameterSpace.from_dict({"a": {"low": 0, "high": 1}, "b": {"low": 0, "high": 1}})
+    q = 1.0 - limit
+    return space, target_function(lambda x: np.minimum(x[:, 0], x[:, 1]), limit=limit), \
+        np.array([[q / (1 + q)] * 2, [1 / (1 + q)] * 2])
+
+
+@pytest.mark.parametrize("limit", [0.4, 0.6])
+def test_target_of_a_product_indicator_is_judged_by_each_methods_bound(limit: float) -> None:
+    """The indicator of min(a, b) > t against its closed form (t = 0.4: 1 at the cut point (0.5, 0.5);
+    t = 0.6: 0 there). Saltelli (n = 8 192) is within its own bound; M-DRM gives numbers where any input
+    axis through the cut point crosses the limit (the indicator of the cut value, 1 there), bounded by its
+    check sample (a step is no polynomial: never within 0.02 by it), and otherwise refuses with the fix."""
+    space, g, truth = _min_indicator(limit)
+    sal = ddgsa.sobol(g, space, method="saltelli", n=8192, seed=3).indices
+    est = sal[["S1", "ST"]].to_numpy(float).T
+    assert np.all(np.abs(est - truth) <= sal[["S1_conf", "ST_conf"]].to_numpy(float).T + 1e-3)
+    assert np.all(np.abs(est - truth)[:, sal["trusted"].to_numpy()] <= 0.02)
+    res = ddgsa.sobol(g, space, method="mdrm")
+    t = res.indices
+    assert "mdrm_indicator" in res.diagnostic_names() and not t["trusted"].any()
+    if limit < 0.5:                       # M-DRM: quadrature of the steps on 5 Gauss nodes, q = 0.642 not 0.6
+        assert np.all(np.isfinite(t[["S1", "ST"]].to_numpy(float)))
+        np.testing.assert_allclose(t[["S1", "ST"]].to_numpy(float).T, truth, atol=0.02)
+        assert np.all(np.abs(t[["S1", "ST"]].to_numpy(float).T - truth) <= t[["S1_conf", "ST_conf"]].to_numpy().T)
+    else:                                 # 1 - 1{a > t} 1{0.5 > t} = 1 on every axis: nothing to see
+        msg = next(d.message for d in res.diagnostics if d.name == "mdrm_zero_variance")
+        assert "varies on the check sample but along no input axis" in msg and "saltelli" in msg
+
+
 def test_hsic_screens_out_an_inert_input() -> None:
     tf = ishigami()
     space = ddgsa.ParameterSpace.from_dict({**tf.space.to_dict(), "x4": {"low": -np.pi, "high": np.pi}})

@@ -30,7 +30,12 @@ name                           severity  fires when
 ``mdrm_rho_sign``              untrusted some rho_i = E[h_i] is zero or of the other sign than
                                          h(c) (a sign-consistent output, all negative
                                          included, is as good as a positive one)
-``mdrm_zero_variance``         untrusted no cut function varies on its nodes (indices 0/0)
+``mdrm_zero_variance``         untrusted no cut function varies on its nodes (indices 0/0); the
+                                         message says when the check sample varies (a
+                                         limit no input axis reaches: use saltelli)
+``mdrm_indicator``             info      a two-valued output (an exceedance indicator) is
+                                         analysed as the indicator of its cut-point value
+                                         (same indices; h(c) = 1 instead of 0)
 ``mdrm_near_zero``             warning   min |h| over the nodes < ``near_zero`` x max |h|
 ``mdrm_unresolved``            untrusted the orthogonal-polynomial spectrum of some h_i does
                                          not decay (top two orders hold more than
@@ -159,28 +164,36 @@ class MDRM(GsaMethod):
                  outputs: list[str]) -> PartialIndices:
         opts = design.options
         n, n_nodes = space.dim, opts["points"]
+        y, span, indicators = _indicator_of_cut_value(y, outputs)
         weights = np.stack(design.meta["weights"])                      # (n, N)
         h_c = y[0]                                                      # (k,)
         h = y[1:1 + n * n_nodes].reshape(n, n_nodes, -1)                # (n, N, k)
         rho = np.einsum("iq,iqk->ik", weights, h)                       # (n, k)
         var = np.einsum("iq,iqk->ik", weights, (h - rho[:, None, :]) ** 2)
+        var[np.ptp(h, axis=1) == 0] = 0.0         # flat on its nodes: no round-off variance (weights sum to 1 - eps)
         theta = var + rho ** 2
         with np.errstate(divide="ignore", invalid="ignore"):
             r = var / rho ** 2                                          # Var[h_i] / E[h_i]^2
             total = np.log1p(r).sum(axis=0)                             # log prod theta/rho^2
             S1 = (r / np.expm1(total)).T
             ST = ((r / (1.0 + r)) / -np.expm1(-total)).T
-        diags = _value_diagnostics(space, outputs, h_c, h, rho, opts)
+        diags = indicators + _value_diagnostics(space, outputs, h_c, h, rho, opts)
+        checked = y[1 + n * n_nodes:]
         for k in np.flatnonzero(~(np.abs(total) > 0)):
             # e.g. 2 nodes symmetric about the kink of |4x - 2| (Sobol G): every cut function is
             # flat on its nodes, so the indices are 0/0 -- an undefined answer, not a zero one
-            diags.append(Diagnostic("mdrm_zero_variance", f"output {outputs[k]!r}: no cut function varies on "
-                                    "its Gauss nodes; the indices are undefined (raise 'points')", "untrusted",
+            if len(checked) and np.ptp(checked[:, k]) > 0:      # a limit no input axis through c reaches
+                why = ("the output varies on the check sample but along no input axis through the cut point "
+                       "(a threshold or limit the axes do not reach): M-DRM cannot see what moves it; analyse it "
+                       "with saltelli (hsic to screen), or move 'cut' to where the axes cross the limit")
+            else:
+                why = "no cut function varies on its Gauss nodes; the indices are undefined (raise 'points')"
+            diags.append(Diagnostic("mdrm_zero_variance", f"output {outputs[k]!r}: {why}", "untrusted",
                                     output=outputs[k]))
         diags += _coverage_diagnostics(space, design)
         diags += _resolution_diagnostics(space, design, h, var, outputs, opts)
         extras: dict[str, Any] = {"rho": rho.T, "theta": theta.T, "h_cut": h_c,
-                                  "variance": _surrogate_variance(h_c, rho, var)}
+                                  "variance": _surrogate_variance(h_c, rho, var) * span ** 2}
         err_s1 = err_st = np.full_like(S1, np.nan)
         groups = None
         if space.groups:
@@ -217,6 +230,33 @@ class MDRM(GsaMethod):
                                     "untrusted"))
         return PartialIndices(S1=S1, ST=ST, S1_conf=err_s1, ST_conf=err_st, diagnostics=diags, extras=extras,
                               groups=groups)
+
+
+def _indicator_of_cut_value(y: NDArray[np.float64], outputs: list[str]) -> tuple[NDArray[np.float64],
+                                                                                   NDArray[np.float64],
+                                                                                   list[Diagnostic]]:
+    """``y`` with each two-valued column (an exceedance indicator, :mod:`ddgsa.gsa.target`) replaced by the
+    indicator of its value at the cut point (row 0), the factor (k,) that takes the new column's variance
+    back to the old's (the squared gap of the two values; 1 for the others), and an ``mdrm_indicator``
+    note for each.
+
+    An affine map leaves Sobol indices unchanged, and this one makes ``h(c) = 1``: M-DRM's product
+    ``h(c)^(1-n) prod h_i`` is undefined for the exceedance indicator itself wherever the cut point
+    lies within the limit (``h(c) = 0``), the usual case for a limit in the output's tail.
+    """
+    out = y.copy()
+    span = np.ones(y.shape[1])
+    diags = []
+    for k in range(y.shape[1]):
+        values = np.unique(y[:, k])
+        if values.size != 2:
+            continue
+        out[:, k] = (y[:, k] == y[0, k]).astype(float)
+        span[k] = values[1] - values[0]
+        diags.append(Diagnostic("mdrm_indicator", f"output {outputs[k]!r} takes two values: analysed as 1 where it "
+                                "equals its value at the cut point, 0 elsewhere (the same Sobol indices, and "
+                                "non-zero at the cut point as M-DRM needs)", "info", output=outputs[k]))
+    return out, span, diags
 
 
 def _resolve_cut(space: ParameterSpace, cut: Any) -> list[float]:
