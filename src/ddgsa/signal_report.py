@@ -135,11 +135,13 @@ def summary_lines(generalised: pd.DataFrame | None) -> list[str]:
         return []
     lines = ["## Signals: generalised indices (variance-weighted over the bins)", "",
              "Per bin: `signal_indices.csv` and report.html; `*` marks an untrusted row (a bin holding >= 0.1 % of "
-             "the variance is untrusted).", "", "| scene | signal | method | ranking: parameter ST (S1) +- bound |",
+             "the variance is untrusted); [k] the place by generalised ST that the bounds confirm (`2=` tied).", "",
+             "| scene | signal | method | ranking: parameter ST (S1) +- bound |",
              "|---|---|---|---|"]
     for (scene, signal, method), g in generalised.groupby(["scene", "signal", "method"], sort=False):
         top = g.sort_values("ST", ascending=False, na_position="last").head(5)
         rank = ", ".join(f"{r.parameter} {r.ST:.2f} ({r.S1:.2f}) +-{r.ST_conf:.2g}{'' if r.trusted else '*'}"
+                         + (f" [{r.rank}]" if isinstance(getattr(r, "rank", ""), str) and getattr(r, "rank", "") else "")
                          for r in top.itertuples())
         lines.append(f"| {scene} | {signal} | {method} | {rank} |")
     return lines + [""]
