@@ -14,8 +14,9 @@ HSIC has no ``trusted`` row (:mod:`ddgsa.gsa.hsic` says why); its screening clai
 the share of seeds in which an inert input is screened in (the test's level ``alpha``, if honest)
 and an influential one is not (a miss).
 
-Run ``python -m ddgsa.bench.beyond_trust [--seeds N] [--out DIR]``: ``rows.csv`` and ``summary.csv`` in
-``results/trust_calibration/beyond/`` and the summary table on stdout; docs/beyond.md quotes it.
+Run ``python -m ddgsa.bench.beyond_trust [--seeds N] [--out DIR]``: ``rows.csv.gz``, ``summary.csv``
+and ``hsic.csv`` in ``results/trust_calibration/beyond/`` and the summary table on stdout;
+docs/beyond.md quotes it.
 """
 
 from __future__ import annotations
@@ -297,14 +298,14 @@ def hsic_screening(seeds: range | list[int], n: int = 150, permutations: int = 2
 
 
 def main(argv: list[str] | None = None) -> None:
-    """Run the sweep and the HSIC screening check; write ``rows.csv``, ``summary.csv``, ``hsic.csv``."""
+    """Run the sweep and the HSIC screening check; write ``rows.csv.gz``, ``summary.csv``, ``hsic.csv``."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--out", type=Path, default=OUT)
     args = ap.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     rows = sweep(range(args.seeds))
-    rows.to_csv(args.out / "rows.csv", index=False)
+    rows.to_csv(args.out / "rows.csv.gz", index=False)
     summary = summarise(rows)
     summary.to_csv(args.out / "summary.csv", index=False)
     hsic = hsic_screening(range(args.seeds * 5))
