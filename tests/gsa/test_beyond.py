@@ -78,15 +78,16 @@ def test_mdrm_closed_group_indices_of_a_product() -> None:
     assert g["trusted"].all() and g["rank"].tolist() == ["1", "2"]       # ST 0.79 and 0.31, bounds < 0.01
 
 
-def _additive_groups(seed_space: dict) -> tuple[ddgsa.ParameterSpace, np.ndarray]:
-    """Y = 4 x0 + 3 x1 + 2 x2 + 2 x3 + x4, x ~ U(0, 1): no interaction, so a group's closed and total
-    indices both equal its members' share of sum a_i^2 = 34: {x0, x4} 17/34, {x1} 9/34, {x2, x3} 8/34."""
-    space = ddgsa.ParameterSpace.from_dict({f"x{i}": {"low": 0.0, "high": 1.0} for i in range(5)}, **seed_space)
-    return space, np.array([[17 / 34] * 2, [9 / 34] * 2, [8 / 34] * 2])
-
-
 _ADDITIVE_A = np.array([4.0, 3.0, 2.0, 2.0, 1.0])
 _ADDITIVE_GROUPS = {"g04": ["x0", "x4"], "g1": ["x1"], "g23": ["x2", "x3"]}
+
+
+def _additive_groups() -> tuple[ddgsa.ParameterSpace, np.ndarray]:
+    """Y = 4 x0 + 3 x1 + 2 x2 + 2 x3 + x4, x ~ U(0, 1): no interaction, so a group's closed and total
+    indices both equal its members' share of sum a_i^2 = 34: {x0, x4} 17/34, {x1} 9/34, {x2, x3} 8/34."""
+    space = ddgsa.ParameterSpace.from_dict({f"x{i}": {"low": 0.0, "high": 1.0} for i in range(5)},
+                                           groups=_ADDITIVE_GROUPS)
+    return space, np.array([[17 / 34] * 2, [9 / 34] * 2, [8 / 34] * 2])
 
 
 @pytest.mark.parametrize("method,options", [("pce", {"order": 2}), ("saltelli", {"n": 4096, "seed": 1}),
@@ -96,7 +97,7 @@ def test_group_rows_are_trusted_and_ranked_only_within_their_bounds(method: str,
     is the exact one (17/34 > 9/34 > 8/34, the last two 0.029 apart). PCE of order 2 is exact (bounds
     0, all trusted and ranked); Saltelli's bounds at n = 4 096 (0.02-0.03) hold the error; M-DRM's check
     sample bounds the product form's error on an additive function by ~0.19: nothing trusted or ranked."""
-    space, truth = _additive_groups({"groups": _ADDITIVE_GROUPS})
+    space, truth = _additive_groups()
     res = ddgsa.sobol(lambda x: x @ _ADDITIVE_A, space, method=method, **options)
     g = res.groups.set_index("group")
     est = g[["S_closed", "ST"]].to_numpy(float)
