@@ -95,8 +95,9 @@ def _additive_groups() -> tuple[ddgsa.ParameterSpace, np.ndarray]:
 def test_group_rows_are_trusted_and_ranked_only_within_their_bounds(method: str, options: dict) -> None:
     """Every trusted group row is within the tolerance (0.02) of the closed form and every rank claimed
     is the exact one (17/34 > 9/34 > 8/34, the last two 0.029 apart). PCE of order 2 is exact (bounds
-    0, all trusted and ranked); Saltelli's bounds at n = 4 096 (0.02-0.03) hold the error; M-DRM's check
-    sample bounds the product form's error on an additive function by ~0.19: nothing trusted or ranked."""
+    0, all trusted and ranked); Saltelli's bounds at n = 4 096 (0.02-0.03) hold the error; M-DRM's product
+    form is off by up to 0.012 on an additive function, which its check sample bounds by ~0.19 and its
+    cross-check (a sparse PCE on the same points, exact here) by the distance to it: trusted and ranked."""
     space, truth = _additive_groups()
     res = ddgsa.sobol(lambda x: x @ _ADDITIVE_A, space, method=method, **options)
     g = res.groups.set_index("group")
@@ -111,8 +112,9 @@ def test_group_rows_are_trusted_and_ranked_only_within_their_bounds(method: str,
         assert np.all(np.abs(est - truth) <= g[["S_closed_conf", "ST_conf"]].to_numpy(float))
         assert g["rank"].tolist() == ["1", "2", "3"]
     else:
-        assert not g["trusted"].any() and not g["rank_confirmed"].any()
-        assert (g[["S_closed_conf", "ST_conf"]].to_numpy(float) > 0.1).all()
+        assert np.all(np.abs(est - truth) <= g[["S_closed_conf", "ST_conf"]].to_numpy(float) + 1e-9)
+        assert g["trusted"].all() and g["rank"].tolist() == ["1", "2", "3"]
+        assert np.abs(est - truth).max() > 0.005              # not exact: the bound is the cross-check's
 
 
 def test_a_rule_on_a_member_voids_its_group_only() -> None:

@@ -20,7 +20,8 @@ Which method gives them, and how:
 FAST and RBD-FAST give no group indices (their designs have no group to vary alone).
 
 **Trust and rank** (:func:`group_frame`): each method's ``_conf`` columns are its error bounds on the
-group indices, derived as for the parameters (M-DRM: the check sample's surrogate bound; PCE: the
+group indices, derived as for the parameters (M-DRM: the check sample's surrogate bound, or the
+distance to its cross-check's group indices plus that PCE's bound where smaller; PCE: the
 leave-one-out surrogate bound; Saltelli: the bootstrap half-width or twice the half-sample
 difference), so a group row is judged by the parameters' rule (:mod:`ddgsa.gsa.trust`): **trusted**
 when both indices are finite, both bounds are within the tolerance (diagnostic ``group_index_error``

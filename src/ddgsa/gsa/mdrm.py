@@ -74,6 +74,7 @@ still refuse it.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -203,24 +204,33 @@ class MDRM(GsaMethod):
             eps, r2 = _check_sample(space, design, y, rho, var)
             err_s1 = surrogate_index_error(S1, eps[:, None], orthogonal=True)
             err_st = surrogate_index_error(ST, eps[:, None], orthogonal=True)
+            if groups is not None:
+                groups.S_closed_conf = surrogate_index_error(groups.S_closed, eps[:, None], orthogonal=True)
+                groups.ST_conf = surrogate_index_error(groups.ST, eps[:, None], orthogonal=True)
             why = f"check sample of {opts['check']} points"
-            # outputs some row of which the check sample cannot vouch for (the others need no second bound)
+            # outputs some row (or group) of which the check sample cannot vouch for (the others need no
+            # second bound)
             with np.errstate(invalid="ignore"):
-                loose = np.flatnonzero(~(np.fmax(err_s1, err_st) <= opts["tolerance"]).all(axis=1))
+                worst = np.fmax(err_s1, err_st).max(axis=1, initial=0.0)
+                if groups is not None:
+                    worst = np.fmax(worst, np.fmax(groups.S_closed_conf, groups.ST_conf).max(axis=1, initial=0.0))
+                loose = np.flatnonzero(~(worst <= opts["tolerance"]))
             cross = _cross_check(space, design, y[:, loose], [outputs[k] for k in loose], opts["tolerance"]) \
                 if loose.size else None
             if cross is not None:
                 # a second, independent bound: the distance to the cross-check's indices plus its
                 # own bound (the triangle inequality); each row keeps the smaller of the two
                 p1, pt = np.full_like(S1, np.nan), np.full_like(ST, np.nan)
-                p1[loose], pt[loose], e1, et = cross
+                p1[loose], pt[loose], e1, et = cross.S1, cross.ST, cross.S1_error, cross.ST_error
                 err_s1[loose] = np.fmin(err_s1[loose], np.abs(S1[loose] - p1[loose]) + e1)
                 err_st[loose] = np.fmin(err_st[loose], np.abs(ST[loose] - pt[loose]) + et)
+                if groups is not None and cross.groups is not None:
+                    g = cross.groups
+                    groups.S_closed_conf[loose] = np.fmin(groups.S_closed_conf[loose],
+                                                          np.abs(groups.S_closed[loose] - g.S_closed) + g.S_closed_conf)
+                    groups.ST_conf[loose] = np.fmin(groups.ST_conf[loose], np.abs(groups.ST[loose] - g.ST) + g.ST_conf)
                 why += "; cross-checked by a sparse PCE on the same points"
                 extras.update({"cross_S1": p1, "cross_ST": pt})
-            if groups is not None:
-                groups.S_closed_conf = surrogate_index_error(groups.S_closed, eps[:, None], orthogonal=True)
-                groups.ST_conf = surrogate_index_error(groups.ST, eps[:, None], orthogonal=True)
             diags += error_diagnostics("mdrm_index_error", why, outputs, space.names, err_s1, err_st,
                                        opts["tolerance"])
             extras.update({"check_r2": r2, "surrogate_eps": eps})
@@ -410,15 +420,28 @@ def _surrogate_variance(h_c: NDArray[np.float64], rho: NDArray[np.float64],
         return np.exp(2.0 * log_mean) * np.expm1(np.log1p(var / rho ** 2).sum(axis=0))
 
 
+@dataclass
+class _Cross:
+    """The cross-check's indices and error bounds (each (k, n); the groups' (k, G)), infinite where a
+    rule other than the error estimate refuses the row (or the group's output)."""
+
+    S1: NDArray[np.float64]
+    ST: NDArray[np.float64]
+    S1_error: NDArray[np.float64]
+    ST_error: NDArray[np.float64]
+    groups: GroupIndices | None
+
+
 def _cross_check(space: ParameterSpace, design: Design, y: NDArray[np.float64], outputs: list[str],
-                 tolerance: float) -> tuple[NDArray[np.float64], ...] | None:
-    """S1, ST and their error bounds (each (k, n)) of a sparse PCE fitted on M-DRM's own points.
+                 tolerance: float) -> _Cross | None:
+    """S1, ST and their error bounds of a sparse PCE fitted on M-DRM's own points, with its group indices.
 
     The cut lines and the check sample, each point at its input values, are one scattered design
     (:mod:`ddgsa.gsa.pooled`, of the degree it picks); the expansion's leave-one-out error is taken
     over the check sample only (the cut lines are fitted almost exactly by one-input terms and say
     nothing of interactions). Rows a rule other than the error estimate refuses carry an infinite
-    bound. None when the points are too few for even a linear expansion.
+    bound, and so do the groups of an output such a rule refuses whole. None when the points are too
+    few for even a linear expansion.
     """
     drawn = np.zeros(design.n_points, dtype=bool)
     drawn[-design.options["check"]:] = True
@@ -426,12 +449,26 @@ def _cross_check(space: ParameterSpace, design: Design, y: NDArray[np.float64], 
     if res is None:
         return None
     t = res.indices
-    usable = trusted_mask(t, [d for d in res.diagnostics if not index_error_rule(d.name)])
+    rules = [d for d in res.diagnostics if not index_error_rule(d.name)]
+    usable = trusted_mask(t, rules)
     shape = (len(outputs), space.dim)
-    e1 = np.where(usable, t["S1_conf"].to_numpy(float), np.inf).reshape(shape)
-    et = np.where(usable, t["ST_conf"].to_numpy(float), np.inf).reshape(shape)
-    e1, et = (np.where(np.isfinite(e), e, np.inf) for e in (e1, et))
-    return t["S1"].to_numpy(float).reshape(shape), t["ST"].to_numpy(float).reshape(shape), e1, et
+
+    def bound(values: NDArray[np.float64], ok: NDArray[np.bool_]) -> NDArray[np.float64]:
+        e = np.where(ok, values, np.inf)
+        return np.where(np.isfinite(e), e, np.inf)
+
+    e1 = bound(t["S1_conf"].to_numpy(float), usable).reshape(shape)
+    et = bound(t["ST_conf"].to_numpy(float), usable).reshape(shape)
+    groups = None
+    if len(res.groups):
+        g = res.groups
+        whole = {d.output for d in rules if d.severity == "untrusted" and d.parameter is None}
+        ok = ~g["output"].isin(whole).to_numpy() & (None not in whole)
+        gshape = (len(outputs), len(space.groups))
+        groups = GroupIndices(g["S_closed"].to_numpy(float).reshape(gshape), g["ST"].to_numpy(float).reshape(gshape),
+                              bound(g["S_closed_conf"].to_numpy(float), ok).reshape(gshape),
+                              bound(g["ST_conf"].to_numpy(float), ok).reshape(gshape))
+    return _Cross(t["S1"].to_numpy(float).reshape(shape), t["ST"].to_numpy(float).reshape(shape), e1, et, groups)
 
 
 def _check_sample(space: ParameterSpace, design: Design, y: NDArray[np.float64], rho: NDArray[np.float64],
