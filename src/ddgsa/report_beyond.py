@@ -78,10 +78,13 @@ def beyond_markdown(result: "StudyResult") -> list[str]:
     if len(groups):
         lines += ["## Groups: closed and total indices", "",
                   "S_closed = what the group explains alone (its members' interactions among themselves included); "
-                  "ST = what it takes part in at all; ± the method's error bound (`groups.csv`).", "",
-                  "| scene | output | method | group (members) | S_closed | ST |", "|---|---|---|---|---|---|"]
+                  "ST = what it takes part in at all; ± the method's error bound (`groups.csv`); trusted = both "
+                  "within the tolerance by that bound; rank = the confirmed place by ST.", "",
+                  "| scene | output | method | group (members) | S_closed | ST | trusted | rank |",
+                  "|---|---|---|---|---|---|---|---|"]
         lines += [f"| {r.scene} | `{r.output}` | {r.method} | {r.group} ({r.members}) | "
-                  f"{_pm(r.S_closed, r.S_closed_conf)} | {_pm(r.ST, r.ST_conf)} |" for r in groups.itertuples()]
+                  f"{_pm(r.S_closed, r.S_closed_conf)} | {_pm(r.ST, r.ST_conf)} | {'yes' if r.trusted else 'no'} | "
+                  f"{r.rank or '-'} |" for r in groups.itertuples()]
         lines.append("")
     idx = result.indices
     if "Sh" in idx and idx["Sh"].notna().any():

@@ -135,11 +135,17 @@ def summary_lines(generalised: pd.DataFrame | None) -> list[str]:
         return []
     lines = ["## Signals: generalised indices (variance-weighted over the bins)", "",
              "Per bin: `signal_indices.csv` and report.html; `*` marks an untrusted row (a bin holding >= 0.1 % of "
-             "the variance is untrusted).", "", "| scene | signal | method | ranking: parameter ST (S1) +- bound |",
+             "the variance is untrusted); [k] the place by generalised ST that the bounds confirm (`2=` tied).", "",
+             "| scene | signal | method | ranking: parameter ST (S1) +- bound |",
              "|---|---|---|---|"]
     for (scene, signal, method), g in generalised.groupby(["scene", "signal", "method"], sort=False):
         top = g.sort_values("ST", ascending=False, na_position="last").head(5)
         rank = ", ".join(f"{r.parameter} {r.ST:.2f} ({r.S1:.2f}) +-{r.ST_conf:.2g}{'' if r.trusted else '*'}"
-                         for r in top.itertuples())
+                         + _place(getattr(r, "rank", "")) for r in top.itertuples())
         lines.append(f"| {scene} | {signal} | {method} | {rank} |")
     return lines + [""]
+
+
+def _place(rank: object) -> str:
+    """`` [2=]`` for a confirmed place (a table read back from CSV has NaN where none is), else nothing."""
+    return f" [{rank}]" if isinstance(rank, str) and rank else ""

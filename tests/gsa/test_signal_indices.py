@@ -49,6 +49,11 @@ def test_additive_signal_matches_the_closed_form(method: str, options: dict, tol
     assert g.loc["x2", "ST"] == pytest.approx(1.0 - GEN_X1, abs=tol)
     assert g.loc["x3", "ST"] == pytest.approx(0.0, abs=tol)
     assert (g["S1_conf"] >= 0).all()
+    # the ranking of the generalised ST (x2 0.74 > x1 0.26 > x3 0): a claim only where it is the exact one
+    exact_rank = {"x2": "1", "x1": "2", "x3": "negligible"}
+    assert all(r == exact_rank[p] for p, r in g.loc[g["rank_confirmed"], "rank"].items())
+    if method == "pce":          # 0.5 apart: confirmed by any bound < 0.25 (x3's weighted bound, 0.05, is not < 0.02)
+        assert (g.loc["x2", "rank"], g.loc["x1", "rank"]) == ("1", "2")
 
 
 C1, C2 = 0.5 + 0.4 * np.sin(2 * np.pi * 2.0 * T), 0.5 + 0.4 * np.cos(2 * np.pi * 5.0 * T)
@@ -73,6 +78,18 @@ def test_product_signal_mdrm_is_exact_per_bin_and_generalised() -> None:
     assert g.loc["x2", "ST"] == pytest.approx((v2 + v1 * v2).sum() / var.sum(), abs=1e-12)
     assert g.loc["x1", "variance_covered"] == pytest.approx(1.0)
     assert bool(g["trusted"].all())
+    st1, st2 = (v1 + v1 * v2).sum() / var.sum(), (v2 + v1 * v2).sum() / var.sum()     # 0.547, 0.551: 0.004 apart
+    assert abs(st1 - st2) + g.loc["x1", "ST_error"] + g.loc["x2", "ST_error"] <= 0.02
+    assert g["rank"].to_dict() == {"x1": "1=", "x2": "1=", "x3": "negligible"}    # a confirmed tie, x3 inert
+
+
+def test_a_voided_bin_voids_the_generalised_rank() -> None:
+    """A material bin whose bounds a rule voids (M-DRM's sign change: here bins where y < 0) takes every
+    rank claim of the generalised rows that the bin enters; the error bound is the weighted bound."""
+    res = ddgsa.sobol_signal(lambda x: product(x) - 1.5, UNIFORM, AXIS, "mdrm", signal="y", points=4)
+    assert not res.bins["bounded"].all()
+    g = res.generalised
+    assert (g["rank"] == "").all() and not g["rank_confirmed"].any()
 
 
 def test_constant_bins_drop_out_and_a_wrong_grid_is_refused() -> None:

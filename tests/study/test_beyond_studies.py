@@ -34,12 +34,14 @@ def test_groups_study_writes_closed_and_total_group_indices(tmp_path: Path) -> N
     g = pd.read_csv(out / "groups.csv")
     g = g[g["method"] == "mdrm"]          # the pooled PCE cross-check gives its own
     assert list(g.columns) == ["scene", "method", "output", "group", "members", "S_closed", "S_closed_conf", "ST",
-                               "ST_conf"]
+                               "ST_conf", "trusted", "rank_confirmed", "rank"]
     space = ddgsa.ParameterSpace.from_dict({f"x{i}": {"low": -3.14159265, "high": 3.14159265} for i in (1, 2, 3)},
                                            groups={"x12": ["x1", "x2"], "x3only": ["x3"]})
     api = ddgsa.sobol(lambda x: ishigami(x) + 12.0, space, method="mdrm", points=4, check=8).groups
     np.testing.assert_allclose(g[["S_closed", "ST"]].to_numpy(float), api[["S_closed", "ST"]].to_numpy(float),
                                rtol=1e-6)
+    assert g["trusted"].tolist() == api["trusted"].tolist()
+    assert g["rank"].astype(object).where(g["rank"].notna(), "").tolist() == api["rank"].tolist()
     summary = (out / "summary.md").read_text()
     assert "## Groups: closed and total indices" in summary and "| 0 | `y_positive` | mdrm | x12 (x1 x2) |" in summary
     assert (out / "groups_scene0.png").exists()

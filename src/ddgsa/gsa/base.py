@@ -19,6 +19,7 @@ from ddgsa.errors import MethodError, unknown_name_message, with_hint
 from ddgsa.registry import Registry
 from ddgsa.gsa.groups import GroupIndices, group_frame
 from ddgsa.gsa.result import Diagnostic, SobolResult
+from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.space import ParameterSpace
 
 METHODS: Registry[type["GsaMethod"]] = Registry("GSA method", MethodError)
@@ -184,8 +185,18 @@ class GsaMethod(ABC):
                                       diagnostics=diags, extras=extras, ST_error=st_err)
         for name, values in columns.items():
             res.indices[name] = values.ravel()
-        res.groups = group_frame(names, space.groups, groups if self.gives_groups else None)
+        if self.rank_by != "ST":
+            bound = next(c for c in (f"{self.rank_by}_error", f"{self.rank_by}_conf") if c in res.indices)
+            res.extras.update(rank_by=self.rank_by, rank_error=res.indices[bound].to_numpy(float))
+            res = res.rerank()
+        res.groups = group_frame(names, space.groups, groups if self.gives_groups else None, diags,
+                                 res.options.get("tolerance", DEFAULT_TOLERANCE))
         return res
+
+    rank_by: ClassVar[str] = "ST"
+    """The column the rows are ranked by (:func:`~ddgsa.gsa.result.rank_structure`), its ``_error`` column (else
+    ``_conf``) the error bound where it is not ``ST``: Shapley effects rank by ``Sh``, the share that sums to one
+    under dependence."""
 
     gives_sobol: ClassVar[bool] = True
     """Whether the method estimates Sobol indices at all (HSIC screening does not: its rows carry other measures)."""

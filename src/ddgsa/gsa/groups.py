@@ -18,18 +18,31 @@ Which method gives them, and how:
   per group of two or more, ``n`` runs each, analysed by SALib's ``groups`` option.
 
 FAST and RBD-FAST give no group indices (their designs have no group to vary alone).
+
+**Trust and rank** (:func:`group_frame`): each method's ``_conf`` columns are its error bounds on the
+group indices, derived as for the parameters (M-DRM: the check sample's surrogate bound, or the
+distance to its cross-check's group indices plus that PCE's bound where smaller; PCE: the
+leave-one-out surrogate bound; Saltelli: the bootstrap half-width or twice the half-sample
+difference), so a group row is judged by the parameters' rule (:mod:`ddgsa.gsa.trust`): **trusted**
+when both indices are finite, both bounds are within the tolerance (diagnostic ``group_index_error``
+otherwise) and no rule other than an error estimate (sign change, unresolved cut function, failed
+runs...) voids the output or a member's row; ``rank_confirmed`` and ``rank`` order the groups by total
+index with :func:`~ddgsa.gsa.result.rank_structure`, the total index's bound as its error.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-GROUP_COLUMNS = ["output", "group", "members", "S_closed", "S_closed_conf", "ST", "ST_conf"]
+from ddgsa.gsa.result import GROUP_COLUMNS, Diagnostic, index_error_rule, rank_structure, trusted_mask
+from ddgsa.gsa.trust import DEFAULT_TOLERANCE, error_diagnostics
+
+__all__ = ["GROUP_COLUMNS", "GroupIndices", "from_coefficients", "group_frame", "product_form"]
 
 
 @dataclass
@@ -97,16 +110,56 @@ def from_coefficients(alphas: NDArray[np.int64], energy: NDArray[np.float64],
         return (energy.T @ inside) / var[:, None], (energy.T @ touches) / var[:, None]
 
 
-def group_frame(outputs: Sequence[str], groups: dict[str, tuple[str, ...]],
-                gi: GroupIndices | None) -> pd.DataFrame:
-    """The tidy table ``output, group, members, S_closed, S_closed_conf, ST, ST_conf`` (empty without groups)."""
+def group_frame(outputs: Sequence[str], groups: dict[str, tuple[str, ...]], gi: GroupIndices | None,
+                diagnostics: Sequence[Diagnostic] = (), tolerance: float = DEFAULT_TOLERANCE) -> pd.DataFrame:
+    """The tidy table of :data:`~ddgsa.gsa.result.GROUP_COLUMNS` (empty without groups), judged.
+
+    Parameters
+    ----------
+    outputs : sequence of str
+        The outputs, in the order of ``gi``'s rows.
+    groups : dict
+        Group name -> its member parameters.
+    gi : GroupIndices or None
+        The method's group indices and error bounds [-] (None: the method gives none).
+    diagnostics : sequence of Diagnostic
+        The method's findings on the parameters' rows: a rule other than an error estimate that voids
+        the output, or a member's row, voids the group's row too.
+    tolerance : float
+        Absolute error allowed on every index of a trusted row [-] (and the rank margin and floor).
+    """
     if gi is None or not groups:
         return pd.DataFrame(columns=GROUP_COLUMNS)
     k, g = len(outputs), len(groups)
-    return pd.DataFrame({
+    table = pd.DataFrame({
         "output": np.repeat(list(outputs), g),
         "group": np.tile(list(groups), k),
         "members": np.tile([" ".join(m) for m in groups.values()], k),
         "S_closed": gi.S_closed.ravel(), "S_closed_conf": gi.S_closed_conf.ravel(),
         "ST": gi.ST.ravel(), "ST_conf": gi.ST_conf.ravel(),
     })
+    diags = _member_rules(diagnostics, groups) + error_diagnostics(
+        "group_index_error", "the method's bound on the group indices", list(outputs), list(groups),
+        gi.S_closed_conf, gi.ST_conf, tolerance)
+    rows = table.rename(columns={"group": "parameter", "S_closed": "S1"})   # the parameters' table's names
+    table["trusted"] = trusted_mask(rows, diags) & np.isfinite(table["S_closed_conf"].to_numpy(float)) \
+        & np.isfinite(table["ST_conf"].to_numpy(float))
+    codes, ranks = rank_structure(rows, table["ST_conf"].to_numpy(float), diags, tolerance)
+    table["rank_confirmed"] = codes > 0
+    table["rank"] = ranks
+    return table[GROUP_COLUMNS]
+
+
+def _member_rules(diagnostics: Sequence[Diagnostic], groups: dict[str, tuple[str, ...]]) -> list[Diagnostic]:
+    """The ``untrusted`` rules other than error estimates, addressed to the groups they void: a rule on a
+    whole output stays one, a rule on a parameter goes to that parameter's group (none if it is in none)."""
+    owner = {p: name for name, members in groups.items() for p in members}
+    out = []
+    for d in diagnostics:
+        if d.severity != "untrusted" or index_error_rule(d.name):
+            continue
+        if d.parameter is None:
+            out.append(d)
+        elif d.parameter in owner:
+            out.append(replace(d, parameter=owner[d.parameter]))
+    return out

@@ -21,6 +21,17 @@ HSIC is a dependence measure, not a share of variance: the rows carry no S1/ST (
 ``hsic_screening``), and it needs far fewer runs than Sobol indices (one sample of ``n``
 points for all inputs; ``n`` = 100-300 screens tens of inputs). For target sensitivity combine
 it with an indicator output (:mod:`ddgsa.gsa.target`).
+
+**Why no row is ever trusted** (issue 51.4: every estimator carries the same trust rule). ``trusted``
+promises every index of the row within the tolerance of the truth. HSIC's rows hold no Sobol index,
+and its own index has no error bound to judge: the V-statistic is biased upward by O(1/n) (an inert
+input's R2_HSIC averages 0.014 at n = 150, its exact value 0: ``python -m ddgsa.bench.beyond_trust``),
+and a bootstrap cannot bound it (resampling with replacement repeats points, which inflates a
+V-statistic further). What HSIC does claim is the screening, and that claim is calibrated by
+construction: an inert input is screened in with probability ``alpha`` (3 of 100 seeds at 0.05;
+tested over seeds), while ``screened_in = 0`` is absence of evidence, never a confirmed independence
+(Ishigami's x2, S1 = 0.44 through sin^2 x2, is screened in 5 times in 100: a kernel as wide as the
+input's standard deviation does not see a period-pi effect).
 """
 
 from __future__ import annotations
@@ -89,7 +100,9 @@ class HSIC(GsaMethod):
             out["R2_HSIC"][j] = h / np.sqrt(self_x * self_y) if self_y > 0 else np.nan
             out["p_value"][j] = (1 + np.sum(null >= h * (1 - 1e-12), axis=0)) / (1 + len(perms))
         diag = Diagnostic("hsic_screening", f"HSIC screening on {design.n_points} points: dependence measures "
-                          "(HSIC, R2_HSIC) and permutation p-values, not Sobol indices (no S1/ST)", "untrusted")
+                          "(HSIC, R2_HSIC) and permutation p-values, not Sobol indices (no S1/ST); never trusted "
+                          "(R2_HSIC is biased upward by O(1/n) and has no error bound), the screening is a test at "
+                          f"level alpha = {o['alpha']:g}", "untrusted")
         nan = np.full((k, d), np.nan)
         columns = {**out, "screened_in": (out["p_value"] < o["alpha"]).astype(float)}
         # the output's scale does not change R2_HSIC or the p-value; HSIC itself is of the standardised output

@@ -30,7 +30,12 @@ name                           severity  fires when
 ``mdrm_rho_sign``              untrusted some rho_i = E[h_i] is zero or of the other sign than
                                          h(c) (a sign-consistent output, all negative
                                          included, is as good as a positive one)
-``mdrm_zero_variance``         untrusted no cut function varies on its nodes (indices 0/0)
+``mdrm_zero_variance``         untrusted no cut function varies on its nodes (indices 0/0); the
+                                         message says when the check sample varies (a
+                                         limit no input axis reaches: use saltelli)
+``mdrm_indicator``             info      a two-valued output (an exceedance indicator) is
+                                         analysed as the indicator of its cut-point value
+                                         (same indices; h(c) = 1 instead of 0)
 ``mdrm_near_zero``             warning   min |h| over the nodes < ``near_zero`` x max |h|
 ``mdrm_unresolved``            untrusted the orthogonal-polynomial spectrum of some h_i does
                                          not decay (top two orders hold more than
@@ -69,6 +74,7 @@ still refuse it.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -159,28 +165,36 @@ class MDRM(GsaMethod):
                  outputs: list[str]) -> PartialIndices:
         opts = design.options
         n, n_nodes = space.dim, opts["points"]
+        y, span, indicators = _indicator_of_cut_value(y, outputs)
         weights = np.stack(design.meta["weights"])                      # (n, N)
         h_c = y[0]                                                      # (k,)
         h = y[1:1 + n * n_nodes].reshape(n, n_nodes, -1)                # (n, N, k)
         rho = np.einsum("iq,iqk->ik", weights, h)                       # (n, k)
         var = np.einsum("iq,iqk->ik", weights, (h - rho[:, None, :]) ** 2)
+        var[np.ptp(h, axis=1) == 0] = 0.0         # flat on its nodes: no round-off variance (weights sum to 1 - eps)
         theta = var + rho ** 2
         with np.errstate(divide="ignore", invalid="ignore"):
             r = var / rho ** 2                                          # Var[h_i] / E[h_i]^2
             total = np.log1p(r).sum(axis=0)                             # log prod theta/rho^2
             S1 = (r / np.expm1(total)).T
             ST = ((r / (1.0 + r)) / -np.expm1(-total)).T
-        diags = _value_diagnostics(space, outputs, h_c, h, rho, opts)
+        diags = indicators + _value_diagnostics(space, outputs, h_c, h, rho, opts)
+        checked = y[1 + n * n_nodes:]
         for k in np.flatnonzero(~(np.abs(total) > 0)):
             # e.g. 2 nodes symmetric about the kink of |4x - 2| (Sobol G): every cut function is
             # flat on its nodes, so the indices are 0/0 -- an undefined answer, not a zero one
-            diags.append(Diagnostic("mdrm_zero_variance", f"output {outputs[k]!r}: no cut function varies on "
-                                    "its Gauss nodes; the indices are undefined (raise 'points')", "untrusted",
+            if len(checked) and np.ptp(checked[:, k]) > 0:      # a limit no input axis through c reaches
+                why = ("the output varies on the check sample but along no input axis through the cut point "
+                       "(a threshold or limit the axes do not reach): M-DRM cannot see what moves it; analyse it "
+                       "with saltelli (hsic to screen), or move 'cut' to where the axes cross the limit")
+            else:
+                why = "no cut function varies on its Gauss nodes; the indices are undefined (raise 'points')"
+            diags.append(Diagnostic("mdrm_zero_variance", f"output {outputs[k]!r}: {why}", "untrusted",
                                     output=outputs[k]))
         diags += _coverage_diagnostics(space, design)
         diags += _resolution_diagnostics(space, design, h, var, outputs, opts)
         extras: dict[str, Any] = {"rho": rho.T, "theta": theta.T, "h_cut": h_c,
-                                  "variance": _surrogate_variance(h_c, rho, var)}
+                                  "variance": _surrogate_variance(h_c, rho, var) * span ** 2}
         err_s1 = err_st = np.full_like(S1, np.nan)
         groups = None
         if space.groups:
@@ -190,24 +204,33 @@ class MDRM(GsaMethod):
             eps, r2 = _check_sample(space, design, y, rho, var)
             err_s1 = surrogate_index_error(S1, eps[:, None], orthogonal=True)
             err_st = surrogate_index_error(ST, eps[:, None], orthogonal=True)
+            if groups is not None:
+                groups.S_closed_conf = surrogate_index_error(groups.S_closed, eps[:, None], orthogonal=True)
+                groups.ST_conf = surrogate_index_error(groups.ST, eps[:, None], orthogonal=True)
             why = f"check sample of {opts['check']} points"
-            # outputs some row of which the check sample cannot vouch for (the others need no second bound)
+            # outputs some row (or group) of which the check sample cannot vouch for (the others need no
+            # second bound)
             with np.errstate(invalid="ignore"):
-                loose = np.flatnonzero(~(np.fmax(err_s1, err_st) <= opts["tolerance"]).all(axis=1))
+                worst = np.fmax(err_s1, err_st).max(axis=1, initial=0.0)
+                if groups is not None:
+                    worst = np.fmax(worst, np.fmax(groups.S_closed_conf, groups.ST_conf).max(axis=1, initial=0.0))
+                loose = np.flatnonzero(~(worst <= opts["tolerance"]))
             cross = _cross_check(space, design, y[:, loose], [outputs[k] for k in loose], opts["tolerance"]) \
                 if loose.size else None
             if cross is not None:
                 # a second, independent bound: the distance to the cross-check's indices plus its
                 # own bound (the triangle inequality); each row keeps the smaller of the two
                 p1, pt = np.full_like(S1, np.nan), np.full_like(ST, np.nan)
-                p1[loose], pt[loose], e1, et = cross
+                p1[loose], pt[loose], e1, et = cross.S1, cross.ST, cross.S1_error, cross.ST_error
                 err_s1[loose] = np.fmin(err_s1[loose], np.abs(S1[loose] - p1[loose]) + e1)
                 err_st[loose] = np.fmin(err_st[loose], np.abs(ST[loose] - pt[loose]) + et)
+                if groups is not None and cross.groups is not None:
+                    g = cross.groups
+                    groups.S_closed_conf[loose] = np.fmin(groups.S_closed_conf[loose],
+                                                          np.abs(groups.S_closed[loose] - g.S_closed) + g.S_closed_conf)
+                    groups.ST_conf[loose] = np.fmin(groups.ST_conf[loose], np.abs(groups.ST[loose] - g.ST) + g.ST_conf)
                 why += "; cross-checked by a sparse PCE on the same points"
                 extras.update({"cross_S1": p1, "cross_ST": pt})
-            if groups is not None:
-                groups.S_closed_conf = surrogate_index_error(groups.S_closed, eps[:, None], orthogonal=True)
-                groups.ST_conf = surrogate_index_error(groups.ST, eps[:, None], orthogonal=True)
             diags += error_diagnostics("mdrm_index_error", why, outputs, space.names, err_s1, err_st,
                                        opts["tolerance"])
             extras.update({"check_r2": r2, "surrogate_eps": eps})
@@ -217,6 +240,33 @@ class MDRM(GsaMethod):
                                     "untrusted"))
         return PartialIndices(S1=S1, ST=ST, S1_conf=err_s1, ST_conf=err_st, diagnostics=diags, extras=extras,
                               groups=groups)
+
+
+def _indicator_of_cut_value(y: NDArray[np.float64], outputs: list[str]) -> tuple[NDArray[np.float64],
+                                                                                   NDArray[np.float64],
+                                                                                   list[Diagnostic]]:
+    """``y`` with each two-valued column (an exceedance indicator, :mod:`ddgsa.gsa.target`) replaced by the
+    indicator of its value at the cut point (row 0), the factor (k,) that takes the new column's variance
+    back to the old's (the squared gap of the two values; 1 for the others), and an ``mdrm_indicator``
+    note for each.
+
+    An affine map leaves Sobol indices unchanged, and this one makes ``h(c) = 1``: M-DRM's product
+    ``h(c)^(1-n) prod h_i`` is undefined for the exceedance indicator itself wherever the cut point
+    lies within the limit (``h(c) = 0``), the usual case for a limit in the output's tail.
+    """
+    out = y.copy()
+    span = np.ones(y.shape[1])
+    diags = []
+    for k in range(y.shape[1]):
+        values = np.unique(y[:, k])
+        if values.size != 2:
+            continue
+        out[:, k] = (y[:, k] == y[0, k]).astype(float)
+        span[k] = values[1] - values[0]
+        diags.append(Diagnostic("mdrm_indicator", f"output {outputs[k]!r} takes two values: analysed as 1 where it "
+                                "equals its value at the cut point, 0 elsewhere (the same Sobol indices, and "
+                                "non-zero at the cut point as M-DRM needs)", "info", output=outputs[k]))
+    return out, span, diags
 
 
 def _resolve_cut(space: ParameterSpace, cut: Any) -> list[float]:
@@ -370,15 +420,28 @@ def _surrogate_variance(h_c: NDArray[np.float64], rho: NDArray[np.float64],
         return np.exp(2.0 * log_mean) * np.expm1(np.log1p(var / rho ** 2).sum(axis=0))
 
 
+@dataclass
+class _Cross:
+    """The cross-check's indices and error bounds (each (k, n); the groups' (k, G)), infinite where a
+    rule other than the error estimate refuses the row (or the group's output)."""
+
+    S1: NDArray[np.float64]
+    ST: NDArray[np.float64]
+    S1_error: NDArray[np.float64]
+    ST_error: NDArray[np.float64]
+    groups: GroupIndices | None
+
+
 def _cross_check(space: ParameterSpace, design: Design, y: NDArray[np.float64], outputs: list[str],
-                 tolerance: float) -> tuple[NDArray[np.float64], ...] | None:
-    """S1, ST and their error bounds (each (k, n)) of a sparse PCE fitted on M-DRM's own points.
+                 tolerance: float) -> _Cross | None:
+    """S1, ST and their error bounds of a sparse PCE fitted on M-DRM's own points, with its group indices.
 
     The cut lines and the check sample, each point at its input values, are one scattered design
     (:mod:`ddgsa.gsa.pooled`, of the degree it picks); the expansion's leave-one-out error is taken
     over the check sample only (the cut lines are fitted almost exactly by one-input terms and say
     nothing of interactions). Rows a rule other than the error estimate refuses carry an infinite
-    bound. None when the points are too few for even a linear expansion.
+    bound, and so do the groups of an output such a rule refuses whole. None when the points are too
+    few for even a linear expansion.
     """
     drawn = np.zeros(design.n_points, dtype=bool)
     drawn[-design.options["check"]:] = True
@@ -386,12 +449,26 @@ def _cross_check(space: ParameterSpace, design: Design, y: NDArray[np.float64], 
     if res is None:
         return None
     t = res.indices
-    usable = trusted_mask(t, [d for d in res.diagnostics if not index_error_rule(d.name)])
+    rules = [d for d in res.diagnostics if not index_error_rule(d.name)]
+    usable = trusted_mask(t, rules)
     shape = (len(outputs), space.dim)
-    e1 = np.where(usable, t["S1_conf"].to_numpy(float), np.inf).reshape(shape)
-    et = np.where(usable, t["ST_conf"].to_numpy(float), np.inf).reshape(shape)
-    e1, et = (np.where(np.isfinite(e), e, np.inf) for e in (e1, et))
-    return t["S1"].to_numpy(float).reshape(shape), t["ST"].to_numpy(float).reshape(shape), e1, et
+
+    def bound(values: NDArray[np.float64], ok: NDArray[np.bool_]) -> NDArray[np.float64]:
+        e = np.where(ok, values, np.inf)
+        return np.where(np.isfinite(e), e, np.inf)
+
+    e1 = bound(t["S1_conf"].to_numpy(float), usable).reshape(shape)
+    et = bound(t["ST_conf"].to_numpy(float), usable).reshape(shape)
+    groups = None
+    if len(res.groups):
+        g = res.groups
+        whole = {d.output for d in rules if d.severity == "untrusted" and d.parameter is None}
+        ok = ~g["output"].isin(whole).to_numpy() & (None not in whole)
+        gshape = (len(outputs), len(space.groups))
+        groups = GroupIndices(g["S_closed"].to_numpy(float).reshape(gshape), g["ST"].to_numpy(float).reshape(gshape),
+                              bound(g["S_closed_conf"].to_numpy(float), ok).reshape(gshape),
+                              bound(g["ST_conf"].to_numpy(float), ok).reshape(gshape))
+    return _Cross(t["S1"].to_numpy(float).reshape(shape), t["ST"].to_numpy(float).reshape(shape), e1, et, groups)
 
 
 def _check_sample(space: ParameterSpace, design: Design, y: NDArray[np.float64], rho: NDArray[np.float64],

@@ -10,12 +10,14 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from ddgsa.gsa.groups import GROUP_COLUMNS
-
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
 INDEX_COLUMNS = ["output", "parameter", "S1", "S1_conf", "ST", "ST_conf", "trusted", "rank_confirmed", "rank"]
+GROUP_COLUMNS = ["output", "group", "members", "S_closed", "S_closed_conf", "ST", "ST_conf", "trusted",
+                 "rank_confirmed", "rank"]
+"""Columns of ``SobolResult.groups`` (:mod:`ddgsa.gsa.groups`): the group indices with the same trust and
+rank claims as the parameters' rows."""
 Severity = Literal["info", "warning", "untrusted"]
 ROW_COLUMNS = frozenset({"study", "scene", "method", "output", "parameter", "S1", "S1_conf", "ST", "ST_conf",
                          "trusted", "rank_confirmed", "rank", "verdict", "n_evals", "output_unit", "source"})
@@ -80,8 +82,9 @@ class SobolResult:
         Method-specific numbers (e.g. M-DRM's ``rho``/``theta``, PCE's LOO error).
     groups : pandas.DataFrame
         One row per (output, group) of the space's groups: ``output, group, members, S_closed,
-        S_closed_conf, ST, ST_conf`` (:mod:`ddgsa.gsa.groups`); empty when the space has no groups
-        or the method gives none.
+        S_closed_conf, ST, ST_conf, trusted, rank_confirmed, rank`` (:mod:`ddgsa.gsa.groups`: the
+        ``_conf`` columns are the method's error bounds, judged as the parameters' are); empty when
+        the space has no groups or the method gives none.
     """
 
     indices: pd.DataFrame
@@ -132,7 +135,8 @@ class SobolResult:
             return self
         table = self.indices.copy()
         claims, ranks = rank_structure(table, np.asarray(err, dtype=float), self.diagnostics,
-                                       self.options.get("tolerance", 0.02), margin, floor)
+                                       self.options.get("tolerance", 0.02), margin, floor,
+                                       quantity=self.extras.get("rank_by", "ST"))
         table["rank_confirmed"] = claims > 0
         table["rank"] = ranks
         return replace(self, indices=table, extras={**self.extras, "rank_claims": claims})
@@ -254,10 +258,10 @@ NEGLIGIBLE, SEPARATED, TIED = 1, 2, 3
 
 
 def rank_structure(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics: list[Diagnostic],
-                   tolerance: float, margin: float | None = None,
-                   floor: float | None = None) -> tuple[NDArray[np.int8], NDArray[np.object_]]:
-    """Rows whose place in their output's ranking by ``ST`` the error bounds guarantee, how, and
-    the ranking as tied groups.
+                   tolerance: float, margin: float | None = None, floor: float | None = None,
+                   quantity: str = "ST") -> tuple[NDArray[np.int8], NDArray[np.object_]]:
+    """Rows whose place in their output's ranking by ``ST`` (or ``quantity``) the error bounds
+    guarantee, how, and the ranking as tied groups.
 
     Each row's total index lies in ``[ST - e, ST + e]`` (``e`` = ``st_error``, the method's
     calibrated estimate) when no other ``untrusted`` rule (one that is not an error-estimate rule:
@@ -288,6 +292,8 @@ def rank_structure(table: pd.DataFrame, st_error: NDArray[np.float64], diagnosti
         Largest ST difference still called a tie [-] (default ``tolerance``).
     floor : float, optional
         ST below which a parameter is negligible [-] (default ``tolerance``).
+    quantity : str
+        The column ranked (default ``ST``; Shapley effects rank by ``Sh``), ``st_error`` its error bound.
 
     Returns
     -------
@@ -309,7 +315,7 @@ def rank_structure(table: pd.DataFrame, st_error: NDArray[np.float64], diagnosti
     tol = float(tolerance)
     margin = tol if margin is None else float(margin)
     floor = tol if floor is None else float(floor)
-    st = table["ST"].to_numpy(float)
+    st = table[quantity].to_numpy(float)
     err = np.asarray(st_error, dtype=float)
     usable = trusted_mask(table, [d for d in diagnostics if not index_error_rule(d.name)]) \
         & np.isfinite(st) & np.isfinite(err)
@@ -360,9 +366,10 @@ def _tie_groups(tied: NDArray[np.bool_], members: NDArray[np.bool_]) -> list[NDA
 
 
 def rank_claims(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics: list[Diagnostic],
-                tolerance: float, margin: float | None = None, floor: float | None = None) -> NDArray[np.int8]:
+                tolerance: float, margin: float | None = None, floor: float | None = None,
+                quantity: str = "ST") -> NDArray[np.int8]:
     """The codes of :func:`rank_structure` alone (0: no claim)."""
-    return rank_structure(table, st_error, diagnostics, tolerance, margin, floor)[0]
+    return rank_structure(table, st_error, diagnostics, tolerance, margin, floor, quantity)[0]
 
 
 def need_per_row(st: NDArray[np.float64], tolerance: float) -> NDArray[np.float64]:

@@ -20,6 +20,12 @@ the weights themselves is not included: each bin's variance is one method's esti
 Bins whose indices are not defined (constant bins, failed evaluations) drop out of the sums; the
 result says what share of the variance the sums cover (``variance_covered``). A generalised row is
 ``trusted`` when every bin holding at least ``_MATERIAL`` of the signal's variance is.
+
+The generalised rows are ranked as a method's rows are (``rank_confirmed``, ``rank``:
+:func:`~ddgsa.gsa.result.rank_structure`), with the same weighted mean of the bins' calibrated ST
+error bounds (column ``ST_error``; each bin's ``ST_error`` is the bound the method's trust and rank
+rules use) as the error, void (no claim) where a material bin's bounds are voided by a rule other
+than an error estimate (column ``bounded`` of the bins: sign change, failed runs...).
 """
 
 from __future__ import annotations
@@ -34,7 +40,7 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, get_method
-from ddgsa.gsa.result import SobolResult
+from ddgsa.gsa.result import SobolResult, index_error_rule, rank_structure, trusted_mask
 from ddgsa.space import ParameterSpace
 
 _MATERIAL = 1e-3
@@ -79,9 +85,12 @@ class SignalResult:
     axis : SignalAxis
     bins : pandas.DataFrame
         One row per (bin, parameter): ``signal, bin, axis, parameter, S1, S1_conf, ST, ST_conf, variance,
-        trusted`` (``axis`` the bin's value on the grid, ``variance`` the bin's variance [signal unit^2]).
+        trusted, ST_error, bounded`` (``axis`` the bin's value on the grid, ``variance`` the bin's variance
+        [signal unit^2], ``ST_error`` the method's calibrated ST bound [-], ``bounded`` whether no rule
+        other than an error estimate voids the bin's bounds).
     generalised : pandas.DataFrame
-        One row per parameter: ``signal, parameter, S1, S1_conf, ST, ST_conf, variance_covered, trusted``.
+        One row per parameter: ``signal, parameter, S1, S1_conf, ST, ST_conf, ST_error, variance_covered,
+        trusted, rank_confirmed, rank``.
     result : SobolResult
         The method's own result over the bins (outputs ``signal[k]``), with its diagnostics.
     """
@@ -148,12 +157,16 @@ def from_result(res: SobolResult, axis: SignalAxis, signal: str) -> SignalResult
                          "axis": np.repeat(np.asarray(axis.values, dtype=float), d),
                          "parameter": t["parameter"].to_numpy(),
                          **{q: t[q].to_numpy(float) for q in ("S1", "S1_conf", "ST", "ST_conf")},
-                         "variance": np.repeat(variance, d), "trusted": t["trusted"].to_numpy(bool)})
-    return SignalResult(signal, axis, bins, generalised(bins), res)
+                         "variance": np.repeat(variance, d), "trusted": t["trusted"].to_numpy(bool),
+                         "ST_error": np.asarray(res.extras.get("rank_error", t["ST_conf"]), dtype=float),
+                         "bounded": trusted_mask(t, [g for g in res.diagnostics if not index_error_rule(g.name)])})
+    return SignalResult(signal, axis, bins, generalised(bins, res.options.get("tolerance", 0.02)), res)
 
 
-def generalised(bins: pd.DataFrame) -> pd.DataFrame:
-    """Variance-weighted (generalised) indices per parameter from a per-bin table (see the module docstring)."""
+def generalised(bins: pd.DataFrame, tolerance: float = 0.02) -> pd.DataFrame:
+    """Variance-weighted (generalised) indices per parameter from a per-bin table, ranked (see the module
+    docstring; ``tolerance`` [-] is the rank rule's margin and floor; a table without ``ST_error`` and
+    ``bounded`` columns takes ``ST_conf`` and ``trusted`` for them)."""
     rows = []
     for (sig, par), g in bins.groupby(["signal", "parameter"], sort=False):
         v = g["variance"].to_numpy(float)
@@ -164,15 +177,27 @@ def generalised(bins: pd.DataFrame) -> pd.DataFrame:
         w = np.where(ok, v, 0.0) / used if used > 0 else np.zeros_like(v)
         for q in ("S1", "ST"):
             row[q] = float(w @ np.nan_to_num(g[q].to_numpy(float))) if used > 0 else np.nan
-            conf = g[f"{q}_conf"].to_numpy(float)[ok]           # a used bin without a bound has none
-            row[f"{q}_conf"] = float(w[ok] @ np.where(np.isfinite(conf), conf, np.inf)) if used > 0 else np.nan
+            row[f"{q}_conf"] = _weighted_bound(w, g[f"{q}_conf"].to_numpy(float)) if used > 0 else np.nan
+        row["ST_error"] = _weighted_bound(w, g.get("ST_error", g["ST_conf"]).to_numpy(float)) if used > 0 else np.nan
         row["variance_covered"] = float(used / total) if total > 0 else np.nan
         material = np.where(np.isfinite(v), v, np.inf) >= _MATERIAL * total
         row["trusted"] = bool(used > 0 and g["trusted"].to_numpy(bool)[material].all()
                               and row["variance_covered"] >= 1.0 - _MATERIAL)
+        row["bounded"] = bool(g.get("bounded", g["trusted"]).to_numpy(bool)[material].all())
         rows.append(row)
-    return pd.DataFrame(rows, columns=["signal", "parameter", "S1", "S1_conf", "ST", "ST_conf",
-                                       "variance_covered", "trusted"])
+    out = pd.DataFrame(rows, columns=["signal", "parameter", "S1", "S1_conf", "ST", "ST_conf", "ST_error",
+                                      "variance_covered", "trusted", "bounded"])
+    err = np.where(out["bounded"].to_numpy(bool), out["ST_error"].to_numpy(float), np.nan)
+    codes, ranks = rank_structure(out.rename(columns={"signal": "output"}), err, [], tolerance)
+    out["rank_confirmed"] = codes > 0
+    out["rank"] = ranks
+    return out.drop(columns="bounded")
+
+
+def _weighted_bound(w: NDArray[np.float64], bound: NDArray[np.float64]) -> float:
+    """The weighted mean of the bins' bounds over the bins of positive weight (inf where one has none)."""
+    live = w > 0
+    return float(w[live] @ np.where(np.isfinite(bound[live]), bound[live], np.inf))
 
 
 def sobol_signal(f: Callable[[NDArray[np.float64]], NDArray[np.float64]], space: ParameterSpace,
