@@ -41,7 +41,8 @@ Assembly on the multibody kernel (:mod:`ddgsa.mbs`): the rotating assembly is a
 :class:`~ddgsa.mbs.RigidBody` whose axial motion and rotations are held by a
 :class:`~ddgsa.mbs.Lock` to the ground (``one_mass`` locks its vertical motion too); the two
 bearings are :class:`~ddgsa.mbs.SpringDamper3` elements to the stator (the ground, or the tower
-mass: a rigid body locked except for its side-to-side motion, on a tower spring to the ground);
+mass: a rigid body locked except for its side-to-side motion, and in ``tower_bending_torsion`` its yaw,
+on a tower :class:`~ddgsa.mbs.Bushing6` to the ground; the stator then sits at the lever ``l``);
 the pull is a :class:`~ddgsa.mbs.RadialForce` whose law is :func:`pull_vector` and
 :func:`pull_jacobian` of :mod:`ddgsa.models.electromagnetic`; the mean hub forces are an
 :class:`~ddgsa.mbs.AppliedLoad`, gravity the system's. The static state is
