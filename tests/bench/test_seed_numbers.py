@@ -54,3 +54,34 @@ def test_result_rows_follow_from_the_model():
                 for seed in (1, 2, 3)]
         got = np.mean([r["rms_deflection_hub"].iloc[0] for r in runs]) * 1e3
         assert got == pytest.approx(seed_numbers.hub_deflection_mm("seed000_full_vs_rigid_table1", speed), rel=5e-6)
+
+
+def test_one_step_row_and_its_part_by_part_explanation_follow_from_the_code(committed):
+    """The 49.5 Hz row's value and every number in its explanation (the shift per added part, what is left and
+    what would close it) recomputed from the model equal the committed text."""
+    row = [r for r in seed_numbers.rows() if r.id == "s003-full-model"]
+    fresh = seed_numbers.evaluate(row).set_index("id").loc["s003-full-model"]
+    assert fresh["reading"] == committed.loc["s003-full-model", "reading"]
+    assert fresh["explanation"] == committed.loc["s003-full-model", "explanation"]
+
+
+def test_the_one_step_bearing_mode_is_set_by_the_stators_apparent_mass():
+    """With the tower springs at their floor (1e3 N/m, 1e-7 of 2 c_B) and no pull, the one-step bearing mode is
+    the closed form sqrt(2 c_B (1/m_app + 1/m_2)) / 2 pi with m_app = 1 / (1/m_1 + 1/m_tor) (rel. 1e-6; the
+    springs move it by ~1e-7); and the two changes the row names as closing the gap put the mode (pull on) at
+    49.5 Hz (rel. 1e-8, Brent's tolerance 1e-9)."""
+    model = models.get("generator_radial", config=seed_numbers.ONE_STEP, magnetic=False)
+    p = model.nominal
+    free = {"tower_stiffness": 1e3, "tower_torsion_stiffness": 1e3, "tower_damping_ratio": 0.0,
+            "bearing_damping_ratio": 0.0}
+    table = model.modes(free)
+    got = float(table.loc[table["label"] == "bearing_radial", "frequency_hz"].iloc[0])
+    m_app = seed_numbers.apparent_mass(p["tower_mass"], p["tower_torsion_mass"])
+    assert m_app == pytest.approx(p["tower_mass"] / 2, rel=1e-12)
+    expected = np.sqrt(2 * p["bearing_stiffness"] * (1 / m_app + 1 / p["rotating_mass"])) / (2 * np.pi)
+    assert got == pytest.approx(expected, rel=1e-6)
+    scale = seed_numbers.one_step_mass_scale()
+    scaled = {"tower_mass": scale * p["tower_mass"], "tower_torsion_mass": scale * p["tower_torsion_mass"]}
+    assert seed_numbers._one_step_frequency(scaled) == pytest.approx(seed_numbers.FULL_MODEL_HZ, rel=1e-8)
+    lighter = {"rotating_mass": seed_numbers.one_step_rotating_mass()}
+    assert seed_numbers._one_step_frequency(lighter) == pytest.approx(seed_numbers.FULL_MODEL_HZ, rel=1e-8)

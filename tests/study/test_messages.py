@@ -126,7 +126,8 @@ GENERATOR = BASE.replace("{name: direct_drive, fidelity: rigid}", "{name: genera
     (BASE, "fidelity: rigid}", "fidelity: rigid, options: {deflection: totl}}",
      r"option 'deflection' must be one of total, frame, elastic, got 'totl'; did you mean 'total'\?"),
     (GENERATOR, "config: one_mass", "config: one_mas", r"option 'config' must be one of one_mass, substructure, "
-                                                       r"tower_side_to_side, tower_torsion, got 'one_mas'; did you mean 'one_mass'\?"),
+                                                       r"tower_side_to_side, tower_torsion, tower_bending_torsion, "
+                                                       r"got 'one_mas'; did you mean 'one_mass'\?"),
     (GENERATOR, "config: one_mass", "confg: one_mass", r"unknown option 'confg'; known: .*; did you mean 'config'\?"),
     (RIG, "kind: steady", "kind: stedy", r"rig scene field 'kind' must be one of startup, steady, coastdown, got "
                                          r"'stedy'; did you mean 'steady'\?"),

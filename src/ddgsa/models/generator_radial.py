@@ -18,6 +18,20 @@ to the stator. Configurations (``config``):
     Eq. 2: a tower mass ``m_1`` on a linearised tower spring ``c_i,lin`` (Table 3:
     3.48e6 N/m side-to-side, 2.55e9 N/m torsion, with ``m_1 + m_2`` = 2 446 t) carries the
     stator; the rotor's horizontal DOF couples to it through the bearings.
+``tower_bending_torsion``
+    The one-step reading of seed 003 §3.1 ("the coupled system mode in the full
+    electro-mechanical model couples the bending and torsion mode"): both tower paths of
+    Table 3 carry the stator at once. A tower-top body translates side-to-side (``m_1`` on
+    ``c_SS,lin`` = 3.48e6 N/m) and yaws (tower torsion, ``c_tor,lin`` = 2.55e9 N/m and an
+    apparent mass ``J / l^2`` at the generator, both taken at the lever ``l`` from the tower
+    axis to the generator centre); the stator sits at ``l``, so its lateral motion is
+    ``x_1 = y + l gamma`` (seed Eq. 2's ``x_1 = gamma l``). The seed gives no ``l``: the body
+    is built at :data:`TORSION_LEVER` with ``J = m_tor l^2`` and ``c_tor = c_tor,lin l^2``, so
+    the modes do not depend on it. Reading ``table3`` (the default): the torsion path's apparent
+    mass is Table 3's ``m_1`` as well (Table 3 derives both stiffnesses from the one
+    ``m_1 + m_2`` = 2 446 t). The seed prints ``c_tor,lin = c_tor / l``, dimensionally a
+    stiffness per radian, not per metre; Eq. 2 uses it as N/m with ``x_1`` in m, which is how it
+    is read here (either way the linear stiffness at the generator is Table 3's 2.55e9 N/m).
 
 Each configuration runs with or without the magnetic forces (``magnetic``). Damping is not
 given in the seed: a bearing damping ratio (of the one-mass mode) and a tower damping ratio
@@ -27,7 +41,8 @@ Assembly on the multibody kernel (:mod:`ddgsa.mbs`): the rotating assembly is a
 :class:`~ddgsa.mbs.RigidBody` whose axial motion and rotations are held by a
 :class:`~ddgsa.mbs.Lock` to the ground (``one_mass`` locks its vertical motion too); the two
 bearings are :class:`~ddgsa.mbs.SpringDamper3` elements to the stator (the ground, or the tower
-mass: a rigid body locked except for its side-to-side motion, on a tower spring to the ground);
+mass: a rigid body locked except for its side-to-side motion, and in ``tower_bending_torsion`` its yaw,
+on a tower :class:`~ddgsa.mbs.Bushing6` to the ground; the stator then sits at the lever ``l``);
 the pull is a :class:`~ddgsa.mbs.RadialForce` whose law is :func:`pull_vector` and
 :func:`pull_jacobian` of :mod:`ddgsa.models.electromagnetic`; the mean hub forces are an
 :class:`~ddgsa.mbs.AppliedLoad`, gravity the system's. The static state is
@@ -61,7 +76,7 @@ from numpy.typing import ArrayLike, NDArray
 from ddgsa.errors import ModelError
 from ddgsa.loads import generate
 from ddgsa.loads.scene import Scene
-from ddgsa.mbs import AirGapPull, AppliedLoad, Ground, Lock, RadialForce, RigidBody, SpringDamper3, System
+from ddgsa.mbs import AirGapPull, AppliedLoad, Bushing6, Ground, Lock, RadialForce, RigidBody, SpringDamper3, System
 from ddgsa.mbs.statics import static_equilibrium
 from ddgsa.mbs.constraints import AXES
 from ddgsa.mbs.linear import lti_response, state_matrices
@@ -71,11 +86,17 @@ from ddgsa.models.base import Model, ModelOption, ModelOutput, ModelParameter, c
 from ddgsa.models.constants import GRAVITY
 from ddgsa.models.electromagnetic import PMGenerator, pull_jacobian, pull_vector, radial_pull
 
-CONFIGS = ("one_mass", "substructure", "tower_side_to_side", "tower_torsion")
+CONFIGS = ("one_mass", "substructure", "tower_side_to_side", "tower_torsion", "tower_bending_torsion")
 TOTAL_MASS_TABLE3 = 2446e3
 """``m_1 + m_2`` of seed 003 Table 3 [kg]."""
 TOWER_STIFFNESS = {"tower_side_to_side": 3.48e6, "tower_torsion": 2.55e9}
 """Linearised tower stiffness ``c_i,lin`` of seed 003 Table 3 [N/m]."""
+TOWER_LABELS = {"tower_side_to_side": ("tower_side_to_side",), "tower_torsion": ("tower_torsion",),
+                "tower_bending_torsion": ("tower_side_to_side", "tower_torsion")}
+"""Labels of each tower configuration's tower modes, in ascending frequency at nominal."""
+TORSION_LEVER = 1.0
+"""Lever ``l`` [m] from the tower axis to the generator centre that ``tower_bending_torsion`` builds its
+tower-top body with (seed 003 gives none; the modes do not depend on it, see the module)."""
 LINEARISATION_TOLERANCE = 0.01
 """Largest allowed pull linearisation error at the peak eccentricity, relative to the bearing force."""
 
@@ -91,13 +112,24 @@ _BASE_PARAMETERS = (
 
 
 def _tower_parameters(config: str) -> tuple[ModelParameter, ...]:
-    return (
+    both = config == "tower_bending_torsion"
+    base = (
         ModelParameter("tower_mass", TOTAL_MASS_TABLE3 - 426.7e3, "kg",
                        "non-rotating mass of tower and tower top m_1 (seed 003 Table 3: m_1 + m_2 = 2 446 t)",
                        1e3, 1e9),
-        ModelParameter("tower_stiffness", TOWER_STIFFNESS[config], "N/m",
-                       "linearised tower stiffness c_i,lin at the generator (seed 003 Table 3)", 1e3, 1e13),
-        ModelParameter("tower_damping_ratio", 0.01, "-", "damping ratio of the tower on its own", 0.0, 1.0),
+        ModelParameter("tower_stiffness", TOWER_STIFFNESS["tower_side_to_side" if both else config], "N/m",
+                       "linearised tower stiffness c_i,lin at the generator (seed 003 Table 3)"
+                       + (", side-to-side" if both else ""), 1e3, 1e13),
+        ModelParameter("tower_damping_ratio", 0.01, "-", "damping ratio of each tower path on its own", 0.0, 1.0),
+    )
+    if not both:
+        return base
+    return base + (
+        ModelParameter("tower_torsion_stiffness", TOWER_STIFFNESS["tower_torsion"], "N/m",
+                       "tower torsion's linearised stiffness c_tor,lin at the generator (seed 003 Table 3)", 1e3, 1e13),
+        ModelParameter("tower_torsion_mass", TOTAL_MASS_TABLE3 - 426.7e3, "kg",
+                       "tower torsion's apparent mass at the generator J / l^2 (reading table3: Table 3's m_1)",
+                       1e3, 1e9),
     )
 
 
@@ -142,7 +174,7 @@ class Operating:
 OUTPUTS = (
     ModelOutput("bearing_frequency_hz", "Hz", "natural frequency of the bearing radial mode (bearing_radial)",
                 1.0, 200.0),
-    ModelOutput("tower_frequency_hz", "Hz", "natural frequency of the tower mode (tower configurations only)",
+    ModelOutput("tower_frequency_hz", "Hz", "natural frequency of the (lowest) tower mode (tower configurations only)",
                 0.05, 20.0),
     ModelOutput("static_eccentricity_m", "m", "static radial eccentricity of the generator rotor in the air gap",
                 0.0, 0.02),
@@ -160,7 +192,8 @@ class GeneratorRadial(Model):
     Parameters
     ----------
     config : str
-        ``one_mass``, ``substructure``, ``tower_side_to_side`` or ``tower_torsion``.
+        ``one_mass``, ``substructure``, ``tower_side_to_side``, ``tower_torsion`` or
+        ``tower_bending_torsion`` (the one-step reading: both tower paths at once).
     magnetic : bool
         Include the magnetic pull (negative stiffness).
     fidelity : str
@@ -188,9 +221,10 @@ class GeneratorRadial(Model):
                            optional=True),
                ModelOption("generator", "mapping", "generator air-gap fields to change", optional=True))
     options_note: ClassVar[str] = ("options: config one_mass | substructure (default) | tower_side_to_side | "
-                                   "tower_torsion, magnetic true | false, output_step [s], generator {field: value}; "
-                                   "tower_* configs add tower_mass [kg], tower_stiffness [N/m], "
-                                   "tower_damping_ratio [-] and the output tower_frequency_hz")
+                                   "tower_torsion | tower_bending_torsion, magnetic true | false, output_step [s], "
+                                   "generator {field: value}; tower_* configs add tower_mass [kg], tower_stiffness "
+                                   "[N/m], tower_damping_ratio [-] and the output tower_frequency_hz; "
+                                   "tower_bending_torsion adds tower_torsion_stiffness [N/m], tower_torsion_mass [kg]")
 
     def __init__(self, config: str = "substructure", magnetic: bool = True, fidelity: str = "linearised",
                  output_step: float | None = None, generator: Mapping[str, float] | None = None) -> None:
@@ -204,9 +238,10 @@ class GeneratorRadial(Model):
             raise ModelError(f"model 'generator_radial': unknown generator field(s) {sorted(bad)}; "
                              f"known: {', '.join(PMGenerator.__dataclass_fields__)}")
         self.tower = config.startswith("tower_")
+        self.tower_labels = TOWER_LABELS.get(config, ())
         self.parameters = _BASE_PARAMETERS + (_tower_parameters(config) if self.tower else ())
-        self.coordinates = (("tower_y",) if self.tower else ()) + (("rotor_y",) if config == "one_mass"
-                                                                  else ("rotor_y", "rotor_z"))
+        tower_coords = ("tower_y", "tower_rz")[: len(self.tower_labels)]
+        self.coordinates = tower_coords + (("rotor_y",) if config == "one_mass" else ("rotor_y", "rotor_z"))
         self.outputs = tuple(o for o in OUTPUTS if self.tower or o != "tower_frequency_hz")
 
     # -- physics -------------------------------------------------------------------------
@@ -239,20 +274,20 @@ class GeneratorRadial(Model):
     def _build(self, p: Mapping[str, float],
                   mean_hub_force: NDArray[np.float64] | None) -> tuple[System, RigidBody, Any]:
         free = ("y",) if self.config == "one_mass" else ("y", "z")
-        rotor = RigidBody("rotor", p["rotating_mass"], (1.0, 1.0, 1.0))    # rotations locked: inertia unused
+        both = self.config == "tower_bending_torsion"
+        lever = TORSION_LEVER if both else 0.0
+        rotor = RigidBody("rotor", p["rotating_mass"], (1.0, 1.0, 1.0), position=(lever, 0.0, 0.0))  # rotations locked
         ground = Ground()
         bodies, elements = [rotor], []
         constraints = [Lock(rotor.marker(), axes=tuple(a for a in AXES if a not in free), name="rotor_guide")]
         stator = ground.marker()
         if self.tower:
-            tower = RigidBody("tower", p["tower_mass"], (1.0, 1.0, 1.0))
-            c_t = p["tower_stiffness"]
-            d_t = p["tower_damping_ratio"] * 2 * math.sqrt(c_t * (p["tower_mass"] + p["rotating_mass"]))
-            bodies.append(tower)
-            constraints.append(Lock(tower.marker(), axes=("x", "z", "rx", "ry", "rz"), name="tower_guide"))
-            elements.append(SpringDamper3(tower.marker(), ground.marker(), (0.0, c_t, 0.0), (0.0, d_t, 0.0),
-                                          name="tower"))
-            stator = tower.marker()
+            bodies.append(tower := self._tower_body(p, lever))
+            constraints.append(Lock(tower.marker(), axes=("x", "z", "rx", "ry") + (() if both else ("rz",)),
+                                    name="tower_guide"))
+            k6, c6 = self._tower_bushing(p, lever)
+            elements.append(Bushing6(tower.marker(), ground.marker(), k6, c6, name="tower"))
+            stator = tower.marker((lever, 0.0, 0.0))
         c_b = p["bearing_stiffness"]
         d_b = p["bearing_damping_ratio"] * math.sqrt(2 * c_b * p["rotating_mass"])   # one bearing: half of 2 zeta sqrt(2 c_B m)
         for name in ("bearing_front", "bearing_rear"):
@@ -264,6 +299,25 @@ class GeneratorRadial(Model):
         elements.append(AppliedLoad(rotor.marker(), [0.0, 1.0], force=[force, force], name="hub_mean"))
         gravity = (0.0, 0.0, 0.0 if self.config == "one_mass" else -GRAVITY)
         return System(bodies, elements, constraints, gravity=gravity), rotor, stator
+
+    def _tower_body(self, p: Mapping[str, float], lever: float) -> RigidBody:
+        """Tower-top body: mass ``m_1`` [kg]; yaw inertia ``m_tor l^2`` [kg m^2] where it yaws."""
+        j_z = p["tower_torsion_mass"] * lever ** 2 if "tower_torsion_mass" in p else 1.0
+        return RigidBody("tower", p["tower_mass"], (1.0, 1.0, j_z))
+
+    def _tower_bushing(self, p: Mapping[str, float], lever: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """6 x 6 stiffness and damping of the tower at its top: side-to-side [N/m] and, in
+        ``tower_bending_torsion``, yaw ``c_tor,lin l^2`` [N m/rad]; each path damped at
+        ``tower_damping_ratio`` of its 2-DOF mode with the rotor rigidly attached."""
+        k6, c6 = np.zeros((6, 6)), np.zeros((6, 6))
+        m_rot, zeta = p["rotating_mass"], p["tower_damping_ratio"]
+        k6[1, 1] = p["tower_stiffness"]
+        c6[1, 1] = zeta * 2 * math.sqrt(k6[1, 1] * (p["tower_mass"] + m_rot))
+        if "tower_torsion_stiffness" in p:
+            c_lin = p["tower_torsion_stiffness"]
+            k6[5, 5] = c_lin * lever ** 2
+            c6[5, 5] = zeta * 2 * math.sqrt(c_lin * (p["tower_torsion_mass"] + m_rot)) * lever ** 2
+        return k6, c6
 
     def operating(self, params: Mapping[str, float] | None = None,
                   mean_hub_force: NDArray[np.float64] | None = None) -> Operating:
@@ -305,7 +359,8 @@ class GeneratorRadial(Model):
         """
         self.standstill_only(rotor_speed)
         op = self.operating(params)
-        names = {"tower_y": self.config, "rotor_y": "bearing_radial", "rotor_z": "bearing_radial_vertical"}
+        names = {"rotor_y": "bearing_radial", "rotor_z": "bearing_radial_vertical",
+                 **dict(zip(("tower_y", "tower_rz"), self.tower_labels))}
         groups = {c.replace("_", "."): names[c] for c in self.coordinates}
         lin = op.lin
         out = modal_analysis(lin.m, lin.c, lin.k, op.system.coord_names, groups, lin.basis, lin.m_full)
@@ -313,9 +368,9 @@ class GeneratorRadial(Model):
         rank = out["label"].map({g: i for i, g in enumerate(groups.values())}).fillna(len(groups))
         bucket = np.round(np.log(out["frequency_hz"].to_numpy()) * 1e9)
         out = out.iloc[np.lexsort((rank.to_numpy(), bucket))].reset_index(drop=True)
-        if self.tower:      # horizontal pair: the in-phase (lower) mode is the tower's, whatever its energy split
-            horizontal = out.index[out["share_bearing_radial_vertical"] < 0.5]
-            out.loc[horizontal.min(), "label"], out.loc[horizontal.max(), "label"] = self.config, "bearing_radial"
+        if self.tower:      # horizontal modes: the lower (in-phase) ones are the tower's, whatever their energy split
+            horizontal = out.index[out["share_bearing_radial_vertical"] < 0.5]     # ascending frequency
+            out.loc[horizontal, "label"] = [*self.tower_labels, "bearing_radial"]
         return out
 
     def output_interval(self, scene: Scene, highest_hz: float) -> tuple[float, int]:
@@ -398,7 +453,7 @@ class GeneratorRadial(Model):
         force = sim[[c for c in sim.columns if c.startswith("bearing_F")]].to_numpy()
         out: dict[str, Any] = {"bearing_frequency_hz": freq["bearing_radial"]}
         if self.tower:
-            out["tower_frequency_hz"] = freq[self.config]
+            out["tower_frequency_hz"] = freq[self.tower_labels[0]]
         out.update(static_eccentricity_m=float(np.linalg.norm(sim.attrs["static_eccentricity"])),
                    peak_eccentricity_m=float(sim["eccentricity"].max()),
                    rms_dynamic_eccentricity_m=float(np.sqrt(np.mean(np.sum(
