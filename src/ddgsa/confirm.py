@@ -32,7 +32,7 @@ from ddgsa.gsa.result import CONSTANT_CV, below_resolution
 from ddgsa.gsa.salib import saltelli_n_to_confirm
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ddgsa.pipeline import StudyResult
+    from ddgsa.kinds.common import StudyResult
 
 CROSSCHECKS = ("pooled_pce", "given_data_s1")
 """Methods a study runs without being asked (cross-checks at zero extra runs): they may confirm a pair,
@@ -90,6 +90,13 @@ def ranking_text(g: pd.DataFrame) -> str:
     return text
 
 
+def verdicts(result: "StudyResult") -> pd.DataFrame:
+    """The result's verdict table: the one the pipeline set (``result.confirmation``), else made now
+    (:func:`confirmation_table`; a result built by hand)."""
+    table = getattr(result, "confirmation", None)
+    return table if isinstance(table, pd.DataFrame) else confirmation_table(result)
+
+
 def confirmation_table(result: "StudyResult") -> pd.DataFrame:
     """The study's verdict per (scene, output) (see the module; columns :data:`CONFIRMATION_COLUMNS`).
 
@@ -99,14 +106,16 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
     ``next_step`` says the cheapest way to confirm it, ``next_runs`` and ``next_seconds`` the cost of
     the Saltelli design it names, added to the study (every scene; model runs, model time on one
     worker [s], NaN when no run time was measured)."""
-    from ddgsa.report import output_info
     from ddgsa.report_beyond import sobol_rows
 
 
     sobol = sobol_rows(result.indices)
     if not len(sobol):
         return pd.DataFrame(columns=CONFIRMATION_COLUMNS)
-    info = output_info(result) if hasattr(result.study, "make_model") else {}
+    info = {}
+    if hasattr(result.study, "make_model"):
+        model = result.study.make_model()
+        info = {o: result.study.output_declaration(model, o) for o in result.study.analysed_outputs}
     mom = result.moments
     moments = {} if mom is None or not len(mom) else \
         {(int(r.scene), str(r.output)): (float(r.std), float(r.mean)) for r in mom.itertuples()}

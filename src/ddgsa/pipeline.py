@@ -24,6 +24,7 @@ import pandas as pd
 
 import ddgsa
 from ddgsa.checks import study_basis
+from ddgsa.confirm import confirmation_table
 from ddgsa.errors import DdgsaError
 from ddgsa.gsa.base import Design
 from ddgsa.kinds.common import (Kind, Plan, Runs, StudyResult, make_task, model_evaluator, model_id,
@@ -97,6 +98,7 @@ def _execute(study: Study, store: EvaluationStore, jobs: int | None, backend: st
     asked = [c for c in result.evaluations.columns if c in study.outputs]     # only the outputs the study reads
     result.provenance["implausible"] = study.make_model().implausible(result.evaluations[asked])
     result.fidelity = pd.DataFrame([{k: v for k, v in c.items() if k != "errors"} for c in fidelity_choice])
+    result.confirmation = confirmation_table(result) if len(result.indices) else None
     return result
 
 

@@ -30,7 +30,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from ddgsa.report_beyond import SHAPLEY_ADVICE, beyond_markdown, group_table, plot_groups, sobol_rows
-from ddgsa.confirm import CONFIRMED, CROSSCHECKS, VERDICTS, confirmation_table, next_step, study_tolerance  # noqa: E402
+from ddgsa.confirm import CONFIRMED, CROSSCHECKS, VERDICTS, next_step, study_tolerance, verdicts  # noqa: E402
 from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.result import CONSTANT_CV, draw_index_bars  # noqa: E402
 from ddgsa.html_report import HTML_NAME, model_words, write_html  # noqa: E402
@@ -84,7 +84,7 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
         for fig, name in plot_sweep(summary, result.study.outputs, list(result.study.spec.grid), info, fields):
             save_fig(fig, name)
     if len(result.indices):
-        verdicts = confirmation_table(result)
+        verdicts = verdicts(result)
         if len(verdicts):
             save_csv(verdicts, "confirmation.csv")
         save_csv(with_verdicts(result.indices, verdicts).assign(
@@ -200,7 +200,7 @@ def problems(result: StudyResult) -> list[str]:
     with the cheapest way to confirm it, :func:`ddgsa.confirm.next_step`; an output with nothing to rank
     -- a spread within its resolution -- is not counted), failed sweep evaluations. Empty when all is well."""
     out = []
-    table = confirmation_table(result)
+    table = verdicts(result)
     open_ = table[table["verdict"] == "unconfirmed"]
     for output, g in open_.groupby("output", sort=False):
         scenes = [int(s) for s in g["scene"]]
@@ -541,7 +541,7 @@ def _mark(trusted: bool, rank_confirmed: bool) -> str:
 def _confirmed_section(result: StudyResult) -> list[str]:
     """The count of each verdict over the (scene, output) pairs (:func:`ddgsa.confirm.confirmation_table`,
     ``confirmation.csv``) and the runs spent."""
-    table = confirmation_table(result)
+    table = verdicts(result)
     n_runs = result.provenance.get("evaluations", {}).get("total", len(result.evaluations))
     count = table["verdict"].value_counts()
     done = int(table["verdict"].isin(CONFIRMED).sum())
@@ -795,7 +795,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                   "`n_evals`) count its whole design, any check sample of its own included; the evaluation count "
                   "above counts each distinct point once, as methods share equal points.", ""]
         lines += _confirmed_section(result) if ranked else []
-        verdicts = {(int(r.scene), r.output): r for r in confirmation_table(result).itertuples()} if ranked else {}
+        verdicts = {(int(r.scene), r.output): r for r in verdicts(result).itertuples()} if ranked else {}
         for (scene, out), g in sobol_rows(result.indices).groupby(["scene", "output"]):
             fields = scene_text({f: g[f].iloc[0] for f in result.study.scene_fields})
             lines.append(f"### scene {scene} ({fields}) - `{out}` [{info.get(out, declared(out)).unit or '?'}]")

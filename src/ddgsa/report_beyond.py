@@ -16,7 +16,7 @@ from ddgsa.gsa.base import METHODS
 from ddgsa.gsa.groups import GROUP_COLUMNS
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ddgsa.pipeline import StudyResult
+    from ddgsa.kinds.common import StudyResult
 
 
 SHAPLEY_ADVICE = ("the inputs are correlated, so only method shapley applies: raise its n_o (outer draws per "

@@ -52,6 +52,9 @@ class StudyResult:
     provenance: dict[str, Any]
     fidelity: pd.DataFrame | None = None
     """``fidelity: auto``'s choice per scene (empty without it)."""
+    confirmation: pd.DataFrame | None = None
+    """The verdict per (scene, output) (:func:`ddgsa.confirm.confirmation_table`, set by the pipeline
+    once the analysis is done; ``confirmation.csv``)."""
 
     def __getattr__(self, name: str) -> Any:
         if name in ABSENT:
@@ -66,11 +69,9 @@ class StudyResult:
 
         model = self.study.make_model()
         units = {o: model.output(o).unit for o in self.study.outputs if o in model.outputs}
-        from ddgsa.confirm import confirmation_table
-
         return to_dataset(self.indices, self.study.scene_fields, self.moments, self.fault, self.fault_indices,
                           self.diagnostics, {"study": self.study.name, "model": self.study.spec.model.name}, units,
-                          confirmation=confirmation_table(self) if len(self.indices) else None)
+                          confirmation=self.confirmation)
 
     def __repr__(self) -> str:
         return (f"StudyResult(study={self.study.name!r}, {len(self.indices)} index rows, "
