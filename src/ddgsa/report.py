@@ -84,10 +84,10 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
         for fig, name in plot_sweep(summary, result.study.outputs, list(result.study.spec.grid), info, fields):
             save_fig(fig, name)
     if len(result.indices):
-        verdicts = verdicts(result)
-        if len(verdicts):
-            save_csv(verdicts, "confirmation.csv")
-        save_csv(with_verdicts(result.indices, verdicts).assign(
+        pairs = verdicts(result)
+        if len(pairs):
+            save_csv(pairs, "confirmation.csv")
+        save_csv(with_verdicts(result.indices, pairs).assign(
             output_unit=result.indices["output"].map(lambda o: info[o].unit)), "indices.csv")
         save_csv(result.diagnostics, "diagnostics.csv")
         if result.moments is not None and len(result.moments):
@@ -100,7 +100,7 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
         sobol = sobol_rows(result.indices)
         for scene in sorted(sobol["scene"].unique()):
             later_fig(functools.partial(plot_scene_bars, sobol[sobol["scene"] == scene], info,
-                                        result.study.scene_fields, verdicts), f"bars_scene{scene}.png")
+                                        result.study.scene_fields, pairs), f"bars_scene{scene}.png")
         groups = group_table(result)
         if len(groups):
             save_csv(groups, "groups.csv")
@@ -795,12 +795,12 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                   "`n_evals`) count its whole design, any check sample of its own included; the evaluation count "
                   "above counts each distinct point once, as methods share equal points.", ""]
         lines += _confirmed_section(result) if ranked else []
-        verdicts = {(int(r.scene), r.output): r for r in verdicts(result).itertuples()} if ranked else {}
+        by_pair = {(int(r.scene), r.output): r for r in verdicts(result).itertuples()} if ranked else {}
         for (scene, out), g in sobol_rows(result.indices).groupby(["scene", "output"]):
             fields = scene_text({f: g[f].iloc[0] for f in result.study.scene_fields})
             lines.append(f"### scene {scene} ({fields}) - `{out}` [{info.get(out, declared(out)).unit or '?'}]")
             lines.append("")
-            lines += [_dominance(g, out, mom.get((scene, out)), verdicts.get((int(scene), out))), ""]
+            lines += [_dominance(g, out, mom.get((scene, out)), by_pair.get((int(scene), out))), ""]
             if "n_evals" in g and g["n_evals"].notna().all():
                 runs = g.groupby("method", sort=False)["n_evals"].first()
                 lines += ["runs per method (indices.csv `n_evals`): " + ", ".join(f"{m} {int(n)}" for m, n in runs.items()),
