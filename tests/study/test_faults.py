@@ -32,12 +32,17 @@ def _env() -> dict[str, str]:
 
 
 def _stored(store: Path) -> int:
-    """Rows in ``store`` (0 while it does not exist or is being created)."""
+    """Rows in ``store`` once its run has ended (0 while it does not exist or is held by a run: the
+    store is opened in SQLite's exclusive mode, so no other process reads it meanwhile)."""
     try:
-        with sqlite3.connect(f"file:{store}?mode=ro", uri=True) as db:
+        with sqlite3.connect(f"file:{store}?mode=ro", uri=True, timeout=0.1) as db:
             return int(db.execute("SELECT COUNT(*) FROM evaluations").fetchone()[0])
     except sqlite3.Error:
         return 0
+
+
+WAL_FRAME_BYTES = 4096 + 24
+"""One page written to a SQLite write-ahead log (4 kB page and its frame header)."""
 
 
 def _start(study: Path, out: Path, *extra: str, preexec=None) -> subprocess.Popen:
@@ -47,8 +52,12 @@ def _start(study: Path, out: Path, *extra: str, preexec=None) -> subprocess.Pope
 
 
 def _wait_for_rows(proc: subprocess.Popen, store: Path, rows: int = 16, timeout: float = 120.0) -> None:
+    """Wait until the running ``proc`` has committed at least ``rows`` evaluations, judged from its
+    write-ahead log (the store cannot be read while the run holds it): ``rows`` pages written, and
+    a commit of 8 rows writes at most 6 pages (table, key index, a split)."""
     t0 = time.monotonic()
-    while _stored(store) < rows:
+    wal = store.with_name(store.name + "-wal")
+    while (wal.stat().st_size if wal.exists() else 0) < 32 + rows * WAL_FRAME_BYTES:
         assert proc.poll() is None, f"the run ended before storing {rows} rows: {proc.communicate()}"
         assert time.monotonic() - t0 < timeout, "the run stored nothing"
         time.sleep(0.05)
