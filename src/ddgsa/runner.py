@@ -328,7 +328,7 @@ def evaluate_batch_in(evaluate: Callable[[pd.DataFrame, Mapping[str, Any]], pd.D
         frame = evaluate(pd.DataFrame(points), scene)
         values = _checked_values(frame, len(points))
     except Exception as exc:  # noqa: BLE001 -- any failure is data, never a crash of the run
-        return [Outcome(None, f"{type(exc).__name__}: {exc}", 0.0) for _ in points]
+        return [Outcome(None, failure_reason(exc), 0.0) for _ in points]
     per_point = (time.perf_counter() - t0) / max(len(points), 1)
     failures = frame.attrs.get("failures", {})
     signals = frame.attrs.get("signals", {})
@@ -382,8 +382,18 @@ def _checked_values(frame: Any, n_points: int) -> NDArray[np.float64]:
         raise EvaluatorShapeError(f"the evaluator returned outputs that are not numbers ({exc})") from None
 
 
-class EvaluationTimeout(TimeoutError):
+class EvaluationFailed(RuntimeError):
+    """An evaluation in a :class:`TimedCalls` child that failed; the message is the reason."""
+
+
+class EvaluationTimeout(EvaluationFailed, TimeoutError):
     """An evaluation that ran longer than its timeout (its process was killed)."""
+
+
+def failure_reason(exc: BaseException) -> str:
+    """The reason stored for a failed evaluation: ``Type: message``, or the message alone for an
+    :class:`EvaluationFailed` (whose message already names the cause)."""
+    return str(exc) if isinstance(exc, EvaluationFailed) else f"{type(exc).__name__}: {exc}"
 
 
 class TimedCalls:
@@ -393,8 +403,8 @@ class TimedCalls:
     everything this process loaded; it keeps what ``fn`` builds or compiles between calls. Only
     the arguments and the result cross the pipe. A call past ``timeout`` kills the child (SIGKILL)
     and raises :class:`EvaluationTimeout`; the next call forks a new one. An exception in ``fn``
-    is raised here as a ``RuntimeError`` with its type and message; a child that dies (a signal,
-    ``os._exit``) raises ``RuntimeError`` naming how. The child dies with the thread that
+    is raised here as :class:`EvaluationFailed` with its type and message; a child that dies (a
+    signal, ``os._exit``) raises :class:`EvaluationFailed` naming how. The child dies with the thread that
     forked it (``PR_SET_PDEATHSIG``) and ends when :meth:`close` closes the pipe.
     """
 
@@ -420,9 +430,9 @@ class TimedCalls:
             ok, value = self._conn.recv()
         except (EOFError, OSError):
             status = self.close()
-            raise RuntimeError(f"the evaluation's process died ({status})") from None
+            raise EvaluationFailed(f"the evaluation's process died ({status})") from None
         if not ok:
-            raise RuntimeError(value)
+            raise EvaluationFailed(value)
         return value
 
     def _start(self) -> None:
