@@ -6,7 +6,9 @@ holds another study's results or files ddgsa did not write (unless ``force``; re
 version of the same study are replaced, :func:`replaced_version` says which), and
 :func:`remove_stale` deletes the artefacts an earlier report wrote that the new one did not
 (a study with fewer scenes leaves no old ``bars_scene2.png`` beside its new summary).
-The list of written files is the ``files`` entry of ``provenance.json``.
+The list of written files is the ``files`` entry of ``provenance.json``. A completion mark
+(``complete.json``, :func:`mark_complete`) is written last and removed when a run starts, so a
+report can tell a folder whose run was killed from a finished one (:func:`incompleteness`).
 """
 
 from __future__ import annotations
@@ -76,6 +78,52 @@ def previous_files(folder: Path) -> set[str]:
     if owner(folder) is None:                       # not a ddgsa folder: nothing of ours to remove
         return set()
     return {p.name for p in folder.iterdir() if p.is_file() and p.suffix in REPORT_SUFFIXES and p.name not in KEPT}
+
+
+COMPLETE_NAME = "complete.json"
+"""The completion mark of a folder's outputs: written last, once every file of the report is
+written, listing each file and its size [B]; removed when a run or report rebuild starts."""
+
+
+def unmark_complete(folder: Path) -> None:
+    """Remove the completion mark: the folder's outputs are being rewritten."""
+    (folder / COMPLETE_NAME).unlink(missing_ok=True)
+
+
+def mark_complete(folder: Path, names: Iterable[str]) -> None:
+    """Write the completion mark of ``folder`` listing the files ``names`` and their sizes (written
+    to a temporary file and renamed, so the mark is whole or absent)."""
+    sizes = {n: (folder / n).stat().st_size for n in sorted(set(names)) if n != COMPLETE_NAME}
+    tmp = folder / f".{COMPLETE_NAME}.{os.getpid()}.tmp"
+    tmp.write_text(json.dumps({"complete": True, "files": sizes}, indent=1))
+    os.replace(tmp, folder / COMPLETE_NAME)
+
+
+def incompleteness(folder: Path, ignore: Iterable[str] = ()) -> str | None:
+    """None when ``folder``'s outputs are complete (its mark is there and every file it lists has
+    its size, ``ignore`` aside), else why they are not; also None for a folder that is not a
+    study's (no ``study.yaml``, store or ``provenance.json``: e.g. ``ddgsa modes`` output)."""
+    if not any((folder / n).exists() for n in ("study.yaml", STORE_NAME, "provenance.json")):
+        return None
+    try:
+        mark = json.loads((folder / COMPLETE_NAME).read_text())
+        sizes = mark["files"]
+    except FileNotFoundError:
+        return "the run or report that wrote this folder did not finish (no completion mark)"
+    except (OSError, ValueError, KeyError, TypeError):
+        return "its completion mark cannot be read"
+    if not isinstance(sizes, dict):
+        return "its completion mark cannot be read"
+    for name, size in sizes.items():
+        if name in set(ignore):
+            continue
+        try:
+            now = (folder / str(name)).stat().st_size
+        except OSError:
+            return f"{name}, written by the run, is missing"
+        if now != size:
+            return f"{name} changed after the run wrote it ({now} bytes, written {size})"
+    return None
 
 
 def remove_stale(folder: Path, before: Iterable[str], written: Iterable[str]) -> list[str]:
