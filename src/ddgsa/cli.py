@@ -369,7 +369,7 @@ def _run(study: "Study", args: argparse.Namespace) -> int:
     _check_disk(study, out)
     try:
         with claim(out, study.name, force=args.force):
-            unmark_complete(out)                    # the folder's outputs are incomplete until the report is written
+            unmark_complete(out)                    # the folder's outputs are incomplete until its report is written
             old_file = replaced_version(out, study.name, study.digest)
             if old_file is not None:
                 print(f"ddgsa: warning: {out}: holds the results of study {study.name!r} from {old_file} with other "

@@ -22,6 +22,7 @@ import pandas as pd
 import pytest
 
 from ddgsa.cli import main
+from running import pages_committed
 from studytext import SALTELLI, analytic_study
 
 SRC = str(Path(__file__).resolve().parents[2] / "src")
@@ -41,10 +42,6 @@ def _stored(store: Path) -> int:
         return 0
 
 
-WAL_FRAME_BYTES = 4096 + 24
-"""One page written to a SQLite write-ahead log (4 kB page and its frame header)."""
-
-
 def _start(study: Path, out: Path, *extra: str, preexec=None) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, "-m", "ddgsa.cli", "run", str(study), "--out", str(out), "-q", *extra],
                             env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
@@ -53,11 +50,9 @@ def _start(study: Path, out: Path, *extra: str, preexec=None) -> subprocess.Pope
 
 def _wait_for_rows(proc: subprocess.Popen, store: Path, rows: int = 16, timeout: float = 120.0) -> None:
     """Wait until the running ``proc`` has committed at least ``rows`` evaluations, judged from its
-    write-ahead log (the store cannot be read while the run holds it): ``rows`` pages written, and
-    a commit of 8 rows writes at most 6 pages (table, key index, a split)."""
+    write-ahead log (:mod:`running`): ``rows`` pages, and a commit of 8 rows writes at most 6."""
     t0 = time.monotonic()
-    wal = store.with_name(store.name + "-wal")
-    while (wal.stat().st_size if wal.exists() else 0) < 32 + rows * WAL_FRAME_BYTES:
+    while pages_committed(store) < rows:
         assert proc.poll() is None, f"the run ended before storing {rows} rows: {proc.communicate()}"
         assert time.monotonic() - t0 < timeout, "the run stored nothing"
         time.sleep(0.05)

@@ -209,6 +209,19 @@ def test_a_file_changed_after_the_run_is_named(tmp_path: Path, capsys) -> None:
     assert "indices.csv changed after the run wrote it" in capsys.readouterr().err
 
 
+def test_a_folder_written_before_completion_marks_is_judged_by_its_file_list(tmp_path: Path, capsys) -> None:
+    """Committed results folders have no mark: complete while every file their provenance lists
+    is there, so their pages get no banner."""
+    _, out = _finished(tmp_path)
+    (out / "complete.json").unlink()
+    assert main(["html", str(out), "-q"]) == 0
+    assert "Incomplete outputs" not in (out / "report.html").read_text()
+    (out / "indices.csv").unlink()
+    capsys.readouterr()
+    assert main(["html", str(out), "-q"]) == 0
+    assert "indices.csv, written by the run, is missing" in capsys.readouterr().err
+
+
 # --- class 7: a per-evaluation timeout in a study -----------------------------------------------------------
 
 SWEEP = """\
