@@ -111,6 +111,19 @@ def test_any_return_shape_stores_every_point_once_and_never_a_wrong_value(shape:
         assert stats["failed"] == len(range(0, n, batch))
 
 
+def unbuildable(model: ModelId) -> Any:
+    raise ValueError("no such configuration")
+
+
+@pytest.mark.parametrize("timeout", [None, 30.0])
+def test_a_model_that_cannot_be_built_fails_its_points_not_the_run(tmp_path: Path, timeout: float | None) -> None:
+    store = EvaluationStore(tmp_path / "s.sqlite")
+    stats = run_tasks(_tasks(3), store, unbuildable, quiet=True, timeout=timeout)
+    assert stats["failed"] == 3
+    assert {o.error for o in store.get(t.key for t in _tasks(3)).values()} == {"ValueError: no such configuration"}
+    store.close()
+
+
 def test_a_batch_with_fewer_outcomes_than_points_is_never_stored(tmp_path: Path) -> None:
     """The store refuses a batch whose outcomes do not pair with its tasks (``zip(strict=True)``)."""
     store = EvaluationStore(tmp_path / "s.sqlite")

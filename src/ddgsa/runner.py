@@ -313,7 +313,10 @@ def evaluate_batch(factory: ModelFactory, model: ModelId, scene: Mapping[str, An
     is evaluated alone in a child process (:class:`TimedCalls`) and one running longer fails
     with "timed out after ... s"; without it, the batch runs here in one call.
     """
-    evaluate = _evaluator(factory, model)
+    try:
+        evaluate = _evaluator(factory, model)
+    except Exception as exc:  # noqa: BLE001 -- a model that cannot be built fails its points, never the run
+        return [Outcome(None, failure_reason(exc), 0.0) for _ in points]
     if timeout is not None:
         calls = _timed_calls(evaluate, timeout)
         return [evaluate_batch_in(calls, scene, [p])[0] for p in points]
