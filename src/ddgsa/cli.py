@@ -123,6 +123,7 @@ def main(argv: list[str] | None = None) -> int:
     shown = warnings.showwarning
     warnings.showwarning = _show_warning(args.quiet)
     try:
+        _check_working_folder()
         return _dispatch(args)
     except DdgsaError as exc:
         if args.verbose:
@@ -140,6 +141,28 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_FAILURE
     finally:
         warnings.showwarning = shown
+
+
+def _check_working_folder() -> None:
+    """Refuse to start in a working folder that was deleted: every relative path (a study, ``--out``,
+    the default ``runs/<study>``) would fail later as a bare ``FileNotFoundError`` naming no file.
+
+    Raises
+    ------
+    WorkingFolderError
+        Naming the folder (the shell's ``$PWD``) and the way out.
+    """
+    import os
+
+    from ddgsa.errors import WorkingFolderError
+
+    try:
+        os.getcwd()
+    except FileNotFoundError:
+        gone = os.environ.get("PWD") or "the current folder"
+        raise WorkingFolderError(f"{gone}: the working folder was deleted after this shell entered it, so relative "
+                                 "paths (and the default output folder runs/<study>) cannot be resolved; cd to an "
+                                 "existing folder and rerun") from None
 
 
 MESSAGE_LINES, MESSAGE_LINE_CHARS = 20, 600
@@ -189,8 +212,13 @@ def _dispatch(args: argparse.Namespace) -> int:
     if args.command == "html":
         from ddgsa.html_report import write_html
 
+        from ddgsa.outdir import incompleteness
+
         for folder in args.dirs:
             path = write_html(folder)
+            missing = incompleteness(folder, ignore=(path.name,))
+            if missing:
+                print(f"ddgsa: warning: {folder}: outputs incomplete: {missing}; {path.name} says so", file=sys.stderr)
             if not args.quiet:
                 print(f"wrote {path} ({path.stat().st_size / 1e3:.0f} kB)")
         return EXIT_OK
@@ -341,7 +369,7 @@ def plural(n: int, noun: str) -> str:
 
 
 def _run(study: "Study", args: argparse.Namespace) -> int:
-    from ddgsa.outdir import LOCK_NAME, STORE_NAME, claim, replaced_version
+    from ddgsa.outdir import LOCK_NAME, STORE_NAME, claim, replaced_version, unmark_complete
     from ddgsa.pipeline import default_out, execute
     from ddgsa.runner import EvaluationStore, set_aside
 
@@ -349,6 +377,7 @@ def _run(study: "Study", args: argparse.Namespace) -> int:
     _check_disk(study, out)
     try:
         with claim(out, study.name, force=args.force):
+            unmark_complete(out)                    # the folder's outputs are incomplete until its report is written
             old_file = replaced_version(out, study.name, study.digest)
             if old_file is not None:
                 print(f"ddgsa: warning: {out}: holds the results of study {study.name!r} from {old_file} with other "

@@ -60,6 +60,10 @@ class StoreWriteError(DdgsaError, RuntimeError):
     """The evaluation store cannot be written (disk full, read-only folder, I/O error)."""
 
 
+class WorkingFolderError(DdgsaError, FileNotFoundError):
+    """The process's working folder no longer exists, so relative paths cannot be resolved."""
+
+
 MESSAGE_INPUT_CHARS = 200
 """At most this many characters of a user's input are echoed in one error message."""
 _BOUNDED = reprlib.Repr()

@@ -20,6 +20,7 @@ from __future__ import annotations
 import base64
 import io
 import json
+import os
 import re
 from collections.abc import Sequence
 from html import escape
@@ -36,6 +37,7 @@ from ruamel.yaml import YAML
 from ddgsa.errors import DdgsaError, OutputFolderError
 from ddgsa.gsa.result import ROW_COLUMNS
 from ddgsa.models import get as get_model
+from ddgsa.outdir import incompleteness
 from ddgsa.signal_report import SIGNAL_TABLES, convergence_section, signals_section
 from ddgsa.svgplot import Bars, Guide, Heat, Line, bar_chart, heatmap, num, xy_chart
 
@@ -89,15 +91,20 @@ REMEDIES = {
 """What would fix each untrusting diagnostic (README's table says when each fires)."""
 
 
-def write_html(folder: Path) -> Path:
-    """Write ``folder/report.html`` from the files in ``folder``; returns its path."""
+def write_html(folder: Path, complete: bool | None = None) -> Path:
+    """Write ``folder/report.html`` from the files in ``folder`` (whole or not at all: written
+    beside and renamed); returns its path. ``complete``: see :func:`render`."""
     path = Path(folder) / HTML_NAME
-    path.write_text(render(Path(folder)), encoding="utf-8")
+    tmp = path.with_name(f".{HTML_NAME}.{os.getpid()}.tmp")
+    tmp.write_text(render(Path(folder), complete), encoding="utf-8")
+    os.replace(tmp, path)
     return path
 
 
-def render(folder: Path) -> str:
-    """The report page of a results folder, as HTML text."""
+def render(folder: Path, complete: bool | None = None) -> str:
+    """The report page of a results folder, as HTML text. A study's folder whose outputs are not
+    complete (:func:`ddgsa.outdir.incompleteness`: its run was killed, or a file changed since)
+    gets a banner saying so at the top; ``complete=True`` (the report being written) skips the check."""
     if not folder.is_dir():
         raise OutputFolderError(f"{folder}: not a folder (ddgsa html takes results folders, e.g. results/quickstart)")
     prov = read_json(folder / "provenance.json")
@@ -125,13 +132,17 @@ def render(folder: Path) -> str:
     if not sections:
         raise OutputFolderError(f"{folder}: not a results folder (no summary, tables, figures or provenance to "
                                 f"report; ddgsa html takes the folders ddgsa run, modes and bench write)")
+    missing = None if complete else incompleteness(folder, ignore=(HTML_NAME,))
+    banner = (f'<p class="incomplete"><b>Incomplete outputs:</b> {escape(missing)}; what follows may be partial or '
+              "from an earlier run. Rerun <code>ddgsa run</code> on the same study to finish it (stored evaluations "
+              "are reused).</p>") if missing else ""
     nav = " · ".join(f'<a href="#{a}">{escape(h)}</a>' for a, h, _ in sections)
     body = "".join(f'<section id="{a}"><h2 class="section">{escape(h)}</h2>{b}</section>' for a, h, b in sections)
     asset = files("ddgsa") / "data"
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
             f"<title>{escape(title)} - ddgsa report</title><style>{(asset / 'report.css').read_text()}</style>"
-            f"</head><body><header><p class=\"kicker\">ddgsa report</p><h1>{escape(title)}</h1>"
+            f"</head><body><header>{banner}<p class=\"kicker\">ddgsa report</p><h1>{escape(title)}</h1>"
             f"<nav>{nav}</nav></header><main>{body}</main>"
             f"<script>{(asset / 'report.js').read_text()}</script></body></html>\n")
 

@@ -6,7 +6,10 @@ holds another study's results or files ddgsa did not write (unless ``force``; re
 version of the same study are replaced, :func:`replaced_version` says which), and
 :func:`remove_stale` deletes the artefacts an earlier report wrote that the new one did not
 (a study with fewer scenes leaves no old ``bars_scene2.png`` beside its new summary).
-The list of written files is the ``files`` entry of ``provenance.json``.
+The list of written files is the ``files`` entry of ``provenance.json``. A completion mark
+(``complete.json``) says "incomplete" from the moment a run starts (:func:`unmark_complete`) and
+"complete", with each file's size, once the report's last file is written (:func:`mark_complete`),
+so a report can tell a folder whose run was stopped from a finished one (:func:`incompleteness`).
 """
 
 from __future__ import annotations
@@ -25,7 +28,12 @@ from ddgsa.errors import FolderBusyError, OutputFolderError
 
 LOCK_NAME = ".ddgsa.lock"
 STORE_NAME = "evaluations.sqlite"
-KEPT = {LOCK_NAME, "study.yaml", STORE_NAME, f"{STORE_NAME}-wal", f"{STORE_NAME}-shm", f"{STORE_NAME}-journal"}
+COMPLETE_NAME = "complete.json"
+"""The completion mark of a folder's outputs: ``{"complete": false}`` from the moment a run or a
+report rebuild starts, ``{"complete": true, "files": {name: size}}`` written last, once every
+file of the report is written."""
+KEPT = {LOCK_NAME, "study.yaml", STORE_NAME, f"{STORE_NAME}-wal", f"{STORE_NAME}-shm", f"{STORE_NAME}-journal",
+        COMPLETE_NAME}
 """Files of a ddgsa folder that are not report artefacts."""
 REPORT_SUFFIXES = (".png", ".csv", ".md", ".json", ".html")
 """What a report writes (used for folders written before the ``files`` list existed)."""
@@ -76,6 +84,66 @@ def previous_files(folder: Path) -> set[str]:
     if owner(folder) is None:                       # not a ddgsa folder: nothing of ours to remove
         return set()
     return {p.name for p in folder.iterdir() if p.is_file() and p.suffix in REPORT_SUFFIXES and p.name not in KEPT}
+
+
+def unmark_complete(folder: Path) -> None:
+    """Mark the folder's outputs incomplete: they are being rewritten."""
+    _write_mark(folder, {"complete": False})
+
+
+def mark_complete(folder: Path, names: Iterable[str]) -> None:
+    """Mark ``folder``'s outputs complete, listing the files ``names`` and their sizes [B]."""
+    sizes = {n: (folder / n).stat().st_size for n in sorted(set(names)) if n != COMPLETE_NAME}
+    _write_mark(folder, {"complete": True, "files": sizes})
+
+
+def _write_mark(folder: Path, mark: dict[str, object]) -> None:
+    """Write the mark beside and rename it: it is whole or absent."""
+    tmp = folder / f".{COMPLETE_NAME}.{os.getpid()}.tmp"
+    tmp.write_text(json.dumps(mark, indent=1))
+    os.replace(tmp, folder / COMPLETE_NAME)
+
+
+def incompleteness(folder: Path, ignore: Iterable[str] = ()) -> str | None:
+    """None when ``folder``'s outputs are complete, else why they are not: its mark says a run or
+    report started and did not finish, or a file the mark lists is missing or has another size
+    (``ignore`` aside). A folder written before completion marks (no mark) is judged by the files
+    its ``provenance.json`` lists. None for a folder that is not a study's (no ``study.yaml``,
+    store or ``provenance.json``: e.g. ``ddgsa modes`` output)."""
+    if not any((folder / n).exists() for n in ("study.yaml", STORE_NAME, "provenance.json")):
+        return None
+    try:
+        mark = json.loads((folder / COMPLETE_NAME).read_text())
+    except FileNotFoundError:
+        return _unmarked(folder)
+    except (OSError, ValueError):
+        return "its completion mark cannot be read"
+    if not isinstance(mark, dict) or mark.get("complete") is not True or not isinstance(mark.get("files"), dict):
+        return "the run or report that wrote this folder did not finish"
+    skip = set(ignore)
+    for name, size in mark["files"].items():
+        if name in skip:
+            continue
+        try:
+            now = (folder / str(name)).stat().st_size
+        except OSError:
+            return f"{name}, written by the run, is missing"
+        if now != size:
+            return f"{name} changed after the run wrote it ({now} bytes, written {size})"
+    return None
+
+
+def _unmarked(folder: Path) -> str | None:
+    """A folder without a mark (written before marks existed): complete when its ``provenance.json``
+    (written near the end) lists files that are all there."""
+    try:
+        files = json.loads((folder / "provenance.json").read_text()).get("files")
+    except (OSError, ValueError, AttributeError):
+        files = None
+    if not isinstance(files, list):
+        return "the run that wrote this folder did not finish (no completion mark, no list of its files)"
+    gone = [f for f in files if isinstance(f, str) and f not in (COMPLETE_NAME, "report.html") and not (folder / f).exists()]
+    return f"{gone[0]}, written by the run, is missing" if gone else None
 
 
 def remove_stale(folder: Path, before: Iterable[str], written: Iterable[str]) -> list[str]:

@@ -69,7 +69,7 @@ def _execute(study: Study, store: EvaluationStore, jobs: int | None, backend: st
     spec = study.spec
     run = spec.run
     run_opts = {"jobs": jobs or run.jobs, "batch_size": run.batch_size, "backend": backend or run.backend,
-                "address": address or run.address, "quiet": quiet,
+                "address": address or run.address, "quiet": quiet, "timeout": run.timeout,
                 "setup": functools.partial(loads_cache.set_directory, loads_cache.directory())}
     runs = Runs(store, evaluate, run_opts, retry_failed)
     fidelity_choice: list[dict[str, Any]] = []

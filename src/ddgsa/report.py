@@ -36,7 +36,7 @@ from ddgsa.gsa.result import CONSTANT_CV, draw_index_bars  # noqa: E402
 from ddgsa.html_report import HTML_NAME, model_words, write_html  # noqa: E402
 from ddgsa.loads.scene import AUTO_BEM_INCLINATION_DEG  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
-from ddgsa.outdir import previous_files, remove_stale  # noqa: E402
+from ddgsa.outdir import COMPLETE_NAME, mark_complete, previous_files, remove_stale, unmark_complete  # noqa: E402
 from ddgsa.pipeline import StudyResult  # noqa: E402
 from ddgsa.signal_report import summary_lines as signal_summary_lines  # noqa: E402
 from ddgsa.study import WIND_LABEL_FIELDS, plan_scenes, scene_text  # noqa: E402
@@ -55,6 +55,7 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     """Write every file of the report and remove the earlier report's files it did not write;
     returns the paths written."""
     out.mkdir(parents=True, exist_ok=True)
+    unmark_complete(out)
     before = previous_files(out)
     written: list[Path] = []
     info = output_info(result)
@@ -127,12 +128,14 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     path.write_text(summary_markdown(result, info))
     written.append(path)
     path = out / "provenance.json"
-    names = sorted({p.name for p in written} | {path.name, HTML_NAME})
+    names = sorted({p.name for p in written} | {path.name, HTML_NAME, COMPLETE_NAME})
     result.provenance["files"] = names
     path.write_text(json.dumps(result.provenance, indent=2, default=str))
     written.append(path)
-    written.append(write_html(out))
+    written.append(write_html(out, complete=True))
     remove_stale(out, before, names)
+    mark_complete(out, names)                       # last: the folder's outputs are whole
+    written.append(out / COMPLETE_NAME)
     return written
 
 

@@ -117,7 +117,8 @@ def file_identity(path: Path) -> tuple[int, int] | None:
 
 
 class EvaluationStore:
-    """SQLite table of evaluations keyed by :func:`task_key` (WAL mode; one writer).
+    """SQLite table of evaluations keyed by :func:`task_key` (WAL mode, exclusive: one process
+    opens it at a time, and no file of it is memory-mapped).
 
     The store is the truth of a run, and it is checked: before every commit, :meth:`check`
     compares the store file (and the ``watch`` files, e.g. the folder's lock) with the files
@@ -133,6 +134,13 @@ class EvaluationStore:
         with self._sqlite("open"):
             self._db = sqlite3.connect(str(path))
             try:
+                # no file of the store is memory-mapped: in WAL mode SQLite maps the '-shm' index file, and a
+                # fault on it (truncated, made immutable, its storage gone) ends the process with SIGBUS and no
+                # message. EXCLUSIVE locking keeps that index in this process's memory (no '-shm' file), so a
+                # storage fault is an I/O error with a message; another process cannot read the store meanwhile
+                # (one writer per folder anyway: the folder's lock)
+                self._db.execute("PRAGMA locking_mode=EXCLUSIVE")
+                self._db.execute("PRAGMA mmap_size=0")
                 self._db.execute("PRAGMA journal_mode=WAL")
                 # WAL with synchronous=NORMAL: a commit survives a killed process (no fsync per batch, which
                 # cost ~10 % of a fast model's time); only an OS crash could lose the last batches
@@ -244,7 +252,7 @@ class EvaluationStore:
                 "INSERT OR REPLACE INTO evaluations VALUES (?, ?, ?, ?, ?, ?)",
                 [(t.key, json.dumps(t.scene), json.dumps(t.point),
                   None if o.outputs is None else json.dumps(o.outputs), o.error, o.seconds)
-                 for t, o in zip(tasks, outcomes)])
+                 for t, o in zip(tasks, outcomes, strict=True)])
             self._db.executemany(
                 "INSERT OR REPLACE INTO signals VALUES (?, ?, ?)",
                 [(t.key, name, np.asarray(v, dtype="<f8").tobytes()) for t, o in zip(tasks, outcomes)
@@ -296,19 +304,40 @@ def _evaluator(factory: ModelFactory, model: ModelId) -> Evaluator:
 
 
 def evaluate_batch(factory: ModelFactory, model: ModelId, scene: Mapping[str, Any],
-                   points: list[dict[str, float]]) -> list[Outcome]:
-    """Evaluate one batch in a worker; every failure becomes an :class:`Outcome` with its reason."""
+                   points: list[dict[str, float]], timeout: float | None = None) -> list[Outcome]:
+    """Evaluate one batch in a worker; every failure becomes an :class:`Outcome` with its reason.
+
+    A return that is not one row per point (a row missing or added, not a DataFrame, outputs
+    that are not numbers, failure or signal entries beyond the batch) fails every point of the
+    batch with that reason: no row of it is stored as a result. With ``timeout`` [s] each point
+    is evaluated alone in a child process (:class:`TimedCalls`) and one running longer fails
+    with "timed out after ... s"; without it, the batch runs here in one call.
+    """
+    try:
+        evaluate = _evaluator(factory, model)
+    except Exception as exc:  # noqa: BLE001 -- a model that cannot be built fails its points, never the run
+        return [Outcome(None, failure_reason(exc), 0.0) for _ in points]
+    if timeout is not None:
+        calls = _timed_calls(evaluate, timeout)
+        return [evaluate_batch_in(calls, scene, [p])[0] for p in points]
+    return evaluate_batch_in(evaluate, scene, points)
+
+
+def evaluate_batch_in(evaluate: Callable[[pd.DataFrame, Mapping[str, Any]], pd.DataFrame],
+                      scene: Mapping[str, Any], points: list[dict[str, float]]) -> list[Outcome]:
+    """The outcomes of ``evaluate(points, scene)``, one per point (see :func:`evaluate_batch`)."""
     t0 = time.perf_counter()
     try:
-        frame = _evaluator(factory, model)(pd.DataFrame(points), scene)
+        frame = evaluate(pd.DataFrame(points), scene)
+        values = _checked_values(frame, len(points))
     except Exception as exc:  # noqa: BLE001 -- any failure is data, never a crash of the run
-        return [Outcome(None, f"{type(exc).__name__}: {exc}", 0.0) for _ in points]
+        return [Outcome(None, failure_reason(exc), 0.0) for _ in points]
     per_point = (time.perf_counter() - t0) / max(len(points), 1)
     failures = frame.attrs.get("failures", {})
     signals = frame.attrs.get("signals", {})
     outcomes = []
-    names = list(frame.columns)
-    for i, row in enumerate(dict(zip(names, values)) for values in frame.to_numpy(dtype=float).tolist()):
+    names = [str(c) for c in frame.columns]
+    for i, row in enumerate(dict(zip(names, v)) for v in values.tolist()):
         bad = [k for k, v in row.items() if not math.isfinite(v)]
         bad += [k for k, v in signals.items() if not np.isfinite(v[i]).all()]
         if i in failures:
@@ -316,9 +345,155 @@ def evaluate_batch(factory: ModelFactory, model: ModelId, scene: Mapping[str, An
         elif bad:
             outcomes.append(Outcome(None, f"non-finite output(s) {bad}", per_point))
         else:
-            outcomes.append(Outcome({k: float(v) for k, v in row.items()}, None, per_point,
-                                    {k: v[i] for k, v in signals.items()} or None))
+            outcomes.append(Outcome(row, None, per_point, {k: v[i] for k, v in signals.items()} or None))
     return outcomes
+
+
+class EvaluatorShapeError(ValueError):
+    """An evaluator's return that is not one row of numbers per point it was given."""
+
+
+def _checked_values(frame: Any, n_points: int) -> NDArray[np.float64]:
+    """The outputs of an evaluator's return as a float matrix, one row per point.
+
+    Raises
+    ------
+    EvaluatorShapeError
+        When ``frame`` is not a DataFrame of ``n_points`` rows with at least one column, distinct
+        column names and numeric values, or its ``failures`` / ``signals`` attributes name rows beyond the batch.
+    """
+    if not isinstance(frame, pd.DataFrame):
+        raise EvaluatorShapeError(f"the evaluator returned {type(frame).__name__}, not a DataFrame of one row per "
+                                  f"point ({n_points} points); no point of the batch is stored as a result")
+    if len(frame) != n_points:
+        raise EvaluatorShapeError(f"the evaluator returned {len(frame)} rows for {n_points} points (one row per "
+                                  "point is required); no point of the batch is stored as a result")
+    if frame.shape[1] == 0:
+        raise EvaluatorShapeError(f"the evaluator returned {n_points} rows without an output column")
+    if not frame.columns.is_unique:
+        raise EvaluatorShapeError(f"the evaluator returned repeated output columns "
+                                  f"{sorted({str(c) for c in frame.columns[frame.columns.duplicated()]})}")
+    failures = frame.attrs.get("failures", {})
+    if not isinstance(failures, Mapping) or any(not isinstance(i, (int, np.integer)) or not 0 <= i < n_points for i in failures):
+        raise EvaluatorShapeError(f"the evaluator's failures name rows outside 0..{n_points - 1}")
+    signals = frame.attrs.get("signals", {})
+    if not isinstance(signals, Mapping) or any(len(v) != n_points for v in signals.values()):
+        raise EvaluatorShapeError(f"the evaluator's signals do not hold one vector per point ({n_points} points)")
+    try:
+        return frame.to_numpy(dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise EvaluatorShapeError(f"the evaluator returned outputs that are not numbers ({exc})") from None
+
+
+class EvaluationFailed(RuntimeError):
+    """An evaluation in a :class:`TimedCalls` child that failed; the message is the reason."""
+
+
+class EvaluationTimeout(EvaluationFailed, TimeoutError):
+    """An evaluation that ran longer than its timeout (its process was killed)."""
+
+
+def failure_reason(exc: BaseException) -> str:
+    """The reason stored for a failed evaluation: ``Type: message``, or the message alone for an
+    :class:`EvaluationFailed` (whose message already names the cause)."""
+    return str(exc) if isinstance(exc, EvaluationFailed) else f"{type(exc).__name__}: {exc}"
+
+
+class TimedCalls:
+    """Calls of ``fn`` in a forked child process, each stopped after ``timeout`` seconds (POSIX).
+
+    The child is forked at the first call, so it holds ``fn`` (which need not be picklable) and
+    everything this process loaded; it keeps what ``fn`` builds or compiles between calls. Only
+    the arguments and the result cross the pipe. A call past ``timeout`` kills the child (SIGKILL)
+    and raises :class:`EvaluationTimeout`; the next call forks a new one. An exception in ``fn``
+    is raised here as :class:`EvaluationFailed` with its type and message; a child that dies (a
+    signal, ``os._exit``) raises :class:`EvaluationFailed` naming how. The child dies with the thread that
+    forked it (``PR_SET_PDEATHSIG``) and ends when :meth:`close` closes the pipe.
+    """
+
+    def __init__(self, fn: Callable[..., Any], timeout: float) -> None:
+        if not timeout > 0:
+            raise ValueError(f"timeout must be a positive number of seconds, got {timeout!r}")
+        self.fn = fn
+        self.timeout = float(timeout)
+        self._pid: int | None = None
+        self._conn: Any = None
+        self._owner = os.getpid()
+
+    def __call__(self, *args: Any) -> Any:
+        if self._owner != os.getpid():                    # inherited by a forked process: not its child
+            self._pid, self._conn, self._owner = None, None, os.getpid()
+        if self._pid is None:
+            self._start()
+        self._conn.send(args)
+        if not self._conn.poll(self.timeout):
+            self.close()
+            raise EvaluationTimeout(f"timed out after {self.timeout:g} s (the evaluation was stopped)")
+        try:
+            ok, value = self._conn.recv()
+        except (EOFError, OSError):
+            status = self.close()
+            raise EvaluationFailed(f"the evaluation's process died ({status})") from None
+        if not ok:
+            raise EvaluationFailed(value)
+        return value
+
+    def _start(self) -> None:
+        parent, child = multiprocessing.Pipe()
+        pid = os.fork()
+        if pid == 0:                                          # the child: serve calls until the pipe closes
+            parent.close()
+            _die_with_parent()
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+            os._exit(_serve(self.fn, child))
+        child.close()
+        self._pid, self._conn = pid, parent
+
+    def close(self) -> str:
+        """Stop the child (if any); returns how it ended (``exit status N`` / ``signal N``)."""
+        if self._pid is None:
+            return "not started"
+        self._conn.close()
+        with suppress(ProcessLookupError):
+            os.kill(self._pid, signal.SIGKILL)
+        _, status = os.waitpid(self._pid, 0)
+        self._pid, self._conn = None, None
+        return f"signal {os.WTERMSIG(status)}" if os.WIFSIGNALED(status) else f"exit status {os.WEXITSTATUS(status)}"
+
+
+def _serve(fn: Callable[..., Any], conn: Any) -> int:
+    """The child's loop of :class:`TimedCalls`: ``(True, fn(*args))`` or ``(False, reason)`` per call."""
+    while True:
+        try:
+            args = conn.recv()
+        except (EOFError, OSError):
+            return 0
+        try:
+            reply: tuple[bool, Any] = (True, fn(*args))
+        except Exception as exc:  # noqa: BLE001 -- a failure is data, sent back
+            reply = (False, f"{type(exc).__name__}: {exc}")
+        try:
+            conn.send(reply)
+        except Exception as exc:  # noqa: BLE001 -- e.g. a result that cannot be pickled
+            conn.send((False, f"the evaluation's result cannot be sent back ({type(exc).__name__}: {exc})"))
+
+
+_TIMED: dict[tuple[int, float], TimedCalls] = {}
+"""This process's :class:`TimedCalls` per (evaluator, timeout), kept across batches so that the
+child keeps what the model built; stopped by :func:`stop_timed_calls`."""
+
+
+def _timed_calls(evaluate: Evaluator, timeout: float) -> TimedCalls:
+    key = (id(evaluate), float(timeout))
+    if key not in _TIMED or _TIMED[key].fn is not evaluate:
+        _TIMED[key] = TimedCalls(evaluate, timeout)
+    return _TIMED[key]
+
+
+def stop_timed_calls() -> None:
+    """Stop the children of this process's :class:`TimedCalls` (at the end of a run)."""
+    while _TIMED:
+        _TIMED.popitem()[1].close()
 
 
 @contextmanager
@@ -376,11 +551,15 @@ def _watch_scheduler(client: Any, lost: threading.Event, stop: threading.Event) 
 
 def run_tasks(tasks: list[Task], store: EvaluationStore, factory: ModelFactory, jobs: int = 1,
               batch_size: int = 4, backend: str = "loky", address: str | None = None,
-              quiet: bool = False, setup: Callable[[], None] | None = None) -> dict[str, int]:
+              quiet: bool = False, setup: Callable[[], None] | None = None,
+              timeout: float | None = None) -> dict[str, int]:
     """Evaluate the tasks missing from ``store`` with the evaluators ``factory`` builds.
 
     ``setup`` (picklable, idempotent) runs in each worker before its batches, e.g. to point the
-    model's caches at shared files; the runner does not know what it does.
+    model's caches at shared files; the runner does not know what it does. ``timeout`` [s]
+    bounds each evaluation: each point then runs alone in a child process of its worker and one
+    that runs longer is stored as failed, "timed out after ... s" (:class:`TimedCalls`); without
+    it (the default) the batches run in the workers themselves, at no cost.
 
     Returns
     -------
@@ -406,17 +585,20 @@ def run_tasks(tasks: list[Task], store: EvaluationStore, factory: ModelFactory, 
     with tqdm(total=len(todo) + len(unshown), initial=len(unshown), disable=quiet or not todo, unit="eval",
               desc="model runs", smoothing=0.1) as bar:
         if jobs == 1 and backend == "loky":
-            results: Iterable[tuple[list[Task], list[Outcome]]] = (_batch_job(factory, b, setup) for b in batches)
-            failed = _consume(results, store, bar)
+            results: Iterable[tuple[list[Task], list[Outcome]]] = (_batch_job(factory, b, setup, timeout) for b in batches)
+            try:
+                failed = _consume(results, store, bar)
+            finally:
+                stop_timed_calls()
         elif backend == "loky" and FORK_WORKERS:
-            with closing(_forked(jobs, factory, batches, setup)) as finished:   # stopped here, not when collected
+            with closing(_forked(jobs, factory, batches, setup, timeout)) as finished:   # stopped here, not when collected
                 failed = _consume(finished, store, bar)
         else:
             try:
                 with _backend(backend, jobs, address):
                     ret = "generator_unordered" if backend == "loky" else "generator"
                     par = joblib.Parallel(n_jobs=jobs, return_as=ret)
-                    results = par(joblib.delayed(_batch_job)(factory, b, setup) for b in batches)
+                    results = par(joblib.delayed(_batch_job)(factory, b, setup, timeout) for b in batches)
                     failed = _consume(results, store, bar)
             except SchedulerLostError as exc:
                 raise SchedulerLostError(f"{exc}; the {store.count()} evaluations committed before are kept in "
@@ -467,8 +649,8 @@ def _new_pool(jobs: int) -> ProcessPoolExecutor:
                                initargs=(_blas_controller(), max(1, (os.cpu_count() or 1) // jobs)))
 
 
-def _forked(jobs: int, factory: ModelFactory, batches: list[list[Task]],
-            setup: Callable[[], None] | None) -> Iterator[tuple[list[Task], list[Outcome]]]:
+def _forked(jobs: int, factory: ModelFactory, batches: list[list[Task]], setup: Callable[[], None] | None,
+            timeout: float | None = None) -> Iterator[tuple[list[Task], list[Outcome]]]:
     """Finished batches, in the order they finish, from ``jobs`` forked workers (the scope's, or
     forked for this call)."""
     if not batches:
@@ -482,7 +664,7 @@ def _forked(jobs: int, factory: ModelFactory, batches: list[list[Task]],
     futures: list[Future[tuple[list[Task], list[Outcome]]]] = []
     clean = False
     try:
-        futures = [pool.submit(_batch_job, factory, b, setup) for b in batches]
+        futures = [pool.submit(_batch_job, factory, b, setup, timeout) for b in batches]
         for future in as_completed(futures):
             yield future.result()
         clean = True
@@ -542,26 +724,34 @@ def main_blas_threads(jobs: int | None) -> Iterator[None]:
         yield
 
 
-def _forked_worker(blas: Any, blas_threads: int) -> None:
-    """Initialise a forked worker: die with the parent, leave Ctrl-C to it, cap BLAS threads."""
+def _die_with_parent() -> None:
+    """This process gets SIGKILL when the thread that forked it ends (``PR_SET_PDEATHSIG``: no
+    orphans when a run is killed)."""
     try:
-        ctypes.CDLL(None).prctl(1, signal.SIGKILL)    # PR_SET_PDEATHSIG: no orphans when the run is killed
+        ctypes.CDLL(None).prctl(1, signal.SIGKILL)
     except (OSError, AttributeError):               # pragma: no cover (not glibc)
         pass
+
+
+def _forked_worker(blas: Any, blas_threads: int) -> None:
+    """Initialise a forked worker: die with the parent, leave Ctrl-C to it, cap BLAS threads."""
+    _die_with_parent()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     blas.limit(limits=blas_threads, user_api="blas")
 
 
-def _batch_job(factory: ModelFactory, batch: list[Task],
-               setup: Callable[[], None] | None = None) -> tuple[list[Task], list[Outcome]]:
+def _batch_job(factory: ModelFactory, batch: list[Task], setup: Callable[[], None] | None = None,
+               timeout: float | None = None) -> tuple[list[Task], list[Outcome]]:
     if setup is not None:
         setup()
-    return batch, evaluate_batch(factory, batch[0].model, batch[0].scene, [t.point for t in batch])
+    return batch, evaluate_batch(factory, batch[0].model, batch[0].scene, [t.point for t in batch], timeout)
 
 
 def _consume(results: Iterable[tuple[list[Task], list[Outcome]]], store: EvaluationStore, bar: tqdm) -> int:
     failed = 0
     for batch, outcomes in results:
+        if len(outcomes) != len(batch):             # evaluate_batch gives one per point; a guard, never partial
+            raise RuntimeError(f"a batch of {len(batch)} points came back with {len(outcomes)} outcomes")
         store.put(batch, outcomes)
         failed += sum(o.outputs is None for o in outcomes)
         bar.update(len(batch))

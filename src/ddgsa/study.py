@@ -57,17 +57,17 @@ from ddgsa.space import ParameterSpace
 from ddgsa.models.base import ModelOutput, declared
 from ddgsa.units import UnitError, convert, factor, has_unit, parameter_in, scene_hints
 from ddgsa.study_limits import (MAX_NAME_CHARS, check_names, check_run_size, load_yaml,  # bounded input, run size
-                                scenes_to_check)
+                                read_text, refuse_unordered, scenes_to_check)
 
 _STRICT = ConfigDict(extra="forbid")
 
 _LATER_DEFAULTS: dict[tuple[str, str], Any] = {("scenes", "loads"): {"fidelity": "table",
                                                                      "inclination_convention": "upflow"},
                                                ("fault", "design"): "population",
-                                               ("confirm", "time"): None}
+                                               ("confirm", "time"): None, ("run", "timeout"): None}
 """Study fields added in the third stage, with their defaults: left out of :attr:`Study.digest` at
 the default (the scene's rotor aerodynamics and inclination convention, key by key; the fault
-study's design)."""
+study's design; the confirmation's time budget; the run's timeout)."""
 
 
 _LATER_EMPTY = ("groups", "correlation", "target", "signals")
@@ -397,6 +397,9 @@ class RunSpec(BaseModel):
     batch_size: int = Field(4, ge=1, le=10_000)
     backend: Literal["loky", "dask"] = "loky"
     address: str | None = None
+    timeout: float | None = Field(None, gt=0, le=1e6, description=(
+        "seconds one model evaluation may take: one that runs longer is stopped and stored as failed "
+        "('timed out'); each point then runs alone in a child process of its worker (POSIX)"))
 
 
 class StudySpec(BaseModel):
@@ -676,12 +679,15 @@ def salib_parameters(file: str, path: Path | None = None) -> dict[str, dict[str,
 
     src = (path.parent if path is not None else Path.cwd()) / file
     field = f"{_where(path)}: field 'parameters'"
-    if not src.is_file():
+    if not src.exists():
         raise StudyError(f"{field}: SALib problem file {src} not found (a mapping of parameters, or a file name)")
+    yaml = src.suffix in (".json", ".yaml", ".yml")
+    try:                                   # bounded and a regular file, as the study file, before it is parsed
+        problem = load_yaml(src, "parameters file")[0] if yaml else read_text(src, "parameters file")
+    except StudyError as exc:
+        raise StudyError(f"{field}: {exc}") from None
     try:
-        problem = (load_yaml(src)[0] if src.suffix in (".json", ".yaml", ".yml")
-                   else read_param_file(str(src)))
-        return ParameterSpace.from_salib(problem).to_dict()
+        return ParameterSpace.from_salib(problem if yaml else read_param_file(str(src))).to_dict()
     except (DdgsaError, ValueError, TypeError, KeyError, csv.Error) as exc:
         hint = " (a text problem file has one 'name,low,high[,group[,dist]]' per line)" if src.suffix not in (
             ".json", ".yaml", ".yml") else ""
@@ -694,6 +700,7 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
     if not isinstance(data, dict):
         raise StudyError(f"{where}: a study is a mapping of fields (name, model, parameters, ...), "
                          f"got {type(data).__name__}")
+    refuse_unordered(data, where)
     if isinstance(data.get("parameters"), str):
         data = {**data, "parameters": salib_parameters(data["parameters"], path)}
     try:

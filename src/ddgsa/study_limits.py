@@ -17,7 +17,9 @@ that makes it large (the largest factor) and the estimate (:func:`check_run_size
 from __future__ import annotations
 
 import math
+import os
 import re
+import stat
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,24 +42,35 @@ _BOMS = ((b"\xff\xfe\x00\x00", "UTF-32"), (b"\x00\x00\xfe\xff", "UTF-32"), (b"\x
 _QUOTED_OR_COMMENT = re.compile(r"'(?:[^']|'')*'|\"(?:[^\"\\]|\\.)*\"|(?:^|(?<=\s))#[^\n]*")
 
 
-def read_text(path: Path) -> str:
-    """The text of a study file: at most :data:`MAX_FILE_BYTES`, UTF-8 (a UTF-8 byte-order mark is
-    dropped).
+def read_text(path: Path, what: str = "study file") -> str:
+    """The text of a study file, or of a file it names (``what``): a regular file of at most
+    :data:`MAX_FILE_BYTES`, UTF-8 (a UTF-8 byte-order mark is dropped).
+
+    A path that is not a regular file (a FIFO, a device, a folder, a socket) is refused from
+    its ``stat``, before it is opened for reading (opening a FIFO would wait for a writer), and
+    the file is opened non-blocking and checked again once open.
 
     Raises
     ------
     StudyError
-        For a missing or unreadable file, one too large, or one that is not UTF-8 text.
+        For a missing or unreadable file, one that is not a regular file, one too large, or one
+        that is not UTF-8 text.
     """
     try:
-        with path.open("rb") as handle:
-            raw = handle.read(MAX_FILE_BYTES + 1)
+        kind = _file_kind(os.stat(path).st_mode)
+        if kind is None:
+            fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+            with os.fdopen(fd, "rb") as handle:
+                kind = _file_kind(os.fstat(handle.fileno()).st_mode)
+                raw = handle.read(MAX_FILE_BYTES + 1) if kind is None else b""
     except FileNotFoundError:
-        raise StudyError(f"{path}: no such study file") from None
+        raise StudyError(f"{path}: no such {what}") from None
     except OSError as exc:
-        raise StudyError(f"{path}: cannot read: {exc.strerror or exc}") from None
+        raise StudyError(f"{path}: cannot read the {what}: {exc.strerror or exc}") from None
+    if kind is not None:
+        raise StudyError(f"{path}: the {what} is {kind}, not a regular file; name a file")
     if len(raw) > MAX_FILE_BYTES:
-        raise StudyError(f"{path}: a study file is at most {MAX_FILE_BYTES >> 20} MiB; this one is larger")
+        raise StudyError(f"{path}: a {what} is at most {MAX_FILE_BYTES >> 20} MiB; this one is larger")
     for bom, name in _BOMS:
         if raw.startswith(bom):
             raise StudyError(f"{path}: the file is {name} text (byte-order mark); study files are UTF-8: save it "
@@ -73,6 +86,15 @@ def read_text(path: Path) -> str:
         raise StudyError(f"{path}: NUL character at line {line} (UTF-16 text without a byte-order mark?); study "
                          "files are UTF-8 text")
     return text
+
+
+def _file_kind(mode: int) -> str | None:
+    """None for a regular file, else what the file is (``a FIFO``, ``a folder``, ...)."""
+    if stat.S_ISREG(mode):
+        return None
+    kinds = ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISCHR, "a character device"),
+             (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+    return next((name for test, name in kinds if test(mode)), "not a regular file")
 
 
 def text_depth(text: str) -> int:
@@ -134,18 +156,18 @@ def _expanded_size(data: Any, path: Path) -> tuple[int, int]:
     return memo.get(id(data), (1, 0))
 
 
-def load_yaml(path: Path) -> tuple[Any, str]:
-    """Read a YAML 1.2 study file in bounded time and memory (``1e10`` is a number); errors name
-    the file and the line.
+def load_yaml(path: Path, what: str = "study file") -> tuple[Any, str]:
+    """Read a YAML 1.2 study file (or a YAML file it names, ``what``) in bounded time and memory
+    (``1e10`` is a number); errors name the file and the line.
 
     Raises
     ------
     StudyError
         For an unreadable, oversized or non-UTF-8 file, nesting deeper than :data:`MAX_DEPTH`,
-        more than :data:`MAX_NODES` values (aliases expanded), a recursive alias, or a YAML
-        syntax error (duplicate keys included).
+        more than :data:`MAX_NODES` values (aliases expanded), a recursive alias, a YAML
+        syntax error (duplicate keys included), or an unordered ``!!set``.
     """
-    text = read_text(path)
+    text = read_text(path, what)
     if text_depth(text) > MAX_DEPTH:
         raise StudyError(f"{path}: nesting deeper than {MAX_DEPTH} levels; a study needs at most a few")
     try:
@@ -158,6 +180,7 @@ def load_yaml(path: Path) -> tuple[Any, str]:
         raise StudyError(f"{path}: YAML syntax error{where}: {problem}") from None
     except RecursionError:                               # not reached past text_depth; kept as a last guard
         raise StudyError(f"{path}: nesting deeper than {MAX_DEPTH} levels; a study needs at most a few") from None
+    refuse_unordered(data, str(path))
     size, depth = _expanded_size(data, path)
     if size > MAX_NODES:
         raise StudyError(f"{path}: names more than {MAX_NODES} values once YAML aliases are expanded (an alias "
@@ -165,6 +188,32 @@ def load_yaml(path: Path) -> tuple[Any, str]:
     if depth > MAX_DEPTH:
         raise StudyError(f"{path}: nesting deeper than {MAX_DEPTH} levels; a study needs at most a few")
     return data, text
+
+
+def refuse_unordered(data: Any, where: str) -> None:
+    """Refuse a set anywhere in study data (YAML's ``!!set``, or a Python set given to the API):
+    its order, and with it the order of outputs and the study's digest, would depend on the
+    process's hash seed (``PYTHONHASHSEED``).
+
+    Raises
+    ------
+    StudyError
+        Naming ``where`` and the field that holds the set.
+    """
+    stack: list[tuple[Any, str]] = [(data, "")]
+    seen: set[int] = set()
+    while stack:
+        obj, field = stack.pop()
+        if isinstance(obj, (set, frozenset)):
+            at = f" field '{field}':" if field else ""
+            raise StudyError(f"{where}:{at} an unordered set (YAML '!!set' or '? item' entries); its order would "
+                             "change from run to run: write a list ('- item' or '[a, b]')")
+        if not isinstance(obj, (dict, list)) or id(obj) in seen:
+            continue
+        seen.add(id(obj))
+        items = obj.items() if isinstance(obj, dict) else enumerate(obj)
+        stack.extend((v, f"{field}.{k}" if field and isinstance(k, str) else f"{field}[{k}]" if field else str(k))
+                     for k, v in items)
 
 
 BYTES_PER_EVALUATION = (1000.0, 300.0, 100.0)

@@ -18,6 +18,7 @@ import ddgsa
 from ddgsa.cli import main
 from ddgsa.gsa.testfunctions import ishigami
 from ddgsa.runner import EvaluationStore
+from running import pages_committed
 
 REPORT_FILES = {"indices.csv", "diagnostics.csv", "evaluations.csv", "accuracy.csv", "provenance.json",
                 "summary.md", "bars_scene0.png", "bars_scene1.png", "heatmap_ST_mdrm.png", "mdrm_vs_crosscheck.png"}
@@ -67,20 +68,14 @@ def test_results_identical_with_the_dask_backend(write_study, tmp_path: Path) ->
 
 @pytest.mark.slow  # ~25 s of subprocess study runs; tests/test_runner.py's SIGKILL tests stay in the default run
 def test_kill_and_resume_evaluates_only_the_missing_points(write_study, tmp_path: Path) -> None:
-    study = write_study("slow", options="{delay_s: 0.01}", n=32, batch=4)       # ~1 100 runs: killed after 200
+    study = write_study("slow", options="{delay_s: 0.01}", n=32, batch=4)       # ~1 100 runs: killed after 200 WAL pages
     out = tmp_path / "killed"
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     proc = subprocess.Popen([sys.executable, "-m", "ddgsa.cli", "-q", "run", str(study), "--out", str(out)],
                             env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     store_path = out / "evaluations.sqlite"
     deadline = time.time() + 60
-    while time.time() < deadline:
-        if store_path.exists():
-            store = EvaluationStore(store_path)
-            n = store.count()
-            store.close()
-            if n >= 200:
-                break
+    while time.time() < deadline and pages_committed(store_path) < 200:       # >= 34 commits of 4 runs
         time.sleep(0.2)
     proc.send_signal(signal.SIGKILL)
     proc.wait()

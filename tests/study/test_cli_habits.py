@@ -12,6 +12,7 @@ from pathlib import Path
 from ddgsa.cli import EXIT_INTERRUPTED, EXIT_UNTRUSTED, main
 from ddgsa.outdir import claim
 from ddgsa.runner import EvaluationStore
+from running import pages_committed
 from studytext import ishigami_study
 
 SRC = str(Path(__file__).parents[2] / "src")
@@ -110,11 +111,9 @@ def test_a_second_live_run_is_refused_and_ctrl_c_exits_130(write_study, tmp_path
         assert main(["-q", "run", str(study), "--out", str(out)]) == 1
         err = capsys.readouterr().err
         assert f"another ddgsa run (pid {proc.pid}) is writing to this folder" in err
-        store = EvaluationStore(out / "evaluations.sqlite")
         deadline = time.time() + 60
-        while store.count() == 0 and time.time() < deadline:
+        while pages_committed(out / "evaluations.sqlite") == 0 and time.time() < deadline:
             time.sleep(0.1)
-        store.close()
         proc.send_signal(signal.SIGINT)
         assert proc.wait(timeout=60) == EXIT_INTERRUPTED == 130
         assert b"interrupted; finished batches are stored" in proc.stderr.read()  # type: ignore[union-attr]

@@ -22,6 +22,7 @@ import pandas as pd
 import pytest
 
 from ddgsa.cli import main
+from running import pages_committed
 from studytext import SALTELLI, analytic_study
 
 SRC = str(Path(__file__).resolve().parents[2] / "src")
@@ -32,9 +33,10 @@ def _env() -> dict[str, str]:
 
 
 def _stored(store: Path) -> int:
-    """Rows in ``store`` (0 while it does not exist or is being created)."""
+    """Rows in ``store`` once its run has ended (0 while it does not exist or is held by a run: the
+    store is opened in SQLite's exclusive mode, so no other process reads it meanwhile)."""
     try:
-        with sqlite3.connect(f"file:{store}?mode=ro", uri=True) as db:
+        with sqlite3.connect(f"file:{store}?mode=ro", uri=True, timeout=0.1) as db:
             return int(db.execute("SELECT COUNT(*) FROM evaluations").fetchone()[0])
     except sqlite3.Error:
         return 0
@@ -47,8 +49,10 @@ def _start(study: Path, out: Path, *extra: str, preexec=None) -> subprocess.Pope
 
 
 def _wait_for_rows(proc: subprocess.Popen, store: Path, rows: int = 16, timeout: float = 120.0) -> None:
+    """Wait until the running ``proc`` has committed at least ``rows`` evaluations, judged from its
+    write-ahead log (:mod:`running`): ``rows`` pages, and a commit of 8 rows writes at most 6."""
     t0 = time.monotonic()
-    while _stored(store) < rows:
+    while pages_committed(store) < rows:
         assert proc.poll() is None, f"the run ended before storing {rows} rows: {proc.communicate()}"
         assert time.monotonic() - t0 < timeout, "the run stored nothing"
         time.sleep(0.05)

@@ -37,7 +37,7 @@ methods:
                                                         r"known: max, mean, median; did you mean 'mean'"),
     ("[damage_front]", "[damage_frnt]", r"field 'outputs\[0\]': unknown output 'damage_frnt'; known: damage_front, "
                                         r".*; did you mean 'damage_front'"),
-    ("points: 3}", "points: 3}\nrun: {jbos: 2}", r"field 'run\.jbos': .*known: address, backend, batch_size, jobs; "
+    ("points: 3}", "points: 3}\nrun: {jbos: 2}", r"field 'run\.jbos': .*known: address, backend, batch_size, jobs, timeout; "
                                                  r"did you mean 'jobs'"),
     ("points: 3}", "points: 3, chekc: 8}", r"field 'methods\[0\]': method 'mdrm': unknown option 'chekc'; known: "
                                            r"check, .*did you mean 'check'"),

@@ -29,7 +29,7 @@ VectorisedFunction = Callable[[NDArray[np.float64]], "NDArray[np.float64] | pd.D
 
 
 def sobol(f: VectorisedFunction, space: ParameterSpace, method: str = "mdrm", *,
-          outputs: Sequence[str] | None = None, **options: Any) -> SobolResult:
+          outputs: Sequence[str] | None = None, timeout: float | None = None, **options: Any) -> SobolResult:
     """Sobol indices of a vectorised function.
 
     Parameters
@@ -46,6 +46,12 @@ def sobol(f: VectorisedFunction, space: ParameterSpace, method: str = "mdrm", *,
         :mod:`ddgsa.gsa.auto`).
     outputs : sequence of str, optional
         Names of the outputs (default: DataFrame columns, ``y`` or ``y0, y1, ...``).
+    timeout : float, optional
+        Seconds one evaluation may take [s]. When given, each point is evaluated alone in a child
+        process (POSIX; the function need not be picklable) and one that runs longer, raises or
+        dies is a failed evaluation: NaN in its row (the outputs it touches are refused, never
+        imputed), its point and reason in ``extras["failures"]`` and the ``failed_evaluations``
+        diagnostic. None (default): ``f`` is called on the whole design in this process.
     **options
         Method options (e.g. ``points=5`` for M-DRM, ``n=1024, seed=0`` for Saltelli).
 
@@ -64,12 +70,24 @@ def sobol(f: VectorisedFunction, space: ParameterSpace, method: str = "mdrm", *,
     >>> bool(abs(res.indices["S1"].to_numpy() - g.S1).max() < 0.05)
     True
     """
+    if method == "auto" and space.dependent:
+        raise MethodError("method 'auto' escalates through methods that assume independent inputs, and the "
+                          "space is correlated; use method 'shapley'")
+    if timeout is None:
+        return _sobol(f, space, method, outputs, options)
+    from ddgsa.gsa.timed import TimedFunction
+
+    timed = TimedFunction(f, timeout)
+    try:
+        return timed.annotate(_sobol(timed, space, method, outputs, options))
+    finally:
+        timed.close()
+
+
+def _sobol(f: VectorisedFunction, space: ParameterSpace, method: str, outputs: Sequence[str] | None,
+           options: dict[str, Any]) -> SobolResult:
     if method == "auto":
-        if space.dependent:
-            raise MethodError("method 'auto' escalates through methods that assume independent inputs, and the "
-                              "space is correlated; use method 'shapley'")
         return run_auto(f, space, list(outputs) if outputs is not None else None, **options)
     m = get_method(method)
     design = m.design(space, **options)
-    values = f(design.points)
-    return m.analyze(space, design, values, outputs=outputs)
+    return m.analyze(space, design, f(design.points), outputs=outputs)

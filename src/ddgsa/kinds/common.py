@@ -213,7 +213,8 @@ def select_fidelities(study: Study, runs: Runs) -> list[dict[str, Any]]:
     runs(tasks)
     got = runs.store.get([t.key for t in tasks])
     if len(got) < len({t.key for t in tasks}):
-        raise StudyError("pilot evaluations for fidelity: auto are not in the store; run the study first")
+        raise StudyError(f"{runs.store.path}: the pilot evaluations for fidelity: auto are not in this evaluation "
+                         "store; run the study first (ddgsa run)")
     choices = []
     for ps in plan_scenes(study):
         table = {fid: [got[t.key] for t in ts] for p_, fid, ts in plan if p_.index == ps.index}
@@ -278,8 +279,8 @@ class Plan:
             got = store.get(keys)
             missing = [k for k in keys if k not in got]
             if missing:
-                raise StudyError(f"{len(missing)} evaluations of scene {ps.fields} are not in the store; "
-                                 "run the study first (ddgsa run)")
+                raise StudyError(f"{store.path}: {len(missing)} evaluations of scene {ps.fields} are not in this "
+                                 "evaluation store; run the study first (ddgsa run)")
             rows = []
             for k in keys:
                 o: Outcome = got[k]

@@ -38,7 +38,8 @@ def _fault_space(study: Study) -> tuple[ParameterSpace, str]:
     name = study.spec.fault.parameter
     others = [p for p in study.space.parameters if p.name != name]
     if not others:
-        raise StudyError("a fault study needs uncertain parameters besides the fault parameter")
+        raise StudyError(f"{study.path or '<study>'}: field 'parameters': a fault study needs uncertain parameters "
+                         "besides the fault parameter")
     return ParameterSpace.from_parameters(others), name
 
 

@@ -41,7 +41,8 @@ def _sweep_table(plan: Plan, store: EvaluationStore, outputs: list[str]) -> pd.D
             for row, point in zip(x, plan_points(plan.study, x, names)):
                 o = store.get([plan.task(ps, scene, point).key])
                 if not o:
-                    raise StudyError("sweep evaluations are not in the store; run the study first (ddgsa run)")
+                    raise StudyError(f"{store.path}: the sweep's evaluations are not in this evaluation store; "
+                                     "run the study first (ddgsa run)")
                 out = next(iter(o.values()))
                 vals = dict(zip(outputs, np.array([(out.outputs or {}).get(name, np.nan) for name in outputs])
                                 * plan.study.output_factors(outputs)))
