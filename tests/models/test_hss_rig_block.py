@@ -48,6 +48,31 @@ def _compare(model: HssRig, points: pd.DataFrame, scene: dict) -> None:
     assert not bad, f"outputs beyond 1 %: {bad}"
 
 
+def test_tangent_columns_are_the_central_differences() -> None:
+    """The block path's linearisation takes 21 of the rig's 42 columns of ``K`` and ``C`` from the kernel's
+    tangents (``steady_block.tangent_columns``: translations, the housings' rotations): at a random point of
+    ``paper_a_structural`` each column agrees with the per-point path's central differences within 1e-6 of
+    the column's largest entry (the differences' own noise, measured 8e-8 on ``housing_2.x``; a left-out
+    gyroscopic, centrifugal or geometric term is >= 4e-3 of its column). The test can fail: the turning
+    motor's tilt ``motor.ry`` taken from the tangents loses its gyroscopic column of ``C`` entirely."""
+    from ddgsa.models.hss_rig import steady_block
+
+    model, points, scene = _study_points("paper_a_structural", 1, seed=7)
+    params = model.resolve(points)
+    pt = steady_block._linearised(model, params.to_dict("records")[0], model._scene(scene))
+    system, lin = pt.rig.system, pt.lin
+    full = nonrotating.linearise(system, lin.q0, lin.qd0, lin.t0)
+    cols = steady_block.tangent_columns(system)
+    assert len(cols) == 21
+    for name, fast, ref in (("K", lin.k, full.k), ("C", lin.c, full.c)):
+        scale = np.abs(ref).max(axis=0)
+        gap = np.abs(fast - ref).max(axis=0)
+        assert np.all(gap <= 1e-6 * scale), f"{name}: columns {np.flatnonzero(gap > 1e-6 * scale)}"
+    tilt = system.index("motor.ry")
+    wrong = nonrotating.linearise(system, lin.q0, lin.qd0, lin.t0, tangent_columns=[*cols, tilt])
+    assert np.abs(wrong.c[:, tilt] - full.c[:, tilt]).max() > 0.5 * np.abs(full.c[:, tilt]).max()
+
+
 @pytest.mark.parametrize("name", ["paper_a_subsystem", "paper_a_structural"])
 def test_block_agrees_with_the_per_point_path_on_four_points(name: str) -> None:
     model, points, scene = _study_points(name, 4, seed=46)

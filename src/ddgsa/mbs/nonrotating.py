@@ -164,7 +164,7 @@ VELOCITY_SCALE = 1.0
 
 def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: float = 1e-6,
               spin_stiffening: bool = False, static: bool = False, compiled: bool = True,
-              residual_only: bool = False) -> SpinLinearisation:
+              residual_only: bool = False, tangent_columns: Sequence[int] = ()) -> SpinLinearisation:
     """Linearise ``system`` about ``(q0, qd0)`` (steady spin) in non-rotating bending coordinates.
 
     ``spin_stiffening`` adds :func:`spin_stiffness`, the centrifugal stiffness of the rigid inertias'
@@ -182,6 +182,14 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     same differences to round-off, 3-4x faster); any other system, or ``compiled=False``, takes them
     through ``system.terms``. ``residual_only=True`` leaves ``K`` and ``C`` at zero too: the map and
     ``r0`` only, one evaluation of the terms (a chord iteration with a tangent it already has).
+
+    ``tangent_columns`` (system indices) take their columns of ``K`` and ``C`` from the terms' own
+    tangents instead (``T^T K_t T``, ``T^T C_t T``: the elements' stiffness and damping mapped through
+    their markers' Jacobians and the flexible bodies' structural matrices), without a residual call:
+    exact only for coordinates on which neither a body's inertia or gravity terms nor the elements'
+    Jacobians depend (a body's translations: the caller's claim, to be checked against the central
+    differences, as ``tests/mbs/test_nonrotating.py`` does for the test rig). The rig's steady block path
+    (:mod:`ddgsa.models.hss_rig.steady_block`) differences 21 of its 42 columns this way, not 84.
     """
     if system.n_constraints:
         raise ModelError("the non-rotating linearisation takes unconstrained systems only "
@@ -199,8 +207,12 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     if residual_only:
         k, c = np.zeros((n, n)), np.zeros((n, n))
     elif compiled and isinstance(system.fast_terms, HybridTerms):
-        k = _hybrid_jacobian(system.fast_terms, base, 0, POSITION_SCALE, rel_step)
-        c = np.zeros((n, n)) if static else _hybrid_jacobian(system.fast_terms, base, 1, VELOCITY_SCALE, rel_step)
+        cols = np.setdiff1d(np.arange(n), np.asarray(tangent_columns, dtype=np.int64))
+        k = _hybrid_jacobian(system.fast_terms, base, 0, POSITION_SCALE, rel_step, cols)
+        c = np.zeros((n, n)) if static else _hybrid_jacobian(system.fast_terms, base, 1, VELOCITY_SCALE, rel_step,
+                                                             cols)
+    elif len(tangent_columns):
+        raise ModelError("tangent_columns take the compiled terms (HybridTerms); this system has none")
     else:
         def res(z: Array, zd: Array, zdd: Array) -> Array:
             return _residual(system, base, z, zd, zdd)
@@ -212,6 +224,11 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     tm = system.terms(q, qd, t0)
     proj = base.projection(t0, zero)
     m = proj.T @ tm.m @ proj
+    if len(tangent_columns) and not residual_only:
+        tc = np.asarray(tangent_columns, dtype=np.int64)
+        k[:, tc] = (proj.T @ tm.k @ proj)[:, tc]
+        if not static:
+            c[:, tc] = (proj.T @ tm.c @ proj)[:, tc]
     if spin_stiffening:
         k = k + spin_stiffness(system, base.q0, base.qd0)
     return SpinLinearisation(m, c, k, proj.T @ (tm.q - tm.m @ qdd), base.q0, base.qd0, t0, pairs, xi0)
@@ -254,13 +271,13 @@ def _project(lin: SpinLinearisation, cos: Array, sin: Array, spin_col: Array, v:
 
 
 def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, scale: float,
-                     rel_step: float) -> Array:
+                     rel_step: float, columns: NDArray[np.int64]) -> Array:
     """Central differences (:func:`~ddgsa.mbs.derivatives.central_difference`, step ``rel_step * scale``) of
-    the projected residual over ``z`` (``which`` 0) or ``z'`` (1) at zero, as of :func:`_residual`:
-    the steps' states at once (:func:`spin_map`), the packed part by the compiled kernel, each Python
-    element (:attr:`HybridTerms.python`) once at the operating state and again for the steps of its
-    markers' bodies' coordinates only (a step of another body's coordinate, turned within that body,
-    leaves its markers and so its force as they were)."""
+    the projected residual over the entries ``columns`` of ``z`` (``which`` 0) or ``z'`` (1) at zero, as of
+    :func:`_residual` (the other columns zero): the steps' states at once (:func:`spin_map`), the packed part
+    by the compiled kernel, each Python element (:attr:`HybridTerms.python`) once at the operating state and
+    again for the steps of its markers' bodies' coordinates only (a step of another body's coordinate,
+    turned within that body, leaves its markers and so its force as they were)."""
     n = lin.q0.size
     rows = sorted({r for rs in terms.marker_rows for r in rs})
     arrays = terms.packed.arrays
@@ -271,27 +288,28 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
     span = {r: range(lohi[r, 0], lohi[r, 1]) for r in rows}         # the coordinates that move marker r
 
     def batch(steps: Array) -> Array:
-        """The projected residual at each stepped row (row ``j`` steps coordinate ``j % n``)."""
+        """The projected residual at each stepped row (row ``j`` steps coordinate ``columns[j % p]``)."""
         nil = np.zeros_like(steps)
         q, qd, qdd, cos, sin, spin_col = spin_map(lin, *((steps, nil) if which == 0 else (nil, steps)))
-        res = np.zeros((2 * n, n))
+        stepped_coord = np.tile(columns, 2)
+        res = np.zeros((steps.shape[0], n))
         moved: dict[int, list] = {}
-        for j in range(2 * n):
+        for j, col in enumerate(stepped_coord):
             m_mat, f = mass_and_force(q[j], qd[j], t0, arrays)
             res[j] = m_mat @ qdd[j] - f
-            if any(j % n in span[r] for r in rows):
+            if any(col in span[r] for r in rows):
                 moved[j] = _markers(q[j], qd[j], t0, arrays)[:5]
         for (_, el), el_rows in zip(terms.python, terms.marker_rows):
             f0 = _element_force(el, t0, [MarkerState(*(arr[r] for arr in base)) for r in el_rows])
             cols = set().union(*(span[r] for r in el_rows))
-            for j in range(2 * n):
-                if j % n in cols:
+            for j, col in enumerate(stepped_coord):
+                if col in cols:
                     res[j] -= _element_force(el, t0, [MarkerState(*(arr[r] for arr in moved[j])) for r in el_rows])
                 else:
                     res[j] -= f0
         return _project(lin, cos, sin, spin_col, res)
 
-    return central_difference(batch, np.zeros(n), scale, rel_step)
+    return central_difference(batch, np.zeros(n), scale, rel_step, columns)
 
 
 def _element_force(el: Element, t: float, states: list[MarkerState]) -> Array:
