@@ -284,13 +284,6 @@ def _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t):  # pragma: no cover (com
     return _series(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t, False)
 
 
-def mass_and_force(q: Array, qd: Array, t: float, P: tuple) -> tuple[Array, Array]:
-    """``M, Q`` at ``(q, qd, t)``: :func:`_terms` without the tangents and constraints (what a
-    central difference of an unconstrained residual reads)."""
-    out = _terms(q, qd, t, P, False, False)
-    return out[0], out[1]
-
-
 @njit(cache=True)
 def _terms(q, qd, t, P, tangents, constraints):  # pragma: no cover (compiled)
     """``M, Q, K_t, C_t, element outputs (n_el, 6), C_h, jac (n_c, n), V`` at ``(q, qd, t)``; without
@@ -442,8 +435,8 @@ def accelerations(packed: Packed, q: Array, qd: Array, t: float, fd_step: float 
 
 
 @njit(cache=True)
-def _residuals(qs, qds, qdd0, lam0, t, P, over_q):  # pragma: no cover (compiled)
-    """``M(q) qdd0 - Q(q, qd, t) + C_q(q)^T lam0`` at each row of ``qs``, ``qds`` (k, n), followed, where
+def _residuals(qs, qds, qdds, lam0, t, P, over_q):  # pragma: no cover (compiled)
+    """``M(q) qdd - Q(q, qd, t) + C_q(q)^T lam0`` at each row of ``qs``, ``qds``, ``qdds`` (k, n), followed, where
     ``over_q``, by the velocity-level constraint values (k, n + n_v); for steps of the velocities
     (``over_q`` False) the constraints are not assembled: ``C_q`` depends on ``q`` alone, so its term
     drops out of their difference. The tangents are not assembled."""
@@ -451,7 +444,7 @@ def _residuals(qs, qds, qdd0, lam0, t, P, over_q):  # pragma: no cover (compiled
     out = np.empty((k, 0))
     for j in range(k):
         m_mat, f, kt, ct, y, ch, jac, vel = _terms(qs[j], qds[j], t, P, np.bool_(False), over_q)
-        r = np.dot(m_mat, qdd0) - f
+        r = np.dot(m_mat, qdds[j]) - f
         if over_q:
             if lam0.size:
                 r += np.dot(jac.T, lam0)
@@ -470,12 +463,17 @@ def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Arr
     (:func:`~ddgsa.mbs.derivatives.central_difference`) of residuals evaluated in one compiled call per
     argument (:func:`_residuals`). ``static``: ``C`` is left at zero (half the evaluations)."""
     q, qd, qdd, lam = (np.asarray(x, dtype=float) for x in (q, qd, qdd, lam))
-    args = (qdd, lam, float(t), packed.arrays)
-    over_q = central_difference(lambda x: _residuals(x, np.tile(qd, (len(x), 1)), *args, True), q, scale, rel_step)
+    args = (lam, float(t), packed.arrays)
+
+    def tiled(x: Array, v: Array) -> Array:
+        return np.tile(v, (len(x), 1))
+
+    over_q = central_difference(lambda x: _residuals(x, tiled(x, qd), tiled(x, qdd), *args, True), q, scale, rel_step)
     n = q.size
     if static:
         return over_q[:n], np.zeros((n, n)), over_q[n:]
-    over_qd = central_difference(lambda x: _residuals(np.tile(q, (len(x), 1)), x, *args, False), qd, scale, rel_step)
+    over_qd = central_difference(lambda x: _residuals(tiled(x, q), x, tiled(x, qdd), *args, False), qd, scale,
+                                 rel_step)
     return over_q[:n], over_qd, over_q[n:]
 
 

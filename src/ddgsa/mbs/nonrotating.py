@@ -34,7 +34,7 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody, MarkerState, mode_number
 from ddgsa.mbs.campbell import orbit_average, orbit_pairs
-from ddgsa.mbs.compiled import HybridTerms, _markers, mass_and_force
+from ddgsa.mbs.compiled import HybridTerms, _markers, _residuals
 from ddgsa.mbs.elements import Element
 from ddgsa.mbs.ffr import g_bar
 from ddgsa.mbs.linear import lti_response
@@ -275,9 +275,10 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
     """Central differences (:func:`~ddgsa.mbs.derivatives.central_difference`, step ``rel_step * scale``) of
     the projected residual over the entries ``columns`` of ``z`` (``which`` 0) or ``z'`` (1) at zero, as of
     :func:`_residual` (the other columns zero): the steps' states at once (:func:`spin_map`), the packed part
-    by the compiled kernel, each Python element (:attr:`HybridTerms.python`) once at the operating state and
-    again for the steps of its markers' bodies' coordinates only (a step of another body's coordinate,
-    turned within that body, leaves its markers and so its force as they were)."""
+    by the compiled kernel in one call (:func:`~ddgsa.mbs.compiled._residuals`), each Python element
+    (:attr:`HybridTerms.python`) once at the operating state and again for the steps of its markers' bodies'
+    coordinates only (a step of another body's coordinate, turned within that body, leaves its markers and
+    so its force as they were)."""
     n = lin.q0.size
     rows = sorted({r for rs in terms.marker_rows for r in rs})
     arrays = terms.packed.arrays
@@ -292,13 +293,9 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
         nil = np.zeros_like(steps)
         q, qd, qdd, cos, sin, spin_col = spin_map(lin, *((steps, nil) if which == 0 else (nil, steps)))
         stepped_coord = np.tile(columns, 2)
-        res = np.zeros((steps.shape[0], n))
-        moved: dict[int, list] = {}
-        for j, col in enumerate(stepped_coord):
-            m_mat, f = mass_and_force(q[j], qd[j], t0, arrays)
-            res[j] = m_mat @ qdd[j] - f
-            if any(col in span[r] for r in rows):
-                moved[j] = _markers(q[j], qd[j], t0, arrays)[:5]
+        res = _residuals(q, qd, qdd, np.zeros(0), t0, arrays, False)        # the packed part, one compiled call
+        moved = {j: _markers(q[j], qd[j], t0, arrays)[:5] for j, col in enumerate(stepped_coord)
+                 if any(col in span[r] for r in rows)}
         for (_, el), el_rows in zip(terms.python, terms.marker_rows):
             f0 = _element_force(el, t0, [MarkerState(*(arr[r] for arr in base)) for r in el_rows])
             cols = set().union(*(span[r] for r in el_rows))
