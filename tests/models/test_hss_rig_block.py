@@ -50,19 +50,20 @@ def _compare(model: HssRig, points: pd.DataFrame, scene: dict) -> None:
 
 def test_tangent_columns_are_the_central_differences() -> None:
     """The block path's linearisation takes 21 of the rig's 42 columns of ``K`` and ``C`` from the kernel's
-    tangents (``steady_block.tangent_columns``: translations, the housings' rotations): at a random point of
+    tangents (``rig.tangent_columns``: translations, the housings' rotations): at a random point of
     ``paper_a_structural`` each column agrees with the per-point path's central differences within 1e-6 of
     the column's largest entry (the differences' own noise, measured 8e-8 on ``housing_2.x``; a left-out
     gyroscopic, centrifugal or geometric term is >= 4e-3 of its column). The test can fail: the turning
     motor's tilt ``motor.ry`` taken from the tangents loses its gyroscopic column of ``C`` entirely."""
     from ddgsa.models.hss_rig import steady_block
+    from ddgsa.models.hss_rig.rig import tangent_columns
 
     model, points, scene = _study_points("paper_a_structural", 1, seed=7)
     params = model.resolve(points)
     pt = steady_block._linearised(model, params.to_dict("records")[0], model._scene(scene))
     system, lin = pt.rig.system, pt.lin
     full = nonrotating.linearise(system, lin.q0, lin.qd0, lin.t0)
-    cols = steady_block.tangent_columns(system)
+    cols = tangent_columns(system)
     assert len(cols) == 21
     for name, fast, ref in (("K", lin.k, full.k), ("C", lin.c, full.c)):
         scale = np.abs(ref).max(axis=0)
@@ -71,6 +72,32 @@ def test_tangent_columns_are_the_central_differences() -> None:
     tilt = system.index("motor.ry")
     wrong = nonrotating.linearise(system, lin.q0, lin.qd0, lin.t0, tangent_columns=[*cols, tilt])
     assert np.abs(wrong.c[:, tilt] - full.c[:, tilt]).max() > 0.5 * np.abs(full.c[:, tilt]).max()
+
+
+def test_the_still_rigs_tangent_columns_are_its_central_differences() -> None:
+    """The block path's sag is solved on the still rig's stiffness with the same 21 columns from the kernel's
+    tangents (``still_rig(..., tangents=True)``): with a misaligned coupling (0.4 mm parallel, 0.01 rad
+    angular: its wrench at rest puts geometric terms into the shaft's and hub's columns) each column is
+    within 1e-6 of its largest central difference (measured 5e-10), and so is the sag (relative to its
+    largest entry). The test can fail: the shaft's spin column from the tangents is 5 % off there."""
+    from ddgsa.mbs.modal import linearise_system
+    from ddgsa.models.hss_rig.model import still_key, still_rig
+    from ddgsa.models.hss_rig.rig import build, tangent_columns
+
+    model = HssRig(fidelity="linear")
+    p = model.effective(model.resolve(pd.DataFrame([{"misalignment_parallel": 4e-4,
+                                                     "misalignment_angular": 0.01}])).to_dict("records")[0])
+    key = still_key(p)
+    sag, k = still_rig(key, model.basis)
+    sag_t, k_t = still_rig(key, model.basis, True)
+    gap = np.abs(k_t - k).max(axis=0)
+    assert np.all(gap <= 1e-6 * np.abs(k).max(axis=0)), np.flatnonzero(gap > 1e-6 * np.abs(k).max(axis=0))
+    np.testing.assert_allclose(sag_t, sag, rtol=0, atol=1e-6 * np.abs(sag).max())
+    still = build(dict(key), lambda marker: ([], []), spin=0.0, basis=model.basis)
+    spin = still.system.index("hss.rx")
+    wrong = linearise_system(still.system, compiled=still.system.fast_terms.packed, static=True,
+                             tangent_columns=[*tangent_columns(still.system), spin])
+    assert np.abs(wrong.k_full[:, spin] - k[:, spin]).max() > 0.01 * np.abs(k[:, spin]).max()
 
 
 @pytest.mark.parametrize("name", ["paper_a_subsystem", "paper_a_structural"])

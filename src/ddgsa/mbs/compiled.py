@@ -413,7 +413,7 @@ _loop = specialise(_evaluate, "packed")
 
 
 def evaluate(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, ...]:
-    """``(M, Q, K_t, C_t, outputs, C_h, C_q, V)`` of the packed system at one state (for tests)."""
+    """``(M, Q, K_t, C_t, outputs, C_h, C_q, V)`` of the packed system at one state."""
     return _terms(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays, True, True)
 
 
@@ -456,24 +456,27 @@ def _residuals(qs, qds, qdds, lam0, t, P, over_q):  # pragma: no cover (compiled
 
 
 def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Array, t: float, scale: float,
-                       rel_step: float, static: bool = False) -> tuple[Array, Array, Array]:
+                       rel_step: float, static: bool = False,
+                       columns: NDArray[np.int64] | None = None) -> tuple[Array, Array, Array]:
     """``(K, C, B0)``: the Jacobians of ``M q_ddot - Q + C_q^T lambda`` over ``q`` and ``q_dot`` at ``(q, qd, t)``
     with ``q_ddot, lambda`` held (the stiffness and damping of :func:`ddgsa.mbs.modal.linearise_system`), and
     of the velocity-level constraint values ``V`` over ``q`` (``d(C_q q_dot)/dq``), by central differences
     (:func:`~ddgsa.mbs.derivatives.central_difference`) of residuals evaluated in one compiled call per
-    argument (:func:`_residuals`). ``static``: ``C`` is left at zero (half the evaluations)."""
+    argument (:func:`_residuals`). ``static``: ``C`` is left at zero (half the evaluations). ``columns``: only
+    those coordinates are stepped, the other columns are zero (:func:`~ddgsa.mbs.derivatives.central_difference`)."""
     q, qd, qdd, lam = (np.asarray(x, dtype=float) for x in (q, qd, qdd, lam))
     args = (lam, float(t), packed.arrays)
 
     def tiled(x: Array, v: Array) -> Array:
         return np.tile(v, (len(x), 1))
 
-    over_q = central_difference(lambda x: _residuals(x, tiled(x, qd), tiled(x, qdd), *args, True), q, scale, rel_step)
+    over_q = central_difference(lambda x: _residuals(x, tiled(x, qd), tiled(x, qdd), *args, True), q, scale, rel_step,
+                                columns)
     n = q.size
     if static:
         return over_q[:n], np.zeros((n, n)), over_q[n:]
     over_qd = central_difference(lambda x: _residuals(tiled(x, q), x, tiled(x, qdd), *args, False), qd, scale,
-                                 rel_step)
+                                 rel_step, columns)
     return over_q[:n], over_qd, over_q[n:]
 
 

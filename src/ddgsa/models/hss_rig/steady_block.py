@@ -35,13 +35,11 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from ddgsa.mbs import nonrotating
-from ddgsa.mbs.assembly import System
-from ddgsa.mbs.bodies import FlexibleBody, RigidBody
 from ddgsa.mbs.derivatives import central_difference
 from ddgsa.models.hss_rig.drive import Drive, drive_for, kloss_along, kloss_parts, steady_speed
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, operating_stretch
 from ddgsa.models.hss_rig.parameters import RATED_SPEED
-from ddgsa.models.hss_rig.rig import Rig, build
+from ddgsa.models.hss_rig.rig import Rig, build, tangent_columns
 from ddgsa.models.hss_rig.scenes import RigScene
 
 if TYPE_CHECKING:
@@ -61,22 +59,6 @@ _COORDS = ("housing_1.y", "housing_1.z", "housing_2.y", "housing_2.z", "motor.rx
 """Coordinates the sensors read directly (rates: accelerometers, motor speed; angle and speed of the shaft)."""
 _VARYING = ("unbalance", "motor", "anisotropy_hub", "anisotropy_shaft")
 """The rig's elements whose inputs turn with the shaft in a steady scene (the per-point path's, less the defect)."""
-_TANGENT_BODIES = ("housing_1", "housing_2")
-"""Bodies whose rotations take the kernel's tangents in the linearisation (:func:`tangent_columns`)."""
-
-
-def tangent_columns(system: System) -> list[int]:
-    """The rig's coordinates whose columns of the linearisation are the kernel's own tangents
-    (:func:`ddgsa.mbs.nonrotating.linearise`'s ``tangent_columns``): every body's translation (no inertia or
-    gravity term depends on where a body is, nor any marker's Jacobian) and the housings' rotations (they
-    do not turn, and their markers and centres of mass sit at their reference points). The rest, 21 of 42
-    (the turning bodies' rotations, the shaft's elastic coordinates: gyroscopic, centrifugal and the
-    coupling's geometric terms), are central differences. ``tests/mbs/test_nonrotating.py`` checks the
-    columns against central differences at the nominal point."""
-    names = [f"{b.name}.{c}" for b in system.bodies if isinstance(b, (RigidBody, FlexibleBody))
-             for c in b.coord_names if c in ("x", "y", "z")]
-    names += [f"{b}.{r}" for b in _TANGENT_BODIES for r in ("rx", "ry", "rz")]
-    return [system.index(name) for name in names]
 
 
 def holds(model: "HssRig", params: pd.DataFrame, scene: RigScene, signals: tuple[str, ...]) -> NDArray[np.bool_]:
@@ -113,12 +95,12 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
     if raw["coupling_asymmetry"] > 0.0:
         steady = {**eff, "eccentric_mass": 0.0, "supply_unbalance": 0.0}
         plain = build(steady, kloss_parts(drive), spin=spin, basis=model.basis)
-        tangent = still_rig(still_key(steady), model.basis)[1]
-        stretch = operating_stretch(plain, *model.initial_state(plain, steady), tangent=tangent)
+        tangent = still_rig(still_key(steady), model.basis, True)[1]
+        stretch = operating_stretch(plain, *model.initial_state(plain, steady, True), tangent=tangent)
         extra = anisotropy_loads(raw, stretch, spin, scene.duration, 1.0 / scene.sample_rate)
     rig = build(eff, kloss_parts(drive), spin=spin, extra=extra, basis=model.basis)
     system = rig.system
-    lin = nonrotating.linearise(system, *model.initial_state(rig, eff), tangent_columns=tangent_columns(system))
+    lin = nonrotating.linearise(system, *model.initial_state(rig, eff, True), tangent_columns=tangent_columns(system))
     period = 2 * math.pi / spin
     tp = lin.t0 + period * np.arange(FORCE_SAMPLES) / FORCE_SAMPLES
     varying = [e for e in system.elements if e.name in _VARYING]
