@@ -17,8 +17,11 @@ from ddgsa.models.hss_rig.model import HssRig
 from ddgsa.study import load_study
 
 STUDIES = Path(__file__).parents[2] / "studies"
-RTOL = 0.01
-"""The block path's agreement with the per-point path (issue 46: 1 %)."""
+RTOL = 1e-3
+"""The block path's agreement with the per-point path: issue 46 asks 1 %; measured 8.6e-6 (paper_a_subsystem)
+and 1.1e-5 (paper_a_structural) on the 64-point tests' every output, so 1e-3 leaves 90x for another CPU or
+BLAS (the two paths' central differences differ in round-off: the motor ripple and current sidebands,
+1e-6 of their means, and the numerically zero bearing bands move most)."""
 def _study_points(name: str, n: int, seed: int) -> tuple[HssRig, pd.DataFrame, dict]:
     """``n`` seeded uniform points of study ``name``'s parameter space (its fixed values too), its model and
     its steady scene."""
@@ -45,16 +48,17 @@ def _compare(model: HssRig, points: pd.DataFrame, scene: dict) -> None:
         excess = np.abs(a - b) - RTOL * np.abs(a)
         worst[col] = (float(excess.max()), float(np.max(np.abs(a - b) / np.maximum(np.abs(a), 1e-300))))
     bad = {c: w for c, w in worst.items() if w[0] > 0.0}
-    assert not bad, f"outputs beyond 1 %: {bad}"
+    assert not bad, f"outputs beyond {RTOL:g}: {bad}"
 
 
 def test_tangent_columns_are_the_central_differences() -> None:
     """The block path's linearisation takes 21 of the rig's 42 columns of ``K`` and ``C`` from the kernel's
     tangents (``rig.tangent_columns``: translations, the housings' rotations): at a random point of
     ``paper_a_structural`` each column agrees with the per-point path's central differences within 1e-6 of
-    the column's largest entry (the differences' own noise, measured 8e-8 on ``housing_2.x``; a left-out
-    gyroscopic, centrifugal or geometric term is >= 4e-3 of its column). The test can fail: the turning
-    motor's tilt ``motor.ry`` taken from the tangents loses its gyroscopic column of ``C`` entirely."""
+    the column's largest entry (the differences' own noise, measured 8e-8 on ``housing_2.x``; most of the
+    other 21 columns differ from the tangents by 1e-3 to 100 % in ``K`` or ``C``: the gyroscopic, centrifugal
+    and geometric terms). The test can fail: the turning motor's tilt ``motor.ry`` taken from the tangents
+    loses its gyroscopic column of ``C`` entirely."""
     from ddgsa.models.hss_rig import steady_block
     from ddgsa.models.hss_rig.rig import tangent_columns
 
