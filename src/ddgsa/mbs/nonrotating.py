@@ -188,8 +188,8 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     their markers' Jacobians and the flexible bodies' structural matrices), without a residual call:
     exact only for coordinates on which neither a body's inertia or gravity terms nor the elements'
     Jacobians depend (a body's translations: the caller's claim, to be checked against the central
-    differences, as ``tests/mbs/test_nonrotating.py`` does for the test rig). The rig's steady block path
-    (:mod:`ddgsa.models.hss_rig.steady_block`) differences 21 of its 42 columns this way, not 84.
+    differences, as ``tests/models/test_hss_rig_block.py`` does for the test rig, whose steady block path
+    takes 21 of its 42 columns this way: :func:`ddgsa.models.hss_rig.rig.tangent_columns`).
     """
     if system.n_constraints:
         raise ModelError("the non-rotating linearisation takes unconstrained systems only "

@@ -595,7 +595,8 @@ def still_rig(items: tuple[tuple[str, float], ...], basis: ShaftBasis,
     one run: an assembly, its steady stretch, its start; the block path's chord iteration takes the
     stiffness as its tangent). ``tangents``: the stiffness's :func:`~ddgsa.models.hss_rig.rig.tangent_columns`
     are the kernel's tangents, the others central differences (the block path's: half the residual calls;
-    the sag then differs from the all-differenced one by the differences' round-off)."""
+    the sag then differs from the all-differenced one by the differences' round-off), on the compiled
+    path (a rig whose Python elements push at rest is differenced whole)."""
     still = build(dict(items), lambda marker: ([], []), spin=0.0, basis=basis)
     # the rig's parts are all compiled (the unbalance and the load law since issue 24); a Python element
     # added to it would be checked here: one that puts no force on the rig at rest for any position
@@ -604,7 +605,7 @@ def still_rig(items: tuple[tuple[str, float], ...], basis: ShaftBasis,
     idle = all(not np.any(el.wrench(0.0, system.states_of(el.markers, system.q0, system.qd0, 0.0))[0])
                for _, el in hybrid.python)
     lin = linearise_system(system, compiled=hybrid.packed if idle else False, static=True,
-                           tangent_columns=tangent_columns(system) if tangents else ())
+                           tangent_columns=tangent_columns(system) if tangents and idle else ())
     sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
     sag.flags.writeable = False
     k = lin.basis @ lin.k @ lin.basis.T
