@@ -78,6 +78,28 @@ def test_tangent_columns_are_the_central_differences() -> None:
     assert np.abs(wrong.c[:, tilt] - full.c[:, tilt]).max() > 0.5 * np.abs(full.c[:, tilt]).max()
 
 
+def test_marker_states_along_a_record_are_the_full_tables_rows() -> None:
+    """The block's inputs read their elements' markers along a revolution from the kernel's tables of those
+    markers alone (``HybridTerms.states_along``, ``compiled._some_markers``): the same states as the full
+    tables (``System.states_of``), bit for bit, on the rig's shaft (flexible: shape rows of 12 modes), its
+    disk, hub and motor at sagged, turning states."""
+    from ddgsa.models.hss_rig import steady_block
+
+    model, points, scene = _study_points("paper_a_subsystem", 1, seed=3)
+    pt = steady_block._linearised(model, model.resolve(points).to_dict("records")[0], model._scene(scene))
+    system = pt.rig.system
+    markers = [mk for el in system.elements if el.name in steady_block._VARYING for mk in el.markers]
+    markers += [pt.rig.markers["bearing_2"], pt.rig.markers["motor"]]
+    times = np.linspace(0.0, 0.04, 5)
+    zero = np.zeros((times.size, system.n))
+    q, qd = nonrotating.full_states(pt.lin, times, zero + 1e-6, zero)
+    along = system.fast_terms.states_along(markers, q, qd, times)
+    for i, t in enumerate(times):
+        for a, b in zip(along[i], system.states_of(markers, q[i], qd[i], t)):
+            for x, y in ((a.r, b.r), (a.a, b.a), (a.v, b.v), (a.w, b.w), (a.jac, b.jac)):
+                assert np.array_equal(x, y)
+
+
 def test_the_still_rigs_tangent_columns_are_its_central_differences() -> None:
     """The block path's sag is solved on the still rig's stiffness with the same 21 columns from the kernel's
     tangents (``still_rig(..., tangents=True)``): with a misaligned coupling (0.4 mm parallel, 0.01 rad

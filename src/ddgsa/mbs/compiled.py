@@ -530,15 +530,21 @@ def _positions_along(q, qd, times, P, m):  # pragma: no cover (compiled)
     return out
 
 
-def _one_marker(arrays: tuple, m: int) -> tuple:
-    """Packed ``arrays`` with marker ``m`` as their only marker (row 0): a record's kinematics of one
-    marker without computing every other marker at every sample."""
+def _some_markers(arrays: tuple, rows: list[int]) -> tuple:
+    """Packed ``arrays`` with the markers ``rows`` as their only markers (row ``k``: marker ``rows[k]``): a
+    record's kinematics of a few markers without computing every other marker at every sample."""
     mk_body, mk_u0, mk_so, mk_s, mk_sr = arrays[15:20]
-    b = mk_body[m]
-    size = 3 * max(arrays[1][b], 0) if b >= 0 else 0
-    so = mk_so[m]
-    shapes = (mk_s[so:so + size].copy(), mk_sr[so:so + size].copy()) if size else (np.zeros(1), np.zeros(1))
-    return (*arrays[:15], mk_body[m:m + 1].copy(), mk_u0[m:m + 1].copy(), np.zeros(1, np.int64), *shapes,
+    offsets, s_parts, sr_parts, size_sum = [], [], [], 0
+    for m in rows:
+        b = mk_body[m]
+        size = 3 * max(arrays[1][b], 0) if b >= 0 else 0
+        offsets.append(size_sum)
+        s_parts.append(mk_s[mk_so[m]:mk_so[m] + size])
+        sr_parts.append(mk_sr[mk_so[m]:mk_so[m] + size])
+        size_sum += size
+    shapes = (np.concatenate(s_parts), np.concatenate(sr_parts)) if size_sum else (np.zeros(1), np.zeros(1))
+    idx = np.asarray(rows, dtype=np.int64)
+    return (*arrays[:15], mk_body[idx].copy(), mk_u0[idx].copy(), np.asarray(offsets, dtype=np.int64), *shapes,
             *arrays[20:])
 
 
@@ -559,21 +565,35 @@ class HybridTerms:
         self.packed = pack(system, [el for el, k in zip(system.elements, packs) if k])
         self.python = [(i, el) for i, (el, k) in enumerate(zip(system.elements, packs)) if not k]
         self.compiled_rows = [i for i, k in enumerate(packs) if k]
-        index = {id(mk): i for i, mk in enumerate(system.markers)}
-        self.marker_rows = [[index[id(mk)] for mk in el.markers] for _, el in self.python]
+        self._row = {id(mk): i for i, mk in enumerate(system.markers)}
+        """The row of each of the system's markers (by identity) in the kernel's marker tables."""
+        self.marker_rows = [[self._row[id(mk)] for mk in el.markers] for _, el in self.python]
 
     def positions(self, marker: object, q: Array, qd: Array, times: Array) -> Array:
         """Global position (n_t, 3) [m] of one of the system's markers along a record ``q, qd`` (n_t, n)."""
-        m = next(i for i, mk in enumerate(self.system.markers) if mk is marker)
+        m = self._row[id(marker)]
         return _positions_along(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float),
-                                np.asarray(times, dtype=float), _one_marker(self.packed.arrays, m), 0)
+                                np.asarray(times, dtype=float), _some_markers(self.packed.arrays, [m]), 0)
+
+    def has(self, marker: object) -> bool:
+        """Whether ``marker`` is one of the system's markers (so in the kernel's tables)."""
+        return id(marker) in self._row
+
+    def states_along(self, markers: list, q: Array, qd: Array, times: Array) -> list[list[MarkerState]]:
+        """States of some of the system's ``markers`` at each row of a record ``q, qd`` (n_t, n) and its
+        ``times`` [s]: the kernel's marker tables of those markers alone (:func:`_some_markers`)."""
+        sub = _some_markers(self.packed.arrays, [self._row[id(m)] for m in markers])
+        out = []
+        for qi, qdi, t in zip(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), np.asarray(times, dtype=float)):
+            mr, ma, mvel, mw, mj, _ = _markers(qi, qdi, float(t), sub)
+            out.append([MarkerState(mr[k], ma[k], mvel[k], mw[k], mj[k]) for k in range(len(markers))])
+        return out
 
     def states(self, markers: list, q: Array, qd: Array, t: float) -> list[MarkerState]:
         """States of some of the system's ``markers`` at ``(q, qd, t)``."""
         mr, ma, mvel, mw, mj, _ = _markers(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t),
                                            self.packed.arrays)
-        rows = [next(i for i, mk in enumerate(self.system.markers) if mk is m) for m in markers]
-        return [MarkerState(mr[r], ma[r], mvel[r], mw[r], mj[r]) for r in rows]
+        return [MarkerState(mr[r], ma[r], mvel[r], mw[r], mj[r]) for r in (self._row[id(m)] for m in markers)]
 
     def __call__(self, q: Array, qd: Array, t: float):
         """:class:`~ddgsa.mbs.assembly.Terms` at ``(q, qd, t)``."""

@@ -104,11 +104,10 @@ class SpinLinearisation:
         return tmat
 
 
-def generalised_force(system: System, q: Array, qd: Array, t: float, elements: Sequence[Element]) -> Array:
-    """Generalised force (n,) of the listed elements alone at ``(q, qd, t)``."""
-    f = np.zeros(system.n)
-    markers = [mk for el in elements for mk in el.markers]
-    states = system.states_of(markers, q, qd, t)          # one evaluation of the markers for all elements
+def generalised_force(n: int, t: float, elements: Sequence[Element], states: Sequence[MarkerState]) -> Array:
+    """Generalised force (n,) of the listed elements alone at time ``t`` [s] from the ``states`` of their
+    markers, in the elements' order (one evaluation of the markers for all elements)."""
+    f = np.zeros(n)
     start = 0
     for el in elements:
         own = states[start:start + len(el.markers)]
@@ -321,7 +320,12 @@ def projected_inputs(system: System, lin: SpinLinearisation, times: Array, eleme
     times = np.concatenate([[lin.t0], np.asarray(times, dtype=float)])
     zero = np.zeros((times.size, lin.q0.size))
     q, qd = full_states(lin, times, zero, zero)
-    f = np.array([generalised_force(system, q[i], qd[i], t, elements) for i, t in enumerate(times)])
+    markers = [mk for el in elements for mk in el.markers]
+    if isinstance(system.fast_terms, HybridTerms) and all(system.fast_terms.has(mk) for mk in markers):
+        states = system.fast_terms.states_along(markers, q, qd, times)     # those markers alone, compiled
+    else:
+        states = [system.states_of(markers, q[i], qd[i], t) for i, t in enumerate(times)]
+    f = np.array([generalised_force(system.n, t, elements, st) for t, st in zip(times, states)])
     out = f.copy()
     for k, (iy, iz, isp) in enumerate(lin.pairs):
         phi = q[:, isp]
