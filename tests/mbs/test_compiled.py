@@ -129,19 +129,24 @@ def test_compiled_linearisation_and_consistent_state_equal_python() -> None:
     np.testing.assert_allclose(fast.curvature, curvature, rtol=0, atol=1e-9 * np.abs(curvature).max())
 
 
-def test_mass_and_force_are_the_assemblys_first_two_terms_bit_for_bit() -> None:
-    """:func:`ddgsa.mbs.compiled.mass_and_force` (what the central differences assemble) is the
-    assembly (:func:`_terms`) without its tangents and constraints: the same ``M`` and ``Q``, bit for
-    bit, on a constrained system at a moved, moving state."""
-    from ddgsa.mbs.compiled import _terms, mass_and_force
+def test_residual_rows_are_the_assemblys_mass_and_force() -> None:
+    """:func:`ddgsa.mbs.compiled._residuals` (what the central differences assemble, one compiled call for all
+    steps) is ``M qdd - Q`` of the assembly (:func:`_terms`) at each row's own state and acceleration, on a
+    constrained system at moved, moving states (velocity steps: without the constraints' term), to
+    round-off (1e-13 of the largest term: the two products sum in different orders)."""
+    from ddgsa.mbs.compiled import _residuals, _terms
 
     system = every_part()
     packed = pack(system)
-    q = system.q0 + 1e-3 * np.sin(np.arange(system.n))
-    qd = 0.1 * np.cos(np.arange(system.n))
-    m_full, f_full = _terms(q, qd, 0.3, packed.arrays, True, True)[:2]
-    m, f = mass_and_force(q, qd, 0.3, packed.arrays)
-    assert np.array_equal(m, m_full) and np.array_equal(f, f_full)
+    rows = np.arange(3)[:, None]
+    q = system.q0 + 1e-3 * np.sin(np.arange(system.n) + rows)
+    qd = 0.1 * np.cos(np.arange(system.n) + rows)
+    qdd = np.cos(2.0 * np.arange(system.n) + rows)
+    res = _residuals(q, qd, qdd, np.zeros(0), 0.3, packed.arrays, False)
+    for j in range(3):
+        m, f = _terms(q[j], qd[j], 0.3, packed.arrays, True, True)[:2]
+        ref = m @ qdd[j] - f
+        np.testing.assert_allclose(res[j], ref, rtol=0, atol=1e-13 * max(np.abs(m @ qdd[j]).max(), np.abs(f).max()))
 
 
 def test_the_assembly_is_compiled_once_whatever_its_callers_pass() -> None:

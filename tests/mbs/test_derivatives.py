@@ -41,3 +41,20 @@ def test_batch_layout_and_steps() -> None:
     # a linear batch function gives its matrix back, to round-off (eps |f| / h ~ 2e-8 here)
     a = np.arange(6.0).reshape(2, 3)
     np.testing.assert_allclose(central_difference(lambda x: x @ a.T, x0, 10.0), a, rtol=0, atol=1e-7)
+
+
+def test_a_subset_of_columns_steps_those_entries_alone() -> None:
+    """``columns``: the batch gets ``2 p`` rows, row ``j`` stepping entry ``columns[j % p]``; the Jacobian holds
+    the closed form's columns there (second order, as the full difference) and zero elsewhere."""
+    x, y = np.array([0.7, -1.3]), np.array([2.0])
+    seen = []
+
+    def batch(rows: np.ndarray) -> np.ndarray:
+        seen.append(rows.copy())
+        return np.array([_f(r, y) for r in rows])
+
+    jac = central_difference(batch, x, 1.0, columns=np.array([1]))
+    assert seen[0].shape == (2, 2)
+    np.testing.assert_array_equal(seen[0][:, 0], x[0])           # entry 0 is never stepped
+    np.testing.assert_array_equal(jac[:, 0], 0.0)
+    np.testing.assert_allclose(jac[:, 1], _df_dx(x, y)[:, 1], rtol=0, atol=1e-8)

@@ -17,8 +17,11 @@ from ddgsa.models.hss_rig.model import HssRig
 from ddgsa.study import load_study
 
 STUDIES = Path(__file__).parents[2] / "studies"
-RTOL = 0.01
-"""The block path's agreement with the per-point path (issue 46: 1 %)."""
+RTOL = 1e-3
+"""The block path's agreement with the per-point path: issue 46 asks 1 %; measured 8.6e-6 (paper_a_subsystem)
+and 1.1e-5 (paper_a_structural) on the 64-point tests' every output, so 1e-3 leaves 90x for another CPU or
+BLAS (the two paths' central differences differ in round-off: the motor ripple and current sidebands,
+1e-6 of their means, and the numerically zero bearing bands move most)."""
 def _study_points(name: str, n: int, seed: int) -> tuple[HssRig, pd.DataFrame, dict]:
     """``n`` seeded uniform points of study ``name``'s parameter space (its fixed values too), its model and
     its steady scene."""
@@ -45,7 +48,82 @@ def _compare(model: HssRig, points: pd.DataFrame, scene: dict) -> None:
         excess = np.abs(a - b) - RTOL * np.abs(a)
         worst[col] = (float(excess.max()), float(np.max(np.abs(a - b) / np.maximum(np.abs(a), 1e-300))))
     bad = {c: w for c, w in worst.items() if w[0] > 0.0}
-    assert not bad, f"outputs beyond 1 %: {bad}"
+    assert not bad, f"outputs beyond {RTOL:g}: {bad}"
+
+
+def test_tangent_columns_are_the_central_differences() -> None:
+    """The block path's linearisation takes 21 of the rig's 42 columns of ``K`` and ``C`` from the kernel's
+    tangents (``rig.tangent_columns``: translations, the housings' rotations): at a random point of
+    ``paper_a_structural`` each column agrees with the per-point path's central differences within 1e-6 of
+    the column's largest entry (the differences' own noise, measured 8e-8 on ``housing_2.x``; most of the
+    other 21 columns differ from the tangents by 1e-3 to 100 % in ``K`` or ``C``: the gyroscopic, centrifugal
+    and geometric terms). The test can fail: the turning motor's tilt ``motor.ry`` taken from the tangents
+    loses its gyroscopic column of ``C`` entirely."""
+    from ddgsa.models.hss_rig import steady_block
+    from ddgsa.models.hss_rig.rig import tangent_columns
+
+    model, points, scene = _study_points("paper_a_structural", 1, seed=7)
+    params = model.resolve(points)
+    pt = steady_block._linearised(model, params.to_dict("records")[0], model._scene(scene))
+    system, lin = pt.rig.system, pt.lin
+    full = nonrotating.linearise(system, lin.q0, lin.qd0, lin.t0)
+    cols = tangent_columns(system)
+    assert len(cols) == 21
+    for name, fast, ref in (("K", lin.k, full.k), ("C", lin.c, full.c)):
+        scale = np.abs(ref).max(axis=0)
+        gap = np.abs(fast - ref).max(axis=0)
+        assert np.all(gap <= 1e-6 * scale), f"{name}: columns {np.flatnonzero(gap > 1e-6 * scale)}"
+    tilt = system.index("motor.ry")
+    wrong = nonrotating.linearise(system, lin.q0, lin.qd0, lin.t0, tangent_columns=[*cols, tilt])
+    assert np.abs(wrong.c[:, tilt] - full.c[:, tilt]).max() > 0.5 * np.abs(full.c[:, tilt]).max()
+
+
+def test_marker_states_along_a_record_are_the_full_tables_rows() -> None:
+    """The block's inputs read their elements' markers along a revolution from the kernel's tables of those
+    markers alone (``HybridTerms.states_along``, ``compiled._some_markers``): the same states as the full
+    tables (``System.states_of``), bit for bit, on the rig's shaft (flexible: shape rows of 12 modes), its
+    disk, hub and motor at sagged, turning states."""
+    from ddgsa.models.hss_rig import steady_block
+
+    model, points, scene = _study_points("paper_a_subsystem", 1, seed=3)
+    pt = steady_block._linearised(model, model.resolve(points).to_dict("records")[0], model._scene(scene))
+    system = pt.rig.system
+    markers = [mk for el in system.elements if el.name in steady_block._VARYING for mk in el.markers]
+    markers += [pt.rig.markers["bearing_2"], pt.rig.markers["motor"]]
+    times = np.linspace(0.0, 0.04, 5)
+    zero = np.zeros((times.size, system.n))
+    q, qd = nonrotating.full_states(pt.lin, times, zero + 1e-6, zero)
+    along = system.fast_terms.states_along(markers, q, qd, times)
+    for i, t in enumerate(times):
+        for a, b in zip(along[i], system.states_of(markers, q[i], qd[i], t)):
+            for x, y in ((a.r, b.r), (a.a, b.a), (a.v, b.v), (a.w, b.w), (a.jac, b.jac)):
+                assert np.array_equal(x, y)
+
+
+def test_the_still_rigs_tangent_columns_are_its_central_differences() -> None:
+    """The block path's sag is solved on the still rig's stiffness with the same 21 columns from the kernel's
+    tangents (``still_rig(..., tangents=True)``): with a misaligned coupling (0.4 mm parallel, 0.01 rad
+    angular: its wrench at rest puts geometric terms into the shaft's and hub's columns) each column is
+    within 1e-6 of its largest central difference (measured 5e-10), and so is the sag (relative to its
+    largest entry). The test can fail: the shaft's spin column from the tangents is 5 % off there."""
+    from ddgsa.mbs.modal import linearise_system
+    from ddgsa.models.hss_rig.model import still_key, still_rig
+    from ddgsa.models.hss_rig.rig import build, tangent_columns
+
+    model = HssRig(fidelity="linear")
+    p = model.effective(model.resolve(pd.DataFrame([{"misalignment_parallel": 4e-4,
+                                                     "misalignment_angular": 0.01}])).to_dict("records")[0])
+    key = still_key(p)
+    sag, k = still_rig(key, model.basis)
+    sag_t, k_t = still_rig(key, model.basis, True)
+    gap = np.abs(k_t - k).max(axis=0)
+    assert np.all(gap <= 1e-6 * np.abs(k).max(axis=0)), np.flatnonzero(gap > 1e-6 * np.abs(k).max(axis=0))
+    np.testing.assert_allclose(sag_t, sag, rtol=0, atol=1e-6 * np.abs(sag).max())
+    still = build(dict(key), lambda marker: ([], []), spin=0.0, basis=model.basis)
+    spin = still.system.index("hss.rx")
+    wrong = linearise_system(still.system, compiled=still.system.fast_terms.packed, static=True,
+                             tangent_columns=[*tangent_columns(still.system), spin])
+    assert np.abs(wrong.k_full[:, spin] - k[:, spin]).max() > 0.01 * np.abs(k[:, spin]).max()
 
 
 @pytest.mark.parametrize("name", ["paper_a_subsystem", "paper_a_structural"])

@@ -284,13 +284,6 @@ def _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t):  # pragma: no cover (com
     return _series(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t, False)
 
 
-def mass_and_force(q: Array, qd: Array, t: float, P: tuple) -> tuple[Array, Array]:
-    """``M, Q`` at ``(q, qd, t)``: :func:`_terms` without the tangents and constraints (what a
-    central difference of an unconstrained residual reads)."""
-    out = _terms(q, qd, t, P, False, False)
-    return out[0], out[1]
-
-
 @njit(cache=True)
 def _terms(q, qd, t, P, tangents, constraints):  # pragma: no cover (compiled)
     """``M, Q, K_t, C_t, element outputs (n_el, 6), C_h, jac (n_c, n), V`` at ``(q, qd, t)``; without
@@ -420,7 +413,7 @@ _loop = specialise(_evaluate, "packed")
 
 
 def evaluate(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, ...]:
-    """``(M, Q, K_t, C_t, outputs, C_h, C_q, V)`` of the packed system at one state (for tests)."""
+    """``(M, Q, K_t, C_t, outputs, C_h, C_q, V)`` of the packed system at one state."""
     return _terms(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays, True, True)
 
 
@@ -442,8 +435,8 @@ def accelerations(packed: Packed, q: Array, qd: Array, t: float, fd_step: float 
 
 
 @njit(cache=True)
-def _residuals(qs, qds, qdd0, lam0, t, P, over_q):  # pragma: no cover (compiled)
-    """``M(q) qdd0 - Q(q, qd, t) + C_q(q)^T lam0`` at each row of ``qs``, ``qds`` (k, n), followed, where
+def _residuals(qs, qds, qdds, lam0, t, P, over_q):  # pragma: no cover (compiled)
+    """``M(q) qdd - Q(q, qd, t) + C_q(q)^T lam0`` at each row of ``qs``, ``qds``, ``qdds`` (k, n), followed, where
     ``over_q``, by the velocity-level constraint values (k, n + n_v); for steps of the velocities
     (``over_q`` False) the constraints are not assembled: ``C_q`` depends on ``q`` alone, so its term
     drops out of their difference. The tangents are not assembled."""
@@ -451,7 +444,7 @@ def _residuals(qs, qds, qdd0, lam0, t, P, over_q):  # pragma: no cover (compiled
     out = np.empty((k, 0))
     for j in range(k):
         m_mat, f, kt, ct, y, ch, jac, vel = _terms(qs[j], qds[j], t, P, np.bool_(False), over_q)
-        r = np.dot(m_mat, qdd0) - f
+        r = np.dot(m_mat, qdds[j]) - f
         if over_q:
             if lam0.size:
                 r += np.dot(jac.T, lam0)
@@ -463,19 +456,27 @@ def _residuals(qs, qds, qdd0, lam0, t, P, over_q):  # pragma: no cover (compiled
 
 
 def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Array, t: float, scale: float,
-                       rel_step: float, static: bool = False) -> tuple[Array, Array, Array]:
+                       rel_step: float, static: bool = False,
+                       columns: NDArray[np.int64] | None = None) -> tuple[Array, Array, Array]:
     """``(K, C, B0)``: the Jacobians of ``M q_ddot - Q + C_q^T lambda`` over ``q`` and ``q_dot`` at ``(q, qd, t)``
     with ``q_ddot, lambda`` held (the stiffness and damping of :func:`ddgsa.mbs.modal.linearise_system`), and
     of the velocity-level constraint values ``V`` over ``q`` (``d(C_q q_dot)/dq``), by central differences
     (:func:`~ddgsa.mbs.derivatives.central_difference`) of residuals evaluated in one compiled call per
-    argument (:func:`_residuals`). ``static``: ``C`` is left at zero (half the evaluations)."""
+    argument (:func:`_residuals`). ``static``: ``C`` is left at zero (half the evaluations). ``columns``: only
+    those coordinates are stepped, the other columns are zero (:func:`~ddgsa.mbs.derivatives.central_difference`)."""
     q, qd, qdd, lam = (np.asarray(x, dtype=float) for x in (q, qd, qdd, lam))
-    args = (qdd, lam, float(t), packed.arrays)
-    over_q = central_difference(lambda x: _residuals(x, np.tile(qd, (len(x), 1)), *args, True), q, scale, rel_step)
+    args = (lam, float(t), packed.arrays)
+
+    def tiled(x: Array, v: Array) -> Array:
+        return np.tile(v, (len(x), 1))
+
+    over_q = central_difference(lambda x: _residuals(x, tiled(x, qd), tiled(x, qdd), *args, True), q, scale, rel_step,
+                                columns)
     n = q.size
     if static:
         return over_q[:n], np.zeros((n, n)), over_q[n:]
-    over_qd = central_difference(lambda x: _residuals(np.tile(q, (len(x), 1)), x, *args, False), qd, scale, rel_step)
+    over_qd = central_difference(lambda x: _residuals(tiled(x, q), x, tiled(x, qdd), *args, False), qd, scale,
+                                 rel_step, columns)
     return over_q[:n], over_qd, over_q[n:]
 
 
@@ -529,15 +530,21 @@ def _positions_along(q, qd, times, P, m):  # pragma: no cover (compiled)
     return out
 
 
-def _one_marker(arrays: tuple, m: int) -> tuple:
-    """Packed ``arrays`` with marker ``m`` as their only marker (row 0): a record's kinematics of one
-    marker without computing every other marker at every sample."""
+def _some_markers(arrays: tuple, rows: list[int]) -> tuple:
+    """Packed ``arrays`` with the markers ``rows`` as their only markers (row ``k``: marker ``rows[k]``): a
+    record's kinematics of a few markers without computing every other marker at every sample."""
     mk_body, mk_u0, mk_so, mk_s, mk_sr = arrays[15:20]
-    b = mk_body[m]
-    size = 3 * max(arrays[1][b], 0) if b >= 0 else 0
-    so = mk_so[m]
-    shapes = (mk_s[so:so + size].copy(), mk_sr[so:so + size].copy()) if size else (np.zeros(1), np.zeros(1))
-    return (*arrays[:15], mk_body[m:m + 1].copy(), mk_u0[m:m + 1].copy(), np.zeros(1, np.int64), *shapes,
+    offsets, s_parts, sr_parts, size_sum = [], [], [], 0
+    for m in rows:
+        b = mk_body[m]
+        size = 3 * max(arrays[1][b], 0) if b >= 0 else 0
+        offsets.append(size_sum)
+        s_parts.append(mk_s[mk_so[m]:mk_so[m] + size])
+        sr_parts.append(mk_sr[mk_so[m]:mk_so[m] + size])
+        size_sum += size
+    shapes = (np.concatenate(s_parts), np.concatenate(sr_parts)) if size_sum else (np.zeros(1), np.zeros(1))
+    idx = np.asarray(rows, dtype=np.int64)
+    return (*arrays[:15], mk_body[idx].copy(), mk_u0[idx].copy(), np.asarray(offsets, dtype=np.int64), *shapes,
             *arrays[20:])
 
 
@@ -558,21 +565,35 @@ class HybridTerms:
         self.packed = pack(system, [el for el, k in zip(system.elements, packs) if k])
         self.python = [(i, el) for i, (el, k) in enumerate(zip(system.elements, packs)) if not k]
         self.compiled_rows = [i for i, k in enumerate(packs) if k]
-        index = {id(mk): i for i, mk in enumerate(system.markers)}
-        self.marker_rows = [[index[id(mk)] for mk in el.markers] for _, el in self.python]
+        self._row = {id(mk): i for i, mk in enumerate(system.markers)}
+        """The row of each of the system's markers (by identity) in the kernel's marker tables."""
+        self.marker_rows = [[self._row[id(mk)] for mk in el.markers] for _, el in self.python]
 
     def positions(self, marker: object, q: Array, qd: Array, times: Array) -> Array:
         """Global position (n_t, 3) [m] of one of the system's markers along a record ``q, qd`` (n_t, n)."""
-        m = next(i for i, mk in enumerate(self.system.markers) if mk is marker)
+        m = self._row[id(marker)]
         return _positions_along(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float),
-                                np.asarray(times, dtype=float), _one_marker(self.packed.arrays, m), 0)
+                                np.asarray(times, dtype=float), _some_markers(self.packed.arrays, [m]), 0)
+
+    def has(self, marker: object) -> bool:
+        """Whether ``marker`` is one of the system's markers (so in the kernel's tables)."""
+        return id(marker) in self._row
+
+    def states_along(self, markers: list, q: Array, qd: Array, times: Array) -> list[list[MarkerState]]:
+        """States of some of the system's ``markers`` at each row of a record ``q, qd`` (n_t, n) and its
+        ``times`` [s]: the kernel's marker tables of those markers alone (:func:`_some_markers`)."""
+        sub = _some_markers(self.packed.arrays, [self._row[id(m)] for m in markers])
+        out = []
+        for qi, qdi, t in zip(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), np.asarray(times, dtype=float)):
+            mr, ma, mvel, mw, mj, _ = _markers(qi, qdi, float(t), sub)
+            out.append([MarkerState(mr[k], ma[k], mvel[k], mw[k], mj[k]) for k in range(len(markers))])
+        return out
 
     def states(self, markers: list, q: Array, qd: Array, t: float) -> list[MarkerState]:
         """States of some of the system's ``markers`` at ``(q, qd, t)``."""
         mr, ma, mvel, mw, mj, _ = _markers(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t),
                                            self.packed.arrays)
-        rows = [next(i for i, mk in enumerate(self.system.markers) if mk is m) for m in markers]
-        return [MarkerState(mr[r], ma[r], mvel[r], mw[r], mj[r]) for r in rows]
+        return [MarkerState(mr[r], ma[r], mvel[r], mw[r], mj[r]) for r in (self._row[id(m)] for m in markers)]
 
     def __call__(self, q: Array, qd: Array, t: float):
         """:class:`~ddgsa.mbs.assembly.Terms` at ``(q, qd, t)``."""

@@ -32,24 +32,32 @@ def central_steps(x0: NDArray[np.float64], scale: float, rel_step: float) -> NDA
     return rel_step * np.maximum(scale, np.abs(np.asarray(x0, dtype=float)))
 
 
-def stepped(x0: NDArray[np.float64], h: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The ``2 n`` stepped arguments (2n, n) of :func:`central_difference`: row ``i < n`` is
-    ``x0 + h_i e_i``, row ``n + i`` is ``x0 - h_i e_i`` (so row ``j`` steps entry ``j % n``)."""
+def stepped(x0: NDArray[np.float64], h: NDArray[np.float64],
+            columns: NDArray[np.int64] | None = None) -> NDArray[np.float64]:
+    """The ``2 p`` stepped arguments (2p, n) of :func:`central_difference` for the ``p`` entries ``columns``
+    (default all ``n``): row ``i < p`` is ``x0 + h_c e_c`` with ``c = columns[i]``, row ``p + i`` is
+    ``x0 - h_c e_c`` (so row ``j`` steps entry ``columns[j % p]``)."""
     x0 = np.asarray(x0, dtype=float)
-    return np.vstack([x0 + np.diag(h), x0 - np.diag(h)])
+    cols = np.arange(x0.size) if columns is None else np.asarray(columns, dtype=np.int64)
+    d = np.zeros((cols.size, x0.size))
+    d[np.arange(cols.size), cols] = np.asarray(h, dtype=float)[cols]
+    return np.vstack([x0 + d, x0 - d])
 
 
 def central_difference(batch: Batch, x0: NDArray[np.float64], scale: float,
-                       rel_step: float = 1e-6) -> NDArray[np.float64]:
+                       rel_step: float = 1e-6, columns: NDArray[np.int64] | None = None) -> NDArray[np.float64]:
     """Central-difference Jacobian (m, n) of a function given as a batch.
 
     Parameters
     ----------
     batch : callable
-        ``batch(X) -> F``: ``X`` (2n, n) the :func:`stepped` arguments, ``F`` (2n, m) the function at
+        ``batch(X) -> F``: ``X`` (2p, n) the :func:`stepped` arguments, ``F`` (2p, m) the function at
         each row.
     x0 : (n,) the point
     scale, rel_step : the step of entry ``i`` is ``rel_step * max(scale, |x0_i|)`` (:func:`central_steps`)
+    columns : (p,) int, optional
+        The entries to difference (default all): the Jacobian's other columns are returned as zero, and
+        ``batch`` evaluates ``2 p`` arguments instead of ``2 n``.
 
     Returns
     -------
@@ -58,8 +66,12 @@ def central_difference(batch: Batch, x0: NDArray[np.float64], scale: float,
     """
     h = central_steps(x0, scale, rel_step)
     n = h.size
-    f = np.asarray(batch(stepped(x0, h)), dtype=float).reshape(2 * n, -1)
-    return ((f[:n] - f[n:]) / (2.0 * h)[:, None]).T
+    cols = np.arange(n) if columns is None else np.asarray(columns, dtype=np.int64)
+    p = cols.size
+    f = np.asarray(batch(stepped(x0, h, cols)), dtype=float).reshape(2 * p, -1)
+    jac = np.zeros((f.shape[1], n))
+    jac[:, cols] = ((f[:p] - f[p:]) / (2.0 * h[cols])[:, None]).T
+    return jac
 
 
 def central_jacobian(fun: Callable[..., NDArray[np.float64]], args: list[NDArray[np.float64]], which: int,

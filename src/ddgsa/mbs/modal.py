@@ -202,7 +202,8 @@ class ConstrainedLinearisation:
 
 def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0: NDArray[np.float64] | None = None,
                      t0: float = 0.0, rel_step: float = 1e-6, analytic: bool = False,
-                     compiled: bool | Packed = False, static: bool = False) -> ConstrainedLinearisation:
+                     compiled: bool | Packed = False, static: bool = False,
+                     tangent_columns: Sequence[int] = ()) -> ConstrainedLinearisation:
     """Linearise a constrained system about ``(q0, qd0, t0)`` and reduce it on the null space of ``C_q``.
 
     The full matrices are central differences of the residual ``M(q) q_ddot - Q(q, q_dot, t0) +
@@ -218,7 +219,10 @@ def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0:
     :class:`~ddgsa.mbs.compiled.Packed` of ``system`` is taken as packed already (a caller that
     linearises one system often). ``static=True`` (unconstrained systems) leaves ``C`` at zero and
     takes ``K`` alone (half the residual calls: a caller that needs the static part ``K z = r0``
-    only, such as a gravity sag).
+    only, such as a gravity sag). ``tangent_columns`` (compiled, unconstrained systems) take those columns
+    of ``K`` and ``C`` from the parts' own tangents as ``analytic`` does and difference the others only
+    (the caller's claim that no inertia, gravity or geometric term depends on those coordinates; as
+    :func:`ddgsa.mbs.nonrotating.linearise`'s).
     """
     if q0 is None or qd0 is None:
         q0, qd0 = system.consistent_state(q0, qd0, t0)
@@ -246,7 +250,18 @@ def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0:
         tm = system.terms(q0, qd0, t0)
         k_full, c_full = tm.k, tm.c
     elif compiled is not False:
-        k_full, c_full, curvature = residual_jacobians(packed, q0, qd0, qdd0, lam0, t0, 1e-3, rel_step, static)
+        tc = np.asarray(tangent_columns, dtype=np.int64)
+        if tc.size and system.n_constraints:
+            raise ModelError("linearise_system: tangent_columns take unconstrained systems only")
+        k_full, c_full, curvature = residual_jacobians(packed, q0, qd0, qdd0, lam0, t0, 1e-3, rel_step, static,
+                                                       np.setdiff1d(np.arange(system.n), tc))
+        if tc.size:
+            kt, ct = evaluate(packed, q0, qd0, t0)[2:4]
+            k_full[:, tc] = kt[:, tc]
+            if not static:
+                c_full[:, tc] = ct[:, tc]
+    elif len(tangent_columns):
+        raise ModelError("linearise_system: tangent_columns take the compiled path (compiled=True)")
     else:
         sizes = (6 * len(system.elements), system.n_holonomic, system.n_constraints)
         _, c_full, k_full = kind_jacobians(python_kind(system), None, sizes, q0, qd0, t0, qdd0, lam0,

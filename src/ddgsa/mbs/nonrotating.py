@@ -34,7 +34,7 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody, MarkerState, mode_number
 from ddgsa.mbs.campbell import orbit_average, orbit_pairs
-from ddgsa.mbs.compiled import HybridTerms, _markers, mass_and_force
+from ddgsa.mbs.compiled import HybridTerms, _markers, _residuals
 from ddgsa.mbs.elements import Element
 from ddgsa.mbs.ffr import g_bar
 from ddgsa.mbs.linear import lti_response
@@ -104,11 +104,10 @@ class SpinLinearisation:
         return tmat
 
 
-def generalised_force(system: System, q: Array, qd: Array, t: float, elements: Sequence[Element]) -> Array:
-    """Generalised force (n,) of the listed elements alone at ``(q, qd, t)``."""
-    f = np.zeros(system.n)
-    markers = [mk for el in elements for mk in el.markers]
-    states = system.states_of(markers, q, qd, t)          # one evaluation of the markers for all elements
+def generalised_force(n: int, t: float, elements: Sequence[Element], states: Sequence[MarkerState]) -> Array:
+    """Generalised force (n,) of the listed elements alone at time ``t`` [s] from the ``states`` of their
+    markers, in the elements' order (one evaluation of the markers for all elements)."""
+    f = np.zeros(n)
     start = 0
     for el in elements:
         own = states[start:start + len(el.markers)]
@@ -164,7 +163,7 @@ VELOCITY_SCALE = 1.0
 
 def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: float = 1e-6,
               spin_stiffening: bool = False, static: bool = False, compiled: bool = True,
-              residual_only: bool = False) -> SpinLinearisation:
+              residual_only: bool = False, tangent_columns: Sequence[int] = ()) -> SpinLinearisation:
     """Linearise ``system`` about ``(q0, qd0)`` (steady spin) in non-rotating bending coordinates.
 
     ``spin_stiffening`` adds :func:`spin_stiffness`, the centrifugal stiffness of the rigid inertias'
@@ -182,6 +181,14 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     same differences to round-off, 3-4x faster); any other system, or ``compiled=False``, takes them
     through ``system.terms``. ``residual_only=True`` leaves ``K`` and ``C`` at zero too: the map and
     ``r0`` only, one evaluation of the terms (a chord iteration with a tangent it already has).
+
+    ``tangent_columns`` (system indices) take their columns of ``K`` and ``C`` from the terms' own
+    tangents instead (``T^T K_t T``, ``T^T C_t T``: the elements' stiffness and damping mapped through
+    their markers' Jacobians and the flexible bodies' structural matrices), without a residual call:
+    exact only for coordinates on which neither a body's inertia or gravity terms nor the elements'
+    Jacobians depend (a body's translations: the caller's claim, to be checked against the central
+    differences, as ``tests/models/test_hss_rig_block.py`` does for the test rig, whose steady block path
+    takes 21 of its 42 columns this way: :func:`ddgsa.models.hss_rig.rig.tangent_columns`).
     """
     if system.n_constraints:
         raise ModelError("the non-rotating linearisation takes unconstrained systems only "
@@ -199,8 +206,12 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     if residual_only:
         k, c = np.zeros((n, n)), np.zeros((n, n))
     elif compiled and isinstance(system.fast_terms, HybridTerms):
-        k = _hybrid_jacobian(system.fast_terms, base, 0, POSITION_SCALE, rel_step)
-        c = np.zeros((n, n)) if static else _hybrid_jacobian(system.fast_terms, base, 1, VELOCITY_SCALE, rel_step)
+        cols = np.setdiff1d(np.arange(n), np.asarray(tangent_columns, dtype=np.int64))
+        k = _hybrid_jacobian(system.fast_terms, base, 0, POSITION_SCALE, rel_step, cols)
+        c = np.zeros((n, n)) if static else _hybrid_jacobian(system.fast_terms, base, 1, VELOCITY_SCALE, rel_step,
+                                                             cols)
+    elif len(tangent_columns):
+        raise ModelError("tangent_columns take the compiled terms (HybridTerms); this system has none")
     else:
         def res(z: Array, zd: Array, zdd: Array) -> Array:
             return _residual(system, base, z, zd, zdd)
@@ -212,6 +223,11 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     tm = system.terms(q, qd, t0)
     proj = base.projection(t0, zero)
     m = proj.T @ tm.m @ proj
+    if len(tangent_columns) and not residual_only:
+        tc = np.asarray(tangent_columns, dtype=np.int64)
+        k[:, tc] = (proj.T @ tm.k @ proj)[:, tc]
+        if not static:
+            c[:, tc] = (proj.T @ tm.c @ proj)[:, tc]
     if spin_stiffening:
         k = k + spin_stiffness(system, base.q0, base.qd0)
     return SpinLinearisation(m, c, k, proj.T @ (tm.q - tm.m @ qdd), base.q0, base.qd0, t0, pairs, xi0)
@@ -254,13 +270,14 @@ def _project(lin: SpinLinearisation, cos: Array, sin: Array, spin_col: Array, v:
 
 
 def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, scale: float,
-                     rel_step: float) -> Array:
+                     rel_step: float, columns: NDArray[np.int64]) -> Array:
     """Central differences (:func:`~ddgsa.mbs.derivatives.central_difference`, step ``rel_step * scale``) of
-    the projected residual over ``z`` (``which`` 0) or ``z'`` (1) at zero, as of :func:`_residual`:
-    the steps' states at once (:func:`spin_map`), the packed part by the compiled kernel, each Python
-    element (:attr:`HybridTerms.python`) once at the operating state and again for the steps of its
-    markers' bodies' coordinates only (a step of another body's coordinate, turned within that body,
-    leaves its markers and so its force as they were)."""
+    the projected residual over the entries ``columns`` of ``z`` (``which`` 0) or ``z'`` (1) at zero, as of
+    :func:`_residual` (the other columns zero): the steps' states at once (:func:`spin_map`), the packed part
+    by the compiled kernel in one call (:func:`~ddgsa.mbs.compiled._residuals`), each Python element
+    (:attr:`HybridTerms.python`) once at the operating state and again for the steps of its markers' bodies'
+    coordinates only (a step of another body's coordinate, turned within that body, leaves its markers and
+    so its force as they were)."""
     n = lin.q0.size
     rows = sorted({r for rs in terms.marker_rows for r in rs})
     arrays = terms.packed.arrays
@@ -271,27 +288,24 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
     span = {r: range(lohi[r, 0], lohi[r, 1]) for r in rows}         # the coordinates that move marker r
 
     def batch(steps: Array) -> Array:
-        """The projected residual at each stepped row (row ``j`` steps coordinate ``j % n``)."""
+        """The projected residual at each stepped row (row ``j`` steps coordinate ``columns[j % p]``)."""
         nil = np.zeros_like(steps)
         q, qd, qdd, cos, sin, spin_col = spin_map(lin, *((steps, nil) if which == 0 else (nil, steps)))
-        res = np.zeros((2 * n, n))
-        moved: dict[int, list] = {}
-        for j in range(2 * n):
-            m_mat, f = mass_and_force(q[j], qd[j], t0, arrays)
-            res[j] = m_mat @ qdd[j] - f
-            if any(j % n in span[r] for r in rows):
-                moved[j] = _markers(q[j], qd[j], t0, arrays)[:5]
+        stepped_coord = np.tile(columns, 2)
+        res = _residuals(q, qd, qdd, np.zeros(0), t0, arrays, False)        # the packed part, one compiled call
+        moved = {j: _markers(q[j], qd[j], t0, arrays)[:5] for j, col in enumerate(stepped_coord)
+                 if any(col in span[r] for r in rows)}
         for (_, el), el_rows in zip(terms.python, terms.marker_rows):
             f0 = _element_force(el, t0, [MarkerState(*(arr[r] for arr in base)) for r in el_rows])
             cols = set().union(*(span[r] for r in el_rows))
-            for j in range(2 * n):
-                if j % n in cols:
+            for j, col in enumerate(stepped_coord):
+                if col in cols:
                     res[j] -= _element_force(el, t0, [MarkerState(*(arr[r] for arr in moved[j])) for r in el_rows])
                 else:
                     res[j] -= f0
         return _project(lin, cos, sin, spin_col, res)
 
-    return central_difference(batch, np.zeros(n), scale, rel_step)
+    return central_difference(batch, np.zeros(n), scale, rel_step, columns)
 
 
 def _element_force(el: Element, t: float, states: list[MarkerState]) -> Array:
@@ -306,7 +320,12 @@ def projected_inputs(system: System, lin: SpinLinearisation, times: Array, eleme
     times = np.concatenate([[lin.t0], np.asarray(times, dtype=float)])
     zero = np.zeros((times.size, lin.q0.size))
     q, qd = full_states(lin, times, zero, zero)
-    f = np.array([generalised_force(system, q[i], qd[i], t, elements) for i, t in enumerate(times)])
+    markers = [mk for el in elements for mk in el.markers]
+    if isinstance(system.fast_terms, HybridTerms) and all(system.fast_terms.has(mk) for mk in markers):
+        states = system.fast_terms.states_along(markers, q, qd, times)     # those markers alone, compiled
+    else:
+        states = [system.states_of(markers, q[i], qd[i], t) for i, t in enumerate(times)]
+    f = np.array([generalised_force(system.n, t, elements, st) for t, st in zip(times, states)])
     out = f.copy()
     for k, (iy, iz, isp) in enumerate(lin.pairs):
         phi = q[:, isp]

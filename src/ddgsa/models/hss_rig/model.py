@@ -85,7 +85,7 @@ from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligne
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_along, kloss_parts,
                                         steady_flux, steady_speed)
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
-from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build
+from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, tangent_columns
 from ddgsa.models.hss_rig.scenes import RigScene
 from ddgsa.signals import (angle_amplitudes, band_energies, envelope, harmonic_amplitudes, order_map, plot_order_map,
                            plot_spectrum, resample_to_angle)
@@ -352,13 +352,14 @@ class HssRig(Model):
         return self.time_step, every
 
     @staticmethod
-    def initial_state(rig: Rig, p: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
+    def initial_state(rig: Rig, p: Mapping[str, float], tangents: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """The rig's initial state with the static gravity sag (from the rig at rest, motor and load off).
 
         Spin rates and flux states are the rig's own (:meth:`build`); the sag is solved on the
-        linearised rig standing still, so a run starts without a gravity transient.
+        linearised rig standing still, so a run starts without a gravity transient (``tangents``: on
+        :func:`still_rig`'s stiffness with the kernel's tangents where they are exact, as the block path).
         """
-        sag = _sag(still_key(p), rig.basis)
+        sag = _sag(still_key(p), rig.basis, tangents)
         q0 = rig.system.q0.copy()
         q0[: sag.size] += sag
         return q0, rig.system.qd0.copy()
@@ -597,18 +598,22 @@ _NO_TURNING_LOADS = {"eccentric_mass": 0.0, "supply_unbalance": 0.0}
 """Parameters that put no force on the rig at rest: the sag is the same without them (cached once)."""
 
 
-def _sag(items: tuple[tuple[str, float], ...], basis: ShaftBasis) -> np.ndarray:
+def _sag(items: tuple[tuple[str, float], ...], basis: ShaftBasis, tangents: bool = False) -> np.ndarray:
     """Static gravity sag (n_still,) of the rig at rest, motor and load off, for parameters ``items``
     (the sorted parameter items): :func:`still_rig`'s first part."""
-    return still_rig(items, basis)[0]
+    return still_rig(items, basis, tangents)[0]
 
 
 @functools.lru_cache(maxsize=8)
-def still_rig(items: tuple[tuple[str, float], ...], basis: ShaftBasis) -> tuple[np.ndarray, np.ndarray]:
+def still_rig(items: tuple[tuple[str, float], ...], basis: ShaftBasis,
+              tangents: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Static gravity sag (n_still,) of the rig at rest, motor and load off, for parameters ``items``
     (the sorted parameter items), and the stiffness (n, n) it was solved with (kept for the few calls of
     one run: an assembly, its steady stretch, its start; the block path's chord iteration takes the
-    stiffness as its tangent)."""
+    stiffness as its tangent). ``tangents``: the stiffness's :func:`~ddgsa.models.hss_rig.rig.tangent_columns`
+    are the kernel's tangents, the others central differences (the block path's: half the residual calls;
+    the sag then differs from the all-differenced one by the differences' round-off), on the compiled
+    path (a rig whose Python elements push at rest is differenced whole)."""
     still = build(dict(items), lambda marker: ([], []), spin=0.0, basis=basis)
     # the rig's parts are all compiled (the unbalance and the load law since issue 24); a Python element
     # added to it would be checked here: one that puts no force on the rig at rest for any position
@@ -616,7 +621,8 @@ def still_rig(items: tuple[tuple[str, float], ...], basis: ShaftBasis) -> tuple[
     system, hybrid = still.system, still.system.fast_terms
     idle = all(not np.any(el.wrench(0.0, system.states_of(el.markers, system.q0, system.qd0, 0.0))[0])
                for _, el in hybrid.python)
-    lin = linearise_system(system, compiled=hybrid.packed if idle else False, static=True)
+    lin = linearise_system(system, compiled=hybrid.packed if idle else False, static=True,
+                           tangent_columns=tangent_columns(system) if tangents and idle else ())
     sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
     sag.flags.writeable = False
     k = lin.basis @ lin.k @ lin.basis.T

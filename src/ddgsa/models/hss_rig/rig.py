@@ -230,3 +230,24 @@ def build(p: Mapping[str, float], motor_parts: MotorParts, spin: float = 0.0,
     system = System(bodies, elements, gravity=GRAVITY if gravity else (0.0, 0.0, 0.0))
     compile_terms(system)           # every part packs (tests/models/test_models_pack.py): terms in compiled code
     return Rig(system, mk, {"bearing_1": x1, "disk": xd, "bearing_2": x2}, basis)
+
+
+_TANGENT_BODIES = ("housing_1", "housing_2")
+"""Bodies whose rotations take the kernel's tangents in the linearisation (:func:`tangent_columns`)."""
+
+
+def tangent_columns(system: System) -> list[int]:
+    """The rig's coordinates whose columns of the linearisation are the kernel's own tangents
+    (:func:`ddgsa.mbs.nonrotating.linearise`'s ``tangent_columns``): every body's translation (no inertia or
+    gravity term depends on where a body is, nor any marker's Jacobian) and the housings' rotations (they
+    do not turn, and their markers and centres of mass sit at their reference points). The rest, 21 of 42
+    (the turning bodies' rotations, the shaft's elastic coordinates: gyroscopic, centrifugal and the
+    coupling's geometric terms), are central differences. The rig standing still takes the same columns
+    (:func:`~ddgsa.mbs.modal.linearise_system`; a misaligned coupling's wrench at rest puts geometric terms
+    into the others). ``tests/models/test_hss_rig_block.py`` checks them against central differences.
+
+    The steady block path's linearisations (:mod:`ddgsa.models.hss_rig.steady_block`) take them."""
+    names = [f"{b.name}.{c}" for b in system.bodies if isinstance(b, (RigidBody, FlexibleBody))
+             for c in b.coord_names if c in ("x", "y", "z")]
+    names += [f"{b}.{r}" for b in _TANGENT_BODIES for r in ("rx", "ry", "rz")]
+    return [system.index(name) for name in names]
