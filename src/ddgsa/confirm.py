@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
-from ddgsa.gsa.result import CONSTANT_CV, below_resolution
+from ddgsa.gsa.result import CONFIRMED, CONSTANT_CV, VERDICTS, below_resolution
 from ddgsa.gsa.salib import saltelli_n_to_confirm
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -37,10 +37,6 @@ if TYPE_CHECKING:  # pragma: no cover
 CROSSCHECKS = ("pooled_pce", "given_data_s1")
 """Methods a study runs without being asked (cross-checks at zero extra runs): they may confirm a pair,
 but an unconfirmed pair is shown with a requested method's estimate."""
-VERDICTS = ("trusted", "rank-confirmed", "confirmed tie", "nothing to rank", "unconfirmed")
-"""The verdicts of a (scene, output) pair, best first (see the module)."""
-CONFIRMED = VERDICTS[:4]
-"""The verdicts that need no more runs (exit 0)."""
 CONFIRMATION_COLUMNS = ["scene", "output", "verdict", "method", "runs", "std", "resolution", "ranking",
                         "next_step", "next_runs", "next_seconds"]
 

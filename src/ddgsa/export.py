@@ -34,8 +34,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ddgsa.confirm import VERDICTS
-from ddgsa.gsa.result import ROW_COLUMNS
+from ddgsa.gsa.result import ROW_COLUMNS, VERDICTS
 
 from ddgsa.errors import OutputFolderError
 

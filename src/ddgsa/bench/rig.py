@@ -21,7 +21,7 @@ import os
 import platform
 from typing import Any
 
-from ddgsa.bench.speed import FULL, timed
+from ddgsa.bench.timing import FULL, timed
 from ddgsa.loads import generate
 
 OUTPUTS = ("peak_disk_y", "order1x_disk_y", "peak_housing_1_y", "rms_housing_1_y", "order1x_housing_1_y",
@@ -36,7 +36,7 @@ LINEAR_STEP = 5e-4
 
 def direct_drive_reference(ref_seconds: float = 20.0) -> tuple[float, float]:
     """Wall and CPU seconds of the direct drive's reference 600 s simulation (``solve_ivp`` Radau on
-    the flexible equations, :data:`ddgsa.bench.speed.FULL`), timed on ``ref_seconds`` and scaled, as
+    the flexible equations, :data:`ddgsa.bench.timing.FULL`), timed on ``ref_seconds`` and scaled, as
     :mod:`ddgsa.bench.speed` does: the yardstick the speed issues state study costs in."""
     import ddgsa.models as models
 
@@ -110,7 +110,7 @@ def block_speed(points: int = BLOCK_POINTS, reference_points: int = 4, quick: bo
 
     Points are uniform draws of ``paper_a_subsystem``'s space, new ones for every timed repeat (so no
     per-parameter cache of the rig's sag or shaft modes is reused); the block path is repeated for at
-    least :data:`~ddgsa.bench.speed.MIN_TIMED_S` and its best run kept, the per-point path is timed once
+    least :data:`~ddgsa.bench.timing.MIN_TIMED_S` and its best run kept, the per-point path is timed once
     on ``reference_points`` points. ``quick``: 0.6 s records. Returns CPU and wall seconds a run, the
     ratio (CPU) and the largest relative difference of the two paths' outputs on the reference points.
     """
@@ -118,7 +118,7 @@ def block_speed(points: int = BLOCK_POINTS, reference_points: int = 4, quick: bo
     import pandas as pd
 
     import ddgsa.models as models
-    from ddgsa.bench.speed import RIG_STUDY
+    from ddgsa.bench.timing import RIG_STUDY
     from ddgsa.models.base import Model
     from ddgsa.study import load_study
 

@@ -32,14 +32,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from ddgsa.bench.timing import FULL, MIN_TIMED_S, REPO, RIG_STUDY, timed  # noqa: F401  (the bench's yardsticks)
 from ddgsa.loads import generate
 from ddgsa.loads.scene import Scene
 
-FULL = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=600.0, seed=1)
-MIN_TIMED_S = 1.0
-REPO = Path(__file__).resolve().parents[3]
 PAPER_C = REPO / "studies" / "paper_c_structural.yaml"
-RIG_STUDY = REPO / "studies" / "paper_a_subsystem.yaml"
 GEARED_STUDY = REPO / "studies" / "indirect_drive_gsa.yaml"
 
 #: (key, what, goal, unit, higher_is_better). Speed-ups and the loads time are CPU times (a shared
@@ -62,19 +59,6 @@ TARGETS = (
 )
 FULL_ONLY = ("rig_study_ratio", "geared_study_ratio")
 """Targets only the full run measures (``quick`` leaves their studies out: rows "not measured")."""
-
-
-def timed(fn: Callable[[], Any], min_total: float = MIN_TIMED_S, max_repeat: int = 50) -> tuple[float, float, Any]:
-    """Best wall and CPU seconds of ``fn()`` over repeats until ``min_total`` seconds have run."""
-    best_wall, best_cpu, out, total, n = float("inf"), float("inf"), None, 0.0, 0
-    while (total < min_total or n < 2) and n < max_repeat:
-        w0, c0 = time.perf_counter(), time.process_time()
-        out = fn()
-        wall, cpu = time.perf_counter() - w0, time.process_time() - c0
-        best_wall, best_cpu, total, n = min(best_wall, wall), min(best_cpu, cpu), total + wall, n + 1
-        if wall >= min_total:           # one run of a slow path is enough
-            break
-    return best_wall, best_cpu, out
 
 
 class PeakMemory:

@@ -19,6 +19,10 @@ GROUP_COLUMNS = ["output", "group", "members", "S_closed", "S_closed_conf", "ST"
 """Columns of ``SobolResult.groups`` (:mod:`ddgsa.gsa.groups`): the group indices with the same trust and
 rank claims as the parameters' rows."""
 Severity = Literal["info", "warning", "untrusted"]
+VERDICTS = ("trusted", "rank-confirmed", "confirmed tie", "nothing to rank", "unconfirmed")
+"""The verdicts of a (scene, output) pair, best first (:func:`ddgsa.confirm.confirmation_table`)."""
+CONFIRMED = VERDICTS[:4]
+"""The verdicts that need no more runs (exit 0)."""
 ROW_COLUMNS = frozenset({"study", "scene", "method", "output", "parameter", "S1", "S1_conf", "ST", "ST_conf",
                          "trusted", "rank_confirmed", "rank", "verdict", "n_evals", "output_unit", "source"})
 """Columns of a study's ``indices.csv`` that describe the row, not its scene: every other column is a

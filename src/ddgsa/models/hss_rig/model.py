@@ -438,6 +438,14 @@ class HssRig(Model):
         self.sampling_checks(sc)                             # refuses an aliased record before running
         return super().evaluate(points, sc, signals)
 
+    @property
+    def block_parts(self) -> dict[str, Any]:
+        """What the block path (:mod:`~ddgsa.models.hss_rig.steady_block`) takes from this module: the pole
+        pairs, the rig at rest (``still_key``, ``still_rig``), the sensors and their objectives -- handed
+        over, so that module needs no import of this one (which imports it)."""
+        return {"pole_pairs": POLE_PAIRS, "still_key": still_key, "still_rig": still_rig, "sensors": SENSORS,
+                "record_objectives": record_objectives}
+
     def _evaluate_block(self, params: pd.DataFrame, scene: Any, signals: tuple[str, ...] = ()) -> pd.DataFrame:
         """The block's outputs: the ``linear`` fidelity's steady points whose inputs repeat once per
         revolution at once (:mod:`ddgsa.models.hss_rig.steady_block`), the others one by one

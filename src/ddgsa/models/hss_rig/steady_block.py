@@ -46,7 +46,7 @@ from ddgsa.models.hss_rig.rig import Rig, build, tangent_columns
 from ddgsa.models.hss_rig.scenes import RigScene
 
 if TYPE_CHECKING:
-    from ddgsa.models.hss_rig.model import HssRig
+    from ddgsa.models.base import Model as HssRig      # the rig model; its module imports this one
 
 Array = NDArray[np.float64]
 
@@ -89,7 +89,7 @@ class _Point:
 
 def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Point:
     """The kernel's part of one point (see the module)."""
-    from ddgsa.models.hss_rig.model import POLE_PAIRS, still_key, still_rig
+    POLE_PAIRS, still_key, still_rig = (model.block_parts[k] for k in ("pole_pairs", "still_key", "still_rig"))
 
     drive = drive_for(raw, scene, POLE_PAIRS)
     spin = steady_speed(drive, raw["load_torque"], raw["load_speed_exponent"], RATED_SPEED)
@@ -149,7 +149,7 @@ def steady_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.D
 def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
                  spin: float) -> tuple[dict[int, dict[str, float]], dict[int, str]]:
     """Outputs (by position in ``pts``) and failures of points sharing their ``spin`` [rad/s]."""
-    from ddgsa.models.hss_rig.model import SENSORS, record_objectives
+    SENSORS, record_objectives = (model.block_parts[k] for k in ("sensors", "record_objectives"))
 
     m, c, k = (np.stack([getattr(pt.lin, a) for pt in pts]) for a in ("m", "c", "k"))
     f_hat = np.stack([pt.f_hat for pt in pts])
