@@ -97,6 +97,9 @@ def _parser() -> argparse.ArgumentParser:
     ben.add_argument("--held-out", action="store_true",
                      help="trust: only the held-out suite of twelve drawn block-sum functions (issue 51's targets: "
                           "false trust of trusted rows, auto at 1 000 runs, M-DRM's share; ddgsa.bench.heldout)")
+    ben.add_argument("--ranking", action="store_true",
+                     help="trust: only the ranking rule's functions (exact and near ties, 36 inert inputs of 40): false "
+                          "rank and tie confirmations of every method (issue 51)")
     ben.add_argument("--quick", action="store_true",
                      help="small problems: checks the bench itself (accuracy: Saltelli/RBD-FAST up to 2^10, "
                           "2 seeds, no drive train; trust: 7 functions x 3 seeds; speed: 60 s scene, shortened "
@@ -493,10 +496,11 @@ def _bench(args: argparse.Namespace) -> int:
     from ddgsa.bench.speed import format_speed, speed
 
     if args.what == "trust":
-        from ddgsa.bench.calibration import OUT, bench, held_out
+        from ddgsa.bench.calibration import OUT, bench, held_out, ranking
 
-        head = (held_out(args.out or OUT, seeds=3 if args.quick else 20) if args.held_out
-                else bench(args.out or OUT, quick=args.quick))
+        seeds = 3 if args.quick else 20
+        head = (held_out(args.out or OUT, seeds=seeds) if args.held_out
+                else ranking(args.out or OUT, seeds=seeds) if args.ranking else bench(args.out or OUT, quick=args.quick))
         print(json.dumps(head, indent=2))
         return EXIT_OK
     if args.what == "accuracy":
