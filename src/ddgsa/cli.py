@@ -446,6 +446,9 @@ def _os_failure(exc: OSError, store: Path) -> str:
 
 def _finish(result: "StudyResult", out: Path, args: argparse.Namespace, verb: str) -> int:
     """Write the report, print the run's line and its problems, choose the exit code."""
+    import pandas as pd
+
+    from ddgsa.confirm import verdict_line
     from ddgsa.report import evaluation_line, problems, write_report
 
     files = write_report(result, out)
@@ -455,6 +458,8 @@ def _finish(result: "StudyResult", out: Path, args: argparse.Namespace, verb: st
     if not args.quiet:
         print(f"{result.study.name}: {evaluation_line(result.provenance)}; {verb} {plural(len(files), 'file')} "
               f"to {out}")
+        if isinstance(result.confirmation, pd.DataFrame) and len(result.confirmation):
+            print(f"{result.study.name}: {verdict_line(result.confirmation)} (confirmation.csv)")
     if bad:
         allowed = getattr(args, "allow_untrusted", False)
         print(f"ddgsa: {'warning' if allowed else 'error'}: " + "; ".join(bad)

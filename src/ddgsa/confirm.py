@@ -142,6 +142,14 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
     return pd.DataFrame(rows, columns=CONFIRMATION_COLUMNS)
 
 
+def verdict_line(table: pd.DataFrame) -> str:
+    """The verdicts in one line: ``verdicts: 3 trusted, 1 nothing to rank; 4 of 4 (scene, output) pairs confirmed``."""
+    count = table["verdict"].value_counts()
+    done = int(table["verdict"].isin(CONFIRMED).sum())
+    return ("verdicts: " + ", ".join(f"{int(count[v])} {v}" for v in VERDICTS if count.get(v, 0))
+            + f"; {done} of {len(table)} (scene, output) pairs confirmed")
+
+
 def study_tolerance(result: "StudyResult") -> float:
     """The study's trust tolerance (the smallest of its methods')."""
     tols = [res.options.get("tolerance") for _, res in result.results]

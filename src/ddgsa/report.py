@@ -608,7 +608,12 @@ def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None, verd
         return (f"`{output}`: no method's indices are trusted or rank-confirmed here; do not rank its parameters "
                 "(see Problems for what would confirm them).")
     meth, gm = (trusted or ranked)[0]
-    if not trusted:
+    named = verdict.method if verdict is not None else None            # the verdict's method, as everywhere
+    for m, g_m in trusted + ranked:
+        if m == named:
+            meth, gm = m, g_m
+            break
+    if not gm["trusted"].all():
         meth += " (order confirmed by its error bounds; values not within the tolerance)"
     top = gm.sort_values("ST", ascending=False)
     first = top.iloc[0]
@@ -622,8 +627,8 @@ def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None, verd
     else:
         what = f"no parameter reaches ST 0.1 (largest: `{first['parameter']}`, {first['ST']:.2f})"
     inter = " ST - S1 shows interactions." if (top["ST"] - top["S1"]).max() > 0.1 else ""
-    order = (f" Confirmed ranking ({verdict.verdict}): {verdict.ranking}." if verdict is not None
-             and verdict.verdict in ("rank-confirmed", "confirmed tie") and verdict.ranking else "")
+    order = (f" Confirmed ranking ({verdict.verdict}): {verdict.ranking}." if verdict is not None and verdict.ranking
+             and (verdict.verdict in ("rank-confirmed", "confirmed tie") or "=" in verdict.ranking) else "")
     return f"`{output}`: {what}, by {meth}.{inter}{quiet}{order}"
 
 

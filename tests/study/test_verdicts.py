@@ -135,3 +135,33 @@ def test_a_time_budget_stops_cleanly_and_says_what_the_rest_would_cost(tmp_path:
     none = tmp_path / "none.yaml"
     none.write_text(STUDY.format(n=16, extra="confirm: {seed: 1}\n"))
     assert main(["validate", str(none)]) == 2
+
+
+def test_the_console_says_the_verdicts_on_success_too(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Newcomer trial: on exit 0 the console said no verdict; now one line, the counts of confirmation.csv."""
+    study = tmp_path / "ok.yaml"
+    study.write_text(STUDY.format(n=128, extra="").replace("[{method: saltelli, n: 128, seed: 0}]",
+                                                           "[{method: pce, order: 9, fit: sparse, n: 512}]"))
+    code = main(["run", str(study), "--out", str(tmp_path / "out")])
+    table = pd.read_csv(tmp_path / "out" / "confirmation.csv", keep_default_na=False)
+    done = int((table["verdict"] != "unconfirmed").sum())
+    line = next(ln for ln in capsys.readouterr().out.splitlines() if "pairs confirmed" in ln)
+    assert f"{done} of {len(table)} (scene, output) pairs confirmed" in line and code == (0 if done == len(table) else 3)
+    for verdict, n in table["verdict"].value_counts().items():
+        assert f"{n} {verdict}" in line
+
+
+def test_the_api_takes_a_dict_of_distributions_and_a_dict_scene() -> None:
+    """Newcomer trial: ddgsa.sobol(f, {dict}) and model.evaluate(x, {scene fields}) were tracebacks."""
+    import numpy as np
+
+    import ddgsa
+    from ddgsa.errors import ModelError
+
+    res = ddgsa.sobol(lambda x: x[:, 0] + 0.1 * x[:, 1], {"a": {"low": 0, "high": 1}, "b": {"low": 0, "high": 1}},
+                      method="saltelli", n=512, seed=0)
+    assert res.indices["ST"].to_numpy() == pytest.approx([1 / 1.01, 0.01 / 1.01], abs=0.03)   # linear: b_i^2 / sum
+    model = ddgsa.models.get("analytic", fidelity="exact")
+    assert model.evaluate(np.zeros((1, 3)), {"wind_speed": 11.0})["y_positive"].iloc[0] == pytest.approx(12.0)
+    with pytest.raises(ModelError, match="did you mean 'wind_speed'"):
+        model.evaluate(np.zeros((1, 3)), {"wind_sped": 11.0})

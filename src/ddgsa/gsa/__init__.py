@@ -7,7 +7,7 @@ from the values there), so the runner can pool and cache evaluations;
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Mapping, Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -28,7 +28,7 @@ VectorisedFunction = Callable[[NDArray[np.float64]], "NDArray[np.float64] | pd.D
 """A function of points (n_points, n_params) returning (n_points,), (n_points, n_outputs) or a DataFrame."""
 
 
-def sobol(f: VectorisedFunction, space: ParameterSpace, method: str = "mdrm", *,
+def sobol(f: VectorisedFunction, space: ParameterSpace | Mapping[str, Any], method: str = "mdrm", *,
           outputs: Sequence[str] | None = None, timeout: float | None = None, **options: Any) -> SobolResult:
     """Sobol indices of a vectorised function.
 
@@ -38,8 +38,9 @@ def sobol(f: VectorisedFunction, space: ParameterSpace, method: str = "mdrm", *,
         ``f(x)`` with ``x`` of shape ``(n_points, n_params)`` (columns in ``space.names``
         order) returning ``(n_points,)``, ``(n_points, n_outputs)`` or a DataFrame whose
         columns name the outputs. Non-finite values are treated as failed evaluations.
-    space : ParameterSpace
-        The uncertain inputs.
+    space : ParameterSpace or dict
+        The uncertain inputs: a space, or the dict of distributions :meth:`ParameterSpace.from_dict`
+        takes (``{"k": {"nominal": 1e10, "spread": 0.2}}``).
     method : str
         A registered method: ``mdrm``, ``saltelli``, ``fast``, ``rbd_fast``, ``pce``; or ``auto``
         (M-DRM, escalating to PCE and Saltelli within ``budget`` runs while diagnostics fire:
@@ -70,6 +71,11 @@ def sobol(f: VectorisedFunction, space: ParameterSpace, method: str = "mdrm", *,
     >>> bool(abs(res.indices["S1"].to_numpy() - g.S1).max() < 0.05)
     True
     """
+    if isinstance(space, Mapping):
+        space = ParameterSpace.from_dict(space)
+    elif not isinstance(space, ParameterSpace):
+        raise MethodError(f"space: expected a ddgsa.ParameterSpace or a dict of distributions "
+                          f"(ParameterSpace.from_dict), got {type(space).__name__}")
     if method == "auto" and space.dependent:
         raise MethodError("method 'auto' escalates through methods that assume independent inputs, and the "
                           "space is correlated; use method 'shapley'")

@@ -217,8 +217,8 @@ class WallBudget:
     def stopped(self, runs: int) -> str:
         """The log line of an escalation the time budget stops."""
         need = runs * self.per_task
-        return (f"stopped by the time budget ({self.limit:.0f} s): the next stage's {runs} runs would take "
-                f"~{need:.0f} s, {max(self.left(), 0.0):.0f} s were left")
+        return (f"stopped by the time budget ({self.limit:g} s): the next stage's {runs} runs would take "
+                f"~{need:.3g} s, {max(self.left(), 0.0):.3g} s were left")
 
     @contextmanager
     def timing(self, runs: int) -> Iterator[None]:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import math
 import warnings
 from abc import ABC, abstractmethod
@@ -13,7 +15,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from ddgsa.errors import ModelError, clip, unknown_name_message, with_hint
+from ddgsa.errors import ModelError, clip, did_you_mean, unknown_name_message, with_hint
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables
 from ddgsa.mbs.sampling import sampling_row
@@ -458,6 +460,27 @@ class Model(ABC):
         """Outputs and the asked-for signals (each on :meth:`signal_axis`) for one full parameter set."""
         raise ModelError(f"model {self.name!r} has no signal outputs")
 
+    def as_scene(self, scene: Any) -> Any:
+        """``scene`` as the model's :attr:`scene_type`: a scene of that type as it is, a mapping of its
+        fields made into one (a misspelt field named, with its nearest spelling).
+
+        Raises
+        ------
+        ModelError
+            For a mapping with an unknown field, or another type.
+        """
+        if isinstance(scene, self.scene_type) or not isinstance(scene, Mapping):
+            if not isinstance(scene, self.scene_type) and not hasattr(scene, "seed"):
+                raise ModelError(f"model {self.name!r}: scene must be a {self.scene_type.__name__} (or a dict of its "
+                                 f"fields), got {type(scene).__name__}")
+            return scene
+        known = [f.name for f in dataclasses.fields(self.scene_type)]
+        bad = [k for k in scene if k not in known]
+        if bad:
+            raise ModelError(f"model {self.name!r}: scene field {bad[0]!r} is not one of {self.scene_type.__name__}'s "
+                             f"({', '.join(known)})" + (f"; {hint}" if (hint := did_you_mean(bad[0], known)) else ""))
+        return self.scene_type(**scene)
+
     def evaluate(self, points: pd.DataFrame | Mapping[str, Any] | None, scene: Scene,
                  signals: tuple[str, ...] = ()) -> pd.DataFrame:
         """Objective functions at each parameter point for ``scene``.
@@ -468,7 +491,7 @@ class Model(ABC):
         maps each to an array (n_points, n_bins) on :meth:`signal_axis` (NaN rows where a point failed).
         The points are resolved (:meth:`resolve`) and handed to :meth:`_evaluate_block` as one block.
         """
-        out = self._evaluate_block(self.resolve(points), scene, tuple(signals))
+        out = self._evaluate_block(self.resolve(points), self.as_scene(scene), tuple(signals))
         for msg in self.implausible(out):
             warnings.warn(msg, ImplausibleOutputWarning, stacklevel=2)
         return out
