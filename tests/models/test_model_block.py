@@ -72,6 +72,6 @@ def test_a_batching_model_gets_the_resolved_block_in_one_call() -> None:
 def test_the_block_is_checked_before_it_is_evaluated() -> None:
     """``resolve`` still refuses a point outside a parameter's range, before the block runs."""
     model = _ToyBlock()
-    with pytest.raises(ValueError, match="parameter 'b' = 9.0 is outside its allowed range"):
+    with pytest.raises(ValueError, match="parameter 'b' = 9 leaves its allowed range"):
         model.evaluate(pd.DataFrame({"b": [9.0]}), None)
     assert model.blocks == []
