@@ -461,18 +461,15 @@ class Model(ABC):
         raise ModelError(f"model {self.name!r} has no signal outputs")
 
     def as_scene(self, scene: Any) -> Any:
-        """``scene`` as the model's :attr:`scene_type`: a scene of that type as it is, a mapping of its
-        fields made into one (a misspelt field named, with its nearest spelling).
+        """``scene`` as the model's :attr:`scene_type`: a mapping of its fields made into one (a misspelt
+        field named, with its nearest spelling); anything else as it is, for the model to check.
 
         Raises
         ------
         ModelError
-            For a mapping with an unknown field, or another type.
+            For a mapping with an unknown field.
         """
-        if isinstance(scene, self.scene_type) or not isinstance(scene, Mapping):
-            if not isinstance(scene, self.scene_type) and not hasattr(scene, "seed"):
-                raise ModelError(f"model {self.name!r}: scene must be a {self.scene_type.__name__} (or a dict of its "
-                                 f"fields), got {type(scene).__name__}")
+        if not isinstance(scene, Mapping):               # a scene (or what a model without scenes takes)
             return scene
         known = [f.name for f in dataclasses.fields(self.scene_type)]
         bad = [k for k in scene if k not in known]
