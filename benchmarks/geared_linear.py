@@ -16,7 +16,8 @@ import time
 from typing import Any
 
 import ddgsa.models as models
-from ddgsa.bench.speed import FULL, INDIRECT_OUTPUTS
+from ddgsa.bench.speed import INDIRECT_OUTPUTS
+from ddgsa.bench.timing import FULL
 from ddgsa.loads import generate
 
 

@@ -15,7 +15,7 @@ from pathlib import Path
 import pandas as pd
 
 import ddgsa.models as models
-from ddgsa.bench.speed import FULL
+from ddgsa.bench.timing import FULL
 
 RESULT = Path(__file__).parent / "results" / "regression_600s.json"
 POINTS = (

@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 
 import ddgsa.models as models
-from ddgsa.bench.speed import FULL
+from ddgsa.bench.timing import FULL
 from ddgsa.loads import generate
 from ddgsa.mbs import genalpha, nonrotating
 from ddgsa.mbs.compiled import compile_terms, evaluate, pack

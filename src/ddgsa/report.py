@@ -29,7 +29,7 @@ from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from ddgsa.report_beyond import SHAPLEY_ADVICE, beyond_markdown, group_table, plot_groups, sobol_rows
+from ddgsa.report_beyond import beyond_markdown, group_table, plot_groups, sobol_rows
 from ddgsa.confirm import CONFIRMED, CROSSCHECKS, VERDICTS, next_step, study_tolerance, verdicts  # noqa: E402
 from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.result import CONSTANT_CV, draw_index_bars  # noqa: E402

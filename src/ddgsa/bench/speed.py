@@ -3,7 +3,7 @@
 Everything is measured in one run on one machine, so ratios compare like with like; absolute
 times depend on the machine and on what else runs on it, which is why CPU time is reported
 beside wall time (a wall time far above the CPU time means the machine was shared). Fast
-paths are repeated until they have run for at least :data:`MIN_TIMED_S` and the best run is
+paths are repeated until they have run for at least :data:`~ddgsa.bench.timing.MIN_TIMED_S` and the best run is
 kept. The reference, ``solve_ivp(Radau, rtol 1e-6)`` on the flexible equations, needs minutes
 per simulated minute, so it is timed on the first ``ref_seconds`` of the scene and scaled to
 the full record (its cost per simulated second is steady); each fidelity's objective
@@ -25,14 +25,13 @@ import platform
 import tempfile
 import threading
 import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pandas as pd
 
-from ddgsa.bench.timing import FULL, MIN_TIMED_S, REPO, RIG_STUDY, timed  # noqa: F401  (the bench's yardsticks)
+from ddgsa.bench.timing import FULL, REPO, RIG_STUDY, timed
 from ddgsa.loads import generate
 from ddgsa.loads.scene import Scene
 
