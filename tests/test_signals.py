@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from ddgsa.signals import (SignalError, band_energy, envelope, harmonic_amplitudes, order_amplitudes, order_map,
+from ddgsa.models.signals import (SignalError, band_energy, envelope, harmonic_amplitudes, order_amplitudes, order_map,
                            order_spectrum, plot_order_map, plot_spectrum, shaft_angle, slip_sidebands)
 
 FS = 5000.0

@@ -10,7 +10,7 @@ from ddgsa import models
 from ddgsa.errors import ModelError
 from ddgsa.loads.scene import Scene
 from ddgsa.models.direct_drive import SPECTRUM_EDGES_HZ
-from ddgsa.signals import band_rms_spectrum
+from ddgsa.models.signals import band_rms_spectrum
 
 TURBULENT_60S = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=60.0, seed=1)
 SPECTRA = ("front_Fz_spectrum", "front_Fy_spectrum", "rear_Fz_spectrum", "hub_dz_spectrum")

@@ -90,8 +90,8 @@ from ddgsa.models.base import (Model, ModelOption, ModelOutput, ModelParameter, 
 from ddgsa.models.constants import HUB_INERTIA_X, HUB_INERTIA_YZ, HUB_MASS, tilted_gravity
 from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE, SHAFT,
                                         bearing_damping, bending_damping, table1_shaft)
-from ddgsa.objectives import damage_rate
-from ddgsa.signals import band_rms_spectrum
+from ddgsa.models.objectives import damage_rate
+from ddgsa.models.signals import band_rms_spectrum
 
 _E_STEEL = 210e9
 _NU_STEEL = 0.3

@@ -44,7 +44,7 @@ parameter point sees the same noise).
 
 Outputs (on the analysed record: after ``settle`` for steady scenes, the whole record
 otherwise): for every sensor ``rms_<s>`` and ``peak_<s>`` (about the record's mean),
-``order1x_<s>`` and ``order2x_<s>`` (order tracking, :func:`ddgsa.signals.order_amplitudes`);
+``order1x_<s>`` and ``order2x_<s>`` (order tracking, :func:`ddgsa.models.signals.order_amplitudes`);
 for the accelerometers ``bpfo_<s>`` and ``bpfi_<s>`` (mean square in +-0.25 orders around the
 first three multiples of the ball-pass orders of the 6205, in the order domain so a run-up is
 covered too) and ``envbpfo_<s>`` (the same BPFO band of the envelope of the record band-passed
@@ -87,7 +87,7 @@ from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts,
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, tangent_columns
 from ddgsa.models.hss_rig.scenes import RigScene
-from ddgsa.signals import (angle_amplitudes, band_energies, envelope, harmonic_amplitudes, order_map, plot_order_map,
+from ddgsa.models.signals import (angle_amplitudes, band_energies, envelope, harmonic_amplitudes, order_map, plot_order_map,
                            plot_spectrum, resample_to_angle)
 
 ACCELEROMETERS = ("housing_1_y", "housing_1_z", "housing_2_y", "housing_2_z")
@@ -480,7 +480,7 @@ class HssRig(Model):
     def _evaluate_signals_one(self, params: dict[str, float], scene: Any,
                               signals: tuple[str, ...]) -> tuple[dict[str, float], dict[str, np.ndarray]]:
         """Outputs and 1x order tracks of one run: the 1x amplitude of 1-revolution blocks
-        (:func:`ddgsa.signals.order_map`) at the blocks' mean speeds, interpolated onto :meth:`signal_axis`."""
+        (:func:`ddgsa.models.signals.order_map`) at the blocks' mean speeds, interpolated onto :meth:`signal_axis`."""
         sc = self._scene(scene)
         series = self._simulate(sc, params)
         scalars = objectives(series, sc, drive_for(params, sc, POLE_PAIRS))
@@ -539,10 +539,10 @@ class HssRig(Model):
     def scene_figures(self, scene: Any, params: Mapping[str, float] | None = None) -> list[tuple[Any, str]]:
         """Signal plots of one run at ``params`` (a study's report draws them at its nominal point).
 
-        Start-up and coast-down: order maps (2-revolution blocks, :func:`ddgsa.signals.order_map`)
+        Start-up and coast-down: order maps (2-revolution blocks, :func:`ddgsa.models.signals.order_map`)
         of the housing-1 vertical accelerometer and the disk probe against shaft speed. Steady:
         spectra of the analysed record with the orders, ball-pass frequencies, the supply frequency
-        and its 1x sidebands marked (:func:`ddgsa.signals.plot_spectrum`). Returns ``(figure, name)``.
+        and its 1x sidebands marked (:func:`ddgsa.models.signals.plot_spectrum`). Returns ``(figure, name)``.
         """
         import matplotlib.pyplot as plt
 

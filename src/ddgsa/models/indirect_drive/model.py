@@ -143,7 +143,7 @@ class IndirectDrive(Model):
         Generalised-alpha, or the kernel's ``solve_ivp`` reference (index-1 with Baumgarte
         stabilisation; slow) on the same system.
     equivalent_load : {"iso281", "seed"}
-        Bearing equivalent-load rule (:func:`ddgsa.objectives.equivalent_load`).
+        Bearing equivalent-load rule (:func:`ddgsa.models.objectives.equivalent_load`).
     housing_point : sequence of 3 floats
         The observed housing point in the housing frame, from its centre of mass [m].
     fluctuation_scale : float

@@ -6,7 +6,7 @@
 - gear contact force: mean, RMS about the mean and damage-equivalent load from rainflow counting
   (ASTM E1049, compiled here; the ``rainflow`` package is its test oracle);
 - bearing forces split into radial and axial parts about the shaft axis and their damage rates
-  by the direct drive's Palmgren-Miner index (:func:`ddgsa.objectives.damage_rate`);
+  by the direct drive's Palmgren-Miner index (:func:`ddgsa.models.objectives.damage_rate`);
 - housing reaction torque about the LSS axis from the mount forces and moments;
 - constraint drift: the largest constraint residual of a record.
 
@@ -22,7 +22,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from ddgsa.objectives import damage_rate
+from ddgsa.models.objectives import damage_rate
 
 #: Woehler exponent of the gear damage-equivalent load: tooth-root bending of case-carburised
 #: steel (ISO 6336-3 S-N curve slope, about 8.7)
@@ -184,7 +184,7 @@ def bearing_outputs(name: str, forces: NDArray[np.float64], axis: NDArray[np.flo
 
     ``forces`` (n_t, 3) [N] in the global frame, ``axis`` the shaft axis, ``speed`` the shaft's
     spin rate relative to the bearing's outer ring (n_t,) [rad/s], ``rating`` C [N], ``rule`` the
-    equivalent-load rule of :func:`ddgsa.objectives.equivalent_load`.
+    equivalent-load rule of :func:`ddgsa.models.objectives.equivalent_load`.
     """
     fr, fa = radial_axial(forces, axis)
     return {f"damage_{name}": damage_rate(fr, fa, speed, rating, rule), f"{name}_Fr_mean": float(fr.mean()),
