@@ -12,7 +12,7 @@ from ddgsa.gsa import SobolResult, sobol
 from ddgsa.gsa.result import Diagnostic
 from ddgsa.gsa.signal import SignalAxis, SignalResult, sobol_signal
 from ddgsa.loads.scene import Scene
-from ddgsa.space import Parameter, ParameterSpace
+from ddgsa.gsa.space import Parameter, ParameterSpace
 
 
 __all__ = [

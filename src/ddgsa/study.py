@@ -53,7 +53,7 @@ from ddgsa.gsa.target import Target
 from ddgsa.loads.scene import Scene
 from ddgsa.models import MODELS
 from ddgsa.models import get as get_model
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 from ddgsa.models.base import ModelOutput, declared
 from ddgsa.units import UnitError, convert, factor, has_unit, parameter_in, scene_hints
 from ddgsa.study_limits import (MAX_NAME_CHARS, check_names, check_run_size, load_yaml,  # bounded input, run size

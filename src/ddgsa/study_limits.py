@@ -339,7 +339,7 @@ def run_size(spec: Any, space: Any, n_outputs: int) -> RunSize:
         points = sum(n for _, n in methods)
         groups.append((max(methods, key=lambda f: f[1])[0] if methods else "methods", points))
         if spec.kind == "fault" and spec.fault is not None and space.dim > 1:
-            from ddgsa.space import ParameterSpace
+            from ddgsa.gsa.space import ParameterSpace
 
             others = ParameterSpace.from_parameters([p for p in space.parameters if p.name != spec.fault.parameter])
             per_level = spec.fault.samples + sum(n for _, n in _method_points(spec.methods, others))

@@ -180,7 +180,7 @@ SCALED_KEYS = ("nominal", "low", "high", "mean", "std", "mode", "median")
 
 
 def parameter_in(spec: Mapping[str, Any], expected: str) -> dict[str, Any]:
-    """A parameter specification (see :mod:`ddgsa.space`) whose ``unit`` is converted to ``expected``.
+    """A parameter specification (see :mod:`ddgsa.gsa.space`) whose ``unit`` is converted to ``expected``.
 
     Numbers under :data:`SCALED_KEYS` are scaled, a lognormal ``mu`` shifted by ``log(factor)``;
     the returned spec says ``unit: expected``. A spec without ``unit`` is returned unchanged

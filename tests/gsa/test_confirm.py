@@ -14,7 +14,7 @@ import ddgsa
 from ddgsa.bench.calibration import false_rank_claims
 from ddgsa.gsa.result import NEGLIGIBLE, SEPARATED, TIED, Diagnostic, rank_claims, rank_structure
 from ddgsa.gsa.testfunctions import linear, product
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 UNIT3 = ParameterSpace.from_dict({f"x{i + 1}": {"low": 0.0, "high": 1.0} for i in range(3)})
 

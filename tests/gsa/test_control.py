@@ -227,7 +227,7 @@ def test_a_resonance_is_followed_by_a_power_transform_whose_sampled_variances_ma
     (plus 2e-3 for the rule on the ridge), and the standard errors are small."""
     from ddgsa.gsa.control import TransformedSurrogate
     from ddgsa.gsa.testfunctions import tensor_indices
-    from ddgsa.space import ParameterSpace
+    from ddgsa.gsa.space import ParameterSpace
 
     u, g = resonance_control
     assert GaussianSurrogate.fit(u, _resonance_unit(u), max_loo=10.0).loo > 0.2
@@ -247,7 +247,7 @@ def test_the_transformed_control_estimates_a_resonance_within_its_bounds_where_t
     transformed control's estimates are within their error bounds, and its bounds on the two
     dominant totals (ST ~0.98) are below 0.03, where the plain estimator's exceed 0.05."""
     from ddgsa.gsa.testfunctions import tensor_indices
-    from ddgsa.space import ParameterSpace
+    from ddgsa.gsa.space import ParameterSpace
 
     u0, g = resonance_control
     problem = {"num_vars": 3, "names": ["a", "b", "c"], "bounds": [[0.0, 1.0]] * 3}
@@ -305,7 +305,7 @@ def test_a_constant_output_is_not_escalated() -> None:
     the escalation does not spend runs on it (``ddgsa.gsa.result.nothing_to_rank``)."""
     from ddgsa.gsa.escalate import Escalation
     from ddgsa.gsa.result import nothing_to_rank
-    from ddgsa.space import ParameterSpace
+    from ddgsa.gsa.space import ParameterSpace
 
     space = ParameterSpace.from_dict({"a": {"low": 0.0, "high": 1.0}, "b": {"low": 0.0, "high": 1.0}})
     x = np.random.default_rng(0).random((40, 2))

@@ -8,7 +8,7 @@ import pytest
 from ddgsa.gsa.base import get_method
 from ddgsa.gsa.convergence import convergence, nested_sizes
 from ddgsa.gsa.testfunctions import ishigami
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 F = ishigami()
 SMOOTH_SPACE = ParameterSpace.from_dict({"a": {"dist": "uniform", "low": -1.0, "high": 1.0},

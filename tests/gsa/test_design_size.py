@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from ddgsa.gsa.base import get_method
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 SPACE = ParameterSpace.from_dict({
     "a": {"dist": "uniform", "low": 0.0, "high": 1.0},

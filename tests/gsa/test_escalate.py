@@ -97,7 +97,7 @@ def test_an_escalation_that_cannot_confirm_says_why_and_claims_nothing_false() -
     beyond the budget, and stops with what is left and says why -- and nothing it reports is trusted
     or rank-confirmed falsely (the exact indices by a 400 x 400 x 4 tensor Gauss rule; a constant
     moves no index)."""
-    from ddgsa.space import ParameterSpace
+    from ddgsa.gsa.space import ParameterSpace
 
     space = ParameterSpace.from_dict({"a": {"dist": "uniform", "low": 0.8, "high": 1.2},
                                       "b": {"dist": "uniform", "low": 0.8, "high": 1.2},
@@ -128,7 +128,7 @@ def test_a_resonance_is_confirmed_with_focus_points_that_the_pooled_expansion_ne
     reported is trusted or rank-confirmed falsely (the 400 x 400 x 4 tensor Gauss rule), and the
     pooled expansion is fitted on the drawn points only."""
     from ddgsa.gsa.testfunctions import TestFunction, tensor_indices
-    from ddgsa.space import ParameterSpace
+    from ddgsa.gsa.space import ParameterSpace
 
     space = ParameterSpace.from_dict({"a": {"dist": "uniform", "low": 0.8, "high": 1.2},
                                       "b": {"dist": "uniform", "low": 0.8, "high": 1.2},

@@ -9,7 +9,7 @@ import pytest
 
 from ddgsa.bench.heldout import PHI, BlockSum, _input, held_out_case
 from ddgsa.gsa.testfunctions import tensor_indices
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 
 def test_the_closed_form_indices_agree_with_a_tensor_rule() -> None:
@@ -25,7 +25,7 @@ def test_the_closed_form_indices_agree_with_a_tensor_rule() -> None:
 @pytest.mark.parametrize("kind", PHI)
 def test_each_input_function_is_standardised(kind: str) -> None:
     space = ParameterSpace.from_dict({"x": _input(kind)})
-    from ddgsa.quadrature import gauss_rule
+    from ddgsa.gsa.quadrature import gauss_rule
 
     nodes, weights = gauss_rule(space.parameters[0], 12)
     phi = BlockSum(space, (kind,), ((0,),), np.ones(1), np.ones(1), 0.0).phi(nodes[:, None])[:, 0]

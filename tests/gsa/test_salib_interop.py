@@ -15,7 +15,7 @@ from scipy.stats import qmc
 
 from ddgsa.errors import SpaceError, StudyError
 from ddgsa.gsa.base import get_method
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 from ddgsa.study import load_study
 
 PROBLEM = {"names": ["a", "b", "c", "d", "e"],

@@ -16,7 +16,7 @@ from ddgsa.errors import MethodError, StudyError
 from ddgsa.gsa.result import SobolResult, trusted_mask
 from ddgsa.gsa.testfunctions import (bratley_k, oakley_ohagan, product, sobol_g, tensor_indices)
 from ddgsa.gsa.trust import surrogate_index_bounds
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 TOL = 0.02
 README_SPACE = ParameterSpace.from_dict({

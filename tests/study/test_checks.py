@@ -213,7 +213,7 @@ def test_a_sobol_size_other_than_a_power_of_two_is_one_hint_naming_the_field(tmp
     one hint per field with the two nearest powers of two, and no raw warning from ddgsa's own draws."""
     from scipy.stats import qmc
 
-    from ddgsa.space import ParameterSpace
+    from ddgsa.gsa.space import ParameterSpace
 
     with pytest.warns(UserWarning, match="balance properties of Sobol"):   # scipy does warn for 48 points
         qmc.Sobol(3, rng=0).random(48)

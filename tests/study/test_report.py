@@ -166,7 +166,7 @@ def test_mdrm_surrogate_moments_are_exact_for_a_product() -> None:
     Var f = 133/9 - 3.75^2 = 0.71528; M-DRM's surrogate is exact for products (to 1e-12)."""
     from ddgsa.gsa.base import get_method
     from ddgsa.pipeline import moments
-    from ddgsa.space import ParameterSpace
+    from ddgsa.gsa.space import ParameterSpace
 
     space = ParameterSpace.from_dict({"x1": {"low": 0.0, "high": 1.0}, "x2": {"low": 0.0, "high": 1.0}})
     mdrm = get_method("mdrm")

@@ -32,7 +32,7 @@ import pandas as pd
 import ddgsa
 from ddgsa.gsa.result import SobolResult
 from ddgsa.gsa.testfunctions import TestFunction, ishigami, linear, product, sobol_g
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 OUT = Path("results") / "accuracy_cost"
 # Published/measured reference points for the Ishigami chart (the numbers): S1 RMSE.

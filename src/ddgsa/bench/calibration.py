@@ -38,7 +38,7 @@ from ddgsa.gsa.testfunctions import (bratley_k, ishigami, linear, oakley_ohagan,
 from ddgsa.gsa.result import NEGLIGIBLE, TIED, trusted_mask
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.bench.heldout import SEEDS as HELD_OUT_SEEDS
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 OUT = Path("results") / "trust_calibration"
 BLOCK_SUMS = tuple(f"block_sum_{seed}" for seed in HELD_OUT_SEEDS)

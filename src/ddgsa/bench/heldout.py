@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 SEEDS = tuple(range(5000, 5012))
 """The suite's twelve draws (seeds of :func:`held_out_case`), never used to choose a constant."""

@@ -19,7 +19,7 @@ from ddgsa.gsa.auto import run_auto
 from ddgsa.gsa.base import METHODS, Design, GsaMethod, get_method, register
 from ddgsa.gsa.result import Diagnostic, SobolResult
 from ddgsa.errors import MethodError
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 __all__ = ["METHODS", "Design", "Diagnostic", "GsaMethod", "SobolResult", "get_method", "register",
            "sobol"]

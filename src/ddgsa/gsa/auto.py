@@ -62,7 +62,7 @@ from ddgsa.gsa.base import Design, as_value_matrix, check_int, get_method
 from ddgsa.gsa.pce import _MAX_MATRIX_ENTRIES, n_terms
 from ddgsa.gsa.result import Diagnostic, SobolResult, index_error_rule, rank_structure, trusted_mask
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 DEFAULTS: dict[str, Any] = {"budget": 2000, "points": 5, "check": 32, "seed": 0, "pce_orders": (3, 5, 7, 9),
                             "saltelli_min_n": 256, "tolerance": DEFAULT_TOLERANCE}

@@ -20,7 +20,7 @@ from ddgsa.registry import Registry
 from ddgsa.gsa.groups import GroupIndices, group_frame
 from ddgsa.gsa.result import Diagnostic, SobolResult
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 METHODS: Registry[type["GsaMethod"]] = Registry("GSA method", MethodError)
 register = METHODS.register

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 
 from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.pce import n_terms
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 MAX_LEVELS = 6
 """Sub-sample sizes per curve: the design and up to five halvings of it."""

@@ -58,7 +58,7 @@ from ddgsa.gsa.base import Design, as_value_matrix, get_method
 from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.result import SobolResult, need_per_row, nothing_to_rank
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 PCE_NAME, SALTELLI_NAME = "confirm_pce", "confirm_saltelli"
 FOCUS_CANDIDATES = 8

@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 from ddgsa.gsa.base import Design, standardise
 from ddgsa.gsa.result import Diagnostic, SobolResult
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 NAME = "given_data_s1"
 HALVES = 40

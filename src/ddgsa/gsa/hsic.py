@@ -43,7 +43,7 @@ from numpy.typing import NDArray
 
 from ddgsa.gsa.base import Design, GsaMethod, PartialIndices, check_fraction, check_int, register
 from ddgsa.gsa.result import Diagnostic
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 
 def gaussian_gram(v: NDArray[np.float64]) -> NDArray[np.float64]:

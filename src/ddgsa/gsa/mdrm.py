@@ -6,7 +6,7 @@ With cut point :math:`c`, M-DRM approximates
 :math:`\\theta_i = E[h_i^2]` (one-dimensional Gauss quadratures in the measure of
 :math:`X_i`; Gauss-Legendre for uniform, Gauss-Hermite for normal inputs, chaospy's
 rules for lognormal and truncated normal, an exact Stieltjes rule for triangular:
-see :mod:`ddgsa.quadrature`):
+see :mod:`ddgsa.gsa.quadrature`):
 
 .. math::
 
@@ -88,8 +88,8 @@ from ddgsa.gsa.groups import GroupIndices, product_form
 from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.result import Diagnostic, index_error_rule, trusted_mask
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance, error_diagnostics, surrogate_index_error
-from ddgsa.quadrature import gauss_rule
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.quadrature import gauss_rule
+from ddgsa.gsa.space import ParameterSpace
 
 _TAIL_LIMIT = 0.25
 _TAIL_UNTRUSTED = 0.5

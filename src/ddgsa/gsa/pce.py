@@ -47,7 +47,7 @@ from ddgsa.gsa.base import Design, GsaMethod, PartialIndices, check_choice, chec
 from ddgsa.gsa.groups import GroupIndices, from_coefficients
 from ddgsa.gsa.result import Diagnostic
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance, error_diagnostics, surrogate_index_error
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 _MAX_TENSOR_POINTS = 200_000
 _MAX_MATRIX_ENTRIES = 20_000_000
@@ -96,7 +96,7 @@ def total_degree_indices(dim: int, order: int) -> NDArray[np.int64]:
 @lru_cache(maxsize=256)
 def _orthonormal(dist: str, args: tuple[tuple[str, float], ...], order: int) -> Any:
     """chaospy's orthonormal polynomials up to ``order`` for one input (cached: building them is slow)."""
-    from ddgsa.space import Parameter
+    from ddgsa.gsa.space import Parameter
 
     return chaospy.generate_expansion(order, Parameter("p", dist, dict(args), 0.0).distribution, normed=True)
 

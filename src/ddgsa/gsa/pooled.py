@@ -17,7 +17,7 @@ from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.pce import _MAX_MATRIX_ENTRIES, n_terms
 from ddgsa.gsa.result import SobolResult
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 NAME = "pooled_pce"
 MAX_ORDER = 5

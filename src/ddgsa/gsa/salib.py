@@ -41,7 +41,7 @@ from ddgsa.gsa.base import Design, GsaMethod, PartialIndices, check_choice, chec
 from ddgsa.gsa.groups import GroupIndices
 from ddgsa.gsa.result import Diagnostic, need_per_row
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance, error_diagnostics
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 _COMMON = {"seed": 0, "num_resamples": 200, "conf_level": 0.95, "tolerance": DEFAULT_TOLERANCE}
 # half-sample difference -> error estimate (calibrated by ``ddgsa bench trust``)

@@ -58,7 +58,7 @@ from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, GsaMethod, PartialIndices, check_fraction, check_int, register
 from ddgsa.gsa.salib import _CONVERGENCE_FACTOR
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance, error_diagnostics
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 _MAX_EXACT_DIM = 8
 

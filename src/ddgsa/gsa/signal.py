@@ -41,7 +41,7 @@ from numpy.typing import NDArray
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, get_method
 from ddgsa.gsa.result import SobolResult, index_error_rule, rank_structure, trusted_mask
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 _MATERIAL = 1e-3
 """A bin holding at least this share of the signal's variance must be trusted for the generalised row to be."""

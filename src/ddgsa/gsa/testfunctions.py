@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 from scipy.special import factorial
 
 from ddgsa.closed_forms import ishigami as ishigami_function
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 
 Func = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 
@@ -203,7 +203,7 @@ def tensor_indices(f: Func, space: ParameterSpace, points: int | Sequence[int]
     -------
     S1, ST : ndarray (k, d)
     """
-    from ddgsa.quadrature import gauss_rule
+    from ddgsa.gsa.quadrature import gauss_rule
 
     counts = [points] * space.dim if isinstance(points, int) else list(points)
     rules = [gauss_rule(p, c) for p, c in zip(space.parameters, counts)]

@@ -24,7 +24,7 @@ from ddgsa.models import ImplausibleOutputWarning
 from ddgsa.models import get as get_model
 from ddgsa.models.auto import pilot_choice, pilot_scene
 from ddgsa.runner import EvaluationStore, Evaluator, ModelId, Outcome, Task, run_tasks, said_if_slow, task_key
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 from ddgsa.loads.scene import Scene
 from ddgsa.study import PlannedScene, Study, plan_scenes
 

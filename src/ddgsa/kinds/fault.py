@@ -16,7 +16,7 @@ from ddgsa.gsa.base import get_method
 from ddgsa.kinds.common import Plan, Runs, method_designs
 from ddgsa.kinds.gsa import GsaKind, GsaResult
 from ddgsa.runner import EvaluationStore
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 from ddgsa.study import PlannedScene, Study
 
 

@@ -25,7 +25,7 @@ from ddgsa.gsa.target import with_targets
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.kinds.common import Plan, Runs, StudyResult, method_designs, plan_points, row_index
 from ddgsa.runner import EvaluationStore
-from ddgsa.space import ParameterSpace
+from ddgsa.gsa.space import ParameterSpace
 from ddgsa.study import PlannedScene, Study
 from ddgsa.study_signals import analyse_convergence, analyse_signals
 

@@ -14,7 +14,7 @@ import chaospy
 import numpy as np
 from numpy.typing import NDArray
 
-from ddgsa.space import Parameter
+from ddgsa.gsa.space import Parameter
 
 _PIECE_NODES = 200
 
