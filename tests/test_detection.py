@@ -13,9 +13,10 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from ddgsa.detection import (COMBINED, DetectionError, DetectionSettings, _Independent, _Pairs, add_noise, assess,
+from ddgsa.detection import (COMBINED, DetectionError, DetectionSettings, add_noise, assess,
                              clopper_pearson, detect, detect_combined, fisher_scores, layout, select_sensors,
                              threshold_at)
+from ddgsa.detection.single import _Independent, _Pairs
 
 matplotlib.use("Agg")
 FAST = DetectionSettings(bootstrap=400)
