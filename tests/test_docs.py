@@ -19,7 +19,7 @@ from pydantic.fields import FieldInfo
 
 from ddgsa.loads.scene import Scene
 from ddgsa.models.hss_rig.scenes import RigScene
-from ddgsa.study import ModelScenesSpec, StudySpec
+from ddgsa.study.spec import ModelScenesSpec, StudySpec
 
 ROOT = Path(__file__).resolve().parents[1]
 COMMANDS = ("pip install -e . && ddgsa run studies/quickstart.yaml",

@@ -24,7 +24,7 @@ from ddgsa.errors import DdgsaError, StoreCorruptError, StoreWriteError
 
 if TYPE_CHECKING:                      # the CLI imports the heavy modules only when a command needs them
     from ddgsa.pipeline import StudyResult
-    from ddgsa.study import Study
+    from ddgsa.study.spec import Study
 
 EXIT_OK, EXIT_FAILURE, EXIT_INPUT, EXIT_UNTRUSTED, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 
@@ -184,7 +184,7 @@ def bounded(message: str) -> str:
 
 def _dispatch(args: argparse.Namespace) -> int:
     if args.command == "validate":
-        from ddgsa.checks import SAMPLE, support_points
+        from ddgsa.study.checks import SAMPLE, support_points
 
         study = _load(args.study, args.quiet)
         sc = study.spec.scenes
@@ -246,7 +246,7 @@ def _modes(args: argparse.Namespace) -> int:
     from ddgsa import models
     from ddgsa.errors import ModelError
     from ddgsa.mbs.modal import plot_modes
-    from ddgsa.study import load_study
+    from ddgsa.study.spec import load_study
 
     target = Path(args.target)
     if target.suffix in (".yaml", ".yml") or target.exists():
@@ -300,7 +300,7 @@ def _modes(args: argparse.Namespace) -> int:
 
 
 def _load(path: Path, quiet: bool = False) -> "Study":
-    """Load and validate a study and run the model's own checks over it (:mod:`ddgsa.checks`).
+    """Load and validate a study and run the model's own checks over it (:mod:`ddgsa.study.checks`).
 
     Warnings (e.g. a nominal point outside the model's valid region, part of the support that
     will fail) print as ``ddgsa: warning: ...``; notes and hints (a sampling remark, a number
@@ -311,9 +311,9 @@ def _load(path: Path, quiet: bool = False) -> "Study":
     StudyError
         Listing every error of the checks (e.g. a scene the model refuses as aliased).
     """
-    from ddgsa.checks import evaluation_plan, study_findings
+    from ddgsa.study.checks import evaluation_plan, study_findings
     from ddgsa.errors import StudyError
-    from ddgsa.study import StudyWarning, load_study
+    from ddgsa.study.spec import StudyWarning, load_study
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", StudyWarning)
@@ -411,7 +411,7 @@ def _run(study: "Study", args: argparse.Namespace) -> int:
 def _check_disk(study: "Study", out: Path) -> None:
     """Refuse a run whose evaluation store would not fit on the output folder's disk (exit 2)."""
     from ddgsa.errors import StudyError
-    from ddgsa.study_limits import gib, run_size
+    from ddgsa.study.limits import gib, run_size
 
     size = run_size(study.spec, study.space, len(study.outputs))
     where = next(p for p in (out.absolute(), *out.absolute().parents) if p.exists())
@@ -475,7 +475,7 @@ def _report(args: argparse.Namespace) -> int:
     from ddgsa.outdir import claim
     from ddgsa.pipeline import execute
     from ddgsa.runner import EvaluationStore
-    from ddgsa.study import load_study
+    from ddgsa.study.spec import load_study
 
     folder = args.dir
     if not (folder / "study.yaml").exists() or not (folder / "evaluations.sqlite").exists():

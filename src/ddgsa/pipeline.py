@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 import ddgsa
-from ddgsa.checks import study_basis
+from ddgsa.study.checks import study_basis
 from ddgsa.confirm import confirmation_table
 from ddgsa.errors import DdgsaError
 from ddgsa.gsa.base import Design
@@ -34,7 +34,7 @@ from ddgsa.kinds.gsa import GsaKind, GsaResult, auto_moments, moments, pooled_cr
 from ddgsa.kinds.sweep import SweepKind, SweepResult
 from ddgsa.loads import cache as loads_cache
 from ddgsa.runner import EvaluationStore, ModelId, Task, local_workers, main_blas_threads
-from ddgsa.study import Study, plan_scenes
+from ddgsa.study.spec import Study, plan_scenes
 
 __all__ = ["KINDS", "FaultResult", "GsaResult", "Runs", "StudyResult", "SweepResult", "auto_moments", "code_version",
            "default_out", "execute", "fault_seed", "make_task", "model_evaluator", "model_id", "moments",

@@ -39,7 +39,7 @@ from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.outdir import COMPLETE_NAME, mark_complete, previous_files, remove_stale, unmark_complete  # noqa: E402
 from ddgsa.pipeline import StudyResult  # noqa: E402
 from ddgsa.signal_report import summary_lines as signal_summary_lines  # noqa: E402
-from ddgsa.study import WIND_LABEL_FIELDS, plan_scenes, scene_text  # noqa: E402
+from ddgsa.study.spec import WIND_LABEL_FIELDS, plan_scenes, scene_text  # noqa: E402
 
 PNG_METADATA = {"Software": None}
 """No matplotlib version in the PNGs: a rerun on the same machine writes the same bytes."""
@@ -748,8 +748,8 @@ def _loads_line(result: StudyResult) -> list[str]:
 
 def _basis_lines(p: dict[str, Any]) -> list[str]:
     """``- shaft basis: ...`` lines (the rig's and the direct drive's modal basis and its convergence
-    in each scene's band, :func:`ddgsa.checks.study_basis`); none for other models or older runs."""
-    from ddgsa.checks import basis_messages
+    in each scene's band, :func:`ddgsa.study.checks.study_basis`); none for other models or older runs."""
+    from ddgsa.study.checks import basis_messages
 
     return [f"- {text}" + ("" if ok else " (**not converged**)")
             for ok, text in basis_messages(p.get("basis", []))]

@@ -23,7 +23,7 @@ from ddgsa.gsa.base import Design
 from ddgsa.gsa.convergence import convergence, nested_sizes
 from ddgsa.gsa.signal import SignalAxis, signal_indices
 from ddgsa.runner import EvaluationStore
-from ddgsa.study import PlannedScene, Study
+from ddgsa.study.spec import PlannedScene, Study
 
 _AGGREGATE = {"mean": np.mean, "median": np.median, "max": np.max}
 

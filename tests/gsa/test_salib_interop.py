@@ -16,7 +16,7 @@ from scipy.stats import qmc
 from ddgsa.errors import SpaceError, StudyError
 from ddgsa.gsa.base import get_method
 from ddgsa.gsa.space import ParameterSpace
-from ddgsa.study import load_study
+from ddgsa.study.spec import load_study
 
 PROBLEM = {"names": ["a", "b", "c", "d", "e"],
            "bounds": [[-np.pi, np.pi], [1.0, 0.2], [0.1, 0.3], [0.0, 4.0, 1.0, 1.5], [2.0, 5.0, 0.25]],

@@ -173,7 +173,7 @@ def test_tolerance_option_is_validated_and_changes_the_verdict() -> None:
 
 
 def test_study_method_tolerance_is_validated(tmp_path: Path) -> None:
-    from ddgsa.study import load_study
+    from ddgsa.study.spec import load_study
 
     text = """\
 name: tol

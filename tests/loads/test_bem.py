@@ -179,7 +179,7 @@ def test_scene_fidelity_field_and_cache_key() -> None:
 def test_study_scenes_loads_fidelity() -> None:
     from pydantic import ValidationError
 
-    from ddgsa.study import ScenesSpec
+    from ddgsa.study.spec import ScenesSpec
 
     spec = ScenesSpec.model_validate({"wind_speed": [8.0], "loads": {"fidelity": "bem"}})
     assert spec.scene(spec.grid()[0], 0).loads_fidelity == "bem"
@@ -196,7 +196,7 @@ def test_summary_names_the_rotor_of_non_default_loads(fidelity: str, line: str |
     from types import SimpleNamespace
 
     from ddgsa.report import _loads_line
-    from ddgsa.study import validate_study
+    from ddgsa.study.spec import validate_study
 
     study = validate_study({"name": "s", "kind": "sweep", "model": {"name": "direct_drive", "fidelity": "linear"},
                             "scenes": {"wind_speed": [8.0], "duration": 60, "loads": {"fidelity": fidelity}}})
@@ -336,7 +336,7 @@ def test_welib_formulation_differences_pinned() -> None:
 def test_study_digest_names_a_non_default_rotor_only() -> None:
     """The default table rotor leaves a study's digest as it was before ``scenes.loads`` existed
     (the committed quickstart's provenance, tests/study/test_rig_scenes.py); ``bem`` changes it."""
-    from ddgsa.study import validate_study
+    from ddgsa.study.spec import validate_study
 
     spec = {"name": "s", "kind": "sweep", "model": {"name": "direct_drive", "fidelity": "linear"},
             "scenes": {"wind_speed": [8.0], "duration": 60}}

@@ -45,7 +45,7 @@ def test_zero_inclination_is_one_scene_and_defaults_keep_keys() -> None:
 
 
 def test_study_field_and_digest() -> None:
-    from ddgsa.study import validate_study
+    from ddgsa.study.spec import validate_study
 
     spec = {"name": "s", "kind": "sweep", "model": {"name": "direct_drive", "fidelity": "linear"},
             "scenes": {"wind_speed": [8.0], "inclination_deg": [20.0], "duration": 60, "loads": {"fidelity": "bem"}}}

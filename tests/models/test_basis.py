@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from ddgsa.checks import study_basis, study_findings
+from ddgsa.study.checks import study_basis, study_findings
 from ddgsa.models import get as get_model
 from ddgsa.models.basis import LIGHT as BASIS_LIGHT
 from ddgsa.models.basis import (REFERENCE, TABLE, _computed, _options_key, basis_of, basis_report,
@@ -22,7 +22,7 @@ from ddgsa.models.basis import (REFERENCE, TABLE, _computed, _options_key, basis
 from ddgsa.models.hss_rig.model import BEARING_GEOMETRY
 from ddgsa.models.hss_rig.scenes import RigScene
 from ddgsa.report import _basis_lines
-from ddgsa.study import load_study
+from ddgsa.study.spec import load_study
 
 RIG = """\
 name: rig_basis

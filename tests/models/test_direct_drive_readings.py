@@ -14,7 +14,7 @@ import yaml
 import ddgsa.models as models
 from ddgsa import ModelError, Scene
 from ddgsa.errors import StudyError
-from ddgsa.study import load_study
+from ddgsa.study.spec import load_study
 
 ZETA = 0.01                                         # Table 2 / the shaft's ratio, nominal
 SCENE = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=60.0, seed=1)

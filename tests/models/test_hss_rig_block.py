@@ -14,7 +14,7 @@ import pytest
 from ddgsa.mbs import nonrotating
 from ddgsa.models.base import Model
 from ddgsa.models.hss_rig.model import HssRig
-from ddgsa.study import load_study
+from ddgsa.study.spec import load_study
 
 STUDIES = Path(__file__).parents[2] / "studies"
 RTOL = 1e-3

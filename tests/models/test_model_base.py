@@ -126,7 +126,7 @@ def test_a_value_outside_its_range_gets_the_same_message_from_the_api_and_from_a
     """A lateral bearing stiffness typed in kN/m (5e5, meaning 5e8 N/m; the range is [1e6, 1e12] N/m)
     is refused by ``resolve`` and by a study's ``fixed`` with one message and its unit hint."""
     from ddgsa.errors import StudyError
-    from ddgsa.study import load_study
+    from ddgsa.study.spec import load_study
 
     problem = ("parameter 'k_front_y' = 500000 N/m leaves its allowed range [1e+06, 1e+12] N/m (hint: 500000 kN/m "
                "= 5e+08 N/m is inside it: if the number is in kN/m, write unit: kN/m)")

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from bounded import measured_validate
-from ddgsa.study import load_study
+from ddgsa.study.spec import load_study
 
 BASE = """\
 name: demo
@@ -95,7 +95,7 @@ def test_a_run_too_large_for_the_machine_is_refused_naming_the_field_and_the_est
 def test_the_run_size_estimate_counts_the_evaluations_the_pipeline_runs(write_study) -> None:
     """The estimate's evaluation count against the designs' own sizes: 2 scenes x 2 realisations
     x (M-DRM 1 + 3 x 5 + 32 check points + Saltelli 64 x 5)."""
-    from ddgsa.study_limits import check_run_size, run_size
+    from ddgsa.study.limits import check_run_size, run_size
 
     study = load_study(write_study("demo", n=64))
     size = run_size(study.spec, study.space, 2)

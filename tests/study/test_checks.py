@@ -1,4 +1,4 @@
-"""``ddgsa validate`` runs the model's own checks over the whole study (:mod:`ddgsa.checks`): the
+"""``ddgsa validate`` runs the model's own checks over the whole study (:mod:`ddgsa.study.checks`): the
 rig's sampling of every scene, the valid region over the support, unit hints; and the run's
 console names the first failure reason of an output whose indices are refused."""
 
@@ -11,13 +11,13 @@ from types import SimpleNamespace
 import pandas as pd
 import pytest
 
-from ddgsa.checks import study_findings, support_points
+from ddgsa.study.checks import study_findings, support_points
 from ddgsa.cli import main
 from ddgsa.loads.scene import Scene
 from ddgsa.models import get as get_model
 from ddgsa.models.hss_rig.model import BEARING_GEOMETRY
 from ddgsa.report import no_effect_lines
-from ddgsa.study import StudyWarning, load_study
+from ddgsa.study.spec import StudyWarning, load_study
 
 RIG = """\
 name: rig

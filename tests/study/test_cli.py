@@ -114,7 +114,7 @@ def test_validate_and_models(write_study, capsys) -> None:
 
 def test_yaml_1_2_numbers(write_study, tmp_path: Path) -> None:
     text = Path(write_study()).read_text().replace("x3: {low: -3.14159, high: 3.14159}", "x3: {low: -1e0, high: 1.0e0}")
-    study = ddgsa.study.load_study(write_study("sci", text=text))
+    study = ddgsa.study.spec.load_study(write_study("sci", text=text))
     assert study.space["x3"].args == {"low": -1.0, "high": 1.0}
 
 
@@ -167,7 +167,7 @@ def test_malformed_studies_exit_2_naming_the_field(write_study, tmp_path: Path, 
 def test_quickstart_study_end_to_end(tmp_path: Path) -> None:
     """The README's quickstart through the CLI equals the same study through the Python API."""
     from ddgsa.gsa.base import get_method
-    from ddgsa.study import load_study
+    from ddgsa.study.spec import load_study
 
     study_file = Path(__file__).parents[2] / "studies" / "quickstart.yaml"
     out = tmp_path / "qs"
@@ -254,10 +254,10 @@ def test_method_auto_in_a_study_reports_its_decisions(write_study, tmp_path: Pat
 
 
 def test_fidelity_defaults_to_the_models_richest(write_study) -> None:
-    import ddgsa.study
+    import ddgsa.study.spec
 
     text = (SEED003_DIR / "seed003_frequencies.yaml").read_text().replace("  fidelity: linearised\n", "")
-    study = ddgsa.study.load_study(write_study("nofid", text=text))
+    study = ddgsa.study.spec.load_study(write_study("nofid", text=text))
     assert study.spec.model.fidelity == "linearised"
-    quick = ddgsa.study.load_study(SEED003_DIR / "quickstart.yaml")
+    quick = ddgsa.study.spec.load_study(SEED003_DIR / "quickstart.yaml")
     assert quick.spec.model.fidelity == "rigid"

@@ -129,7 +129,7 @@ def test_a_second_live_run_is_refused_and_ctrl_c_exits_130(write_study, tmp_path
 
 def test_validate_warns_when_the_nominal_point_is_outside_the_valid_region(write_study, capsys) -> None:
     """Front bearing fixed at 6 m behind the rear one at 5 m: valid fields, an impossible shaft; every
-    point of the support is outside too, so the study is refused (ddgsa.checks)."""
+    point of the support is outside too, so the study is refused (ddgsa.study.checks)."""
     text = """\
 name: crossed
 model: {name: direct_drive, fidelity: rigid}
@@ -169,14 +169,14 @@ def test_slow_model_checks_in_validate_are_explained(write_study, monkeypatch, c
     drive): past SLOW_FIRST_S the user reads what is happening; quick checks and -q print nothing."""
     import time
 
-    import ddgsa.checks
+    import ddgsa.study.checks
     import ddgsa.runner
 
     study = write_study("ok", text=trusted_study(name="ok"))
     assert main(["validate", str(study)]) == 0 and "checking model" not in capsys.readouterr().err
-    checks = ddgsa.checks.study_findings
+    checks = ddgsa.study.checks.study_findings
     monkeypatch.setattr(ddgsa.runner, "SLOW_FIRST_S", 0.05)
-    monkeypatch.setattr(ddgsa.checks, "study_findings", lambda s: (time.sleep(0.3), checks(s))[1])
+    monkeypatch.setattr(ddgsa.study.checks, "study_findings", lambda s: (time.sleep(0.3), checks(s))[1])
     assert main(["validate", str(study)]) == 0
     assert "ddgsa: note: checking model 'analytic' (its modes and sampling; a first check" in capsys.readouterr().err
     assert main(["-q", "validate", str(study)]) == 0 and "checking model" not in capsys.readouterr().err

@@ -14,7 +14,7 @@ from ddgsa.cli import main
 from ddgsa.gsa.escalate import PCE_NAME
 from ddgsa.pipeline import GsaResult, execute
 from ddgsa.runner import EvaluationStore
-from ddgsa.study import load_study
+from ddgsa.study.spec import load_study
 
 
 def test_the_pipeline_adds_the_escalation_beside_the_methods(write_study, tmp_path: Path) -> None:

@@ -15,7 +15,7 @@ from ddgsa.cli import main
 from ddgsa.pipeline import execute
 from ddgsa.report import write_report
 from ddgsa.runner import EvaluationStore
-from ddgsa.study import load_study
+from ddgsa.study.spec import load_study
 
 xr = pytest.importorskip("xarray")
 

@@ -15,7 +15,7 @@ from scipy import stats
 
 from ddgsa.cli import main
 from ddgsa.errors import StudyError
-from ddgsa.study import load_study
+from ddgsa.study.spec import load_study
 
 Z95 = stats.norm.ppf(0.95)
 
@@ -189,7 +189,7 @@ def test_fault_block_is_validated(tmp_path: Path, fault: str, message: str) -> N
 
 
 def test_range_of_levels() -> None:
-    from ddgsa.study import FaultRange
+    from ddgsa.study.spec import FaultRange
 
     assert FaultRange(start=8e9, stop=2e9, num=4).levels() == [8e9, 6e9, 4e9, 2e9]
 

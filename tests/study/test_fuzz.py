@@ -1,7 +1,7 @@
 """Property-based fuzzing of study files (issue 29): malformed studies generated from the schema.
 
 Hypothesis draws a few hundred malformed studies: a value that breaks the JSON schema of
-:class:`ddgsa.study.StudySpec` at a field (wrong type, out of range, not in the enum, over the
+:class:`ddgsa.study.spec.StudySpec` at a field (wrong type, out of range, not in the enum, over the
 length, an empty grid axis), an unknown key or a missing required one, a top-level that is not
 a mapping, an invalid model option, a name that is not one safe path component, a value
 listed twice, and hostile files (alias bombs, deep nesting, other encodings, NUL bytes). Each is
@@ -30,7 +30,7 @@ from hypothesis import strategies as st
 from ruamel.yaml import YAML
 
 from bounded import measured_validate
-from ddgsa.study import StudySpec
+from ddgsa.study.spec import StudySpec
 
 VALID: dict[str, Any] = {
     "name": "fuzz",

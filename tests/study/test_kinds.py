@@ -12,7 +12,7 @@ from ddgsa.kinds.fault import FaultResult
 from ddgsa.kinds.gsa import GsaResult
 from ddgsa.kinds.sweep import SweepResult
 from ddgsa.pipeline import KINDS
-from ddgsa.study import StudySpec
+from ddgsa.study.spec import StudySpec
 
 
 def _own(cls: type, base: type) -> set[str]:

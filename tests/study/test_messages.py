@@ -13,7 +13,7 @@ from ddgsa import cli
 from ddgsa.cli import main
 from ddgsa.errors import StudyError
 from ddgsa.outdir import LOCK_NAME, claim
-from ddgsa.study import load_study
+from ddgsa.study.spec import load_study
 
 BASE = """\
 name: typo

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from ddgsa.cli import main
 from ddgsa.outdir import replaced_version
-from ddgsa.study import load_study
+from ddgsa.study.spec import load_study
 from studytext import ishigami_study
 
 

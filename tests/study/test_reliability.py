@@ -21,7 +21,7 @@ from ruamel.yaml import YAML
 from bounded import measured_validate
 from ddgsa.cli import main
 from ddgsa.errors import StudyError
-from ddgsa.study import load_study, validate_study
+from ddgsa.study.spec import load_study, validate_study
 from studytext import SALTELLI, analytic_study
 
 SRC = str(Path(__file__).resolve().parents[2] / "src")
@@ -127,7 +127,7 @@ def test_a_set_anywhere_is_refused_and_key_order_never_changes_the_digest(where:
 
 DIGEST_SCRIPT = textwrap.dedent("""
     import json, sys
-    from ddgsa.study import load_study
+    from ddgsa.study.spec import load_study
     out = []
     for path in sys.argv[1:]:
         s = load_study(path)

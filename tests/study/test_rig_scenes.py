@@ -14,7 +14,7 @@ from ddgsa.cli import main
 from ddgsa.errors import StudyError
 from ddgsa.loads.scene import Scene
 from ddgsa.models.hss_rig.scenes import RigScene
-from ddgsa.study import ModelScenesSpec, ScenesSpec, load_study, load_yaml, plan_scenes, validate_study
+from ddgsa.study.spec import ModelScenesSpec, ScenesSpec, load_study, load_yaml, plan_scenes, validate_study
 
 ROOT = Path(__file__).resolve().parents[2]
 

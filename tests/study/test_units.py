@@ -12,7 +12,7 @@ import pytest
 
 from ddgsa.cli import main
 from ddgsa.errors import StudyError
-from ddgsa.study import load_study, plan_scenes
+from ddgsa.study.spec import load_study, plan_scenes
 from ddgsa.units import UnitError, convert, factor, parameter_in
 
 DD = """\

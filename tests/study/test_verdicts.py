@@ -83,7 +83,7 @@ def test_every_reader_says_the_verdict_of_confirmation_csv(folder: tuple[Path, i
 def test_a_ranking_block_changes_the_claims_and_keeps_the_runs(tmp_path: Path) -> None:
     """``ranking: {tie_margin: 0.5}``: with a margin that wide x1 (0.558) and x2 (0.442) are a confirmed
     tie wherever their intervals (+-~0.1 at n = 128) allow it; the digest and the stored runs stay."""
-    from ddgsa.study import load_study
+    from ddgsa.study.spec import load_study
 
     plain, wide = tmp_path / "a.yaml", tmp_path / "b.yaml"
     plain.write_text(STUDY.format(n=128, extra=""))

@@ -99,7 +99,7 @@ def drive_train_rows(jobs: int = 2, store_path: Path | None = None,
     """The compared methods on the direct drive (linear fidelity, 60 s) against a PCE reference."""
     from ddgsa.pipeline import execute
     from ddgsa.runner import EvaluationStore
-    from ddgsa.study import validate_study
+    from ddgsa.study.spec import validate_study
 
     grid = [("mdrm", {"points": p, "check": MDRM_CHECK}) for p in range(2, 8)]
     grid += [("saltelli", {"n": 1 << k, "seed": 0}) for k in range(6, 10)]

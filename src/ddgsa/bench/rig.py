@@ -120,7 +120,7 @@ def block_speed(points: int = BLOCK_POINTS, reference_points: int = 4, quick: bo
     import ddgsa.models as models
     from ddgsa.bench.timing import RIG_STUDY
     from ddgsa.models.base import Model
-    from ddgsa.study import load_study
+    from ddgsa.study.spec import load_study
 
     study = load_study(RIG_STUDY)
     model = models.get("hss_rig", fidelity="linear", time_step=LINEAR_STEP)

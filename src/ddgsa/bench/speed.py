@@ -208,7 +208,7 @@ def _study_child(path: str, quick: bool, jobs: int, queue: Any) -> None:
     from ddgsa.loads import cache
     from ddgsa.pipeline import execute
     from ddgsa.runner import EvaluationStore
-    from ddgsa.study import Study, load_study
+    from ddgsa.study.spec import Study, load_study
 
     try:
         study = load_study(path)
@@ -244,7 +244,7 @@ def _study_child(path: str, quick: bool, jobs: int, queue: Any) -> None:
 
 
 def _planned(study: Any) -> list[Any]:
-    from ddgsa.study import plan_scenes
+    from ddgsa.study.spec import plan_scenes
 
     return plan_scenes(study)
 

@@ -172,7 +172,7 @@ class SobolResult:
 
     def _repr_html_(self) -> str:
         """The indices as an HTML table in Jupyter, untrusted rows shaded, with the diagnostics that fired."""
-        from ddgsa.notebook import result_html
+        from ddgsa.gsa.notebook import result_html
 
         facts = [f"{self.n_evals} model evaluations",
                  "every row trusted" if self.trusted else f"{int((~self.indices['trusted']).sum())} rows untrusted"]

@@ -410,7 +410,7 @@ class ParameterSpace:
             raise SpaceError(f"sample size n must be a positive integer, got {n!r}")
         rng = np.random.default_rng(seed)
         if rule == "sobol":
-            with warnings.catch_warnings():   # a study's size is hinted at by ddgsa.checks, named by field
+            with warnings.catch_warnings():   # a study's size is hinted at by ddgsa.study.checks, named by field
                 warnings.filterwarnings("ignore", message="The balance properties of Sobol", category=UserWarning)
                 u = qmc.Sobol(self.dim, scramble=True, rng=rng).random(n)
         elif rule == "halton":

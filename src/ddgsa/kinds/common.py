@@ -26,7 +26,7 @@ from ddgsa.models.auto import pilot_choice, pilot_scene
 from ddgsa.runner import EvaluationStore, Evaluator, ModelId, Outcome, Task, run_tasks, said_if_slow, task_key
 from ddgsa.gsa.space import ParameterSpace
 from ddgsa.loads.scene import Scene
-from ddgsa.study import PlannedScene, Study, plan_scenes
+from ddgsa.study.spec import PlannedScene, Study, plan_scenes
 
 
 ABSENT: dict[str, Any] = {
@@ -79,7 +79,7 @@ class StudyResult:
 
     def _repr_html_(self) -> str:
         """The study's indices as an HTML table in Jupyter (untrusted rows shaded)."""
-        from ddgsa.notebook import result_html
+        from ddgsa.gsa.notebook import result_html
 
         ev = self.provenance.get("evaluations", {})
         facts = [f"model {self.study.spec.model.name} ({self.study.spec.model.fidelity}), "

@@ -17,7 +17,7 @@ from ddgsa.kinds.common import Plan, Runs, method_designs
 from ddgsa.kinds.gsa import GsaKind, GsaResult
 from ddgsa.runner import EvaluationStore
 from ddgsa.gsa.space import ParameterSpace
-from ddgsa.study import PlannedScene, Study
+from ddgsa.study.spec import PlannedScene, Study
 
 
 @dataclass

@@ -26,7 +26,7 @@ from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.kinds.common import Plan, Runs, StudyResult, method_designs, plan_points, row_index
 from ddgsa.runner import EvaluationStore
 from ddgsa.gsa.space import ParameterSpace
-from ddgsa.study import PlannedScene, Study
+from ddgsa.study.spec import PlannedScene, Study
 from ddgsa.study_signals import analyse_convergence, analyse_signals
 
 

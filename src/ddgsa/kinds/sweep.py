@@ -14,7 +14,7 @@ from ddgsa.errors import StudyError
 from ddgsa.gsa.base import Design
 from ddgsa.kinds.common import Plan, Runs, StudyResult, plan_points
 from ddgsa.runner import EvaluationStore
-from ddgsa.study import Study
+from ddgsa.study.spec import Study
 
 
 @dataclass

@@ -56,7 +56,7 @@ from ddgsa.models import get as get_model
 from ddgsa.gsa.space import ParameterSpace
 from ddgsa.models.base import ModelOutput, declared
 from ddgsa.units import UnitError, convert, factor, has_unit, parameter_in, scene_hints
-from ddgsa.study_limits import (MAX_NAME_CHARS, check_names, check_run_size, load_yaml,  # bounded input, run size
+from ddgsa.study.limits import (MAX_NAME_CHARS, check_names, check_run_size, load_yaml,  # bounded input, run size
                                 read_text, refuse_unordered, scenes_to_check)
 
 _STRICT = ConfigDict(extra="forbid")

@@ -1,6 +1,6 @@
 """The model's own checks over a whole study, before anything runs (``ddgsa validate`` and ``ddgsa run``).
 
-:func:`ddgsa.study.load_study` checks the schema, names, ranges and units. What it cannot see
+:func:`ddgsa.study.spec.load_study` checks the schema, names, ranges and units. What it cannot see
 without asking the model is checked here, over everything the study would run:
 
 * **sampling** of every scene: the model's :meth:`~ddgsa.models.base.Model.sampling_checks`
@@ -33,7 +33,7 @@ import numpy as np
 
 from ddgsa.errors import DdgsaError
 from ddgsa.mbs.sampling import AliasingWarning
-from ddgsa.study import Study, plan_scenes, scene_text
+from ddgsa.study.spec import Study, plan_scenes, scene_text
 from ddgsa.units import prefixed_unit, scene_hints
 
 SAMPLE = 64
