@@ -58,7 +58,7 @@ def test_forked_workers_die_with_a_killed_parent(tmp_path: Path) -> None:
     script = tmp_path / "parent.py"
     script.write_text(textwrap.dedent(f"""
         from pathlib import Path
-        from ddgsa.pipeline import make_task, model_evaluator
+        from ddgsa.execute.kinds.common import make_task, model_evaluator
         from ddgsa.runner import EvaluationStore, ModelId, run_tasks
         from ddgsa.loads.scene import Scene
         mid = ModelId("analytic", "exact", (("delay_s", 0.5),))

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 from ddgsa.errors import DdgsaError, StoreCorruptError, StoreWriteError
 
 if TYPE_CHECKING:                      # the CLI imports the heavy modules only when a command needs them
-    from ddgsa.pipeline import StudyResult
+    from ddgsa.execute.kinds.common import StudyResult
     from ddgsa.study.spec import Study
 
 EXIT_OK, EXIT_FAILURE, EXIT_INPUT, EXIT_UNTRUSTED, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
@@ -373,7 +373,7 @@ def plural(n: int, noun: str) -> str:
 
 def _run(study: "Study", args: argparse.Namespace) -> int:
     from ddgsa.outdir import LOCK_NAME, STORE_NAME, claim, replaced_version, unmark_complete
-    from ddgsa.pipeline import default_out, execute
+    from ddgsa.execute.pipeline import default_out, execute
     from ddgsa.runner import EvaluationStore, set_aside
 
     out = args.out or default_out(study)
@@ -448,7 +448,7 @@ def _finish(result: "StudyResult", out: Path, args: argparse.Namespace, verb: st
     """Write the report, print the run's line and its problems, choose the exit code."""
     import pandas as pd
 
-    from ddgsa.confirm import verdict_line
+    from ddgsa.execute.confirm import verdict_line
     from ddgsa.report import evaluation_line, problems, write_report
 
     files = write_report(result, out)
@@ -473,7 +473,7 @@ def _report(args: argparse.Namespace) -> int:
 
     from ddgsa.errors import StudyError
     from ddgsa.outdir import claim
-    from ddgsa.pipeline import execute
+    from ddgsa.execute.pipeline import execute
     from ddgsa.runner import EvaluationStore
     from ddgsa.study.spec import load_study
 

@@ -59,11 +59,10 @@ PNG_WIDTH = 800
 PNG_COLORS = 128
 """Palette size of the inlined PNGs (line plots and colour maps read the same with it)."""
 
-FIELD_UNITS = {"wind_speed": "m/s", "turbulence_intensity": "-", "shear_exponent": "-", "inclination_deg": "deg",
-               "speed_rpm": "rpm", "duration": "s", "sample_rate": "Hz", "settle": "s", "ramp_time": "s",
-               "speed_rad_s": "rad/s", "frequency_hz": "Hz", "n_evals": "runs"}
-"""Units of scene fields and of the columns the charts use as axes (model parameters and outputs get
-theirs from the model's declarations)."""
+AXIS_UNITS = {"speed_rad_s": "rad/s", "frequency_hz": "Hz", "n_evals": "runs"}
+"""Units of the columns the report's own tables add and its charts use as axes (``campbell.csv``,
+``accuracy_cost.csv``); scene fields, parameters and outputs take theirs from the model's declarations
+(:meth:`ddgsa.models.base.Model.units`)."""
 
 REMEDIES = {
     "mdrm_index_error": "M-DRM's product surrogate misses part of the output (interactions, additive "
@@ -108,7 +107,7 @@ def render(folder: Path, complete: bool | None = None) -> str:
     if not folder.is_dir():
         raise OutputFolderError(f"{folder}: not a folder (ddgsa html takes results folders, e.g. results/quickstart)")
     prov = read_json(folder / "provenance.json")
-    units = _units(folder, prov)
+    units = folder_units(folder, prov)
     title = str(prov.get("study") or folder.resolve().name)
     sections: list[tuple[str, str, str]] = []       # (anchor, heading, html)
 
@@ -172,10 +171,11 @@ def _study_yaml(folder: Path) -> dict[str, Any]:
     return data if isinstance(data, dict) else {}
 
 
-def _units(folder: Path, prov: dict[str, Any]) -> dict[str, str]:
-    """Units by column name: scene fields, the model's parameters and outputs (when the model of the
-    provenance is registered), then the units the folder's tables state."""
-    units = dict(FIELD_UNITS)
+def folder_units(folder: Path, prov: dict[str, Any]) -> dict[str, str]:
+    """Units by column name: the report's own axes, the model's scene fields, parameters and outputs
+    (:meth:`ddgsa.models.base.Model.units`, when the model of the provenance is registered), a unit the
+    study file writes beside a parameter, then the units the folder's tables state."""
+    units = dict(AXIS_UNITS)
     model = prov.get("model") or {}
     if model.get("name"):
         try:
@@ -183,8 +183,7 @@ def _units(folder: Path, prov: dict[str, Any]) -> dict[str, str]:
         except (DdgsaError, TypeError):
             m = None
         if m is not None:
-            units.update({r.name: r.unit for r in m.parameter_table().itertuples()})
-            units.update({r.name: r.unit for r in m.output_table().itertuples()})
+            units.update(m.units())
     for name, spec in (_study_yaml(folder).get("parameters") or {}).items():
         if isinstance(spec, dict) and spec.get("unit"):
             units[name] = str(spec["unit"])

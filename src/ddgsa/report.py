@@ -29,15 +29,16 @@ from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from ddgsa.report_beyond import beyond_markdown, group_table, plot_groups, sobol_rows
-from ddgsa.confirm import CONFIRMED, CROSSCHECKS, VERDICTS, next_step, study_tolerance, verdicts  # noqa: E402
+from ddgsa.report_beyond import beyond_markdown, group_table, plot_groups
+from ddgsa.execute.confirm import CONFIRMED, CROSSCHECKS, VERDICTS, next_step, study_tolerance, verdicts  # noqa: E402
 from ddgsa.detection import FaultDetectability  # noqa: E402
+from ddgsa.gsa.base import sobol_rows  # noqa: E402
 from ddgsa.gsa.result import CONSTANT_CV, draw_index_bars  # noqa: E402
 from ddgsa.html_report import HTML_NAME, model_words, write_html  # noqa: E402
 from ddgsa.loads.scene import AUTO_BEM_INCLINATION_DEG  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.outdir import COMPLETE_NAME, mark_complete, previous_files, remove_stale, unmark_complete  # noqa: E402
-from ddgsa.pipeline import StudyResult  # noqa: E402
+from ddgsa.execute.kinds.common import StudyResult  # noqa: E402
 from ddgsa.signal_report import summary_lines as signal_summary_lines  # noqa: E402
 from ddgsa.study.spec import WIND_LABEL_FIELDS, plan_scenes, scene_text  # noqa: E402
 
@@ -199,8 +200,8 @@ def evaluation_line(provenance: dict[str, Any]) -> str:
 
 def problems(result: StudyResult) -> list[str]:
     """What makes the run's answer incomplete: an output left ``unconfirmed`` in some scene by
-    :func:`ddgsa.confirm.confirmation_table` (its indices refused, or neither trusted nor rank-confirmed;
-    with the cheapest way to confirm it, :func:`ddgsa.confirm.next_step`; an output with nothing to rank
+    :func:`ddgsa.execute.confirm.confirmation_table` (its indices refused, or neither trusted nor rank-confirmed;
+    with the cheapest way to confirm it, :func:`ddgsa.execute.confirm.next_step`; an output with nothing to rank
     -- a spread within its resolution -- is not counted), failed sweep evaluations. Empty when all is well."""
     out = []
     table = verdicts(result)
@@ -370,7 +371,7 @@ def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | Non
                     fields: Sequence[str] = WIND_LABEL_FIELDS, verdicts: pd.DataFrame | None = None) -> Any:
     """One panel per output (at most three a row), parameters down the y axis: S1/ST bars of the
     estimate the summary reports -- the method of the pair's verdict (``verdicts``,
-    :func:`ddgsa.confirm.confirmation_table`), said in the panel's title with the verdict -- with
+    :func:`ddgsa.execute.confirm.confirmation_table`), said in the panel's title with the verdict -- with
     confidence bars where it gives an interval, and the ST of every other requested method as a
     marker beside it (cross-checks, :data:`CROSSCHECKS`, are left to their own table). Hatched bars
     are untrusted (said in the legend, below the panels, only when some are); an output whose indices
@@ -542,7 +543,7 @@ def _mark(trusted: bool, rank_confirmed: bool) -> str:
 
 
 def _confirmed_section(result: StudyResult) -> list[str]:
-    """The count of each verdict over the (scene, output) pairs (:func:`ddgsa.confirm.confirmation_table`,
+    """The count of each verdict over the (scene, output) pairs (:func:`ddgsa.execute.confirm.confirmation_table`,
     ``confirmation.csv``) and the runs spent."""
     table = verdicts(result)
     n_runs = result.provenance.get("evaluations", {}).get("total", len(result.evaluations))
@@ -582,7 +583,7 @@ def crosscheck_lines(sobol: pd.DataFrame) -> list[str]:
 
 
 def with_verdicts(indices: pd.DataFrame, verdicts: pd.DataFrame) -> pd.DataFrame:
-    """``indices`` with the verdict of each row's (scene, output) pair (:func:`ddgsa.confirm.confirmation_table`)
+    """``indices`` with the verdict of each row's (scene, output) pair (:func:`ddgsa.execute.confirm.confirmation_table`)
     in a column ``verdict`` (empty for rows no verdict covers: screening methods)."""
     if not len(verdicts) or "scene" not in indices:
         return indices.assign(verdict="")
@@ -595,7 +596,7 @@ def with_verdicts(indices: pd.DataFrame, verdicts: pd.DataFrame) -> pd.DataFrame
 
 def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None, verdict: Any = None) -> str:
     """One sentence on what drives ``output`` in one scene, from its first trusted method (``verdict``:
-    the pair's row of :func:`ddgsa.confirm.confirmation_table`, which says when there is nothing to rank),
+    the pair's row of :func:`ddgsa.execute.confirm.confirmation_table`, which says when there is nothing to rank),
     and the confirmed ranking as tied groups where the verdict has one."""
     trusted = [(m, gm) for m, gm in g.groupby("method", sort=False) if gm["trusted"].all()]
     ranked = [(m, gm) for m, gm in g.groupby("method", sort=False)

@@ -12,25 +12,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
-from ddgsa.gsa.base import METHODS
 from ddgsa.gsa.groups import GROUP_COLUMNS
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ddgsa.kinds.common import StudyResult
-
-
-SHAPLEY_ADVICE = ("the inputs are correlated, so only method shapley applies: raise its n_o (outer draws per "
-                  "subset; the bootstrap half-width falls as 1/sqrt(n_o)) and n_v")
-"""What a correlated study's unconfirmed output needs (the independent-input methods would be refused)."""
-
-
-def sobol_rows(indices: pd.DataFrame) -> pd.DataFrame:
-    """The rows of methods that estimate Sobol indices (screening rows, HSIC's, are judged by their p-values,
-    not by trust: they make no problem and take no place in the ranking)."""
-    if not len(indices):
-        return indices
-    screening = [m for m in indices["method"].unique() if m in METHODS and not METHODS.lookup(m).gives_sobol]
-    return indices[~indices["method"].isin(screening)]
+    from ddgsa.execute.kinds.common import StudyResult
 
 
 def group_table(result: "StudyResult") -> pd.DataFrame:

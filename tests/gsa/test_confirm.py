@@ -201,7 +201,7 @@ def test_the_cost_per_run_is_not_inflated_by_the_first_runs_compile() -> None:
     median run, so one 130 s compile among 10-12 s runs leaves the estimate at the runs' own cost."""
     from types import SimpleNamespace
 
-    from ddgsa.confirm import per_run_seconds
+    from ddgsa.execute.confirm import per_run_seconds
 
     runs = SimpleNamespace(evaluations=pd.DataFrame({"seconds": [130.0, 10.0, 12.0, 11.0, 11.0, 0.0]}))
     assert per_run_seconds(runs) == 11.0
@@ -235,7 +235,7 @@ def test_advice_after_a_stopped_escalation_asks_for_saltelli_not_a_larger_budget
     only as far as it pays for it; elsewhere it offers the budget (the one that pays for that design)."""
     from types import SimpleNamespace
 
-    from ddgsa.confirm import advice
+    from ddgsa.execute.confirm import advice
 
     rows = pd.DataFrame({"scene": 0, "output": "y", "parameter": ["a", "b"], "ST": [0.5, 0.5]})
     study = SimpleNamespace(spec=SimpleNamespace(scenes=SimpleNamespace(realisations=1)), targets=[])
@@ -256,7 +256,7 @@ def test_advice_counts_the_runs_of_the_method_it_suggests() -> None:
     Here scene 0 needs n = 256 (ST 0.7 / 0.3, as in test_report) and scene 1 is confirmed: 2 x 256 x 4 x 3."""
     from types import SimpleNamespace
 
-    from ddgsa.confirm import advice, cost_to_confirm
+    from ddgsa.execute.confirm import advice, cost_to_confirm
 
     rows = pd.DataFrame({"scene": [0, 0, 1, 1], "output": "y", "parameter": ["a", "b", "a", "b"],
                          "ST": [0.7, 0.3, 0.9, 0.0]})

@@ -12,7 +12,8 @@ import pytest
 
 from ddgsa.cli import main
 from ddgsa.gsa.escalate import PCE_NAME
-from ddgsa.pipeline import GsaResult, execute
+from ddgsa.execute.pipeline import execute
+from ddgsa.execute.kinds.gsa import GsaResult
 from ddgsa.runner import EvaluationStore
 from ddgsa.study.spec import load_study
 

@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 
 from ddgsa.cli import main
-from ddgsa.pipeline import execute
+from ddgsa.execute.pipeline import execute
 from ddgsa.report import write_report
 from ddgsa.runner import EvaluationStore
 from ddgsa.study.spec import load_study

@@ -7,11 +7,11 @@ from typing import get_args
 
 import pandas as pd
 
-from ddgsa.kinds.common import ABSENT, StudyResult
-from ddgsa.kinds.fault import FaultResult
-from ddgsa.kinds.gsa import GsaResult
-from ddgsa.kinds.sweep import SweepResult
-from ddgsa.pipeline import KINDS
+from ddgsa.execute.kinds.common import ABSENT, StudyResult
+from ddgsa.execute.kinds.fault import FaultResult
+from ddgsa.execute.kinds.gsa import GsaResult
+from ddgsa.execute.kinds.sweep import SweepResult
+from ddgsa.execute.pipeline import KINDS
 from ddgsa.study.spec import StudySpec
 
 

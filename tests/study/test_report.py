@@ -165,7 +165,7 @@ def test_mdrm_surrogate_moments_are_exact_for_a_product() -> None:
     """f = (1 + x1)(2 + x2), x ~ U(0, 1)^2: E f = 1.5 x 2.5 = 3.75, E f^2 = (7/3)(19/3), so
     Var f = 133/9 - 3.75^2 = 0.71528; M-DRM's surrogate is exact for products (to 1e-12)."""
     from ddgsa.gsa.base import get_method
-    from ddgsa.pipeline import moments
+    from ddgsa.execute.kinds.gsa import moments
     from ddgsa.gsa.space import ParameterSpace
 
     space = ParameterSpace.from_dict({"x1": {"low": 0.0, "high": 1.0}, "x2": {"low": 0.0, "high": 1.0}})
@@ -262,7 +262,7 @@ def test_an_output_within_its_declared_resolution_has_nothing_to_rank() -> None:
     (a deterministic one, numerical floor 1e-9 of the mean) is unconfirmed and advised a design."""
     from types import SimpleNamespace
 
-    from ddgsa.confirm import confirmation_table
+    from ddgsa.execute.confirm import confirmation_table
     from ddgsa.models import get
     from ddgsa.report import problems
 

@@ -100,7 +100,7 @@ def test_a_ranking_block_changes_the_claims_and_keeps_the_runs(tmp_path: Path) -
 
 
 def test_the_wall_budget_runs_the_cheapest_stages_that_fit() -> None:
-    from ddgsa.kinds.gsa import WallBudget
+    from ddgsa.execute.kinds.gsa import WallBudget
 
     clock = WallBudget(10.0, 0.01)                   # 10 s, 10 ms a run: 1 000 runs fit
     assert clock.fitting({0: 800, 1: 150, 2: 100}) == [2, 1]       # 100 + 150 fit, 800 more would not

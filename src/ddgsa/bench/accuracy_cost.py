@@ -97,7 +97,7 @@ def _opts(opts: dict[str, Any]) -> str:
 def drive_train_rows(jobs: int = 2, store_path: Path | None = None,
                      progress: Callable[[str], None] = print) -> pd.DataFrame:
     """The compared methods on the direct drive (linear fidelity, 60 s) against a PCE reference."""
-    from ddgsa.pipeline import execute
+    from ddgsa.execute.pipeline import execute
     from ddgsa.runner import EvaluationStore
     from ddgsa.study.spec import validate_study
 

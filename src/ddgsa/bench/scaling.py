@@ -78,7 +78,7 @@ def _run(n: int, jobs: int, backend: str = "loky", model: str = "direct_drive") 
     """Wall seconds of ``n`` linear evaluations of ``model`` through the runner, from an empty store;
     workers share the loads through files as in a study (:mod:`ddgsa.loads.cache`)."""
     from ddgsa.loads import cache
-    from ddgsa.pipeline import make_task, model_evaluator
+    from ddgsa.execute.kinds.common import make_task, model_evaluator
     from ddgsa.runner import EvaluationStore, ModelId, run_tasks
 
     mid = ModelId(model, "linear")

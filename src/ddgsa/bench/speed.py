@@ -206,7 +206,7 @@ def _study(path: Path, quick: bool, jobs: int = 2) -> dict[str, Any]:
 
 def _study_child(path: str, quick: bool, jobs: int, queue: Any) -> None:
     from ddgsa.loads import cache
-    from ddgsa.pipeline import execute
+    from ddgsa.execute.pipeline import execute
     from ddgsa.runner import EvaluationStore
     from ddgsa.study.spec import Study, load_study
 
@@ -253,7 +253,7 @@ def _runner_overhead(scene: Scene, n: int, jobs: int) -> dict[str, float]:
     """Runner cost beyond the model: ``(jobs x wall - sum of evaluation seconds) / sum``, for ``n``
     linear evaluations of one scene (loads warm) through :func:`ddgsa.runner.run_tasks`."""
     import ddgsa.models as models
-    from ddgsa.pipeline import make_task, model_evaluator
+    from ddgsa.execute.kinds.common import make_task, model_evaluator
     from ddgsa.runner import EvaluationStore, ModelId, local_workers, run_tasks
 
     mid = ModelId("direct_drive", "linear")

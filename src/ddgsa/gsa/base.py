@@ -329,3 +329,12 @@ def check_fraction(method: str, key: str, value: Any, low: float = 0.0, high: fl
             or not low < float(value) < high:
         raise MethodError(f"method {method!r}: option {key!r} must be a number in ({low}, {high}), got {value!r}")
     return float(value)
+
+
+def sobol_rows(indices: pd.DataFrame) -> pd.DataFrame:
+    """The rows of methods that estimate Sobol indices (screening rows, HSIC's, are judged by their p-values,
+    not by trust: they make no problem and take no place in the ranking)."""
+    if not len(indices):
+        return indices
+    screening = [m for m in indices["method"].unique() if m in METHODS and not METHODS.lookup(m).gives_sobol]
+    return indices[~indices["method"].isin(screening)]

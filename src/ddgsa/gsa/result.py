@@ -20,7 +20,7 @@ GROUP_COLUMNS = ["output", "group", "members", "S_closed", "S_closed_conf", "ST"
 rank claims as the parameters' rows."""
 Severity = Literal["info", "warning", "untrusted"]
 VERDICTS = ("trusted", "rank-confirmed", "confirmed tie", "nothing to rank", "unconfirmed")
-"""The verdicts of a (scene, output) pair, best first (:func:`ddgsa.confirm.confirmation_table`)."""
+"""The verdicts of a (scene, output) pair, best first (:func:`ddgsa.execute.confirm.confirmation_table`)."""
 CONFIRMED = VERDICTS[:4]
 """The verdicts that need no more runs (exit 0)."""
 ROW_COLUMNS = frozenset({"study", "scene", "method", "output", "parameter", "S1", "S1_conf", "ST", "ST_conf",

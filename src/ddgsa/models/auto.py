@@ -103,7 +103,7 @@ def pilot_choice(model: Model, values: Mapping[str, NDArray[np.float64]], output
     deterministic costs (:meth:`~ddgsa.models.Model.fidelity_cost`), its ``numerical_outputs``
     reported but not judged. The pilot points are the caller's: the nominal point plus the first
     points of an ``evaluate`` call (:class:`AutoFidelity`), or plus scrambled-Sobol' points of a
-    study's space (``ddgsa.kinds.common.select_fidelities``)."""
+    study's space (``ddgsa.execute.kinds.common.select_fidelities``)."""
     costs = {fid: model.fidelity_cost(fid) for fid in values}
     return choose_fidelity(values, costs, outputs, tolerance, ignore=model.numerical_outputs)
 

@@ -348,6 +348,13 @@ class Model(ABC):
         return pd.DataFrame([{"name": str(o), "unit": o.unit, "plausible_low": o.low, "plausible_high": o.high,
                               "description": o.description} for o in map(declared, self.outputs)])
 
+    def units(self) -> dict[str, str]:
+        """The unit of every name a study's tables carry for this model: its scene fields (the scene
+        type's ``units``), parameters and outputs, as declared. The one source the report's axes and the
+        NetCDF export read (``-`` or an empty string: dimensionless or a word)."""
+        return {**getattr(self.scene_type, "units", {}), **{p.name: p.unit for p in self.parameters},
+                **{str(o): declared(o).unit for o in self.outputs}}
+
     def implausible(self, frame: pd.DataFrame) -> list[str]:
         """One message per output column of ``frame`` with values outside its plausible range."""
         msgs = []

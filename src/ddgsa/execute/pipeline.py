@@ -1,10 +1,10 @@
 """Plan -> run -> analyse a validated study (DESIGN.md's flow), without writing files.
 
 :func:`execute` picks the study's kind (:data:`KINDS`: ``gsa``, ``sweep``, ``fault``, one module
-each under :mod:`ddgsa.kinds`), lets it plan its points, hands the model runs to
+each under :mod:`ddgsa.execute.kinds`), lets it plan its points, hands the model runs to
 :mod:`ddgsa.runner`, lets the kind analyse them (realisations aggregated; a point with any failed
 realisation is refused, never imputed) and returns a :class:`StudyResult` with its provenance,
-which :mod:`ddgsa.report` writes out. The names other modules use from here are re-exported.
+which :mod:`ddgsa.report` writes out.
 """
 
 from __future__ import annotations
@@ -24,21 +24,18 @@ import pandas as pd
 
 import ddgsa
 from ddgsa.study.checks import study_basis
-from ddgsa.confirm import confirmation_table
+from ddgsa.execute.confirm import confirmation_table
 from ddgsa.errors import DdgsaError
 from ddgsa.gsa.base import Design
-from ddgsa.kinds.common import (Kind, Plan, Runs, StudyResult, make_task, model_evaluator, model_id,
+from ddgsa.execute.kinds.common import (Kind, Plan, Runs, StudyResult, model_id,
                                 select_fidelities)
-from ddgsa.kinds.fault import FaultKind, FaultResult, fault_seed
-from ddgsa.kinds.gsa import GsaKind, GsaResult, auto_moments, moments, pooled_crosscheck
-from ddgsa.kinds.sweep import SweepKind, SweepResult
+from ddgsa.execute.kinds.fault import FaultKind
+from ddgsa.execute.kinds.gsa import GsaKind
+from ddgsa.execute.kinds.sweep import SweepKind, SweepResult
 from ddgsa.loads import cache as loads_cache
 from ddgsa.runner import EvaluationStore, ModelId, Task, local_workers, main_blas_threads
 from ddgsa.study.spec import Study, plan_scenes
 
-__all__ = ["KINDS", "FaultResult", "GsaResult", "Runs", "StudyResult", "SweepResult", "auto_moments", "code_version",
-           "default_out", "execute", "fault_seed", "make_task", "model_evaluator", "model_id", "moments",
-           "pooled_crosscheck", "select_fidelities"]
 
 KINDS: dict[str, Callable[[Study], Kind]] = {"gsa": GsaKind, "sweep": SweepKind, "fault": FaultKind}
 """Each ``spec.kind`` and the class that plans and analyses it."""

@@ -12,7 +12,7 @@ import pandas as pd
 
 from ddgsa.errors import StudyError
 from ddgsa.gsa.base import Design
-from ddgsa.kinds.common import Plan, Runs, StudyResult, plan_points
+from ddgsa.execute.kinds.common import Plan, Runs, StudyResult, plan_points
 from ddgsa.runner import EvaluationStore
 from ddgsa.study.spec import Study
 

@@ -23,11 +23,11 @@ from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.result import SobolResult
 from ddgsa.gsa.target import with_targets
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
-from ddgsa.kinds.common import Plan, Runs, StudyResult, method_designs, plan_points, row_index
+from ddgsa.execute.kinds.common import Plan, Runs, StudyResult, method_designs, plan_points, row_index
 from ddgsa.runner import EvaluationStore
 from ddgsa.gsa.space import ParameterSpace
 from ddgsa.study.spec import PlannedScene, Study
-from ddgsa.study_signals import analyse_convergence, analyse_signals
+from ddgsa.execute.signals import analyse_convergence, analyse_signals
 
 
 @dataclass
@@ -39,7 +39,7 @@ class GsaResult(StudyResult):
     moments: pd.DataFrame | None = None
     """Per scene and output: ``mean``, ``std``, ``cv`` (std / |mean|) and their ``source``."""
     signal_indices: pd.DataFrame | None = None
-    """Per scene, method, signal, bin and parameter: indices and the bin's variance (:mod:`ddgsa.study_signals`)."""
+    """Per scene, method, signal, bin and parameter: indices and the bin's variance (:mod:`ddgsa.execute.signals`)."""
     signal_generalised: pd.DataFrame | None = None
     """Per scene, method, signal and parameter: the variance-weighted (generalised) indices."""
     convergence: pd.DataFrame | None = None
@@ -152,7 +152,7 @@ def _analyse(plan: Plan, store: EvaluationStore, designs: list[tuple[str, Design
 
 def _signals_and_convergence(plan: Plan, store: EvaluationStore, designs: list[tuple[str, Design]],
                              outputs: list[str], result: GsaResult) -> None:
-    """Indices of the study's signals and the convergence curves of its outputs (:mod:`ddgsa.study_signals`)."""
+    """Indices of the study's signals and the convergence curves of its outputs (:mod:`ddgsa.execute.signals`)."""
     study = plan.study
     pooled, names = plan.blocks["gsa"]
     rows = [row_index(pooled, d.points) for _, d in designs]

@@ -28,17 +28,23 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
+from ddgsa.gsa.base import sobol_rows
 from ddgsa.gsa.result import CONFIRMED, CONSTANT_CV, VERDICTS, below_resolution
 from ddgsa.gsa.salib import saltelli_n_to_confirm
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ddgsa.kinds.common import StudyResult
+    from ddgsa.execute.kinds.common import StudyResult
 
 CROSSCHECKS = ("pooled_pce", "given_data_s1")
 """Methods a study runs without being asked (cross-checks at zero extra runs): they may confirm a pair,
 but an unconfirmed pair is shown with a requested method's estimate."""
 CONFIRMATION_COLUMNS = ["scene", "output", "verdict", "method", "runs", "std", "resolution", "ranking",
                         "next_step", "next_runs", "next_seconds"]
+
+SHAPLEY_ADVICE = ("the inputs are correlated, so only method shapley applies: raise its n_o (outer draws per "
+                  "subset; the bootstrap half-width falls as 1/sqrt(n_o)) and n_v")
+"""What a correlated study's unconfirmed output needs (the independent-input methods would be refused)."""
+
 
 def pair_status(indices: pd.DataFrame) -> pd.DataFrame:
     """Per (scene, output): ``confirmed`` (some method has every row trusted or rank-confirmed),
@@ -102,8 +108,6 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
     ``next_step`` says the cheapest way to confirm it, ``next_runs`` and ``next_seconds`` the cost of
     the Saltelli design it names, added to the study (every scene; model runs, model time on one
     worker [s], NaN when no run time was measured)."""
-    from ddgsa.report_beyond import sobol_rows
-
 
     sobol = sobol_rows(result.indices)
     if not len(sobol):
@@ -159,8 +163,6 @@ def study_tolerance(result: "StudyResult") -> float:
 def next_step(result: "StudyResult", output: str, scenes: list[int], tolerance: float) -> str:
     """The cheapest way to confirm ``output`` in ``scenes``: rerun failed evaluations when the indices
     were refused over them, Shapley's sizes for correlated inputs, else :func:`advice`."""
-    from ddgsa.report_beyond import SHAPLEY_ADVICE
-
     d = result.diagnostics
     names = set(d[(d["output"].isin([output, None]) | d["output"].isna()) & (d["severity"] == "untrusted")
                   & d["scene"].isin(scenes)]["name"]) if len(d) else set()

@@ -1,6 +1,6 @@
 """A study's indices of signals and its convergence curves, from the evaluations already stored.
 
-Both read the pooled design of a planned study (:mod:`ddgsa.pipeline` passes how to reach it) and
+Both read the pooled design of a planned study (:mod:`ddgsa.execute.pipeline` passes how to reach it) and
 run no model:
 
 * :func:`analyse_signals`: for every scene, signal of ``signals:`` and fixed-design method, the

@@ -1,5 +1,5 @@
 """What every study kind shares: the result, the plan of tasks per scene, the runs, and the
-:class:`Kind` interface (:func:`ddgsa.pipeline.execute` drives a kind through it).
+:class:`Kind` interface (:func:`ddgsa.execute.pipeline.execute` drives a kind through it).
 
 A kind plans its blocks of points (:meth:`Kind.plan`), runs what depends on earlier answers
 (:meth:`Kind.run`), analyses the stored values into its own result type (:meth:`Kind.analyse`) and adds
@@ -33,8 +33,8 @@ ABSENT: dict[str, Any] = {
     "results": (), "moments": None, "signal_indices": None, "signal_generalised": None, "convergence": None,
     "sweep": None, "fault": None, "fault_smallest": None, "fault_indices": None, "fault_detection": (),
     "fault_subsets": None}
-"""Each kind's own result fields (:class:`~ddgsa.kinds.gsa.GsaResult`, :class:`~ddgsa.kinds.sweep.SweepResult`,
-:class:`~ddgsa.kinds.fault.FaultResult`) and how they read on a result of another kind."""
+"""Each kind's own result fields (:class:`~ddgsa.execute.kinds.gsa.GsaResult`, :class:`~ddgsa.execute.kinds.sweep.SweepResult`,
+:class:`~ddgsa.execute.kinds.fault.FaultResult`) and how they read on a result of another kind."""
 
 
 @dataclass
@@ -53,7 +53,7 @@ class StudyResult:
     fidelity: pd.DataFrame | None = None
     """``fidelity: auto``'s choice per scene (empty without it)."""
     confirmation: pd.DataFrame | None = None
-    """The verdict per (scene, output) (:func:`ddgsa.confirm.confirmation_table`, set by the pipeline
+    """The verdict per (scene, output) (:func:`ddgsa.execute.confirm.confirmation_table`, set by the pipeline
     once the analysis is done; ``confirmation.csv``)."""
 
     def __getattr__(self, name: str) -> Any:
@@ -64,11 +64,10 @@ class StudyResult:
     def to_xarray(self) -> Any:
         """Indices, bounds, flags, moments and fault statistics as an :class:`xarray.Dataset` with
         dimensions (scene, output, parameter, method[, fault_level]), the scene fields as coordinates
-        and CF-style units and meanings (:func:`ddgsa.export.to_dataset`)."""
-        from ddgsa.export import to_dataset
+        and CF-style units and meanings (:func:`ddgsa.execute.dataset.to_dataset`)."""
+        from ddgsa.execute.dataset import to_dataset
 
-        model = self.study.make_model()
-        units = {o: model.output(o).unit for o in self.study.outputs if o in model.outputs}
+        units = self.study.make_model().units()
         return to_dataset(self.indices, self.study.scene_fields, self.moments, self.fault, self.fault_indices,
                           self.diagnostics, {"study": self.study.name, "model": self.study.spec.model.name}, units,
                           confirmation=self.confirmation)
@@ -323,7 +322,7 @@ class Kind(Protocol):
 
     def analyse(self, plan: Plan, runs: Runs) -> StudyResult:
         """The kind's own result type from the stored values (may run more, e.g. ``confirm:``'s stages);
-        :func:`ddgsa.pipeline.execute` adds the evaluations and provenance."""
+        :func:`ddgsa.execute.pipeline.execute` adds the evaluations and provenance."""
 
     def provenance(self, provenance: dict[str, Any]) -> None:
         """Add the kind's own entries to the study's provenance."""

@@ -13,8 +13,8 @@ import pandas as pd
 from ddgsa.detection import DetectionSettings, FaultDetectability, add_noise, assess
 from ddgsa.errors import StudyError
 from ddgsa.gsa.base import get_method
-from ddgsa.kinds.common import Plan, Runs, method_designs
-from ddgsa.kinds.gsa import GsaKind, GsaResult
+from ddgsa.execute.kinds.common import Plan, Runs, method_designs
+from ddgsa.execute.kinds.gsa import GsaKind, GsaResult
 from ddgsa.runner import EvaluationStore
 from ddgsa.gsa.space import ParameterSpace
 from ddgsa.study.spec import PlannedScene, Study
@@ -182,7 +182,7 @@ def _fault_indices(plan: Plan, store: EvaluationStore, outputs: list[str]) -> pd
 
 
 class FaultKind(GsaKind):
-    """``kind: fault``: :class:`~ddgsa.kinds.gsa.GsaKind`, then the fault levels' blocks and verdicts."""
+    """``kind: fault``: :class:`~ddgsa.execute.kinds.gsa.GsaKind`, then the fault levels' blocks and verdicts."""
 
     def plan(self, plan: Plan) -> None:
         super().plan(plan)
