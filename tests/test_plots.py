@@ -19,7 +19,7 @@ from ddgsa.detection import DetectionSettings, assess  # noqa: E402
 from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables  # noqa: E402
 from ddgsa.mbs.modal import plot_modes  # noqa: E402
 from ddgsa.models import get  # noqa: E402
-from ddgsa.report import plot_fault_histograms, plot_heatmap, plot_scene_bars, plot_sweep, sweep_summary  # noqa: E402
+from ddgsa.report.write import plot_fault_histograms, plot_heatmap, plot_scene_bars, plot_sweep, sweep_summary  # noqa: E402
 from ddgsa.models.signals import plot_order_map, plot_spectrum  # noqa: E402
 
 UNIT = re.compile(r"\[[^\]]+\]")

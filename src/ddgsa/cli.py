@@ -213,9 +213,9 @@ def _dispatch(args: argparse.Namespace) -> int:
     if args.command == "bench":
         return _bench(args)
     if args.command == "html":
-        from ddgsa.html_report import write_html
+        from ddgsa.report.html import write_html
 
-        from ddgsa.outdir import incompleteness
+        from ddgsa.report.outdir import incompleteness
 
         for folder in args.dirs:
             path = write_html(folder)
@@ -226,7 +226,7 @@ def _dispatch(args: argparse.Namespace) -> int:
                 print(f"wrote {path} ({path.stat().st_size / 1e3:.0f} kB)")
         return EXIT_OK
     if args.command == "export":
-        from ddgsa.export import export_folder
+        from ddgsa.report.export import export_folder
 
         path = export_folder(args.dir, args.format, args.out)
         if not args.quiet:
@@ -287,7 +287,7 @@ def _modes(args: argparse.Namespace) -> int:
     ax = diagram.plot()
     ax.set_title(f"{ax.get_title()}: {name}, fidelity {getattr(model, 'fidelity', '') or '-'}", fontsize=9)
     ax.figure.savefig(out / "campbell.png", dpi=120, bbox_inches="tight")
-    from ddgsa.html_report import write_html
+    from ddgsa.report.html import write_html
 
     write_html(out)
     if not args.quiet:
@@ -372,7 +372,7 @@ def plural(n: int, noun: str) -> str:
 
 
 def _run(study: "Study", args: argparse.Namespace) -> int:
-    from ddgsa.outdir import LOCK_NAME, STORE_NAME, claim, replaced_version, unmark_complete
+    from ddgsa.report.outdir import LOCK_NAME, STORE_NAME, claim, replaced_version, unmark_complete
     from ddgsa.execute.pipeline import default_out, execute
     from ddgsa.runner import EvaluationStore, set_aside
 
@@ -449,7 +449,7 @@ def _finish(result: "StudyResult", out: Path, args: argparse.Namespace, verb: st
     import pandas as pd
 
     from ddgsa.execute.confirm import verdict_line
-    from ddgsa.report import evaluation_line, problems, write_report
+    from ddgsa.report.write import evaluation_line, problems, write_report
 
     files = write_report(result, out)
     bad = problems(result)
@@ -472,7 +472,7 @@ def _report(args: argparse.Namespace) -> int:
     import json
 
     from ddgsa.errors import StudyError
-    from ddgsa.outdir import claim
+    from ddgsa.report.outdir import claim
     from ddgsa.execute.pipeline import execute
     from ddgsa.runner import EvaluationStore
     from ddgsa.study.spec import load_study

@@ -195,7 +195,7 @@ def test_summary_names_the_rotor_of_non_default_loads(fidelity: str, line: str |
     table rotor; a table-rotor study's summary has no such line (the committed ones are unchanged)."""
     from types import SimpleNamespace
 
-    from ddgsa.report import _loads_line
+    from ddgsa.report.write import _loads_line
     from ddgsa.study.spec import validate_study
 
     study = validate_study({"name": "s", "kind": "sweep", "model": {"name": "direct_drive", "fidelity": "linear"},

@@ -21,7 +21,7 @@ from ddgsa.models.basis import (REFERENCE, TABLE, _computed, _options_key, basis
                                  tabulated_bases)
 from ddgsa.models.hss_rig.model import BEARING_GEOMETRY
 from ddgsa.models.hss_rig.scenes import RigScene
-from ddgsa.report import _basis_lines
+from ddgsa.report.write import _basis_lines
 from ddgsa.study.spec import load_study
 
 RIG = """\

@@ -16,7 +16,7 @@ from ddgsa.cli import main
 from ddgsa.loads.scene import Scene
 from ddgsa.models import get as get_model
 from ddgsa.models.hss_rig.model import BEARING_GEOMETRY
-from ddgsa.report import no_effect_lines
+from ddgsa.report.write import no_effect_lines
 from ddgsa.study.spec import StudyWarning, load_study
 
 RIG = """\

@@ -10,7 +10,7 @@ import time
 from pathlib import Path
 
 from ddgsa.cli import EXIT_INTERRUPTED, EXIT_UNTRUSTED, main
-from ddgsa.outdir import claim
+from ddgsa.report.outdir import claim
 from ddgsa.runner import EvaluationStore
 from running import pages_committed
 from studytext import ishigami_study

@@ -13,7 +13,7 @@ import pytest
 
 from ddgsa.cli import main
 from ddgsa.execute.pipeline import execute
-from ddgsa.report import write_report
+from ddgsa.report.write import write_report
 from ddgsa.runner import EvaluationStore
 from ddgsa.study.spec import load_study
 
@@ -94,7 +94,7 @@ def test_netcdf_and_zarr_round_trip_and_the_folder_export_matches(run: tuple[obj
 
 
 def test_fault_statistics_of_a_committed_study_as_arrays() -> None:
-    from ddgsa.export import folder_dataset
+    from ddgsa.report.export import folder_dataset
 
     folder = Path(__file__).parents[2] / "results" / "paper_a_faults"
     ds = folder_dataset(folder)

@@ -255,7 +255,7 @@ def test_a_refused_sensor_choice_validation_shows_its_reason_not_nan() -> None:
     table (it read 'nan [nan, nan]' in every committed rig fault study)."""
     from types import SimpleNamespace
 
-    from ddgsa.report import _subset_row
+    from ddgsa.report.write import _subset_row
 
     nan = float("nan")
     row = SimpleNamespace(scene=0, faulty=0.4, sensors="a, b", selection_auc=0.9, auc=nan, auc_low=nan, auc_high=nan,

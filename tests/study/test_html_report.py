@@ -21,7 +21,7 @@ from typing import Any
 import pytest
 
 from ddgsa.cli import main
-from ddgsa.html_report import write_html
+from ddgsa.report.html import write_html
 
 RESULTS = Path(__file__).parents[2] / "results"
 BROWSERS = ("chromium", "chromium-browser", "google-chrome", "chrome")
@@ -251,7 +251,7 @@ def test_cli_html_rebuilds_committed_folders_and_refuses_a_file(tmp_path: Path, 
 def test_model_options_are_named_in_summary_and_provenance(tmp_path: Path) -> None:
     """A variant chosen by model options (seed 000's printed readings) shows in the summary's model
     line and the page's provenance, not only in study.yaml."""
-    from ddgsa.html_report import model_words
+    from ddgsa.report.html import model_words
 
     assert model_words({"name": "direct_drive", "fidelity": "rigid", "options": {}}) == "rigid"
     assert model_words({"fidelity": "linear", "options": {"bending_rayleigh": "printed", "deflection": "frame"}}) \

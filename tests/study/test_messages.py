@@ -12,7 +12,7 @@ import pytest
 from ddgsa import cli
 from ddgsa.cli import main
 from ddgsa.errors import StudyError
-from ddgsa.outdir import LOCK_NAME, claim
+from ddgsa.report.outdir import LOCK_NAME, claim
 from ddgsa.study.spec import load_study
 
 BASE = """\

@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 
 from ddgsa.cli import main
-from ddgsa.outdir import replaced_version
+from ddgsa.report.outdir import replaced_version
 from ddgsa.study.spec import load_study
 from studytext import ishigami_study
 

@@ -184,7 +184,7 @@ def test_a_report_killed_while_written_is_shown_incomplete(tmp_path: Path, monke
     assert main(["html", str(out), "-q"]) == 0
     assert "Incomplete outputs" not in (out / "report.html").read_text()
 
-    import ddgsa.report as report
+    import ddgsa.report.write as report
 
     def killed(*args: Any, **kwargs: Any) -> None:
         raise KeyboardInterrupt                                # the run killed while drawing its figures

@@ -15,7 +15,7 @@ from matplotlib.container import ErrorbarContainer
 
 from ddgsa.cli import main
 from ddgsa.models import get
-from ddgsa.report import accuracy_table, plot_heatmap, plot_scene_bars, sampling_markdown
+from ddgsa.report.write import accuracy_table, plot_heatmap, plot_scene_bars, sampling_markdown
 from studytext import ishigami_study
 
 matplotlib.use("Agg")
@@ -179,7 +179,7 @@ def test_mdrm_surrogate_moments_are_exact_for_a_product() -> None:
 
 
 def test_pngs_carry_no_software_metadata_and_repeat_byte_for_byte(tmp_path: Path) -> None:
-    from ddgsa.report import PNG_METADATA
+    from ddgsa.report.write import PNG_METADATA
 
     blobs = []
     for k in range(2):
@@ -209,7 +209,7 @@ def test_a_constant_output_is_not_a_problem_but_an_untrusted_varying_one_is() ->
     load), so M-DRM refuses its indices (0/0); that alone must not turn a run into exit 3."""
     from types import SimpleNamespace
 
-    from ddgsa.report import problems
+    from ddgsa.report.write import problems
 
     idx = pd.DataFrame({"output": ["flat", "flat", "wavy", "wavy"], "scene": 0, "method": "mdrm",
                         "parameter": ["a", "b", "a", "b"], "trusted": False, "rank_confirmed": False,
@@ -240,7 +240,7 @@ def test_a_constant_output_is_not_a_problem_but_an_untrusted_varying_one_is() ->
 def test_a_constant_outputs_sentence_says_there_is_nothing_to_rank() -> None:
     """The ranking sentence of an output constant to its numerical noise says so (it named no cause
     and sent the user to a Saltelli design of 61 440 runs)."""
-    from ddgsa.report import _dominance
+    from ddgsa.report.write import _dominance
 
     g = pd.DataFrame({"method": "mdrm", "parameter": ["a", "b"], "trusted": False, "rank_confirmed": False,
                       "ST": [np.nan, np.nan], "S1": [np.nan, np.nan]})
@@ -264,7 +264,7 @@ def test_an_output_within_its_declared_resolution_has_nothing_to_rank() -> None:
 
     from ddgsa.execute.confirm import confirmation_table
     from ddgsa.models import get
-    from ddgsa.report import problems
+    from ddgsa.report.write import problems
 
     rig = get("hss_rig")
     # Gumbel: the largest of n = 2 000 normal samples has standard deviation pi / sqrt(12 ln n) = 0.329
@@ -312,7 +312,7 @@ def test_figures_drawn_in_forked_processes_are_the_bytes_drawn_in_one(tmp_path: 
     import functools
     import sys
 
-    from ddgsa.report import render_figures
+    from ddgsa.report.write import render_figures
 
     if not sys.platform.startswith("linux"):
         pytest.skip("figures are drawn in forked processes on Linux only")

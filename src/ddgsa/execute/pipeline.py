@@ -4,7 +4,7 @@
 each under :mod:`ddgsa.execute.kinds`), lets it plan its points, hands the model runs to
 :mod:`ddgsa.runner`, lets the kind analyse them (realisations aggregated; a point with any failed
 realisation is refused, never imputed) and returns a :class:`StudyResult` with its provenance,
-which :mod:`ddgsa.report` writes out.
+which :mod:`ddgsa.report.write` writes out.
 """
 
 from __future__ import annotations

@@ -4,8 +4,8 @@ Outputs are labelled with their declared unit (``rms_deflection_hub [m]``); ``su
 opens with what each output is, its mean and coefficient of variation, then ranks parameters
 by S1 and ST with a sentence per output naming what dominates, and lists every problem (refused
 or untrusted outputs, failure reasons, implausible values). Files an earlier report wrote that
-this one does not are removed (:mod:`ddgsa.outdir`). PNGs carry no software/date metadata.
-``report.html`` (:mod:`ddgsa.html_report`) is written last, from the files written here.
+this one does not are removed (:mod:`ddgsa.report.outdir`). PNGs carry no software/date metadata.
+``report.html`` (:mod:`ddgsa.report.html`) is written last, from the files written here.
 """
 
 from __future__ import annotations
@@ -29,17 +29,17 @@ from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from ddgsa.report_beyond import beyond_markdown, group_table, plot_groups
+from ddgsa.report.beyond import beyond_markdown, group_table, plot_groups
 from ddgsa.execute.confirm import CONFIRMED, CROSSCHECKS, VERDICTS, next_step, study_tolerance, verdicts  # noqa: E402
 from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.base import sobol_rows  # noqa: E402
 from ddgsa.gsa.result import CONSTANT_CV, draw_index_bars  # noqa: E402
-from ddgsa.html_report import HTML_NAME, model_words, write_html  # noqa: E402
+from ddgsa.report.html import HTML_NAME, model_words, write_html  # noqa: E402
 from ddgsa.loads.scene import AUTO_BEM_INCLINATION_DEG  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
-from ddgsa.outdir import COMPLETE_NAME, mark_complete, previous_files, remove_stale, unmark_complete  # noqa: E402
+from ddgsa.report.outdir import COMPLETE_NAME, mark_complete, previous_files, remove_stale, unmark_complete  # noqa: E402
 from ddgsa.execute.kinds.common import StudyResult  # noqa: E402
-from ddgsa.signal_report import summary_lines as signal_summary_lines  # noqa: E402
+from ddgsa.report.signals import summary_lines as signal_summary_lines  # noqa: E402
 from ddgsa.study.spec import WIND_LABEL_FIELDS, plan_scenes, scene_text  # noqa: E402
 
 PNG_METADATA = {"Software": None}

@@ -19,7 +19,7 @@ FORMATS = ("netcdf", "zarr", "csv")
 
 def folder_dataset(folder: Path) -> xr.Dataset:
     """The dataset of a results folder, from its ``indices.csv`` and the other tables beside it."""
-    from ddgsa.html_report import folder_units, read_json
+    from ddgsa.report.html import folder_units, read_json
 
     folder = Path(folder)
     path = folder / "indices.csv"

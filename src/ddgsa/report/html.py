@@ -3,7 +3,7 @@
 The page is made from what a report folder holds (``summary.md``, ``indices.csv``,
 ``diagnostics.csv``, ``fault_*.csv``, ``sweep_summary.csv``, ``campbell.csv``,
 ``accuracy_cost.csv``, ``provenance.json``, the PNGs), so it can be rebuilt for any folder --
-a fresh run (:func:`ddgsa.report.write_report` calls :func:`write_html` last) or a committed one
+a fresh run (:func:`ddgsa.report.write.write_report` calls :func:`write_html` last) or a committed one
 (``ddgsa html DIR...``) -- without the evaluation store.
 
 What it holds: the summary; the problems with what would fix each; sortable, filterable tables
@@ -37,9 +37,9 @@ from ruamel.yaml import YAML
 from ddgsa.errors import DdgsaError, OutputFolderError
 from ddgsa.gsa.result import ROW_COLUMNS
 from ddgsa.models import get as get_model
-from ddgsa.outdir import incompleteness
-from ddgsa.signal_report import SIGNAL_TABLES, convergence_section, signals_section
-from ddgsa.svgplot import Bars, Guide, Heat, Line, bar_chart, heatmap, num, xy_chart
+from ddgsa.report.outdir import incompleteness
+from ddgsa.report.signals import SIGNAL_TABLES, convergence_section, signals_section
+from ddgsa.report.svgplot import Bars, Guide, Heat, Line, bar_chart, heatmap, num, xy_chart
 
 HTML_NAME = "report.html"
 TABLE_ROWS = 400
@@ -102,7 +102,7 @@ def write_html(folder: Path, complete: bool | None = None) -> Path:
 
 def render(folder: Path, complete: bool | None = None) -> str:
     """The report page of a results folder, as HTML text. A study's folder whose outputs are not
-    complete (:func:`ddgsa.outdir.incompleteness`: its run was killed, or a file changed since)
+    complete (:func:`ddgsa.report.outdir.incompleteness`: its run was killed, or a file changed since)
     gets a banner saying so at the top; ``complete=True`` (the report being written) skips the check."""
     if not folder.is_dir():
         raise OutputFolderError(f"{folder}: not a folder (ddgsa html takes results folders, e.g. results/quickstart)")

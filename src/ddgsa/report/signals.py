@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ddgsa.svgplot import Line, xy_chart
+from ddgsa.report.svgplot import Line, xy_chart
 
 MAX_CHARTS = 12
 """Signal charts per page (scene x method x signal); the CSVs hold all."""
