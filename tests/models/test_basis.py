@@ -1,7 +1,7 @@
 """The shaft basis reported with its convergence (ddgsa.models.basis, issue 26).
 
 The first lateral pair of the rig on the second stage's basis (2 modes, 8 elements, axially rigid;
-``basis.LIGHT``) against the converged one is the yardstick: in a scene whose band of interest stops below the 3rd pair, the
+the rig's ``basis_rule.light``) against the converged one is the yardstick: in a scene whose band of interest stops below the 3rd pair, the
 reported worst error is that pair's difference. Default-run tests read the stored modes
 (``src/ddgsa/data/basis_modes.json``, values recorded from ``HssRig.modes``); the slow test recomputes
 them from the models and checks the stored table and the report against the fresh frequencies.
@@ -16,9 +16,7 @@ import pytest
 
 from ddgsa.study.checks import study_basis, study_findings
 from ddgsa.models import get as get_model
-from ddgsa.models.basis import LIGHT as BASIS_LIGHT
-from ddgsa.models.basis import (REFERENCE, TABLE, _computed, _options_key, basis_of, basis_report,
-                                 tabulated_bases)
+from ddgsa.models.basis import TABLE, _computed, _options_key, basis_of, basis_report, rule, tabulated_bases
 from ddgsa.models.hss_rig.model import BEARING_GEOMETRY
 from ddgsa.models.hss_rig.scenes import RigScene
 from ddgsa.report.write import _basis_lines
@@ -115,10 +113,10 @@ def test_default_direct_drive_modes_are_converged_below_150_hz() -> None:
     assert default is not None and default["shaft"] == "table1"
     for shaft, low_band in (("table1", 0.2 * TOLERANCE), ("table2", 0.1 * TOLERANCE)):
         basis = {**default, "shaft": shaft}
-        reference = frequencies("direct_drive", {**basis, **REFERENCE["direct_drive"]})
+        reference = frequencies("direct_drive", {**basis, **rule("direct_drive").reference})
         assert worst_error(frequencies("direct_drive", basis), reference, 150.0)["error"] < low_band
         seed = {**basis, "beam": "euler_bernoulli", "bending_modes": 2}
-        seed_reference = frequencies("direct_drive", {**seed, **REFERENCE["direct_drive"]})
+        seed_reference = frequencies("direct_drive", {**seed, **rule("direct_drive").reference})
         assert worst_error(frequencies("direct_drive", seed), seed_reference, 150.0)["error"] > 0.1
     assert worst_error(frequencies("direct_drive", basis), reference, 283.0)["error"] < TOLERANCE
 
@@ -139,11 +137,11 @@ def test_stored_rig_modes_and_the_report_against_fresh_modes() -> None:
     for basis in tabulated_bases("hss_rig"):
         fresh = get_model("hss_rig", fidelity="kloss", **basis).modes()["frequency_hz"].tolist()
         assert [f for f, _ in stored[_options_key(basis)]] == pytest.approx(fresh, rel=1e-6), basis
-    light = get_model("hss_rig", fidelity="kloss", **BASIS_LIGHT["hss_rig"]).modes()
-    reference = get_model("hss_rig", fidelity="kloss", **REFERENCE["hss_rig"]).modes()
+    light = get_model("hss_rig", fidelity="kloss", **rule("hss_rig").light).modes()
+    reference = get_model("hss_rig", fidelity="kloss", **rule("hss_rig").reference).modes()
     pair = [m for m in light["frequency_hz"] if m < 25.0]
     ref_pair = [m for m in reference["frequency_hz"] if m < 25.0]
     assert pair == pytest.approx(LIGHT_PAIR, rel=1e-6) and ref_pair == pytest.approx(REFERENCE_PAIR, rel=1e-6)
-    report = basis_report(get_model("hss_rig", fidelity="linear", **BASIS_LIGHT["hss_rig"]), LOW)
+    report = basis_report(get_model("hss_rig", fidelity="linear", **rule("hss_rig").light), LOW)
     assert report is not None
     assert report["error"] == pytest.approx(max(abs(a - b) / b for a, b in zip(pair, ref_pair)), rel=1e-6)

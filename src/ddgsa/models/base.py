@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError, clip, did_you_mean, unknown_name_message, with_hint
 from ddgsa.loads.scene import Scene
+from ddgsa.models.basis import BasisRule
 from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables
 from ddgsa.mbs.sampling import sampling_row
 from ddgsa.registry import Registry
@@ -259,6 +260,9 @@ class Model(ABC):
 
     name: ClassVar[str] = ""
     scene_type: ClassVar[type] = Scene
+    basis_rule: ClassVar[BasisRule | None] = None
+    """How the model's finite-element shaft basis is checked for convergence (:mod:`ddgsa.models.basis`);
+    ``None``: no such basis."""
     parameters: tuple[ModelParameter, ...] = ()        # per class, or per instance where options change them
     outputs: tuple[str, ...] = ()                     # names; ModelOutput declarations carry unit and range
     #: vector outputs on a fixed grid (:meth:`signal_axis`), computed only when asked for (``evaluate(signals=)``)

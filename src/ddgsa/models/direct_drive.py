@@ -85,6 +85,7 @@ from ddgsa.mbs.linear import (initial_state, input_window, linearise_spinning, l
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
 from ddgsa.mbs.system import (SystemArrays, integrate, integrate_reference, kind, kind_context,
                               single_body_arrays, static_state)
+from ddgsa.models.basis import BAND_FACTOR, BasisRule
 from ddgsa.models.base import (Model, ModelOption, ModelOutput, ModelParameter, SignalOutput, controller_row,
                                register_model)
 from ddgsa.models.constants import HUB_INERTIA_X, HUB_INERTIA_YZ, HUB_MASS, tilted_gravity
@@ -351,6 +352,32 @@ def assembled(params: tuple[tuple[str, float], ...], fields: tuple[str, ...],
     return build(dict(params), fields, damping, beam, shaft)
 
 
+def _dd_basis(model: "DirectDrive") -> dict[str, Any] | None:
+    """The direct drive's shaft basis as model options (``None`` at the rigid fidelity)."""
+    if not model.fields:
+        return None
+    return {"bending_modes": sum(f.startswith("bending_y") for f in model.fields), "beam": model.beam,
+            "axial": "axial" in model.fields, "shaft": model.shaft}
+
+
+BASIS_RULE = BasisRule(
+    reference={"bending_modes": 10},
+    ladder=(({"bending_modes": 3}, "about the time of the default 5 (Timoshenko; 2 Euler-Bernoulli modes "
+                                   "cost 0.7-0.85x)"),
+            ({"bending_modes": 5}, "the default; with Timoshenko elements +15 to +40 % per linear run "
+                                   "against 2 Euler-Bernoulli modes"),
+            ({"bending_modes": 6}, "+10 % time per linear run against the default 5")),
+    light={"bending_modes": 2}, fidelity="flexible", options=_dd_basis,
+    band_hz=lambda model, scene: BAND_FACTOR * 0.5 / float(scene.dt),
+    nominal=lambda: {s: {p.name: p.nominal for p in shaft_parameters(s)} for s in SHAFT},
+    starts=lambda default: [default, *({**default, "shaft": s} for s in SHAFT if s != default["shaft"])])
+"""The direct drive's shaft basis rule (:mod:`ddgsa.models.basis`): its outputs read its loads, whose band is
+the load interval's Nyquist frequency ``1 / (2 dt)``; reference 10 modes per plane; the ladder's costs are CPU
+per point of a 64-point batch of 600 s at the ``linear`` fidelity as ``ddgsa bench`` times it (load 11-12;
+docs/physics.md "Cost of more modes"): the default 5 modes are converged below 284 Hz, 6 below 466 Hz. The
+stored table holds each shaft reading (issue 47), the default's first; light: the seed's 2 modes."""
+
+
 @register_model("direct_drive")
 class DirectDrive(Model):
     """Direct-drive main shaft on two bearings (see the module docstring).
@@ -400,6 +427,7 @@ class DirectDrive(Model):
     """
 
     parameters = shaft_parameters(DEFAULT_SHAFT)
+    basis_rule = BASIS_RULE
     outputs = OUTPUTS
     signal_outputs = SIGNALS
     fidelities = ("flexible", "rigid", "linear")

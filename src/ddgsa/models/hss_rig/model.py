@@ -78,6 +78,7 @@ from ddgsa.mbs.beam import BEAMS
 from ddgsa.mbs.bodies import MAX_BENDING_MODES
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.mbs.sampling import AliasingWarning
+from ddgsa.models.basis import BAND_FACTOR, BasisRule
 from ddgsa.models.base import Model, ModelOption, ModelOutput, SignalOutput, register_model
 from ddgsa.models.hss_rig import steady_block, transient
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
@@ -191,6 +192,40 @@ inherit this set from the study's process, which checks the first scene before f
 MAX_DEFAULT_STEP = 2e-4
 
 
+def _rig_basis(model: "HssRig") -> dict[str, Any]:
+    """The rig's shaft basis as model options."""
+    b = model.basis
+    return {"bending_modes": b.bending_modes, "beam": b.beam, "shaft_elements": b.elements_per_span,
+            "shaft_axial": b.axial}
+
+
+def _rig_band(model: "HssRig", scene: Any) -> float:
+    """The rig's band of interest [Hz]: its outputs read up to the highest frequency its sampling checks
+    name (3 x BPFI, 2 x the supply, the 2x order) times :data:`~ddgsa.models.basis.BAND_FACTOR`, capped at
+    the record's Nyquist frequency."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rows = model.sampling_checks(scene)
+    return min(BAND_FACTOR * max(r["frequency_hz"] for r in rows), 0.5 * model._scene(scene).sample_rate)
+
+
+BASIS_RULE = BasisRule(
+    reference={"bending_modes": 10, "shaft_elements": 64, "shaft_axial": True},
+    ladder=(({"bending_modes": 3}, "about +11 % time per linear steady run against 2 modes"),
+            ({"bending_modes": 5, "shaft_elements": 32, "shaft_axial": True},
+             "the default basis; about +27 % time per linear run and +4 to +15 % per kloss run against "
+             "2 modes on 8 elements")),
+    light={"bending_modes": 2, "shaft_elements": 8, "shaft_axial": False},
+    fidelity="kloss", options=_rig_basis, band_hz=_rig_band,
+    nominal=lambda: {p.name: p.nominal for p in PARAMETERS})
+"""The rig's shaft basis rule (:mod:`ddgsa.models.basis`). Reference: 10 modes per plane on 64 elements,
+axially elastic; the default 5 modes on 32 elements move by <= 0.34 % below 600 Hz against it
+(docs/physics.md). Ladder costs measured on the shared 2-core machine against the light basis (load 2-3;
+start-up, steady and coast-down at 1500 rpm, 1.2 s, and kloss 0.6 s records). Light: the second stage's
+default, 2 modes per plane on 8 elements, axially rigid (2.5 % high on its first pair and 44 % low on the
+disk's 1x amplitude at the critical speed), for studies that keep it for speed."""
+
+
 @register_model("hss_rig")
 class HssRig(Model):
     """High-speed-shaft test rig (seed 001 paper A) on the multibody kernel; see the module.
@@ -225,6 +260,7 @@ class HssRig(Model):
     outputs = OUTPUTS
     signal_outputs = SIGNALS
     scene_type = RigScene
+    basis_rule = BASIS_RULE
     options = (ModelOption("time_step", "number", "generalised-alpha step (default: the largest step <= 2e-4 s "
                            "dividing the sensor interval)", 0.0, 1e-2, "s", low_open=True, optional=True),
                ModelOption("noise", "bool", "seeded measurement noise on the sensors"),
