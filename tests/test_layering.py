@@ -107,6 +107,59 @@ def test_no_import_circles_in_src() -> None:
     assert _circle(graph) == []
 
 
+ROOMS: dict[str, set[str]] = {
+    "errors": set(), "_version": set(), "closed_forms": set(),
+    "registry": {"errors"}, "units": {"errors"}, "runner": {"errors"},
+    "mbs": {"errors"},
+    "loads": {"errors", "_version"},
+    "detection": {"errors"},
+    "gsa": {"errors", "registry", "closed_forms", "runner"},
+    "models": {"errors", "registry", "units", "closed_forms", "mbs", "loads"},
+    "__init__": {"errors", "_version", "gsa", "loads", "models"},
+    "study": {"errors", "units", "registry", "mbs", "loads", "models", "gsa"},
+    "execute": {"__init__", "errors", "runner", "study", "gsa", "detection", "models", "loads", "mbs"},
+    "report": {"errors", "execute", "study", "gsa", "detection", "models", "loads", "mbs"},
+    "bench": {"__init__", "errors", "runner", "execute", "study", "gsa", "models", "loads", "mbs"},
+    "cli": {"__init__", "errors", "runner", "bench", "report", "execute", "study", "gsa", "models", "loads", "mbs"},
+}
+"""Each room of ``src/ddgsa`` (a package or a top-level module) and the rooms it may import (issue 50;
+docs/architecture.md draws them): the kernel, the loads, detection and the runner know no model, study or
+statistics of the workbench; the models know no GSA; the study file's validation never runs anything;
+execution never writes a report; only the CLI reaches the report and the benchmarks."""
+
+
+def _rooms() -> dict[str, set[str]]:
+    """Room -> the rooms its files import, at any depth of a file (``ddgsa`` alone is the room ``__init__``)."""
+    out: dict[str, set[str]] = {}
+    for path in SRC.rglob("*.py"):
+        room = path.relative_to(SRC).with_suffix("").parts[0]
+        uses = out.setdefault(room, set())
+        for module in _imports(path):
+            parts = module.split(".")
+            if parts[0] == "ddgsa":
+                uses.add(parts[1] if len(parts) > 1 and parts[1] in ROOMS else "__init__")
+        uses.discard(room)
+    return out
+
+
+def test_every_room_imports_only_what_it_may() -> None:
+    """The package layout's rules, on the imports: a new import across rooms either follows them or
+    changes :data:`ROOMS` (and the architecture page) on purpose."""
+    rooms = _rooms()
+    assert rooms.keys() == ROOMS.keys(), "a room was added or removed: place it in ROOMS and docs/architecture.md"
+    bad = {room: sorted(uses - ROOMS[room]) for room, uses in rooms.items() if uses - ROOMS[room]}
+    assert not bad
+
+
+def test_the_top_of_the_package_is_small_and_every_package_says_what_it_holds() -> None:
+    """At most 8 modules beside the packages (issue 50), and each package's ``__init__`` opens with a
+    docstring (what it holds; the larger ones also what they may import)."""
+    top = sorted(p.name for p in SRC.glob("*.py"))
+    assert len(top) <= 8, top
+    for init in SRC.glob("*/__init__.py"):
+        assert ast.get_docstring(ast.parse(init.read_text())), init.parent.name
+
+
 def test_the_kernels_sampling_table_carries_only_the_callers_words() -> None:
     assert not hasattr(sampling, "controller_row")
     ok = sampling.sampling_row("step", 0.001, 10.0, "m1", "caller's text")

@@ -7,7 +7,7 @@ import dataclasses
 import math
 import warnings
 from abc import ABC, abstractmethod
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -17,7 +17,6 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError, clip, did_you_mean, unknown_name_message, with_hint
 from ddgsa.loads.scene import Scene
-from ddgsa.models.basis import BasisRule
 from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables
 from ddgsa.mbs.sampling import sampling_row
 from ddgsa.registry import Registry
@@ -25,6 +24,46 @@ from ddgsa.units import prefix_hint
 
 MODELS: Registry[type["Model"]] = Registry("model", ModelError)
 register_model = MODELS.register
+
+
+BAND_FACTOR = 1.5
+"""A scene's band of interest is this times the highest frequency a model's outputs read
+(:attr:`BasisRule.band_hz`)."""
+
+
+@dataclass(frozen=True)
+class BasisRule:
+    """What a model with a finite-element shaft declares for :func:`ddgsa.models.basis.basis_report`.
+
+    Attributes
+    ----------
+    reference : dict
+        Model options of the converged basis its own is compared with (same beam theory).
+    ladder : tuple of (dict, str)
+        Bases tried in order for the advice, each with its measured cost in words.
+    light : dict
+        The cheaper basis studies may keep for speed (tabulated with the ladder's steps from it).
+    fidelity : str
+        The fidelity whose :meth:`modes` give the basis's standstill frequencies.
+    options : callable
+        ``options(model)``: the model's basis as model options, ``None`` where a fidelity has none.
+    band_hz : callable
+        ``band_hz(model, scene)``: the scene's band of interest [Hz].
+    nominal : callable
+        ``nominal()``: the nominal values the stored table depends on (JSON-serialisable).
+    starts : callable
+        ``starts(default)``: the bases :func:`tabulated_bases` starts from (the default; the direct drive
+        adds each shaft reading).
+    """
+
+    reference: dict[str, Any]
+    ladder: tuple[tuple[dict[str, Any], str], ...]
+    light: dict[str, Any]
+    fidelity: str
+    options: Callable[[Any], dict[str, Any] | None]
+    band_hz: Callable[[Any, Any], float]
+    nominal: Callable[[], Any]
+    starts: Callable[[dict[str, Any]], list[dict[str, Any]]] = lambda default: [default]
 
 
 @dataclass(frozen=True)

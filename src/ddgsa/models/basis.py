@@ -18,52 +18,15 @@ from __future__ import annotations
 import functools
 import json
 from pathlib import Path
-from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from ddgsa.models.base import MODELS, BasisRule
+
 TOLERANCE = 0.005
 """Relative frequency error below which a basis counts as converged (the issue's 0.5 %)."""
-BAND_FACTOR = 1.5
-"""The band of interest is this times the highest frequency an output reads."""
 
-
-
-@dataclass(frozen=True)
-class BasisRule:
-    """What a model with a finite-element shaft declares for :func:`basis_report`.
-
-    Attributes
-    ----------
-    reference : dict
-        Model options of the converged basis its own is compared with (same beam theory).
-    ladder : tuple of (dict, str)
-        Bases tried in order for the advice, each with its measured cost in words.
-    light : dict
-        The cheaper basis studies may keep for speed (tabulated with the ladder's steps from it).
-    fidelity : str
-        The fidelity whose :meth:`modes` give the basis's standstill frequencies.
-    options : callable
-        ``options(model)``: the model's basis as model options, ``None`` where a fidelity has none.
-    band_hz : callable
-        ``band_hz(model, scene)``: the scene's band of interest [Hz].
-    nominal : callable
-        ``nominal()``: the nominal values the stored table depends on (JSON-serialisable).
-    starts : callable
-        ``starts(default)``: the bases :func:`tabulated_bases` starts from (the default; the direct drive
-        adds each shaft reading).
-    """
-
-    reference: dict[str, Any]
-    ladder: tuple[tuple[dict[str, Any], str], ...]
-    light: dict[str, Any]
-    fidelity: str
-    options: Callable[[Any], dict[str, Any] | None]
-    band_hz: Callable[[Any, Any], float]
-    nominal: Callable[[], Any]
-    starts: Callable[[dict[str, Any]], list[dict[str, Any]]] = lambda default: [default]
 
 
 TABLE = Path(__file__).parents[1] / "data" / "basis_modes.json"
@@ -75,10 +38,15 @@ TABLE = Path(__file__).parents[1] / "data" / "basis_modes.json"
 def rule(model: Any) -> BasisRule | None:
     """The basis rule a model (an instance, a class or a registered name) declares, or ``None``."""
     if isinstance(model, str):
-        from ddgsa.models import MODELS
-
         model = MODELS.lookup(model)
     return getattr(model, "basis_rule", None)
+
+
+def _model(key: str, **options: Any) -> Any:
+    """Model ``key`` built with ``options`` (checked as :func:`ddgsa.models.get` checks them)."""
+    cls = MODELS.lookup(key)
+    cls.check_options(options)
+    return cls(**options)
 
 
 def model_key(model: Any) -> str | None:
@@ -93,7 +61,7 @@ def basis_of(model: Any) -> dict[str, Any] | None:
 
 
 def band_hz(model: Any, scene: Any) -> float:
-    """The scene's band of interest [Hz] (the model's rule: :data:`BAND_FACTOR` x the highest frequency
+    """The scene's band of interest [Hz] (the model's rule: :data:`~ddgsa.models.base.BAND_FACTOR` x the highest frequency
     its outputs read)."""
     r = rule(model)
     assert r is not None
@@ -122,11 +90,9 @@ def _stored() -> dict[str, Any]:
 @functools.lru_cache(maxsize=32)
 def _computed(key: str, options: str) -> tuple[tuple[float, str], ...]:
     """Standstill natural frequencies [Hz] and labels at nominal parameters for one basis (cached)."""
-    from ddgsa.models import get as get_model
-
     r = rule(key)
     assert r is not None
-    modes = get_model(key, fidelity=r.fidelity, **json.loads(options)).modes()
+    modes = _model(key, fidelity=r.fidelity, **json.loads(options)).modes()
     return tuple((float(f), str(lab)) for f, lab in zip(modes["frequency_hz"], modes["label"]))
 
 
@@ -145,11 +111,9 @@ def tabulated_bases(key: str) -> list[dict[str, Any]]:
     """The bases :data:`TABLE` holds for a model: each of its rule's starts (its default basis) and the
     rule's light basis, each with every ladder step, and the reference, for each beam theory (with the
     model's other basis options at their defaults)."""
-    from ddgsa.models import get as get_model
-
     r = rule(key)
     assert r is not None
-    default = r.options(get_model(key, fidelity=r.fidelity))
+    default = r.options(_model(key, fidelity=r.fidelity))
     assert default is not None
     out: list[dict[str, Any]] = []
     for start in r.starts(default):
@@ -167,8 +131,6 @@ def tabulate(path: Path = TABLE, keys: tuple[str, ...] | None = None) -> dict[st
     registered model that declares a basis rule) and write them to ``path`` (JSON; the other models'
     entries already there are kept)."""
     if keys is None:
-        from ddgsa.models import MODELS
-
         keys = tuple(name for name in MODELS if rule(name) is not None)
     table = json.loads(path.read_text()) if path.exists() else {}
     table.update({key: {"nominal": _nominal_digest(key),

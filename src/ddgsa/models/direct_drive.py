@@ -85,9 +85,8 @@ from ddgsa.mbs.linear import (initial_state, input_window, linearise_spinning, l
 from ddgsa.mbs.sampling import NYQUIST, check_interval, sampling_row
 from ddgsa.mbs.system import (SystemArrays, integrate, integrate_reference, kind, kind_context,
                               single_body_arrays, static_state)
-from ddgsa.models.basis import BAND_FACTOR, BasisRule
-from ddgsa.models.base import (Model, ModelOption, ModelOutput, ModelParameter, SignalOutput, controller_row,
-                               register_model)
+from ddgsa.models.base import (BAND_FACTOR, BasisRule, Model, ModelOption, ModelOutput, ModelParameter, SignalOutput,
+                               controller_row, register_model)
 from ddgsa.models.constants import HUB_INERTIA_X, HUB_INERTIA_YZ, HUB_MASS, tilted_gravity
 from ddgsa.models.seed_readings import (BEARING_DAMPING, BENDING_RAYLEIGH, DEFLECTION, DEFLECTION_REFERENCE, SHAFT,
                                         bearing_damping, bending_damping, table1_shaft)

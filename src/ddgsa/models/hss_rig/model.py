@@ -78,8 +78,7 @@ from ddgsa.mbs.beam import BEAMS
 from ddgsa.mbs.bodies import MAX_BENDING_MODES
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.mbs.sampling import AliasingWarning
-from ddgsa.models.basis import BAND_FACTOR, BasisRule
-from ddgsa.models.base import Model, ModelOption, ModelOutput, SignalOutput, register_model
+from ddgsa.models.base import BAND_FACTOR, BasisRule, Model, ModelOption, ModelOutput, SignalOutput, register_model
 from ddgsa.models.hss_rig import steady_block, transient
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligned, operating_stretch
@@ -201,7 +200,7 @@ def _rig_basis(model: "HssRig") -> dict[str, Any]:
 
 def _rig_band(model: "HssRig", scene: Any) -> float:
     """The rig's band of interest [Hz]: its outputs read up to the highest frequency its sampling checks
-    name (3 x BPFI, 2 x the supply, the 2x order) times :data:`~ddgsa.models.basis.BAND_FACTOR`, capped at
+    name (3 x BPFI, 2 x the supply, the 2x order) times :data:`~ddgsa.models.base.BAND_FACTOR`, capped at
     the record's Nyquist frequency."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
