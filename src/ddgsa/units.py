@@ -211,6 +211,9 @@ def parameter_in(spec: Mapping[str, Any], expected: str) -> dict[str, Any]:
 PREFIX_SCALES = (1e3, 1e-3, 1e6, 1e-6)
 """The factors a unit hint tries: a value typed in N/m where kN/m was meant is 1e3 too small."""
 _PREFIXES = ("", "k", "M", "G", "m", "u")
+_SMALL_STEMS = ("m", "s", "g", "A", "V")
+"""Symbols whose milli- and micro- forms an engineer types (mm, ms, mg, mA, mV): a hint towards a smaller
+unit names only these (a stiffness too large is not advised as mN/m); a larger one never names ks."""
 
 
 @lru_cache(maxsize=256)
@@ -222,13 +225,16 @@ def prefixed_unit(unit: str, scale: float) -> str | None:
     --------
     >>> prefixed_unit("N/m", 1e3), prefixed_unit("kg m^2", 1e3), prefixed_unit("kg", 1e3), prefixed_unit("m", 1e-3)
     ('kN/m', 't m^2', 't', 'mm')
+    >>> prefixed_unit("N/m", 1e-3) is None           # mN/m: nobody types a shaft's stiffness in it
+    True
     """
     match = re.match(r"([A-Za-z]+)(.*)$", unit.strip())
     if match is None or unit.strip() in _DIMENSIONLESS:
         return None
     first, rest = match[1], match[2]
     stems = [first] + ([first[1:]] if len(first) > 1 and first[0] in "kMGmu" else [])
-    candidates = (["t"] if first == "kg" else []) + [p + s for s in stems for p in _PREFIXES]
+    candidates = (["t"] if first == "kg" else []) + [p + s for s in stems for p in _PREFIXES
+                                                      if ((s in _SMALL_STEMS) if scale < 1 else (s != "s"))]
     for cand in dict.fromkeys(c + rest for c in candidates):
         try:
             if cand != unit and math.isclose(factor(cand, unit), scale, rel_tol=1e-12):

@@ -154,6 +154,9 @@ GENERATOR = BASE.replace("{name: direct_drive, fidelity: rigid}", "{name: genera
                                                                  r"\[100000, 1e\+09\] N \(hint: 10 MN = 1e\+07 N"),
     (BASE, "outputs:", "fixed: {shaft_length: 60}\noutputs:", r"'shaft_length' = 60 m leaves its allowed range "
                                                               r"\[2, 20\] m$"),
+    # 1000x too stiff: mN/m would bring it inside, but nobody types a stiffness in it -- no hint
+    (BASE, "outputs:", "fixed: {k_front_y: 5e14}\noutputs:", r"'k_front_y' = 5e\+14 N/m leaves its allowed range "
+                                                            r"\[1e\+06, 1e\+12\] N/m$"),
 ])
 def test_validate_says_what_was_meant(tmp_path: Path, capsys, base: str, old: str, new: str, message: str) -> None:
     """``ddgsa validate`` on a study with one mistake exits 2 with the field, the known values and the
