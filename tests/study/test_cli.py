@@ -143,7 +143,7 @@ BASE = Path(__file__).with_name("conftest.py")
     ("REPLACE:name: demo|name: demo\nkind: fault", "kind 'fault' needs a 'fault' block"),
     ("REPLACE:x1: {low: -3.14159, high: 3.14159}|x1: {dist: normal, mean: 0, std: 1}",
      "field 'parameters.x1': parameter 'x1' support [-inf, inf] leaves its allowed range"),
-    ("REPLACE:run: {jobs: 1|run: {jobs: 0", "field 'run.jobs': Input should be greater than or equal to 1"),
+    ("REPLACE:run: {jobs: 1|run: {jobs: 0", "field 'run.jobs': must be >= 1 (given: 0)"),
     ("REPLACE:name: demo|name: demo\ngrid: {x1: [0.0]}", "'grid' and 'model.variants' need kind: sweep"),
     ("REPLACE:method: mdrm, points: 5|method: auto, budget: 5", "field 'methods[0]': method 'auto': option 'budget'"),
 ])

@@ -66,7 +66,7 @@ def test_a_list_of_kinds_labels_every_scene(tmp_path: Path) -> None:
                                      r"must be one of startup, steady, coastdown, got 'stedy'"),
     ("kind: steady, speed_rpm: [1500, 9000], duration: 0.45, settle: 0.05",
      r"field 'scenes' \(scene 1: kind=steady, speed_rpm=9000\): rig scene field 'speed_rpm' must be in \(0, 6000\] rpm"),
-    ("kind: steady, duration: 0.45, realisations: 0", r"field 'scenes\.realisations': Input should be greater than"),
+    ("kind: steady, duration: 0.45, realisations: 0", r"field 'scenes\.realisations': must be >= 1"),
 ])
 def test_a_wrong_rig_scene_is_refused_naming_file_field_and_value(tmp_path: Path, scenes: str, message: str) -> None:
     with pytest.raises(StudyError, match=message):

@@ -351,7 +351,7 @@ class FaultSpec(BaseModel):
                 return FaultRange.model_validate(v)
             except ValidationError as exc:
                 problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'range'}: "
-                                     f"{'unknown field' if e['type'] == 'extra_forbidden' else e['msg']}"
+                                     f"{'unknown field' if e['type'] == 'extra_forbidden' else bound_message(e) if e['type'] in _BOUNDS else e['msg']}"
                                      for e in exc.errors())
                 raise ValueError(f"a range of levels is {{start, stop, num >= 2}} ({problems})") from None
         if isinstance(v, list) and not v:
@@ -563,7 +563,9 @@ class Study:
         try:
             confirm = ConfirmSpec(**{**old, "time": value})
         except ValidationError as exc:
-            raise StudyError(f"--confirm-time {value!r}: {exc.errors()[0]['msg']}") from None
+            err = exc.errors()[0]
+            raise StudyError(f"--confirm-time {value!r}: "
+                             f"{bound_message(err) if err['type'] in _BOUNDS else err['msg']}") from None
         return replace(self, spec=self.spec.model_copy(update={"confirm": confirm}))
 
     @property
@@ -949,6 +951,22 @@ def _known_fields(loc: tuple[Any, ...]) -> list[str]:
     return list(node.model_fields) if isinstance(node, type) and issubclass(node, BaseModel) else []
 
 
+_BOUNDS = {"greater_than": ("gt", ">"), "greater_than_equal": ("ge", ">="), "less_than": ("lt", "<"),
+           "less_than_equal": ("le", "<=")}
+"""pydantic's bound errors and the symbol ddgsa's messages use for each."""
+
+
+def bound_message(err: Mapping[str, Any]) -> str:
+    """A bound error of pydantic in the words of ddgsa's other messages: ``must be > 0`` where pydantic
+    says "Input should be greater than 0".
+
+    >>> bound_message({"type": "less_than", "ctx": {"lt": 1.0}})
+    'must be < 1'
+    """
+    key, symbol = _BOUNDS[err["type"]]
+    return f"must be {symbol} {err['ctx'][key]:g}"
+
+
 def _pydantic_message(where: str, exc: ValidationError) -> str:
     """One line per problem: file, field path, message and the value given."""
     lines = []
@@ -963,6 +981,8 @@ def _pydantic_message(where: str, exc: ValidationError) -> str:
             msg = unknown_name_message("value", err["input"], allowed)
         elif err["type"] == "missing":
             msg = "required field is missing"
+        elif err["type"] in _BOUNDS:
+            msg = bound_message(err)
         given = f" (given: {clip(err['input'])})" if err["type"] not in ("missing", "extra_forbidden", "literal_error") \
             and not isinstance(err.get("input"), dict) else ""
         lines.append(f"{where}: field '{loc or '<top>'}': {msg}{given}")
