@@ -43,7 +43,8 @@ MAX_CORNERS = 1024
 TAIL = 1e-3
 """Probability cut from each tail of an unbounded distribution to give its "corners"."""
 SLIP = 100.0
-"""A value this many times above or below its model's nominal value gets a unit hint."""
+"""A value this many times above or below its model's nominal value gets a unit hint: a warning (shown
+under ``-q`` too) where a unit prefix would bring it back to the nominal's order, else a hint."""
 
 
 @dataclass(frozen=True)
@@ -225,7 +226,7 @@ def _unit_hints(study: Study, model: Any) -> list[Finding]:
                 scale = 10.0 ** min(6, max(-6, 3 * round(-math.log10(ratio) / 3)))
                 unit = prefixed_unit(decl.unit, scale) if scale != 1.0 else None
                 example = f" (e.g. unit: {unit} if the number is in {unit})" if unit else ""
-                out.append(Finding("hint", f"{section[name]}.{name}",
+                out.append(Finding("warning" if unit else "hint", f"{section[name]}.{name}",
                                    f"{value:.4g} {decl.unit} is {max(ratio, 1 / ratio):,.0f}x "
                                    f"{'above' if ratio > 1 else 'below'} the model's nominal {decl.nominal:.4g} "
                                    f"{decl.unit}; numbers are in {decl.unit} unless a unit is written{example}"))
