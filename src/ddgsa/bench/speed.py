@@ -38,17 +38,21 @@ from ddgsa.loads.scene import Scene
 PAPER_C = REPO / "studies" / "paper_c_structural.yaml"
 GEARED_STUDY = REPO / "studies" / "indirect_drive_gsa.yaml"
 
-#: (key, what, goal, unit, higher_is_better). Speed-ups and the loads time are CPU times (a shared
-#: machine inflates wall times, not the CPU a computation needs); wall figures are in the notes.
+#: (key, what, goal, unit, higher_is_better). Every time target is a ratio to a reference timed in the same
+#: run (issue 46: an absolute goal fails on a slower machine): the Radau reference simulation of the bench
+#: scene (600 s), or the per-point path. Speed-ups and the loads' ratios are CPU times (a shared machine
+#: inflates wall times, not the CPU a computation needs); wall figures are in the notes. The loads' and paper
+#: C's goals are the earlier absolute ones (0.1 s, 1.0 s, 15 s) over the ~330 s reference they were set at.
 TARGETS = (
     ("linear_speedup", "linear: speed-up vs Radau, CPU, per point of a 64-point batch", 30000.0, "x", True),
     ("linear_error", "linear: max objective error vs Radau", 0.005, "rel", False),
     ("flexible_speedup", "flexible: bench scene, speed-up vs Radau, CPU", 250.0, "x", True),
     ("flexible_error", "flexible: max objective error vs Radau", 0.01, "rel", False),
-    ("loads_600s", "loads: one turbulent realisation of the bench scene, CPU", 0.1, "s", False),
-    ("loads_600s_bem", "loads, BEM rotor (issue 32): one turbulent realisation, CPU", 1.0, "s", False),
+    ("loads_600s", "loads: one turbulent realisation of the bench scene, CPU / one reference", 3e-4, "x", False),
+    ("loads_600s_bem", "loads, BEM rotor (issue 32): one realisation, CPU / one reference", 3e-3, "x", False),
     ("loads_generations", "loads: generations per scene and realisation in a study", 1.0, "count", False),
-    ("paper_c_wall", "paper_c_structural (methods, no confirm:), 2 jobs, empty cache: wall", 15.0, "s", False),
+    ("paper_c_ratio", "paper_c_structural (methods, no confirm:), 2 jobs, empty cache: wall / one reference", 0.045,
+     "x", False),
     ("paper_c_memory", "paper_c_structural: peak memory, all processes", 1.0, "GiB", False),
     ("runner_overhead", "runner overhead per evaluation (store, scheduling), 2 jobs", 0.10, "rel", False),
     ("rig_study_ratio", "paper_a_subsystem (methods), 2 jobs, empty folder: wall / one reference", 0.10, "x", False),
@@ -288,6 +292,7 @@ def speed(ref_seconds: float = 20.0, quick: bool = False, study: Path | None = P
 def _speed(ref_seconds: float, quick: bool, study: Path | None) -> dict[str, Any]:
     scene = FULL.replace(duration=60.0) if quick else FULL
     reference, fidelities = _fidelities(scene, 1.0 if quick else ref_seconds)
+    ref_cpu = reference["cpu_s"] * scene.duration / reference["timed_seconds"]     # one reference simulation's CPU
     loads_wall, loads_cpu = _loads_time(scene.duration)
     bem_wall, bem_cpu = _loads_time(scene.duration, "bem")
     overhead = [_runner_overhead(scene, 40 if quick else 400, jobs) for jobs in (1, 2)]
@@ -303,8 +308,9 @@ def _speed(ref_seconds: float, quick: bool, study: Path | None) -> dict[str, Any
                              f"{by['flexible']['cpu_s'] * by['flexible']['time_step_s'] / scene.duration * 1e6:.1f} us "
                              f"CPU a {by['flexible']['time_step_s'] * 1e3:g} ms step"),
         "flexible_error": (by["flexible"]["max_rel_error"], ""),
-        "loads_600s": (loads_cpu, f"wall {loads_wall:.3f} s"),
-        "loads_600s_bem": (bem_cpu, f"wall {bem_wall:.3f} s; {bem_cpu / loads_cpu:.1f}x the table rotor's CPU"),
+        "loads_600s": (loads_cpu / ref_cpu, f"{loads_cpu:.3f} s CPU, wall {loads_wall:.3f} s, against {ref_cpu:.0f} s"),
+        "loads_600s_bem": (bem_cpu / ref_cpu, f"{bem_cpu:.3f} s CPU, wall {bem_wall:.3f} s; {bem_cpu / loads_cpu:.1f}x the "
+                           "table rotor's CPU"),
         "runner_overhead": (overhead[1]["overhead"], f"1 job: {overhead[0]['overhead']:.1%}"),
     }
     from ddgsa.bench.rig import block_speed
@@ -320,7 +326,9 @@ def _speed(ref_seconds: float, quick: bool, study: Path | None) -> dict[str, Any
     if study is not None:
         st = _study(study, quick)
         out["study"] = st
-        measured["paper_c_wall"] = (st["wall_s"], f"CPU {st['cpu_s_all_processes']:.0f} s in all processes (half of it: "
+        measured["paper_c_ratio"] = (st["wall_s"] / reference["wall_s_scaled"],
+                                     f"{st['wall_s']:.1f} s wall against {reference['wall_s_scaled']:.0f} s; "
+                                     f"CPU {st['cpu_s_all_processes']:.0f} s in all processes (half of it: "
                                     f"{st['cpu_s_all_processes'] / 2:.0f} s); {st['evaluations']} model runs, "
                                     f"fidelity {st['fidelity']}")
         measured["paper_c_memory"] = (st["peak_memory_gib"], "")
@@ -363,7 +371,7 @@ def _fmt(value: float | None, unit: str) -> str:
     if unit == "rel":
         return f"{value:.2%}"
     if unit == "x":                    # speed-ups in the thousands, study-to-reference ratios below one
-        return f"{value:,.0f}x" if value >= 10 else f"{value:.2f}x"
+        return f"{value:,.0f}x" if value >= 10 else f"{value:.2f}x" if value >= 0.01 else f"{value:.1e}x"
     return f"{value:.3g} {unit}"
 
 
