@@ -18,10 +18,16 @@ from ddgsa.study import load_study
 
 STUDIES = Path(__file__).parents[2] / "studies"
 RTOL = 1e-3
-"""The block path's agreement with the per-point path: issue 46 asks 1 %; measured 8.6e-6 (paper_a_subsystem)
-and 1.1e-5 (paper_a_structural) on the 64-point tests' every output, so 1e-3 leaves 90x for another CPU or
-BLAS (the two paths' central differences differ in round-off: the motor ripple and current sidebands,
-1e-6 of their means, and the numerically zero bearing bands move most)."""
+"""The block path's agreement with the per-point path, where an output's declared resolution
+(:attr:`~ddgsa.models.base.ModelOutput.resolution`) does not already cover the difference: issue 46 asks
+1 % or the resolution. Measured on 8 points of each paper A study: every difference within the output's
+resolution but for ``mean_speed_rpm`` (none declared), 4e-14 relative; the disk's and housings' 1x orders
+within 1e-5 relative. The block takes its inputs at 16 angles where the per-point path takes 64, and
+leaves the unbalance's tangents out: the bearing bands (numerically zero, 1e-12 to 1e-8) move by up to
+100 %, the housings' peaks by 2 %, the motor's 1x torque and current sidebands (below 1e-5 N m and A) by
+4 %, all within their resolutions (1.9e-6 (m/s^2)^2, 1.6e-2 m/s^2, 1.6e-3 N m, 6.3e-4 A)."""
+
+
 def _study_points(name: str, n: int, seed: int) -> tuple[HssRig, pd.DataFrame, dict]:
     """``n`` seeded uniform points of study ``name``'s parameter space (its fixed values too), its model and
     its steady scene."""
@@ -42,13 +48,14 @@ def _compare(model: HssRig, points: pd.DataFrame, scene: dict) -> None:
     ref = Model._evaluate_block(model, params, sc)
     assert block.attrs["block_points"] == len(points)
     assert block.attrs["failures"] == ref.attrs["failures"] == {}
+    resolution = {str(o): o.resolution for o in model.outputs}
     worst = {}
     for col in ref.columns:
         a, b = ref[col].to_numpy(), block[col].to_numpy()
-        excess = np.abs(a - b) - RTOL * np.abs(a)
+        excess = np.abs(a - b) - np.maximum(RTOL * np.abs(a), resolution[col])
         worst[col] = (float(excess.max()), float(np.max(np.abs(a - b) / np.maximum(np.abs(a), 1e-300))))
     bad = {c: w for c, w in worst.items() if w[0] > 0.0}
-    assert not bad, f"outputs beyond {RTOL:g}: {bad}"
+    assert not bad, f"outputs beyond {RTOL:g} and their resolution: {bad}"
 
 
 def test_tangent_columns_are_the_central_differences() -> None:
@@ -88,8 +95,7 @@ def test_marker_states_along_a_record_are_the_full_tables_rows() -> None:
     model, points, scene = _study_points("paper_a_subsystem", 1, seed=3)
     pt = steady_block._linearised(model, model.resolve(points).to_dict("records")[0], model._scene(scene))
     system = pt.rig.system
-    markers = [mk for el in system.elements if el.name in steady_block._VARYING for mk in el.markers]
-    markers += [pt.rig.markers["bearing_2"], pt.rig.markers["motor"]]
+    markers = [pt.rig.markers[name] for name in ("disk", "hub", "coupling", "bearing_2", "motor")]
     times = np.linspace(0.0, 0.04, 5)
     zero = np.zeros((times.size, system.n))
     q, qd = nonrotating.full_states(pt.lin, times, zero + 1e-6, zero)
@@ -150,8 +156,9 @@ def test_points_the_block_does_not_hold_go_one_by_one_in_order() -> None:
     out = model.evaluate(points, scene)
     assert out.attrs["block_points"] == 3
     ref = Model._evaluate_block(model, model.resolve(points), model._scene(scene))
+    resolution = {str(o): o.resolution for o in model.outputs}
     for col in ("order1x_disk_y", "peak_housing_1_y", "mean_speed_rpm", "current_line"):
-        np.testing.assert_allclose(out[col], ref[col], rtol=RTOL, err_msg=col)
+        np.testing.assert_allclose(out[col], ref[col], rtol=RTOL, atol=resolution[col], err_msg=col)
     assert out["mean_speed_rpm"][3] > out["mean_speed_rpm"][0] + 10.0
     assert out["torque_2f"][1] > 1e3 * out["torque_2f"][0]      # the unbalanced supply's ripple, from its own row
 
