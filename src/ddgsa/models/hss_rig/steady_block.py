@@ -104,10 +104,10 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
     if raw["coupling_asymmetry"] > 0.0:
         stretch = operating_stretch(rig, q0, qd0, tangent=still_rig(still_key(plain), model.basis, True)[1])
     lin = nonrotating.linearise(system, q0, qd0, tangent_columns=tangent_columns(system))
-    loads: list[Element] = [EccentricMass(rig.markers["disk"], raw["eccentric_mass"], raw["eccentric_radius"])]
-    if raw["coupling_asymmetry"] > 0.0:
-        loads += anisotropy_loads(raw, stretch, spin, scene.duration, 1.0 / scene.sample_rate)(rig.markers)
     period = 2 * math.pi / spin
+    loads: list[Element] = [EccentricMass(rig.markers["disk"], raw["eccentric_mass"], raw["eccentric_radius"])]
+    if raw["coupling_asymmetry"] > 0.0:       # the per-point path's table, over the one revolution read here
+        loads += anisotropy_loads(raw, stretch, spin, period, 1.0 / scene.sample_rate)(rig.markers)
     tp = lin.t0 + period * np.arange(FORCE_SAMPLES) / FORCE_SAMPLES
     motor = [e for e in system.elements if e.name == "motor"]
     forces = (nonrotating.projected_inputs(system, lin, tp, motor)
