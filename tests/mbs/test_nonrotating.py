@@ -101,3 +101,26 @@ def test_disk_whirl_with_spin_stiffening_matches_the_closed_form(spin):
             np.testing.assert_allclose(f[2:], [backward, forward], rtol=1e-5)
         else:
             assert f[2] / backward - 1 < -(0.006 if spin < 300 else 0.04)
+
+
+def test_inputs_of_a_load_outside_the_system_are_the_unbalance_in_closed_form():
+    """An unbalance (5 g at 0.1 m) on the disk of the light shaft, an element on the system's marker but not
+    among its parts (the test rig's block path projects its turning loads so): along one revolution at
+    ``W = 200 rad/s`` its input on the shaft's lateral translations is the centrifugal force
+    ``m e W^2 (cos W t, sin W t)`` [N] in the frame (the system's ``r0`` holds none of it); ``relative=True``
+    gives its change since ``t0``."""
+    from ddgsa.mbs import EccentricMass
+    from ddgsa.mbs.nonrotating import projected_inputs
+
+    spin, mass, radius = 200.0, 0.005, 0.1
+    system = _disk_on_light_shaft(spin)
+    disk = system.bodies[0].marker((0.5, 0.0, 0.0))
+    system = System(system.bodies, [*system.elements, EccentricMass(disk, 0.0, radius)])   # the marker in the system
+    lin = linearise(system, system.q0, system.qd0)
+    t = np.linspace(0.0, 2 * np.pi / spin, 9)[:-1]
+    load = [EccentricMass(disk, mass, radius)]
+    absolute = projected_inputs(system, lin, t, load, relative=False)
+    lateral = [system.index("shaft.y"), system.index("shaft.z")]
+    want = mass * radius * spin**2 * np.column_stack([np.cos(spin * t), np.sin(spin * t)])
+    np.testing.assert_allclose(absolute[:, lateral], want, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(projected_inputs(system, lin, t, load)[:, lateral], want - want[0], atol=1e-12)

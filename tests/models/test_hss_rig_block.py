@@ -18,10 +18,18 @@ from ddgsa.study.spec import load_study
 
 STUDIES = Path(__file__).parents[2] / "studies"
 RTOL = 1e-3
-"""The block path's agreement with the per-point path: issue 46 asks 1 %; measured 8.6e-6 (paper_a_subsystem)
-and 1.1e-5 (paper_a_structural) on the 64-point tests' every output, so 1e-3 leaves 90x for another CPU or
-BLAS (the two paths' central differences differ in round-off: the motor ripple and current sidebands,
-1e-6 of their means, and the numerically zero bearing bands move most)."""
+"""The block path's agreement with the per-point path, where an output's declared resolution
+(:attr:`~ddgsa.models.base.ModelOutput.resolution`) does not already cover the difference: issue 46 asks
+1 % or the resolution. Measured on 64 points of each paper A study: every difference within the output's
+resolution but for ``mean_speed_rpm`` (none declared), 4e-13 relative; the disk's peaks and 1x orders
+within 1.2e-5 relative. The block reads its inputs at 16 angles a revolution, the coupling's 2x load
+tabulated at those angles, where the per-point path reads 64 of its table at the record's rate (whose
+interpolation error the block does not have: ``test_the_blocks_inputs_are_converged...``), and leaves the
+unbalance's tangents out: the housings' peaks move by up to 10 %, the motor's 1x torque and current
+sidebands (below 1e-5 N m and A) by 4 %, the numerically zero bearing bands (1e-12 to 1e-8) by 100x, all
+within their resolutions (1.6e-2 m/s^2, 1.6e-3 N m, 6.3e-4 A, 1.9e-6 (m/s^2)^2)."""
+
+
 def _study_points(name: str, n: int, seed: int) -> tuple[HssRig, pd.DataFrame, dict]:
     """``n`` seeded uniform points of study ``name``'s parameter space (its fixed values too), its model and
     its steady scene."""
@@ -42,13 +50,14 @@ def _compare(model: HssRig, points: pd.DataFrame, scene: dict) -> None:
     ref = Model._evaluate_block(model, params, sc)
     assert block.attrs["block_points"] == len(points)
     assert block.attrs["failures"] == ref.attrs["failures"] == {}
+    resolution = {str(o): o.resolution for o in model.outputs}
     worst = {}
     for col in ref.columns:
         a, b = ref[col].to_numpy(), block[col].to_numpy()
-        excess = np.abs(a - b) - RTOL * np.abs(a)
+        excess = np.abs(a - b) - np.maximum(RTOL * np.abs(a), resolution[col])
         worst[col] = (float(excess.max()), float(np.max(np.abs(a - b) / np.maximum(np.abs(a), 1e-300))))
     bad = {c: w for c, w in worst.items() if w[0] > 0.0}
-    assert not bad, f"outputs beyond {RTOL:g}: {bad}"
+    assert not bad, f"outputs beyond {RTOL:g} and their resolution: {bad}"
 
 
 def test_tangent_columns_are_the_central_differences() -> None:
@@ -88,8 +97,7 @@ def test_marker_states_along_a_record_are_the_full_tables_rows() -> None:
     model, points, scene = _study_points("paper_a_subsystem", 1, seed=3)
     pt = steady_block._linearised(model, model.resolve(points).to_dict("records")[0], model._scene(scene))
     system = pt.rig.system
-    markers = [mk for el in system.elements if el.name in steady_block._VARYING for mk in el.markers]
-    markers += [pt.rig.markers["bearing_2"], pt.rig.markers["motor"]]
+    markers = [pt.rig.markers[name] for name in ("disk", "hub", "coupling", "bearing_2", "motor")]
     times = np.linspace(0.0, 0.04, 5)
     zero = np.zeros((times.size, system.n))
     q, qd = nonrotating.full_states(pt.lin, times, zero + 1e-6, zero)
@@ -126,6 +134,30 @@ def test_the_still_rigs_tangent_columns_are_its_central_differences() -> None:
     assert np.abs(wrong.k_full[:, spin] - k[:, spin]).max() > 0.01 * np.abs(k[:, spin]).max()
 
 
+def test_the_blocks_inputs_are_converged_where_the_per_point_tables_are_not(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The block's 16 input angles a revolution, with the coupling's 2x load tabulated at those angles, hold the
+    inputs' every harmonic: 128 angles with the load tabulated 8x finer than those give the same outputs within
+    1e-6 (measured 1e-13) wherever an output lies above its resolution. The per-point path tabulates that load at
+    the record's 2 kHz and reads it at 64 angles through linear interpolation, whose error aliases to orders
+    16-22 that the accelerometers weigh by their frequency squared: its housings' peaks are off the converged
+    answer by more than 1 % at these points (measured 2.4 %; within their resolution)."""
+    from ddgsa.models.hss_rig import steady_block
+
+    model, points, scene = _study_points("paper_a_structural", 4, seed=2046)
+    params, sc = model.resolve(points), model._scene(scene)
+    block = model._evaluate_block(params, sc)
+    ref = Model._evaluate_block(model, params, sc)
+    table = steady_block.anisotropy_loads
+    monkeypatch.setattr(steady_block, "FORCE_SAMPLES", 128)
+    monkeypatch.setattr(steady_block, "anisotropy_loads", lambda p, s, w, d, step: table(p, s, w, d, step / 8))
+    fine = model._evaluate_block(params, sc)
+    resolution = {str(o): o.resolution for o in model.outputs}
+    above = [c for c in fine.columns if np.all(np.abs(fine[c]) > resolution[c])]
+    assert "peak_housing_1_y" in above and len(above) > 20
+    np.testing.assert_allclose(block[above], fine[above], rtol=1e-6)
+    assert np.max(np.abs(ref["peak_housing_1_y"] / fine["peak_housing_1_y"] - 1.0)) > 0.01
+
+
 @pytest.mark.parametrize("name", ["paper_a_subsystem", "paper_a_structural"])
 def test_block_agrees_with_the_per_point_path_on_four_points(name: str) -> None:
     model, points, scene = _study_points(name, 4, seed=46)
@@ -150,8 +182,9 @@ def test_points_the_block_does_not_hold_go_one_by_one_in_order() -> None:
     out = model.evaluate(points, scene)
     assert out.attrs["block_points"] == 3
     ref = Model._evaluate_block(model, model.resolve(points), model._scene(scene))
+    resolution = {str(o): o.resolution for o in model.outputs}
     for col in ("order1x_disk_y", "peak_housing_1_y", "mean_speed_rpm", "current_line"):
-        np.testing.assert_allclose(out[col], ref[col], rtol=RTOL, err_msg=col)
+        np.testing.assert_allclose(out[col], ref[col], rtol=RTOL, atol=resolution[col], err_msg=col)
     assert out["mean_speed_rpm"][3] > out["mean_speed_rpm"][0] + 10.0
     assert out["torque_2f"][1] > 1e3 * out["torque_2f"][0]      # the unbalanced supply's ripple, from its own row
 

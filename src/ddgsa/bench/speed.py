@@ -318,7 +318,9 @@ def _speed(ref_seconds: float, quick: bool, study: Path | None) -> dict[str, Any
     block = block_speed(quick=quick)
     measured["rig_block_steady"] = (block["speedup_cpu"], f"{block['block_cpu_s_per_run'] * 1e3:.1f} ms against "
                                     f"{block['per_point_cpu_s_per_run'] * 1e3:.1f} ms CPU a run ({block['points']}-point "
-                                    f"blocks); outputs within {block['max_rel_difference']:.1e} of the per-point path")
+                                    f"blocks); {block['outputs_beyond_resolution']} of {block['outputs']} outputs differ from the "
+                                    f"per-point path by more than their resolution, by at most "
+                                    f"{block['max_rel_difference']:.1e} relative")
     out: dict[str, Any] = {
         "machine": f"{platform.machine()}, {os.cpu_count()} cores, {platform.processor() or 'cpu'}",
         "python": platform.python_version(), "quick": quick, "scene": scene.to_dict(), "reference": reference,

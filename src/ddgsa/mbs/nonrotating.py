@@ -314,9 +314,12 @@ def _element_force(el: Element, t: float, states: list[MarkerState]) -> Array:
     return np.vstack([s.jac for s in states]).T @ w.ravel()
 
 
-def projected_inputs(system: System, lin: SpinLinearisation, times: Array, elements: Sequence[Element]) -> Array:
+def projected_inputs(system: System, lin: SpinLinearisation, times: Array, elements: Sequence[Element],
+                     relative: bool = True) -> Array:
     """``T(t)^T (Q_sel(t) - Q_sel(t0))`` of the listed elements along the operating trajectory (n_t, n): the
-    inputs of the linearisation (its ``r0`` holds them at ``t0``)."""
+    inputs of the linearisation (its ``r0`` holds them at ``t0``). ``relative=False``: ``T(t)^T Q_sel(t)``,
+    for elements on the system's markers that are not among its parts (loads the linearisation left out, so
+    its ``r0`` holds none of them)."""
     times = np.concatenate([[lin.t0], np.asarray(times, dtype=float)])
     zero = np.zeros((times.size, lin.q0.size))
     q, qd = full_states(lin, times, zero, zero)
@@ -335,7 +338,7 @@ def projected_inputs(system: System, lin: SpinLinearisation, times: Array, eleme
         # T^T: the pair's rows turned back by R(-phi)^T, the spin row gains (-J R(-phi) xi) . f_pair
         out[:, iy], out[:, iz] = c * f[:, iy] - s * f[:, iz], s * f[:, iy] + c * f[:, iz]
         out[:, isp] += rz * f[:, iy] - ry * f[:, iz]
-    return out[1:] - out[0]
+    return out[1:] - out[0] if relative else out[1:]
 
 
 def simulate(system: System, lin: SpinLinearisation, t_end: float, dt: float, elements: Sequence[Element],
