@@ -37,9 +37,12 @@ def test_every_row_is_committed_with_a_verdict_and_every_miss_explained(committe
 
 def test_model_and_result_rows_follow_from_the_code(committed):
     """Every row recomputed (model rows from the models, result rows from the committed results) equals
-    the committed value to its 6 printed digits (rel. 1e-5)."""
+    the committed value to rel. 5e-5 (a guard, not an oracle: the paper's numbers are the oracle, within 5 %).
+    Not to its 6 printed digits: Table 1's bending eigenproblem has cond(M) ~3e8 (the hub's and generator's
+    inertias against a 5 cm element's), so LAPACK's drivers (gvx 6.082564, gv 6.082552, gvd 6.082529 Hz)
+    and CPUs differ by up to 2e-5 on its first mode; the committed 6.08245 came from another CPU."""
     fresh = seed_numbers.evaluate().set_index("id")
-    np.testing.assert_allclose(fresh["ddgsa_value"], committed["ddgsa_value"], rtol=1e-5)
+    np.testing.assert_allclose(fresh["ddgsa_value"], committed["ddgsa_value"], rtol=5e-5)
     assert (fresh["verdict"] == committed["verdict"]).all()
 
 
