@@ -12,7 +12,7 @@ from scipy.linalg import eigh
 
 from ddgsa import models
 from ddgsa.errors import ModelError
-from ddgsa.loads import generate
+from ddgsa.loads import ROTORS, generate
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs.series import catmull_rom_coefficients
 from ddgsa.mbs.sampling import AliasingWarning
@@ -136,7 +136,7 @@ def _reference_eccentricity(model: models.Model, scene: Scene) -> np.ndarray:
     """solve_ivp (DOP853, rtol 1e-10) of the substructure with the *nonlinear* pull and gravity."""
     p = model.nominal
     gen = PMGenerator()
-    loads = generate(scene)
+    loads = generate(scene, ROTORS[model.rotor])
     hub = loads[["Fy", "Fz"]].to_numpy()
     coeffs = catmull_rom_coefficients(hub)
     t0, m, kb = loads.index[0], p["rotating_mass"], 2 * p["bearing_stiffness"]
