@@ -237,3 +237,70 @@ def test_air_gap_pull_packs_and_its_slope_is_the_derivative_of_its_force() -> No
     assert f[1] > 0 and f[2] < 0
     with pytest.raises(ValueError, match="closes the air gap"):
         law(np.array([gen.air_gap, 0.0]))
+
+
+# -- hub moments on the bearings (issue 47) --------------------------------------------------------
+
+LAYOUT = {"front_bearing_x": 4.97, "rear_bearing_x": 6.17, "generator_x": 5.57}
+
+
+def test_bearing_couple_against_the_kernels_statics() -> None:
+    """:func:`bearing_loads` against a second solver: the rotating assembly on the kernel with its
+    tilt and yaw free, held by two stiff bearing springs at their axial positions (so the bearings
+    themselves carry the moments), solved for its static equilibrium under gravity, a hub force and
+    moment and a pull at the generator; the springs' forces against the couple split of their sum.
+    Agreement to 1e-5 of the largest force (the small rotations' geometric terms)."""
+    from ddgsa.mbs import AppliedLoad, Ground, Lock, RigidBody, SpringDamper3, System
+    from ddgsa.mbs.statics import static_equilibrium
+
+    m = 426.7e3
+    x_c = (1 - generator_radial.ROTOR_ASSEMBLY_SHARE) * LAYOUT["generator_x"]
+    f_hub, m_hub, f_pull = np.array([0.0, 3e5, -2e5]), np.array([0.0, 8e6, -5e6]), np.array([0.0, 4e4, 6e4])
+    rotor = RigidBody("rotor", m, (3e8, 2e8, 2e8), position=(x_c, 0.0, 0.0))
+    ground = Ground()
+    k = 1e13
+    springs = [SpringDamper3(rotor.marker((LAYOUT[f"{side}_bearing_x"] - x_c, 0.0, 0.0)),
+                             ground.marker((LAYOUT[f"{side}_bearing_x"], 0.0, 0.0)), (0.0, k, k), (0.0, 0.0, 0.0),
+                             name=side) for side in ("front", "rear")]
+    loads = [AppliedLoad(rotor.marker((-x_c, 0.0, 0.0)), [0.0, 1.0], force=[f_hub, f_hub], moment=[m_hub, m_hub],
+                         name="hub"),
+             AppliedLoad(rotor.marker((LAYOUT["generator_x"] - x_c, 0.0, 0.0)), [0.0, 1.0], force=[f_pull, f_pull],
+                         name="pull")]
+    system = System([rotor], springs + loads, [Lock(rotor.marker(), axes=("x", "rx"), name="guide")],
+                    gravity=(0.0, 0.0, -9.81))
+    q0, _ = static_equilibrium(system, tol=1e-15, analytic=True)
+    zero = np.zeros(system.n)
+    kernel = {}
+    for spring in springs:
+        rotor_end, ground_end = spring.markers
+        d = system.marker_state(rotor_end, q0, zero, 0.0).r - system.marker_state(ground_end, q0, zero, 0.0).r
+        kernel[spring.name] = k * d[1:]                                   # force of the rotor on the bearing
+    total = kernel["front"] + kernel["rear"]
+    front, rear = generator_radial.bearing_loads(total, f_hub[1:], m_hub[1:], f_pull[1:], LAYOUT)
+    scale = np.abs(np.concatenate([kernel["front"], kernel["rear"]])).max()
+    assert scale > 5e6                                                   # the couple dominates: MN, not kN
+    np.testing.assert_allclose(front[0], kernel["front"], rtol=0, atol=1e-5 * scale)
+    np.testing.assert_allclose(rear[0], kernel["rear"], rtol=0, atol=1e-5 * scale)
+
+
+def test_hub_moment_readings_share_the_motion_and_differ_in_the_bearings() -> None:
+    """``lock`` and ``bearings`` are the same translation (eccentricity, modes); under ``lock`` both
+    bearings carry the spring force, under ``bearings`` front and rear add up to the same sum."""
+    scene = Scene(wind_speed=11.0, turbulence_intensity=0.12, duration=6.0, seed=2)
+    lock = models.get("generator_radial", hub_moments="lock").simulate(scene)
+    held = models.get("generator_radial", hub_moments="bearings").simulate(scene)
+    np.testing.assert_allclose(held["eccentricity"], lock["eccentricity"], rtol=1e-12)
+    np.testing.assert_array_equal(lock["front_Fz"], lock["rear_Fz"])
+    np.testing.assert_allclose(held["front_Fz"] + held["rear_Fz"], 2 * lock["bearing_Fz"], rtol=1e-9, atol=1e-3)
+    assert "front_bearing_x" in models.get("generator_radial", hub_moments="bearings").nominal
+    assert "front_bearing_x" not in models.get("generator_radial").nominal
+
+
+def test_rotor_and_hub_moment_options_are_checked() -> None:
+    with pytest.raises(ModelError, match="option 'rotor' must be one of nrel5mw, iea15mw, got 'iea10mw'"):
+        models.get("generator_radial", rotor="iea10mw")
+    with pytest.raises(ModelError, match="option 'hub_moments'"):
+        models.get("generator_radial", hub_moments="tilt")
+    with pytest.raises(ModelError, match="rear_bearing_x .* must lie behind front_bearing_x"):
+        generator_radial.bearing_loads([[0.0, 0.0]], [[0.0, 0.0]], [[1.0, 0.0]], [[0.0, 0.0]],
+                                       {"front_bearing_x": 6.0, "rear_bearing_x": 5.0, "generator_x": 5.5})
