@@ -61,7 +61,7 @@ the IEA 15 MW layout, :data:`_BEARING_PARAMETERS`): :func:`bearing_loads` splits
 summed force by rotational equilibrium about the centre of mass; the eccentricity, the modes and the
 translation are the same as under ``lock`` (the tilt stays rigid: the rocking mode is not modelled).
 Bearing radial forces of both readings against the seed's "100 kN to 1 MN" are in
-docs/generator_radial.md. The system is linearised about the static state under gravity
+docs/models.md ("The 15 MW generator's hub loads and its bearing forces"). The system is linearised about the static state under gravity
 and the mean hub forces and integrated exactly for the C1 cubic load input (the state matrices
 of :mod:`ddgsa.mbs.integrate.exact`, :func:`ddgsa.mbs.linear.lti_response`; the load fluctuation
 enters through the rotor marker's Jacobian) on an output grid of at least
