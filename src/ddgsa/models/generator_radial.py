@@ -59,10 +59,11 @@ two bearing springs carry the same radial force. ``bearings``: the rigid rotatin
 tilt by its two main bearings, so they carry the moments as a couple over their spacing (1.2 m in
 the IEA 15 MW layout, :data:`_BEARING_PARAMETERS`): :func:`bearing_loads` splits the springs'
 summed force by rotational equilibrium about the centre of mass; the eccentricity, the modes and the
-translation are the same as under ``lock`` (the tilt stays rigid: the rocking mode is not modelled).
-Bearing radial forces of both readings against the seed's "100 kN to 1 MN" are in
-docs/models.md ("The 15 MW generator's hub loads and its bearing forces"). The system is linearised about the static state under gravity
-and the mean hub forces and integrated exactly for the C1 cubic load input (the state matrices
+translation are the same as under ``lock`` (the tilt stays rigid: the rocking mode is not modelled;
+``hub_force_factor`` scales the hub forces, not the moments).
+Bearing radial forces of both readings against the seed's "100 kN to 1 MN" are in docs/models.md
+("The 15 MW generator's hub loads and its bearing forces"). The system is linearised about the
+static state under gravity and the mean hub forces and integrated exactly for the C1 cubic load input (the state matrices
 of :mod:`ddgsa.mbs.integrate.exact`, :func:`ddgsa.mbs.linear.lti_response`; the load fluctuation
 enters through the rotor marker's Jacobian) on an output grid of at least
 :data:`ddgsa.mbs.sampling.RESOLVED` samples per period of the highest mode. Validity: the pull
