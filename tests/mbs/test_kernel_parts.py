@@ -11,7 +11,7 @@ from ddgsa.mbs import (AppliedLoad, Bushing6, FlexibleBody, Ground, PrescribedBo
                        genalpha)
 from ddgsa.mbs.statics import static_equilibrium
 from ddgsa.mbs.beam import BeamSpec, mesh
-from ddgsa.mbs.series import Series
+from ddgsa.mbs.series import Series, sub_sampled
 
 K, M = 4.0e4, 10.0                      # spring [N/m] and mass [kg]: w_n = 63.2 rad/s
 W_N = np.sqrt(K / M)
@@ -120,6 +120,22 @@ def test_series_interpolation_and_errors() -> None:
     assert float(s(2.0)) == pytest.approx(4.0) and float(s.derivative(2.0)) == pytest.approx(4.0)
     with pytest.raises(ModelError, match="uniformly spaced"):
         Series([0.0, 1.0, 3.0], [0.0, 1.0, 2.0])
+
+
+def test_sub_sampled_is_the_series_on_the_sub_step_grid() -> None:
+    """The vectorised sub-step values against the compiled scalar path (:class:`Series`), and a
+    quadratic against its closed form away from the end intervals (Catmull-Rom's central-difference
+    slopes are exact for a quadratic there; the ends repeat their sample)."""
+    rng = np.random.default_rng(7)
+    w = rng.normal(size=(9, 3))
+    s = Series(0.05 * np.arange(9), w)
+    fine = sub_sampled(w, 4)
+    assert fine.shape == (33, 3)
+    np.testing.assert_allclose(fine, [s(0.05 * i / 4) for i in range(33)], rtol=0, atol=1e-13)
+    t = np.arange(9.0)
+    quad = sub_sampled(t ** 2, 5)[:, 0]
+    tf = np.arange(41) / 5
+    np.testing.assert_allclose(quad[5:-5], tf[5:-5] ** 2, rtol=0, atol=1e-12)
 
 
 def test_bad_inputs_name_the_part() -> None:

@@ -17,12 +17,12 @@ import pandas as pd
 from ddgsa.loads import cache
 from ddgsa.loads.bem import simulate_bem
 from ddgsa.loads.hubloads import LOAD_COLUMNS, grid_points, inflow_in_shaft_frame, simulate_rotor
-from ddgsa.loads.rotor import NREL5MW, PerformanceTable, Turbine
+from ddgsa.loads.rotor import IEA15MW, NREL5MW, ROTORS, PerformanceTable, Turbine
 from ddgsa.loads.scene import Scene, max_time_step
 from ddgsa.loads.turbulence import IecTurbulence, generate_field
 
-__all__ = ["C_GEN_DEFAULT", "EXCITATION_FACTORS", "LOAD_COLUMNS", "NREL5MW", "PerformanceTable", "Scene",
-           "Turbine", "apply_excitation", "generate", "generate_columns", "max_time_step", "wind_field"]
+__all__ = ["C_GEN_DEFAULT", "EXCITATION_FACTORS", "IEA15MW", "LOAD_COLUMNS", "NREL5MW", "PerformanceTable", "ROTORS",
+           "Scene", "Turbine", "apply_excitation", "generate", "generate_columns", "max_time_step", "wind_field"]
 
 #: seed 000 eq. (25): generator torque constant C_gen [N m s/rad]
 C_GEN_DEFAULT = 828.26e3
@@ -73,7 +73,7 @@ def _generate(scene: Scene, turbine: Turbine) -> pd.DataFrame:
     t = pd.Index(np.arange(values.shape[0]) * scene.dt, name="time")
     df = pd.DataFrame(values, index=t, columns=list(COLUMNS))
     df.attrs.update(scene=scene.to_dict(), frame="shaft: X hub->generator, Z up, Y = Z x X",
-                    turbine="NREL 5-MW rotor, direct drive", units={
+                    turbine=f"{turbine.rotor} rotor, direct drive", units={
                         "wind_hub": "m/s", "Fx": "N", "Fy": "N", "Fz": "N", "Mx": "N m", "My": "N m",
                         "Mz": "N m", "rotor_speed": "rad/s", "pitch": "rad", "gen_torque": "N m",
                         "azimuth": "rad", "gen_speed_set": "rad/s", "power": "W"})

@@ -2,7 +2,8 @@
 
 Each of the three rotating blades carries the 17 elements of the NREL 5-MW blade (Jonkman et
 al. 2009, NREL/TP-500-38060, Table 2-1: chord, twist and the DU/NACA 64 airfoil polars, shipped in
-``ddgsa/data``, see its NOTICE). At every time step each element is solved by blade-element
+``ddgsa/data``, see its NOTICE), or for the IEA 15 MW rotor (``Turbine.rotor == "iea15mw"``) 16
+elements of its AeroDyn blade with their own FFA-W3 polars (:data:`IEA15MW_BLADE`). At every time step each element is solved by blade-element
 momentum theory in the wind sampled from the turbulence box of :func:`ddgsa.loads.wind_field`
 (the grid of :func:`ddgsa.loads.hubloads.grid_points`, bilinear in azimuth as the quasi-steady
 rotor samples it and linear in radius between the hub centre and the grid's rings):
@@ -14,7 +15,8 @@ rotor samples it and linear in radius between the hub centre and the grid's ring
 - momentum: ``k = sigma C_l cos phi / (4 F sin^2 phi)``, ``a = k / (1 + k)`` up to ``a = 0.4``
   and Buhl's empirical high-thrust branch above; ``k' = sigma C_l / (4 F cos phi)``,
   ``a' = k' / (1 - k')`` (lift-only induction, as AeroDyn's NREL 5-MW deck: ``AIDrag``,
-  ``TIDrag`` false), solved for the inflow angle by Brent's method on Ning's (2014) bracketed
+  ``TIDrag`` false; with the drag terms where the blade says so, :attr:`Blade.drag_in_induction`,
+  as the IEA 15 MW deck), solved for the inflow angle by Brent's method on Ning's (2014) bracketed
   residual, as CCBlade and AeroDyn's BEMT do (unique, no iteration history, no spurious
   ``a = 1`` fixed point);
 - skewed wake (Glauert / Pitt-Peters, AeroDyn's ``SkewRedistr_Mod = 1``): after the solve, the
@@ -59,23 +61,28 @@ def _read_table(name: str) -> list[list[str]]:
     return [line.split() for line in text.splitlines() if line.strip() and not line.startswith("#")]
 
 
-def _polars_on_grid(alpha: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
-    """Each airfoil's (cl, cd) linearly interpolated onto ``alpha`` [rad], shape (2, n_alpha)."""
-    rows = _read_table("NREL5MW_polars.txt")
+def _polars_on_grid(name: str, alpha: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
+    """Each airfoil's (cl, cd) of the polar file ``name`` in ``ddgsa/data`` linearly interpolated onto
+    ``alpha`` [rad], shape (2, n_alpha)."""
+    rows = _read_table(name)
     out = {}
-    for name in dict.fromkeys(r[0] for r in rows):
-        tab = np.array([r[1:4] for r in rows if r[0] == name], dtype=float)
+    for airfoil in dict.fromkeys(r[0] for r in rows):
+        tab = np.array([r[1:4] for r in rows if r[0] == airfoil], dtype=float)
         a = np.deg2rad(tab[:, 0])
-        out[name] = np.vstack([np.interp(alpha, a, tab[:, 1]), np.interp(alpha, a, tab[:, 2])])
+        out[airfoil] = np.vstack([np.interp(alpha, a, tab[:, 1]), np.interp(alpha, a, tab[:, 2])])
     return out
 
 
 @dataclass(frozen=True)
 class Blade:
-    """Aerodynamic blade of the NREL 5-MW rotor and the tower it passes (SI units).
+    """Aerodynamic blade of a reference rotor and the tower it passes (SI units); the defaults are the
+    NREL 5-MW's, :data:`IEA15MW_BLADE` the IEA 15 MW's.
 
     Attributes
     ----------
+    blade_file, polar_file : str
+        Element table (radius, width, chord [m], twist [deg], airfoil) and airfoil polars (airfoil,
+        angle of attack [deg], lift, drag coefficients) in ``ddgsa/data`` (see its NOTICE).
     n_blades : int
     tip_radius, hub_radius : float
         Rotor radius R and blade-root radius R_h [m].
@@ -85,6 +92,11 @@ class Blade:
         Linear tower taper [m] (NREL 5-MW: 6, 3.87 m over 87.6 m).
     tower_shadow, skewed_wake, tip_loss, hub_loss : bool
         Switch the model's corrections (all on by default).
+    drag_in_induction : bool
+        Include the drag in the momentum inductions (AeroDyn's ``AIDrag``, ``TIDrag``: true in the
+        IEA 15 MW deck, false in the NREL 5-MW deck, whose default is kept):
+        ``k = sigma (C_l cos phi + C_d sin phi) / (4 F sin^2 phi)``,
+        ``k' = sigma (C_l sin phi - C_d cos phi) / (4 F sin phi cos phi)``.
     refine : int
         Sub-elements per Table 2-1 element (>= 1; 1, the 17 published elements, is the default,
         converged within the tolerances of docs/loads.md): each element split into ``refine``
@@ -92,6 +104,8 @@ class Blade:
         (held beyond the first and last), the parent's airfoil.
     """
 
+    blade_file: str = "NREL5MW_blade.txt"
+    polar_file: str = "NREL5MW_polars.txt"
     n_blades: int = 3
     tip_radius: float = 63.0
     hub_radius: float = 1.5
@@ -103,6 +117,7 @@ class Blade:
     skewed_wake: bool = True
     tip_loss: bool = True
     hub_loss: bool = True
+    drag_in_induction: bool = False
     refine: int = 1
 
     def __post_init__(self) -> None:
@@ -113,13 +128,13 @@ class Blade:
     def elements(self) -> dict[str, NDArray[np.float64]]:
         """Element radius ``r``, width ``dr``, ``chord`` [m], ``twist`` [rad] and polars ``cl``, ``cd``
         (n_elem, n_alpha) on ``alpha`` [rad] (uniform, step :data:`ALPHA_STEP`, -pi to pi)."""
-        rows = _read_table("NREL5MW_blade.txt")
+        rows = _read_table(self.blade_file)
         geo = np.array([r[:4] for r in rows], dtype=float)
         k = self.refine
         frac = (np.arange(k) + 0.5) / k - 0.5                    # sub-element centres in parent widths
         r = (geo[:, :1] + geo[:, 1:2] * frac).ravel()
         alpha = np.arange(-np.pi, np.pi + 0.5 * ALPHA_STEP, ALPHA_STEP)
-        polars = _polars_on_grid(alpha)
+        polars = _polars_on_grid(self.polar_file, alpha)
         coeffs = np.repeat(np.stack([polars[row[4]] for row in rows]), k, axis=0)
         return {"r": r, "dr": np.repeat(geo[:, 1] / k, k), "chord": np.interp(r, geo[:, 0], geo[:, 2]),
                 "twist": np.deg2rad(np.interp(r, geo[:, 0], geo[:, 3])), "alpha": alpha,
@@ -130,10 +145,19 @@ class Blade:
         return np.array([self.n_blades, self.tip_radius, self.hub_radius, self.overhang,
                          self.tower_base_diameter, self.tower_top_diameter, self.tower_height,
                          float(self.tower_shadow), float(self.skewed_wake), float(self.tip_loss),
-                         float(self.hub_loss)])
+                         float(self.hub_loss), float(self.drag_in_induction)])
 
 
 NREL5MW_BLADE = Blade()
+IEA15MW_BLADE = Blade(blade_file="IEA15MW_blade.txt", polar_file="IEA15MW_polars.txt", tip_radius=120.97,
+                      hub_radius=3.97, overhang=12.0976, tower_base_diameter=10.0, tower_top_diameter=6.5,
+                      tower_height=144.386, drag_in_induction=True)
+"""The IEA 15 MW blade (16 elements of the AeroDyn deck, ``ddgsa/data/IEA15MW_blade.txt``) and its
+tower: ElastoDyn's overhang 12.0976 m and tower top 144.386 m, the monopile tower's 10 m base and
+6.5 m top diameters; drag in the inductions as in its AeroDyn deck. Its 4 deg precone and the
+blades' prebend are not modelled (docs/loads.md)."""
+BLADES = {"nrel5mw": NREL5MW_BLADE, "iea15mw": IEA15MW_BLADE}
+"""The blade of each reference rotor, by :attr:`ddgsa.loads.rotor.Turbine.rotor`."""
 
 _PHI_TOL = 1e-6
 
@@ -156,8 +180,11 @@ def _induction(phi: float, un: float, ut: float, r: float, sigma: float, theta: 
     """Momentum inductions ``a, a'`` at inflow angle ``phi`` and Ning's residual
     ``sin phi / (1 - a) - (U_n / U_t) cos phi / (1 + a')`` (propeller-brake form for ``phi < 0``)."""
     n_b, big_r, r_hub = prm[0], prm[1], prm[2]
-    cl, _ = _polar(cl_tab, cd_tab, alpha0, dalpha, phi - theta)
+    cl, cd = _polar(cl_tab, cd_tab, alpha0, dalpha, phi - theta)
     sp, cp = np.sin(phi), np.cos(phi)
+    cn, ct = cl, cl              # lift only: k = sigma C_l cos / (4 F sin^2), k' = sigma C_l / (4 F cos)
+    if prm[11] > 0.0:            # drag included (AIDrag, TIDrag): C_n / cos and C_t / sin in those forms
+        cn, ct = cl + cd * sp / cp, cl - cd * cp / sp
     s = max(abs(sp), 1e-9)
     f = 1.0
     if prm[9] > 0.0:
@@ -165,8 +192,8 @@ def _induction(phi: float, un: float, ut: float, r: float, sigma: float, theta: 
     if prm[10] > 0.0:
         f *= 2.0 / np.pi * np.arccos(min(np.exp(-0.5 * n_b * (r - r_hub) / (r_hub * s)), 1.0))
     f = max(f, 1e-6)
-    k = sigma * cl * cp / (4.0 * f * sp * sp)
-    kp = sigma * cl / (4.0 * f * cp)
+    k = sigma * cn * cp / (4.0 * f * sp * sp)
+    kp = sigma * ct / (4.0 * f * cp)
     lam = un / ut
     if phi < 0.0:      # propeller brake: momentum does not hold, Ning's residual form
         return 0.0, 0.0, sp * (1.0 - k) - lam * cp * (1.0 - kp)
@@ -364,7 +391,7 @@ def _simulate_bem(inflow: NDArray[np.float64], spinup: int, n_az: int, dt: float
 
 
 def simulate_bem(turbine: Turbine, inflow: NDArray[np.float64], dt: float, initial: dict[str, float],
-                 spinup: int = 0, blade: Blade = NREL5MW_BLADE, fixed: bool = False,
+                 spinup: int = 0, blade: Blade | None = None, fixed: bool = False,
                  record: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
     """Run the BEM rotor and its controller over the inflow on the grid.
 
@@ -380,7 +407,8 @@ def simulate_bem(turbine: Turbine, inflow: NDArray[np.float64], dt: float, initi
         ``rotor_speed`` [rad/s] and ``pitch`` [rad] to start from.
     spinup : int
         Steps run first over the last ``spinup`` samples of the (periodic) inflow and discarded.
-    blade : Blade
+    blade : Blade, optional
+        The turbine's own (:data:`BLADES`) when not given.
     fixed : bool
         Hold rotor speed and pitch at ``initial`` (no controller; for verification).
     record : ndarray (spinup + n_t, n_elem, 2), optional
@@ -392,6 +420,7 @@ def simulate_bem(turbine: Turbine, inflow: NDArray[np.float64], dt: float, initi
         Fx, Fy, Fz [N], Mx, My, Mz [N m], rotor speed [rad/s], pitch [rad], generator torque
         [N m], azimuth of blade 1 [rad] (the columns of :func:`ddgsa.loads.hubloads.simulate_rotor`).
     """
+    blade = BLADES[turbine.rotor] if blade is None else blade
     el = blade.elements
     ring_r, _ = turbine.stations
     spinup = min(int(spinup), inflow.shape[1])

@@ -1,6 +1,7 @@
-"""Reference turbine: quasi-steady rotor aerodynamics and its variable-speed, pitch-regulated control.
+"""Reference turbines: quasi-steady rotor aerodynamics and their variable-speed, pitch-regulated control.
 
-The reference is the **NREL 5-MW** rotor (Jonkman et al. 2009, NREL/TP-500-38060: radius 63 m,
+Two rotors, :data:`ROTORS` by name: ``nrel5mw`` (:data:`NREL5MW`, the default of every model but
+``generator_radial``) and ``iea15mw`` (:data:`IEA15MW`, below). The default reference is the **NREL 5-MW** rotor (Jonkman et al. 2009, NREL/TP-500-38060: radius 63 m,
 rated 5 MW at 11.4 m/s, 12.1 rpm, Cp,max 0.466 at tip-speed ratio 7.5 and zero pitch), run as a
 direct drive (no gearbox) -- the class of the seed paper's turbine (rotor 40 t, pitch from about
 11 m/s). Aerodynamic coefficients come from the ROSCO Cp/Ct/Cq table shipped in
@@ -13,6 +14,20 @@ Table 2. Controller (after the NREL 5-MW baseline, converted to rotor speed):
 - region 3: torque ``Q_rated = P_rated / w_rated`` (constant torque above rated) and a
   gain-scheduled PI pitch controller on the rotor-speed error, ``K_P = 1.826 s``, ``K_I = 0.783`` (NREL 5-MW 0.01883 s and 0.008069 times the
   gearbox ratio 97), scheduled by ``1 / (1 + beta / 6.30 deg)``, pitch rate within 8 deg/s.
+
+The **IEA 15 MW** rotor (:data:`IEA15MW`; Gaertner et al. 2020, NREL/TP-5000-75698, data of the
+public IEA-15-240-RWT repository, Apache-2.0, shipped in ``ddgsa/data``, see its NOTICE): radius
+120.97 m, hub radius 3.97 m, hub height 150 m, shaft tilt 6 deg, drive-train inertia 3.1246e8 kg m^2
+(ROSCO ``WE_Jtot``), Cp/Ct/Cq table ``Cp_Ct_Cq.IEA15MW.txt`` (ROSCO, written for the same rotor). Its
+controller in this module's structure, from the turbine's ROSCO ``DISCON.IN``: rated rotor speed
+0.79168 rad/s (7.56 rpm, ``PC_RefSpd``), rated torque 19.787 MN m (``VS_RtTq``: 15 MW electrical
+at the generator efficiency 95.756 %, so a shaft power of 15.665 MW), minimum speed 5 rpm
+(``VS_MinOMSpd``), pitch rate 2 deg/s (``PC_MaxRat``); PI gains ``K_P = 2.373 s``, ``K_I = 0.2477``
+scheduled by ``1 / (1 + beta / 3.50 deg)``: the knee is the least-squares fit (in log) of ROSCO's
+``PC_GS_KI`` schedule, the gains are ROSCO's at its first scheduled pitch, 3.69 deg (its ``PC_GS_KP``
+falls faster at high pitch than this form can follow). Region 2 tracks ``k w^2`` with the table's
+optimum at fine pitch (ROSCO tracks the tip-speed ratio 9 with a wind-speed estimator; peak shaving
+and the minimum-pitch schedule are not modelled).
 """
 
 from __future__ import annotations
@@ -87,8 +102,12 @@ def bilinear(x: NDArray[np.float64], y: NDArray[np.float64], table: NDArray[np.f
             + (1 - tx) * ty * table[i, j + 1] + tx * ty * table[i + 1, j + 1])
 
 
+def _table(name: str) -> PerformanceTable:
+    return PerformanceTable.from_rosco((files("ddgsa") / "data" / name).read_text())
+
+
 def _nrel5mw_table() -> PerformanceTable:
-    return PerformanceTable.from_rosco((files("ddgsa") / "data" / "Cp_Ct_Cq.NREL5MW.txt").read_text())
+    return _table("Cp_Ct_Cq.NREL5MW.txt")
 
 
 @dataclass(frozen=True)
@@ -97,6 +116,9 @@ class Turbine:
 
     Attributes
     ----------
+    rotor : str
+        Name of the rotor in :data:`ROTORS`; the BEM rotor reads its blade by it
+        (:data:`ddgsa.loads.bem.BLADES`).
     rotor_radius : float [m]
     hub_radius : float [m]
     hub_height : float [m]
@@ -122,6 +144,7 @@ class Turbine:
     table : PerformanceTable
     """
 
+    rotor: str = "nrel5mw"
     rotor_radius: float = 63.0
     hub_radius: float = 1.5
     hub_height: float = 80.0
@@ -146,9 +169,11 @@ class Turbine:
 
     @cached_property
     def optimum(self) -> tuple[float, float, float]:
-        """Maximum power coefficient, its tip-speed ratio and pitch [-, -, rad] (over the table grid)."""
-        i, j = np.unravel_index(np.argmax(self.table.cp), self.table.cp.shape)
-        return float(self.table.cp[i, j]), float(self.table.tsr[i]), float(self.table.pitch[j])
+        """Maximum power coefficient at fine pitch (0, where the controller holds the blades below
+        rated), its tip-speed ratio and that pitch [-, -, rad] (over the table's tip-speed ratios)."""
+        cp = self.table.lookup(self.table.cp, self.table.tsr, np.zeros_like(self.table.tsr))
+        i = int(np.argmax(cp))
+        return float(cp[i]), float(self.table.tsr[i]), 0.0
 
     @property
     def k_opt(self) -> float:
@@ -223,3 +248,16 @@ class Turbine:
 
 
 NREL5MW = Turbine()
+
+
+IEA_GENERATOR_EFFICIENCY = 0.95756
+"""Generator efficiency of the IEA 15 MW turbine (ROSCO ``VS_GenEff``) [-]."""
+IEA15MW = Turbine(
+    rotor="iea15mw", rotor_radius=120.97, hub_radius=3.97, hub_height=150.0, tilt_deg=6.0,
+    rotor_inertia=312456272.0, rated_power=19786767.46773 * 0.79168, rated_speed=0.79168,
+    min_speed=5.0 * np.pi / 30.0, kp=2.373, ki=0.2477, gain_knee=np.deg2rad(3.504), pitch_rate=0.0349,
+    table=_table("Cp_Ct_Cq.IEA15MW.txt"))
+"""The IEA 15 MW reference rotor and its controller (module docstring); ``rated_power`` is the shaft
+power, 15 MW electrical over :data:`IEA_GENERATOR_EFFICIENCY`."""
+ROTORS = {"nrel5mw": NREL5MW, "iea15mw": IEA15MW}
+"""The reference rotors by name (the ``rotor`` option of the models that offer one)."""

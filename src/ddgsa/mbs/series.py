@@ -1,7 +1,8 @@
 """Sampled inputs and their C1 cubic (Catmull-Rom) interpolation, shared by every integrator.
 
 The one place the interpolation of a uniformly sampled input lives: :func:`catmull_rom_coefficients`
-(the cubic per interval) and :func:`interpolate` (its value or rate at a time, compiled), which
+(the cubic per interval), :func:`interpolate` (its value or rate at a time, compiled) and
+:func:`sub_sampled` (its values on a sub-step grid, vectorised), which
 :class:`Series` (``value(t)``, ``value.derivative(t)``) calls from Python and the packed and exact
 paths (:mod:`ddgsa.mbs.compiled`, :mod:`ddgsa.mbs.linear`) from compiled code.
 """
@@ -31,6 +32,24 @@ def catmull_rom_coefficients(w: NDArray[np.float64]) -> list[NDArray[np.float64]
     """Cubic coefficients ``c_0..c_3`` per interval (n_t - 1, k) of the C1 interpolant the integrators use."""
     wp, n = _padded(w), w.shape[0] - 1
     return [sum(CATMULL_ROM[j, l] * wp[l:l + n] for l in range(4)) for j in range(4)]
+
+
+def sub_sampled(w: ArrayLike, n_sub: int) -> NDArray[np.float64]:
+    """The C1 cubic interpolant of samples ``w`` (n_t, k) at ``n_sub`` equal sub-steps per interval:
+    ((n_t - 1) n_sub + 1, k) rows, the grid of :func:`ddgsa.mbs.linear.lti_response` (vectorised
+    :class:`Series` values).
+
+    Examples
+    --------
+    >>> sub_sampled([[0.0], [1.0], [4.0]], 2)[:, 0].round(3).tolist()
+    [0.0, 0.312, 1.0, 2.562, 4.0]
+    """
+    v = np.asarray(w, dtype=float)
+    v = v.reshape(v.shape[0], -1)
+    c0, c1, c2, c3 = catmull_rom_coefficients(v)
+    s = (np.arange(n_sub) / n_sub)[None, :, None]
+    fine = c0[:, None] + s * (c1[:, None] + s * (c2[:, None] + s * c3[:, None]))    # (n_t - 1, n_sub, k)
+    return np.vstack([fine.reshape(-1, v.shape[1]), v[-1:]])
 
 
 class Series:

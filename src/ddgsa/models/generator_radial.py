@@ -49,10 +49,21 @@ the pull is a :class:`~ddgsa.mbs.RadialForce` whose law is :func:`pull_vector` a
 :func:`ddgsa.mbs.statics.static_equilibrium` (Newton, nonlinear pull), the linearisation and
 modes those of :mod:`ddgsa.mbs.modal` on the null space of the locks.
 
-Time response: the hub forces ``Fy, Fz`` of the scene act on the rotor (the load generator is
-the NREL 5-MW rotor's, scaled by ``hub_force_factor``; the hub moments are carried by the tilt
-constraint, as in the seed). The system is linearised about the static state under gravity
-and the mean hub forces and integrated exactly for the C1 cubic load input (the state matrices
+Time response: the hub forces ``Fy, Fz`` of the scene act on the rotor, scaled by
+``hub_force_factor``. The load generator's rotor is the option ``rotor``: ``iea15mw`` (default,
+the IEA 15 MW reference rotor the seed models, :data:`ddgsa.loads.IEA15MW`) or ``nrel5mw`` (the
+NREL 5-MW rotor, the loads of this model before issue 47). Where the hub moments ``My, Mz`` go is
+the option ``hub_moments``. ``lock`` (default): as in the seed's Fig. 5(b) ("only radial movements
+are possible, tilting and axial movements are constraint"), the rotor's tilt lock takes them and the
+two bearing springs carry the same radial force. ``bearings``: the rigid rotating assembly is held in
+tilt by its two main bearings, so they carry the moments as a couple over their spacing (1.2 m in
+the IEA 15 MW layout, :data:`_BEARING_PARAMETERS`): :func:`bearing_loads` splits the springs'
+summed force by rotational equilibrium about the centre of mass; the eccentricity, the modes and the
+translation are the same as under ``lock`` (the tilt stays rigid: the rocking mode is not modelled;
+``hub_force_factor`` scales the hub forces, not the moments).
+Bearing radial forces of both readings against the seed's "100 kN to 1 MN" are in docs/models.md
+("The 15 MW generator's hub loads and its bearing forces"). The system is linearised about the
+static state under gravity and the mean hub forces and integrated exactly for the C1 cubic load input (the state matrices
 of :mod:`ddgsa.mbs.integrate.exact`, :func:`ddgsa.mbs.linear.lti_response`; the load fluctuation
 enters through the rotor marker's Jacobian) on an output grid of at least
 :data:`ddgsa.mbs.sampling.RESOLVED` samples per period of the highest mode. Validity: the pull
@@ -74,13 +85,14 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from ddgsa.errors import ModelError
-from ddgsa.loads import generate
+from ddgsa.loads import ROTORS, generate
 from ddgsa.loads.scene import Scene
 from ddgsa.mbs import AirGapPull, AppliedLoad, Bushing6, Ground, Lock, RadialForce, RigidBody, SpringDamper3, System
 from ddgsa.mbs.statics import static_equilibrium
 from ddgsa.mbs.constraints import AXES
 from ddgsa.mbs.linear import lti_response, state_matrices
 from ddgsa.mbs.modal import ConstrainedLinearisation, linearise_system, modal_analysis
+from ddgsa.mbs.series import sub_sampled
 from ddgsa.mbs.sampling import RESOLVED, AliasingWarning, check_interval, sampling_row
 from ddgsa.models.base import Model, ModelOption, ModelOutput, ModelParameter, controller_row, register_model
 from ddgsa.models.constants import GRAVITY
@@ -97,6 +109,11 @@ TOWER_LABELS = {"tower_side_to_side": ("tower_side_to_side",), "tower_torsion": 
 TORSION_LEVER = 1.0
 """Lever ``l`` [m] from the tower axis to the generator centre that ``tower_bending_torsion`` builds its
 tower-top body with (seed 003 gives none; the modes do not depend on it, see the module)."""
+HUB_MOMENTS = ("bearings", "lock")
+"""Readings of where the hub moments go (``hub_moments``, see the module)."""
+ROTOR_ASSEMBLY_SHARE = 274.9 / 426.7
+"""Share of the rotor assembly (blades and hub, at the hub centre) in the rotating mass (seed 003 §2.1:
+274.9 t of 426.7 t; the rest, the generator rotor, sits at the generator centre) [-]."""
 LINEARISATION_TOLERANCE = 0.01
 """Largest allowed pull linearisation error at the peak eccentricity, relative to the bearing force."""
 
@@ -109,6 +126,73 @@ _BASE_PARAMETERS = (
     ModelParameter("bearing_damping_ratio", 0.02, "-", "damping ratio of the one-mass bearing mode", 0.0, 1.0),
     ModelParameter("hub_force_factor", 1.0, "-", "scale on the scene's radial hub forces Fy, Fz", 0.0, 100.0),
 )
+
+
+_BEARING_PARAMETERS = (
+    ModelParameter("front_bearing_x", 4.97, "m",
+                   "hub centre to the front main bearing along the shaft (IEA 15 MW: hub radius 3.97 m + 1.0 m)",
+                   0.0, 50.0),
+    ModelParameter("rear_bearing_x", 6.17, "m",
+                   "hub centre to the rear main bearing along the shaft (front + the 1.2 m bearing spacing)",
+                   0.0, 50.0),
+    ModelParameter("generator_x", 5.57, "m",
+                   "hub centre to the generator centre (its rotor's mass and the pull; between the bearings)",
+                   0.0, 50.0),
+)
+"""The drive train's axial layout, read where the hub moments reach the bearings (``hub_moments:
+bearings``): IEA-15-240-RWT windIO ``distance_hub_mb`` 1.0 m and ``distance_mb_mb`` 1.2 m from the hub
+flange, taken at the hub radius; the generator centred between the bearings (seed 003 Fig. 5)."""
+
+
+def bearing_loads(total: ArrayLike, hub_force: ArrayLike, hub_moment: ArrayLike, pull: ArrayLike,
+                  layout: Mapping[str, float]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Radial forces on the front and rear main bearing [N] of a rigid rotating assembly that translates
+    without tilting, the two bearings carrying its moments as a couple (``hub_moments: bearings``).
+
+    The translation gives the bearings' summed force; rotational equilibrium about the assembly's
+    centre of mass (where its weight and its inertia act, so neither has a moment there) splits it:
+    ``(x_f - x_c) P_f + (x_r - x_c) P_r = Q`` with ``P_f + P_r = total`` and
+    ``Q_y = -x_c F_hub,y + (x_g - x_c) F_pull,y + M_z``, ``Q_z = -x_c F_hub,z + (x_g - x_c) F_pull,z - M_y``
+    (shaft frame: X from the hub towards the generator, Z up; the hub at ``x = 0``; ``x_c`` the centre of
+    mass, :data:`ROTOR_ASSEMBLY_SHARE` of the mass at the hub and the rest at ``x_g``).
+
+    Parameters
+    ----------
+    total : (n, 2)
+        Summed force of the rotor on both bearings, y and z [N].
+    hub_force : (n, 2)
+        Hub force on the rotor ``(F_y, F_z)`` at the hub centre [N].
+    hub_moment : (n, 2)
+        Hub moment on the rotor ``(M_y, M_z)`` [N m].
+    pull : (n, 2)
+        Magnetic pull on the rotor at the generator centre [N].
+    layout : mapping
+        ``front_bearing_x``, ``rear_bearing_x``, ``generator_x`` [m] from the hub centre.
+
+    Returns
+    -------
+    front, rear : (n, 2)
+        Force of the rotor on each bearing, y and z [N].
+
+    Examples
+    --------
+    A pure tilt moment of 1.2 MN m over a 1.2 m spacing: +-1 MN vertical.
+
+    >>> front, rear = bearing_loads([[0.0, 0.0]], [[0.0, 0.0]], [[1.2e6, 0.0]], [[0.0, 0.0]],
+    ...                             {"front_bearing_x": 5.0, "rear_bearing_x": 6.2, "generator_x": 5.6})
+    >>> (front / 1e6).round(6).tolist(), (rear / 1e6).round(6).tolist()
+    ([[0.0, 1.0]], [[0.0, -1.0]])
+    """
+    total, f_hub, m_hub, f_pull = (np.asarray(a, dtype=float).reshape(-1, 2) for a in (total, hub_force, hub_moment,
+                                                                                          pull))
+    x_f, x_r, x_g = layout["front_bearing_x"], layout["rear_bearing_x"], layout["generator_x"]
+    if not x_r > x_f:
+        raise ModelError(f"model 'generator_radial': rear_bearing_x ({x_r} m) must lie behind front_bearing_x "
+                         f"({x_f} m)")
+    x_c = (1.0 - ROTOR_ASSEMBLY_SHARE) * x_g
+    q = -x_c * f_hub + (x_g - x_c) * f_pull + np.column_stack([m_hub[:, 1], -m_hub[:, 0]])
+    rear = (q - (x_f - x_c) * total) / (x_r - x_f)
+    return total - rear, rear
 
 
 def _tower_parameters(config: str) -> tuple[ModelParameter, ...]:
@@ -181,7 +265,10 @@ OUTPUTS = (
     ModelOutput("peak_eccentricity_m", "m", "largest radial eccentricity of the generator rotor over the scene",
                 0.0, 0.02),
     ModelOutput("rms_dynamic_eccentricity_m", "m", "RMS of the eccentricity about its static value", 0.0, 0.02),
-    ModelOutput("peak_bearing_force_n", "N", "largest radial force on one bearing, static plus dynamic", 0.0, 1e8),
+    ModelOutput("peak_bearing_force_n", "N", "largest radial force on a main bearing, static plus dynamic", 0.0, 1e8),
+    ModelOutput("peak_dynamic_bearing_force_n", "N",
+                "largest change of a main bearing's radial force from its mean over the scene (the wind's part)",
+                0.0, 1e8),
 )
 
 
@@ -205,13 +292,22 @@ class GeneratorRadial(Model):
     generator : mapping, optional
         Overrides of further :class:`PMGenerator` fields (``pole_arc_ratio``, ``carter_factor``,
         ``sectors``, ``air_gap_radius``, ``core_length``, ``relative_permeability``).
+    rotor : str
+        Reference rotor of the hub loads (:data:`ddgsa.loads.ROTORS`): ``iea15mw`` (the seed's
+        turbine, default) or ``nrel5mw`` (the reading before issue 47).
+    hub_moments : str
+        ``lock`` (default, the seed's Fig. 5: tilt constrained, the lock takes the hub moments, both
+        bearings carry the same radial force) or ``bearings`` (the rigid assembly's tilt held by the
+        two main bearings: the moments reach them as a couple, :func:`bearing_loads`; adds the layout
+        parameters ``front_bearing_x``, ``rear_bearing_x``, ``generator_x``).
 
     Outputs
     -------
     ``bearing_frequency_hz`` (the ``bearing_radial`` mode), ``tower_frequency_hz`` (tower
     configurations), ``static_eccentricity_m``, ``peak_eccentricity_m`` and
-    ``rms_dynamic_eccentricity_m`` (|e - e_static|) [m], ``peak_bearing_force_n`` (one bearing,
-    dynamic + static) [N].
+    ``rms_dynamic_eccentricity_m`` (|e - e_static|) [m], ``peak_bearing_force_n`` (the front or
+    rear bearing, dynamic + static) and ``peak_dynamic_bearing_force_n`` (its largest change from
+    the record's mean: the wind's part) [N].
     """
 
     fidelities: ClassVar[tuple[str, ...]] = ("linearised",)
@@ -219,18 +315,24 @@ class GeneratorRadial(Model):
                ModelOption("magnetic", "bool", "magnetic pull on"),
                ModelOption("output_step", "number", "output interval", 0.0, math.inf, "s", low_open=True,
                            optional=True),
-               ModelOption("generator", "mapping", "generator air-gap fields to change", optional=True))
+               ModelOption("generator", "mapping", "generator air-gap fields to change", optional=True),
+               ModelOption("rotor", "choice", "reference rotor of the hub loads", choices=tuple(ROTORS)),
+               ModelOption("hub_moments", "choice", "where the hub moments go", choices=HUB_MOMENTS))
     options_note: ClassVar[str] = ("options: config one_mass | substructure (default) | tower_side_to_side | "
                                    "tower_torsion | tower_bending_torsion, magnetic true | false, output_step [s], "
-                                   "generator {field: value}; tower_* configs add tower_mass [kg], tower_stiffness "
+                                   "generator {field: value}, rotor iea15mw (default) | nrel5mw, hub_moments "
+                                   "lock (default) | bearings; tower_* configs add tower_mass [kg], tower_stiffness "
                                    "[N/m], tower_damping_ratio [-] and the output tower_frequency_hz; "
-                                   "tower_bending_torsion adds tower_torsion_stiffness [N/m], tower_torsion_mass [kg]")
+                                   "tower_bending_torsion adds tower_torsion_stiffness [N/m], tower_torsion_mass [kg]; "
+                                   "hub_moments bearings adds front_bearing_x, rear_bearing_x, generator_x [m]")
 
     def __init__(self, config: str = "substructure", magnetic: bool = True, fidelity: str = "linearised",
-                 output_step: float | None = None, generator: Mapping[str, float] | None = None) -> None:
+                 output_step: float | None = None, generator: Mapping[str, float] | None = None,
+                 rotor: str = "iea15mw", hub_moments: str = "lock") -> None:
         self.check_options({"fidelity": fidelity, "config": config, "magnetic": magnetic, "output_step": output_step,
-                            "generator": generator})
+                            "generator": generator, "rotor": rotor, "hub_moments": hub_moments})
         self.config, self.magnetic, self.fidelity = config, magnetic, fidelity
+        self.rotor, self.hub_moments = rotor, hub_moments
         self.output_step = output_step
         self.generator = PMGenerator().updated(dict(generator or {}))
         bad = set(generator or {}) - set(PMGenerator.__dataclass_fields__)
@@ -239,7 +341,8 @@ class GeneratorRadial(Model):
                              f"known: {', '.join(PMGenerator.__dataclass_fields__)}")
         self.tower = config.startswith("tower_")
         self.tower_labels = TOWER_LABELS.get(config, ())
-        self.parameters = _BASE_PARAMETERS + (_tower_parameters(config) if self.tower else ())
+        self.parameters = (_BASE_PARAMETERS + (_tower_parameters(config) if self.tower else ())
+                           + (_BEARING_PARAMETERS if hub_moments == "bearings" else ()))
         tower_coords = ("tower_y", "tower_rz")[: len(self.tower_labels)]
         self.coordinates = tower_coords + (("rotor_y",) if config == "one_mass" else ("rotor_y", "rotor_z"))
         self.outputs = tuple(o for o in OUTPUTS if self.tower or o != "tower_frequency_hz")
@@ -399,12 +502,15 @@ class GeneratorRadial(Model):
 
     def simulate(self, scene: Scene, params: Mapping[str, float] | None = None) -> pd.DataFrame:
         """Time series on the output grid: eccentricity ``ecc_y[, ecc_z]`` [m], its magnitude
-        ``eccentricity`` [m], the force on one bearing ``bearing_Fy[, bearing_Fz]`` [N] and
+        ``eccentricity`` [m], each bearing's spring force ``bearing_Fy[, bearing_Fz]`` [N] (half the
+        radial load), the force on the front and the rear bearing ``front_Fy, rear_Fy[, front_Fz,
+        rear_Fz]`` [N] (with ``hub_moments: bearings`` the spring force plus the hub moments' couple,
+        :func:`bearing_loads`; with ``lock`` the spring force, the lock taking the moments) and
         ``tower_y`` [m] in tower configurations. ``attrs``: ``static_eccentricity`` [m],
         ``output_step`` [s], ``linearisation_error`` (pull at the peak, relative to the bearing force).
         """
         p = self.resolve(params).iloc[0].to_dict()
-        loads = generate(scene)
+        loads = generate(scene, ROTORS[self.rotor])
         hub = loads[["Fy", "Fz"]].to_numpy()
         op = self._operating(p, hub.mean(axis=0))
         lin, n_dir = op.lin, op.ecc_map.shape[0]
@@ -423,11 +529,33 @@ class GeneratorRadial(Model):
         out = pd.DataFrame(ecc, index=pd.Index(time, name="time"), columns=["ecc_y", "ecc_z"][:n_dir])
         out["eccentricity"] = np.linalg.norm(ecc, axis=1)
         out[["bearing_Fy", "bearing_Fz"][:n_dir]] = force
+        front, rear = force, force
+        if self.hub_moments == "bearings":
+            front, rear = self._couple(p, op.static_ecc, ecc, force, loads, n_sub)
+        for name, f in (("front", front), ("rear", rear)):
+            out[[f"{name}_Fy", f"{name}_Fz"][:n_dir]] = f
         if op.tower_row is not None:
             out["tower_y"] = lin.q0[op.system.index("tower.y")] + x[:, :nz] @ op.tower_row
         out.attrs.update(static_eccentricity=op.static_ecc, output_step=h,
                          linearisation_error=self._linearisation_error(p, op.static_ecc, ecc))
         return out
+
+    def _couple(self, p: Mapping[str, float], static_ecc: NDArray[np.float64], ecc: NDArray[np.float64],
+                force: NDArray[np.float64], loads: pd.DataFrame,
+                n_sub: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Front and rear bearing forces [N] on the output grid (:func:`bearing_loads`): the two springs'
+        force, the hub loads (their C1 cubic, as the response integrated them; forces scaled by
+        ``hub_force_factor``) and the linearised pull."""
+        n_dir = ecc.shape[1]
+        hub = sub_sampled(loads[["Fy", "Fz", "My", "Mz"]].to_numpy(), n_sub)
+        pull = np.zeros_like(ecc)
+        if self.magnetic:
+            gen = self._gen(p)
+            pull = self._pull(static_ecc, gen) + (ecc - static_ecc) @ self._pull_stiffness(static_ecc, gen).T
+        pad = np.zeros((len(ecc), 2 - n_dir))
+        front, rear = bearing_loads(np.hstack([2.0 * force, pad]), hub[:, :2] * p["hub_force_factor"], hub[:, 2:],
+                                    np.hstack([pull, pad]), p)
+        return front[:, :n_dir], rear[:, :n_dir]
 
     def _linearisation_error(self, p: Mapping[str, float], static_ecc: NDArray[np.float64],
                              ecc: NDArray[np.float64]) -> float:
@@ -450,7 +578,8 @@ class GeneratorRadial(Model):
         modes = self.modes(params)
         freq = dict(zip(modes["label"], modes["frequency_hz"]))
         ecc = sim[["ecc_y", "ecc_z"][: len(sim.attrs["static_eccentricity"])]].to_numpy()
-        force = sim[[c for c in sim.columns if c.startswith("bearing_F")]].to_numpy()
+        force = np.hstack([sim[[c for c in sim.columns if c.startswith(side)]].to_numpy()
+                           for side in ("front_F", "rear_F")]).reshape(len(sim), 2, -1)
         out: dict[str, Any] = {"bearing_frequency_hz": freq["bearing_radial"]}
         if self.tower:
             out["tower_frequency_hz"] = freq[self.tower_labels[0]]
@@ -458,5 +587,6 @@ class GeneratorRadial(Model):
                    peak_eccentricity_m=float(sim["eccentricity"].max()),
                    rms_dynamic_eccentricity_m=float(np.sqrt(np.mean(np.sum(
                        (ecc - sim.attrs["static_eccentricity"]) ** 2, axis=1)))),
-                   peak_bearing_force_n=float(np.linalg.norm(force, axis=1).max()))
+                   peak_bearing_force_n=float(np.linalg.norm(force, axis=2).max()),
+                   peak_dynamic_bearing_force_n=float(np.linalg.norm(force - force.mean(axis=0), axis=2).max()))
         return out
