@@ -1,9 +1,9 @@
 """Property-based fuzzing of study files (issue 29): malformed studies generated from the schema.
 
-Hypothesis draws a few hundred malformed studies: a value that breaks the JSON schema of
-:class:`ddgsa.study.spec.StudySpec` at a field (wrong type, out of range, not in the enum, over the
-length, an empty grid axis), an unknown key or a missing required one, a top-level that is not
-a mapping, an invalid model option, a name that is not one safe path component, a value
+Hypothesis draws a hundred malformed studies (three hundred in the slow run): a value that breaks
+the JSON schema of :class:`ddgsa.study.spec.StudySpec` at a field (wrong type, out of range, not in the
+enum, over the length, an empty grid axis), an unknown key or a missing required one, a top-level
+that is not a mapping, an invalid model option, a name that is not one safe path component, a value
 listed twice, and hostile files (alias bombs, deep nesting, other encodings, NUL bytes). Each is
 given to ``ddgsa validate`` in this process (the CLI's ``main``) and must give exit 2, a message
 naming the file (and a field, where it is a field's fault), no traceback, a bounded message,
@@ -224,11 +224,30 @@ def _listing(folder: Path) -> set[str]:
     return {p.name for p in folder.iterdir()}
 
 
-@settings(max_examples=300, deadline=None, database=None, derandomize=True,
-          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+FUZZ = {"deadline": None, "database": None, "derandomize": True,
+        "suppress_health_check": [HealthCheck.too_slow, HealthCheck.data_too_large]}
+
+
+@settings(max_examples=100, **FUZZ)
 @given(case=MALFORMED)
 def test_every_malformed_study_is_exit_2_naming_the_file_and_field_in_bounded_time_and_memory(
         case: tuple[bytes, bool]) -> None:
+    """100 drawn studies in the default run; the slow twin below draws 300. Each kind of fault is also
+    checked one by one in the default run: hostile files, names, duplicates and model options in
+    ``test_bad_input.py``, malformed fields in ``test_cli.py::test_malformed_studies_exit_2_naming_the_field``."""
+    _malformed_is_exit_2(case)
+
+
+@pytest.mark.slow
+@settings(max_examples=300, **FUZZ)
+@given(case=MALFORMED)
+def test_three_hundred_malformed_studies_are_exit_2_naming_the_file_and_field(case: tuple[bytes, bool]) -> None:
+    _malformed_is_exit_2(case)
+
+
+def _malformed_is_exit_2(case: tuple[bytes, bool]) -> None:
+    """``ddgsa validate`` of one drawn study: exit 2, the file (and field) named, no traceback, a bounded
+    message, nothing written, within the memory and CPU bounds."""
     raw, names_field = case
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)

@@ -373,29 +373,6 @@ def _constraints(q, qd, t, P):  # pragma: no cover (compiled)
 
 
 @njit(cache=True)
-def _accelerations(q, qd, t, P, fd_step):  # pragma: no cover (compiled)
-    """Index-1 accelerations and multipliers (no stabilisation), as :func:`ddgsa.mbs.assembly.accelerations`."""
-    full = np.bool_(True)
-    m_mat, f, kt, ct, out, ch, jac, vel = _terms(q, qd, t, P, full, full)
-    n = q.size
-    nc = vel.size
-    if nc == 0:
-        return np.linalg.solve(m_mat, f), np.zeros(0)
-    h = fd_step
-    vp = _terms(q + h * qd, qd, t + h, P, full, full)[7]
-    vm = _terms(q - h * qd, qd, t - h, P, full, full)[7]
-    big = np.zeros((n + nc, n + nc))
-    big[:n, :n] = m_mat
-    big[:n, n:] = jac.T
-    big[n:, :n] = jac
-    rhs = np.zeros(n + nc)
-    rhs[:n] = f
-    rhs[n:] = -(vp - vm) / (2 * h)
-    sol = np.linalg.solve(big, rhs)
-    return sol[:n], sol[n:]
-
-
-@njit(cache=True)
 def _evaluate(q, qd, t, step, P, m, f, kt, ct, y, ch, jac, vel):  # pragma: no cover (compiled)
     """The packed System as a kind of :mod:`ddgsa.mbs.alpha`'s loop: :func:`_terms` written into its arrays."""
     m_mat, fv, ktv, ctv, out, chv, jacv, velv = _terms(q, qd, t, P, np.bool_(True), np.bool_(True))
@@ -428,10 +405,28 @@ def constraint_values(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Ar
 
 
 def accelerations(packed: Packed, q: Array, qd: Array, t: float, fd_step: float = 1e-6) -> tuple[Array, Array]:
-    """Index-1 accelerations and multipliers of the packed system, as :func:`ddgsa.mbs.assembly.accelerations`
-    without stabilisation."""
-    return _accelerations(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays,
-                          float(fd_step))
+    """Index-1 accelerations [m/s^2 or rad/s^2] and multipliers of the packed system at ``(q, qd, t)``, as
+    :func:`ddgsa.mbs.assembly.accelerations` without stabilisation; ``fd_step`` [s]: the central difference
+    of the velocity-level constraint values along the motion that gives their time derivative.
+
+    Three calls of the compiled :func:`_terms` and one solve, in Python: it runs once per simulation, and a
+    compiled copy would be one more entry point that links and optimises the whole element tree on a
+    first run (~14 s of CPU on 2 loaded cores, issue 48)."""
+    q, qd, t = np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t)
+    m_mat, f, _, _, _, _, jac, vel = _terms(q, qd, t, packed.arrays, True, True)
+    n, nc = q.size, vel.size
+    if nc == 0:
+        return np.linalg.solve(m_mat, f), np.zeros(0)
+    h = float(fd_step)
+    vp = _terms(q + h * qd, qd, t + h, packed.arrays, True, True)[7]
+    vm = _terms(q - h * qd, qd, t - h, packed.arrays, True, True)[7]
+    big = np.zeros((n + nc, n + nc))
+    big[:n, :n] = m_mat
+    big[:n, n:] = jac.T
+    big[n:, :n] = jac
+    rhs = np.concatenate((f, -(vp - vm) / (2 * h)))
+    sol = np.linalg.solve(big, rhs)
+    return sol[:n], sol[n:]
 
 
 @njit(cache=True)
@@ -487,7 +482,7 @@ def gen_alpha(packed: Packed, q0: Array, qd0: Array, t0: float, dt: float, n_ste
     drift (n_out, 2), status, total)`` as the loop."""
     am, af, gamma, beta = coefficients
     q0, qd0 = np.asarray(q0, dtype=float), np.asarray(qd0, dtype=float)
-    acc0, lam0 = _accelerations(q0, qd0, float(t0), packed.arrays, 1e-6)
+    acc0, lam0 = accelerations(packed, q0, qd0, t0)
     q, qd, lam, y, drift, status, total = _loop(packed.arrays, q0, qd0, acc0, lam0, float(t0), float(dt), int(n_steps),
                                                 int(output_every), am, af, gamma, beta, float(tol), int(max_iter),
                                                 packed.n_holonomic, 6 * packed.n_elements, False, False, False)
