@@ -44,7 +44,9 @@ def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="ddgsa", description="Global sensitivity analysis of wind-turbine drive trains.",
                                 parents=[common],
                                 epilog="exit codes: 0 ok, 1 failure while running or output folder busy, 2 invalid "
-                                       "input, 3 refused or untrusted results (see --allow-untrusted), 130 interrupted")
+                                       "input, 3 the report is written but some (scene, output) is unconfirmed: no method trusts or "
+                                       "rank-confirms it, nor is it nothing to rank (confirmation.csv; --allow-untrusted "
+                                       "exits 0), 130 interrupted")
     sub = p.add_subparsers(dest="command", required=True)
     run = sub.add_parser("run", help="run a study and write its report", parents=[common])
     run.add_argument("study", type=Path)
@@ -52,7 +54,7 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--force", action="store_true",
                      help="write into a folder that holds another study's results (its stale files are removed)")
     run.add_argument("--allow-untrusted", action="store_true",
-                     help="exit 0 even when an output's indices are refused or untrusted (default: exit 3)")
+                     help="exit 0 even when some (scene, output) is unconfirmed (default: exit 3)")
     run.add_argument("--jobs", type=int, help="parallel workers (default from the study's run.jobs, else the "
                                               "number of cores)")
     run.add_argument("--retry-failed", action="store_true",
@@ -199,10 +201,14 @@ def _dispatch(args: argparse.Namespace) -> int:
         _print_models(args.name)
         return EXIT_OK
     if args.command == "run":
-        study = _load(args.study, args.quiet)
-        if args.jobs is not None and args.jobs < 1:
-            print("ddgsa: error: --jobs must be >= 1", file=sys.stderr)
+        if args.jobs is not None and args.jobs < 1:       # the command line first: before the study loads
+            print(f"ddgsa: error: --jobs {args.jobs}: must be >= 1", file=sys.stderr)
             return EXIT_INPUT
+        if args.confirm_time is not None:
+            from ddgsa.study.spec import confirm_time
+
+            confirm_time(args.confirm_time)
+        study = _load(args.study, args.quiet)
         if args.jobs is None and "jobs" not in study.spec.run.model_fields_set:
             args.jobs = default_jobs()
         if args.confirm_time is not None:
@@ -299,6 +305,24 @@ def _modes(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _keep_study(source: Path, target: Path, confirm_time: str | None) -> None:
+    """Copy the study file into its output folder; with ``--confirm-time`` the copy says
+    ``confirm: {time: ...}`` (its comments kept), so ``ddgsa report`` on the folder analyses the runs
+    that budget spent instead of dropping them."""
+    if confirm_time is None:
+        shutil.copyfile(source, target)
+        return
+    from ruamel.yaml import YAML
+
+    yaml = YAML()                                   # round trip: the user's comments and order stay
+    data = yaml.load(source.read_text(encoding="utf-8"))
+    if data.get("confirm") is None:
+        data["confirm"] = {}
+    data["confirm"]["time"] = confirm_time
+    with target.open("w", encoding="utf-8") as handle:
+        yaml.dump(data, handle)
+
+
 def _load(path: Path, quiet: bool = False) -> "Study":
     """Load and validate a study and run the model's own checks over it (:mod:`ddgsa.study.checks`).
 
@@ -323,7 +347,7 @@ def _load(path: Path, quiet: bool = False) -> "Study":
     from ddgsa.runner import said_if_slow
 
     with said_if_slow(f"ddgsa: note: checking model {study.spec.model.name!r} (its modes and sampling; a first "
-                      "check after installing compiles the model's kernels: one to two minutes on 2 cores, cached "
+                      "check after installing compiles the model's kernels: up to three minutes on 2 cores, cached "
                       "for the run)...", quiet):
         findings = study_findings(study)
     errors = [f for f in findings if f.level == "error"]
@@ -387,7 +411,7 @@ def _run(study: "Study", args: argparse.Namespace) -> int:
                       f"contents; they are replaced by those of {study.path or 'this study'} (stored evaluations "
                       "with equal keys are reused)", file=sys.stderr)
             if study.path is not None and study.path.resolve() != (out / "study.yaml").resolve():
-                shutil.copyfile(study.path, out / "study.yaml")
+                _keep_study(study.path, out / "study.yaml", getattr(args, "confirm_time", None))
             try:
                 store = EvaluationStore(out / STORE_NAME, watch=[out / LOCK_NAME])
             except StoreCorruptError:

@@ -110,7 +110,8 @@ def test_the_wall_budget_runs_the_cheapest_stages_that_fit() -> None:
     assert WallBudget(10.0, float("nan")).fitting({0: 50, 1: 5}) == [1]   # no estimate: the smallest, to measure
 
 
-def test_a_time_budget_stops_cleanly_and_says_what_the_rest_would_cost(tmp_path: Path) -> None:
+def test_a_time_budget_stops_cleanly_and_says_what_the_rest_would_cost(tmp_path: Path,
+                                                                       capsys: pytest.CaptureFixture[str]) -> None:
     """``ddgsa run --confirm-time '1 s'`` on a model that takes 20 ms a point: the escalations' first
     stages (32 points a scene, >= 0.64 s each) do not both fit, so one scene's runs and the other stops,
     saying so in provenance, and the unconfirmed pairs carry their cost in confirmation.csv."""
@@ -128,6 +129,14 @@ def test_a_time_budget_stops_cleanly_and_says_what_the_rest_would_cost(tmp_path:
     assert code == (3 if (table["verdict"] == "unconfirmed").any() else 0)
     assert (table[table["verdict"] == "unconfirmed"]["next_runs"] > 0).all()
     assert any("stopped by the time budget (1 s)" in line for c in prov["confirm"] for line in c["log"])
+    # the folder's study.yaml says the budget (newcomer trial: `ddgsa report` dropped the runs it spent)
+    assert "time: 1 s" in (tmp_path / "out" / "study.yaml").read_text()
+    before = (tmp_path / "out" / "confirmation.csv").read_text()
+    assert main(["report", str(tmp_path / "out"), "--quiet"]) == code
+    assert (tmp_path / "out" / "confirmation.csv").read_text() == before
+    capsys.readouterr()
+    assert main(["run", str(tmp_path / "nowhere.yaml"), "--confirm-time", "-1 s"]) == 2   # before the study loads
+    assert "--confirm-time '-1 s': must be > 0" in capsys.readouterr().err
     assert main(["validate", str(study)]) == 0
     bad = tmp_path / "bad.yaml"
     bad.write_text(STUDY.format(n=16, extra="confirm: {time: 10 parsecs}\n"))

@@ -20,7 +20,7 @@ diagnostic_*           diagnostic                                        one row
 The scene fields (``wind_speed``, ``speed_rpm`` ...) are coordinates along ``scene``; each output's
 unit is the coordinate ``output_unit``. Attributes follow CF conventions where they apply
 (``units``, ``long_name``, ``flag_values``/``flag_meanings``; ``1`` for dimensionless). A
-missing combination (a method that did not run in a scene) is NaN. :func:`ddgsa.report.write.export.export_folder` writes
+missing combination (a method that did not run in a scene) is NaN. :func:`ddgsa.report.export.export_folder` writes
 a results folder's dataset as NetCDF (``h5netcdf``), Zarr (when ``zarr`` is installed) or one tidy
 CSV; :meth:`ddgsa.execute.kinds.common.StudyResult.to_xarray` gives it in a session.
 """

@@ -560,12 +560,7 @@ class Study:
             raise StudyError(f"{_where(self.path)}: --confirm-time needs a study of kind gsa (this one is "
                              f"{self.spec.kind!r})")
         old = self.spec.confirm.model_dump() if self.spec.confirm is not None else {}
-        try:
-            confirm = ConfirmSpec(**{**old, "time": value})
-        except ValidationError as exc:
-            err = exc.errors()[0]
-            raise StudyError(f"--confirm-time {value!r}: "
-                             f"{bound_message(err) if err['type'] in _BOUNDS else err['msg']}") from None
+        confirm = ConfirmSpec(**{**old, "time": confirm_time(value)})
         return replace(self, spec=self.spec.model_copy(update={"confirm": confirm}))
 
     @property
@@ -954,6 +949,23 @@ def _known_fields(loc: tuple[Any, ...]) -> list[str]:
 _BOUNDS = {"greater_than": ("gt", ">"), "greater_than_equal": ("ge", ">="), "less_than": ("lt", "<"),
            "less_than_equal": ("le", "<=")}
 """pydantic's bound errors and the symbol ddgsa's messages use for each."""
+
+
+def confirm_time(value: Any) -> float:
+    """``ddgsa run --confirm-time``'s value as seconds, checked as ``confirm: {time:}`` is (a number of
+    seconds or a time with its unit, above 0).
+
+    Raises
+    ------
+    StudyError
+        For an unreadable or non-positive time.
+    """
+    try:
+        return float(ConfirmSpec(time=value).time)  # type: ignore[arg-type]
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        raise StudyError(f"--confirm-time {value!r}: "
+                         f"{bound_message(err) if err['type'] in _BOUNDS else err['msg']}") from None
 
 
 def bound_message(err: Mapping[str, Any]) -> str:
