@@ -270,7 +270,14 @@ def prefix_hint(values: tuple[float, ...], unit: str, low: float, high: float) -
 
 def scene_hints(scene_type: type, values: dict[str, list[Any]]) -> list[tuple[str, str]]:
     """``(field, hint)`` for scene values that look written in another unit: a field in rpm below
-    60 (Hz?), in Hz below 100 (kHz?), a wind speed above 30 m/s (km/h?)."""
+    60 (Hz?), in Hz below 100 (kHz?), a wind speed above 30 m/s that km/h would bring below it (km/h?).
+
+    >>> from ddgsa.loads.scene import Scene
+    >>> scene_hints(Scene, {"wind_speed": [40.0]})[0][1]
+    "40 m/s is above storm speed; if you meant km/h write '40 km/h' (= 11.1 m/s)"
+    >>> scene_hints(Scene, {"wind_speed": [11000.0]})      # 3 056 m/s in km/h: no hint
+    []
+    """
     units = getattr(scene_type, "units", {})
     out = []
     for key, vals in values.items():
@@ -283,7 +290,7 @@ def scene_hints(scene_type: type, values: dict[str, list[Any]]) -> list[tuple[st
                              f"'{low:g} Hz' (= {60 * low:g} rpm)"))
         elif unit == "Hz" and low < 100:
             out.append((key, f"{low:g} Hz is a low rate; if you meant kHz write '{low:g} kHz'"))
-        elif unit == "m/s" and key == "wind_speed" and high > 30:
+        elif unit == "m/s" and key == "wind_speed" and 30 < high <= 30 * 3.6:     # km/h brings it below 30 m/s
             out.append((key, f"{high:g} m/s is above storm speed; if you meant km/h write '{high:g} km/h' "
                              f"(= {high / 3.6:.3g} m/s)"))
     return out
