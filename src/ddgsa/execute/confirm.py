@@ -253,7 +253,8 @@ def advice(result: "StudyResult", output: str, scenes: list[int], tolerance: flo
                   "ranges) and no Saltelli base within the budget (with its Gaussian-process control variate "
                   "where one fits) was estimated to confirm it; a larger `confirm:` budget helps only as far as "
                   "it pays for that Saltelli design")
-    return (salt + f", or `confirm: {{budget: {points}}}` (points per scene; it reuses every run, tries cheaper PCE "
+    where = f"points per scene, in each of {len(scenes)} scenes" if len(scenes) > 1 else "points per scene"
+    return (salt + f", or `confirm: {{budget: {points}}}` ({where}; it reuses every run, tries cheaper PCE "
             "points first and stops when confirmed)")
 
 
