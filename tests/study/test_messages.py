@@ -154,6 +154,9 @@ GENERATOR = BASE.replace("{name: direct_drive, fidelity: rigid}", "{name: genera
                                                                  r"\[100000, 1e\+09\] N \(hint: 10 MN = 1e\+07 N"),
     (BASE, "outputs:", "fixed: {shaft_length: 60}\noutputs:", r"'shaft_length' = 60 m leaves its allowed range "
                                                               r"\[2, 20\] m$"),
+    # a unit written beside it (t where kg was meant): its numbers are not in kg, so no prefix of kg is advised
+    (BASE, "spread: 0.2}", "spread: 0.2}\n  hub_mass: {nominal: 40000, spread: 0.05, unit: t}",
+     r"'hub_mass' support \[3\.8e\+07, 4\.2e\+07\] kg leaves its allowed range \[1, 1e\+06\] kg$"),
     # 1000x too stiff: mN/m would bring it inside, but nobody types a stiffness in it -- no hint
     (BASE, "outputs:", "fixed: {k_front_y: 5e14}\noutputs:", r"'k_front_y' = 5e\+14 N/m leaves its allowed range "
                                                             r"\[1e\+06, 1e\+12\] N/m$"),

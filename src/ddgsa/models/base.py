@@ -88,7 +88,7 @@ class ModelParameter:
     low: float = -math.inf
     high: float = math.inf
 
-    def range_problem(self, values: float | tuple[float, float], what: str = "=") -> str:
+    def range_problem(self, values: float | tuple[float, float], what: str = "=", hint: bool = True) -> str:
         """Why ``values`` [unit] leave the allowed range, with a unit hint where a prefix would bring
         them in (:func:`~ddgsa.units.prefix_hint`); empty when inside. The one check of a value
         against its range, for the Python API (:meth:`Model.resolve`) and the study file alike.
@@ -99,6 +99,8 @@ class ModelParameter:
             A value, or an interval such as a distribution's support [unit].
         what : str
             What the values are, e.g. ``"support"``.
+        hint : bool
+            Advise a unit prefix; off where the user wrote a unit (its numbers are not in this unit).
 
         Examples
         --------
@@ -111,7 +113,8 @@ class ModelParameter:
         text = f"{float(given[0]):g}" if len(given) == 1 else f"[{', '.join(f'{float(v):g}' for v in given)}]"
         unit = "" if self.unit in ("", "-", "1") else f" {self.unit}"
         return (f"parameter {self.name!r} {what} {text}{unit} leaves its allowed range "
-                f"[{self.low:g}, {self.high:g}]{unit}" + prefix_hint(given, self.unit, self.low, self.high))
+                f"[{self.low:g}, {self.high:g}]{unit}" + (prefix_hint(given, self.unit, self.low, self.high) if hint
+                                                          else ""))
 
 
 @dataclass(frozen=True)

@@ -783,7 +783,9 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
             head, _, rest = str(exc).partition(": ")
             raise StudyError(f"{where}: field '{head}': {rest}") from None
         for p in space.parameters:
-            if problem := model.parameter(p.name).range_problem(p.support, what="support"):
+            written = spec.parameters.get(p.name)           # a unit written beside it: no prefix to advise
+            hint = not (isinstance(written, dict) and "unit" in written)
+            if problem := model.parameter(p.name).range_problem(p.support, what="support", hint=hint):
                 raise StudyError(f"{where}: field 'parameters.{p.name}': {problem}")
     check_run_size(where, spec, space, len(spec.outputs or model.outputs))     # before any design is built
     nominal = {**dict(spec.fixed), **(space.nominal if space is not None else {})}
