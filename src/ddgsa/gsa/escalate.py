@@ -79,6 +79,9 @@ expansion looks no cheaper), that base runs rather than the escalation stopping:
 typical bound, some outputs may be confirmed by it, and the budget is the user's to spend."""
 MAX_ORDER = 10
 """Highest degree of the escalation's pooled expansion (``auto`` fits up to 9 by regression)."""
+TIME_ONLY = 1_000_000
+"""The point budget of an escalation given only a wall-clock time (``confirm: {time}``): a cap, not a
+budget the user set, so the log counts the runs spent without it."""
 MAX_ENTRIES = 1_000_000
 """Largest regression matrix (points x terms) of a refit: its least-angle path costs seconds."""
 
@@ -200,7 +203,8 @@ class Escalation:
         if kind != "focus":                              # the drawn points, and so the expansion, are as they were
             self._refit()
         bad = self.unconfirmed()
-        self.log.append(f"{kind} (+{len(pts)} runs, {self.spent} of {self.budget}): "
+        spent = f"{self.spent} so far" if self.budget >= TIME_ONLY else f"{self.spent} of {self.budget}"
+        self.log.append(f"{kind} (+{len(pts)} runs, {spent}): "
                         + ("every output confirmed" if not bad else f"unconfirmed: {', '.join(bad)}"))
         return self._next()
 

@@ -49,6 +49,7 @@ from pydantic_core import InitErrorDetails, PydanticCustomError
 from ddgsa.errors import DdgsaError, StudyError, clip, unknown_name_message, with_hint
 from ddgsa.gsa.auto import resolve_auto_options
 from ddgsa.gsa.base import METHODS, get_method
+from ddgsa.gsa.escalate import TIME_ONLY
 from ddgsa.gsa.target import Target
 from ddgsa.loads.scene import Scene
 from ddgsa.models import MODELS
@@ -270,8 +271,8 @@ class ConfirmSpec(BaseModel):
 
     @property
     def points(self) -> int:
-        """The point budget per scene (the cap, 1 000 000, when only a time is given)."""
-        return 1_000_000 if self.budget is None else self.budget
+        """The point budget per scene (the cap :data:`~ddgsa.gsa.escalate.TIME_ONLY` when only a time is given)."""
+        return TIME_ONLY if self.budget is None else self.budget
 
 
 class RankingSpec(BaseModel):
