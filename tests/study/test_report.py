@@ -15,7 +15,8 @@ from matplotlib.container import ErrorbarContainer
 
 from ddgsa.cli import main
 from ddgsa.models import get
-from ddgsa.report.write import accuracy_table, plot_heatmap, plot_scene_bars, sampling_markdown
+from ddgsa.report.sections.indices import accuracy_table, plot_heatmap, plot_scene_bars
+from ddgsa.report.write import sampling_markdown
 from studytext import ishigami_study
 
 matplotlib.use("Agg")
@@ -112,7 +113,7 @@ def test_accuracy_never_compares_mdrm_with_autos_own_mdrm_stage() -> None:
 def test_bars_have_a_y_label_and_error_bars_only_where_there_is_an_interval() -> None:
     """Issue 48.6: one panel per output, the bars of the method the pair's verdict names (titled with
     it), every other requested method's ST a marker beside them; cross-checks left out."""
-    info = {"y": get("analytic").output("y")}
+    info = {"y": get("analytic").output("y").unit}
     rows = pd.concat([_rows({"pce": np.nan, "saltelli": 0.05}), _rows({"given_data_s1": 0.1})])
     fig = plot_scene_bars(rows, info)
     assert len([ax for ax in fig.axes if ax.get_visible()]) == 1             # one output, one panel
@@ -143,7 +144,7 @@ def test_heatmap_tick_labels_overlap_no_neighbouring_panel() -> None:
                           "ST": 0.1 * (i % 10)} for s, w in enumerate((6.0, 11.0, 18.0))
                          for o in outputs for i, p in enumerate(params)])
     model = get("direct_drive", fidelity="rigid")
-    fig = plot_heatmap(rows, {o: model.output(o) for o in outputs})
+    fig = plot_heatmap(rows, {o: model.output(o).unit for o in outputs})
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
     panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"][:len(outputs)]
