@@ -189,7 +189,9 @@ class Folder:
             svg = svg_of(fig, f"f{self._figures[0]}-")
         finally:
             plt.close(fig)
-        return (f'<figure class="plot" data-kind="{chart.kind}">{svg}'
+        width = re.search(r'width="([\d.]+)pt"', svg)
+        style = f' style="max-width:{float(width[1]) * 4 / 3:.0f}px"' if width else ""     # its own size, at most
+        return (f'<figure class="plot" data-kind="{chart.kind}"{style}>{svg}'
                 f"<figcaption>{escape(chart.caption)}</figcaption></figure>")
 
 

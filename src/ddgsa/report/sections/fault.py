@@ -27,6 +27,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from ddgsa.execute.kinds.common import StudyResult
     from ddgsa.models.base import ModelOutput
 
+PANELS_PER_ROW = 4
+"""Panels a row of the index-shift chart."""
 TABLES = ("fault_verdicts.csv", "fault_smallest.csv", "fault_indices.csv", "fault_sensor_choice.csv")
 
 
@@ -101,14 +103,17 @@ def plot_detectability(rows: pd.DataFrame, level_label: str, target: float, fals
 
 
 def plot_fault_indices(rows: pd.DataFrame, fault: str, title: str) -> "Figure":
-    """Paper A's view: total index of each other parameter per output, healthy and at each faulty level."""
+    """Paper A's view: total index of each other parameter per output, healthy and at each faulty level;
+    one panel per output, at most :data:`PANELS_PER_ROW` a row (more made the figure too wide to read)."""
     method = rows["method"].iloc[0]
     rows = rows[rows["method"] == method]
     outputs, levels = list(rows["output"].unique()), list(rows["level"].unique())
     params = list(rows["parameter"].unique())
-    fig, axes = plt.subplots(1, len(outputs), figsize=(3.2 * len(outputs) + 0.5, 3.4), squeeze=False, sharey=True)
+    ncols = min(PANELS_PER_ROW, len(outputs))
+    nrows = -(-len(outputs) // ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(3.2 * ncols + 0.5, 3.4 * nrows), squeeze=False, sharey=True)
     width = 0.8 / len(levels)
-    for ax, out in zip(axes[0], outputs):
+    for ax, out in zip(axes.flat, outputs):
         t = rows[rows["output"] == out]
         for k, level in enumerate(levels):
             st = t[t["level"] == level].set_index("parameter").reindex(params)["ST"]
@@ -117,7 +122,10 @@ def plot_fault_indices(rows: pd.DataFrame, fault: str, title: str) -> "Figure":
         ax.set_xticks(range(len(params)), params, rotation=60, fontsize=7, ha="right")
         ax.set_title(out, fontsize=8)
         ax.grid(alpha=0.3, axis="y")
-    axes[0, 0].set_ylabel(f"ST ({method}) [-]")
+    for ax in list(axes.flat)[len(outputs):]:
+        ax.set_visible(False)
+    for row in axes:
+        row[0].set_ylabel(f"ST ({method}) [-]")
     axes[0, 0].legend(fontsize=6)
     fig.suptitle(f"indices of the other parameters with and without the fault, {title}", fontsize=9)
     fig.tight_layout()

@@ -240,7 +240,7 @@ def plot_heatmap(rows: pd.DataFrame, units: dict[str, str] | None = None,
 def plot_s1_st(indices: pd.DataFrame) -> "Figure":
     """S1 against ST of every row, one colour per method, open markers untrusted; the line ST = S1
     (above it: interactions)."""
-    fig, ax = plt.subplots(figsize=(6.0, 4.6), layout="constrained")
+    fig, ax = plt.subplots(figsize=(5.5, 4.2), layout="constrained")
     ax.plot([0, 1], [0, 1], color="0.6", lw=0.8, ls="--", label="ST = S1: no interactions")
     for k, (meth, g) in enumerate(indices.groupby("method", sort=False)):
         ok = trusted(g)
