@@ -258,12 +258,30 @@ def svg_of(fig: "Figure", prefix: str) -> str:
     text = re.sub(r">\s+<", "><", text)
     text = re.sub(r'\b(d|x|y|x1|x2|y1|y2|points)="([^"]*)"',
                   lambda m: f'{m[1]}="{_short(m[2])}"', text)
+    text = re.sub(r' transform="rotate\(-?0 [^)]*\)"', "", text)                  # no-op rotations
+    family = re.search(r"font-family: ('DejaVu Sans'[^;\"]*)", text)
+    if family:                                                                  # said once, on the <svg>
+        text = text.replace(f"font-family: {family[1]}", "").replace("<svg ", f'<svg font-family="{family[1]}" ', 1)
+        text = re.sub(r';\s*(?=[;"])|(?<=")\s*;\s*', "", text)
+    text = re.sub(r"(<g[^>]*>)((?:<use [^>]*/>)+)(?=</g>)",                       # a mark drawn twice in one place
+                  lambda m: m[1] + "".join(dict.fromkeys(re.findall(r"<use [^>]*/>", m[2]))), text)
     kinds = {"s": "series", "l": "legend-item", "m": "mark"}
     text = SERIES_GID.sub(lambda m: f'class="{kinds[m[1]]}"' + (f' data-series="{m[2]}"' if m[2] else ""), text)
+    text = re.sub(r'(<g[^>]*)>((?:<use [^>]*/>)+)(?=</g>)', _hoist_style, text)
     used = set(re.findall(r"#([A-Za-z_][\w.-]*)", text))
-    text = re.sub(r'\sid="([^"]*)"', lambda m: f' id="{prefix}{m[1]}"' if m[1] in used else "", text)
-    text = re.sub(r'(xlink:href|href)="#', rf'\1="#{prefix}', text)
-    return re.sub(r"url\(#", f"url(#{prefix}", text)
+    ids = {name: f"{prefix}{k:x}" for k, name in enumerate(sorted(set(re.findall(r'\sid="([^"]*)"', text)) & used))}
+    text = re.sub(r'\sid="([^"]*)"', lambda m: f' id="{ids[m[1]]}"' if m[1] in ids else "", text)
+    return re.sub(r'(href="#|url\(#)([^")]*)', lambda m: m[1] + ids.get(m[2], m[2]), text)
+
+
+def _hoist_style(m: re.Match[str]) -> str:
+    """``<g><use style=S/>...</g>`` as ``<g style=S><use/>...</g>`` where every ``<use>`` has the same style
+    and the group none (the uses inherit it)."""
+    styles = re.findall(r'<use [^>]*?( style="[^"]*")?/>', m[2])
+    if len(set(styles)) != 1 or not styles[0] or "style=" in m[1]:
+        return m[0]
+    style = styles[0]
+    return m[1] + style + ">" + m[2].replace(style, "")
 
 
 def _short(value: str) -> str:
