@@ -158,6 +158,17 @@ PLOTS_DRAWN = """[...document.querySelectorAll('figure.plot')].map(f => {
                            .length
                      : (img.complete ? img.naturalWidth : 0)};
 })"""
+LEGEND_TOGGLE = """(() => {   // a click on a chart's first legend entry hides its series, a second shows it again
+  const item = document.querySelector('svg .legend-item[data-series]');
+  if (!item) { return null; }
+  const marks = () => [...item.ownerSVGElement.querySelectorAll(`.series[data-series="${item.dataset.series}"]`)];
+  const shown = () => marks().length > 0 && marks().every(g => getComputedStyle(g).display !== 'none');
+  const before = shown();
+  item.dispatchEvent(new MouseEvent('click', {bubbles: true}));
+  const hidden = marks().every(g => getComputedStyle(g).display === 'none');
+  item.dispatchEvent(new MouseEvent('click', {bubbles: true}));
+  return {before, hidden, after: shown()};
+})()"""
 WIDEST = """({scroll: document.documentElement.scrollWidth, inner: document.documentElement.clientWidth,
   outside: [...document.querySelectorAll('body *')].filter(e => !e.closest('.scroll, svg') &&
            e.getBoundingClientRect().right > window.innerWidth + 1).map(e => e.tagName + '.' + e.className).slice(0, 5)})"""
@@ -180,6 +191,8 @@ def test_report_opens_offline_in_chromium_with_every_plot_drawn(browser: Chromiu
     assert {p["kind"] for p in plots} >= FOLDERS[name]
     empty = [p for p in plots if not (p["w"] > 50 and p["h"] > 20 and p["marks"] > 0)]
     assert plots and not empty, empty
+    toggled = browser.js(LEGEND_TOGGLE)
+    assert toggled is None or toggled == {"before": True, "hidden": True, "after": True}, toggled
     for width in (1280, 400):     # a laptop and a phone
         browser.call("Emulation.setDeviceMetricsOverride", width=width, height=900, deviceScaleFactor=1, mobile=False)
         wide = browser.js(WIDEST)

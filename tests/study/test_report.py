@@ -340,3 +340,19 @@ def test_the_rigs_peak_resolution_is_the_noise_peaks_own_spread() -> None:
     peaks = sd * np.random.default_rng(0).standard_normal((4000, 2000)).max(axis=1)
     declared = get("hss_rig").output("peak_motor_torque").resolution
     assert declared == pytest.approx(peaks.std(), rel=0.05) and declared <= peaks.std()
+
+
+def test_the_page_a_run_writes_is_the_page_ddgsa_html_rebuilds_from_the_files(write_study, tmp_path: Path) -> None:
+    """A run draws each chart once, saving its PNG and the page's SVG from one figure; ``ddgsa html`` draws
+    it again from the folder's CSVs alone: the same page, byte for byte (so a committed folder's page is
+    the run's), with an inline SVG for every PNG a chart of the run wrote."""
+    out = tmp_path / "two"
+    study = write_study("two", text=pce_study(name="two", methods="[{method: mdrm, points: 4, check: 8}, "
+                                                                "{method: pce, order: 4, n: 64, seed: 0}]"))
+    assert main(["-q", "run", str(study), "--out", str(out), "--allow-untrusted"]) == 0
+    page = (out / "report.html").read_text()
+    assert main(["-q", "html", str(out)]) == 0
+    assert (out / "report.html").read_text() == page
+    pngs = sorted(p.name for p in out.glob("*.png"))
+    assert pngs == ["bars_scene0.png", "mdrm_vs_crosscheck.png"]
+    assert page.count("<svg ") >= len(pngs) + 1 and "data:image/png" not in page       # + S1 against ST

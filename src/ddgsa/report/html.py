@@ -26,23 +26,24 @@ from ddgsa.report.sections.base import Folder
 HTML_NAME = "report.html"
 
 
-def write_html(folder: Path, complete: bool | None = None) -> Path:
+def write_html(folder: Path, complete: bool | None = None, svgs: dict[str, str] | None = None) -> Path:
     """Write ``folder/report.html`` from the files in ``folder`` (whole or not at all: written
-    beside and renamed); returns its path. ``complete``: see :func:`render`."""
+    beside and renamed); returns its path. ``complete``, ``svgs``: see :func:`render`."""
     path = Path(folder) / HTML_NAME
     tmp = path.with_name(f".{HTML_NAME}.{os.getpid()}.tmp")
-    tmp.write_text(render(Path(folder), complete), encoding="utf-8")
+    tmp.write_text(render(Path(folder), complete, svgs), encoding="utf-8")
     os.replace(tmp, path)
     return path
 
 
-def render(folder: Path, complete: bool | None = None) -> str:
+def render(folder: Path, complete: bool | None = None, svgs: dict[str, str] | None = None) -> str:
     """The report page of a results folder, as HTML text. A study's folder whose outputs are not
     complete (:func:`ddgsa.report.outdir.incompleteness`: its run was killed, or a file changed since)
-    gets a banner saying so at the top; ``complete=True`` (the report being written) skips the check."""
+    gets a banner saying so at the top; ``complete=True`` (the report being written) skips the check.
+    ``svgs``: charts already drawn as SVG with their PNGs, by PNG name (:func:`ddgsa.report.write.render_figures`)."""
     if not folder.is_dir():
         raise OutputFolderError(f"{folder}: not a folder (ddgsa html takes results folders, e.g. results/quickstart)")
-    f = Folder(folder)
+    f = Folder(folder, svgs=svgs or {})
     f.charted = {c.png for s in SECTIONS for c in s.charts(f) if c.png}
     f.shown = {name for s in SECTIONS for name in s.shows}
     sections = [(s.anchor, s.heading, body) for s in SECTIONS if (body := s.html(f))]

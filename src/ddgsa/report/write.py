@@ -20,7 +20,7 @@ import sys
 from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
 from pathlib import Path
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from typing import Any
 
 import matplotlib
@@ -39,7 +39,7 @@ from ddgsa.loads.scene import AUTO_BEM_INCLINATION_DEG  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.report.outdir import COMPLETE_NAME, mark_complete, previous_files, remove_stale, unmark_complete  # noqa: E402
 from ddgsa.report.sections import SECTIONS  # noqa: E402
-from ddgsa.report.sections.base import Folder  # noqa: E402
+from ddgsa.report.sections.base import SVG_ID_SLOT, Folder, svg_of  # noqa: E402
 from ddgsa.report.sections.provenance import model_words  # noqa: E402
 from ddgsa.report.sections.signals import summary_lines as signal_summary_lines  # noqa: E402
 from ddgsa.report.sections.sweep import sweep_keys, sweep_summary  # noqa: E402
@@ -71,9 +71,9 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     study_file = result.study.path if not (out / "study.yaml").is_file() else None
     folder = Folder(out, study_file=study_file)      # the charts read the tables just written, as report.html does
     figures = [(make, out / name) for section in SECTIONS for name, make in section.figures(result)]
-    figures += [(chart.draw, out / chart.png) for section in SECTIONS for chart in section.charts(folder) if chart.png]
-    render_figures(figures)
-    written += [path for _, path in figures]
+    charts = [(chart.draw, out / chart.png) for section in SECTIONS for chart in section.charts(folder) if chart.png]
+    svgs = render_figures(figures + charts, svg=[path for _, path in charts])
+    written += [path for _, path in figures + charts]
     path = out / "summary.md"
     path.write_text(summary_markdown(result, info))
     written.append(path)
@@ -82,50 +82,56 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     result.provenance["files"] = names
     path.write_text(json.dumps(result.provenance, indent=2, default=str))
     written.append(path)
-    written.append(write_html(out, complete=True))
+    written.append(write_html(out, complete=True, svgs=svgs))
     remove_stale(out, before, names)
     mark_complete(out, names)                       # last: the folder's outputs are whole
     written.append(out / COMPLETE_NAME)
     return written
 
 
-def _save_figure(fig: Any, path: Path) -> None:
-    """Save ``fig`` as a PNG without metadata (:data:`PNG_METADATA`) and close it."""
-    fig.savefig(path, dpi=100, bbox_inches="tight", metadata=PNG_METADATA)
-    plt.close(fig)
+def _save_figure(fig: Any, path: Path, svg: bool = False) -> str | None:
+    """Save ``fig`` as a PNG without metadata (:data:`PNG_METADATA`) and close it; ``svg``: return it as
+    the page's inline SVG too (:func:`ddgsa.report.sections.base.svg_of`, ids in :data:`SVG_ID_SLOT`)."""
+    try:
+        fig.savefig(path, dpi=100, bbox_inches="tight", metadata=PNG_METADATA)
+        return svg_of(fig, SVG_ID_SLOT) if svg else None
+    finally:
+        plt.close(fig)
 
 
 FIGURE_PROCESSES_FROM = 3
 """Fewest deferred figures drawn in forked processes (fewer: in this one; a fork costs ~0.1 s)."""
-_FIGURES: list[tuple[Callable[[], Any], Path]] = []
+_FIGURES: list[tuple[Callable[[], Any], Path, bool]] = []
 """The figures :func:`render_figures` hands to its forked processes (inherited, not pickled)."""
 
 
-def render_figures(figures: list[tuple[Callable[[], Any], Path]], processes: int | None = None) -> None:
-    """Draw and save each ``(make, path)``: ``make()`` returns the figure. A report's figures are
-    independent and drawing them is most of its time (``indirect_drive_gsa``'s seven: ~10 s of its
-    14 s), so on Linux, from :data:`FIGURE_PROCESSES_FROM` figures, they are drawn by ``processes``
-    (default: the CPUs this process may use) processes forked from this one, each figure by one of them, with the same
-    matplotlib state, so the files are the same bytes as drawn here (tested)."""
+def render_figures(figures: list[tuple[Callable[[], Any], Path]], processes: int | None = None,
+                   svg: Collection[Path] = ()) -> dict[str, str]:
+    """Draw and save each ``(make, path)``: ``make()`` returns the figure; returns the inline SVG of those
+    whose path is in ``svg``, by file name (the page's charts: drawn once for the PNG and the page). A
+    report's figures are independent and drawing them is most of its time (``indirect_drive_gsa``'s seven:
+    ~10 s of its 14 s), so on Linux, from :data:`FIGURE_PROCESSES_FROM` figures, they are drawn by
+    ``processes`` (default: the CPUs this process may use) processes forked from this one, each figure by
+    one of them, with the same matplotlib state, so the files are the same bytes as drawn here (tested)."""
+    jobs = [(make, path, path in set(svg)) for make, path in figures]
     usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     processes = min(len(figures), processes or usable or 1)
     if processes < 2 or len(figures) < FIGURE_PROCESSES_FROM or not sys.platform.startswith("linux"):
-        for make, path in figures:
-            _save_figure(make(), path)
-        return
-    _FIGURES[:] = figures
-    try:
-        with ProcessPoolExecutor(processes, mp_context=get_context("fork")) as pool:
-            for done in [pool.submit(_render_one, i) for i in range(len(figures))]:
-                done.result()                       # a failure in a process raises here
-    finally:
-        _FIGURES.clear()
+        texts = [_save_figure(make(), path, want) for make, path, want in jobs]
+    else:
+        _FIGURES[:] = jobs
+        try:
+            with ProcessPoolExecutor(processes, mp_context=get_context("fork")) as pool:
+                texts = [done.result() for done in [pool.submit(_render_one, i) for i in range(len(jobs))]]
+        finally:                                    # a failure in a process raises at its result()
+            _FIGURES.clear()
+    return {path.name: text for (_, path, _), text in zip(jobs, texts) if text is not None}
 
 
-def _render_one(i: int) -> None:
+def _render_one(i: int) -> str | None:
     """Draw and save the ``i``-th figure of :data:`_FIGURES` (in a forked process)."""
-    make, path = _FIGURES[i]
-    _save_figure(make(), path)
+    make, path, svg = _FIGURES[i]
+    return _save_figure(make(), path, svg)
 
 
 def evaluation_line(provenance: dict[str, Any]) -> str:

@@ -45,6 +45,8 @@ AXIS_UNITS = {"speed_rad_s": "rad/s", "speed_rpm": "rpm", "frequency_hz": "Hz", 
 (:meth:`ddgsa.models.base.Model.units`)."""
 SVG_RC = {"svg.hashsalt": "ddgsa", "svg.fonttype": "none"}
 """SVG the same bytes on every run (fixed hash salt), text as ``<text>`` (smaller, searchable, selectable)."""
+SVG_ID_SLOT = "@"
+"""The id prefix of an SVG drawn before its place on the page is known (replaced there by the chart's own)."""
 SERIES_GID = re.compile(r'id="ddgsa-([slm])(\d*)"')
 """Group ids :func:`tag_marks` gives the artists, turned into classes by :func:`svg_of`."""
 
@@ -132,6 +134,9 @@ class Folder:
     """The PNG names the sections' charts have (the page draws them, it does not inline the PNGs)."""
     shown: set[str] = field(default_factory=set)
     """The CSV names the sections show (the rest go to "Other tables")."""
+    svgs: dict[str, str] = field(default_factory=dict)
+    """Charts already drawn as SVG (ids in :data:`SVG_ID_SLOT`) by PNG name: the report's writer draws each
+    figure once for its PNG and the page."""
     _tables: dict[str, pd.DataFrame | None] = field(default_factory=dict, repr=False)
     _figures: list[int] = field(default_factory=lambda: [0], repr=False)
 
@@ -184,11 +189,16 @@ class Folder:
     def figure(self, chart: Chart) -> str:
         """``chart`` as a ``<figure>`` with its SVG inline (ids made unique on the page) and its caption."""
         self._figures[0] += 1
-        fig = chart.draw()
-        try:
-            svg = svg_of(fig, f"f{self._figures[0]}-")
-        finally:
-            plt.close(fig)
+        prefix = f"f{self._figures[0]}-"
+        if chart.png in self.svgs:
+            svg = self.svgs[chart.png].replace(f'id="{SVG_ID_SLOT}', f'id="{prefix}').replace(f"#{SVG_ID_SLOT}",
+                                                                                            f"#{prefix}")
+        else:
+            fig = chart.draw()
+            try:
+                svg = svg_of(fig, prefix)
+            finally:
+                plt.close(fig)
         width = re.search(r'width="([\d.]+)pt"', svg)
         style = f' style="max-width:{float(width[1]) * 4 / 3:.0f}px"' if width else ""     # its own size, at most
         return (f'<figure class="plot" data-kind="{chart.kind}"{style}>{svg}'
@@ -269,7 +279,8 @@ def svg_of(fig: "Figure", prefix: str) -> str:
     text = SERIES_GID.sub(lambda m: f'class="{kinds[m[1]]}"' + (f' data-series="{m[2]}"' if m[2] else ""), text)
     text = re.sub(r'(<g[^>]*)>((?:<use [^>]*/>)+)(?=</g>)', _hoist_style, text)
     used = set(re.findall(r"#([A-Za-z_][\w.-]*)", text))
-    ids = {name: f"{prefix}{k:x}" for k, name in enumerate(sorted(set(re.findall(r'\sid="([^"]*)"', text)) & used))}
+    ids = {name: f"{prefix}{k:x}"                                         # in order of appearance
+           for k, name in enumerate(n for n in dict.fromkeys(re.findall(r'\sid="([^"]*)"', text)) if n in used)}
     text = re.sub(r'\sid="([^"]*)"', lambda m: f' id="{ids[m[1]]}"' if m[1] in ids else "", text)
     return re.sub(r'(href="#|url\(#)([^")]*)', lambda m: m[1] + ids.get(m[2], m[2]), text)
 

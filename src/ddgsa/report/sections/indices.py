@@ -272,10 +272,12 @@ def charts(folder: Folder) -> list[Chart]:
     out: list[Chart] = []
     for scene in sorted(sobol["scene"].unique()):
         rows = sobol[sobol["scene"] == scene]
+        said = ([] if conf is None else [f"{r.output}: verdict {r.verdict} ({r.method})"
+                                         for r in conf[conf["scene"] == scene].itertuples()])
         out.append(Chart(f"bars_scene{scene}.png",
                          f"scene {scene} ({scene_text({f: rows[f].iloc[0] for f in fields})}): S1 and ST of the "
                          "method each verdict names, whiskers its error estimate, other methods' ST as markers; "
-                         "hatched: untrusted", "bars",
+                         "hatched: untrusted" + (". " + "; ".join(said) if said else ""), "bars",
                          functools.partial(plot_scene_bars, rows, units, fields, conf)))
     if idx["scene"].nunique() > 1:
         for method in idx["method"].unique():
