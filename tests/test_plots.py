@@ -19,7 +19,7 @@ from ddgsa.detection import DetectionSettings, assess  # noqa: E402
 from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables  # noqa: E402
 from ddgsa.mbs.modal import plot_modes  # noqa: E402
 from ddgsa.models import get  # noqa: E402
-from ddgsa.report.sections.fault import plot_fault_histograms  # noqa: E402
+from ddgsa.report.sections.fault import plot_detectability, plot_fault_histograms  # noqa: E402
 from ddgsa.report.sections.indices import plot_heatmap, plot_scene_bars  # noqa: E402
 from ddgsa.report.sections.sweep import plot_sweep, sweep_summary  # noqa: E402
 from ddgsa.models.signals import plot_order_map, plot_spectrum  # noqa: E402
@@ -222,3 +222,17 @@ def test_spectrum_and_order_map() -> None:
     plot_order_map(np.linspace(600, 1500, 5), np.linspace(0, 10, 41), np.abs(np.random.default_rng(0).normal(
         size=(5, 41))) + 1e-3, max_order=8.0, ax=ax, unit="[m/s^2]")
     _check(fig)
+
+
+def test_detectability_chart_from_the_verdict_table() -> None:
+    """The report's POD chart reads ``fault_verdicts.csv``'s columns: one curve per sensor starting at the
+    healthy level at the false-alarm rate, the band its interval, one legend entry per sensor and line."""
+    rows = pd.DataFrame([{"output": o, "healthy": 0.0, "faulty": lv, "pod": p, "pod_low": p - 0.1, "pod_high": p + 0.05}
+                         for o, pods in (("s0", (0.2, 0.6)), ("combined", (0.4, 0.95))) for lv, p in zip((0.2, 0.4), pods)])
+    fig = plot_detectability(rows, "looseness [-]", 0.9, 0.05, "scene 0", 0.95)
+    ax = fig.axes[0]
+    assert ax.get_xlabel().startswith("looseness [-]") and "confidence 0.95" in ax.get_title()
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["s0", "combined", "target 0.9", "false-alarm rate 0.05"]
+    x, y = ax.lines[0].get_data()
+    assert list(x) == [0.0, 0.2, 0.4] and list(y) == [0.05, 0.2, 0.6]
+    _check(fig, dense_legend=True)
