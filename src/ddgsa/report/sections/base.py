@@ -81,14 +81,17 @@ ResultFigure = tuple[str, Callable[[], "Figure"]]
 
 
 def no_tables(result: "StudyResult", info: dict[str, "ModelOutput"]) -> Tables:
+    """A section that writes no table (it shows what another writes, or a tool's own files)."""
     return []
 
 
 def no_charts(folder: "Folder") -> list[Chart]:
+    """A section without charts."""
     return []
 
 
 def no_figures(result: "StudyResult") -> list[ResultFigure]:
+    """A section without figures drawn from the result alone."""
     return []
 
 

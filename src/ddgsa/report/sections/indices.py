@@ -21,6 +21,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
 
 from ddgsa.execute.confirm import CROSSCHECKS, verdicts
+from ddgsa.execute.dataset import EXTRA_INDEX_VARS
 from ddgsa.gsa.base import sobol_rows
 from ddgsa.gsa.result import ROW_COLUMNS, draw_index_bars
 from ddgsa.report.sections.base import Chart, Folder, Section, Tables, csv_tables, table, trusted
@@ -111,10 +112,10 @@ def _label(name: str, units: dict[str, str] | None) -> str:
 
 
 def scene_fields(indices: pd.DataFrame) -> list[str]:
-    """The columns of ``indices.csv`` that label a scene (every column not :data:`ROW_COLUMNS`), the wind
+    """The columns of ``indices.csv`` that label a scene (every column neither :data:`ROW_COLUMNS` nor an
+    extra index, :data:`EXTRA_INDEX_VARS`), the wind
     fields in the order of :data:`WIND_LABEL_FIELDS`."""
-    fields = [c for c in indices.columns if c not in ROW_COLUMNS and c not in ("Sh", "Sh_conf", "R2_HSIC", "p_value",
-                                                                               "screened_in")]
+    fields = [c for c in indices.columns if c not in ROW_COLUMNS and c not in EXTRA_INDEX_VARS]
     return [f for f in WIND_LABEL_FIELDS if f in fields] + [f for f in fields if f not in WIND_LABEL_FIELDS]
 
 
