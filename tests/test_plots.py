@@ -19,7 +19,9 @@ from ddgsa.detection import DetectionSettings, assess  # noqa: E402
 from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables  # noqa: E402
 from ddgsa.mbs.modal import plot_modes  # noqa: E402
 from ddgsa.models import get  # noqa: E402
-from ddgsa.report.write import plot_fault_histograms, plot_heatmap, plot_scene_bars, plot_sweep, sweep_summary  # noqa: E402
+from ddgsa.report.sections.fault import plot_detectability, plot_fault_histograms  # noqa: E402
+from ddgsa.report.sections.indices import plot_heatmap, plot_scene_bars  # noqa: E402
+from ddgsa.report.sections.sweep import plot_sweep, sweep_summary  # noqa: E402
 from ddgsa.models.signals import plot_order_map, plot_spectrum  # noqa: E402
 
 UNIT = re.compile(r"\[[^\]]+\]")
@@ -147,12 +149,12 @@ def test_scene_bars_and_heatmap() -> None:
     params = [p.name for p in model.parameters[:11]]
     rows = _indices(outputs, ["mdrm"], params)
     rows.loc[rows["output"] == "front_Fr_mean", ["S1", "ST"]] = np.nan            # refused: said in the panel
-    info = {o: model.output(o) for o in outputs}
-    fig = plot_scene_bars(rows[rows["scene"] == 0], info)
+    units = {o: model.output(o).unit for o in outputs}
+    fig = plot_scene_bars(rows[rows["scene"] == 0], units)
     assert any("refused" in t.get_text() for ax in fig.axes for t in ax.texts)
     assert len({round(ax.get_position().x0, 3) for ax in fig.axes if ax.get_visible()}) == 3   # three panels a row
     _check(fig, dense_legend=True)
-    _check(plot_heatmap(rows, info))
+    _check(plot_heatmap(rows, units))
 
 
 def test_scene_bars_legend_leaves_the_title_free() -> None:
@@ -162,7 +164,7 @@ def test_scene_bars_legend_leaves_the_title_free() -> None:
     outputs = ["damage_front", "damage_rear", "rms_deflection_hub", "front_Fr_mean"]
     rows = _indices(outputs, ["mdrm", "pce"], [p.name for p in model.parameters[:5]])
     rows["rank_confirmed"] = rows["parameter"] == rows["parameter"].iloc[0]
-    fig = plot_scene_bars(rows[rows["scene"] == 1], {o: model.output(o) for o in outputs})
+    fig = plot_scene_bars(rows[rows["scene"] == 1], {o: model.output(o).unit for o in outputs})
     legend = fig.legends[0]
     assert [t.get_text() for t in legend.get_texts()] == ["S1", "ST", "untrusted, rank confirmed", "ST, pce"]
     assert [getattr(h, "get_hatch", lambda: None)() for h in legend.legend_handles] == [None, None, "..", None]
@@ -179,8 +181,8 @@ def test_sweep() -> None:
                           for r in range(2)])
     summary = sweep_summary(sweep, ["damage_front"])
     model = get("direct_drive", fidelity="rigid")
-    for fig, _ in plot_sweep(summary, ["damage_front"], info={"damage_front": model.output("damage_front")}):
-        _check(fig)
+    fig = plot_sweep(summary, "damage_front", units={"damage_front": model.output("damage_front").unit})
+    _check(fig)
 
 
 def test_detectability_curve_and_histograms() -> None:
@@ -220,3 +222,17 @@ def test_spectrum_and_order_map() -> None:
     plot_order_map(np.linspace(600, 1500, 5), np.linspace(0, 10, 41), np.abs(np.random.default_rng(0).normal(
         size=(5, 41))) + 1e-3, max_order=8.0, ax=ax, unit="[m/s^2]")
     _check(fig)
+
+
+def test_detectability_chart_from_the_verdict_table() -> None:
+    """The report's POD chart reads ``fault_verdicts.csv``'s columns: one curve per sensor starting at the
+    healthy level at the false-alarm rate, the band its interval, one legend entry per sensor and line."""
+    rows = pd.DataFrame([{"output": o, "healthy": 0.0, "faulty": lv, "pod": p, "pod_low": p - 0.1, "pod_high": p + 0.05}
+                         for o, pods in (("s0", (0.2, 0.6)), ("combined", (0.4, 0.95))) for lv, p in zip((0.2, 0.4), pods)])
+    fig = plot_detectability(rows, "looseness [-]", 0.9, 0.05, "scene 0", 0.95)
+    ax = fig.axes[0]
+    assert ax.get_xlabel().startswith("looseness [-]") and "confidence 0.95" in ax.get_title()
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["s0", "combined", "target 0.9", "false-alarm rate 0.05"]
+    x, y = ax.lines[0].get_data()
+    assert list(x) == [0.0, 0.2, 0.4] and list(y) == [0.05, 0.2, 0.6]
+    _check(fig, dense_legend=True)

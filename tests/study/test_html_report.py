@@ -29,10 +29,13 @@ BROWSER = next((shutil.which(b) for b in BROWSERS if shutil.which(b)), None)
 needs_browser = pytest.mark.skipif(BROWSER is None, reason="no Chromium on PATH (tried: " + ", ".join(BROWSERS)
                                    + "); install Debian's `chromium` to run the browser test")
 FOLDERS = {   # committed results that together carry every kind of chart the page draws
-    "paper_a_faults": {"bars", "heatmap", "scatter", "pod", "png"},
+    "paper_a_faults": {"bars", "scatter", "pod", "png"},
+    "paper_a_structural": {"bars", "heatmap", "scatter"},
     "seed003_bearing_stiffness_sweep": {"sweep"},
     "hss_rig_campbell": {"campbell"},
     "accuracy_cost": {"convergence", "png"},
+    "direct_drive_spectrum": {"signal", "convergence"},
+    "direct_drive_groups": {"bars"},
 }
 
 
@@ -151,9 +154,21 @@ PLOTS_DRAWN = """[...document.querySelectorAll('figure.plot')].map(f => {
   const svg = f.querySelector(':scope > svg'), img = f.querySelector(':scope > img');
   const r = (svg || img).getBoundingClientRect();
   return {kind: f.dataset.kind, w: r.width, h: r.height,
-          marks: svg ? svg.querySelectorAll('.series rect, .series circle, .series polyline, .series polygon').length
+          marks: svg ? [...svg.querySelectorAll('.series, .mark')].filter(g => g.querySelector('path, use, image'))
+                           .length
                      : (img.complete ? img.naturalWidth : 0)};
 })"""
+LEGEND_TOGGLE = """(() => {   // a click on a chart's first legend entry hides its series, a second shows it again
+  const item = document.querySelector('svg .legend-item[data-series]');
+  if (!item) { return null; }
+  const marks = () => [...item.ownerSVGElement.querySelectorAll(`.series[data-series="${item.dataset.series}"]`)];
+  const shown = () => marks().length > 0 && marks().every(g => getComputedStyle(g).display !== 'none');
+  const before = shown();
+  item.dispatchEvent(new MouseEvent('click', {bubbles: true}));
+  const hidden = marks().every(g => getComputedStyle(g).display === 'none');
+  item.dispatchEvent(new MouseEvent('click', {bubbles: true}));
+  return {before, hidden, after: shown()};
+})()"""
 WIDEST = """({scroll: document.documentElement.scrollWidth, inner: document.documentElement.clientWidth,
   outside: [...document.querySelectorAll('body *')].filter(e => !e.closest('.scroll, svg') &&
            e.getBoundingClientRect().right > window.innerWidth + 1).map(e => e.tagName + '.' + e.className).slice(0, 5)})"""
@@ -176,6 +191,8 @@ def test_report_opens_offline_in_chromium_with_every_plot_drawn(browser: Chromiu
     assert {p["kind"] for p in plots} >= FOLDERS[name]
     empty = [p for p in plots if not (p["w"] > 50 and p["h"] > 20 and p["marks"] > 0)]
     assert plots and not empty, empty
+    toggled = browser.js(LEGEND_TOGGLE)
+    assert toggled is None or toggled == {"before": True, "hidden": True, "after": True}, toggled
     for width in (1280, 400):     # a laptop and a phone
         browser.call("Emulation.setDeviceMetricsOverride", width=width, height=900, deviceScaleFactor=1, mobile=False)
         wide = browser.js(WIDEST)
@@ -217,16 +234,16 @@ def test_index_table_sorts_on_click_and_reads_without_javascript(browser: Chromi
 
 
 def test_report_is_self_contained_with_units_on_every_axis(tmp_path: Path) -> None:
-    """No reference leaves the file (no http(s), no relative src/href), and the Campbell diagram's and
+    """No reference leaves the file (no http(s), no relative src/href/url()), and the Campbell diagram's and
     the sweep's axes carry the units of what they plot (rpm, Hz; bearing stiffness N/m, frequency Hz)."""
     for name in ("hss_rig_campbell", "seed003_bearing_stiffness_sweep", "paper_a_faults"):
         text = _report(tmp_path, name).read_text()
         loads = re.findall(r'\b(?:src|srcset|data|poster)="([^"]*)"|url\(([^)]*)\)|@import', text)
-        assert all(a.startswith("data:image/png;base64,") for a, _ in loads) and not any(b for _, b in loads)
+        assert all(b.startswith("#") if b else a.startswith("data:image/png;base64,") for a, b in loads)  # url(#clip)
         assert not re.search(r"<(link|iframe|object|embed)\b|<script[^>]+src=", text)
         assert all(h.startswith("#") for h in re.findall(r'href="([^"]*)"', text))
     campbell = (tmp_path / "hss_rig_campbell" / "report.html").read_text()
-    assert ">shaft speed [rpm]<" in campbell and ">natural frequency [Hz]<" in campbell
+    assert ">rotor speed [rpm]<" in campbell and ">frequency [Hz]<" in campbell
     sweep = (tmp_path / "seed003_bearing_stiffness_sweep" / "report.html").read_text()
     assert ">bearing_stiffness [N/m]<" in sweep and ">bearing_frequency_hz [Hz]<" in sweep
     faults = (tmp_path / "paper_a_faults" / "report.html").read_text()
@@ -251,7 +268,7 @@ def test_cli_html_rebuilds_committed_folders_and_refuses_a_file(tmp_path: Path, 
 def test_model_options_are_named_in_summary_and_provenance(tmp_path: Path) -> None:
     """A variant chosen by model options (seed 000's printed readings) shows in the summary's model
     line and the page's provenance, not only in study.yaml."""
-    from ddgsa.report.html import model_words
+    from ddgsa.report.sections.provenance import model_words
 
     assert model_words({"name": "direct_drive", "fidelity": "rigid", "options": {}}) == "rigid"
     assert model_words({"fidelity": "linear", "options": {"bending_rayleigh": "printed", "deflection": "frame"}}) \

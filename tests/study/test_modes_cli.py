@@ -48,7 +48,7 @@ def test_campbell_of_a_spinning_model(tmp_path, capsys) -> None:
     assert (tmp_path / "campbell.png").stat().st_size > 1000
     assert "campbell.csv" in capsys.readouterr().out
     html = (tmp_path / "report.html").read_text()      # the diagram as a page, axes with their units
-    assert ">shaft speed [rpm]<" in html and ">natural frequency [Hz]<" in html
+    assert ">rotor speed [rpm]<" in html and ">frequency [Hz]<" in html
 
 
 def test_campbell_of_a_model_without_rotor_speed_is_an_input_error(tmp_path, capsys) -> None:

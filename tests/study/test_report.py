@@ -15,7 +15,8 @@ from matplotlib.container import ErrorbarContainer
 
 from ddgsa.cli import main
 from ddgsa.models import get
-from ddgsa.report.write import accuracy_table, plot_heatmap, plot_scene_bars, sampling_markdown
+from ddgsa.report.sections.indices import accuracy_table, plot_heatmap, plot_scene_bars
+from ddgsa.report.write import sampling_markdown
 from studytext import ishigami_study
 
 matplotlib.use("Agg")
@@ -112,7 +113,7 @@ def test_accuracy_never_compares_mdrm_with_autos_own_mdrm_stage() -> None:
 def test_bars_have_a_y_label_and_error_bars_only_where_there_is_an_interval() -> None:
     """Issue 48.6: one panel per output, the bars of the method the pair's verdict names (titled with
     it), every other requested method's ST a marker beside them; cross-checks left out."""
-    info = {"y": get("analytic").output("y")}
+    info = {"y": get("analytic").output("y").unit}
     rows = pd.concat([_rows({"pce": np.nan, "saltelli": 0.05}), _rows({"given_data_s1": 0.1})])
     fig = plot_scene_bars(rows, info)
     assert len([ax for ax in fig.axes if ax.get_visible()]) == 1             # one output, one panel
@@ -143,7 +144,7 @@ def test_heatmap_tick_labels_overlap_no_neighbouring_panel() -> None:
                           "ST": 0.1 * (i % 10)} for s, w in enumerate((6.0, 11.0, 18.0))
                          for o in outputs for i, p in enumerate(params)])
     model = get("direct_drive", fidelity="rigid")
-    fig = plot_heatmap(rows, {o: model.output(o) for o in outputs})
+    fig = plot_heatmap(rows, {o: model.output(o).unit for o in outputs})
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
     panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"][:len(outputs)]
@@ -339,3 +340,19 @@ def test_the_rigs_peak_resolution_is_the_noise_peaks_own_spread() -> None:
     peaks = sd * np.random.default_rng(0).standard_normal((4000, 2000)).max(axis=1)
     declared = get("hss_rig").output("peak_motor_torque").resolution
     assert declared == pytest.approx(peaks.std(), rel=0.05) and declared <= peaks.std()
+
+
+def test_the_page_a_run_writes_is_the_page_ddgsa_html_rebuilds_from_the_files(write_study, tmp_path: Path) -> None:
+    """A run draws each chart once, saving its PNG and the page's SVG from one figure; ``ddgsa html`` draws
+    it again from the folder's CSVs alone: the same page, byte for byte (so a committed folder's page is
+    the run's), with an inline SVG for every PNG a chart of the run wrote."""
+    out = tmp_path / "two"
+    study = write_study("two", text=pce_study(name="two", methods="[{method: mdrm, points: 4, check: 8}, "
+                                                                "{method: pce, order: 4, n: 64, seed: 0}]"))
+    assert main(["-q", "run", str(study), "--out", str(out), "--allow-untrusted"]) == 0
+    page = (out / "report.html").read_text()
+    assert main(["-q", "html", str(out)]) == 0
+    assert (out / "report.html").read_text() == page
+    pngs = sorted(p.name for p in out.glob("*.png"))
+    assert pngs == ["bars_scene0.png", "mdrm_vs_crosscheck.png"]
+    assert page.count("<svg ") >= len(pngs) + 1 and "data:image/png" not in page       # + S1 against ST

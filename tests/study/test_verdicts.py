@@ -69,7 +69,7 @@ def test_every_reader_says_the_verdict_of_confirmation_csv(folder: tuple[Path, i
     cells = re.findall(r"<tr[^>]*><td>(\d+)</td><td>(\w+)</td><td>([\w -]+)</td>", section)
     assert {(int(s), o): v for s, o, v in cells} == verdict
     for (s, o), v in verdict.items():                      # each bar chart's caption says its pair's verdict
-        assert f"scene {s} (" in html and f"indices of {o}" in html and f"verdict {v} (" in html
+        assert f"scene {s} (" in html and f"{o}: verdict {v} (" in html
     # the NetCDF export: variable verdict over (scene, output)
     assert main(["export", str(out)]) == 0
     ds = xr.open_dataset(out / "indices.nc")

@@ -33,13 +33,10 @@ import ddgsa
 from ddgsa.gsa.result import SobolResult
 from ddgsa.gsa.testfunctions import TestFunction, ishigami, linear, product, sobol_g
 from ddgsa.gsa.space import ParameterSpace
+from ddgsa.report.sections.accuracy_cost import plot_function
 
 OUT = Path("results") / "accuracy_cost"
 # Published/measured reference points for the Ishigami chart (the issue's numbers): S1 RMSE.
-ISHIGAMI_MARKS = [("SALib Saltelli N=1024", 5120, 7e-3), ("SALib Saltelli N=16384", 81920, 4e-4),
-                  ("Gauss-grid PCE", 1000, 2e-4)]
-
-
 def functions() -> dict[str, TestFunction]:
     """The analytic test functions of the benchmark."""
     unit4 = ParameterSpace.from_dict({f"x{i}": {"low": 0.0, "high": 1.0} for i in range(4)})
@@ -171,46 +168,6 @@ def fidelity_rows(duration: float = 60.0, progress: Callable[[str], None] = prin
                      "max_rel_error": max(rel.values()),
                      "max_rel_error_damage": max(v for k, v in rel.items() if "damage" in k)})
     return pd.DataFrame(rows)
-
-
-def plot_function(df: pd.DataFrame, name: str) -> Any:
-    """Error against evaluations and wall time for one function (log-log, hollow = untrusted)."""
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
-    colors = {"mdrm": "tab:blue", "saltelli": "tab:orange", "rbd_fast": "tab:green", "pce": "tab:red",
-              "auto": "black"}
-    floor = 1e-6
-    for ax, x in zip(axes, ("n_evals", "wall_s")):
-        for method, g in df.groupby("method", sort=False):
-            agg = g.groupby("options", sort=False).agg(x=(x, "mean"), s1=("err_S1", "mean"), st=("err_ST", "mean"),
-                                                        lo=("err_S1", "min"), hi=("err_S1", "max"),
-                                                        ok=("trusted", "all")).sort_values("x")
-            c = colors.get(method, "gray")
-            ax.plot(agg["x"], agg["s1"].clip(lower=floor), "-", color=c, label=f"{method} S1", lw=1.2)
-            if agg["st"].notna().any():
-                ax.plot(agg["x"], agg["st"].clip(lower=floor), "--", color=c, label=f"{method} ST", lw=1.0)
-            if (agg["hi"] > agg["lo"]).any():
-                ax.fill_between(agg["x"], agg["lo"].clip(lower=floor), agg["hi"].clip(lower=floor), color=c, alpha=0.15)
-            ax.scatter(agg["x"], agg["s1"].clip(lower=floor), s=22, color=c,
-                       facecolors=np.where(agg["ok"], c, "none"), zorder=3)
-        if name == "ishigami" and x == "n_evals":
-            for label, n, err in ISHIGAMI_MARKS:
-                ax.scatter([n], [err], marker="*", s=90, color="purple", zorder=4)
-                ax.annotate(label + " (RMSE S1)", (n, err), fontsize=7, xytext=(4, 4), textcoords="offset points")
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("model evaluations" if x == "n_evals" else "wall time [s] (model + analysis, 1 core)")
-        ax.grid(alpha=0.3, which="both")
-    refused = sorted(m for m, g in df.groupby("method") if g["err_S1"].isna().all())
-    if refused:
-        axes[0].text(0.02, 0.02, f"no numbers (refused by their diagnostics): {', '.join(refused)}",
-                     transform=axes[0].transAxes, fontsize=7)
-    axes[0].set_ylabel("max |error| over parameters")
-    axes[0].legend(fontsize=7, ncol=2)
-    fig.suptitle(f"{name}: index error against cost (filled: method trusts itself; band: seeds min-max)")
-    fig.tight_layout()
-    return fig
 
 
 def plot_fidelity(df: pd.DataFrame) -> Any:

@@ -2,12 +2,12 @@
 and HSIC screening (:mod:`ddgsa.gsa.groups`, :mod:`ddgsa.gsa.shapley`, :mod:`ddgsa.gsa.hsic`).
 
 Shapley and HSIC columns are part of ``indices.csv``; group indices go to ``groups.csv`` (one
-row per scene, method, output and group) and ``groups_scene<k>.png``.
+row per scene, method, output and group; its section: :mod:`ddgsa.report.sections.groups`).
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
@@ -24,32 +24,6 @@ def group_table(result: "StudyResult") -> pd.DataFrame:
     if not rows:
         return pd.DataFrame(columns=["scene", "method", *GROUP_COLUMNS])
     return pd.concat(rows, ignore_index=True)[["scene", "method", *GROUP_COLUMNS]]
-
-
-def plot_groups(rows: pd.DataFrame) -> Any:
-    """Closed (S_closed) and total (ST) index of each group and method, one panel per output, error bars
-    the bounds; groups down the y axis (``group (method)``), so long names read without rotation."""
-    import matplotlib.pyplot as plt
-
-    outputs = list(dict.fromkeys(rows["output"]))
-    n = int((rows["output"] == outputs[0]).sum())
-    fig, axes = plt.subplots(1, len(outputs), figsize=(3.6 * len(outputs) + 1.5, 0.35 * n + 1.2), squeeze=False,
-                             sharey=True)
-    for ax, out in zip(axes[0], outputs):
-        g = rows[rows["output"] == out]
-        y = np.arange(len(g))
-        for k, (q, color) in enumerate((("S_closed", "tab:blue"), ("ST", "tab:orange"))):
-            err = g[f"{q}_conf"].to_numpy(float)
-            ax.barh(y + (k - 0.5) * 0.38, g[q], 0.38, label=q, color=color,
-                    xerr=np.where(np.isfinite(err), err, 0.0), capsize=2)
-        ax.set_yticks(y, [f"{grp} ({m})" for grp, m in zip(g["group"], g["method"])], fontsize=8)
-        ax.set_title(out, fontsize=9)
-        ax.set_xlim(0, 1.05)
-        ax.set_xlabel("group index [-]", fontsize=8)
-    axes[0][0].invert_yaxis()
-    axes[0][-1].legend(fontsize=8, loc="lower right")
-    fig.tight_layout()
-    return fig
 
 
 def _pm(value: float, conf: float) -> str:

@@ -19,7 +19,7 @@ FORMATS = ("netcdf", "zarr", "csv")
 
 def folder_dataset(folder: Path) -> xr.Dataset:
     """The dataset of a results folder, from its ``indices.csv`` and the other tables beside it."""
-    from ddgsa.report.html import folder_units, read_json
+    from ddgsa.report.sections.base import Folder
 
     folder = Path(folder)
     path = folder / "indices.csv"
@@ -37,7 +37,8 @@ def folder_dataset(folder: Path) -> xr.Dataset:
 
     meta = {*ROW_COLUMNS, *EXTRA_INDEX_VARS}
     fields = [c for c in indices.columns if c not in meta]
-    prov = read_json(folder / "provenance.json")
+    here = Folder(folder)
+    prov = here.provenance
     attrs = {k: v for k, v in {"study": prov.get("study") or folder.name,
                                "model": (prov.get("model") or {}).get("name"),
                                "fidelity": (prov.get("model") or {}).get("fidelity"),
@@ -45,7 +46,7 @@ def folder_dataset(folder: Path) -> xr.Dataset:
                                "ddgsa_commit": (prov.get("code") or {}).get("commit"),
                                "source": str(folder)}.items() if v}
     return to_dataset(indices, fields, table("output_moments.csv"), table("fault_verdicts.csv"),
-                      table("fault_indices.csv"), table("diagnostics.csv"), attrs, folder_units(folder, prov),
+                      table("fault_indices.csv"), table("diagnostics.csv"), attrs, here.units,
                       confirmation=table("confirmation.csv"))
 
 

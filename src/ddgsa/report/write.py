@@ -1,16 +1,18 @@
 """Write a study's tables, plots, provenance and summary into its output folder.
 
-Outputs are labelled with their declared unit (``rms_deflection_hub [m]``); ``summary.md``
-opens with what each output is, its mean and coefficient of variation, then ranks parameters
-by S1 and ST with a sentence per output naming what dominates, and lists every problem (refused
-or untrusted outputs, failure reasons, implausible values). Files an earlier report wrote that
-this one does not are removed (:mod:`ddgsa.report.outdir`). PNGs carry no software/date metadata.
-``report.html`` (:mod:`ddgsa.report.html`) is written last, from the files written here.
+Each section of :data:`ddgsa.report.sections.SECTIONS` gives its tables (written first), then its charts
+are drawn from the files just written -- by the functions that draw them on ``report.html`` too -- and
+saved as PNGs with the few figures drawn from the result alone. Outputs are labelled with their declared
+unit (``rms_deflection_hub [m]``); ``summary.md`` opens with what each output is, its mean and coefficient
+of variation, then ranks parameters by S1 and ST with a sentence per output naming what dominates, and
+lists every problem (refused or untrusted outputs, failure reasons, implausible values). Files an earlier
+report wrote that this one does not are removed (:mod:`ddgsa.report.outdir`). PNGs carry no
+software/date metadata. ``report.html`` (:mod:`ddgsa.report.html`) is written last, from the files
+written here.
 """
 
 from __future__ import annotations
 
-import functools
 import json
 import os
 import re
@@ -18,29 +20,31 @@ import sys
 from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
 from pathlib import Path
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Collection
 from typing import Any
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.patches import Rectangle  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from ddgsa.report.beyond import beyond_markdown, group_table, plot_groups
+from ddgsa.report.beyond import beyond_markdown
 from ddgsa.execute.confirm import CONFIRMED, CROSSCHECKS, VERDICTS, next_step, study_tolerance, verdicts  # noqa: E402
-from ddgsa.detection import FaultDetectability  # noqa: E402
 from ddgsa.gsa.base import sobol_rows  # noqa: E402
-from ddgsa.gsa.result import CONSTANT_CV, draw_index_bars  # noqa: E402
-from ddgsa.report.html import HTML_NAME, model_words, write_html  # noqa: E402
+from ddgsa.gsa.result import CONSTANT_CV  # noqa: E402
+from ddgsa.report.html import HTML_NAME, write_html  # noqa: E402
 from ddgsa.loads.scene import AUTO_BEM_INCLINATION_DEG  # noqa: E402
 from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.report.outdir import COMPLETE_NAME, mark_complete, previous_files, remove_stale, unmark_complete  # noqa: E402
+from ddgsa.report.sections import SECTIONS  # noqa: E402
+from ddgsa.report.sections.base import SVG_ID_SLOT, Folder, svg_of  # noqa: E402
+from ddgsa.report.sections.provenance import model_words  # noqa: E402
+from ddgsa.report.sections.signals import summary_lines as signal_summary_lines  # noqa: E402
+from ddgsa.report.sections.sweep import sweep_keys, sweep_summary  # noqa: E402
 from ddgsa.execute.kinds.common import StudyResult  # noqa: E402
-from ddgsa.report.signals import summary_lines as signal_summary_lines  # noqa: E402
-from ddgsa.study.spec import WIND_LABEL_FIELDS, plan_scenes, scene_text  # noqa: E402
+from ddgsa.study.spec import scene_text  # noqa: E402
 
 PNG_METADATA = {"Software": None}
 """No matplotlib version in the PNGs: a rerun on the same machine writes the same bytes."""
@@ -60,71 +64,16 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     before = previous_files(out)
     written: list[Path] = []
     info = output_info(result)
-
-    def save_csv(df: pd.DataFrame, name: str) -> None:
-        path = out / name
-        df.to_csv(path, index=False, float_format="%.6g")
-        written.append(path)
-
-    def save_fig(fig: Any, name: str) -> None:
-        _save_figure(fig, out / name)
-        written.append(out / name)
-
-    figures: list[tuple[Callable[[], Any], Path]] = []
-
-    def later_fig(make: Callable[[], Any], name: str) -> None:
-        """A figure drawn and saved with the others after the tables (:func:`render_figures`)."""
-        figures.append((make, out / name))
-        written.append(out / name)
-
-    save_csv(result.evaluations.drop(columns=["key"], errors="ignore"), "evaluations.csv")
-    if result.sweep is not None:
-        save_csv(result.sweep, "sweep.csv")
-        fields = result.study.scene_fields
-        summary = sweep_summary(result.sweep, result.study.outputs, list(result.study.spec.grid), fields)
-        save_csv(summary, "sweep_summary.csv")
-        for fig, name in plot_sweep(summary, result.study.outputs, list(result.study.spec.grid), info, fields):
-            save_fig(fig, name)
-    if len(result.indices):
-        pairs = verdicts(result)
-        if len(pairs):
-            save_csv(pairs, "confirmation.csv")
-        save_csv(with_verdicts(result.indices, pairs).assign(
-            output_unit=result.indices["output"].map(lambda o: info[o].unit)), "indices.csv")
-        save_csv(result.diagnostics, "diagnostics.csv")
-        if result.moments is not None and len(result.moments):
-            save_csv(result.moments.assign(unit=result.moments["output"].map(lambda o: info[o].unit)),
-                     "output_moments.csv")
-        acc = accuracy_table(result.indices)
-        if len(acc):
-            save_csv(acc, "accuracy.csv")
-            later_fig(functools.partial(plot_agreement, result.indices), "mdrm_vs_crosscheck.png")
-        sobol = sobol_rows(result.indices)
-        for scene in sorted(sobol["scene"].unique()):
-            later_fig(functools.partial(plot_scene_bars, sobol[sobol["scene"] == scene], info,
-                                        result.study.scene_fields, pairs), f"bars_scene{scene}.png")
-        groups = group_table(result)
-        if len(groups):
-            save_csv(groups, "groups.csv")
-            for scene in sorted(groups["scene"].unique()):
-                later_fig(functools.partial(plot_groups, groups[groups["scene"] == scene]), f"groups_scene{scene}.png")
-        if result.indices["scene"].nunique() > 1:
-            for method in result.indices["method"].unique():
-                rows = result.indices[result.indices["method"] == method]
-                if rows["ST"].notna().any():                 # no map of a method without ST (given_data_s1)
-                    later_fig(functools.partial(plot_heatmap, rows, info, result.study.scene_fields),
-                              f"heatmap_ST_{method}.png")
-    for df, name in ((result.signal_indices, "signal_indices.csv"),
-                     (result.signal_generalised, "signal_generalised.csv"), (result.convergence, "convergence.csv")):
-        if df is not None and len(df):
-            save_csv(df, name)
-    for fig, name in scene_figures(result):
-        save_fig(fig, name)
-    if result.fidelity is not None and len(result.fidelity):
-        save_csv(result.fidelity, "fidelity_selection.csv")
-    if result.fault is not None:
-        _write_fault(result, save_csv, save_fig)
-    render_figures(figures)
+    for section in SECTIONS:
+        for name, df in section.tables(result, info):
+            df.to_csv(out / name, index=False, float_format="%.6g")
+            written.append(out / name)
+    study_file = result.study.path if not (out / "study.yaml").is_file() else None
+    folder = Folder(out, study_file=study_file)      # the charts read the tables just written, as report.html does
+    figures = [(make, out / name) for section in SECTIONS for name, make in section.figures(result)]
+    charts = [(chart.draw, out / chart.png) for section in SECTIONS for chart in section.charts(folder) if chart.png]
+    svgs = render_figures(figures + charts, svg=[path for _, path in charts])
+    written += [path for _, path in figures + charts]
     path = out / "summary.md"
     path.write_text(summary_markdown(result, info))
     written.append(path)
@@ -133,61 +82,56 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
     result.provenance["files"] = names
     path.write_text(json.dumps(result.provenance, indent=2, default=str))
     written.append(path)
-    written.append(write_html(out, complete=True))
+    written.append(write_html(out, complete=True, svgs=svgs))
     remove_stale(out, before, names)
     mark_complete(out, names)                       # last: the folder's outputs are whole
     written.append(out / COMPLETE_NAME)
     return written
 
 
-def _save_figure(fig: Any, path: Path) -> None:
-    """Save ``fig`` as a PNG without metadata (:data:`PNG_METADATA`) and close it."""
-    fig.savefig(path, dpi=100, bbox_inches="tight", metadata=PNG_METADATA)
-    plt.close(fig)
+def _save_figure(fig: Any, path: Path, svg: bool = False) -> str | None:
+    """Save ``fig`` as a PNG without metadata (:data:`PNG_METADATA`) and close it; ``svg``: return it as
+    the page's inline SVG too (:func:`ddgsa.report.sections.base.svg_of`, ids in :data:`SVG_ID_SLOT`)."""
+    try:
+        fig.savefig(path, dpi=100, bbox_inches="tight", metadata=PNG_METADATA)
+        return svg_of(fig, SVG_ID_SLOT) if svg else None
+    finally:
+        plt.close(fig)
 
 
 FIGURE_PROCESSES_FROM = 3
 """Fewest deferred figures drawn in forked processes (fewer: in this one; a fork costs ~0.1 s)."""
-_FIGURES: list[tuple[Callable[[], Any], Path]] = []
+_FIGURES: list[tuple[Callable[[], Any], Path, bool]] = []
 """The figures :func:`render_figures` hands to its forked processes (inherited, not pickled)."""
 
 
-def render_figures(figures: list[tuple[Callable[[], Any], Path]], processes: int | None = None) -> None:
-    """Draw and save each ``(make, path)``: ``make()`` returns the figure. A report's figures are
-    independent and drawing them is most of its time (``indirect_drive_gsa``'s seven: ~10 s of its
-    14 s), so on Linux, from :data:`FIGURE_PROCESSES_FROM` figures, they are drawn by ``processes``
-    (default: the CPUs this process may use) processes forked from this one, each figure by one of them, with the same
-    matplotlib state, so the files are the same bytes as drawn here (tested)."""
+def render_figures(figures: list[tuple[Callable[[], Any], Path]], processes: int | None = None,
+                   svg: Collection[Path] = ()) -> dict[str, str]:
+    """Draw and save each ``(make, path)``: ``make()`` returns the figure; returns the inline SVG of those
+    whose path is in ``svg``, by file name (the page's charts: drawn once for the PNG and the page). A
+    report's figures are independent and drawing them is most of its time (``indirect_drive_gsa``'s seven:
+    ~10 s of its 14 s), so on Linux, from :data:`FIGURE_PROCESSES_FROM` figures, they are drawn by
+    ``processes`` (default: the CPUs this process may use) processes forked from this one, each figure by
+    one of them, with the same matplotlib state, so the files are the same bytes as drawn here (tested)."""
+    jobs = [(make, path, path in set(svg)) for make, path in figures]
     usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     processes = min(len(figures), processes or usable or 1)
     if processes < 2 or len(figures) < FIGURE_PROCESSES_FROM or not sys.platform.startswith("linux"):
-        for make, path in figures:
-            _save_figure(make(), path)
-        return
-    _FIGURES[:] = figures
-    try:
-        with ProcessPoolExecutor(processes, mp_context=get_context("fork")) as pool:
-            for done in [pool.submit(_render_one, i) for i in range(len(figures))]:
-                done.result()                       # a failure in a process raises here
-    finally:
-        _FIGURES.clear()
+        texts = [_save_figure(make(), path, want) for make, path, want in jobs]
+    else:
+        _FIGURES[:] = jobs
+        try:
+            with ProcessPoolExecutor(processes, mp_context=get_context("fork")) as pool:
+                texts = [done.result() for done in [pool.submit(_render_one, i) for i in range(len(jobs))]]
+        finally:                                    # a failure in a process raises at its result()
+            _FIGURES.clear()
+    return {path.name: text for (_, path, _), text in zip(jobs, texts) if text is not None}
 
 
-def _render_one(i: int) -> None:
+def _render_one(i: int) -> str | None:
     """Draw and save the ``i``-th figure of :data:`_FIGURES` (in a forked process)."""
-    make, path = _FIGURES[i]
-    _save_figure(make(), path)
-
-
-def scene_figures(result: StudyResult) -> list[tuple[Any, str]]:
-    """A model's own signal plots of each scene at the study's nominal point (healthy fault level),
-    for a model that draws them (:meth:`Model.scene_figures`, e.g. the rig's order maps and spectra)."""
-    study = result.study
-    draw = study.make_model().scene_figures
-    point = {**study.spec.fixed, **(study.space.nominal if study.space is not None else {})}
-    if study.spec.fault is not None:
-        point[study.spec.fault.parameter] = study.spec.fault.healthy
-    return [(fig, f"{name}_scene{ps.index}.png") for ps in plan_scenes(study) for fig, name in draw(ps.scenes[0], point)]
+    make, path, svg = _FIGURES[i]
+    return _save_figure(make(), path, svg)
 
 
 def evaluation_line(provenance: dict[str, Any]) -> str:
@@ -236,271 +180,6 @@ def _first_failure(result: StudyResult, scenes: list[int]) -> str:
 
 def _scenes(scenes: list[int]) -> str:
     return f"scene {scenes[0]}" if len(scenes) == 1 else f"scenes {', '.join(map(str, scenes))}"
-
-
-def _sweep_keys(sweep: pd.DataFrame, grid: list[str], fields: Sequence[str] = WIND_LABEL_FIELDS) -> list[str]:
-    return (["variant"] if "variant" in sweep else []) + ["scene", *fields, *grid]
-
-
-def sweep_summary(sweep: pd.DataFrame, outputs: list[str], grid: list[str] | None = None,
-                  fields: Sequence[str] = WIND_LABEL_FIELDS) -> pd.DataFrame:
-    """Mean and standard deviation over realisations per scene (and grid point and variant), plus
-    each mean scaled by its maximum; ``fields``: the scene fields that label a scene."""
-    keys = _sweep_keys(sweep, grid or [], fields)
-    g = sweep.groupby(keys, sort=False)[outputs]
-    mean, std = g.mean(), g.std(ddof=1).fillna(0.0)
-    out = mean.add_suffix("_mean").join(std.add_suffix("_std")).reset_index()
-    for o in outputs:
-        out[f"{o}_scaled"] = out[f"{o}_mean"] / (out[f"{o}_mean"].abs().max() or 1.0)
-    return out
-
-
-def _case_label(fields: list[str], values: Any) -> str:
-    """``field=value`` for numbers, the value alone for labels such as a variant's."""
-    return ", ".join(f"{f}={v:g}" if isinstance(v, float) else f"{v}" for f, v in zip(fields, values))
-
-
-def plot_sweep(summary: pd.DataFrame, outputs: list[str], grid: list[str] | None = None,
-               info: dict[str, ModelOutput] | None = None,
-               fields: Sequence[str] = WIND_LABEL_FIELDS) -> list[tuple[Any, str]]:
-    """Each output (+- one std) against the first grid parameter, or against the first numeric
-    scene field (wind speed) scaled by its maximum; one line per value of every other varying key
-    (variant, scene fields, grid). Axis labels carry the outputs' units from ``info``."""
-    grid = grid or []
-    label_of = {o: (info or {}).get(o, declared(o)).label for o in outputs}
-    x = grid[0] if grid else next(f for f in fields if pd.api.types.is_numeric_dtype(summary[f]))
-    others = [f for f in _sweep_keys(summary, grid, fields) if f not in (x, "scene") and summary[f].nunique() > 1]
-    figs = []
-    if summary[x].nunique() == 1 and others:      # nothing to sweep along: one bar per case, real units
-        labels = [_case_label(others, row) for row in summary[others].itertuples(index=False)]
-        for o in outputs:
-            fig, ax = plt.subplots(figsize=(6.5, 0.45 * len(labels) + 1.2), layout="constrained")
-            ax.barh(labels, summary[f"{o}_mean"], xerr=summary[f"{o}_std"], color="tab:blue")
-            for k, v in enumerate(summary[f"{o}_mean"]):
-                ax.annotate(f"{v:.4g}", (v, k), xytext=(3, 0), textcoords="offset points", va="center", fontsize=8)
-            ax.invert_yaxis()
-            ax.set_xlabel(label_of[o])
-            ax.grid(alpha=0.3, axis="x")
-            figs.append((fig, f"sweep_{o}.png"))
-        return figs
-    for o in outputs:
-        fig, ax = plt.subplots(figsize=(7.5 if others else 6, 3.6), layout="constrained")
-        groups = summary.groupby(others, sort=False) if others else [((), summary)]
-        scale = 1.0 if grid else (summary[f"{o}_mean"].abs().max() or 1.0)   # signed outputs: scale by |max|
-        for key, g in groups:
-            g = g.sort_values(x)
-            label = _case_label(others, key if isinstance(key, tuple) else (key,))
-            ax.errorbar(g[x], g[f"{o}_mean"] / scale, yerr=g[f"{o}_std"] / scale, capsize=2,
-                        marker="o", ms=3, label=label or None)
-        if grid and summary[x].min() > 0 and summary[x].max() / summary[x].min() > 50:
-            ax.set_xscale("log")
-        ax.set_xlabel(x if grid or x != "wind_speed" else "mean wind speed [m/s]")
-        ax.set_ylabel(label_of[o] if grid else f"{o} / max [-]")
-        ax.grid(alpha=0.3)
-        if others:                                  # outside the axes: a line per case covers the data otherwise
-            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
-        figs.append((fig, f"sweep_{o}.png"))
-    return figs
-
-
-def _crosschecks(indices: pd.DataFrame) -> pd.DataFrame:
-    """Rows of methods other than M-DRM that are independent of it: ``auto`` rows whose numbers
-    come from its own M-DRM stage (``source == "mdrm"``) would compare M-DRM with itself."""
-    other = indices[indices["method"] != "mdrm"]
-    if "source" in other:
-        other = other[~((other["method"] == "auto") & (other["source"] == "mdrm"))]
-    return other
-
-
-def accuracy_table(indices: pd.DataFrame) -> pd.DataFrame:
-    """M-DRM against each independent cross-check per scene and output: max |dS1|, max |dST|, trust."""
-    if "mdrm" not in set(indices["method"]):
-        return pd.DataFrame()
-    key = ["scene", "output", "parameter"]
-    m = indices[indices["method"] == "mdrm"]
-    refs = _crosschecks(indices)
-    rows = []
-    for other in sorted(set(refs["method"])):
-        joined = m.merge(refs[refs["method"] == other], on=key, suffixes=("_mdrm", "_ref"))
-        for (scene, output), g in joined.groupby(["scene", "output"]):
-            rows.append({"scene": scene, "output": output, "crosscheck": other,
-                         "max_abs_dS1": _max_abs(g["S1_mdrm"] - g["S1_ref"]),
-                         "max_abs_dST": _max_abs(g["ST_mdrm"] - g["ST_ref"]),
-                         "mdrm_trusted": bool(g["trusted_mdrm"].all()), "ref_trusted": bool(g["trusted_ref"].all()),
-                         "evals_mdrm": int(g["n_evals_mdrm"].iloc[0]), "evals_ref": int(g["n_evals_ref"].iloc[0])})
-    return pd.DataFrame(rows)
-
-
-def _max_abs(diff: pd.Series) -> float:
-    """Largest finite absolute difference (NaN when none is finite)."""
-    a = np.abs(diff.to_numpy(float))
-    a = a[np.isfinite(a)]
-    return float(a.max()) if a.size else float("nan")
-
-
-def plot_agreement(indices: pd.DataFrame) -> Any:
-    """Scatter of M-DRM indices against each cross-check (filled: M-DRM trusted, open: untrusted)."""
-    fig, axes = plt.subplots(1, 2, figsize=(8, 4))
-    key = ["scene", "output", "parameter"]
-    m = indices[indices["method"] == "mdrm"]
-    refs = _crosschecks(indices)
-    for other in sorted(set(refs["method"])):
-        j = m.merge(refs[refs["method"] == other], on=key, suffixes=("_m", "_r"))
-        for ax, q in zip(axes, ("S1", "ST")):
-            ok = j["trusted_m"].to_numpy(bool)
-            pts = ax.scatter(j[f"{q}_r"][ok], j[f"{q}_m"][ok], s=14, label=f"vs {other}")
-            ax.scatter(j[f"{q}_r"][~ok], j[f"{q}_m"][~ok], s=14, facecolors="none", edgecolors=pts.get_facecolor())
-    for ax, q in zip(axes, ("S1", "ST")):
-        ax.plot([0, 1], [0, 1], color="0.5", lw=0.8)
-        ax.set_xlabel(f"{q}, cross-check")
-        ax.set_ylabel(f"{q}, M-DRM")
-        ax.set_xlim(-0.05, 1.05)
-        ax.set_ylim(-0.05, 1.05)
-        ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
-    untrusted = not m["trusted"].astype(bool).all()
-    fig.suptitle("M-DRM against cross-check" + (" (open markers: M-DRM untrusted)" if untrusted else ""))
-    fig.tight_layout()
-    return fig
-
-
-_MARKERS = ("D", "s", "^", "v", "P", "X")
-
-
-def plot_scene_bars(scene_rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None,
-                    fields: Sequence[str] = WIND_LABEL_FIELDS, verdicts: pd.DataFrame | None = None) -> Any:
-    """One panel per output (at most three a row), parameters down the y axis: S1/ST bars of the
-    estimate the summary reports -- the method of the pair's verdict (``verdicts``,
-    :func:`ddgsa.execute.confirm.confirmation_table`), said in the panel's title with the verdict -- with
-    confidence bars where it gives an interval, and the ST of every other requested method as a
-    marker beside it (cross-checks, :data:`CROSSCHECKS`, are left to their own table). Hatched bars
-    are untrusted (said in the legend, below the panels, only when some are); an output whose indices
-    are refused says so; the title names the scene by its label ``fields``."""
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
-
-    rows = scene_rows[~scene_rows["method"].isin(CROSSCHECKS)]
-    rows = rows if len(rows) else scene_rows
-    outputs = list(rows["output"].unique())
-    scene = int(rows["scene"].iloc[0]) if "scene" in rows else 0
-    chosen = ({} if verdicts is None or not len(verdicts) else
-              {r.output: (r.method, r.verdict) for r in verdicts[verdicts["scene"] == scene].itertuples()})
-    ncols = min(3, len(outputs))
-    nrows = -(-len(outputs) // ncols)
-    n_par = rows["parameter"].nunique()
-    fig, axes = plt.subplots(nrows, ncols, figsize=(3.8 * ncols + 1.2, (0.28 * n_par + 1.0) * nrows + 0.9),
-                             squeeze=False, sharey=True, layout="constrained")
-    marks: dict[str, str] = {}
-    for ax, out in zip(axes.flat, outputs):
-        g = rows[rows["output"] == out]
-        meth, verdict = chosen.get(out, (str(g["method"].iloc[0]), ""))
-        meth = meth if meth in set(g["method"]) else str(g["method"].iloc[0])
-        t = g[g["method"] == meth]
-        draw_index_bars(ax, t, fontsize=7, horizontal=True)
-        y = np.arange(len(t))
-        for other in [m for m in g["method"].unique() if m != meth]:
-            st = g[g["method"] == other].set_index("parameter")["ST"].reindex(t["parameter"]).to_numpy(float)
-            if np.isfinite(st).any():
-                marker = marks.setdefault(other, _MARKERS[len(marks) % len(_MARKERS)])
-                ax.plot(st, y + 0.19, linestyle="none", marker=marker, markersize=4, markerfacecolor="none",
-                        markeredgecolor="0.15", markeredgewidth=0.8)
-        ax.set_title(f"{(info or {}).get(out, declared(out)).label}\n{meth}" + (f": {verdict}" if verdict else ""),
-                     fontsize=8)
-        ax.set_xlim(min(-0.05, float(np.nanmin(g[["S1", "ST"]].to_numpy(float), initial=0))), 1.05)
-        ax.tick_params(axis="x", labelsize=7)
-        if not np.isfinite(t[["S1", "ST"]].to_numpy(float)).any():
-            ax.text(0.5, 0.5, "indices refused\n(see summary.md)", transform=ax.transAxes,
-                    ha="center", va="center", fontsize=8, color="0.3")
-    for ax in list(axes.flat)[len(outputs):]:
-        ax.set_visible(False)
-    handles: list[Any] = [Patch(facecolor="tab:blue", label="S1"), Patch(facecolor="tab:orange", label="ST")]
-    shown = rows[rows.apply(lambda r: chosen.get(r["output"], (None,))[0] in (None, r["method"]), axis=1)]
-    untrusted = ~shown["trusted"].astype(bool)
-    placed = shown["rank_confirmed"].astype(bool) if "rank_confirmed" in shown else untrusted & False
-    if (untrusted & placed).any():
-        handles.append(Patch(facecolor="tab:blue", edgecolor="white", hatch="..", label="untrusted, rank confirmed"))
-    if (untrusted & ~placed).any():
-        handles.append(Patch(facecolor="tab:blue", edgecolor="white", hatch="///", label="untrusted"))
-    handles += [Line2D([], [], linestyle="none", marker=m, markerfacecolor="none", markeredgecolor="0.15",
-                       label=f"ST, {meth}") for meth, m in marks.items()]
-    fig.legend(handles=handles, fontsize=7, loc="outside lower center", ncols=min(len(handles), 5))
-    fig.suptitle("Sobol indices, " + scene_text({f: rows[f].iloc[0] for f in fields}), fontsize=9)
-    return fig
-
-
-def plot_heatmap(rows: pd.DataFrame, info: dict[str, ModelOutput] | None = None,
-                 fields: Sequence[str] = WIND_LABEL_FIELDS) -> Any:
-    """ST as parameter x scene, one panel per output; the panels share the parameter axis, so
-    its labels are drawn once, left of the first panel, and never over a neighbour. Scenes are
-    labelled by their wind speed, or by their label ``fields`` for a model's own scene type."""
-    outputs = list(rows["output"].unique())
-    params = sorted(rows["parameter"].unique())
-    fig, axes = plt.subplots(1, len(outputs), figsize=(2.4 * len(outputs) + 3.0, 0.3 * len(params) + 2.2),
-                             squeeze=False, sharey=True, layout="constrained")
-    hatched = False
-    for ax, out in zip(axes[0], outputs):
-        t = rows[rows["output"] == out].pivot(index="parameter", columns="scene", values="ST").reindex(params)
-        im = ax.imshow(t.to_numpy(float), vmin=0, vmax=1, cmap="viridis", aspect="auto")
-        ok = (rows[rows["output"] == out].pivot(index="parameter", columns="scene", values="trusted")
-              .reindex(params).fillna(False).to_numpy(bool) if "trusted" in rows else np.ones(t.shape, bool))
-        for i, j in zip(*np.nonzero(~ok)):
-            ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, hatch="///", edgecolor="white",
-                                   linewidth=0, label="untrusted"))
-            hatched = True
-        first = [rows[rows["scene"] == s].iloc[0] for s in t.columns]
-        labels = ([f"{r['wind_speed']:g} m/s" for r in first] if "wind_speed" in fields
-                  else [scene_text({f: r[f] for f in fields}) for r in first])
-        ax.set_xticks(range(t.shape[1]), labels, rotation=45, ha="right", fontsize=7)
-        ax.set_yticks(range(len(params)), params, fontsize=7)
-        ax.tick_params(axis="y", labelleft=ax is axes[0, 0])
-        o = (info or {}).get(out, declared(out))
-        ax.set_title(f"{o}\n[{o.unit}]" if o.unit else str(o), fontsize=8)
-    fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, label="ST [-]")
-    fig.suptitle(f"total Sobol index per scene ({rows['method'].iloc[0]})"
-                 + ("; hatched: untrusted (not within the tolerance by the method's own estimate)" if hatched else ""),
-                 fontsize=9)
-    return fig
-
-
-def _write_fault(result: StudyResult, save_csv: Any, save_fig: Any) -> None:
-    """The fault study's tables and figures (see :mod:`ddgsa.detection`)."""
-    assert result.fault is not None and result.fault_smallest is not None and result.fault_indices is not None
-    save_csv(result.fault, "fault_verdicts.csv")
-    save_csv(result.fault_smallest, "fault_smallest.csv")
-    save_csv(result.fault_indices, "fault_indices.csv")
-    if result.fault_subsets is not None:
-        save_csv(result.fault_subsets, "fault_sensor_choice.csv")
-    fault = result.study.spec.fault
-    assert fault is not None
-    model = result.study.make_model()
-    units = {o: d.unit for o, d in output_info(result).items()}
-    for ps, det in result.fault_detection:
-        title = scene_text(ps.fields)
-        fig, ax = plt.subplots(figsize=(8.5, 4.2))
-        det.plot_curve(ax=ax, level_label=f"{fault.parameter} [{model.parameter(fault.parameter).unit or '-'}]")
-        ax.set_title(f"detectability curve, {title}\nshaded: POD interval at confidence {fault.confidence:g}",
-                     fontsize=9)
-        fig.tight_layout()
-        save_fig(fig, f"fault_detectability_scene{ps.index}.png")
-        save_fig(plot_fault_histograms(det, title, units), f"fault_histograms_scene{ps.index}.png")
-        save_fig(plot_fault_indices(result.fault_indices[result.fault_indices["scene"] == ps.index], fault.parameter,
-                                    title), f"fault_indices_scene{ps.index}.png")
-
-
-def plot_fault_histograms(det: FaultDetectability, title: str, units: dict[str, str] | None = None) -> Any:
-    """Healthy/faulty histograms of the deciding output, one panel per faulty level (``units``: per output)."""
-    levels = sorted(det.faulty, key=lambda v: abs(v - det.healthy_level))
-    out = det.deciding_output()
-    ncols = min(3, len(levels))
-    nrows = -(-len(levels) // ncols)
-    fig, axes = plt.subplots(nrows, ncols, figsize=(4.2 * ncols, 3.3 * nrows), squeeze=False)
-    for ax, level in zip(axes.flat, levels):
-        det.plot_histograms(level, output=out, ax=ax, unit=(units or {}).get(str(out), ""))
-    for ax in axes.flat[len(levels):]:
-        ax.set_visible(False)
-    fig.suptitle(f"deciding output {out}, {title}", fontsize=9)
-    fig.tight_layout()
-    return fig
 
 
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
@@ -582,18 +261,6 @@ def crosscheck_lines(sobol: pd.DataFrame) -> list[str]:
     return lines + [""]
 
 
-def with_verdicts(indices: pd.DataFrame, verdicts: pd.DataFrame) -> pd.DataFrame:
-    """``indices`` with the verdict of each row's (scene, output) pair (:func:`ddgsa.execute.confirm.confirmation_table`)
-    in a column ``verdict`` (empty for rows no verdict covers: screening methods)."""
-    if not len(verdicts) or "scene" not in indices:
-        return indices.assign(verdict="")
-    key = verdicts.set_index(["scene", "output"])["verdict"]
-    pairs = pd.MultiIndex.from_arrays([indices["scene"].astype(int), indices["output"]])
-    got = key.reindex(pairs).to_numpy(object)
-    screening = ~indices.index.isin(sobol_rows(indices).index)
-    return indices.assign(verdict=np.where(pd.isna(got) | screening, "", got))
-
-
 def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None, verdict: Any = None) -> str:
     """One sentence on what drives ``output`` in one scene, from its first trusted method (``verdict``:
     the pair's row of :func:`ddgsa.execute.confirm.confirmation_table`, which says when there is nothing to rank),
@@ -631,30 +298,6 @@ def _dominance(g: pd.DataFrame, output: str, moment: dict[str, Any] | None, verd
     order = (f" Confirmed ranking ({verdict.verdict}): {verdict.ranking}." if verdict is not None and verdict.ranking
              and (verdict.verdict in ("rank-confirmed", "confirmed tie") or "=" in verdict.ranking) else "")
     return f"`{output}`: {what}, by {meth}.{inter}{quiet}{order}"
-
-
-def plot_fault_indices(rows: pd.DataFrame, fault: str, title: str) -> Any:
-    """Paper A's view: total index of each other parameter per output, healthy and at each faulty level."""
-    method = rows["method"].iloc[0]
-    rows = rows[rows["method"] == method]
-    outputs, levels = list(rows["output"].unique()), list(rows["level"].unique())
-    params = list(rows["parameter"].unique())
-    fig, axes = plt.subplots(1, len(outputs), figsize=(3.2 * len(outputs) + 0.5, 3.4), squeeze=False, sharey=True)
-    width = 0.8 / len(levels)
-    for ax, out in zip(axes[0], outputs):
-        t = rows[rows["output"] == out]
-        for k, level in enumerate(levels):
-            st = t[t["level"] == level].set_index("parameter").reindex(params)["ST"]
-            ax.bar(np.arange(len(params)) + (k - (len(levels) - 1) / 2) * width, st, width,
-                   label=f"{fault} = {level:g}" + (" (healthy)" if k == 0 else ""))
-        ax.set_xticks(range(len(params)), params, rotation=60, fontsize=7, ha="right")
-        ax.set_title(out, fontsize=8)
-        ax.grid(alpha=0.3, axis="y")
-    axes[0, 0].set_ylabel(f"ST ({method}) [-]")
-    axes[0, 0].legend(fontsize=6)
-    fig.suptitle(f"indices of the other parameters with and without the fault, {title}", fontsize=9)
-    fig.tight_layout()
-    return fig
 
 
 def _fault_markdown(result: StudyResult) -> list[str]:
@@ -855,7 +498,7 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
         grid = list(result.study.spec.grid)
         summary = sweep_summary(result.sweep, result.study.outputs, grid)
         if len(summary) <= 40:
-            keys = [k for k in _sweep_keys(summary, grid) if k == "variant" or k in grid or summary[k].nunique() > 1]
+            keys = [k for k in sweep_keys(summary, grid) if k == "variant" or k in grid or summary[k].nunique() > 1]
             cols = keys + [f"{o}_mean" for o in result.study.outputs]
             lines += ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
             lines += ["| " + " | ".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in row) + " |"
