@@ -119,7 +119,7 @@ ROOMS: dict[str, set[str]] = {
     "study": {"errors", "units", "registry", "mbs", "loads", "models", "gsa"},
     "execute": {"__init__", "errors", "runner", "study", "gsa", "detection", "models", "loads", "mbs"},
     "report": {"errors", "execute", "study", "gsa", "detection", "models", "loads", "mbs"},
-    "bench": {"__init__", "errors", "runner", "execute", "study", "gsa", "models", "loads", "mbs"},
+    "bench": {"__init__", "errors", "runner", "execute", "report", "study", "gsa", "models", "loads", "mbs"},
     "cli": {"__init__", "errors", "runner", "bench", "report", "execute", "study", "gsa", "models", "loads", "mbs"},
 }
 """Each room of ``src/ddgsa`` (a package or a top-level module) and the rooms it may import (issue 50;
