@@ -110,3 +110,30 @@ def error_diagnostics(name: str, why: str, outputs: list[str], parameters: tuple
                                 f"{worst[j, i]:.3g} > tolerance {tolerance:g} ({why})", "untrusted",
                                 output=outputs[j], parameter=parameters[i], value=float(worst[j, i])))
     return diags
+
+
+REMEDIES = {
+    "mdrm_index_error": "M-DRM's product surrogate misses part of the output (interactions, additive "
+                        "structure): add a cross-check (`pce` or `saltelli`) or use `method: auto` with a "
+                        "`budget`, which escalates until the rows are trusted.",
+    "mdrm_unchecked": "give M-DRM a check sample (`check: 32`); without one its error has no bound.",
+    "mdrm_cut_value": "the output is zero or not finite at the cut point: use `pce`, `saltelli` or `auto`.",
+    "mdrm_sign_change": "the output changes sign over the nodes, which M-DRM cannot represent: use `pce`, "
+                        "`saltelli` or `auto`.",
+    "mdrm_rho_sign": "a cut function's mean has the other sign: use `pce`, `saltelli` or `auto`.",
+    "mdrm_unresolved": "a cut function is not smooth (kinks, steps): more Gauss `points` or a sampling "
+                       "method (`saltelli`).",
+    "mdrm_quadrature_coverage": "the Gauss nodes miss the input's tails: more `points`.",
+    "salib_index_error": "raise `n` (the error falls like 1/sqrt(n): four times n halves it).",
+    "negative_index": "raise `n`: an index below zero by more than its error estimate.",
+    "fast_unverified": "FAST and RBD-FAST are cross-checks, never trusted: trust comes from M-DRM, PCE or Saltelli.",
+    "pce_index_error": "raise the `order` or the points `n`, or `fit: sparse`.",
+    "pce_underdetermined": "fewer points than terms: raise `n` or lower the `order`.",
+    "auto_budget_exhausted": "raise `budget`: no stage trusted the output within it.",
+    "nonfinite_values": "evaluations failed: see the failure reasons, then narrow the parameter ranges or "
+                        "refine the model's step.",
+    "zero_variance": "the output is constant over the sample: nothing to rank.",
+    "mdrm_zero_variance": "the output is constant over the nodes: nothing to rank.",
+}
+"""What would fix each untrusting diagnostic, by its name (docs/methods.md says when each fires); the
+report's Problems section shows it beside the rows it untrusted."""
