@@ -165,7 +165,7 @@ def test_failures_refuse_the_verdict(write_study, tmp_path: Path, fail_above: fl
     ("{parameter: fault, healthy: 0, faulty: [1], combine: [full, nope]}",
      r"field 'fault.combine\[1\]': not an output of the study; known: full, half_1, half_2"),
     ("{parameter: fault, healthy: 0, faulty: [1], combine: [full]}", r"field 'fault.combine'.*at least 2"),
-    ("{parameter: fault, healthy: 0, faulty: [1], false_alarm: 0.7}", r"field 'fault.false_alarm'.*less than 0.5"),
+    ("{parameter: fault, healthy: 0, faulty: [1], false_alarm: 0.7}", r"field 'fault.false_alarm'.*must be < 0.5"),
     ("{parameter: fault, healthy: 0, faulty: [1], pod_target: 1.5}", r"field 'fault.pod_target'"),
     ("{parameter: fault, healthy: 0, faulty: [1], confidence: 0.3}", r"field 'fault.confidence'"),
     ("{parameter: fault, healthy: 0, faulty: [0, 1]}", r"field 'fault.faulty': contains the healthy value 0"),

@@ -20,6 +20,34 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
 
+def draw_pod(ax: "Axes", rows: pd.DataFrame, healthy: float, target: float, false_alarm: float, level_label: str,
+             label_bands: bool = False) -> None:
+    """The detectability curves on ``ax``: per sensor (``rows``' ``output``; the combined detector dashed black)
+    its POD with the interval shaded against the fault ``level``, starting at the ``healthy`` level at the
+    false-alarm rate; dotted lines at the POD ``target`` and the ``false_alarm`` rate; the healthy level a grey
+    line. The one drawing of the curve: :meth:`FaultDetectability.plot_curve` and the report's fault section
+    (from ``fault_verdicts.csv``) both call it. ``label_bands``: the shading carries its sensor's label too
+    (a legend toggle then hides both)."""
+    for out, g in rows.groupby("output", sort=False):
+        g = g.sort_values("level")
+        x = np.r_[healthy, g["level"].to_numpy(float)]
+        order = np.argsort(x)
+        pod = np.r_[false_alarm, g["pod"].to_numpy(float)][order]
+        lo = np.r_[false_alarm, g["pod_low"].to_numpy(float)][order]
+        hi = np.r_[false_alarm, g["pod_high"].to_numpy(float)][order]
+        style = {"ls": "--", "lw": 2.0, "color": "k"} if out == COMBINED else {"ls": "-", "lw": 1.2}
+        line, = ax.plot(x[order], pod, marker="o", ms=3, label=str(out), **style)
+        ax.fill_between(x[order], lo, hi, color=line.get_color(), alpha=0.12, lw=0,
+                        **({"label": str(out)} if label_bands else {}))
+    ax.axhline(target, color="tab:red", lw=0.8, ls=":", label=f"target {target:g}")
+    ax.axhline(false_alarm, color="0.5", lw=0.8, ls=":", label=f"false-alarm rate {false_alarm:g}")
+    ax.axvline(healthy, color="0.5", lw=0.6)
+    ax.set_ylim(-0.02, 1.02)
+    ax.set_xlabel(f"{level_label} (healthy {healthy:g}: grey line)")
+    ax.set_ylabel("probability of detection [-]")
+    ax.grid(alpha=0.3)
+
+
 @dataclass
 class FaultDetectability:
     """Detection of one fault over its levels, per sensor and for the combined detector.
@@ -94,24 +122,7 @@ class FaultDetectability:
 
         if ax is None:
             _, ax = plt.subplots(figsize=(6.5, 4))
-        for out, g in self.table.groupby("output", sort=False):
-            g = g.sort_values("level")
-            x = np.r_[self.healthy_level, g["level"].to_numpy(float)]
-            order = np.argsort(x)
-            pod = np.r_[self.settings.false_alarm, g["pod"].to_numpy(float)][order]
-            lo = np.r_[self.settings.false_alarm, g["pod_low"].to_numpy(float)][order]
-            hi = np.r_[self.settings.false_alarm, g["pod_high"].to_numpy(float)][order]
-            style = {"ls": "--", "lw": 2.0, "color": "k"} if out == COMBINED else {"ls": "-", "lw": 1.2}
-            line, = ax.plot(x[order], pod, marker="o", ms=3, label=str(out), **style)
-            ax.fill_between(x[order], lo, hi, color=line.get_color(), alpha=0.12, lw=0)
-        ax.axhline(self.settings.target, color="tab:red", lw=0.8, ls=":", label=f"target {self.settings.target:g}")
-        ax.axhline(self.settings.false_alarm, color="0.5", lw=0.8, ls=":",
-                   label=f"false-alarm rate {self.settings.false_alarm:g}")
-        ax.axvline(self.healthy_level, color="0.5", lw=0.6)
-        ax.set_ylim(-0.02, 1.02)
-        ax.set_xlabel(f"{level_label} (healthy {self.healthy_level:g}: grey line)")
-        ax.set_ylabel("probability of detection [-]")
-        ax.grid(alpha=0.3)
+        draw_pod(ax, self.table, self.healthy_level, self.settings.target, self.settings.false_alarm, level_label)
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
         return ax
 

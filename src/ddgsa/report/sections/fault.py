@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
-from ddgsa.detection.single import COMBINED
+from ddgsa.detection.levels import draw_pod
 from ddgsa.report.sections.base import Chart, Folder, ResultFigure, Section, Tables, csv_tables
 from ddgsa.study.spec import scene_text
 
@@ -75,24 +75,8 @@ def plot_detectability(rows: pd.DataFrame, level_label: str, target: float, fals
     rate; dotted: the POD ``target`` and the ``false_alarm`` rate; ``level_label``: the fault's axis with
     its unit; the legend right of the axes (a curve per sensor covers the plot otherwise)."""
     fig, ax = plt.subplots(figsize=(8.5, 4.2))
-    healthy = float(rows["healthy"].iloc[0])
-    for out, g in rows.groupby("output", sort=False):
-        g = g.sort_values("faulty")
-        x = np.r_[healthy, g["faulty"].to_numpy(float)]
-        order = np.argsort(x)
-        pod = np.r_[false_alarm, g["pod"].to_numpy(float)][order]
-        lo = np.r_[false_alarm, g["pod_low"].to_numpy(float)][order]
-        hi = np.r_[false_alarm, g["pod_high"].to_numpy(float)][order]
-        style = {"ls": "--", "lw": 2.0, "color": "k"} if out == COMBINED else {"ls": "-", "lw": 1.2}
-        line, = ax.plot(x[order], pod, marker="o", ms=3, label=str(out), **style)
-        ax.fill_between(x[order], lo, hi, color=line.get_color(), alpha=0.12, lw=0, label=str(out))
-    ax.axhline(target, color="tab:red", lw=0.8, ls=":", label=f"target {target:g}")
-    ax.axhline(false_alarm, color="0.5", lw=0.8, ls=":", label=f"false-alarm rate {false_alarm:g}")
-    ax.axvline(healthy, color="0.5", lw=0.6)
-    ax.set_ylim(-0.02, 1.02)
-    ax.set_xlabel(f"{level_label} (healthy {healthy:g}: grey line)")
-    ax.set_ylabel("probability of detection [-]")
-    ax.grid(alpha=0.3)
+    draw_pod(ax, rows.rename(columns={"faulty": "level"}), float(rows["healthy"].iloc[0]), target, false_alarm,
+             level_label, label_bands=True)
     handles, labels = ax.get_legend_handles_labels()
     ax.legend([h for h, lab, k in zip(handles, labels, range(len(labels))) if labels.index(lab) == k],
               list(dict.fromkeys(labels)), fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
