@@ -20,7 +20,7 @@ from ddgsa.mbs.campbell import CampbellDiagram, campbell_from_tables  # noqa: E4
 from ddgsa.mbs.modal import plot_modes  # noqa: E402
 from ddgsa.models import get  # noqa: E402
 from ddgsa.report.sections.fault import plot_detectability, plot_fault_histograms  # noqa: E402
-from ddgsa.report.sections.indices import plot_heatmap, plot_scene_bars  # noqa: E402
+from ddgsa.report.sections.indices import plot_agreement, plot_heatmap, plot_scene_bars  # noqa: E402
 from ddgsa.report.sections.sweep import plot_sweep, sweep_summary  # noqa: E402
 from ddgsa.models.signals import plot_order_map, plot_spectrum  # noqa: E402
 
@@ -236,3 +236,23 @@ def test_detectability_chart_from_the_verdict_table() -> None:
     x, y = ax.lines[0].get_data()
     assert list(x) == [0.0, 0.2, 0.4] and list(y) == [0.05, 0.2, 0.6]
     _check(fig, dense_legend=True)
+
+
+def test_agreement_chart_shows_every_point_and_only_the_checks_it_draws() -> None:
+    """Newcomer trials: a given-data S1 of -0.4 was cut off by fixed [-0.05, 1.05] axes, and an M-DRM refused
+    on every row (NaN) left an empty chart whose legend listed the cross-checks."""
+    rows = []
+    for p, (s1, st, given) in {"a": (0.6, 0.7, 0.62), "b": (0.3, 0.35, -0.4)}.items():
+        rows += [dict(scene=0, output="y", parameter=p, method="mdrm", S1=s1, ST=st, trusted=p == "a"),
+                 dict(scene=0, output="y", parameter=p, method="given_data_s1", S1=given, ST=np.nan, trusted=False),
+                 dict(scene=0, output="y", parameter=p, method="pce", S1=s1 + 0.01, ST=st + 0.01, trusted=True)]
+    fig = plot_agreement(pd.DataFrame(rows))
+    s1_axes, st_axes = fig.axes
+    assert s1_axes.get_xlim()[0] < -0.4 and s1_axes.get_ylim() == st_axes.get_ylim()      # one scale for both
+    assert [t.get_text() for t in s1_axes.get_legend().get_texts()] == ["vs given_data_s1", "vs pce"]
+    plt.close(fig)
+    refused = pd.DataFrame([dict(r, S1=np.nan, ST=np.nan) if r["method"] == "mdrm" else r for r in rows])
+    fig = plot_agreement(refused)
+    assert fig.axes[0].get_legend() is None
+    assert "no finite M-DRM index" in " ".join(t.get_text() for t in fig.axes[0].texts)
+    plt.close(fig)

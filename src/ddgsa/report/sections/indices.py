@@ -119,26 +119,50 @@ def scene_fields(indices: pd.DataFrame) -> list[str]:
     return [f for f in WIND_LABEL_FIELDS if f in fields] + [f for f in fields if f not in WIND_LABEL_FIELDS]
 
 
+AGREEMENT_MARKERS = ("o", "s", "^", "D", "v", "P")
+"""One marker per cross-check in the M-DRM agreement chart (coincident points of two checks stay visible)."""
+
+
 def plot_agreement(indices: pd.DataFrame) -> "Figure":
-    """Scatter of M-DRM indices against each cross-check (filled: M-DRM trusted, open: untrusted)."""
+    """Scatter of M-DRM indices against each cross-check (filled: M-DRM trusted, open: untrusted), one
+    marker per cross-check, axes wide enough for every point (a given-data S1 below zero included); a
+    cross-check with no finite pair is left out of the legend, and a chart with none says why."""
     fig, axes = plt.subplots(1, 2, figsize=(8, 4))
     key = ["scene", "output", "parameter"]
     m = indices[indices["method"] == "mdrm"]
     refs = _crosschecks(indices)
-    for other in sorted(set(refs["method"])):
+    low, high, shown = 0.0, 1.0, 0
+    for i, (other, marker) in enumerate(zip(sorted(set(refs["method"])), AGREEMENT_MARKERS)):
         j = m.merge(refs[refs["method"] == other], on=key, suffixes=("_m", "_r"))
         for ax, q in zip(axes, ("S1", "ST")):
-            ok = trusted(j, "trusted_m")
-            pts = ax.scatter(j[f"{q}_r"][ok], j[f"{q}_m"][ok], s=14, label=f"vs {other}")
-            ax.scatter(j[f"{q}_r"][~ok], j[f"{q}_m"][~ok], s=14, facecolors="none", edgecolors=pts.get_facecolor())
+            finite = np.isfinite(j[f"{q}_r"].to_numpy(float)) & np.isfinite(j[f"{q}_m"].to_numpy(float))
+            if not finite.any():
+                continue
+            shown += 1
+            low = min(low, float(j.loc[finite, [f"{q}_r", f"{q}_m"]].min().min()))
+            high = max(high, float(j.loc[finite, [f"{q}_r", f"{q}_m"]].max().max()))
+            ok = trusted(j, "trusted_m") & finite
+            label, color = (f"vs {other}" if q == "S1" else None), f"C{i}"
+            ax.scatter(j[f"{q}_r"][ok], j[f"{q}_m"][ok], s=16, marker=marker, alpha=0.8, color=color,
+                       label=label if ok.any() else None)
+            ax.scatter(j[f"{q}_r"][~ok & finite], j[f"{q}_m"][~ok & finite], s=16, marker=marker,
+                       facecolors="none", edgecolors=color, label=None if ok.any() else label)
+    pad = 0.05 * (high - low)
     for ax, q in zip(axes, ("S1", "ST")):
-        ax.plot([0, 1], [0, 1], color="0.5", lw=0.8)
-        ax.set_xlabel(f"{q}, cross-check")
-        ax.set_ylabel(f"{q}, M-DRM")
-        ax.set_xlim(-0.05, 1.05)
-        ax.set_ylim(-0.05, 1.05)
+        ax.plot([low, high], [low, high], color="0.5", lw=0.8)
+        ax.set_xlabel(f"{q}, cross-check [-]")
+        ax.set_ylabel(f"{q}, M-DRM [-]")
+        ax.set_xlim(low - pad, high + pad)
+        ax.set_ylim(low - pad, high + pad)
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
+    handles, labels = axes[0].get_legend_handles_labels()
+    if handles:
+        axes[0].legend(handles, labels, fontsize=8)
+    if not shown:
+        for ax in axes:
+            ax.text(0.5, 0.5, "no finite M-DRM index to compare\n(M-DRM refused: see diagnostics.csv)",
+                    transform=ax.transAxes, ha="center", va="center", fontsize=9,
+                    bbox={"facecolor": "white", "edgecolor": "0.7"})
     untrusted = not trusted(m).all()
     fig.suptitle("M-DRM against cross-check" + (" (open markers: M-DRM untrusted)" if untrusted else ""))
     fig.tight_layout()
