@@ -79,6 +79,8 @@ REMEDIES = {
     "mdrm_quadrature_coverage": "the Gauss nodes miss the input's tails: more `points`.",
     "salib_index_error": "raise `n` (the error falls like 1/sqrt(n): four times n halves it).",
     "negative_index": "raise `n`: an index below zero by more than its error estimate.",
+    "heavy_tail": "a few rare runs carry the total index, which no sample's spread bounds: analyse a transform "
+                  "of the output (e.g. its logarithm) or use `pce`.",
     "fast_unverified": "FAST and RBD-FAST are cross-checks, never trusted: trust comes from M-DRM, PCE or Saltelli.",
     "pce_index_error": "raise the `order` or the points `n`, or `fit: sparse`.",
     "pce_underdetermined": "fewer points than terms: raise `n` or lower the `order`.",
