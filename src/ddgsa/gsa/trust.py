@@ -158,7 +158,8 @@ def pareto_shape(terms: NDArray[np.float64]) -> float:
     theta = 1.0 / x[-1] + (1.0 - np.sqrt(grid / (np.arange(1, grid + 1) - 0.5))) / (3.0 * x[int(nx / 4 + 0.5) - 1])
     k = np.log1p(-theta[:, None] * x).mean(axis=1)
     log_lik = nx * (np.log(-theta / k) - k - 1.0)
-    weight = 1.0 / np.exp(log_lik - log_lik[:, None]).sum(axis=1)
+    weight = np.exp(log_lik - log_lik.max())
+    weight /= weight.sum()
     k_hat = float(np.log1p(-np.sum(theta * weight) * x).mean())
     return (k_hat * nx + 10 * 0.5) / (nx + 10)
 
