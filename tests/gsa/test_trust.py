@@ -328,7 +328,7 @@ def test_pareto_shape_recovers_the_shape_of_a_pareto_law(shape: float) -> None:
 
 
 def test_leak_heavy_tailed_total_index_is_not_trusted() -> None:
-    """Issue 51.3's case: a held-out block sum (13 inputs, one product of ten factors, two exact ties)
+    """Issue 51.3's case: a held-out block sum (13 inputs, one product of ten factors, an exact tie)
     at Saltelli N = 4 096, seed 202 gave x9's ST 0.083 trusted at +-0.018 against the closed form's
     0.131 -- the sample misses the rare runs that carry the product's squared differences, and so do
     its half and any replicate. The ``heavy_tail`` rule leaves every row off by more than the tolerance
