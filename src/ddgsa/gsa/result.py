@@ -280,7 +280,9 @@ def rank_structure(table: pd.DataFrame, st_error: NDArray[np.float64], diagnosti
       ``|ST_i - ST_j| + e_i + e_j``, lies within ``margin``: a **confirmed tie** (an equivalence
       test, two one-sided bounds). A row with no tie has code :data:`SEPARATED`, else :data:`TIED`.
       Ties must form cliques: rows joined by ties into one group are all pairwise tied, or none of
-      that group is confirmed (a chain a ~ b ~ c with a, c apart has no well-defined place).
+      that group is confirmed (a chain a ~ b ~ c with a, c apart has no well-defined place); and a row
+      tied (with overlapping intervals) to a row whose place is not confirmed has no place either (the
+      order within the tie is open, so its place moves with the other's).
 
     Parameters
     ----------
@@ -338,6 +340,11 @@ def rank_structure(table: pd.DataFrame, st_error: NDArray[np.float64], diagnosti
         np.fill_diagonal(tied, False)
         ok = usable[idx] & ~neg & (lo[idx] > 0.0)
         ok &= np.all(apart | tied | np.eye(len(idx), dtype=bool), axis=1)
+        while True:                # tied (and not apart) with a row whose place is not certain: neither is its own
+            loose = ok & np.any(tied & ~apart & ~ok[None, :], axis=1)
+            if not loose.any():
+                break
+            ok &= ~loose
         groups = _tie_groups(tied & ok[:, None] & ok[None, :], ok)
         for g in groups:                       # a chain that is not a clique: no place is claimed
             if len(g) > 1 and not tied[np.ix_(g, g)][~np.eye(len(g), dtype=bool)].all():
