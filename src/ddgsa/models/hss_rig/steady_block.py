@@ -41,8 +41,10 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from ddgsa.mbs import nonrotating
+from ddgsa.mbs.compiled import evaluate, pack
 from ddgsa.mbs.derivatives import central_difference
 from ddgsa.mbs.elements import EccentricMass, Element
+from ddgsa.mbs.modal import linearise_system
 from ddgsa.models.hss_rig.drive import Drive, drive_for, kloss_along, kloss_parts, steady_speed
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, operating_stretch
 from ddgsa.models.hss_rig.parameters import RATED_SPEED
@@ -91,9 +93,33 @@ class _Point:
     """(2,) the disk centre's y and z [m] on the operating trajectory (z = 0)."""
 
 
+def _at_rest(model: "HssRig", rig: Rig, plain: dict[str, float]) -> tuple[Array, Array]:
+    """The gravity sag (n,) [m, rad, coordinate units] of the loaded ``rig`` (parameters ``plain``, no turning
+    loads) standing still with its motor off, and the stiffness (n, n) it is solved with: the per-point path's
+    :func:`~ddgsa.models.hss_rig.model.still_rig` on this rig's own System, without a second build.
+
+    The rig is packed without its motor (:func:`ddgsa.mbs.compiled.pack`) and taken at its undeformed state at
+    rest. Where no element carries a load there (every wrench zero: no misalignment), the elements add no
+    geometric terms and the stiffness is the kernel's tangents alone (:func:`~ddgsa.mbs.modal.linearise_system`
+    with every column a tangent: one evaluation instead of 21 differenced columns' 42 residuals). Checked against
+    the per-point path's all-differenced still rig (``tests/models/test_hss_rig_block.py``): every column within
+    1e-6 of its largest entry (measured 8e-9, the differences' noise), the sag within 1e-9 of its largest entry
+    (measured 6e-11). A loaded coupling (misaligned) takes :func:`still_rig` with half its columns differenced,
+    as before: its preload's geometric terms, which the tangents leave out, move the shaft's sag by up to 6x."""
+    still_rig, still_key = (model.block_parts[k] for k in ("still_rig", "still_key"))
+    system = rig.system
+    packed = pack(system, [e for e in system.elements if e.name != "motor"])
+    rest = np.zeros(system.n)
+    if np.any(evaluate(packed, system.q0, rest, 0.0)[4]):
+        sag, k = still_rig(still_key(plain), model.basis, True)
+        return sag, k
+    lin = linearise_system(system, system.q0, rest, compiled=packed, static=True, tangent_columns=np.arange(system.n))
+    return np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0], lin.k
+
+
 def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Point:
     """The kernel's part of one point (see the module)."""
-    pole_pairs, still_key, still_rig = (model.block_parts[k] for k in ("pole_pairs", "still_key", "still_rig"))
+    pole_pairs = model.block_parts["pole_pairs"]
     drive = drive_for(raw, scene, pole_pairs)
     spin = steady_speed(drive, raw["load_torque"], raw["load_speed_exponent"], RATED_SPEED)
     # the rig without its turning loads (the per-point path's rig for the coupling's stretch): they are
@@ -101,9 +127,11 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
     plain = {**model.effective(raw), "eccentric_mass": 0.0}
     rig = build(plain, kloss_parts(drive), spin=spin, basis=model.basis)
     system = rig.system
-    q0, qd0 = model.initial_state(rig, plain, True)
+    sag, k_rest = _at_rest(model, rig, plain)
+    q0, qd0 = system.q0.copy(), system.qd0.copy()
+    q0 += sag
     if raw["coupling_asymmetry"] > 0.0:
-        stretch = operating_stretch(rig, q0, qd0, tangent=still_rig(still_key(plain), model.basis, True)[1])
+        stretch = operating_stretch(rig, q0, qd0, tangent=k_rest)
     lin = nonrotating.linearise(system, q0, qd0, tangent_columns=tangent_columns(system))
     period = 2 * math.pi / spin
     loads: list[Element] = [EccentricMass(rig.markers["disk"], raw["eccentric_mass"], raw["eccentric_radius"])]
