@@ -132,7 +132,7 @@ def test_every_column_from_the_tangents_takes_no_residual_call(monkeypatch: pyte
     differences within 1e-6 of their largest entry, while the bending columns of the spinning shaft, whose
     centrifugal and Coriolis terms the tangents leave out, do not (the softening, 5.4e-5 of the column in ``K``,
     and more than half of ``C``)."""
-    import ddgsa.mbs.nonrotating as nonrotating
+    from ddgsa.mbs import nonrotating
 
     system = _shaft((120.0, -80.0))
     q0, qd0 = system.q0.copy(), system.qd0.copy()

@@ -1,14 +1,15 @@
 """The linear fidelity's steady scene for a block of points at once (issue 46).
 
-Per point the kernel does what only it can, on the per-point path's rigs: the gravity sag
-(:func:`~ddgsa.models.hss_rig.model.still_rig` with ``tangents``), the rig without its turning loads
+Per point the kernel does what only it can, on one rig a point: the rig without its turning loads
 (:func:`~ddgsa.models.hss_rig.rig.build` with no eccentric mass: the per-point path's rig for the
-coupling's stretch), the coupling's static stretch on it by a chord iteration whose tangent is the
-stiffness the gravity sag was solved with (:func:`~ddgsa.models.hss_rig.faults.operating_stretch`: one
+coupling's stretch), its gravity sag standing still with its motor off (:func:`_at_rest`: the per-point
+path's :func:`~ddgsa.models.hss_rig.model.still_rig` on the same System, from the kernel's tangents alone
+where no element is loaded at rest), the coupling's static stretch on it by a chord iteration whose tangent
+is the stiffness the gravity sag was solved with (:func:`~ddgsa.models.hss_rig.faults.operating_stretch`: one
 residual a step instead of a linearisation a step), that rig linearised once in non-rotating coordinates
 about its sag (:func:`ddgsa.mbs.nonrotating.linearise`; about the undeformed rig the unbalance would put
-no 1x torque on the shaft, whose sagged disk it turns about; both linearisations take the columns of
-:func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the kernel's tangents and difference the other
+no 1x torque on the shaft, whose sagged disk it turns about; it takes the columns of
+:func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the kernel's tangents and differences the other
 half), the inputs of one revolution taken at :data:`FORCE_SAMPLES` angles -- the motor's and the turning
 loads (the unbalance, the coupling's 2x load tabulated at those angles), which are elements on the rig's
 markers but not among its parts (:func:`ddgsa.mbs.nonrotating.projected_inputs` with ``relative=False``): one rig built a point,
