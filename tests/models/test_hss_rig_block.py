@@ -225,3 +225,43 @@ def test_validity_names_an_unstable_point_and_an_order_on_an_undamped_mode() -> 
     assert why[0] is None
     assert why[1] is not None and why[1].startswith("unstable linearisation")
     assert why[2] is not None and why[2].startswith("order 2 on an undamped mode at") and f"{2 * w / (2 * math.pi):.6g} Hz" in why[2]
+
+
+def test_the_sag_at_rest_is_the_tangents_where_no_element_is_loaded() -> None:
+    """The block path solves the gravity sag on its own loaded rig, packed without the motor, at rest, with every
+    column of the stiffness from the kernel's tangents (``steady_block._at_rest``: no second build, no differences):
+    at two random points of ``paper_a_structural`` each column is within 1e-6 of the per-point path's all-differenced
+    still rig (``still_rig``; measured 8e-9) and the sag within 1e-9 of its largest entry (measured 6e-11). The test
+    can fail: with a misaligned coupling (0.4 mm parallel, 0.01 rad angular: loaded at rest) the tangents alone put
+    the shaft's first bending sag off by more than 100 %, and ``_at_rest`` takes the differenced still rig instead."""
+    from ddgsa.mbs.compiled import pack
+    from ddgsa.mbs.modal import linearise_system
+    from ddgsa.models.hss_rig import steady_block
+    from ddgsa.models.hss_rig.drive import drive_for, kloss_parts, steady_speed
+    from ddgsa.models.hss_rig.model import POLE_PAIRS, still_key, still_rig
+    from ddgsa.models.hss_rig.parameters import RATED_SPEED
+    from ddgsa.models.hss_rig.rig import build
+
+    model, points, scene = _study_points("paper_a_structural", 2, seed=8)
+    points = points.assign(misalignment_parallel=[0.0, 0.0], misalignment_angular=[0.0, 0.0])
+    misaligned = points.iloc[[0]].assign(misalignment_parallel=4e-4, misalignment_angular=0.01)
+    sc = model._scene(scene)
+    for i, raw in enumerate(model.resolve(pd.concat([points, misaligned], ignore_index=True)).to_dict("records")):
+        drive = drive_for(raw, sc, POLE_PAIRS)
+        spin = steady_speed(drive, raw["load_torque"], raw["load_speed_exponent"], RATED_SPEED)
+        plain = {**model.effective(raw), "eccentric_mass": 0.0}
+        rig = build(plain, kloss_parts(drive), spin=spin, basis=model.basis)
+        sag, k = steady_block._at_rest(model, rig, plain)
+        ref_sag, ref_k = still_rig(still_key(plain), model.basis)
+        scale = np.abs(ref_k).max(axis=0)
+        assert np.all(np.abs(k - ref_k).max(axis=0) <= 1e-6 * scale)
+        # the misaligned rig's half-differenced sag: 1e-6, as test_the_still_rigs_tangent_columns_... (measured 6e-8)
+        np.testing.assert_allclose(sag, ref_sag, rtol=0, atol=(1e-9 if i < 2 else 1e-6) * np.abs(ref_sag).max())
+        if i == 2:                    # the misaligned coupling: the tangents alone are wrong there
+            system = rig.system
+            packed = pack(system, [e for e in system.elements if e.name != "motor"])
+            lin = linearise_system(system, system.q0, np.zeros(system.n), compiled=packed, static=True,
+                                   tangent_columns=np.arange(system.n))
+            tangent_sag = np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
+            bend = system.index("hss.bending_z_1")
+            assert abs(tangent_sag[bend] / ref_sag[bend] - 1.0) > 1.0

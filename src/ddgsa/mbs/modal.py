@@ -222,7 +222,9 @@ def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0:
     only, such as a gravity sag). ``tangent_columns`` (compiled, unconstrained systems) take those columns
     of ``K`` and ``C`` from the parts' own tangents as ``analytic`` does and difference the others only
     (the caller's claim that no inertia, gravity or geometric term depends on those coordinates; as
-    :func:`ddgsa.mbs.nonrotating.linearise`'s).
+    :func:`ddgsa.mbs.nonrotating.linearise`'s); all ``n`` of them take no residual call at all (a system at
+    rest whose elements carry no load there, as the test rig's gravity sag in
+    :mod:`ddgsa.models.hss_rig.steady_block`).
     """
     if q0 is None or qd0 is None:
         q0, qd0 = system.consistent_state(q0, qd0, t0)
@@ -253,8 +255,12 @@ def linearise_system(system: System, q0: NDArray[np.float64] | None = None, qd0:
         tc = np.asarray(tangent_columns, dtype=np.int64)
         if tc.size and system.n_constraints:
             raise ModelError("linearise_system: tangent_columns take unconstrained systems only")
-        k_full, c_full, curvature = residual_jacobians(packed, q0, qd0, qdd0, lam0, t0, 1e-3, rel_step, static,
-                                                       np.setdiff1d(np.arange(system.n), tc))
+        differenced = np.setdiff1d(np.arange(system.n), tc)
+        if differenced.size:
+            k_full, c_full, curvature = residual_jacobians(packed, q0, qd0, qdd0, lam0, t0, 1e-3, rel_step, static,
+                                                           differenced)
+        else:                                       # every column from the tangents: no residual call
+            k_full, c_full = np.zeros((system.n, system.n)), np.zeros((system.n, system.n))
         if tc.size:
             kt, ct = evaluate(packed, q0, qd0, t0)[2:4]
             k_full[:, tc] = kt[:, tc]

@@ -203,10 +203,10 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
                              np.asarray(qd0, float), t0, pairs, xi0)
     zero = np.zeros(n)
 
-    if residual_only:
+    cols = np.setdiff1d(np.arange(n), np.asarray(tangent_columns, dtype=np.int64))
+    if residual_only or not cols.size:              # no column differenced: no residual call
         k, c = np.zeros((n, n)), np.zeros((n, n))
     elif compiled and isinstance(system.fast_terms, HybridTerms):
-        cols = np.setdiff1d(np.arange(n), np.asarray(tangent_columns, dtype=np.int64))
         k = _hybrid_jacobian(system.fast_terms, base, 0, POSITION_SCALE, rel_step, cols)
         c = np.zeros((n, n)) if static else _hybrid_jacobian(system.fast_terms, base, 1, VELOCITY_SCALE, rel_step,
                                                              cols)

@@ -1,14 +1,15 @@
 """The linear fidelity's steady scene for a block of points at once (issue 46).
 
-Per point the kernel does what only it can, on the per-point path's rigs: the gravity sag
-(:func:`~ddgsa.models.hss_rig.model.still_rig` with ``tangents``), the rig without its turning loads
+Per point the kernel does what only it can, on one rig a point: the rig without its turning loads
 (:func:`~ddgsa.models.hss_rig.rig.build` with no eccentric mass: the per-point path's rig for the
-coupling's stretch), the coupling's static stretch on it by a chord iteration whose tangent is the
-stiffness the gravity sag was solved with (:func:`~ddgsa.models.hss_rig.faults.operating_stretch`: one
+coupling's stretch), its gravity sag standing still with its motor off (:func:`_at_rest`: the per-point
+path's :func:`~ddgsa.models.hss_rig.model.still_rig` on the same System, from the kernel's tangents alone
+where no element is loaded at rest), the coupling's static stretch on it by a chord iteration whose tangent
+is the stiffness the gravity sag was solved with (:func:`~ddgsa.models.hss_rig.faults.operating_stretch`: one
 residual a step instead of a linearisation a step), that rig linearised once in non-rotating coordinates
 about its sag (:func:`ddgsa.mbs.nonrotating.linearise`; about the undeformed rig the unbalance would put
-no 1x torque on the shaft, whose sagged disk it turns about; both linearisations take the columns of
-:func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the kernel's tangents and difference the other
+no 1x torque on the shaft, whose sagged disk it turns about; it takes the columns of
+:func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the kernel's tangents and differences the other
 half), the inputs of one revolution taken at :data:`FORCE_SAMPLES` angles -- the motor's and the turning
 loads (the unbalance, the coupling's 2x load tabulated at those angles), which are elements on the rig's
 markers but not among its parts (:func:`ddgsa.mbs.nonrotating.projected_inputs` with ``relative=False``): one rig built a point,
@@ -41,8 +42,10 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from ddgsa.mbs import nonrotating
+from ddgsa.mbs.compiled import evaluate, pack
 from ddgsa.mbs.derivatives import central_difference
 from ddgsa.mbs.elements import EccentricMass, Element
+from ddgsa.mbs.modal import linearise_system
 from ddgsa.models.hss_rig.drive import Drive, drive_for, kloss_along, kloss_parts, steady_speed
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, operating_stretch
 from ddgsa.models.hss_rig.parameters import RATED_SPEED
@@ -91,9 +94,33 @@ class _Point:
     """(2,) the disk centre's y and z [m] on the operating trajectory (z = 0)."""
 
 
+def _at_rest(model: "HssRig", rig: Rig, plain: dict[str, float]) -> tuple[Array, Array]:
+    """The gravity sag (n,) [m, rad, coordinate units] of the loaded ``rig`` (parameters ``plain``, no turning
+    loads) standing still with its motor off, and the stiffness (n, n) it is solved with: the per-point path's
+    :func:`~ddgsa.models.hss_rig.model.still_rig` on this rig's own System, without a second build.
+
+    The rig is packed without its motor (:func:`ddgsa.mbs.compiled.pack`) and taken at its undeformed state at
+    rest. Where no element carries a load there (every wrench zero: no misalignment), the elements add no
+    geometric terms and the stiffness is the kernel's tangents alone (:func:`~ddgsa.mbs.modal.linearise_system`
+    with every column a tangent: one evaluation instead of 21 differenced columns' 42 residuals). Checked against
+    the per-point path's all-differenced still rig (``tests/models/test_hss_rig_block.py``): every column within
+    1e-6 of its largest entry (measured 8e-9, the differences' noise), the sag within 1e-9 of its largest entry
+    (measured 6e-11). A loaded coupling (misaligned) takes :func:`still_rig` with half its columns differenced,
+    as before: its preload's geometric terms, which the tangents leave out, move the shaft's sag by up to 6x."""
+    still_rig, still_key = (model.block_parts[k] for k in ("still_rig", "still_key"))
+    system = rig.system
+    packed = pack(system, [e for e in system.elements if e.name != "motor"])
+    rest = np.zeros(system.n)
+    if np.any(evaluate(packed, system.q0, rest, 0.0)[4]):
+        sag, k = still_rig(still_key(plain), model.basis, True)
+        return sag, k
+    lin = linearise_system(system, system.q0, rest, compiled=packed, static=True, tangent_columns=np.arange(system.n))
+    return np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0], lin.k
+
+
 def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Point:
     """The kernel's part of one point (see the module)."""
-    pole_pairs, still_key, still_rig = (model.block_parts[k] for k in ("pole_pairs", "still_key", "still_rig"))
+    pole_pairs = model.block_parts["pole_pairs"]
     drive = drive_for(raw, scene, pole_pairs)
     spin = steady_speed(drive, raw["load_torque"], raw["load_speed_exponent"], RATED_SPEED)
     # the rig without its turning loads (the per-point path's rig for the coupling's stretch): they are
@@ -101,9 +128,11 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
     plain = {**model.effective(raw), "eccentric_mass": 0.0}
     rig = build(plain, kloss_parts(drive), spin=spin, basis=model.basis)
     system = rig.system
-    q0, qd0 = model.initial_state(rig, plain, True)
+    sag, k_rest = _at_rest(model, rig, plain)
+    q0, qd0 = system.q0.copy(), system.qd0.copy()
+    q0 += sag
     if raw["coupling_asymmetry"] > 0.0:
-        stretch = operating_stretch(rig, q0, qd0, tangent=still_rig(still_key(plain), model.basis, True)[1])
+        stretch = operating_stretch(rig, q0, qd0, tangent=k_rest)
     lin = nonrotating.linearise(system, q0, qd0, tangent_columns=tangent_columns(system))
     period = 2 * math.pi / spin
     loads: list[Element] = [EccentricMass(rig.markers["disk"], raw["eccentric_mass"], raw["eccentric_radius"])]
