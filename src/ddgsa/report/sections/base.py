@@ -137,6 +137,9 @@ class Folder:
     """The PNG names the sections' charts have (the page draws them, it does not inline the PNGs)."""
     shown: set[str] = field(default_factory=set)
     """The CSV names the sections show (the rest go to "Other tables")."""
+    record: dict[str, Any] | None = None
+    """The provenance to read instead of the folder's ``provenance.json``: a report being written draws its
+    charts before that file is (their units come from its model)."""
     svgs: dict[str, str] = field(default_factory=dict)
     """Charts already drawn as SVG (ids in :data:`SVG_ID_SLOT`) by PNG name: the report's writer draws each
     figure once for its PNG and the page."""
@@ -153,7 +156,7 @@ class Folder:
 
     @cached_property
     def provenance(self) -> dict[str, Any]:
-        return read_json(self.path / "provenance.json")
+        return self.record if self.record is not None else read_json(self.path / "provenance.json")
 
     @cached_property
     def study(self) -> dict[str, Any]:
@@ -166,7 +169,8 @@ class Folder:
     def units(self) -> dict[str, str]:
         """Units by column name: the report's own axes, the model's scene fields, parameters and outputs
         (:meth:`ddgsa.models.base.Model.units`, when the model of the provenance is registered), a unit the
-        study file writes beside a parameter, then the units the folder's tables state."""
+        study file writes beside a parameter or an output (``outputs: [{name, unit}]`` or ``output_units``:
+        the tables hold that output in it), then the units the folder's tables state."""
         units = dict(AXIS_UNITS)
         model = self.provenance.get("model") or {}
         if model.get("name"):
@@ -179,6 +183,11 @@ class Folder:
         for name, spec in (self.study.get("parameters") or {}).items():
             if isinstance(spec, dict) and spec.get("unit"):
                 units[name] = str(spec["unit"])
+        for spec in self.study.get("outputs") or []:
+            if isinstance(spec, dict) and spec.get("name") and spec.get("unit"):
+                units[str(spec["name"])] = str(spec["unit"])
+        given = self.study.get("output_units")
+        units.update({str(k): str(v) for k, v in given.items()} if isinstance(given, dict) else {})
         for table, col, unit in (("indices.csv", "output", "output_unit"), ("output_moments.csv", "output", "unit")):
             df = self.csv(table)
             if df is not None and unit in df:
