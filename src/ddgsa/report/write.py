@@ -40,6 +40,7 @@ from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.report.outdir import COMPLETE_NAME, mark_complete, previous_files, remove_stale, unmark_complete  # noqa: E402
 from ddgsa.report.sections import SECTIONS  # noqa: E402
 from ddgsa.report.sections.base import SVG_ID_SLOT, Folder, svg_of  # noqa: E402
+from ddgsa.report.sections.confirmation import escalation_lines  # noqa: E402
 from ddgsa.report.sections.provenance import model_words  # noqa: E402
 from ddgsa.report.sections.signals import summary_lines as signal_summary_lines  # noqa: E402
 from ddgsa.report.sections.sweep import sweep_keys, sweep_summary  # noqa: E402
@@ -228,7 +229,8 @@ def _mark(trusted: bool, rank_confirmed: bool) -> str:
 
 def _confirmed_section(result: StudyResult) -> list[str]:
     """The count of each verdict over the (scene, output) pairs (:func:`ddgsa.execute.confirm.confirmation_table`,
-    ``confirmation.csv``) and the runs spent."""
+    ``confirmation.csv``), the runs spent and, with ``confirm:``, what its escalation spent and how it ended
+    (:func:`ddgsa.report.sections.confirmation.escalation_lines`)."""
     table = verdicts(result)
     n_runs = result.provenance.get("evaluations", {}).get("total", len(result.evaluations))
     count = table["verdict"].value_counts()
@@ -238,6 +240,8 @@ def _confirmed_section(result: StudyResult) -> list[str]:
     lines = [f"Confirmed: {done} of {len(table)} (scene, output) pairs" + (f" ({', '.join(parts)})" if parts else "")
              + f" at a cost of {n_runs} model runs" + (" (unconfirmed ones: see Problems)." if done < len(table) else "."),
              ""]
+    spent = escalation_lines(result.provenance.get("confirm") or [], max(1, int(result.study.spec.scenes.realisations)))
+    lines += spent + ([""] if spent else [])
     if len(flat):
         lines += ["Nothing to rank (the spread over the design is within the output's resolution, a sensor's noise "
                   "or the numerical floor; no runs are advised): "
@@ -255,9 +259,10 @@ def crosscheck_lines(sobol: pd.DataFrame) -> list[str]:
     if not len(cross) or not len(own):
         return []
     lines = ["## Cross-checks (not requested; fitted on the study's own runs at no extra cost)", "",
-             "They check the requested methods, they are not the study's answer: `pooled_pce` is a sparse PCE on "
-             "every point of a scene, `given_data_s1` first-order indices from the drawn points (never trusted: "
-             "it has no ST).", "", "| scene | output | method | trusted rows | largest S1 (parameter) |",
+             "They check the requested methods and are left out of the rankings above: `pooled_pce` is a sparse "
+             "PCE on every point of a scene, `given_data_s1` first-order indices from the drawn points (never "
+             "trusted: it has no ST). Like any method, one whose rows of an output are all trusted or rank-confirmed "
+             "confirms that (scene, output) pair: `confirmation.csv` then names it in `method`.", "", "| scene | output | method | trusted rows | largest S1 (parameter) |",
              "|---|---|---|---|---|"]
     for (scene, out, meth), g in cross.groupby(["scene", "output", "method"], sort=False):
         top = g.loc[g["S1"].astype(float).idxmax()] if g["S1"].notna().any() else None
