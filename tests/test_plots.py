@@ -279,3 +279,23 @@ def test_scene_bars_and_heatmap_say_one_thing_per_panel_and_only_what_they_draw(
     assert "nothing to rank" in " ".join(t.get_text() for t in panel.texts)
     assert not [ax for ax in fig.axes if ax.get_title().startswith("y")][0].texts     # a drawn panel: no text
     _check(fig)
+
+
+def test_chart_titles_name_only_the_scene_fields_the_model_reads(tmp_path) -> None:
+    """Newcomer trial: the analytic model (Ishigami x wind_speed / 11) had bars titled 'wind_speed=8,
+    turbulence_intensity=0.12, inclination_deg=0, shear_exponent=0.2', fields it never reads; a wind
+    turbine model's titles keep all four."""
+    from ddgsa.report.sections import indices
+    from ddgsa.report.sections.base import Folder
+
+    _indices(["y"], ["mdrm"], ["x1", "x2", "x3"]).to_csv(tmp_path / "indices.csv", index=False)
+    titles = {}
+    for model in ("analytic", "direct_drive"):
+        folder = Folder(tmp_path, record={"model": {"name": model}})
+        chart = next(c for c in indices.charts(folder) if c.png == "bars_scene0.png")
+        fig = chart.draw()
+        titles[model] = (fig._suptitle.get_text(), chart.caption)
+        plt.close(fig)
+    assert titles["analytic"][0] == "Sobol indices, wind_speed=6" and "turbulence" not in titles["analytic"][1]
+    assert titles["direct_drive"][0] == ("Sobol indices, wind_speed=6, turbulence_intensity=0.12, inclination_deg=0, "
+                                         "shear_exponent=0.2")

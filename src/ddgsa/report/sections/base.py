@@ -166,20 +166,32 @@ class Folder:
         return data if isinstance(data, dict) else {}
 
     @cached_property
+    def model(self) -> Any:
+        """The provenance's model (None where it names none or it is not registered here)."""
+        model = self.provenance.get("model") or {}
+        if not model.get("name"):
+            return None
+        try:
+            return get_model(model["name"], fidelity=model.get("fidelity"), **(model.get("options") or {}))
+        except (DdgsaError, TypeError):
+            return None
+
+    def title_fields(self, fields: Sequence[str]) -> list[str]:
+        """The scene label ``fields`` a chart title names: those the model reads
+        (:attr:`ddgsa.models.base.Model.scene_fields_read`; the analytic model reads ``wind_speed`` only),
+        all of them where it does not say or reads none of them."""
+        read = getattr(self.model, "scene_fields_read", None)
+        return [f for f in fields if read is None or f in read] or list(fields)
+
+    @cached_property
     def units(self) -> dict[str, str]:
         """Units by column name: the report's own axes, the model's scene fields, parameters and outputs
         (:meth:`ddgsa.models.base.Model.units`, when the model of the provenance is registered), a unit the
         study file writes beside a parameter or an output (``outputs: [{name, unit}]`` or ``output_units``:
         the tables hold that output in it), then the units the folder's tables state."""
         units = dict(AXIS_UNITS)
-        model = self.provenance.get("model") or {}
-        if model.get("name"):
-            try:
-                m = get_model(model["name"], fidelity=model.get("fidelity"), **(model.get("options") or {}))
-            except (DdgsaError, TypeError):
-                m = None
-            if m is not None:
-                units.update(m.units())
+        if self.model is not None:
+            units.update(self.model.units())
         for name, spec in (self.study.get("parameters") or {}).items():
             if isinstance(spec, dict) and spec.get("unit"):
                 units[name] = str(spec["unit"])

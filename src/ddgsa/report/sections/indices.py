@@ -301,7 +301,7 @@ def charts(folder: Folder) -> list[Chart]:
     idx = folder.csv("indices.csv")
     if idx is None or not len(idx):
         return []
-    units, fields = folder.units, scene_fields(idx)
+    units, fields = folder.units, folder.title_fields(scene_fields(idx))
     conf = folder.csv("confirmation.csv")
     sobol = sobol_rows(idx)
     out: list[Chart] = []
