@@ -256,3 +256,46 @@ def test_agreement_chart_shows_every_point_and_only_the_checks_it_draws() -> Non
     assert fig.axes[0].get_legend() is None
     assert "no finite M-DRM index" in " ".join(t.get_text() for t in fig.axes[0].texts)
     plt.close(fig)
+
+
+def test_scene_bars_and_heatmap_say_one_thing_per_panel_and_only_what_they_draw() -> None:
+    """Newcomer trial: RBD-FAST's bars (S1 only) had an ST legend entry; a panel of an output with nothing to
+    rank was titled "nothing to rank" over the text "indices refused"; its heatmap panel was blank and unsaid."""
+    rows = _indices(["y", "flat"], ["rbd_fast"], ["x1", "x2", "x3"]).assign(ST=np.nan, ST_conf=np.nan)
+    rows.loc[rows["output"] == "flat", "S1"] = np.nan
+    rows["verdict"] = np.where(rows["output"] == "flat", "nothing to rank", "unconfirmed")
+    verdicts = pd.DataFrame({"scene": [0, 0], "output": ["y", "flat"], "method": ["rbd_fast"] * 2,
+                             "verdict": ["unconfirmed", "nothing to rank"]})
+    fig = plot_scene_bars(rows[rows["scene"] == 0], {"y": "-", "flat": "-"}, verdicts=verdicts)
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == ["S1", "untrusted"]
+    flat = [ax for ax in fig.axes if ax.get_title().startswith("flat")][0]
+    said = " ".join(t.get_text() for t in flat.texts)
+    assert flat.get_title().endswith("nothing to rank") and "nothing to rank" in said and "refused" not in said
+    _check(fig)
+    both = rows.assign(ST=0.5)
+    both.loc[both["output"] == "flat", "ST"] = np.nan
+    fig = plot_heatmap(both, {"y": "-", "flat": "-"})
+    panel = [ax for ax in fig.axes if ax.get_title().startswith("flat")][0]
+    assert "nothing to rank" in " ".join(t.get_text() for t in panel.texts)
+    assert not [ax for ax in fig.axes if ax.get_title().startswith("y")][0].texts     # a drawn panel: no text
+    _check(fig)
+
+
+def test_chart_titles_name_only_the_scene_fields_the_model_reads(tmp_path) -> None:
+    """Newcomer trial: the analytic model (Ishigami x wind_speed / 11) had bars titled 'wind_speed=8,
+    turbulence_intensity=0.12, inclination_deg=0, shear_exponent=0.2', fields it never reads; a wind
+    turbine model's titles keep all four."""
+    from ddgsa.report.sections import indices
+    from ddgsa.report.sections.base import Folder
+
+    _indices(["y"], ["mdrm"], ["x1", "x2", "x3"]).to_csv(tmp_path / "indices.csv", index=False)
+    titles = {}
+    for model in ("analytic", "direct_drive"):
+        folder = Folder(tmp_path, record={"model": {"name": model}})
+        chart = next(c for c in indices.charts(folder) if c.png == "bars_scene0.png")
+        fig = chart.draw()
+        titles[model] = (fig._suptitle.get_text(), chart.caption)
+        plt.close(fig)
+    assert titles["analytic"][0] == "Sobol indices, wind_speed=6" and "turbulence" not in titles["analytic"][1]
+    assert titles["direct_drive"][0] == ("Sobol indices, wind_speed=6, turbulence_intensity=0.12, inclination_deg=0, "
+                                         "shear_exponent=0.2")

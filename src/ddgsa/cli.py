@@ -194,8 +194,9 @@ def _dispatch(args: argparse.Namespace) -> int:
               f"{plural(len(study.spec.parameters), 'parameter')}, {plural(len(sc.grid()), 'scene')} x "
               f"{plural(sc.realisations, 'realisation')})")
         if not args.quiet:
-            print(f"checked: the sampling of every scene, {len(support_points(study))} points of the parameters' "
-                  f"support ({SAMPLE} of them sampled), parameters without effect, units")
+            support = (f"{plural(len(support_points(study)), 'point')} of the parameters' support ({SAMPLE} of "
+                       "them sampled), " if study.space is not None else "")      # a sweep has no support to check
+            print(f"checked: the sampling of every scene, {support}parameters without effect, units")
         return EXIT_OK
     if args.command == "models":
         _print_models(args.name)

@@ -260,3 +260,14 @@ def test_fidelity_defaults_to_the_models_richest(write_study) -> None:
     assert study.spec.model.fidelity == "linearised"
     quick = ddgsa.study.spec.load_study(SEED003_DIR / "quickstart.yaml")
     assert quick.spec.model.fidelity == "rigid"
+
+
+def test_validate_a_sweep_counts_its_runs_and_claims_no_support(write_study, capsys) -> None:
+    """A sweep has no parameter support to check (no distributions): validate does not claim "1 points of
+    the parameters' support"; it says its runs, 3 grid points x 2 scenes x 2 realisations = 12 (newcomer trial)."""
+    path = write_study("sw", text="name: sw\nkind: sweep\nmodel: {name: analytic}\ngrid: {x1: [0.0, 1.0, 2.0]}\n"
+                                  "scenes: {wind_speed: [8, 11], realisations: 2}\n")
+    assert main(["validate", str(path)]) == 0
+    got = capsys.readouterr()
+    assert "support" not in got.out and "checked: the sampling of every scene, parameters without effect" in got.out
+    assert "evaluations: 3 grid points x 2 scenes x 2 realisations = 12 model runs" in got.err

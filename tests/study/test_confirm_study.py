@@ -6,12 +6,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 import pytest
 
 from ddgsa.cli import main
 from ddgsa.gsa.escalate import PCE_NAME
+from ddgsa.gsa.testfunctions import ishigami
 from ddgsa.execute.pipeline import execute
 from ddgsa.execute.kinds.gsa import GsaResult
 from ddgsa.runner import EvaluationStore
@@ -39,6 +41,37 @@ def test_the_pipeline_adds_the_escalation_beside_the_methods(write_study, tmp_pa
     again = execute(load_study(path), store, quiet=True)
     assert again.provenance["evaluations"]["evaluated"] == 0
     assert again.indices.equals(t)
+
+
+def test_the_escalation_says_what_confirmed_and_lends_its_draws_to_the_moments(write_study, tmp_path: Path) -> None:
+    """Newcomer trial (#48): the log said 'saltelli (...): every output confirmed' where confirmation.csv
+    credited confirm_pce, and the summary said the cross-checks are 'not the study's answer' where a verdict
+    came from pooled_pce; the moments came from M-DRM's 32-point check sample beside the escalation's larger
+    sample; the summary did not say what the escalation spent or why it stopped. Ishigami (a = 7, b = 0.1)
+    has mean a / 2 = 3.5 and variance a^2/8 + b pi^4/5 + b^2 pi^8/18 + 1/2 = 13.84 (std 3.72)."""
+    from ddgsa.execute.confirm import verdicts
+    from ddgsa.report.write import summary_markdown
+
+    text = write_study().read_text().replace("  - {method: saltelli, n: 64, seed: 0}\n", "")
+    text = text.replace("wind_speed: [8.0, 11.0]", "wind_speed: 11.0").replace("realisations: 2", "realisations: 1")
+    path = tmp_path / "c.yaml"
+    path.write_text(text.replace("outputs: [y, y_positive]", "outputs: [y]") + "confirm: {budget: 300}\n")
+    res = execute(load_study(path), EvaluationStore(tmp_path / "evaluations.sqlite"), quiet=True)
+    method = verdicts(res).set_index("output").loc["y", "method"]
+    assert method == PCE_NAME
+    assert res.provenance["confirm"][0]["log"][-1] == f"pce (+45 runs, 45 of 300): every output confirmed (by {method})"
+    m = res.moments.set_index("output").loc["y"]
+    assert m["n"] == 45 and m["source"] == "confirm: escalation's draws (45 points)"
+    study = load_study(path)                            # the escalation's points: its Sobol' sequence, seed + 2
+    y = ishigami().f(study.space.sample(64, seed=2, rule="sobol")[:45])
+    assert m["mean"] == pytest.approx(y.mean(), rel=1e-6) and m["std"] == pytest.approx(y.std(ddof=1), rel=1e-6)
+    var = 7**2 / 8 + 0.1 * np.pi**4 / 5 + 0.01 * np.pi**8 / 18 + 0.5    # and they are a sample of Ishigami:
+    assert abs(m["mean"] - 3.5) < 0.6 and abs(m["std"] / np.sqrt(var) - 1) < 0.15   # ~1 plain-MC standard error
+    summary = summary_markdown(res)
+    assert ("- `confirm:` escalation, scene 0: 45 runs spent (budget: 300 points per scene); last: pce (+45 runs, "
+            f"45 of 300): every output confirmed (by {method})") in summary
+    # a cross-check (pooled_pce) may give a verdict like any method: the summary no longer says it cannot
+    assert "not the study's answer" not in summary and "confirms that (scene, output) pair" in summary
 
 
 @pytest.mark.slow

@@ -277,3 +277,18 @@ def test_model_options_are_named_in_summary_and_provenance(tmp_path: Path) -> No
     assert "<dt>model</dt><dd>direct_drive (linear; bearing_damping=stiffness_proportional; " \
            "bending_rayleigh=printed;" in page
 
+
+
+def test_the_verdicts_section_says_what_the_confirm_escalation_spent_and_why_it_stopped(tmp_path: Path) -> None:
+    """Newcomer trial (#48): a time budget's escalation ran 981 runs and stopped on the budget; only the console
+    and provenance.json said so. The page's Verdicts section now says it, from provenance.json."""
+    (tmp_path / "confirmation.csv").write_text(
+        "scene,output,verdict,method,runs,std,resolution,ranking,next_step,next_runs,next_seconds\n"
+        "0,y,unconfirmed,mdrm,24,1.0,0,,add saltelli,7168,500\n")
+    stop = "stopped by the time budget (120 s): the next stage's 7168 runs would take ~366 s, 61.7 s were left"
+    (tmp_path / "provenance.json").write_text(json.dumps(
+        {"study": "c", "confirm": [{"scene": 0, "budget": None, "time_s": 120.0, "spent": 981, "log": ["...", stop]}]}))
+    (tmp_path / "study.yaml").write_text("scenes: {realisations: 2}\n")
+    page = write_html(tmp_path).read_text()
+    verdicts = page.split('<section id="confirmation">')[1].split("</section>")[0]
+    assert "escalation, scene 0: 1962 runs spent (budget: 120 s of wall time); last: " + stop in verdicts

@@ -356,3 +356,30 @@ def test_the_page_a_run_writes_is_the_page_ddgsa_html_rebuilds_from_the_files(wr
     pngs = sorted(p.name for p in out.glob("*.png"))
     assert pngs == ["bars_scene0.png", "mdrm_vs_crosscheck.png"]
     assert page.count("<svg ") >= len(pngs) + 1 and "data:image/png" not in page       # + S1 against ST
+
+
+SWEEP = """name: sw
+kind: sweep
+model: {name: analytic}
+grid: {x1: [0.5, 1.0, 2.0]}
+scenes: {wind_speed: {value: [18, 36], unit: km/h}}
+outputs: [y]
+"""
+
+
+def test_a_fresh_sweeps_report_says_units_and_heads_its_table_apart(write_study, tmp_path: Path) -> None:
+    """Newcomer trial (nc_sweep): in a fresh folder the charts had no units (drawn before provenance.json named
+    the model), the legend said 'wind_speed=5' for 18 km/h, the summary's sweep table had no units and its
+    Outputs table only '-', and report.html had two 'Sweep' headings."""
+    out = tmp_path / "out"
+    assert main(["-q", "run", str(write_study("sw", text=SWEEP)), "--out", str(out)]) == 0
+    summary = (out / "summary.md").read_text()
+    outputs = summary.split("## Outputs")[1].split("##")[0]
+    assert "| `y` | - |" in outputs and "| - | - |" not in outputs and "mean" not in outputs
+    assert "| scene | wind_speed [m/s] | x1 [-] | y_mean [-] |" in summary
+    assert "| 0 | 5 | 0.5 |" in summary and "| 1 | 10 | 2 |" in summary          # 18 and 36 km/h in SI
+    page = (out / "report.html").read_text()
+    headings = re.findall(r"<h[23][^>]*>([^<]*)<", page)
+    assert len(headings) == len(set(headings)) and "Sweep" in headings
+    assert ">wind_speed 5 m/s<" in page and ">wind_speed 10 m/s<" in page and ">y [-]<" in page
+    assert ">x1 [-]<" in page and "1e" not in "".join(re.findall(r">([^<]*)</text>", page))

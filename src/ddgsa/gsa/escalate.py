@@ -86,18 +86,31 @@ MAX_ENTRIES = 1_000_000
 """Largest regression matrix (points x terms) of a refit: its least-angle path costs seconds."""
 
 
-def confirmed_outputs(results: Sequence[SobolResult], outputs: Sequence[str],
-                      ranking: tuple[float | None, float | None] = (None, None)) -> dict[str, bool]:
-    """Per output: some result has every row of it ``trusted`` or ``rank_confirmed`` (rank claims made
-    with ``ranking`` = (tie margin, negligible floor), :meth:`SobolResult.rerank`; None: the tolerance)."""
-    out = {o: False for o in outputs}
+def confirming_methods(results: Sequence[SobolResult], outputs: Sequence[str],
+                       ranking: tuple[float | None, float | None] = (None, None)) -> dict[str, str | None]:
+    """Per output: the method of the first result with every row of it ``trusted``, else of the first with
+    every row ``trusted`` or ``rank_confirmed`` -- the preference of ``confirmation.csv``
+    (:func:`ddgsa.execute.confirm.pair_status`) -- or None (rank claims made with ``ranking`` = (tie margin,
+    negligible floor), :meth:`SobolResult.rerank`; None: the tolerance)."""
+    trusted: dict[str, str] = {}
+    placed: dict[str, str] = {}
     for res in results:
         t = res.rerank(*ranking).indices if ranking != (None, None) else res.indices
-        ok = (t["trusted"].astype(bool) | t["rank_confirmed"].astype(bool)).groupby(t["output"]).all()
-        for o, v in ok.items():
-            if o in out and bool(v):
-                out[o] = True
-    return out
+        rows = t.assign(ok=t["trusted"].astype(bool) | t["rank_confirmed"].astype(bool),
+                        tr=t["trusted"].astype(bool)).groupby("output")[["tr", "ok"]].all()
+        for o, r in rows.iterrows():
+            if r["tr"]:
+                trusted.setdefault(str(o), res.method)
+            if r["ok"]:
+                placed.setdefault(str(o), res.method)
+    return {o: trusted.get(o, placed.get(o)) for o in outputs}
+
+
+def confirmed_outputs(results: Sequence[SobolResult], outputs: Sequence[str],
+                      ranking: tuple[float | None, float | None] = (None, None)) -> dict[str, bool]:
+    """Per output: some result has every row of it ``trusted`` or ``rank_confirmed``
+    (:func:`confirming_methods`)."""
+    return {o: m is not None for o, m in confirming_methods(results, outputs, ranking).items()}
 
 
 @dataclass
@@ -204,9 +217,27 @@ class Escalation:
             self._refit()
         bad = self.unconfirmed()
         spent = f"{self.spent} so far" if self.budget >= TIME_ONLY else f"{self.spent} of {self.budget}"
-        self.log.append(f"{kind} (+{len(pts)} runs, {spent}): "
-                        + ("every output confirmed" if not bad else f"unconfirmed: {', '.join(bad)}"))
+        self.log.append(f"{kind} (+{len(pts)} runs, {spent}): " + self._verdict_words(bad))
         return self._next()
+
+    def _verdict_words(self, bad: list[str]) -> str:
+        """``every output confirmed (by confirm_pce)`` / ``unconfirmed: a; b confirmed by mdrm``: the
+        confirming method named, since a stage's runs may confirm through another result than its own (a
+        Saltelli stage's rows refit the pooled expansion too)."""
+        by = {o: m for o, m in confirming_methods(self.results + self.stages, self.outputs, self.ranking).items()
+              if m is not None}
+        named = (f"by {next(iter(set(by.values())))}" if len(set(by.values())) == 1
+                 else ", ".join(f"{o} by {m}" for o, m in by.items()))
+        if not bad:
+            return "every output confirmed" + (f" ({named})" if by else "")
+        return f"unconfirmed: {', '.join(bad)}" + (f"; {', '.join(by)} confirmed {named}" if len(set(by.values())) == 1
+                                                   else f"; confirmed: {named}" if by else "")
+
+    def drawn_values(self) -> NDArray[np.float64]:
+        """Values (n, k) at the points this escalation added that are draws of the input distribution (its
+        PCE points and Saltelli rows, not its focus points), failed rows included: a sample of the outputs."""
+        start = len(self.x) - self.spent
+        return self.y[start:][self._drawn[start:]]
 
     def _saltelli_result(self, design: Design) -> SobolResult:
         """The Saltelli stage's indices: with the control variates when any process was fitted (each in

@@ -59,6 +59,7 @@ class Analytic(_Static):
     signal_outputs = (SignalOutput("waves", "-", "12 + x1 sin(4 pi t) + 2 x2 sin(10 pi t), times wind_speed / 11",
                                    "time", "s"),)
     fidelities = ("exact",)
+    scene_fields_read = ("wind_speed",)
     options = (ModelOption("fail_above", "number", "raise for x1 above this value", optional=True),
                ModelOption("delay_s", "number", "sleep per point", 0.0, 60.0, "s"))
 

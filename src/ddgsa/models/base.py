@@ -302,6 +302,9 @@ class Model(ABC):
 
     name: ClassVar[str] = ""
     scene_type: ClassVar[type] = Scene
+    scene_fields_read: ClassVar[tuple[str, ...] | None] = None
+    """The scene fields the model's outputs depend on; None: every field of its ``scene_type``. Tables keep
+    every label field; the report's chart titles name only these."""
     basis_rule: ClassVar[BasisRule | None] = None
     """How the model's finite-element shaft basis is checked for convergence (:mod:`ddgsa.models.basis`);
     ``None``: no such basis."""

@@ -40,6 +40,7 @@ from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.report.outdir import COMPLETE_NAME, mark_complete, previous_files, remove_stale, unmark_complete  # noqa: E402
 from ddgsa.report.sections import SECTIONS  # noqa: E402
 from ddgsa.report.sections.base import SVG_ID_SLOT, Folder, svg_of  # noqa: E402
+from ddgsa.report.sections.confirmation import escalation_lines  # noqa: E402
 from ddgsa.report.sections.provenance import model_words  # noqa: E402
 from ddgsa.report.sections.signals import summary_lines as signal_summary_lines  # noqa: E402
 from ddgsa.report.sections.sweep import sweep_keys, sweep_summary  # noqa: E402
@@ -69,7 +70,8 @@ def write_report(result: StudyResult, out: Path) -> list[Path]:
             df.to_csv(out / name, index=False, float_format="%.6g")
             written.append(out / name)
     study_file = result.study.path if not (out / "study.yaml").is_file() else None
-    folder = Folder(out, study_file=study_file)      # the charts read the tables just written, as report.html does
+    folder = Folder(out, study_file=study_file,      # the charts read the tables just written, as report.html does,
+                    record=result.provenance)         # and the provenance written after them
     figures = [(make, out / name) for section in SECTIONS for name, make in section.figures(result)]
     charts = [(chart.draw, out / chart.png) for section in SECTIONS for chart in section.charts(folder) if chart.png]
     svgs = render_figures(figures + charts, svg=[path for _, path in charts])
@@ -205,9 +207,13 @@ def _failure_reasons(failures: list[dict[str, Any]], most: int = 10) -> list[str
 
 
 def _outputs_section(result: StudyResult, info: dict[str, ModelOutput]) -> list[str]:
-    """What each output is, its unit, and how much it varies (mean, CV) per scene."""
-    lines = ["## Outputs", "", "| output | unit | what it is | scene | mean | CV | from |", "|---|---|---|---|---|---|---|"]
+    """What each output is, its unit, and how much it varies (mean, CV) per scene; a study without moments
+    (a sweep: no distributions to draw from) has no such columns."""
     mom = result.moments if result.moments is not None else pd.DataFrame(columns=["scene", "output"])
+    if not len(mom):
+        return (["## Outputs", "", "| output | unit | what it is |", "|---|---|---|"]
+                + [f"| `{name}` | {o.unit or '?'} | {o.description} |" for name, o in info.items()] + [""])
+    lines = ["## Outputs", "", "| output | unit | what it is | scene | mean | CV | from |", "|---|---|---|---|---|---|---|"]
     for name, o in info.items():
         rows = mom[mom["output"] == name].to_dict("records") or [{}]
         for r in rows:
@@ -223,7 +229,8 @@ def _mark(trusted: bool, rank_confirmed: bool) -> str:
 
 def _confirmed_section(result: StudyResult) -> list[str]:
     """The count of each verdict over the (scene, output) pairs (:func:`ddgsa.execute.confirm.confirmation_table`,
-    ``confirmation.csv``) and the runs spent."""
+    ``confirmation.csv``), the runs spent and, with ``confirm:``, what its escalation spent and how it ended
+    (:func:`ddgsa.report.sections.confirmation.escalation_lines`)."""
     table = verdicts(result)
     n_runs = result.provenance.get("evaluations", {}).get("total", len(result.evaluations))
     count = table["verdict"].value_counts()
@@ -233,6 +240,8 @@ def _confirmed_section(result: StudyResult) -> list[str]:
     lines = [f"Confirmed: {done} of {len(table)} (scene, output) pairs" + (f" ({', '.join(parts)})" if parts else "")
              + f" at a cost of {n_runs} model runs" + (" (unconfirmed ones: see Problems)." if done < len(table) else "."),
              ""]
+    spent = escalation_lines(result.provenance.get("confirm") or [], max(1, int(result.study.spec.scenes.realisations)))
+    lines += spent + ([""] if spent else [])
     if len(flat):
         lines += ["Nothing to rank (the spread over the design is within the output's resolution, a sensor's noise "
                   "or the numerical floor; no runs are advised): "
@@ -250,9 +259,10 @@ def crosscheck_lines(sobol: pd.DataFrame) -> list[str]:
     if not len(cross) or not len(own):
         return []
     lines = ["## Cross-checks (not requested; fitted on the study's own runs at no extra cost)", "",
-             "They check the requested methods, they are not the study's answer: `pooled_pce` is a sparse PCE on "
-             "every point of a scene, `given_data_s1` first-order indices from the drawn points (never trusted: "
-             "it has no ST).", "", "| scene | output | method | trusted rows | largest S1 (parameter) |",
+             "They check the requested methods and are left out of the rankings above: `pooled_pce` is a sparse "
+             "PCE on every point of a scene, `given_data_s1` first-order indices from the drawn points (never "
+             "trusted: it has no ST). Like any method, one whose rows of an output are all trusted or rank-confirmed "
+             "confirms that (scene, output) pair: `confirmation.csv` then names it in `method`.", "", "| scene | output | method | trusted rows | largest S1 (parameter) |",
              "|---|---|---|---|---|"]
     for (scene, out, meth), g in cross.groupby(["scene", "output", "method"], sort=False):
         top = g.loc[g["S1"].astype(float).idxmax()] if g["S1"].notna().any() else None
@@ -493,18 +503,28 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
     if result.fault is not None:
         lines += _fault_markdown(result)
     if result.sweep is not None:
-        lines += ["## Sweep", "", "See `sweep_summary.csv` and `sweep_*.png` (means over realisations, +- one std).",
-                  ""]
-        grid = list(result.study.spec.grid)
-        summary = sweep_summary(result.sweep, result.study.outputs, grid)
-        if len(summary) <= 40:
-            keys = [k for k in sweep_keys(summary, grid) if k == "variant" or k in grid or summary[k].nunique() > 1]
-            cols = keys + [f"{o}_mean" for o in result.study.outputs]
-            lines += ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
-            lines += ["| " + " | ".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in row) + " |"
-                      for row in summary[cols].itertuples(index=False)]
-            lines.append("")
+        lines += _sweep_lines(result, info)
     return "\n".join(lines)
+
+
+def _sweep_lines(result: StudyResult, info: dict[str, ModelOutput]) -> list[str]:
+    """The summary's table of a sweep's means, each column with its unit (SI, or the unit the study gave an
+    output); headed apart from the page's own "Sweep" section."""
+    lines = ["## Sweep means (per scene and grid point)", "",
+             "See `sweep_summary.csv` and `sweep_*.png` (means over realisations, +- one std).", ""]
+    grid = list(result.study.spec.grid)
+    summary = sweep_summary(result.sweep, result.study.outputs, grid)
+    if len(summary) <= 40:
+        units = {**result.study.make_model().units(), **{o: d.unit for o, d in info.items()}}
+        keys = [k for k in sweep_keys(summary, grid) if k == "variant" or k in grid or summary[k].nunique() > 1]
+        cols = keys + [f"{o}_mean" for o in result.study.outputs]
+        head = [c if c in ("variant", "scene") else
+                f"{c} [{units.get(c[:-5] if c.endswith('_mean') and c not in keys else c) or '?'}]" for c in cols]
+        lines += ["| " + " | ".join(head) + " |", "|" + "---|" * len(cols)]
+        lines += ["| " + " | ".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in row) + " |"
+                  for row in summary[cols].itertuples(index=False)]
+        lines.append("")
+    return lines
 
 
 def sampling_markdown(rows: list[dict]) -> list[str]:

@@ -244,9 +244,20 @@ def _scene_values(study: Study) -> dict[str, list[Any]]:
 def evaluation_plan(study: Study) -> str:
     """What the study will evaluate, per method and in total, with every sample a method adds of
     its own (e.g. M-DRM's check sample, option ``check``, default 32) named; methods share equal
-    points, which run once. Empty for a study without methods or with ``method: auto``."""
+    points, which run once. A sweep: its grid points (the full factorial, one point without a grid) x
+    variants x scenes x realisations. Empty for a study without methods or with ``method: auto``."""
     from ddgsa.gsa.base import get_method
 
+    sc = study.spec.scenes
+    n_scenes = len(sc.grid())
+    times = (f" x {n_scenes} scene{'s' * (n_scenes != 1)} x {sc.realisations} "
+             f"realisation{'s' * (sc.realisations != 1)}")
+    if study.spec.kind == "sweep":
+        points = math.prod(len(v) for v in study.spec.grid.values())
+        variants = len(study.spec.model.variants)
+        runs = points * max(variants, 1) * n_scenes * sc.realisations
+        return (f"evaluations: {points} grid point{'s' * (points != 1)}"
+                + (f" x {variants} variant{'s' * (variants != 1)}" if variants else "") + f"{times} = {runs} model runs")
     space = study.space
     if space is None or not study.spec.methods or any(m.method == "auto" for m in study.spec.methods):
         return ""
@@ -258,9 +269,6 @@ def evaluation_plan(study: Study) -> str:
         extra = f" (including its {check}-point check sample; set by the method's `check:` option)" if check else ""
         parts.append(f"{m.method} {len(design.points)}{extra}")
     distinct = len(np.unique(np.vstack(blocks), axis=0))
-    sc = study.spec.scenes
-    runs = distinct * len(sc.grid()) * sc.realisations
-    n_scenes = len(sc.grid())
+    runs = distinct * n_scenes * sc.realisations
     return (f"evaluations per scene and realisation: {', '.join(parts)}; {distinct} distinct points (equal points "
-            f"run once) x {n_scenes} scene{'s' * (n_scenes != 1)} x {sc.realisations} "
-            f"realisation{'s' * (sc.realisations != 1)} = {runs} model runs")
+            f"run once){times} = {runs} model runs")

@@ -59,14 +59,11 @@ def moments(space: ParameterSpace, name: str, design: Design, y: np.ndarray, res
     its points; M-DRM those of its quasi-random check sample, or without one its own surrogate's
     moments (``h_c^(1-n) prod rho_i``, ``h_c^(2(1-n)) prod theta_i``; exact for products).
     """
-    finite = np.isfinite(y).all(axis=1)
     if name in SAMPLE_DESIGNS and design.options.get("fit") != "quadrature":
-        sample, source = y[finite], f"{name} sample ({_count(finite)})"
-    elif name == "mdrm" and design.options.get("check"):
-        check = y[-design.options["check"]:]
-        ok = np.isfinite(check).all(axis=1)
-        sample, source = check[ok], f"M-DRM check sample ({_count(ok)})"
-    elif name == "mdrm" and "rho" in res.extras:
+        return sample_moments(y, f"{name} sample", outputs)
+    if name == "mdrm" and design.options.get("check"):
+        return sample_moments(y[-design.options["check"]:], "M-DRM check sample", outputs)
+    if name == "mdrm" and "rho" in res.extras:
         n = space.dim
         h_c, rho, theta = res.extras["h_cut"], res.extras["rho"], res.extras["theta"]     # (k,), (k, n), (k, n)
         with np.errstate(all="ignore"):
@@ -74,12 +71,41 @@ def moments(space: ParameterSpace, name: str, design: Design, y: np.ndarray, res
             var = h_c ** (2 * (1 - n)) * np.prod(theta, axis=1) - mean ** 2
         return [{"output": o, "mean": float(mean[j]), "std": float(np.sqrt(max(var[j], 0.0))),
                  "source": "M-DRM surrogate", "n": 0} for j, o in enumerate(outputs)]
-    else:
-        return None
+    return None
+
+
+def sample_moments(y: np.ndarray, source: str, outputs: list[str]) -> list[dict[str, Any]] | None:
+    """Mean and standard deviation of each output over the finite rows of ``y`` (n, k), a sample of the
+    input distribution, with ``source`` and the count (``source (64 points)``); None below two rows."""
+    finite = np.isfinite(y).all(axis=1)
+    sample = y[finite]
     if len(sample) < 2:
         return None
     return [{"output": o, "mean": float(sample[:, j].mean()), "std": float(sample[:, j].std(ddof=1)),
-             "source": source, "n": len(sample)} for j, o in enumerate(outputs)]
+             "source": f"{source} ({_count(finite)})", "n": len(sample)} for j, o in enumerate(outputs)]
+
+
+MOMENT_COLUMNS = ["scene", "output", "mean", "std", "cv", "source", "n"]
+"""``result.moments`` (``output_moments.csv``)."""
+
+
+def _moment_row(scene: int, m: dict[str, Any]) -> dict[str, Any]:
+    """One row of :data:`MOMENT_COLUMNS`: ``m`` with its scene and CV (std / |mean|)."""
+    return {"scene": scene, **m, "cv": m["std"] / abs(m["mean"]) if m["mean"] else float("inf")}
+
+
+def _larger_moments(moments: pd.DataFrame, scene: int, found: list[dict[str, Any]]) -> pd.DataFrame:
+    """``moments`` with each (``scene``, output) row of ``found`` in place of the one there where its sample
+    is larger (the study reports the moments of its largest sample)."""
+    rows = moments.to_dict("records")
+    at = {(int(r["scene"]), r["output"]): i for i, r in enumerate(rows)}
+    for m in found:
+        i = at.get((scene, m["output"]))
+        if i is None:
+            rows.append(_moment_row(scene, m))
+        elif rows[i]["n"] < m["n"]:
+            rows[i] = _moment_row(scene, m)
+    return pd.DataFrame(rows, columns=MOMENT_COLUMNS)
 
 
 def auto_moments(res: SobolResult, outputs: list[str]) -> list[dict[str, Any]]:
@@ -138,13 +164,12 @@ def _analyse(plan: Plan, store: EvaluationStore, designs: list[tuple[str, Design
         found = [m for m in (moments(study.space, name, design, yd, res, outputs)
                              for (name, design), yd, res in zip(designs, ys, scene_results)) if m]
         found += [auto_moments(per_scene[k], outputs) for per_scene in auto]
-        for m in max(found, key=lambda ms: ms[0]["n"], default=[]):          # the largest sample
-            m["cv"] = m["std"] / abs(m["mean"]) if m["mean"] else float("inf")
-            moment_rows.append({"scene": ps.index, **m})
+        moment_rows += [_moment_row(ps.index, m)
+                        for m in max(found, key=lambda ms: ms[0]["n"], default=[])]      # the largest sample
         for res in scene_results + [per_scene[k] for per_scene in auto]:
             _add_result(study, ps, res, result, rows, diag_rows)
     result.indices = pd.concat(rows, ignore_index=True)
-    result.moments = pd.DataFrame(moment_rows, columns=["scene", "output", "mean", "std", "cv", "source", "n"])
+    result.moments = pd.DataFrame(moment_rows, columns=MOMENT_COLUMNS)
     result.diagnostics = (pd.concat(diag_rows, ignore_index=True) if diag_rows else
                           pd.DataFrame(columns=["scene", "method", "name", "severity", "output", "parameter",
                                                 "value", "message"]))
@@ -241,7 +266,9 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
              result: GsaResult) -> list[dict[str, Any]]:
     """``confirm: {budget}``: per scene, an :class:`~ddgsa.gsa.escalate.Escalation` from every point
     of the scene (every design, ``auto``'s stages included, each point once) and every result there; each stage's points of all scenes go to the runner together. The
-    escalations' results are added beside the methods'; returns their logs (provenance ``confirm``)."""
+    escalations' results are added beside the methods', and the moments of an output become those of the
+    escalation's draws of the inputs (PCE points, Saltelli rows) where they outnumber the methods' sample;
+    returns their logs (provenance ``confirm``)."""
     study = plan.study
     spec = study.spec.confirm
     assert study.space is not None and spec is not None
@@ -299,6 +326,9 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
     for ps, esc in zip(plan.scenes, escs):
         for res in esc.stages:
             _add_result(study, ps, res, result, rows, diag_rows)
+        drawn = sample_moments(esc.drawn_values(), "confirm: escalation's draws", outputs)
+        if drawn and result.moments is not None:          # its draws, where more than the methods' sample
+            result.moments = _larger_moments(result.moments, ps.index, drawn)
     result.indices = pd.concat(rows, ignore_index=True)
     if diag_rows:
         result.diagnostics = pd.concat(diag_rows, ignore_index=True)

@@ -137,6 +137,9 @@ class Folder:
     """The PNG names the sections' charts have (the page draws them, it does not inline the PNGs)."""
     shown: set[str] = field(default_factory=set)
     """The CSV names the sections show (the rest go to "Other tables")."""
+    record: dict[str, Any] | None = None
+    """The provenance to read instead of the folder's ``provenance.json``: a report being written draws its
+    charts before that file is (their units come from its model)."""
     svgs: dict[str, str] = field(default_factory=dict)
     """Charts already drawn as SVG (ids in :data:`SVG_ID_SLOT`) by PNG name: the report's writer draws each
     figure once for its PNG and the page."""
@@ -153,7 +156,7 @@ class Folder:
 
     @cached_property
     def provenance(self) -> dict[str, Any]:
-        return read_json(self.path / "provenance.json")
+        return self.record if self.record is not None else read_json(self.path / "provenance.json")
 
     @cached_property
     def study(self) -> dict[str, Any]:
@@ -163,22 +166,40 @@ class Folder:
         return data if isinstance(data, dict) else {}
 
     @cached_property
+    def model(self) -> Any:
+        """The provenance's model (None where it names none or it is not registered here)."""
+        model = self.provenance.get("model") or {}
+        if not model.get("name"):
+            return None
+        try:
+            return get_model(model["name"], fidelity=model.get("fidelity"), **(model.get("options") or {}))
+        except (DdgsaError, TypeError):
+            return None
+
+    def title_fields(self, fields: Sequence[str]) -> list[str]:
+        """The scene label ``fields`` a chart title names: those the model reads
+        (:attr:`ddgsa.models.base.Model.scene_fields_read`; the analytic model reads ``wind_speed`` only),
+        all of them where it does not say or reads none of them."""
+        read = getattr(self.model, "scene_fields_read", None)
+        return [f for f in fields if read is None or f in read] or list(fields)
+
+    @cached_property
     def units(self) -> dict[str, str]:
         """Units by column name: the report's own axes, the model's scene fields, parameters and outputs
         (:meth:`ddgsa.models.base.Model.units`, when the model of the provenance is registered), a unit the
-        study file writes beside a parameter, then the units the folder's tables state."""
+        study file writes beside a parameter or an output (``outputs: [{name, unit}]`` or ``output_units``:
+        the tables hold that output in it), then the units the folder's tables state."""
         units = dict(AXIS_UNITS)
-        model = self.provenance.get("model") or {}
-        if model.get("name"):
-            try:
-                m = get_model(model["name"], fidelity=model.get("fidelity"), **(model.get("options") or {}))
-            except (DdgsaError, TypeError):
-                m = None
-            if m is not None:
-                units.update(m.units())
+        if self.model is not None:
+            units.update(self.model.units())
         for name, spec in (self.study.get("parameters") or {}).items():
             if isinstance(spec, dict) and spec.get("unit"):
                 units[name] = str(spec["unit"])
+        for spec in self.study.get("outputs") or []:
+            if isinstance(spec, dict) and spec.get("name") and spec.get("unit"):
+                units[str(spec["name"])] = str(spec["unit"])
+        given = self.study.get("output_units")
+        units.update({str(k): str(v) for k, v in given.items()} if isinstance(given, dict) else {})
         for table, col, unit in (("indices.csv", "output", "output_unit"), ("output_moments.csv", "output", "unit")):
             df = self.csv(table)
             if df is not None and unit in df:

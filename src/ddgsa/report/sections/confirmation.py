@@ -4,10 +4,10 @@ the summary and the NetCDF export read too (:func:`ddgsa.execute.confirm.confirm
 from __future__ import annotations
 
 from html import escape
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from ddgsa.execute.confirm import verdicts
-from ddgsa.report.sections.base import Folder, Section, Tables, table
+from ddgsa.report.sections.base import Folder, Section, Tables, md_html, table
 
 if TYPE_CHECKING:  # pragma: no cover
     from ddgsa.execute.kinds.common import StudyResult
@@ -19,10 +19,28 @@ def tables(result: "StudyResult", info: dict[str, "ModelOutput"]) -> Tables:
     return [("confirmation.csv", pairs)] if len(pairs) else []
 
 
+def escalation_lines(confirm: list[dict[str, Any]], realisations: int = 1) -> list[str]:
+    """One Markdown line per scene of a study's ``confirm:`` escalation (provenance ``confirm``): the runs it
+    spent against its budget and how it ended (its log's last line: every output confirmed and by which
+    method, a budget spent, the time budget's stop); ``realisations``: runs per point."""
+    lines = []
+    for c in confirm:
+        limits = ([f"{c['budget']} points per scene"] if c.get("budget") is not None else []) + \
+                 ([f"{c['time_s']:g} s of wall time"] if c.get("time_s") is not None else [])
+        end = (c["log"][-1] if c.get("log") else
+               "nothing to escalate (the study's methods had confirmed or found nothing to rank in every output)")
+        lines.append(f"- `confirm:` escalation, scene {c['scene']}: {int(c['spent']) * realisations} runs spent "
+                     f"(budget: {' and '.join(limits) or 'none'}); last: {end}")
+    return lines
+
+
 def html(folder: Folder) -> str:
     df = folder.csv("confirmation.csv")
     if df is None or not len(df):
         return ""
+    scenes = folder.study.get("scenes")
+    real = int(scenes.get("realisations", 1)) if isinstance(scenes, dict) else 1
+    spent = escalation_lines(folder.provenance.get("confirm") or [], real)
     count = df["verdict"].value_counts()
     words = ", ".join(f"{int(n)} {v}" for v, n in count.items())
     shown = df.assign(trusted=df["verdict"] != "unconfirmed")
@@ -30,7 +48,7 @@ def html(folder: Folder) -> str:
             "tolerance; <em>rank-confirmed</em> / <em>confirmed tie</em>: the order by ST certain, ties within the "
             "tie margin; <em>nothing to rank</em>: the output spreads by no more than its resolution; "
             "<em>unconfirmed</em> rows are shaded, with the cheapest next step and its cost.</p>"
-            + table(shown, "confirmation", "confirmation.csv"))
+            + (md_html("\n".join(spent)) if spent else "") + table(shown, "confirmation", "confirmation.csv"))
 
 
 SECTION = Section("confirmation", "Verdicts", html, tables=tables, shows=("confirmation.csv",))

@@ -169,6 +169,10 @@ def plot_agreement(indices: pd.DataFrame) -> "Figure":
     return fig
 
 
+NO_INDICES = ("indices refused\n(see summary.md)", "nothing to rank:\nits spread is within\nits resolution")
+"""What a panel without a finite index says: refused, or (verdict ``nothing to rank``) why no index is worth drawing."""
+
+
 def plot_scene_bars(scene_rows: pd.DataFrame, units: dict[str, str] | None = None,
                     fields: Sequence[str] = WIND_LABEL_FIELDS, verdicts: pd.DataFrame | None = None) -> "Figure":
     """One panel per output (at most three a row), parameters down the y axis: S1/ST bars of the
@@ -176,8 +180,8 @@ def plot_scene_bars(scene_rows: pd.DataFrame, units: dict[str, str] | None = Non
     :func:`ddgsa.execute.confirm.confirmation_table`), said in the panel's title with the verdict -- with
     confidence bars where it gives an interval, and the ST of every other requested method as a
     marker beside it (cross-checks, :data:`CROSSCHECKS`, are left to their own table). Hatched bars
-    are untrusted (said in the legend, below the panels, only when some are); an output whose indices
-    are refused says so; the title names the scene by its label ``fields``; ``units``: per output."""
+    are untrusted (said in the legend, below the panels, only when some are; S1 and ST only when some such
+    bar is drawn); an output whose indices are refused or that has nothing to rank says so (:data:`NO_INDICES`); the title names the scene by its label ``fields``; ``units``: per output."""
     rows = scene_rows[~scene_rows["method"].isin(CROSSCHECKS)]
     rows = rows if len(rows) else scene_rows
     outputs = list(rows["output"].unique())
@@ -207,13 +211,14 @@ def plot_scene_bars(scene_rows: pd.DataFrame, units: dict[str, str] | None = Non
         ax.set_xlim(min(-0.05, float(np.nanmin(g[["S1", "ST"]].to_numpy(float), initial=0))), 1.05)
         ax.tick_params(axis="x", labelsize=7)
         if not np.isfinite(t[["S1", "ST"]].to_numpy(float)).any():
-            ax.text(0.5, 0.5, "indices refused\n(see summary.md)", transform=ax.transAxes,
+            ax.text(0.5, 0.5, NO_INDICES[verdict == "nothing to rank"], transform=ax.transAxes,
                     ha="center", va="center", fontsize=8, color="0.3")
     for ax in list(axes.flat)[len(outputs):]:
         ax.set_visible(False)
-    handles: list[Any] = [Patch(facecolor="tab:blue", label="S1"), Patch(facecolor="tab:orange", label="ST")]
     shown = rows[rows.apply(lambda r: chosen.get(r["output"], (None,))[0] in (None, r["method"]), axis=1)]
-    untrusted = ~trusted(shown)
+    handles: list[Any] = [Patch(facecolor=color, label=q) for q, color in (("S1", "tab:blue"), ("ST", "tab:orange"))
+                          if np.isfinite(shown[q].to_numpy(float)).any()]        # RBD-FAST, given-data: no ST bars
+    untrusted = ~trusted(shown) & np.isfinite(shown[["S1", "ST"]].to_numpy(float)).any(axis=1)   # drawn hatched
     placed = trusted(shown, "rank_confirmed") if "rank_confirmed" in shown else untrusted & False
     if (untrusted & placed).any():
         handles.append(Patch(facecolor="tab:blue", edgecolor="white", hatch="..", label="untrusted, rank confirmed"))
@@ -231,7 +236,8 @@ def plot_heatmap(rows: pd.DataFrame, units: dict[str, str] | None = None,
     """ST as parameter x scene, one panel per output; the panels share the parameter axis, so
     its labels are drawn once, left of the first panel, and never over a neighbour. Scenes are
     labelled by their wind speed, or by their label ``fields`` for a model's own scene type;
-    ``units``: per output."""
+    ``units``: per output. A panel without a finite ST says why (:data:`NO_INDICES`, from the rows'
+    ``verdict`` where ``indices.csv`` gives one)."""
     outputs = list(rows["output"].unique())
     params = sorted(rows["parameter"].unique())
     fig, axes = plt.subplots(1, len(outputs), figsize=(2.4 * len(outputs) + 3.0, 0.3 * len(params) + 2.2),
@@ -241,6 +247,10 @@ def plot_heatmap(rows: pd.DataFrame, units: dict[str, str] | None = None,
         mine = rows[rows["output"] == out]
         t = mine.pivot(index="parameter", columns="scene", values="ST").reindex(params)
         im = ax.imshow(t.to_numpy(float), vmin=0, vmax=1, cmap="viridis", aspect="auto")
+        if not np.isfinite(t.to_numpy(float)).any():             # a blank panel says why it is blank
+            flat = "verdict" in mine and (mine["verdict"] == "nothing to rank").all()
+            ax.text(0.5, 0.5, NO_INDICES[bool(flat)], transform=ax.transAxes, ha="center", va="center",
+                    fontsize=7, color="0.3")
         ok = (mine.assign(ok=trusted(mine)).pivot(index="parameter", columns="scene", values="ok")
               .reindex(params).fillna(False).to_numpy(bool) if "trusted" in rows else np.ones(t.shape, bool))
         for i, j in zip(*np.nonzero(~ok)):
@@ -291,7 +301,7 @@ def charts(folder: Folder) -> list[Chart]:
     idx = folder.csv("indices.csv")
     if idx is None or not len(idx):
         return []
-    units, fields = folder.units, scene_fields(idx)
+    units, fields = folder.units, folder.title_fields(scene_fields(idx))
     conf = folder.csv("confirmation.csv")
     sobol = sobol_rows(idx)
     out: list[Chart] = []

@@ -12,7 +12,9 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import matplotlib.pyplot as plt
+import numpy as np
 import pandas as pd
+from matplotlib.ticker import EngFormatter
 
 from ddgsa.report.sections.base import Chart, Folder, Section, Tables, table
 from ddgsa.study.spec import WIND_LABEL_FIELDS
@@ -51,9 +53,15 @@ def tables(result: "StudyResult", info: dict[str, "ModelOutput"]) -> Tables:
                                                 study.scene_fields))]
 
 
-def _case_label(fields: list[str], values: Any) -> str:
-    """``field=value`` for numbers, the value alone for labels such as a variant's."""
-    return ", ".join(f"{f}={v:g}" if isinstance(v, float) else f"{v}" for f, v in zip(fields, values))
+def _case_label(fields: list[str], values: Any, units: dict[str, str] | None = None) -> str:
+    """``field value unit`` for numbers (the tables' SI value, e.g. ``wind_speed 5 m/s`` where the study wrote
+    18 km/h), the value alone for labels such as a variant's."""
+    def one(f: str, v: Any) -> str:
+        if isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool):
+            unit = (units or {}).get(f, "")
+            return f"{f} {float(v):g}" + (f" {unit}" if unit and unit != "-" else "")
+        return f"{v}"
+    return ", ".join(one(f, v) for f, v in zip(fields, values))
 
 
 def _label(name: str, units: dict[str, str] | None) -> str:
@@ -61,17 +69,22 @@ def _label(name: str, units: dict[str, str] | None) -> str:
     return f"{name} [{unit}]" if unit else name
 
 
+GRID_TICKS = 8
+"""Up to this many grid values, the x ticks are the grid's values themselves."""
+
+
 def plot_sweep(summary: pd.DataFrame, output: str, grid: list[str] | None = None,
                units: dict[str, str] | None = None, fields: Sequence[str] = WIND_LABEL_FIELDS) -> "Figure":
     """``output`` (+- one std) against the first grid parameter, or against the first numeric scene
     field (wind speed) scaled by its maximum; one line per value of every other varying key (variant,
-    scene fields, grid); one bar per case where nothing varies along x. Axis labels carry the units."""
+    scene fields, grid), labelled with the SI value and its unit; one bar per case where nothing varies
+    along x. Axis labels carry the units; a grid parameter's ticks carry SI prefixes (``5 GN/m``)."""
     grid = grid or []
     o = output
     x = grid[0] if grid else next(f for f in fields if pd.api.types.is_numeric_dtype(summary[f]))
     others = [f for f in sweep_keys(summary, grid, fields) if f not in (x, "scene") and summary[f].nunique() > 1]
     if summary[x].nunique() == 1 and others:      # nothing to sweep along: one bar per case, real units
-        labels = [_case_label(others, row) for row in summary[others].itertuples(index=False)]
+        labels = [_case_label(others, row, units) for row in summary[others].itertuples(index=False)]
         fig, ax = plt.subplots(figsize=(6.5, 0.45 * len(labels) + 1.2), layout="constrained")
         ax.barh(labels, summary[f"{o}_mean"], xerr=summary[f"{o}_std"], color="tab:blue")
         for k, v in enumerate(summary[f"{o}_mean"]):
@@ -85,11 +98,17 @@ def plot_sweep(summary: pd.DataFrame, output: str, grid: list[str] | None = None
     scale = 1.0 if grid else (summary[f"{o}_mean"].abs().max() or 1.0)   # signed outputs: scale by |max|
     for key, g in groups:
         g = g.sort_values(x)
-        label = _case_label(others, key if isinstance(key, tuple) else (key,))
+        label = _case_label(others, key if isinstance(key, tuple) else (key,), units)
         ax.errorbar(g[x], g[f"{o}_mean"] / scale, yerr=g[f"{o}_std"] / scale, capsize=2,
                     marker="o", ms=3, label=label or None)
     if grid and summary[x].min() > 0 and summary[x].max() / summary[x].min() > 50:
         ax.set_xscale("log")
+    if grid:                                    # SI prefixes on the ticks (5 GN/m), no '1e10' offset
+        if summary[x].nunique() <= GRID_TICKS:
+            ax.set_xticks(sorted(summary[x].unique()))
+            ax.xaxis.set_minor_formatter("")
+        unit = (units or {}).get(x, "")
+        ax.xaxis.set_major_formatter(EngFormatter(unit="" if unit == "-" else unit))
     ax.set_xlabel(_label(x, units) if grid or x != "wind_speed" else "mean wind speed [m/s]")
     ax.set_ylabel(_label(o, units) if grid else f"{o} / max [-]")
     ax.grid(alpha=0.3)
