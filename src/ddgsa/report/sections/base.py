@@ -187,14 +187,13 @@ class Folder:
     def units(self) -> dict[str, str]:
         """Units by column name: the report's own axes, the model's scene fields, parameters and outputs
         (:meth:`ddgsa.models.base.Model.units`, when the model of the provenance is registered), a unit the
-        study file writes beside a parameter or an output (``outputs: [{name, unit}]`` or ``output_units``:
-        the tables hold that output in it), then the units the folder's tables state."""
+        study file writes beside an output (``outputs: [{name, unit}]`` or ``output_units``: the tables hold
+        that output in it; not a parameter's, whose values the tables hold in the model's SI unit), then the
+        units the folder's tables state."""
         units = dict(AXIS_UNITS)
         if self.model is not None:
             units.update(self.model.units())
-        for name, spec in (self.study.get("parameters") or {}).items():
-            if isinstance(spec, dict) and spec.get("unit"):
-                units[name] = str(spec["unit"])
+        # a parameter's unit written in the study is not used: the tables hold its values in the model's SI unit
         for spec in self.study.get("outputs") or []:
             if isinstance(spec, dict) and spec.get("name") and spec.get("unit"):
                 units[str(spec["name"])] = str(spec["unit"])
