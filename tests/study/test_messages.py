@@ -112,7 +112,7 @@ GENERATOR = BASE.replace("{name: direct_drive, fidelity: rigid}", "{name: genera
 @pytest.mark.parametrize(("base", "old", "new", "message"), [
     (BASE, "method: mdrm", "method: mdmr", r"field 'methods\[0\]\.method': unknown GSA method 'mdmr'; known: auto, "
                                            r"fast, hsic, mdrm, pce, rbd_fast, saltelli, shapley; did you mean 'mdrm'\?"),
-    (BASE, "fidelity: rigid", "fidelity: rigd", r"field 'model': model 'direct_drive': unknown fidelity 'rigd'; known: "
+    (BASE, "fidelity: rigid", "fidelity: rigd", r"field 'model\.fidelity': model 'direct_drive': unknown fidelity 'rigd'; known: "
                                                 r"flexible, rigid, linear; did you mean 'rigid'\?"),
     (BASE, "spread: 0.2", "sprad: 0.2", r"parameter 'k_front_z': unknown key\(s\) \['sprad'\] for dist 'uniform'; "
                                         r"allowed: .*; did you mean 'spread'\?"),

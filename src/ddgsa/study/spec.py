@@ -351,9 +351,9 @@ class FaultSpec(BaseModel):
             try:
                 return FaultRange.model_validate(v)
             except ValidationError as exc:
-                problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'range'}: "
-                                     f"{'unknown field' if e['type'] == 'extra_forbidden' else bound_message(e) if e['type'] in _BOUNDS else e['msg']}"
-                                     for e in exc.errors())
+                problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'range'}: " + (
+                    "unknown field" if e["type"] == "extra_forbidden"
+                    else bound_message(e) if e["type"] in _BOUNDS else e["msg"]) for e in exc.errors())
                 raise ValueError(f"a range of levels is {{start, stop, num >= 2}} ({problems})") from None
         if isinstance(v, list) and not v:
             raise ValueError("give at least one faulty level")
@@ -720,7 +720,8 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
         for fid in (fidelities if spec.model.fidelity == "auto" else [spec.model.fidelity]):
             model = get_model(spec.model.name, fidelity=fid, **spec.model.options)
     except (DdgsaError, TypeError) as exc:
-        raise StudyError(f"{where}: field 'model': {exc}") from None
+        field = "model.fidelity" if "fidelity" in str(exc) else "model"
+        raise StudyError(f"{where}: field '{field}': {exc}") from None
     variants = []
     for i, v in enumerate(spec.model.variants):
         try:
@@ -776,8 +777,10 @@ def validate_study(data: Any, path: Path | None = None, text: str = "") -> Study
     if spec.parameters:
         try:
             space = ParameterSpace.from_dict(spec.parameters)
-        except DdgsaError as exc:
-            raise StudyError(f"{where}: field 'parameters': {exc}") from None
+        except DdgsaError as exc:         # "parameter 'k': ..." names the entry: the field is parameters.k
+            named = re.match(r"parameter '([^']+)'", str(exc))
+            field = f"parameters.{named[1]}" if named and named[1] in spec.parameters else "parameters"
+            raise StudyError(f"{where}: field '{field}': {exc}") from None
         try:
             space = ParameterSpace.from_dict(spec.parameters, groups=spec.groups, correlation=spec.correlation)
         except DdgsaError as exc:       # the message starts with the field: groups.<g> or correlation[k]
@@ -998,6 +1001,8 @@ def _pydantic_message(where: str, exc: ValidationError) -> str:
             msg = "required field is missing"
         elif err["type"] in _BOUNDS:
             msg = bound_message(err)
+        elif err["type"] == "value_error":
+            msg = msg.removeprefix("Value error, ")        # our validators' own words, without pydantic's tag
         given = f" (given: {clip(err['input'])})" if err["type"] not in ("missing", "extra_forbidden", "literal_error") \
             and not isinstance(err.get("input"), dict) else ""
         lines.append(f"{where}: field '{loc or '<top>'}': {msg}{given}")
