@@ -9,8 +9,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from ddgsa.loads import IEA15MW, ROTORS, Scene, generate
-from ddgsa.loads.bem import BLADES, IEA15MW_BLADE, simulate_bem
+from ddgsa.loads import IEA15MW, Scene, generate
+from ddgsa.loads.bem import IEA15MW_BLADE, simulate_bem
 from ddgsa.loads.hubloads import grid_points
 from ddgsa.loads.rotor import IEA_GENERATOR_EFFICIENCY
 from ddgsa.models.constants import GRAVITY
@@ -33,7 +33,6 @@ def coefficients(v: float, tsr: float, pitch_deg: float) -> tuple[float, float]:
 
 
 def test_rotor_names_and_blades() -> None:
-    assert ROTORS["iea15mw"] is IEA15MW and BLADES["iea15mw"] is IEA15MW_BLADE
     assert IEA15MW_BLADE.elements["r"].size == 16
     assert IEA15MW_BLADE.elements["r"][-1] + 0.5 * IEA15MW_BLADE.elements["dr"][-1] < IEA15MW.rotor_radius
 

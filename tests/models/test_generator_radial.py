@@ -292,7 +292,6 @@ def test_hub_moment_readings_share_the_motion_and_differ_in_the_bearings() -> No
     lock = models.get("generator_radial", hub_moments="lock").simulate(scene)
     held = models.get("generator_radial", hub_moments="bearings").simulate(scene)
     np.testing.assert_allclose(held["eccentricity"], lock["eccentricity"], rtol=1e-12)
-    np.testing.assert_array_equal(lock["front_Fz"], lock["rear_Fz"])
     np.testing.assert_allclose(held["front_Fz"] + held["rear_Fz"], 2 * lock["bearing_Fz"], rtol=1e-9, atol=1e-3)
     assert "front_bearing_x" in models.get("generator_radial", hub_moments="bearings").nominal
     assert "front_bearing_x" not in models.get("generator_radial").nominal
