@@ -43,10 +43,11 @@ def rule(model: Any) -> BasisRule | None:
 
 
 def _model(key: str, **options: Any) -> Any:
-    """Model ``key`` built with ``options`` (checked as :func:`ddgsa.models.get` checks them)."""
-    cls = MODELS.lookup(key)
-    cls.check_options(options)
-    return cls(**options)
+    """Model ``key`` built with ``options`` (:func:`ddgsa.models.get`; imported here, when the models are all
+    registered, since the models' package imports the modules that declare the rules)."""
+    from ddgsa.models import get
+
+    return get(key, **options)
 
 
 def model_key(model: Any) -> str | None:
