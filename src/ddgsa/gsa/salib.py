@@ -407,8 +407,7 @@ def tail_diagnostics(space: ParameterSpace, y: NDArray[np.float64], n: int,
                 diags.append(Diagnostic("heavy_tail", f"output {outputs[j]!r}: {space.names[i]}: the total index's "
                                         f"terms have a heavy upper tail (Pareto shape {shape[j, i]:.2f} > "
                                         f"{limit:.2f} for {n} rows): the estimate is typically low and its bootstrap "
-                                        "and half-sample bounds too narrow; transform the output (e.g. its "
-                                        "logarithm) or use pce", "untrusted", output=outputs[j],
+                                        "and half-sample bounds too narrow", "untrusted", output=outputs[j],
                                         parameter=space.names[i], value=float(shape[j, i])))
     return shape, diags
 
