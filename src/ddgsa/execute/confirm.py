@@ -146,12 +146,19 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
     return pd.DataFrame(rows, columns=CONFIRMATION_COLUMNS)
 
 
+def verdict_counts(table: pd.DataFrame, verdicts: tuple[str, ...] = VERDICTS) -> tuple[list[str], int]:
+    """``(["3 trusted", "1 nothing to rank"], confirmed)``: each of ``verdicts`` the table holds, with its
+    count, in :data:`~ddgsa.gsa.result.VERDICTS` order, and the number of confirmed pairs. The one count the
+    console, ``summary.md`` and the HTML report say."""
+    count = table["verdict"].value_counts()
+    return ([f"{int(count[v])} {v}" for v in verdicts if count.get(v, 0)],
+            int(table["verdict"].isin(CONFIRMED).sum()))
+
+
 def verdict_line(table: pd.DataFrame) -> str:
     """The verdicts in one line: ``verdicts: 3 trusted, 1 nothing to rank; 4 of 4 (scene, output) pairs confirmed``."""
-    count = table["verdict"].value_counts()
-    done = int(table["verdict"].isin(CONFIRMED).sum())
-    return ("verdicts: " + ", ".join(f"{int(count[v])} {v}" for v in VERDICTS if count.get(v, 0))
-            + f"; {done} of {len(table)} (scene, output) pairs confirmed")
+    parts, done = verdict_counts(table)
+    return "verdicts: " + ", ".join(parts) + f"; {done} of {len(table)} (scene, output) pairs confirmed"
 
 
 def study_tolerance(result: "StudyResult") -> float:

@@ -31,7 +31,8 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from ddgsa.report.beyond import beyond_markdown
-from ddgsa.execute.confirm import CONFIRMED, CROSSCHECKS, VERDICTS, next_step, study_tolerance, verdicts  # noqa: E402
+from ddgsa.execute.confirm import (CROSSCHECKS, VERDICTS, next_step, study_tolerance, verdict_counts,  # noqa: E402
+                                   verdicts)
 from ddgsa.gsa.base import sobol_rows  # noqa: E402
 from ddgsa.gsa.result import CONSTANT_CV  # noqa: E402
 from ddgsa.report.html import HTML_NAME, write_html  # noqa: E402
@@ -233,9 +234,7 @@ def _confirmed_section(result: StudyResult) -> list[str]:
     (:func:`ddgsa.report.sections.confirmation.escalation_lines`)."""
     table = verdicts(result)
     n_runs = result.provenance.get("evaluations", {}).get("total", len(result.evaluations))
-    count = table["verdict"].value_counts()
-    done = int(table["verdict"].isin(CONFIRMED).sum())
-    parts = [f"{int(count[v])} {v}" for v in VERDICTS[:4] if count.get(v, 0)]
+    parts, done = verdict_counts(table, VERDICTS[:4])
     flat = table[table["verdict"] == "nothing to rank"]
     lines = [f"Confirmed: {done} of {len(table)} (scene, output) pairs" + (f" ({', '.join(parts)})" if parts else "")
              + f" at a cost of {n_runs} model runs" + (" (unconfirmed ones: see Problems)." if done < len(table) else "."),

@@ -6,7 +6,7 @@ from __future__ import annotations
 from html import escape
 from typing import TYPE_CHECKING, Any
 
-from ddgsa.execute.confirm import verdicts
+from ddgsa.execute.confirm import verdict_counts, verdicts
 from ddgsa.report.sections.base import Folder, Section, Tables, md_html, table
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -41,8 +41,7 @@ def html(folder: Folder) -> str:
     scenes = folder.study.get("scenes")
     real = int(scenes.get("realisations", 1)) if isinstance(scenes, dict) else 1
     spent = escalation_lines(folder.provenance.get("confirm") or [], real)
-    count = df["verdict"].value_counts()
-    words = ", ".join(f"{int(n)} {v}" for v, n in count.items())
+    words = ", ".join(verdict_counts(df)[0])
     shown = df.assign(trusted=df["verdict"] != "unconfirmed")
     return (f"<p>One verdict per (scene, output): {escape(words)}. <em>trusted</em>: every index within the "
             "tolerance; <em>rank-confirmed</em> / <em>confirmed tie</em>: the order by ST certain, ties within the "
