@@ -353,7 +353,7 @@ class FaultSpec(BaseModel):
             except ValidationError as exc:
                 problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'range'}: " + (
                     "unknown field" if e["type"] == "extra_forbidden"
-                    else bound_message(e) if e["type"] in _BOUNDS else e["msg"]) for e in exc.errors())
+                    else bound_message(e)) for e in exc.errors())
                 raise ValueError(f"a range of levels is {{start, stop, num >= 2}} ({problems})") from None
         if isinstance(v, list) and not v:
             raise ValueError("give at least one faulty level")
@@ -971,16 +971,20 @@ def confirm_time(value: Any) -> float:
     except ValidationError as exc:
         err = exc.errors()[0]
         raise StudyError(f"--confirm-time {value!r}: "
-                         f"{bound_message(err) if err['type'] in _BOUNDS else err['msg']}") from None
+                         f"{bound_message(err)}") from None
 
 
 def bound_message(err: Mapping[str, Any]) -> str:
-    """A bound error of pydantic in the words of ddgsa's other messages: ``must be > 0`` where pydantic
-    says "Input should be greater than 0".
+    """A pydantic error in the words of ddgsa's other messages: a bound as ``must be > 0`` where pydantic
+    says "Input should be greater than 0", any other error as pydantic words it.
 
     >>> bound_message({"type": "less_than", "ctx": {"lt": 1.0}})
     'must be < 1'
+    >>> bound_message({"type": "int_type", "msg": "Input should be a valid integer"})
+    'Input should be a valid integer'
     """
+    if err["type"] not in _BOUNDS:
+        return str(err["msg"])
     key, symbol = _BOUNDS[err["type"]]
     return f"must be {symbol} {err['ctx'][key]:g}"
 
