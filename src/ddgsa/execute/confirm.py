@@ -112,10 +112,7 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
     sobol = sobol_rows(result.indices)
     if not len(sobol):
         return pd.DataFrame(columns=CONFIRMATION_COLUMNS)
-    info = {}
-    if hasattr(result.study, "make_model"):
-        model = result.study.make_model()
-        info = {o: result.study.output_declaration(model, o) for o in result.study.analysed_outputs}
+    info = result.study.output_declarations() if hasattr(result.study, "output_declarations") else {}
     mom = result.moments
     moments = {} if mom is None or not len(mom) else \
         {(int(r.scene), str(r.output)): (float(r.std), float(r.mean)) for r in mom.itertuples()}

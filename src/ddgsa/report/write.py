@@ -54,8 +54,7 @@ PNG_METADATA = {"Software": None}
 
 def output_info(result: StudyResult) -> dict[str, ModelOutput]:
     """The declared outputs of the study's model (undeclared names get no unit)."""
-    model = result.study.make_model()
-    return {o: result.study.output_declaration(model, o) for o in result.study.analysed_outputs}
+    return result.study.output_declarations()
 
 
 def write_report(result: StudyResult, out: Path) -> list[Path]:

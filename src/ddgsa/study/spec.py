@@ -638,6 +638,11 @@ class Study:
         return np.array([factor(model.output(o).unit, self.spec.output_units[o])
                          if o in self.spec.output_units else 1.0 for o in outputs])
 
+    def output_declarations(self) -> dict[str, ModelOutput]:
+        """:meth:`output_declaration` of every analysed output, in the units the study reports them in."""
+        model = self.make_model()
+        return {o: self.output_declaration(model, o) for o in self.analysed_outputs}
+
     def output_declaration(self, model: Any, name: str) -> ModelOutput:
         """The declaration of output ``name`` in the unit the study reports it in (range scaled)."""
         for t in self.targets:

@@ -46,8 +46,7 @@ def figures(result: "StudyResult") -> list[ResultFigure]:
     """The healthy and faulty histograms of each scene's deciding output (raw measurements: no table holds them)."""
     if result.fault is None:
         return []
-    units = {o: result.study.output_declaration(result.study.make_model(), o).unit
-             for o in result.study.analysed_outputs}
+    units = {o: d.unit for o, d in result.study.output_declarations().items()}
     return [(f"fault_histograms_scene{ps.index}.png",
              functools.partial(plot_fault_histograms, det, scene_text(ps.fields), units))
             for ps, det in result.fault_detection]
