@@ -277,7 +277,7 @@ def test_an_output_within_its_declared_resolution_has_nothing_to_rank() -> None:
     diags = pd.DataFrame({"output": outs, "scene": 0, "severity": "untrusted", "name": "mdrm_index_error"})
     mom = pd.DataFrame({"scene": [0, 0], "output": outs, "mean": [1.2e-5, 1.2e-5], "std": [3e-6, 3e-6]})
     study = SimpleNamespace(spec=SimpleNamespace(scenes=SimpleNamespace(realisations=1)), make_model=lambda: rig,
-                            output_declaration=lambda model, o: model.output(o), analysed_outputs=outs)
+                            output_declarations=lambda: {o: rig.output(o) for o in outs}, analysed_outputs=outs)
     res = SimpleNamespace(indices=idx, diagnostics=diags, moments=mom, sweep=None, results=[], study=study,
                           evaluations=pd.DataFrame({"seconds": [0.1]}))
     table = confirmation_table(res)
