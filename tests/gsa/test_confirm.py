@@ -232,9 +232,9 @@ def test_loo_error_over_the_drawn_points_equals_brute_force_refits() -> None:
         keep = np.arange(len(x)) != i
         c, *_ = np.linalg.lstsq(psi[keep], y[keep], rcond=None)
         sq.append(float((y[i, 0] - psi[i] @ c[:, 0]) ** 2))
-    _, loo = _least_squares(psi, y, drawn)
+    _, loo, _ = _least_squares(psi, y, drawn)
     assert loo[0] * np.var(y) == pytest.approx(np.mean(sq), rel=1e-9)
-    _, loo_all = _least_squares(psi, y)
+    _, loo_all, _ = _least_squares(psi, y)
     assert loo_all[0] != pytest.approx(loo[0], rel=1e-3)          # the cut lines do change the mean
 
 

@@ -80,6 +80,22 @@ def product_form(r: NDArray[np.float64], members: Sequence[Sequence[int]]) -> tu
     return s_closed, st
 
 
+def group_terms(alphas: NDArray[np.int64], members: Sequence[Sequence[int]]
+                ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """Which non-constant terms (``alphas`` (P - 1, n_params)) each group's closed index sums (every
+    input of the term in the group) and its total index sums (some input in it): two (P - 1, n_groups)
+    masks."""
+    involved = alphas > 0                                          # (P-1, d)
+    inside = np.zeros((involved.shape[0], len(members)), dtype=bool)
+    touches = np.zeros_like(inside)
+    for g, m in enumerate(members):
+        mask = np.zeros(involved.shape[1], dtype=bool)
+        mask[list(m)] = True
+        inside[:, g] = involved.any(axis=1) & ~(involved & ~mask).any(axis=1)
+        touches[:, g] = (involved & mask).any(axis=1)
+    return inside, touches
+
+
 def from_coefficients(alphas: NDArray[np.int64], energy: NDArray[np.float64],
                       members: Sequence[Sequence[int]]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Closed and total group indices of an orthonormal polynomial expansion.
@@ -97,15 +113,9 @@ def from_coefficients(alphas: NDArray[np.int64], energy: NDArray[np.float64],
     -------
     S_closed, ST : ndarray, shape (n_outputs, n_groups)
     """
-    involved = alphas > 0                                          # (P-1, d)
     var = energy.sum(axis=0)                                       # (k,)
-    inside = np.zeros((involved.shape[0], len(members)))
-    touches = np.zeros_like(inside)
-    for g, m in enumerate(members):
-        mask = np.zeros(involved.shape[1], dtype=bool)
-        mask[list(m)] = True
-        inside[:, g] = involved.any(axis=1) & ~(involved & ~mask).any(axis=1)
-        touches[:, g] = (involved & mask).any(axis=1)
+    inside, touches = group_terms(alphas, members)
+    inside, touches = inside.astype(float), touches.astype(float)
     with np.errstate(divide="ignore", invalid="ignore"):
         return (energy.T @ inside) / var[:, None], (energy.T @ touches) / var[:, None]
 
