@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from ddgsa.gsa import hsic, mdrm, pce, salib, shapley  # noqa: F401  (register the methods)
 from ddgsa.gsa.auto import run_auto
-from ddgsa.gsa.base import METHODS, Design, GsaMethod, get_method, register
+from ddgsa.gsa.base import METHODS, Design, GsaMethod, as_value_matrix, get_method, register
 from ddgsa.gsa.result import Diagnostic, SobolResult
 from ddgsa.errors import MethodError
 from ddgsa.gsa.space import ParameterSpace
@@ -96,4 +96,10 @@ def _sobol(f: VectorisedFunction, space: ParameterSpace, method: str, outputs: S
         return run_auto(f, space, list(outputs) if outputs is not None else None, **options)
     m = get_method(method)
     design = m.design(space, **options)
-    return m.analyze(space, design, f(design.points), outputs=outputs)
+    values = f(design.points)
+    more = m.followup(space, design, values, outputs)
+    if more is not None:
+        y, names = as_value_matrix(values, design.n_points, outputs)
+        extra, _ = as_value_matrix(f(more.points[design.n_points:]), more.n_points - design.n_points, names)
+        values, design, outputs = np.vstack([y, extra]), more, names
+    return m.analyze(space, design, values, outputs=outputs)

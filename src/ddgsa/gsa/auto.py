@@ -92,7 +92,7 @@ def resolve_auto_options(space: ParameterSpace, options: dict[str, Any]) -> dict
 class _Pending:
     """The stage waiting for values: its kind, the points handed out, and what analyses them."""
 
-    kind: str                      # "mdrm", "pce" or "saltelli"
+    kind: str                      # "mdrm", "inert" (M-DRM's inert check), "pce" or "saltelli"
     points: NDArray[np.float64]
     design: Design | None = None   # mdrm and saltelli: their own design; pce: fitted on all points
     order: int = 0                 # pce
@@ -116,6 +116,7 @@ class AutoSobol:
         self._sparse_done = False
         self._next_order = max(self.options["pce_orders"])
         self._drawn = np.zeros(0, dtype=bool)                    # rows of x drawn from the input distribution
+        self._live = list(range(space.dim))                      # inputs not proven inert for every output
 
     # -- driver ---------------------------------------------------------------------------
     def start(self) -> NDArray[np.float64]:
@@ -141,18 +142,43 @@ class AutoSobol:
             drawn[:len(stage.points) - self.options["check"]] = False      # ...but M-DRM's cut lines
         self._drawn = np.concatenate([self._drawn, drawn])
         if stage.kind == "pce":
-            design = Design("pce", self.x, {**get_method("pce").defaults, "order": stage.order, "fit": stage.fit,
-                                            "n": self.x.shape[0], "seed": self.options["seed"],
-                                            "tolerance": self.options["tolerance"]}, {"drawn": self._drawn})
-            res = get_method("pce").analyze(self.space, design, self.y, outputs=names)
+            design = Design("pce", self.x[:, self._live], {**get_method("pce").defaults, "order": stage.order,
+                                                           "fit": stage.fit, "n": self.x.shape[0],
+                                                           "seed": self.options["seed"],
+                                                           "tolerance": self.options["tolerance"]},
+                            {"drawn": self._drawn})
+            res = _over(self.space, get_method("pce").analyze(self._pce_space(), design, self.y, outputs=names))
             sparse = "sparse " if stage.fit == "sparse" else ""
-            self._record(res, f"{sparse}pce order {stage.order} ({self.x.shape[0]} runs pooled)")
+            over = f" in the {len(self._live)} inputs not proven inert" if len(self._live) < self.space.dim else ""
+            self._record(res, f"{sparse}pce order {stage.order} ({self.x.shape[0]} runs pooled{over})")
+        elif stage.kind == "inert":
+            assert stage.design is not None
+            n_mdrm = stage.design.meta["inert"]["n"]
+            res = get_method("mdrm").analyze(self.space, stage.design, self.y[-stage.design.n_points:], outputs=names)
+            self.stages.pop()
+            self._record(res, f"mdrm ({n_mdrm} runs) with its inert check ({len(stage.points)} runs)")
+            proven = np.asarray(res.extras.get("inert", []), dtype=bool)
+            if proven.size and proven.all() and not self.space.groups:
+                inert = {self.space.names.index(p) for p in res.extras["inert_group"]}
+                self._live = [i for i in range(self.space.dim) if i not in inert]
         else:
             assert stage.design is not None
             res = get_method(stage.kind).analyze(self.space, stage.design, y, outputs=names)
             size = f"N={stage.design.options['n']} " if stage.kind == "saltelli" else ""
             self._record(res, f"{stage.kind} ({size}{stage.design.n_points} runs)")
+            if stage.kind == "mdrm":
+                more = get_method("mdrm").followup(self.space, stage.design, y, names)
+                if more is not None and self._untrusted_rows() and \
+                        more.n_points - stage.design.n_points <= self.options["budget"] - self.x.shape[0]:
+                    self._pending = _Pending("inert", more.points[stage.design.n_points:], more)
+                    return self._pending.points
         return self._next()
+
+    def _pce_space(self) -> ParameterSpace:
+        """The space the PCE stages fit in: the inputs not proven inert (all of them by default)."""
+        if len(self._live) == self.space.dim:
+            return self.space
+        return ParameterSpace.from_parameters([self.space.parameters[i] for i in self._live])
 
     # -- stages ---------------------------------------------------------------------------
     def _untrusted_rows(self) -> dict[str, list[str]]:
@@ -182,9 +208,9 @@ class AutoSobol:
                 q = self._orders.pop(0)
                 self._next_order = q
                 # space-filling points for order q: the power of two >= twice the basis size
-                need = 1 << int(np.ceil(np.log2(2 * n_terms(self.space.dim, q))))
+                need = 1 << int(np.ceil(np.log2(2 * n_terms(len(self._live), q))))
                 add = max(0, need - self._n_sobol)
-                if need * n_terms(self.space.dim, q) > _MAX_MATRIX_ENTRIES:
+                if need * n_terms(len(self._live), q) > _MAX_MATRIX_ENTRIES:
                     self.log.append(f"pce order {q} on {need} runs exceeds the regression size guard")
                     self._orders = []
                     break
@@ -224,7 +250,7 @@ class AutoSobol:
         self._sparse_done = True
         n_total = self.x.shape[0] + left
         order = self._next_order
-        while order > 1 and n_total * n_terms(self.space.dim, order) > _MAX_MATRIX_ENTRIES:
+        while order > 1 and n_total * n_terms(len(self._live), order) > _MAX_MATRIX_ENTRIES:
             order -= 1
         self.log.append(f"sparse pce order {order} on all {n_total} runs ({left} more, the rest of the budget): "
                         "no full stage fits what is left")
@@ -301,6 +327,25 @@ class AutoSobol:
         nan = np.full(self.y.shape[1], np.nan)
         return {"mean": y.mean(axis=0) if n else nan, "std": y.std(axis=0, ddof=1) if n > 1 else nan, "n": n,
                 "drawn": int(self._drawn.sum())}
+
+
+def _over(space: ParameterSpace, res: SobolResult) -> SobolResult:
+    """``res`` (a fit in the inputs not proven inert) with a row for every input of ``space``: the inert
+    ones 0 with error 0 and trusted, as the inert check proved them (the fit's model has no term in them)."""
+    t = res.indices
+    if len(t) == 0 or set(t["parameter"]) == set(space.names):
+        return res
+    full = pd.MultiIndex.from_product([list(dict.fromkeys(t["output"])), list(space.names)],
+                                      names=["output", "parameter"])
+    table = t.set_index(["output", "parameter"]).reindex(full).reset_index()
+    inert = ~table["parameter"].isin(set(t["parameter"]))
+    table.loc[inert, ["S1", "S1_conf", "ST", "ST_conf"]] = 0.0
+    table["trusted"] = table["trusted"].fillna(True).astype(bool)
+    if "rank_confirmed" in table:
+        table["rank_confirmed"] = table["rank_confirmed"].fillna(False).astype(bool)
+    if "rank" in table:
+        table["rank"] = table["rank"].fillna("")
+    return replace(res, indices=table)
 
 
 def _row_scores(res: SobolResult) -> pd.DataFrame:

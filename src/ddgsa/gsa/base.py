@@ -99,6 +99,15 @@ class GsaMethod(ABC):
     dependent_inputs: ClassVar[bool] = False
     """Whether the method is valid for correlated inputs (only ``shapley`` is)."""
 
+    def followup(self, space: ParameterSpace, design: Design,
+                 values: NDArray[np.float64] | pd.DataFrame | pd.Series,
+                 outputs: Sequence[str] | None = None) -> Design | None:
+        """A second round of points, decided from the first round's ``values`` (None: the method has
+        none, the default). The returned design holds ``design``'s points first, then the new ones;
+        :meth:`analyze` takes it with the values of all of them. Callers: :func:`ddgsa.sobol`, a
+        study's ``kind: gsa`` (:mod:`ddgsa.execute.kinds.gsa`)."""
+        return None
+
     def check_space(self, space: ParameterSpace) -> None:
         """Refuse a correlated space when the method assumes independent inputs, saying what to use."""
         if space.dependent and not self.dependent_inputs:

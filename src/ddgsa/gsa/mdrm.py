@@ -74,10 +74,12 @@ still refuse it.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import pandas as pd
 from numpy.typing import NDArray
 from scipy.interpolate import BarycentricInterpolator
 from scipy.stats import chi2
@@ -85,6 +87,7 @@ from scipy.stats import chi2
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, GsaMethod, PartialIndices, check_fraction, check_int, register
 from ddgsa.gsa.groups import GroupIndices, product_form
+from ddgsa.gsa.inert import group_test, partners
 from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.result import Diagnostic, index_error_rule, trusted_mask
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE, check_tolerance, error_diagnostics, surrogate_index_error
@@ -94,6 +97,8 @@ from ddgsa.gsa.space import ParameterSpace
 _TAIL_LIMIT = 0.25
 _TAIL_UNTRUSTED = 0.5
 _MIN_CHECK = 8
+_PARTNER_SEED = 7919
+"""Added to ``seed`` for the inert check's fresh columns (a draw apart from the check sample's)."""
 # one-sided confidence of the residual-variance bound (calibrated by ``ddgsa bench trust``)
 _CHECK_CONFIDENCE = 0.95
 
@@ -116,11 +121,15 @@ class MDRM(GsaMethod):
         Absolute error allowed on every index of a trusted row, default 0.02.
     near_zero, resolution_tol : float
         Diagnostic thresholds (0.01, 0.01).
+    inert_check : bool
+        Default True: where some inputs' rows are untrusted zeros (cut functions flat on their nodes),
+        a second round of ``check`` runs bounds their interactions (:mod:`ddgsa.gsa.inert`,
+        :meth:`followup`).
     """
 
     sobol_sizes = ("check",)
     defaults = {"points": 5, "cut": None, "check": 32, "seed": 0, "tolerance": DEFAULT_TOLERANCE,
-                "near_zero": 0.01, "resolution_tol": 0.01}
+                "near_zero": 0.01, "resolution_tol": 0.01, "inert_check": True}
 
     centre = False
     gives_groups = True
@@ -141,6 +150,8 @@ class MDRM(GsaMethod):
         check_tolerance(self.name, opts["tolerance"])
         for key in ("near_zero", "resolution_tol"):
             check_fraction(self.name, key, opts[key], 0.0, 1e9)
+        if not isinstance(opts["inert_check"], (bool, np.bool_)):
+            raise MethodError(f"method 'mdrm': option 'inert_check' must be true or false, got {opts['inert_check']!r}")
         opts["cut"] = _resolve_cut(space, opts["cut"])
 
     def _n_points(self, space: ParameterSpace, opts: dict[str, Any]) -> int:
@@ -161,8 +172,33 @@ class MDRM(GsaMethod):
         opts = {**opts, "cut": dict(zip(space.names, cut.tolist()))}
         return Design(self.name, np.vstack(blocks), opts, meta)
 
+    def followup(self, space: ParameterSpace, design: Design,
+                 values: NDArray[np.float64] | pd.DataFrame | pd.Series,
+                 outputs: Sequence[str] | None = None) -> Design | None:
+        """The inert check's partners (:mod:`ddgsa.gsa.inert`): the check sample with the columns of the
+        inputs drawn anew whose cut functions are flat on their nodes for every output (M-DRM's
+        indices exactly 0) and whose rows are untrusted for some; None when there are none, ``inert_check``
+        is off or the check sample is under :data:`_MIN_CHECK` points. (A group that holds one live
+        input proves nothing, so an input with any effect on its cut lines stays out of it.)"""
+        opts = design.options
+        if not opts.get("inert_check") or opts["check"] < _MIN_CHECK or "inert" in design.meta:
+            return None
+        t = self.analyze(space, design, values, outputs).indices
+        st = t["ST"].to_numpy(float).reshape(-1, space.dim)
+        trusted = t["trusted"].to_numpy(bool).reshape(-1, space.dim)
+        with np.errstate(invalid="ignore"):
+            group = np.flatnonzero((st == 0.0).all(axis=0) & (~trusted).any(axis=0))
+        if group.size == 0:
+            return None
+        start = design.n_points - opts["check"]
+        extra = partners(space, design.points[start:], group.tolist(), opts["seed"] + _PARTNER_SEED)
+        meta = {**design.meta, "inert": {"group": group, "base": start, "n": design.n_points}}
+        return Design(self.name, np.vstack([design.points, extra]), opts, meta)
+
     def _analyze(self, space: ParameterSpace, design: Design, y: NDArray[np.float64],
                  outputs: list[str]) -> PartialIndices:
+        if "inert" in design.meta:
+            return self._with_inert_check(space, design, y, outputs)
         opts = design.options
         n, n_nodes = space.dim, opts["points"]
         y, span, indicators = _indicator_of_cut_value(y, outputs)
@@ -240,6 +276,37 @@ class MDRM(GsaMethod):
                                     "untrusted"))
         return PartialIndices(S1=S1, ST=ST, S1_conf=err_s1, ST_conf=err_st, diagnostics=diags, extras=extras,
                               groups=groups)
+
+
+    def _with_inert_check(self, space: ParameterSpace, design: Design, y: NDArray[np.float64],
+                          outputs: list[str]) -> PartialIndices:
+        """The first round's indices; for an output where the inert check (:func:`ddgsa.gsa.inert.group_test`)
+        finds every pair equal, its group's rows get error bound 0 and lose their ``mdrm_index_error``; an
+        ``mdrm_inert_check`` note per output says what it found."""
+        info = design.meta["inert"]
+        n = info["n"]
+        meta = {k: v for k, v in design.meta.items() if k != "inert"}
+        part = self._analyze(space, Design(self.name, design.points[:n], design.options, meta), y[:n], outputs)
+        group, pairs = info["group"], len(y) - n
+        estimate, inert = group_test(y[info["base"]:n], y[n:])
+        names = ", ".join(space.names[i] for i in group)
+        diags = list(part.diagnostics)
+        for k, out in enumerate(outputs):
+            if inert[k]:
+                for err, idx in ((part.S1_conf, part.S1), (part.ST_conf, part.ST)):
+                    err[k, group] = np.abs(idx[k, group])
+                found = f"every pair equal: inert (an effect on more than ~{3 / pairs:.0%} of the space ruled out)"
+            else:
+                found = (f"their total index {estimate[k]:.3g} is not zero: nothing is proven (a bound from "
+                         f"{pairs} pairs is not trusted, docs/methods.md)")
+            diags.append(Diagnostic("mdrm_inert_check", f"output {out!r}: {names} drawn anew at {pairs} check "
+                                    f"points; {found}", "info", output=out, value=float(estimate[k])))
+        proven = {(outputs[k], space.names[i]) for k in np.flatnonzero(inert) for i in group}
+        diags = [d for d in diags if not (d.name == "mdrm_index_error" and (d.output, d.parameter) in proven)]
+        extras = {**part.extras, "inert_group": [space.names[i] for i in group], "inert_estimate": estimate,
+                  "inert": inert}
+        return PartialIndices(S1=part.S1, ST=part.ST, S1_conf=part.S1_conf, ST_conf=part.ST_conf, diagnostics=diags,
+                              extras=extras, groups=part.groups)
 
 
 def _indicator_of_cut_value(y: NDArray[np.float64], outputs: list[str]) -> tuple[NDArray[np.float64],

@@ -62,7 +62,8 @@ def moments(space: ParameterSpace, name: str, design: Design, y: np.ndarray, res
     if name in SAMPLE_DESIGNS and design.options.get("fit") != "quadrature":
         return sample_moments(y, f"{name} sample", outputs)
     if name == "mdrm" and design.options.get("check"):
-        return sample_moments(y[-design.options["check"]:], "M-DRM check sample", outputs)
+        end = design.meta["inert"]["n"] if "inert" in design.meta else len(y)     # before the inert check's pairs
+        return sample_moments(y[end - design.options["check"]:end], "M-DRM check sample", outputs)
     if name == "mdrm" and "rho" in res.extras:
         n = space.dim
         h_c, rho, theta = res.extras["h_cut"], res.extras["rho"], res.extras["theta"]     # (k,), (k, n), (k, n)
@@ -148,18 +149,51 @@ def _run_auto(plan: Plan, runs: Runs, outputs: list[str], options: dict[str, Any
     return results  # type: ignore[return-value]
 
 
-def _analyse(plan: Plan, store: EvaluationStore, designs: list[tuple[str, Design]], outputs: list[str],
-             result: GsaResult, auto: list[list[SobolResult]]) -> None:
+def _followups(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], raw: list[str]
+               ) -> dict[tuple[int, int], Design]:
+    """The methods' second rounds (:meth:`GsaMethod.followup`: M-DRM's inert check) per (design, scene
+    position), decided from the pooled block's values and run together; the same as :func:`ddgsa.sobol`."""
     study = plan.study
     assert study.space is not None
-    pooled, _ = plan.blocks["gsa"]
+    pooled, names = plan.blocks["gsa"]
+    out: dict[tuple[int, int], Design] = {}
+    tasks = []
+    for k, ps in enumerate(plan.scenes):
+        y, outputs = with_targets(plan.values(runs.store, "gsa", ps, raw, study.spec.scenes.aggregate), raw,
+                                  study.targets)
+        for j, (name, design) in enumerate(designs):
+            more = get_method(name).followup(study.space, design, y[row_index(pooled, design.points)], outputs)
+            if more is not None:
+                out[(j, k)] = more
+                pts = plan_points(study, more.points[design.n_points:], names)
+                tasks += [plan.task(ps, scene, p) for scene in ps.scenes for p in pts]
+    if tasks:
+        plan.tasks += tasks
+        runs(tasks)
+    return out
+
+
+def _analyse(plan: Plan, store: EvaluationStore, designs: list[tuple[str, Design]], outputs: list[str],
+             result: GsaResult, auto: list[list[SobolResult]],
+             followups: dict[tuple[int, int], Design] | None = None) -> None:
+    study = plan.study
+    assert study.space is not None
+    pooled, names = plan.blocks["gsa"]
     rows, diag_rows, moment_rows = [], [], []
     raw = outputs
+    followups = followups or {}
     for k, ps in enumerate(plan.scenes):
-        y, outputs = with_targets(plan.values(store, "gsa", ps, raw, study.spec.scenes.aggregate), raw, study.targets)
+        aggregate = study.spec.scenes.aggregate
+        y, outputs = with_targets(plan.values(store, "gsa", ps, raw, aggregate), raw, study.targets)
         ys = [y[row_index(pooled, design.points)] for _, design in designs]
-        scene_results = [get_method(name).analyze(study.space, design, yd, outputs=outputs)
-                         for (name, design), yd in zip(designs, ys)]
+        scene_results = []
+        for j, ((name, design), yd) in enumerate(zip(designs, ys)):
+            more = followups.get((j, k))
+            if more is not None:
+                extra = with_targets(plan.values_at(store, more.points[design.n_points:], names, ps, raw, aggregate),
+                                     raw, study.targets)[0]
+                design, yd = more, np.vstack([yd, extra])
+            scene_results.append(get_method(name).analyze(study.space, design, yd, outputs=outputs))
         scene_results += pooled_crosscheck(study, designs, pooled, y, outputs)
         found = [m for m in (moments(study.space, name, design, yd, res, outputs)
                              for (name, design), yd, res in zip(designs, ys, scene_results)) if m]
@@ -368,6 +402,7 @@ class GsaKind:
         self.study = study
         self.designs = method_designs(study)
         self.auto: list[list[SobolResult]] = []
+        self.followups: dict[tuple[int, int], Design] = {}
         self.confirm_log: list[dict[str, Any]] = []
 
     def plan(self, plan: Plan) -> None:
@@ -379,13 +414,14 @@ class GsaKind:
     def run(self, plan: Plan, runs: Runs) -> None:
         self.auto = [_run_auto(plan, runs, self.study.outputs, m.options)
                      for m in self.study.spec.methods if m.method == "auto"]
+        self.followups = _followups(plan, runs, self.designs, self.study.outputs)
 
     result_type: type[GsaResult] = GsaResult
 
     def analyse(self, plan: Plan, runs: Runs) -> GsaResult:
         result = self.result_type(self.study, pd.DataFrame(), pd.DataFrame(), pd.DataFrame(), {})
         outputs = self.study.outputs
-        _analyse(plan, runs.store, self.designs, outputs, result, self.auto)
+        _analyse(plan, runs.store, self.designs, outputs, result, self.auto, self.followups)
         if self.study.spec.confirm is not None:
             self.confirm_log = _confirm(plan, runs, self.designs, outputs, result)
         _signals_and_convergence(plan, runs.store, self.designs, outputs, result)
