@@ -6,6 +6,10 @@ model evaluations and reusing every evaluation already made:
 1. **M-DRM** (``points`` Gauss points per parameter on the cut lines plus its ``check``-point
    scrambled-Sobol' check sample: ``n (points) + 1 + check`` runs). Its diagnostics (cut value,
    sign change, unresolved cut functions, heavy tails, check-sample R^2 and variance) decide.
+   Where some inputs' rows are untrusted zeros (cut functions flat on their nodes), M-DRM's
+   **inert check** (:mod:`ddgsa.gsa.inert`, ``check`` more runs) redraws them at the check
+   points; inputs it proves inert for every output are left out of the PCE stages below, whose
+   basis then spans the other inputs only (their rows: 0 with error 0, as proven).
 2. **PCE** by least-squares regression of total degree 3, 5, 7, ... on *all* points so far
    (the cut lines and the check sample included) plus more points of the same Sobol'
    sequence, so each fit has at least twice as many space-filling points as basis terms

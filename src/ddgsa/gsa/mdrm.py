@@ -70,6 +70,12 @@ error as well, and each index keeps the smaller of the two bounds (``extras["cro
 already vouches for, which is not cross-checked). A row is thus trusted when either estimate
 vouches for M-DRM's value; the other rules (sign change, unresolved cut functions, coverage)
 still refuse it.
+
+**The inert check** (:meth:`MDRM.followup`, option ``inert_check``, default on): a cut function flat
+on its nodes gives an input indices of exactly 0 that the cut lines cannot vouch for (an interaction
+``x_i (x_j - c_j)`` vanishes on them). Where such rows are untrusted, a second round redraws all those
+inputs at once at the check points (``check`` more runs, :mod:`ddgsa.gsa.inert`); every pair equal to
+round-off proves them inert (error 0), any difference proves nothing (``mdrm_inert_check`` says which).
 """
 
 from __future__ import annotations
