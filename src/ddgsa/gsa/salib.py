@@ -341,11 +341,13 @@ def controlled_indices(space: ParameterSpace, unit: NDArray[np.float64], y: NDAr
     rows = n * (d + 2)
     out = [np.full((k, d), np.nan) for _ in range(6)]
     loo, variance = np.full(k, np.nan), np.full(k, np.nan)
+    residual = np.array(y[:rows], dtype=float, copy=True)             # what the estimates' terms still carry
     for j in range(k):
         g = fit_control(unit[rows:], y[rows:, j], seed=options["seed"]) if surrogates is None \
             else surrogates.get(outputs[j])
         exact = g.variances() if g is not None else (0.0, np.zeros(d), np.zeros(d))
         gv = g(unit[:rows]) if g is not None else np.zeros(rows)
+        residual[:, j] -= gv
         c = controlled_saltelli(y[:rows, j].reshape(n, d + 2), gv.reshape(n, d + 2), exact,
                                 resamples=options["num_resamples"], conf_level=options["conf_level"],
                                 seed=options["seed"], convergence_factor=_CONVERGENCE_FACTOR,
@@ -359,8 +361,14 @@ def controlled_indices(space: ParameterSpace, unit: NDArray[np.float64], y: NDAr
     diags += error_diagnostics("salib_index_error", "bootstrap half-width and half-sample difference, "
                                "Gaussian-process control variate", outputs, space.names, err1, errT,
                                options["tolerance"])
+    # the controlled total index's correction is the mean of d_g d_r + d_r^2 / 2 (d: a row's A - AB_i
+    # difference of the process g and of the residual r = f - g): the residual's Jansen terms carry its tail
+    # (with g = 0 this is the plain rule)
+    shape, tails = tail_diagnostics(space, residual, n, outputs)
+    diags += tails
     return PartialIndices(S1=S1, ST=ST, S1_conf=S1c, ST_conf=STc, diagnostics=diags,
-                          extras={"S1_error": err1, "ST_error": errT, "variance": variance, "control_loo": loo})
+                          extras={"S1_error": err1, "ST_error": errT, "variance": variance, "control_loo": loo,
+                                  "tail_shape": shape})
 
 
 def tail_diagnostics(space: ParameterSpace, y: NDArray[np.float64], n: int,
