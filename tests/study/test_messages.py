@@ -83,7 +83,8 @@ def test_the_mdrm_check_sample_is_announced(write_study, capsys) -> None:
     assert main(["validate", str(write_study())]) == 0
     err = capsys.readouterr().err
     # analytic: 3 parameters; M-DRM 5 x 3 + 1 = 16 points + its default 32-point check; Saltelli n (d + 2) = 64 x 5
-    assert "mdrm 48 (including its 32-point check sample; set by the method's `check:` option), saltelli 320" in err
+    assert ("mdrm 48 (including its 32-point check sample; set by the method's `check:` option; up to 32 more for "
+            "its inert check), saltelli 320") in err
     assert "x 2 scenes x 2 realisations" in err
 
 

@@ -266,7 +266,8 @@ def evaluation_plan(study: Study) -> str:
         design = get_method(m.method).design(space, **m.options)
         blocks.append(design.points)
         check = design.options.get("check")
-        extra = f" (including its {check}-point check sample; set by the method's `check:` option)" if check else ""
+        inert = f"; up to {check} more for its inert check" if check and design.options.get("inert_check") else ""
+        extra = f" (including its {check}-point check sample; set by the method's `check:` option{inert})" if check else ""
         parts.append(f"{m.method} {len(design.points)}{extra}")
     distinct = len(np.unique(np.vstack(blocks), axis=0))
     runs = distinct * n_scenes * sc.realisations
