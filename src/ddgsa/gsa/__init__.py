@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from ddgsa.gsa import hsic, mdrm, pce, salib, shapley  # noqa: F401  (register the methods)
 from ddgsa.gsa.auto import run_auto
-from ddgsa.gsa.base import METHODS, Design, GsaMethod, as_value_matrix, get_method, register
+from ddgsa.gsa.base import METHODS, Design, GsaMethod, evaluate, get_method, register
 from ddgsa.gsa.result import Diagnostic, SobolResult
 from ddgsa.errors import MethodError
 from ddgsa.gsa.space import ParameterSpace
@@ -95,11 +95,5 @@ def _sobol(f: VectorisedFunction, space: ParameterSpace, method: str, outputs: S
     if method == "auto":
         return run_auto(f, space, list(outputs) if outputs is not None else None, **options)
     m = get_method(method)
-    design = m.design(space, **options)
-    values = f(design.points)
-    more = m.followup(space, design, values, outputs)
-    if more is not None:
-        y, names = as_value_matrix(values, design.n_points, outputs)
-        extra, _ = as_value_matrix(f(more.points[design.n_points:]), more.n_points - design.n_points, names)
-        values, design, outputs = np.vstack([y, extra]), more, names
-    return m.analyze(space, design, values, outputs=outputs)
+    design, y, names = evaluate(m, space, f, options, outputs)
+    return m.analyze(space, design, y, outputs=names)

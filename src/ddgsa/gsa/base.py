@@ -7,7 +7,7 @@ evaluations on disk and resume; :func:`ddgsa.sobol` simply chains them.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -289,6 +289,21 @@ def undefined_index_diagnostics(outputs: Sequence[str], parameters: Sequence[str
         out.append(Diagnostic("undefined_index", f"output {o!r}: {p}: the estimator gave no finite index "
                               "(0/0: no variance in its fit or sample)", "untrusted", output=o, parameter=p))
     return out
+
+
+def evaluate(method: "GsaMethod", space: ParameterSpace, f: Callable[[NDArray[np.float64]], Any],
+             options: Mapping[str, Any], outputs: Sequence[str] | None = None
+             ) -> tuple[Design, NDArray[np.float64], list[str]]:
+    """``method``'s design on ``space`` with ``options``, evaluated by the vectorised ``f``, and its second
+    round (:meth:`GsaMethod.followup`) where it asks for one: the design run, the values (n, k) and
+    their output names."""
+    design = method.design(space, **options)
+    y, names = as_value_matrix(f(design.points), design.n_points, outputs)
+    more = method.followup(space, design, y, names)
+    if more is not None:
+        extra, _ = as_value_matrix(f(more.points[design.n_points:]), more.n_points - design.n_points, names)
+        design, y = more, np.vstack([y, extra])
+    return design, y, names
 
 
 def as_value_matrix(values: NDArray[np.float64] | pd.DataFrame | pd.Series, n_points: int,

@@ -54,7 +54,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ddgsa.errors import MethodError
-from ddgsa.gsa.base import Design, as_value_matrix, get_method
+from ddgsa.gsa.base import Design, as_value_matrix, evaluate, get_method
 from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.result import SobolResult, need_per_row, nothing_to_rank
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
@@ -481,9 +481,7 @@ def confirm(f: Callable[[NDArray[np.float64]], Any], space: ParameterSpace, meth
     ({'y': True}, True)
     """
     m = get_method(method)
-    design = m.design(space, **options)
-    values = f(design.points)
-    y, names = as_value_matrix(values, design.n_points, outputs)
+    design, y, names = evaluate(m, space, f, options, outputs)
     first = m.analyze(space, design, y, outputs=names)
     tol = float(design.options.get("tolerance", DEFAULT_TOLERANCE))
     results = [first]
