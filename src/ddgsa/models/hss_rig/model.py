@@ -79,7 +79,7 @@ from ddgsa.mbs.bodies import MAX_BENDING_MODES
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.mbs.sampling import AliasingWarning
 from ddgsa.models.base import BAND_FACTOR, BasisRule, Model, ModelOption, ModelOutput, SignalOutput, register_model
-from ddgsa.models.hss_rig import steady_block, transient
+from ddgsa.models.hss_rig import steady_block, sweep_block, transient
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligned, operating_stretch
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_along, kloss_parts,
@@ -475,22 +475,26 @@ class HssRig(Model):
 
     @property
     def block_parts(self) -> dict[str, Any]:
-        """What the block path (:mod:`~ddgsa.models.hss_rig.steady_block`) takes from this module: the pole
+        """What the block paths (:mod:`~ddgsa.models.hss_rig.steady_block`, :mod:`~ddgsa.models.hss_rig.sweep_block`)
+        take from this module: the pole
         pairs, the rig at rest (``still_key``, ``still_rig``), the sensors and their objectives -- handed
         over, so that module needs no import of this one (which imports it)."""
         return {"pole_pairs": POLE_PAIRS, "still_key": still_key, "still_rig": still_rig, "sensors": SENSORS,
-                "record_objectives": record_objectives}
+                "record_objectives": record_objectives, "objectives": objectives}
 
     def _evaluate_block(self, params: pd.DataFrame, scene: Any, signals: tuple[str, ...] = ()) -> pd.DataFrame:
         """The block's outputs: the ``linear`` fidelity's steady points whose inputs repeat once per
-        revolution at once (:mod:`ddgsa.models.hss_rig.steady_block`), the others one by one
-        (:meth:`Model._evaluate_block`); ``attrs["block_points"]`` counts the first."""
+        revolution at once (:mod:`ddgsa.models.hss_rig.steady_block`), its start-up and coast-down points
+        on sweeps reduced to the scene's band (:mod:`ddgsa.models.hss_rig.sweep_block`), the others one by one
+        (:meth:`Model._evaluate_block`); ``attrs["block_points"]`` counts the first two."""
         sc = self._scene(scene)
-        block = steady_block.holds(self, params, sc, signals)
+        path = steady_block if sc.kind == "steady" else sweep_block
+        block = path.holds(self, params, sc, signals)
         if not block.any():
             out = super()._evaluate_block(params, sc, signals)
         else:
-            out = steady_block.steady_block(self, params[block].reset_index(drop=True), sc)
+            run = steady_block.steady_block if sc.kind == "steady" else sweep_block.sweep_block
+            out = run(self, params[block].reset_index(drop=True), sc)
             if not block.all():
                 rest = super()._evaluate_block(params[~block].reset_index(drop=True), sc, signals)
                 rows = np.concatenate([np.flatnonzero(block), np.flatnonzero(~block)])

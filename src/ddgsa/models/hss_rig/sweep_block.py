@@ -1,0 +1,124 @@
+"""The linear fidelity's start-up and coast-down for a block of points (issue 46, item 3).
+
+Each point's speed sweep (:mod:`~ddgsa.models.hss_rig.transient`) prepared as the per-point path prepares it,
+with the steady block path's savings (:mod:`~ddgsa.models.hss_rig.steady_block`): the rig's sag on the still
+rig's stiffness with the kernel's tangents where they are exact (``initial_state(..., tangents=True)``), both
+linearisations of the sweep model with :func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the tangents
+(half the residual calls). The sweep model is then reduced to the scene's band
+(:func:`ddgsa.mbs.sweep.reduce`: the rigid spin and the undamped modes at rest up to :func:`band_hz`, the
+inputs' rows mapped onto that basis) and integrated by the kernel's generalised-alpha with its factors kept
+across steps (:func:`ddgsa.mbs.sweep.integrate`'s ``reuse``); the record is mapped back to the rig's
+coordinates and read by the per-point path's sensors and objectives.
+
+It holds where :meth:`HssRig._simulate` runs the sweep: the ``linear`` fidelity, a start-up or coast-down, no
+misalignment (which the per-point path refuses in transients: those points go that way and fail there with its
+reason), no measurement noise, no signals. A point whose preparation or integration fails (a linear solve, the
+coast-down's steady orbit, a step that does not converge or leaves the finite numbers) is a failure with that
+reason in ``attrs["failures"]``, never a number. The per-point path is the check
+(``tests/models/test_hss_rig_sweep_block.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from ddgsa.errors import ModelError
+from ddgsa.mbs import nonrotating
+from ddgsa.mbs.derivatives import central_difference
+from ddgsa.mbs.sweep import SweepModel, integrate
+from ddgsa.models.hss_rig.drive import Drive, kloss_along
+from ddgsa.models.hss_rig import transient
+from ddgsa.models.hss_rig.faults import misaligned
+from ddgsa.models.hss_rig.rig import Rig
+from ddgsa.models.hss_rig.scenes import RigScene
+from ddgsa.models.hss_rig.steady_block import COORDS
+
+if TYPE_CHECKING:
+    from ddgsa.models.base import Model as HssRig      # the rig model; its module imports this one
+
+NYQUIST_MULTIPLE = 2.5
+"""The band the block's sweeps keep, in multiples of the record's Nyquist frequency (:func:`band_hz`)."""
+Array = NDArray[np.float64]
+REUSE = 3
+"""Newton iterations a step may take before the sweep's factors are refreshed (:func:`ddgsa.mbs.sweep.integrate`):
+the rig's steps take two or three with fresh factors, and as many with factors kept across steps (7067 against
+7085 iterations a 1.2 s start-up at the nominal point), which are refreshed a few times a run."""
+
+
+def band_hz(scene: RigScene) -> float:
+    """The band [Hz] the block's sweeps keep: :data:`NYQUIST_MULTIPLE` times the record's Nyquist frequency.
+
+    The accelerometers' records read the housings' resonances up to the Nyquist frequency (their envelope band
+    reaches 0.45 of the sample rate), above what the model's basis rule names (its sampling checks, up to
+    3 x BPFI, times :data:`~ddgsa.models.base.BAND_FACTOR`: 609 Hz at 1500 rpm, 26 of the rig's 42 modes, which
+    moves the first housing's RMS by 22 %), and the modes just above it still add their quasi-static part:
+    measured at 2 kHz on 4 points of ``paper_a_subsystem`` against the per-point path, the housings' RMS and 2x
+    orders move by 1.6 % at 1.5x the Nyquist frequency (34 modes, up to 968 Hz), 8e-4 at 2.5x (37 modes, the
+    next at 2539 Hz), 6e-5 unreduced (the tangent columns' and the kept factors' share)."""
+    return NYQUIST_MULTIPLE * 0.5 * scene.sample_rate
+
+
+def holds(model: "HssRig", params: pd.DataFrame, scene: RigScene, signals: tuple[str, ...]) -> NDArray[np.bool_]:
+    """Which rows of the resolved ``params`` the block path takes (see the module)."""
+    if model.fidelity != "linear" or scene.kind == "steady" or signals or model.noise:
+        return np.zeros(len(params), dtype=bool)
+    return np.array([not misaligned(row) for row in params.to_dict("records")], dtype=bool)
+
+
+def sweep_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.DataFrame:
+    """Outputs of the rows of ``params`` (resolved, all :func:`holds`) in a start-up or coast-down ``scene``;
+    failures with their reasons in ``attrs["failures"]`` (see the module)."""
+    names = [str(o) for o in model.outputs]
+    band = band_hz(scene)
+    step, every = model.step_for(1.0 / scene.sample_rate)
+    rows: list[dict[str, float]] = []
+    failures: dict[int, str] = {}
+    for i, raw in enumerate(params.to_dict("records")):
+        try:
+            rig, drive, spin = model._build(raw, scene)
+            q0, _ = model.initial_state(rig, raw, tangents=True)
+            sweep = transient.prepare(drive, raw, q0, scene.kind, spin, model.basis, band_hz=band, tangents=True)
+            t, z, zd = integrate(sweep.model, scene.duration, step, sweep.z0, sweep.zd0, sweep.inputs, every,
+                                 reuse=REUSE, extrapolate=True)
+            out = _outputs(model, rig, drive, scene, sweep.model, t, z, zd)
+            if not all(math.isfinite(v) for v in out.values()):
+                raise ModelError("sweep block: an output is not finite")
+            rows.append(out)
+        except (ArithmeticError, RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
+            failures[i] = f"{type(exc).__name__}: {exc}"
+            rows.append({o: math.nan for o in names})
+    out = pd.DataFrame(rows, columns=names)
+    out.attrs["failures"] = failures
+    return out
+
+
+def _outputs(model: "HssRig", rig: Rig, drive: Drive, scene: RigScene, sweep: SweepModel, t: Array, z: Array,
+             zd: Array) -> dict[str, float]:
+    """The outputs of one point's record ``z``, ``zd`` (n_t, n_reduced) at ``t`` [s]: the per-point path's sensors
+    (:meth:`HssRig._sensors`) read from the coordinates they need, the disk probe through its linear map onto the
+    non-rotating coordinates at the sag (as the steady block path's), then :func:`record_objectives`."""
+    sensors, record_objectives = (model.block_parts[k] for k in ("sensors", "record_objectives"))
+    system, lin, basis = rig.system, sweep.lin, sweep.basis
+    rows = basis[[system.index(c) for c in COORDS]]                            # (6, n_reduced)
+    y, yd = z @ rows.T, zd @ rows.T
+    disk = rig.markers["disk"]
+
+    def positions(x: Array) -> Array:
+        q = nonrotating.spin_map(lin, x, np.zeros_like(x))[0]
+        return system.positions(disk, q, np.zeros_like(q), np.full(len(q), lin.t0))[:, 1:]
+
+    zero = np.zeros(system.n)
+    slope = central_difference(positions, zero, nonrotating.POSITION_SCALE) @ basis        # (2, n_reduced)
+    xs = np.empty((t.size, 1, len(sensors)))
+    xs[:, 0, :4] = np.gradient(yd[:, :4], t, axis=0, edge_order=2)
+    xs[:, 0, 4:6] = positions(zero[None, :])[0] + z @ slope.T
+    speed = lin.qd0[system.index("hss.rx")] + yd[:, COORDS.index("hss.rx")]
+    motor = lin.qd0[system.index("motor.rx")] + yd[:, COORDS.index("motor.rx")]
+    xs[:, 0, 6], xs[:, 0, 7] = kloss_along(drive, t, motor)
+    angle = lin.q0[system.index("hss.rx")] + y[:, COORDS.index("hss.rx")]
+    return record_objectives(t, xs, angle, float(np.mean(speed)) / (2 * math.pi), scene, drive)[0]
