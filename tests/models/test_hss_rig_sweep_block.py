@@ -120,3 +120,29 @@ def test_a_point_that_fails_is_a_failure_with_its_reason(monkeypatch: pytest.Mon
     out = model._evaluate_block(params, model._scene({**scene, "kind": "startup"}))
     assert out.attrs["failures"] == {1: "LinAlgError: singular matrix"}
     assert out.iloc[1].isna().all() and out.iloc[0].notna().all()
+
+
+def test_the_damping_at_rest_is_the_kernels_tangents() -> None:
+    """The block's sweep linearises the rig at rest with every column of ``C`` from the kernel's tangents
+    (``linearise(..., damping_tangents=True)``): at a random ``paper_a_structural`` point, about its sag, each
+    column within 1e-6 of its largest central difference (measured: equal but for 1e-52 in a zero column), and ``K`` the same
+    linearisation's. The option refuses a spinning state, where the gyroscopic columns are not tangents."""
+    from ddgsa.mbs import nonrotating
+    from ddgsa.models.hss_rig.rig import tangent_columns
+
+    model, points, scene = _study_points("paper_a_structural", 1, seed=7)
+    raw = model.resolve(points).to_dict("records")[0]
+    sc = model._scene({**scene, "kind": "startup"})
+    rig, drive, spin = model._build(raw, sc)
+    q0, _ = model.initial_state(rig, raw, tangents=True)
+    bare, _ = transient.structure(raw, q0, 2 * math.pi * 25.0, model.basis)
+    system = bare.system
+    cols = tangent_columns(system)
+    ref = nonrotating.linearise(system, q0, np.zeros(system.n), tangent_columns=cols)
+    fast = nonrotating.linearise(system, q0, np.zeros(system.n), tangent_columns=cols, damping_tangents=True)
+    scale = np.abs(ref.c).max(axis=0)
+    floor = 1e-12 * scale.max()                      # a zero column: 1e-52 of differencing noise
+    assert np.all(np.abs(fast.c - ref.c).max(axis=0) <= np.maximum(1e-6 * scale, floor))
+    assert np.array_equal(fast.k, ref.k)
+    with pytest.raises(ValueError, match="at rest only"):
+        nonrotating.linearise(system, q0, system.qd0, damping_tangents=True)

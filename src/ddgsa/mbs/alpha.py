@@ -255,17 +255,20 @@ def _loop(ctx, q0, qd0, acc0, lam0, t0, h, n_steps, output_every, am, af, gamma,
     _record(0, q, qd, lam, y, ch, vel, q_out, qd_out, lam_out, y_out, drift)
     slot, worst, total = 1, 0, 0
     stale = True                                          # no factors yet
+    none = np.zeros((0, 0))
     for step in range(1, n_steps + 1):
         t = t0 + step * h
         _predict(q, qd, acc, aux, acc_prev, acc_new, h, am, af, gamma, beta, extrapolate)
         converged = False
         it = 0
         for it in range(max_iter):
-            _evaluate(q, qd, t, step, ctx, m, f, kt, ct, y, ch, jac, vel)
             if reuse > 0:
                 build = (it == 0 and stale) or it == 2 * reuse
+                # the kind skips its tangents where the kept factors stand (empty kt, ct)
+                _evaluate(q, qd, t, step, ctx, m, f, kt if build else none, ct if build else none, y, ch, jac, vel)
             else:
                 build = it == 0 or not modified
+                _evaluate(q, qd, t, step, ctx, m, f, kt, ct, y, ch, jac, vel)
             cmax = _newton_rows(big, rhs, m, f, kt, ct, jac, lam, ch, vel, acc_new, bp, gp, h, build)
             if modified:                                  # the step's factors kept
                 if build:

@@ -116,8 +116,10 @@ class SweepModel:
 
     @cached_property
     def arrays(self) -> tuple[Array, ...]:
-        """``(M, C_0, C_1, K_0, K_1, K_2, r_0, r_1, r_2, spin)``: what the compiled sweep reads."""
-        return (self.m, self.c0, self.c1, self.k0, self.k1, self.k2, self.r0, self.r1, self.r2, self.spin)
+        """``(M, C_0, C_1, K_0, K_1, K_2, r_0, r_1, r_2, spin, transposes of (C_0, C_1, K_0, K_1, K_2))``: what
+        the compiled sweep reads (the transposes for its column-by-column products)."""
+        tr = tuple(np.ascontiguousarray(a.T) for a in (self.c0, self.c1, self.k0, self.k1, self.k2))
+        return (self.m, self.c0, self.c1, self.k0, self.k1, self.k2, self.r0, self.r1, self.r2, self.spin, tr)
 
     def at_spin(self, w: float) -> tuple[Array, Array, Array]:
         """``(K(w), C(w), r(w))``: stiffness, damping and gyroscopic matrix, static generalised force at
@@ -257,7 +259,7 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
 def _at_spin(arrays, w, k, c, r):  # pragma: no cover (compiled)
     """``K(w) = K_0 + w K_1 + w^2 K_2``, ``C(w) = C_0 + w C_1`` and ``r(w) = r_0 + w r_1 + w^2 r_2``
     written into ``k``, ``c``, ``r`` (see :class:`SweepModel`; ``arrays`` is :attr:`SweepModel.arrays`)."""
-    _, c0, c1, k0, k1, k2, r0, r1, r2, _ = arrays
+    c0, c1, k0, k1, k2, r0, r1, r2 = arrays[1], arrays[2], arrays[3], arrays[4], arrays[5], arrays[6], arrays[7], arrays[8]
     w2 = w * w
     for i in range(r.size):
         r[i] = r0[i] + w * r1[i] + w2 * r2[i]
@@ -268,12 +270,27 @@ def _at_spin(arrays, w, k, c, r):  # pragma: no cover (compiled)
 
 @njit(cache=True)
 def _linear_terms(z, zd, arrays, m, f, kt, ct):  # pragma: no cover (compiled)
-    """``M``, ``K(W)``, ``C(W)`` and ``f = r(W) - C(W) z' - K(W) z`` at ``W = spin @ z'`` (:func:`_at_spin`)."""
+    """``M``, ``K(W)``, ``C(W)`` and ``f = r(W) - C(W) z' - K(W) z`` at ``W = spin @ z'`` (:func:`_at_spin`);
+    with empty ``kt``, ``ct`` (the loop's kept factors: :mod:`ddgsa.mbs.alpha`'s ``reuse``) ``f`` alone, column by
+    column through the parts' transposes (independent updates: half the time of the row sums that form ``K(W)``,
+    ``C(W)``), ``M`` left as the last full evaluation wrote it (it is constant)."""
     mm, spin = arrays[0], arrays[9]
     n = z.size
     w = 0.0
     for i in range(n):
         w += spin[i] * zd[i]
+    if kt.size == 0:
+        r0, r1, r2 = arrays[6], arrays[7], arrays[8]
+        c0, c1, k0, k1, k2 = arrays[10]            # transposed: row j is column j
+        w2 = w * w
+        for i in range(n):                         # M stands as the last full evaluation wrote it
+            f[i] = r0[i] + w * r1[i] + w2 * r2[i]
+        for j in range(n):                         # column by column: independent updates of f (vectorised)
+            a, b, c = zd[j], w * zd[j], z[j]
+            d, e = w * c, w2 * c
+            for i in range(n):
+                f[i] -= c0[j, i] * a + c1[j, i] * b + k0[j, i] * c + k1[j, i] * d + k2[j, i] * e
+        return
     _at_spin(arrays, w, kt, ct, f)
     for i in range(n):
         acc = f[i]

@@ -56,12 +56,13 @@ def structure(p: Mapping[str, float], q0: Array, synchronous: float,
     (``coupling_asymmetry`` 0), and its sweep model about the sag ``q0`` (the positions of
     :meth:`HssRig.initial_state`) with reference spin ``synchronous`` [rad/s]. ``tangents``: both
     linearisations take :func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the kernel's tangents (the
-    block path's, as the steady one's; half the residual calls)."""
+    block path's, as the steady one's; half the residual calls), the one at rest its whole damping matrix
+    (``damping_tangents``: no velocity-quadratic slope at rest)."""
     bare = build({**p, "eccentric_mass": 0.0, "load_torque": 0.0, "coupling_asymmetry": 0.0},
                  lambda marker: ([], []), spin=synchronous, basis=basis)
     system = bare.system
     columns = tangent_columns(system) if tangents else ()
-    rest = nonrotating.linearise(system, q0, np.zeros(system.n), tangent_columns=columns)
+    rest = nonrotating.linearise(system, q0, np.zeros(system.n), tangent_columns=columns, damping_tangents=tangents)
     spinning = nonrotating.linearise(system, q0, system.qd0, tangent_columns=columns)
     return bare, sweep_model(rest, spinning, system.index("hss.rx"), q0 - system.q0)
 
@@ -166,7 +167,15 @@ def coupling_force(z, coupling, f):  # pragma: no cover (compiled)
     theta = 0.0
     for i in range(z.size):
         theta += angle[i] * z[i]
-    wrench = anisotropy_matrix(stiffness, theta) @ (sag + jac @ z)
+    stretch = sag.copy()                             # s_sag + J z, in loops (no BLAS call an iteration)
+    for k in range(6):
+        for i in range(z.size):
+            stretch[k] += jac[k, i] * z[i]
+    dk = anisotropy_matrix(stiffness, theta)
+    wrench = np.zeros(6)
+    for k in range(6):
+        for j in range(6):
+            wrench[k] += dk[k, j] * stretch[j]
     for i in range(z.size):
         acc = 0.0
         for k in range(6):
