@@ -74,6 +74,7 @@ from scipy.signal import butter, sosfiltfilt
 from ddgsa.errors import ModelError, SceneError
 from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
 from ddgsa.mbs.campbell import CampbellDiagram, mode_row, tracked_frame
+from ddgsa.mbs.compiled import evaluate
 from ddgsa.mbs.beam import BEAMS
 from ddgsa.mbs.bodies import MAX_BENDING_MODES
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
@@ -296,10 +297,7 @@ class HssRig(Model):
 
     def _build(self, p: dict[str, float], scene: RigScene) -> tuple[Rig, Drive, float]:
         """:meth:`build` for a full parameter set ``p`` (resolved)."""
-        drive = drive_for(p, scene, POLE_PAIRS)
-        spin = 0.0
-        if scene.kind != "startup":
-            spin = steady_speed(drive, p["load_torque"], p["load_speed_exponent"], RATED_SPEED)
+        drive, spin = self.drive(p, scene)
         if self.fidelity == "dq":
             parts = dq_parts(drive, steady_flux(drive, spin) if scene.kind != "startup" else None)
         else:
@@ -316,6 +314,16 @@ class HssRig(Model):
             extras.append(anisotropy_loads(p, stretch, spin, scene.duration, 1.0 / scene.sample_rate))
         extra = (lambda markers: [e for f in extras for e in f(markers)]) if extras else None
         return build(eff, parts, spin=spin, extra=extra, basis=self.basis), drive, spin
+
+    @staticmethod
+    def drive(p: Mapping[str, float], scene: RigScene) -> tuple[Drive, float]:
+        """The drive of a full parameter set ``p`` in ``scene`` and the rig's initial spin [rad/s] (0 for a
+        start-up, else the steady speed)."""
+        drive = drive_for(p, scene, POLE_PAIRS)
+        spin = 0.0
+        if scene.kind != "startup":
+            spin = steady_speed(drive, p["load_torque"], p["load_speed_exponent"], RATED_SPEED)
+        return drive, spin
 
     def effective(self, p: Mapping[str, float]) -> dict[str, float]:
         """The parameters the fidelity builds the rig with: ``linear`` takes the coupling at its
@@ -659,8 +667,10 @@ def still_rig(items: tuple[tuple[str, float], ...], basis: ShaftBasis,
     one run: an assembly, its steady stretch, its start; the block path's chord iteration takes the
     stiffness as its tangent). ``tangents``: the stiffness's :func:`~ddgsa.models.hss_rig.rig.tangent_columns`
     are the kernel's tangents, the others central differences (the block path's: half the residual calls;
-    the sag then differs from the all-differenced one by the differences' round-off), on the compiled
-    path (a rig whose Python elements push at rest is differenced whole)."""
+    the sag then differs from the all-differenced one by the differences' round-off), and every column a
+    tangent where no element is loaded at rest (no misalignment: no geometric term to miss, as
+    :func:`~ddgsa.models.hss_rig.steady_block._at_rest`), on the compiled path (a rig whose Python elements
+    push at rest is differenced whole)."""
     still = build(dict(items), lambda marker: ([], []), spin=0.0, basis=basis)
     # the rig's parts are all compiled (the unbalance and the load law since issue 24); a Python element
     # added to it would be checked here: one that puts no force on the rig at rest for any position
@@ -668,8 +678,11 @@ def still_rig(items: tuple[tuple[str, float], ...], basis: ShaftBasis,
     system, hybrid = still.system, still.system.fast_terms
     idle = all(not np.any(el.wrench(0.0, system.states_of(el.markers, system.q0, system.qd0, 0.0))[0])
                for _, el in hybrid.python)
-    lin = linearise_system(system, compiled=hybrid.packed if idle else False, static=True,
-                           tangent_columns=tangent_columns(system) if tangents and idle else ())
+    columns: Any = ()
+    if tangents and idle:                 # nothing loaded at rest: no geometric term, every column a tangent
+        loaded = np.any(evaluate(hybrid.packed, system.q0, np.zeros(system.n), 0.0)[4])
+        columns = tangent_columns(system) if loaded else np.arange(system.n)
+    lin = linearise_system(system, compiled=hybrid.packed if idle else False, static=True, tangent_columns=columns)
     sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
     sag.flags.writeable = False
     k = lin.basis @ lin.k @ lin.basis.T

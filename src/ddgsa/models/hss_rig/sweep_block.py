@@ -80,9 +80,11 @@ def sweep_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.Da
     failures: dict[int, str] = {}
     for i, raw in enumerate(params.to_dict("records")):
         try:
-            rig, drive, spin = model._build(raw, scene)
-            q0, _ = model.initial_state(rig, raw, tangents=True)
-            sweep = transient.prepare(drive, raw, q0, scene.kind, spin, model.basis, band_hz=band, tangents=True)
+            drive, spin = model.drive(raw, scene)
+            rig = transient.bare_rig(raw, transient.synchronous_speed(drive), model.basis)   # its coordinates
+            q0, _ = model.initial_state(rig, raw, tangents=True)            # and sensors are the full rig's
+            sweep = transient.prepare(drive, raw, q0, scene.kind, spin, model.basis, band_hz=band, tangents=True,
+                                      bare=rig)
             t, z, zd = integrate(sweep.model, scene.duration, step, sweep.z0, sweep.zd0, sweep.inputs, every,
                                  reuse=REUSE, extrapolate=True)
             out = _outputs(model, rig, drive, scene, sweep.model, t, z, zd)

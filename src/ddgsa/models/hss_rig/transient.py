@@ -50,16 +50,27 @@ SLOPE_STEP = 1e-6
 """Relative speed step of the torque laws' slopes at the coast-down's operating point [-]."""
 
 
-def structure(p: Mapping[str, float], q0: Array, synchronous: float,
-              basis: ShaftBasis = ShaftBasis(), tangents: bool = False) -> tuple[Rig, SweepModel]:
+def synchronous_speed(drive: Drive) -> float:
+    """The supply's synchronous speed [rad/s]: the sweep's reference spin (the fastest a scene reaches)."""
+    return 2 * math.pi * drive.motor.supply_frequency / drive.motor.pole_pairs
+
+
+def bare_rig(p: Mapping[str, float], synchronous: float, basis: ShaftBasis = ShaftBasis()) -> Rig:
+    """The rig without motor, load and eccentric mass, with the coupling's mean stiffness, spinning at
+    ``synchronous`` [rad/s] (:func:`structure`'s)."""
+    return build({**p, "eccentric_mass": 0.0, "load_torque": 0.0, "coupling_asymmetry": 0.0},
+                 lambda marker: ([], []), spin=synchronous, basis=basis)
+
+
+def structure(p: Mapping[str, float], q0: Array, synchronous: float, basis: ShaftBasis = ShaftBasis(),
+              tangents: bool = False, bare: Rig | None = None) -> tuple[Rig, SweepModel]:
     """The rig without motor, load and eccentric mass, with the coupling's mean stiffness
     (``coupling_asymmetry`` 0), and its sweep model about the sag ``q0`` (the positions of
     :meth:`HssRig.initial_state`) with reference spin ``synchronous`` [rad/s]. ``tangents``: both
     linearisations take :func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the kernel's tangents (the
     block path's, as the steady one's; half the residual calls), the one at rest its whole damping matrix
-    (``damping_tangents``: no velocity-quadratic slope at rest)."""
-    bare = build({**p, "eccentric_mass": 0.0, "load_torque": 0.0, "coupling_asymmetry": 0.0},
-                 lambda marker: ([], []), spin=synchronous, basis=basis)
+    (``damping_tangents``: no velocity-quadratic slope at rest). ``bare``: :func:`bare_rig`, built already."""
+    bare = bare_rig(p, synchronous, basis) if bare is None else bare
     system = bare.system
     columns = tangent_columns(system) if tangents else ()
     rest = nonrotating.linearise(system, q0, np.zeros(system.n), tangent_columns=columns, damping_tangents=tangents)
@@ -79,12 +90,13 @@ class Sweep:
 
 
 def prepare(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
-            basis: ShaftBasis = ShaftBasis(), band_hz: float | None = None, tangents: bool = False) -> Sweep:
+            basis: ShaftBasis = ShaftBasis(), band_hz: float | None = None, tangents: bool = False,
+            bare: Rig | None = None) -> Sweep:
     """The sweep of a start-up (from rest) or coast-down (from ``spin`` [rad/s]) of the rig of parameters ``p``
     (see :func:`run`); ``band_hz`` [Hz]: on the model reduced to its modes up to that band
-    (:func:`ddgsa.mbs.sweep.reduce`, the inputs' rows mapped onto its basis); ``tangents``: as :func:`structure`."""
-    synchronous = 2 * math.pi * drive.motor.supply_frequency / drive.motor.pole_pairs
-    bare, model = structure(p, q0, synchronous, basis, tangents)
+    (:func:`ddgsa.mbs.sweep.reduce`, the inputs' rows mapped onto its basis); ``tangents``, ``bare``: as
+    :func:`structure`."""
+    bare, model = structure(p, q0, synchronous_speed(drive), basis, tangents, bare)
     lin = model.lin
     if band_hz is not None:
         model = reduce(model, band_hz)
