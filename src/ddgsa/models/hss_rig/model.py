@@ -736,8 +736,17 @@ def _envelope_bpfo(t: np.ndarray, x: np.ndarray, angle: np.ndarray) -> float | n
     envelope analysis, Randall & Antoni 2011 §3), in the order domain; each end of the band held
     below the sensor's Nyquist frequency (at most 0.2 and 0.45 of the sample rate). ``x`` (n,): a
     float; ``x`` (n, m): one per column (m,)."""
+    return _order_bpfo(t, _band_envelope(t, x), angle)
+
+
+def _band_envelope(t: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """The envelope of ``x`` (n,) or (n, m) band-passed to :data:`ENVELOPE_BAND` (see :func:`_envelope_bpfo`)."""
     fs = (t.size - 1) / (t[-1] - t[0])
-    env = envelope(t, x, (min(ENVELOPE_BAND[0], 0.2 * fs), min(ENVELOPE_BAND[1], 0.45 * fs)))
+    return envelope(t, x, (min(ENVELOPE_BAND[0], 0.2 * fs), min(ENVELOPE_BAND[1], 0.45 * fs)))
+
+
+def _order_bpfo(t: np.ndarray, env: np.ndarray, angle: np.ndarray) -> float | np.ndarray:
+    """The BPFO band energy of envelopes ``env`` at ``t`` [s] in the order domain of the shaft ``angle`` [rad]."""
     phi, y = resample_to_angle(t, env, angle, SAMPLES_PER_REV)
     return band_energies(phi / (2 * math.pi), y, [float(BEARING_GEOMETRY.bpfo())], 0.25, harmonics=3)[0]
 
@@ -752,30 +761,45 @@ def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str,
     return record_objectives(s.index.to_numpy(), xs, s["angle"].to_numpy(), f_r, scene, drive)[0]
 
 
-def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: float, scene: RigScene,
+def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: float | np.ndarray, scene: RigScene,
                       drive: Drive) -> list[dict[str, float]]:
-    """The outputs of ``P`` analysed records that share their times ``t`` [s] (n_t,), shaft ``angle``
-    [rad] (n_t,), shaft speed ``f_r`` [Hz] and motor: ``xs`` (n_t, P, len(SENSORS)) the sensors in
-    :data:`SENSORS` order. Every signal operation runs once on all the records' columns (one record:
-    :func:`objectives`; a block of points: :mod:`ddgsa.models.hss_rig.steady_block`)."""
+    """The outputs of ``P`` analysed records that share their times ``t`` [s] (n_t,) and motor: ``xs``
+    (n_t, P, len(SENSORS)) the sensors in :data:`SENSORS` order, the shaft ``angle`` [rad] (n_t,) and speed
+    ``f_r`` [Hz] shared (a steady block), or one per record, (n_t, P) and (P,) (start-ups and coast-downs).
+    Every signal operation runs once on all the records' columns, but for the order domain's resampling of
+    records that do not share their angle (one record: :func:`objectives`; a block of points:
+    :mod:`ddgsa.models.hss_rig.steady_block`, :mod:`ddgsa.models.hss_rig.sweep_block`)."""
     n_t, n_rec, n_s = xs.shape
     flat = xs.reshape(n_t, n_rec * n_s)
-    smooth = _anti_alias(t, f_r) if scene.kind == "steady" else (lambda x: x)
+    smooth = _anti_alias(t, float(np.mean(f_r))) if scene.kind == "steady" else (lambda x: x)
     bpfo, bpfi = float(BEARING_GEOMETRY.bpfo()), float(BEARING_GEOMETRY.bpfi())
-    phi, ys = resample_to_angle(t, smooth(flat), angle, SAMPLES_PER_REV)     # once: orders and bands
-    amps = angle_amplitudes(phi, ys, [1.0, 2.0]).reshape(2, n_rec, n_s)
-    revs = phi / (2 * math.pi)
     acc = (np.arange(n_rec)[:, None] * n_s + np.arange(len(ACCELEROMETERS))).ravel()   # the accelerometers lead SENSORS
-    env = _envelope_bpfo(t, flat[:, acc], angle).reshape(n_rec, len(ACCELEROMETERS))
-    bands = band_energies(revs, ys[:, acc], [bpfo, bpfi], 0.25, harmonics=3).reshape(2, n_rec, len(ACCELEROMETERS))
+    angles = np.asarray(angle, dtype=float)
+    env_t = _band_envelope(t, flat[:, acc])                                   # every record's at once
+    groups = [(angles, np.arange(n_rec))] if angles.ndim == 1 else [(angles[:, r], np.array([r])) for r in range(n_rec)]
+    amps, bands = np.empty((2, n_rec, n_s)), np.empty((2, n_rec, len(ACCELEROMETERS)))
+    env = np.empty((n_rec, len(ACCELEROMETERS)))
+    for a, recs in groups:                        # the order domain: once for records that share their angle
+        cols = (recs[:, None] * n_s + np.arange(n_s)).ravel()
+        phi, ys = resample_to_angle(t, smooth(flat[:, cols]), a, SAMPLES_PER_REV)     # once: orders and bands
+        amps[:, recs] = angle_amplitudes(phi, ys, [1.0, 2.0]).reshape(2, recs.size, n_s)
+        on = (np.arange(recs.size)[:, None] * n_s + np.arange(len(ACCELEROMETERS))).ravel()
+        bands[:, recs] = band_energies(phi / (2 * math.pi), ys[:, on], [bpfo, bpfi], 0.25,
+                                       harmonics=3).reshape(2, recs.size, len(ACCELEROMETERS))
+        env_cols = (recs[:, None] * len(ACCELEROMETERS) + np.arange(len(ACCELEROMETERS))).ravel()
+        env[recs] = _order_bpfo(t, env_t[:, env_cols], a).reshape(recs.size, len(ACCELEROMETERS))
     dev = xs - xs.mean(axis=0)
     rms, peak = np.sqrt(np.mean(dev**2, axis=0)), np.max(np.abs(dev), axis=0)
     f = drive.motor.supply_frequency
-    slip = 1.0 - f_r * drive.motor.pole_pairs / f
+    speeds = np.broadcast_to(np.asarray(f_r, dtype=float), (n_rec,))
     torque, cur = xs[:, :, SENSORS.index("motor_torque")], xs[:, :, SENSORS.index("motor_current")]
     torque_2f = harmonic_amplitudes(t, torque, [2 * f])[0]
-    lines = harmonic_amplitudes(t, cur, [f, f - f_r, f + f_r])
-    slips = harmonic_amplitudes(t, cur, [f, f * (1 - 2 * slip), f * (1 + 2 * slip)])[1:]
+    lines, slips = np.empty((3, n_rec)), np.empty((2, n_rec))
+    for fr in np.unique(speeds):                   # the current's lines and sidebands at each record's speed
+        on = speeds == fr
+        slip = 1.0 - fr * drive.motor.pole_pairs / f
+        lines[:, on] = harmonic_amplitudes(t, cur[:, on], [f, f - fr, f + fr]).reshape(3, -1)
+        slips[:, on] = harmonic_amplitudes(t, cur[:, on], [f, f * (1 - 2 * slip), f * (1 + 2 * slip)])[1:].reshape(2, -1)
     outs = []
     for r in range(n_rec):
         out: dict[str, float] = {}
@@ -789,6 +813,6 @@ def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: flo
         out["current_line"] = float(lines[0, r])
         out["current_sideband_1x"] = float(0.5 * (lines[1, r] + lines[2, r]))
         out["current_sideband_2s"] = float(np.mean(slips[:, r]))
-        out["mean_speed_rpm"] = f_r * 60.0
+        out["mean_speed_rpm"] = float(speeds[r]) * 60.0
         outs.append(out)
     return outs

@@ -73,11 +73,14 @@ def holds(model: "HssRig", params: pd.DataFrame, scene: RigScene, signals: tuple
 def sweep_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.DataFrame:
     """Outputs of the rows of ``params`` (resolved, all :func:`holds`) in a start-up or coast-down ``scene``;
     failures with their reasons in ``attrs["failures"]`` (see the module)."""
+    record_objectives = model.block_parts["record_objectives"]
     names = [str(o) for o in model.outputs]
     band = band_hz(scene)
     step, every = model.step_for(1.0 / scene.sample_rate)
-    rows: list[dict[str, float]] = []
+    records: dict[int, tuple[Array, Array, float]] = {}
     failures: dict[int, str] = {}
+    drive = None
+    t = np.zeros(0)
     for i, raw in enumerate(params.to_dict("records")):
         try:
             drive, spin = model.drive(raw, scene)
@@ -87,26 +90,33 @@ def sweep_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.Da
                                       bare=rig)
             t, z, zd = integrate(sweep.model, scene.duration, step, sweep.z0, sweep.zd0, sweep.inputs, every,
                                  reuse=REUSE, extrapolate=True)
-            out = _outputs(model, rig, drive, scene, sweep.model, t, z, zd)
-            if not all(math.isfinite(v) for v in out.values()):
-                raise ModelError("sweep block: an output is not finite")
-            rows.append(out)
+            records[i] = _sensors(model, rig, drive, sweep.model, t, z, zd)
         except (ArithmeticError, RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
             failures[i] = f"{type(exc).__name__}: {exc}"
-            rows.append({o: math.nan for o in names})
-    out = pd.DataFrame(rows, columns=names)
-    out.attrs["failures"] = failures
+    outputs: dict[int, dict[str, float]] = {}
+    if records:
+        done = list(records)
+        xs, angle, f_r = (np.stack([records[i][k] for i in done], axis=-1) for k in range(3))
+        for i, out in zip(done, record_objectives(t, xs.transpose(0, 2, 1), angle, f_r, scene, drive)):
+            if all(math.isfinite(v) for v in out.values()):
+                outputs[i] = out
+            else:
+                failures[i] = "ModelError: sweep block: an output is not finite"
+    nan = {o: math.nan for o in names}
+    out = pd.DataFrame([outputs.get(i, nan) for i in range(len(params))], columns=names)
+    out.attrs["failures"] = dict(sorted(failures.items()))
     return out
 
 
-def _outputs(model: "HssRig", rig: Rig, drive: Drive, scene: RigScene, sweep: SweepModel, t: Array, z: Array,
-             zd: Array) -> dict[str, float]:
-    """The outputs of one point's record ``z``, ``zd`` (n_t, n_reduced) at ``t`` [s]: the per-point path's sensors
-    (:meth:`HssRig._sensors`) read from the coordinates they need, the disk probe through its linear map onto the
-    non-rotating coordinates at the sag (as the steady block path's), then :func:`record_objectives`."""
-    sensors, record_objectives = (model.block_parts[k] for k in ("sensors", "record_objectives"))
+def _sensors(model: "HssRig", rig: Rig, drive: Drive, sweep: SweepModel, t: Array, z: Array,
+             zd: Array) -> tuple[Array, Array, float]:
+    """The sensors (n_t, len(SENSORS)), shaft angle [rad] (n_t,) and mean shaft speed [Hz] of one point's record
+    ``z``, ``zd`` (n_t, n_reduced) at ``t`` [s]: the per-point path's sensors (:meth:`HssRig._sensors`) read from
+    the coordinates they need, the disk probe through its linear map onto the non-rotating coordinates at the
+    sag (as the steady block path's)."""
+    sensors = model.block_parts["sensors"]
     system, lin, basis = rig.system, sweep.lin, sweep.basis
-    rows = basis[[system.index(c) for c in COORDS]]                            # (6, n_reduced)
+    rows = basis[[system.index(c) for c in COORDS]]                             # (6, n_reduced)
     y, yd = z @ rows.T, zd @ rows.T
     disk = rig.markers["disk"]
 
@@ -116,11 +126,11 @@ def _outputs(model: "HssRig", rig: Rig, drive: Drive, scene: RigScene, sweep: Sw
 
     zero = np.zeros(system.n)
     slope = central_difference(positions, zero, nonrotating.POSITION_SCALE) @ basis        # (2, n_reduced)
-    xs = np.empty((t.size, 1, len(sensors)))
-    xs[:, 0, :4] = np.gradient(yd[:, :4], t, axis=0, edge_order=2)
-    xs[:, 0, 4:6] = positions(zero[None, :])[0] + z @ slope.T
+    xs = np.empty((t.size, len(sensors)))
+    xs[:, :4] = np.gradient(yd[:, :4], t, axis=0, edge_order=2)
+    xs[:, 4:6] = positions(zero[None, :])[0] + z @ slope.T
     speed = lin.qd0[system.index("hss.rx")] + yd[:, COORDS.index("hss.rx")]
     motor = lin.qd0[system.index("motor.rx")] + yd[:, COORDS.index("motor.rx")]
-    xs[:, 0, 6], xs[:, 0, 7] = kloss_along(drive, t, motor)
+    xs[:, 6], xs[:, 7] = kloss_along(drive, t, motor)
     angle = lin.q0[system.index("hss.rx")] + y[:, COORDS.index("hss.rx")]
-    return record_objectives(t, xs, angle, float(np.mean(speed)) / (2 * math.pi), scene, drive)[0]
+    return xs, angle, float(np.mean(speed)) / (2 * math.pi)
