@@ -21,7 +21,7 @@ from tests.models.test_hss_rig_block import _study_points
 RTOL = 5e-3
 """The block path's agreement with the per-point path where an output's declared resolution does not cover the
 difference (issue 46: 1 % or the resolution). Measured on 16 points of each paper A study: the housings' RMS and 2x
-orders within 8e-4 relative (the modes above the band, :data:`~ddgsa.models.hss_rig.sweep_block.NYQUIST_MULTIPLE`);
+orders within 1.1e-3 relative (the modes above the band, :data:`~ddgsa.models.hss_rig.sweep_block.NYQUIST_MULTIPLE`);
 unreduced, every output within 6e-5."""
 
 
