@@ -146,3 +146,18 @@ def test_the_damping_at_rest_is_the_kernels_tangents() -> None:
     assert np.array_equal(fast.k, ref.k)
     with pytest.raises(ValueError, match="at rest only"):
         nonrotating.linearise(system, q0, system.qd0, damping_tangents=True)
+
+
+def test_records_too_short_fail_as_on_the_per_point_path() -> None:
+    """A 0.6 s start-up turns fewer than the 8 revolutions the ball-pass bands' 0.25 orders need: every point
+    is a failure with the per-point path's reason (the block's objectives retried one record at a time), none
+    an exception of the whole block."""
+    model, points, scene = _study_points("paper_a_subsystem", 2, seed=11)
+    params = model.resolve(points)
+    sc = model._scene({**scene, "kind": "startup", "duration": 0.6})
+    block = model._evaluate_block(params, sc)
+    ref = Model._evaluate_block(model, params, sc)
+    assert set(block.attrs["failures"]) == {0, 1}
+    assert block.attrs["failures"] == ref.attrs["failures"]
+    assert "narrower than the Hann main lobe" in block.attrs["failures"][0]
+    assert block.isna().all().all()

@@ -186,9 +186,10 @@ def reduce(model: SweepModel, band_hz: float) -> SweepModel:
     m = model.m
     w2, shapes = eigh(0.5 * (model.k0 + model.k0.T), m)
     rigid = model.rates / np.sqrt(model.rates @ m @ model.rates)
-    keep = (np.abs(w2) > 1e-12 * np.abs(w2).max()) & (w2 < (2 * np.pi * band_hz) ** 2)
-    shapes = shapes[:, keep]
     shapes = shapes - np.outer(rigid, rigid @ m @ shapes)        # mass-orthogonal to the spin
+    # the spin's own mode is left with nothing (the others are mass-orthogonal to it already)
+    own = np.einsum("ij,ik,kj->j", shapes, m, shapes) > 0.5
+    shapes = shapes[:, own & (w2 < (2 * np.pi * band_hz) ** 2)]
     basis = np.column_stack([rigid, shapes])
     bt = basis.T
 

@@ -49,6 +49,8 @@ if TYPE_CHECKING:
 NYQUIST_MULTIPLE = 2.5
 """The band the block's sweeps keep, in multiples of the record's Nyquist frequency (:func:`band_hz`)."""
 Array = NDArray[np.float64]
+_ERRORS = (ArithmeticError, RuntimeError, ValueError, np.linalg.LinAlgError)
+"""What a point's run may raise that makes it a failure (as :meth:`Model._evaluate_block`'s loop catches)."""
 REUSE = 3
 """Newton iterations a step may take before the sweep's factors are refreshed (:func:`ddgsa.mbs.sweep.integrate`):
 the rig's steps take two or three with fresh factors, and as many with factors kept across steps (7067 against
@@ -98,21 +100,39 @@ def sweep_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.Da
             t, z, zd = integrate(sweep.model, scene.duration, step, sweep.z0, sweep.zd0, sweep.inputs, every,
                                  reuse=REUSE, extrapolate=True)
             records[i] = _sensors(model, rig, drive, sweep.model, t, z, zd)
-        except (ArithmeticError, RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
+        except _ERRORS as exc:
             failures[i] = f"{type(exc).__name__}: {exc}"
     outputs: dict[int, dict[str, float]] = {}
-    if records:
-        done = list(records)
-        xs, angle, f_r = (np.stack([records[i][k] for i in done], axis=-1) for k in range(3))
-        for i, out in zip(done, record_objectives(t, xs.transpose(0, 2, 1), angle, f_r, scene, drive)):
-            if all(math.isfinite(v) for v in out.values()):
-                outputs[i] = out
+
+    def objectives_of(idx: list[int]) -> None:
+        """The outputs of the points ``idx`` at once; where that fails (a record too short for a band), each on its
+        own, as the per-point path, so that only the failing points are failures."""
+        try:
+            outputs.update(zip(idx, _objectives(record_objectives, records, idx, t, scene, drive)))
+        except _ERRORS as exc:
+            if len(idx) == 1:
+                failures[idx[0]] = f"{type(exc).__name__}: {exc}"
             else:
-                failures[i] = "ModelError: sweep block: an output is not finite"
+                for i in idx:
+                    objectives_of([i])
+
+    if records:
+        objectives_of(list(records))
+    for i, out in list(outputs.items()):
+        if not all(math.isfinite(v) for v in out.values()):
+            del outputs[i]
+            failures[i] = "ModelError: sweep block: an output is not finite"
     nan = {o: math.nan for o in names}
     out = pd.DataFrame([outputs.get(i, nan) for i in range(len(params))], columns=names)
     out.attrs["failures"] = dict(sorted(failures.items()))
     return out
+
+
+def _objectives(record_objectives, records: dict[int, tuple[Array, Array, float]], idx: list[int], t: Array,
+                scene: RigScene, drive: Drive) -> list[dict[str, float]]:
+    """:func:`~ddgsa.models.hss_rig.model.record_objectives` of the points ``idx``' records (sensors, angle, speed)."""
+    xs, angle, f_r = (np.stack([records[i][k] for i in idx], axis=-1) for k in range(3))
+    return record_objectives(t, xs.transpose(0, 2, 1), angle, f_r, scene, drive)
 
 
 def _sensors(model: "HssRig", rig: Rig, drive: Drive, sweep: SweepModel, t: Array, z: Array,
