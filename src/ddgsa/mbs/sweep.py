@@ -269,7 +269,7 @@ def _at_spin(arrays, w, k, c, r):  # pragma: no cover (compiled)
             c[i, j] = c0[i, j] + w * c1[i, j]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _linear_terms(z, zd, arrays, m, f, kt, ct):  # pragma: no cover (compiled)
     """``M``, ``K(W)``, ``C(W)`` and ``f = r(W) - C(W) z' - K(W) z`` at ``W = spin @ z'`` (:func:`_at_spin`);
     with empty ``kt``, ``ct`` (the loop's kept factors: :mod:`ddgsa.mbs.alpha`'s ``reuse``) ``f`` alone, column by
@@ -317,7 +317,7 @@ def _compiled(add: Callable) -> tuple[Callable, Callable]:
     # the stamp covers the kernel's files and the inputs' package (the physics the inputs call)
     folders = (os.path.dirname(__file__), os.path.dirname(add.py_func.__code__.co_filename))
     tag = f"sweep_{getattr(add, '__name__', 'inputs')}_{stamp(add, folders=folders)}"
-    kind = njit(cache=True)(bind(add, tag, _kind, name="_inputs"))
+    kind = njit(cache=True, inline="always")(bind(add, tag, _kind, name="_inputs"))
     return kind, specialise(kind, tag)
 
 

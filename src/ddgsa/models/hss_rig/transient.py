@@ -152,7 +152,7 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     return t, q, qd
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rig_inputs(t, z, zd, data, f):  # pragma: no cover (compiled)
     """The sweep's four nonlinear inputs (see the module) added to ``f``: ``data`` is ``(motor row,
     disk row, lateral rows (2, n), m_u e [kg m], Drive.constants, load_constants, coupling data)``."""
@@ -169,7 +169,7 @@ def rig_inputs(t, z, zd, data, f):  # pragma: no cover (compiled)
     coupling_force(z, coupling, f)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def coupling_force(z, coupling, f):  # pragma: no cover (compiled)
     """:class:`_CouplingInput`'s force added to ``f``: ``-rows^T dK(theta) (s_sag + J z)`` with
     ``theta = angle @ z``; ``coupling`` is its :attr:`_CouplingInput.data`."""
