@@ -362,7 +362,9 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
     rigid = null_space(k, rcond=RIGID_RCOND)
     n_h = samples // 2
     damping = c + tangent
-    ops = [k - (j * w) ** 2 * model.m + 1j * j * w * damping for j in range(1, n_h)]
+    ops = np.array([k - (j * w) ** 2 * model.m + 1j * j * w * damping for j in range(1, n_h)])
+    inverses = np.linalg.inv(ops)                  # once: the fixed point below responds to many inputs
+    flexibility = np.linalg.pinv(k, rcond=RIGID_RCOND)
     g = gauge @ rigid
     tau = 2 * np.pi / w * np.arange(samples) / samples
     phase = np.exp(1j * w * np.outer(tau, np.arange(1, n_h)))               # (samples, n_h - 1)
@@ -370,12 +372,12 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
 
     def respond(f_hat: NDArray[np.complex128]) -> tuple[Array, NDArray[np.complex128]]:
         """The static part and harmonic amplitudes ``(z_s, Z_j)`` for turning-input harmonics ``f_hat``."""
-        zs = np.linalg.lstsq(k, r + static + f_hat[0].real, rcond=RIGID_RCOND)[0]
+        zs = flexibility @ (r + static + f_hat[0].real)            # the least-squares static part
         if rigid.size:
             zs = zs - rigid @ (np.linalg.lstsq(g[None, :], np.atleast_1d(gauge @ zs), rcond=None)[0])
-        amps = np.array([np.linalg.solve(op, f_hat[j] + (once if j == 1 else 0.0))
-                         for j, op in enumerate(ops, start=1)])                # (n_h - 1, n)
-        return zs, amps
+        rhs = f_hat[1:].astype(complex)
+        rhs[0] += once
+        return zs, np.einsum("jab,jb->ja", inverses, rhs)                  # (n_h - 1, n)
 
     def harmonics(zs: Array, amps: NDArray[np.complex128]) -> NDArray[np.complex128]:
         """The turning input's harmonics over the orbit ``(z_s, Z_j)``."""
