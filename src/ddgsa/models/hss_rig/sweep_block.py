@@ -119,7 +119,7 @@ def sweep_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.Da
     for i, out in list(outputs.items()):
         if not all(math.isfinite(v) for v in out.values()):
             del outputs[i]
-            failures[i] = "ModelError: sweep block: an output is not finite"
+            failures[i] = f"{ModelError.__name__}: sweep block: an output is not finite"
     nan = {o: math.nan for o in names}
     out = pd.DataFrame([outputs.get(i, nan) for i in range(len(params))], columns=names)
     out.attrs["failures"] = dict(sorted(failures.items()))
