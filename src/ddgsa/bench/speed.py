@@ -58,6 +58,10 @@ TARGETS = (
     ("rig_study_ratio", "paper_a_subsystem (methods), 2 jobs, empty folder: wall / one reference", 0.10, "x", False),
     ("rig_block_steady", "rig steady scene: block path per run vs the per-point linear path, same run, CPU", 50.0,
      "x", True),
+    ("rig_block_startup", "rig start-up: block path per run vs the per-point linear path, same run, CPU", 20.0,
+     "x", True),
+    ("rig_block_coastdown", "rig coast-down: block path per run vs the per-point linear path, same run, CPU", 20.0,
+     "x", True),
     ("geared_study_ratio", "indirect_drive_gsa (methods), 2 jobs, empty folder: wall / one reference", 0.25, "x", False),
 )
 FULL_ONLY = ("rig_study_ratio", "geared_study_ratio")
@@ -315,16 +319,18 @@ def _speed(ref_seconds: float, quick: bool, study: Path | None) -> dict[str, Any
     }
     from ddgsa.bench.rig import block_speed
 
-    block = block_speed(quick=quick)
-    measured["rig_block_steady"] = (block["speedup_cpu"], f"{block['block_cpu_s_per_run'] * 1e3:.1f} ms against "
-                                    f"{block['per_point_cpu_s_per_run'] * 1e3:.1f} ms CPU a run ({block['points']}-point "
-                                    f"blocks); {block['outputs_beyond_resolution']} of {block['outputs']} outputs differ from the "
-                                    f"per-point path by more than their resolution, by at most "
-                                    f"{block['max_rel_difference']:.1e} relative")
+    blocks = {kind: block_speed(quick=quick, kind=kind) for kind in ("steady", "startup", "coastdown")}
+    for kind, block in blocks.items():
+        measured[f"rig_block_{kind}"] = (block["speedup_cpu"], f"{block['block_cpu_s_per_run'] * 1e3:.1f} ms against "
+                                         f"{block['per_point_cpu_s_per_run'] * 1e3:.1f} ms CPU a run ({block['points']}-point "
+                                         f"blocks); {block['outputs_beyond_resolution']} of {block['outputs']} outputs differ "
+                                         f"from the per-point path by more than their resolution, by at most "
+                                         f"{block['max_rel_difference']:.1e} relative")
     out: dict[str, Any] = {
         "machine": f"{platform.machine()}, {os.cpu_count()} cores, {platform.processor() or 'cpu'}",
         "python": platform.python_version(), "quick": quick, "scene": scene.to_dict(), "reference": reference,
-        "fidelities": fidelities, "runner": overhead, "rig_block": block, "load_average": _load_average()}
+        "fidelities": fidelities, "runner": overhead, "rig_block": blocks["steady"], "rig_block_sweeps":
+        {k: blocks[k] for k in ("startup", "coastdown")}, "load_average": _load_average()}
     if study is not None:
         st = _study(study, quick)
         out["study"] = st

@@ -229,9 +229,12 @@ _evaluate: Callable | None = None
 
 
 def _loop(ctx, q0, qd0, acc0, lam0, t0, h, n_steps, output_every, am, af, gamma, beta, tol, max_iter, nh, n_y,
-          extrapolate, symmetric, modified):  # pragma: no cover (compiled per kind)
+          extrapolate, symmetric, modified, reuse=0):  # pragma: no cover (compiled per kind)
     """The Newton loop (see the module); ``_evaluate`` is the kind's, bound by :func:`specialise` or
-    :func:`python_loop`. Returns ``(q, qd, lam, y, drift (n_out, 2), status, total)``: ``status``
+    :func:`python_loop`. ``reuse`` > 0 (with ``modified``): the factors are kept across steps, refreshed at
+    a step's first iteration when the last step needed more than ``reuse`` iterations, and within a step
+    at its ``2 reuse``-th (the converged states are the same to ``tol``; a slowly varying iteration matrix,
+    as a speed sweep's, is then factorised a few times a run instead of once a step). Returns ``(q, qd, lam, y, drift (n_out, 2), status, total)``: ``status``
     the worst Newton count, or ``-step`` at the step that failed (the outputs then end before it),
     ``total`` the Newton iterations of all converged steps."""
     n, nc = q0.size, lam0.size
@@ -251,14 +254,21 @@ def _loop(ctx, q0, qd0, acc0, lam0, t0, h, n_steps, output_every, am, af, gamma,
     # numba would compile the kind (and link the whole element tree) a second time for the literal
     _record(0, q, qd, lam, y, ch, vel, q_out, qd_out, lam_out, y_out, drift)
     slot, worst, total = 1, 0, 0
+    stale = True                                          # no factors yet
+    none = np.zeros((0, 0))
     for step in range(1, n_steps + 1):
         t = t0 + step * h
         _predict(q, qd, acc, aux, acc_prev, acc_new, h, am, af, gamma, beta, extrapolate)
         converged = False
         it = 0
         for it in range(max_iter):
-            _evaluate(q, qd, t, step, ctx, m, f, kt, ct, y, ch, jac, vel)
-            build = it == 0 or not modified
+            if reuse > 0:
+                build = (it == 0 and stale) or it == 2 * reuse
+                # the kind skips its tangents where the kept factors stand (empty kt, ct)
+                _evaluate(q, qd, t, step, ctx, m, f, kt if build else none, ct if build else none, y, ch, jac, vel)
+            else:
+                build = it == 0 or not modified
+                _evaluate(q, qd, t, step, ctx, m, f, kt, ct, y, ch, jac, vel)
             cmax = _newton_rows(big, rhs, m, f, kt, ct, jac, lam, ch, vel, acc_new, bp, gp, h, build)
             if modified:                                  # the step's factors kept
                 if build:
@@ -273,6 +283,7 @@ def _loop(ctx, q0, qd0, acc0, lam0, t0, h, n_steps, output_every, am, af, gamma,
             return q_out[:slot], qd_out[:slot], lam_out[:slot], y_out[:slot], drift[:slot], -step, total
         total += it + 1
         worst = max(worst, it + 1)
+        stale = it + 1 > reuse
         _advance(acc, aux, acc_prev, acc_new, am, af)
         if step % output_every == 0:
             if n_y > 0 or nc > 0:                         # outputs and drift at the converged state

@@ -163,7 +163,8 @@ VELOCITY_SCALE = 1.0
 
 def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: float = 1e-6,
               spin_stiffening: bool = False, static: bool = False, compiled: bool = True,
-              residual_only: bool = False, tangent_columns: Sequence[int] = ()) -> SpinLinearisation:
+              residual_only: bool = False, tangent_columns: Sequence[int] = (),
+              damping_tangents: bool = False) -> SpinLinearisation:
     """Linearise ``system`` about ``(q0, qd0)`` (steady spin) in non-rotating bending coordinates.
 
     ``spin_stiffening`` adds :func:`spin_stiffness`, the centrifugal stiffness of the rigid inertias'
@@ -189,7 +190,13 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     Jacobians depend (a body's translations: the caller's claim, to be checked against the central
     differences, as ``tests/models/test_hss_rig_block.py`` does for the test rig, whose steady block path
     takes 21 of its 42 columns this way: :func:`ddgsa.models.hss_rig.rig.tangent_columns`).
+    ``damping_tangents`` takes every column of ``C`` from the tangents (``T^T C_t T``): exact at rest (``qd0``
+    zero), where the bodies' velocity-quadratic terms have no slope, for a system whose elements give their
+    velocity slopes as tangents (the test rig's speed sweep takes it for its linearisation at rest, checked
+    in ``tests/models/test_hss_rig_sweep_block.py``).
     """
+    if damping_tangents and np.any(qd0):
+        raise ModelError("linearise: damping_tangents holds at rest only (qd0 zero)")
     if system.n_constraints:
         raise ModelError("the non-rotating linearisation takes unconstrained systems only "
                          f"({system.n_constraints} constraint equations given)")
@@ -208,8 +215,8 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
         k, c = np.zeros((n, n)), np.zeros((n, n))
     elif compiled and isinstance(system.fast_terms, HybridTerms):
         k = _hybrid_jacobian(system.fast_terms, base, 0, POSITION_SCALE, rel_step, cols)
-        c = np.zeros((n, n)) if static else _hybrid_jacobian(system.fast_terms, base, 1, VELOCITY_SCALE, rel_step,
-                                                             cols)
+        c = np.zeros((n, n)) if static or damping_tangents else _hybrid_jacobian(
+            system.fast_terms, base, 1, VELOCITY_SCALE, rel_step, cols)
     elif len(tangent_columns):
         raise ModelError("tangent_columns take the compiled terms (HybridTerms); this system has none")
     else:
@@ -218,7 +225,8 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
 
         args = [zero, zero, zero]
         k = central_jacobian(res, args, 0, POSITION_SCALE, rel_step)
-        c = np.zeros((n, n)) if static else central_jacobian(res, args, 1, VELOCITY_SCALE, rel_step)
+        c = np.zeros((n, n)) if static or damping_tangents else central_jacobian(res, args, 1, VELOCITY_SCALE,
+                                                                                 rel_step)
     q, qd, qdd = base.state(zero, zero, zero, t0)
     tm = system.terms(q, qd, t0)
     proj = base.projection(t0, zero)
@@ -226,8 +234,10 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     if len(tangent_columns) and not residual_only:
         tc = np.asarray(tangent_columns, dtype=np.int64)
         k[:, tc] = (proj.T @ tm.k @ proj)[:, tc]
-        if not static:
+        if not static and not damping_tangents:
             c[:, tc] = (proj.T @ tm.c @ proj)[:, tc]
+    if damping_tangents and not static and not residual_only:
+        c = proj.T @ tm.c @ proj
     if spin_stiffening:
         k = k + spin_stiffness(system, base.q0, base.qd0)
     return SpinLinearisation(m, c, k, proj.T @ (tm.q - tm.m @ qdd), base.q0, base.qd0, t0, pairs, xi0)

@@ -44,7 +44,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
-from scipy.linalg import null_space
+from scipy.linalg import eigh, null_space
 from scipy.optimize import NoConvergence, newton_krylov
 
 from ddgsa.errors import ModelError
@@ -84,19 +84,20 @@ class SweepModel:
         Mass [kg, kg m^2], damping at rest and its gyroscopic slope per unit spin (SI per coordinate).
     k0, k1, k2 : (n, n)
         Stiffness at rest, its circulatory part per unit spin and its softening per unit spin squared.
-    r0 : (n,)
-        Static generalised force at the operating positions at rest [N, N m].
-    sag : (n,)
-        Static displacement ``s`` of the operating positions from the unloaded ones [m, rad].
-    r2 : (n,)
-        Remainder of the static force per unit spin squared [N s^2, N m s^2]: the reference
-        linearisation's static force less the extrapolation through ``s``, so ``r(W_1)`` is exact.
+    r0, r1, r2 : (n,)
+        The static generalised force ``r(W) = r_0 + W r_1 + W^2 r_2`` [N, N m; per rad/s; per (rad/s)^2]:
+        at the operating positions at rest, and its slope and curvature with the spin -- the
+        extrapolation through the sag ``s``, ``r_1 = -K_1 s``, and ``r_2`` the reference
+        linearisation's static force less that extrapolation (``-K_2 s`` included), so ``r(W_1)`` is exact.
     spin : (n,)
         Row giving the spin ``W = spin @ z'`` [rad/s] the matrices are evaluated at.
     rates : (n,)
         Rates of a rigid spin at unit speed (1 on every rotating body's angle) [-].
     lin : SpinLinearisation
         The linearisation at rest (operating positions, bending pairs) for :func:`full_state`.
+    basis : (n_system, n), optional
+        A reduced model's basis (:func:`reduce`): the system's non-rotating coordinates are ``basis @ z``
+        (None: ``z`` are those coordinates).
     """
 
     m: Array
@@ -106,17 +107,19 @@ class SweepModel:
     k1: Array
     k2: Array
     r0: Array
-    sag: Array
+    r1: Array
     r2: Array
     spin: Array
     rates: Array
     lin: SpinLinearisation
+    basis: Array | None = None
 
     @cached_property
     def arrays(self) -> tuple[Array, ...]:
-        """``(M, C_0, C_1, K_0, K_1, K_2, r_0, K_1 s, K_2 s, r_2, spin)``: what the compiled sweep reads."""
-        return (self.m, self.c0, self.c1, self.k0, self.k1, self.k2, self.r0, self.k1 @ self.sag,
-                self.k2 @ self.sag, self.r2, self.spin)
+        """``(M, C_0, C_1, K_0, K_1, K_2, r_0, r_1, r_2, spin, transposes of (C_0, C_1, K_0, K_1, K_2))``: what
+        the compiled sweep reads (the transposes for its column-by-column products)."""
+        tr = tuple(np.ascontiguousarray(a.T) for a in (self.c0, self.c1, self.k0, self.k1, self.k2))
+        return (self.m, self.c0, self.c1, self.k0, self.k1, self.k2, self.r0, self.r1, self.r2, self.spin, tr)
 
     def at_spin(self, w: float) -> tuple[Array, Array, Array]:
         """``(K(w), C(w), r(w))``: stiffness, damping and gyroscopic matrix, static generalised force at
@@ -157,9 +160,46 @@ def sweep_model(rest: SpinLinearisation, spinning: SpinLinearisation, spin_index
     dk = spinning.k - rest.k
     k1, k2 = (dk - dk.T) @ free / (2 * w1), (dk + dk.T) @ free / (2 * w1**2)
     sag = np.asarray(sag, dtype=float)
-    r2 = (spinning.r0 - rest.r0 + (w1 * k1 + w1 * w1 * k2) @ sag) / w1**2
+    r1 = -k1 @ sag
+    r2 = (spinning.r0 - rest.r0 - w1 * r1) / w1**2
     return SweepModel(rest.m, rest.c @ free, (spinning.c - rest.c) @ free / w1, rest.k @ free, k1, k2, rest.r0,
-                      sag, r2, row, rates, rest)
+                      r1, r2, row, rates, rest)
+
+
+def reduce(model: SweepModel, band_hz: float) -> SweepModel:
+    """The sweep model on the basis of its modes up to ``band_hz`` [Hz] (issue 46: a modal model reduced to
+    the scene's band).
+
+    The basis is the rigid spin (:attr:`SweepModel.rates`) and the undamped modes of the symmetric part of
+    ``(K_0, M)`` at rest below ``band_hz``, made mass-orthonormal to it: every matrix projected
+    (``basis.T @ A @ basis``), every force row (``basis.T @ r``). The spin-dependent terms (gyroscopic,
+    circulatory, softening) couple the kept modes among themselves; what lies above the band responds
+    quasi-statically and is dropped, so the band must hold every frequency the caller's records read (the
+    test rig's accelerometers read their housings' resonances up to the record's Nyquist frequency: a band
+    below them moves their RMS by 20 %, ``tests/models/test_hss_rig_sweep_block.py``). The caller maps its
+    input rows onto the basis (``row @ basis``); :func:`full_state` maps the record back.
+    """
+    if model.basis is not None:
+        raise ModelError("sweep reduce: the model is reduced already")
+    if not band_hz > 0.0:
+        raise ModelError(f"sweep reduce: the band must be positive, got {band_hz} Hz")
+    m = model.m
+    w2, shapes = eigh(0.5 * (model.k0 + model.k0.T), m)
+    rigid = model.rates / np.sqrt(model.rates @ m @ model.rates)
+    shapes = shapes - np.outer(rigid, rigid @ m @ shapes)        # mass-orthogonal to the spin
+    # the spin's own mode is left with nothing (the others are mass-orthogonal to it already)
+    own = np.einsum("ij,ik,kj->j", shapes, m, shapes) > 0.5
+    shapes = shapes[:, own & (w2 < (2 * np.pi * band_hz) ** 2)]
+    basis = np.column_stack([rigid, shapes])
+    bt = basis.T
+
+    def mat(a: Array) -> Array:
+        return np.ascontiguousarray(bt @ a @ basis)
+
+    rates = np.zeros(basis.shape[1])
+    rates[0] = np.sqrt(model.rates @ m @ model.rates)             # the spin's rates are the first column times this
+    return SweepModel(mat(m), mat(model.c0), mat(model.c1), mat(model.k0), mat(model.k1), mat(model.k2),
+                      bt @ model.r0, bt @ model.r1, bt @ model.r2, model.spin @ basis, rates, model.lin, basis)
 
 
 def marker_rows(system: System, lin: SpinLinearisation, marker: Marker) -> Array:
@@ -171,7 +211,7 @@ def marker_rows(system: System, lin: SpinLinearisation, marker: Marker) -> Array
 
 def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array, inputs: Inputs,
               output_every: int = 1, rho_inf: float = 0.8, tol: float = 1e-10,
-              max_iter: int = 20) -> tuple[Array, Array, Array]:
+              max_iter: int = 20, reuse: int = 0, extrapolate: bool = False) -> tuple[Array, Array, Array]:
     """Generalised-alpha run of the sweep model from ``(z0, zd0)`` at ``t = 0`` to ``t_end`` [s].
 
     The kernel's loop (:mod:`ddgsa.mbs.alpha`) compiled for this sweep and its ``inputs``: the
@@ -187,6 +227,14 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
         As :func:`ddgsa.mbs.integrate.genalpha.simulate` (the iteration stops when the position
         correction is below ``tol``; the inputs' slopes are left out of the iteration matrix, so
         they must be small against ``M / (gamma' h)``: torque laws of a speed are).
+    reuse : int
+        0: the iteration matrix factorised once a step (modified Newton); ``k > 0``: its factors kept across
+        steps while a step converges in at most ``k`` iterations (:mod:`ddgsa.mbs.alpha`'s ``reuse``: the
+        sweep's matrices change with the spin only; the states are the same to ``tol``).
+    extrapolate : bool
+        Predict each step's acceleration by linear extrapolation from the last two (:mod:`ddgsa.mbs.alpha`'s
+        predictor option) instead of the last one: the same states to ``tol``, about a fifth fewer iterations
+        on the test rig's sweeps.
 
     Returns
     -------
@@ -201,7 +249,7 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
     kind(z, zd, 0.0, 0, ctx, m, f, kt, ct, np.zeros(0), np.zeros(0), np.zeros((0, n)), np.zeros(0))
     acc = np.linalg.solve(m, f)
     z_out, zd_out, _, _, _, status, _ = loop(ctx, z, zd, acc, np.zeros(0), 0.0, float(dt), n_steps, output_every,
-                                             *coefficients(rho_inf), tol, max_iter, 0, 0, False, False, True)
+                                             *coefficients(rho_inf), tol, max_iter, 0, 0, extrapolate, False, True, reuse)
     if status < 0:
         raise ModelError(f"sweep: the iteration did not converge in {max_iter} iterations at t = {-status * dt:.6g} s "
                          f"(step {dt} s), or the state is not finite; reduce the step")
@@ -210,25 +258,40 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
 
 @njit(cache=True)
 def _at_spin(arrays, w, k, c, r):  # pragma: no cover (compiled)
-    """``K(w) = K_0 + w K_1 + w^2 K_2``, ``C(w) = C_0 + w C_1`` and ``r(w) = r_0 - (w K_1 + w^2 K_2) s + w^2 r_2``
+    """``K(w) = K_0 + w K_1 + w^2 K_2``, ``C(w) = C_0 + w C_1`` and ``r(w) = r_0 + w r_1 + w^2 r_2``
     written into ``k``, ``c``, ``r`` (see :class:`SweepModel`; ``arrays`` is :attr:`SweepModel.arrays`)."""
-    _, c0, c1, k0, k1, k2, r0, k1s, k2s, r2, _ = arrays
+    c0, c1, k0, k1, k2, r0, r1, r2 = arrays[1], arrays[2], arrays[3], arrays[4], arrays[5], arrays[6], arrays[7], arrays[8]
     w2 = w * w
     for i in range(r.size):
-        r[i] = r0[i] - w * k1s[i] - w2 * k2s[i] + w2 * r2[i]
+        r[i] = r0[i] + w * r1[i] + w2 * r2[i]
         for j in range(r.size):
             k[i, j] = k0[i, j] + w * k1[i, j] + w2 * k2[i, j]
             c[i, j] = c0[i, j] + w * c1[i, j]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _linear_terms(z, zd, arrays, m, f, kt, ct):  # pragma: no cover (compiled)
-    """``M``, ``K(W)``, ``C(W)`` and ``f = r(W) - C(W) z' - K(W) z`` at ``W = spin @ z'`` (:func:`_at_spin`)."""
-    mm, spin = arrays[0], arrays[10]
+    """``M``, ``K(W)``, ``C(W)`` and ``f = r(W) - C(W) z' - K(W) z`` at ``W = spin @ z'`` (:func:`_at_spin`);
+    with empty ``kt``, ``ct`` (the loop's kept factors: :mod:`ddgsa.mbs.alpha`'s ``reuse``) ``f`` alone, column by
+    column through the parts' transposes (independent updates: half the time of the row sums that form ``K(W)``,
+    ``C(W)``), ``M`` left as the last full evaluation wrote it (it is constant)."""
+    mm, spin = arrays[0], arrays[9]
     n = z.size
     w = 0.0
     for i in range(n):
         w += spin[i] * zd[i]
+    if kt.size == 0:
+        r0, r1, r2 = arrays[6], arrays[7], arrays[8]
+        c0, c1, k0, k1, k2 = arrays[10]            # transposed: row j is column j
+        w2 = w * w
+        for i in range(n):                         # M stands as the last full evaluation wrote it
+            f[i] = r0[i] + w * r1[i] + w2 * r2[i]
+        for j in range(n):                         # column by column: independent updates of f (vectorised)
+            a, b, c = zd[j], w * zd[j], z[j]
+            d, e = w * c, w2 * c
+            for i in range(n):
+                f[i] -= c0[j, i] * a + c1[j, i] * b + k0[j, i] * c + k1[j, i] * d + k2[j, i] * e
+        return
     _at_spin(arrays, w, kt, ct, f)
     for i in range(n):
         acc = f[i]
@@ -254,14 +317,17 @@ def _compiled(add: Callable) -> tuple[Callable, Callable]:
     # the stamp covers the kernel's files and the inputs' package (the physics the inputs call)
     folders = (os.path.dirname(__file__), os.path.dirname(add.py_func.__code__.co_filename))
     tag = f"sweep_{getattr(add, '__name__', 'inputs')}_{stamp(add, folders=folders)}"
-    kind = njit(cache=True)(bind(add, tag, _kind, name="_inputs"))
+    kind = njit(cache=True, inline="always")(bind(add, tag, _kind, name="_inputs"))
     return kind, specialise(kind, tag)
 
 
 def full_state(model: SweepModel, z: Array, zd: Array) -> tuple[Array, Array]:
     """``(q, qd)`` (n_t, n) of the system for records ``z``, ``zd`` (n_t, n), with each bending pair
     turned by its body's actual spin angle ``q0 + z`` (not the reference trajectory's):
-    :func:`ddgsa.mbs.nonrotating.full_states` of the linearisation at rest (no reference spin)."""
+    :func:`ddgsa.mbs.nonrotating.full_states` of the linearisation at rest (no reference spin); a reduced
+    model's records mapped back through its basis first."""
+    if model.basis is not None:
+        z, zd = z @ model.basis.T, zd @ model.basis.T
     return full_states(model.lin, np.zeros(z.shape[0]) + model.lin.t0, z, zd)
 
 
@@ -296,7 +362,9 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
     rigid = null_space(k, rcond=RIGID_RCOND)
     n_h = samples // 2
     damping = c + tangent
-    ops = [k - (j * w) ** 2 * model.m + 1j * j * w * damping for j in range(1, n_h)]
+    ops = np.array([k - (j * w) ** 2 * model.m + 1j * j * w * damping for j in range(1, n_h)])
+    inverses = np.linalg.inv(ops)                  # once: the fixed point below responds to many inputs
+    flexibility = np.linalg.pinv(k, rcond=RIGID_RCOND)
     g = gauge @ rigid
     tau = 2 * np.pi / w * np.arange(samples) / samples
     phase = np.exp(1j * w * np.outer(tau, np.arange(1, n_h)))               # (samples, n_h - 1)
@@ -304,12 +372,12 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
 
     def respond(f_hat: NDArray[np.complex128]) -> tuple[Array, NDArray[np.complex128]]:
         """The static part and harmonic amplitudes ``(z_s, Z_j)`` for turning-input harmonics ``f_hat``."""
-        zs = np.linalg.lstsq(k, r + static + f_hat[0].real, rcond=RIGID_RCOND)[0]
+        zs = flexibility @ (r + static + f_hat[0].real)            # the least-squares static part
         if rigid.size:
             zs = zs - rigid @ (np.linalg.lstsq(g[None, :], np.atleast_1d(gauge @ zs), rcond=None)[0])
-        amps = np.array([np.linalg.solve(op, f_hat[j] + (once if j == 1 else 0.0))
-                         for j, op in enumerate(ops, start=1)])                # (n_h - 1, n)
-        return zs, amps
+        rhs = f_hat[1:].astype(complex)
+        rhs[0] += once
+        return zs, np.einsum("jab,jb->ja", inverses, rhs)                  # (n_h - 1, n)
 
     def harmonics(zs: Array, amps: NDArray[np.complex128]) -> NDArray[np.complex128]:
         """The turning input's harmonics over the orbit ``(z_s, Z_j)``."""

@@ -74,12 +74,13 @@ from scipy.signal import butter, sosfiltfilt
 from ddgsa.errors import ModelError, SceneError
 from ddgsa.mbs import AppliedLoad, genalpha, linearise_system, nonrotating
 from ddgsa.mbs.campbell import CampbellDiagram, mode_row, tracked_frame
+from ddgsa.mbs.compiled import evaluate
 from ddgsa.mbs.beam import BEAMS
 from ddgsa.mbs.bodies import MAX_BENDING_MODES
 from ddgsa.mbs.modal import damped_eigen, modal_analysis
 from ddgsa.mbs.sampling import AliasingWarning
 from ddgsa.models.base import BAND_FACTOR, BasisRule, Model, ModelOption, ModelOutput, SignalOutput, register_model
-from ddgsa.models.hss_rig import steady_block, transient
+from ddgsa.models.hss_rig import steady_block, sweep_block, transient
 from ddgsa.models.hss_rig.bearing import defect_impulses, on_grid
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, misaligned, operating_stretch
 from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts, kloss_along, kloss_parts,
@@ -296,10 +297,7 @@ class HssRig(Model):
 
     def _build(self, p: dict[str, float], scene: RigScene) -> tuple[Rig, Drive, float]:
         """:meth:`build` for a full parameter set ``p`` (resolved)."""
-        drive = drive_for(p, scene, POLE_PAIRS)
-        spin = 0.0
-        if scene.kind != "startup":
-            spin = steady_speed(drive, p["load_torque"], p["load_speed_exponent"], RATED_SPEED)
+        drive, spin = self.drive(p, scene)
         if self.fidelity == "dq":
             parts = dq_parts(drive, steady_flux(drive, spin) if scene.kind != "startup" else None)
         else:
@@ -316,6 +314,16 @@ class HssRig(Model):
             extras.append(anisotropy_loads(p, stretch, spin, scene.duration, 1.0 / scene.sample_rate))
         extra = (lambda markers: [e for f in extras for e in f(markers)]) if extras else None
         return build(eff, parts, spin=spin, extra=extra, basis=self.basis), drive, spin
+
+    @staticmethod
+    def drive(p: Mapping[str, float], scene: RigScene) -> tuple[Drive, float]:
+        """The drive of a full parameter set ``p`` in ``scene`` and the rig's initial spin [rad/s] (0 for a
+        start-up, else the steady speed)."""
+        drive = drive_for(p, scene, POLE_PAIRS)
+        spin = 0.0
+        if scene.kind != "startup":
+            spin = steady_speed(drive, p["load_torque"], p["load_speed_exponent"], RATED_SPEED)
+        return drive, spin
 
     def effective(self, p: Mapping[str, float]) -> dict[str, float]:
         """The parameters the fidelity builds the rig with: ``linear`` takes the coupling at its
@@ -475,22 +483,26 @@ class HssRig(Model):
 
     @property
     def block_parts(self) -> dict[str, Any]:
-        """What the block path (:mod:`~ddgsa.models.hss_rig.steady_block`) takes from this module: the pole
+        """What the block paths (:mod:`~ddgsa.models.hss_rig.steady_block`, :mod:`~ddgsa.models.hss_rig.sweep_block`)
+        take from this module: the pole
         pairs, the rig at rest (``still_key``, ``still_rig``), the sensors and their objectives -- handed
         over, so that module needs no import of this one (which imports it)."""
         return {"pole_pairs": POLE_PAIRS, "still_key": still_key, "still_rig": still_rig, "sensors": SENSORS,
-                "record_objectives": record_objectives}
+                "record_objectives": record_objectives, "objectives": objectives}
 
     def _evaluate_block(self, params: pd.DataFrame, scene: Any, signals: tuple[str, ...] = ()) -> pd.DataFrame:
         """The block's outputs: the ``linear`` fidelity's steady points whose inputs repeat once per
-        revolution at once (:mod:`ddgsa.models.hss_rig.steady_block`), the others one by one
-        (:meth:`Model._evaluate_block`); ``attrs["block_points"]`` counts the first."""
+        revolution at once (:mod:`ddgsa.models.hss_rig.steady_block`), its start-up and coast-down points
+        on sweeps reduced to the scene's band (:mod:`ddgsa.models.hss_rig.sweep_block`), the others one by one
+        (:meth:`Model._evaluate_block`); ``attrs["block_points"]`` counts the first two."""
         sc = self._scene(scene)
-        block = steady_block.holds(self, params, sc, signals)
+        path = steady_block if sc.kind == "steady" else sweep_block
+        block = path.holds(self, params, sc, signals)
         if not block.any():
             out = super()._evaluate_block(params, sc, signals)
         else:
-            out = steady_block.steady_block(self, params[block].reset_index(drop=True), sc)
+            run = steady_block.steady_block if sc.kind == "steady" else sweep_block.sweep_block
+            out = run(self, params[block].reset_index(drop=True), sc)
             if not block.all():
                 rest = super()._evaluate_block(params[~block].reset_index(drop=True), sc, signals)
                 rows = np.concatenate([np.flatnonzero(block), np.flatnonzero(~block)])
@@ -655,8 +667,10 @@ def still_rig(items: tuple[tuple[str, float], ...], basis: ShaftBasis,
     one run: an assembly, its steady stretch, its start; the block path's chord iteration takes the
     stiffness as its tangent). ``tangents``: the stiffness's :func:`~ddgsa.models.hss_rig.rig.tangent_columns`
     are the kernel's tangents, the others central differences (the block path's: half the residual calls;
-    the sag then differs from the all-differenced one by the differences' round-off), on the compiled
-    path (a rig whose Python elements push at rest is differenced whole)."""
+    the sag then differs from the all-differenced one by the differences' round-off), and every column a
+    tangent where no element is loaded at rest (no misalignment: no geometric term to miss, as
+    :func:`~ddgsa.models.hss_rig.steady_block._at_rest`), on the compiled path (a rig whose Python elements
+    push at rest is differenced whole)."""
     still = build(dict(items), lambda marker: ([], []), spin=0.0, basis=basis)
     # the rig's parts are all compiled (the unbalance and the load law since issue 24); a Python element
     # added to it would be checked here: one that puts no force on the rig at rest for any position
@@ -664,8 +678,11 @@ def still_rig(items: tuple[tuple[str, float], ...], basis: ShaftBasis,
     system, hybrid = still.system, still.system.fast_terms
     idle = all(not np.any(el.wrench(0.0, system.states_of(el.markers, system.q0, system.qd0, 0.0))[0])
                for _, el in hybrid.python)
-    lin = linearise_system(system, compiled=hybrid.packed if idle else False, static=True,
-                           tangent_columns=tangent_columns(system) if tangents and idle else ())
+    columns: Any = ()
+    if tangents and idle:                 # nothing loaded at rest: no geometric term, every column a tangent
+        loaded = np.any(evaluate(hybrid.packed, system.q0, np.zeros(system.n), 0.0)[4])
+        columns = tangent_columns(system) if loaded else np.arange(system.n)
+    lin = linearise_system(system, compiled=hybrid.packed if idle else False, static=True, tangent_columns=columns)
     sag = lin.basis @ np.linalg.lstsq(lin.k, lin.r0, rcond=None)[0]
     sag.flags.writeable = False
     k = lin.basis @ lin.k @ lin.basis.T
@@ -719,8 +736,17 @@ def _envelope_bpfo(t: np.ndarray, x: np.ndarray, angle: np.ndarray) -> float | n
     envelope analysis, Randall & Antoni 2011 §3), in the order domain; each end of the band held
     below the sensor's Nyquist frequency (at most 0.2 and 0.45 of the sample rate). ``x`` (n,): a
     float; ``x`` (n, m): one per column (m,)."""
+    return _order_bpfo(t, _band_envelope(t, x), angle)
+
+
+def _band_envelope(t: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """The envelope of ``x`` (n,) or (n, m) band-passed to :data:`ENVELOPE_BAND` (see :func:`_envelope_bpfo`)."""
     fs = (t.size - 1) / (t[-1] - t[0])
-    env = envelope(t, x, (min(ENVELOPE_BAND[0], 0.2 * fs), min(ENVELOPE_BAND[1], 0.45 * fs)))
+    return envelope(t, x, (min(ENVELOPE_BAND[0], 0.2 * fs), min(ENVELOPE_BAND[1], 0.45 * fs)))
+
+
+def _order_bpfo(t: np.ndarray, env: np.ndarray, angle: np.ndarray) -> float | np.ndarray:
+    """The BPFO band energy of envelopes ``env`` at ``t`` [s] in the order domain of the shaft ``angle`` [rad]."""
     phi, y = resample_to_angle(t, env, angle, SAMPLES_PER_REV)
     return band_energies(phi / (2 * math.pi), y, [float(BEARING_GEOMETRY.bpfo())], 0.25, harmonics=3)[0]
 
@@ -735,30 +761,45 @@ def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str,
     return record_objectives(s.index.to_numpy(), xs, s["angle"].to_numpy(), f_r, scene, drive)[0]
 
 
-def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: float, scene: RigScene,
+def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: float | np.ndarray, scene: RigScene,
                       drive: Drive) -> list[dict[str, float]]:
-    """The outputs of ``P`` analysed records that share their times ``t`` [s] (n_t,), shaft ``angle``
-    [rad] (n_t,), shaft speed ``f_r`` [Hz] and motor: ``xs`` (n_t, P, len(SENSORS)) the sensors in
-    :data:`SENSORS` order. Every signal operation runs once on all the records' columns (one record:
-    :func:`objectives`; a block of points: :mod:`ddgsa.models.hss_rig.steady_block`)."""
+    """The outputs of ``P`` analysed records that share their times ``t`` [s] (n_t,) and motor: ``xs``
+    (n_t, P, len(SENSORS)) the sensors in :data:`SENSORS` order, the shaft ``angle`` [rad] (n_t,) and speed
+    ``f_r`` [Hz] shared (a steady block), or one per record, (n_t, P) and (P,) (start-ups and coast-downs).
+    Every signal operation runs once on all the records' columns, but for the order domain's resampling of
+    records that do not share their angle (one record: :func:`objectives`; a block of points:
+    :mod:`ddgsa.models.hss_rig.steady_block`, :mod:`ddgsa.models.hss_rig.sweep_block`)."""
     n_t, n_rec, n_s = xs.shape
     flat = xs.reshape(n_t, n_rec * n_s)
-    smooth = _anti_alias(t, f_r) if scene.kind == "steady" else (lambda x: x)
+    smooth = _anti_alias(t, float(np.mean(f_r))) if scene.kind == "steady" else (lambda x: x)
     bpfo, bpfi = float(BEARING_GEOMETRY.bpfo()), float(BEARING_GEOMETRY.bpfi())
-    phi, ys = resample_to_angle(t, smooth(flat), angle, SAMPLES_PER_REV)     # once: orders and bands
-    amps = angle_amplitudes(phi, ys, [1.0, 2.0]).reshape(2, n_rec, n_s)
-    revs = phi / (2 * math.pi)
     acc = (np.arange(n_rec)[:, None] * n_s + np.arange(len(ACCELEROMETERS))).ravel()   # the accelerometers lead SENSORS
-    env = _envelope_bpfo(t, flat[:, acc], angle).reshape(n_rec, len(ACCELEROMETERS))
-    bands = band_energies(revs, ys[:, acc], [bpfo, bpfi], 0.25, harmonics=3).reshape(2, n_rec, len(ACCELEROMETERS))
+    angles = np.asarray(angle, dtype=float)
+    env_t = _band_envelope(t, flat[:, acc])                                   # every record's at once
+    groups = [(angles, np.arange(n_rec))] if angles.ndim == 1 else [(angles[:, r], np.array([r])) for r in range(n_rec)]
+    amps, bands = np.empty((2, n_rec, n_s)), np.empty((2, n_rec, len(ACCELEROMETERS)))
+    env = np.empty((n_rec, len(ACCELEROMETERS)))
+    for a, recs in groups:                        # the order domain: once for records that share their angle
+        cols = (recs[:, None] * n_s + np.arange(n_s)).ravel()
+        phi, ys = resample_to_angle(t, smooth(flat[:, cols]), a, SAMPLES_PER_REV)     # once: orders and bands
+        amps[:, recs] = angle_amplitudes(phi, ys, [1.0, 2.0]).reshape(2, recs.size, n_s)
+        on = (np.arange(recs.size)[:, None] * n_s + np.arange(len(ACCELEROMETERS))).ravel()
+        bands[:, recs] = band_energies(phi / (2 * math.pi), ys[:, on], [bpfo, bpfi], 0.25,
+                                       harmonics=3).reshape(2, recs.size, len(ACCELEROMETERS))
+        env_cols = (recs[:, None] * len(ACCELEROMETERS) + np.arange(len(ACCELEROMETERS))).ravel()
+        env[recs] = _order_bpfo(t, env_t[:, env_cols], a).reshape(recs.size, len(ACCELEROMETERS))
     dev = xs - xs.mean(axis=0)
     rms, peak = np.sqrt(np.mean(dev**2, axis=0)), np.max(np.abs(dev), axis=0)
     f = drive.motor.supply_frequency
-    slip = 1.0 - f_r * drive.motor.pole_pairs / f
+    speeds = np.broadcast_to(np.asarray(f_r, dtype=float), (n_rec,))
     torque, cur = xs[:, :, SENSORS.index("motor_torque")], xs[:, :, SENSORS.index("motor_current")]
     torque_2f = harmonic_amplitudes(t, torque, [2 * f])[0]
-    lines = harmonic_amplitudes(t, cur, [f, f - f_r, f + f_r])
-    slips = harmonic_amplitudes(t, cur, [f, f * (1 - 2 * slip), f * (1 + 2 * slip)])[1:]
+    lines, slips = np.empty((3, n_rec)), np.empty((2, n_rec))
+    for fr in np.unique(speeds):                   # the current's lines and sidebands at each record's speed
+        on = speeds == fr
+        slip = 1.0 - fr * drive.motor.pole_pairs / f
+        lines[:, on] = harmonic_amplitudes(t, cur[:, on], [f, f - fr, f + fr]).reshape(3, -1)
+        slips[:, on] = harmonic_amplitudes(t, cur[:, on], [f, f * (1 - 2 * slip), f * (1 + 2 * slip)])[1:].reshape(2, -1)
     outs = []
     for r in range(n_rec):
         out: dict[str, float] = {}
@@ -772,6 +813,6 @@ def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: flo
         out["current_line"] = float(lines[0, r])
         out["current_sideband_1x"] = float(0.5 * (lines[1, r] + lines[2, r]))
         out["current_sideband_2s"] = float(np.mean(slips[:, r]))
-        out["mean_speed_rpm"] = f_r * 60.0
+        out["mean_speed_rpm"] = float(speeds[r]) * 60.0
         outs.append(out)
     return outs

@@ -68,7 +68,7 @@ resolution), and the numerically zero bearing bands (1e-12 to 1e-8) are made of 
 CHECK_SAMPLES = 16
 """Samples of one revolution the coupling's 2x check (:func:`~ddgsa.models.hss_rig.faults.check_small`)
 reads: its fit of the mean, 1x, 2x and 3x is exact on them for a periodic response."""
-_COORDS = ("housing_1.y", "housing_1.z", "housing_2.y", "housing_2.z", "motor.rx", "hss.rx")
+COORDS = ("housing_1.y", "housing_1.z", "housing_2.y", "housing_2.z", "motor.rx", "hss.rx")
 """Coordinates the sensors read directly (rates: accelerometers, motor speed; angle and speed of the shaft)."""
 
 def holds(model: "HssRig", params: pd.DataFrame, scene: RigScene, signals: tuple[str, ...]) -> NDArray[np.bool_]:
@@ -89,7 +89,7 @@ class _Point:
     lin: nonrotating.SpinLinearisation
     f_hat: NDArray[np.complex128]
     sensors: Array
-    """(8, n): rows ``_COORDS`` (unit rows) and the disk's y and z [m per coordinate unit]."""
+    """(8, n): rows ``COORDS`` (unit rows) and the disk's y and z [m per coordinate unit]."""
     disk0: Array
     """(2,) the disk centre's y and z [m] on the operating trajectory (z = 0)."""
 
@@ -150,8 +150,8 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
         return system.positions(disk, q, np.zeros_like(q), np.full(len(q), lin.t0))[:, 1:]
 
     n = system.n
-    rows = np.zeros((len(_COORDS), n))
-    rows[np.arange(len(_COORDS)), [system.index(c) for c in _COORDS]] = 1.0
+    rows = np.zeros((len(COORDS), n))
+    rows[np.arange(len(COORDS)), [system.index(c) for c in COORDS]] = 1.0
     slope = central_difference(positions, np.zeros(n), nonrotating.POSITION_SCALE)
     return _Point(raw, rig, drive, spin, lin, f_hat, np.vstack([rows, slope]), positions(np.zeros((1, n)))[0])
 
@@ -215,7 +215,7 @@ def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
     y, yd = nonrotating.synthesis(times - t0, spin, y_hat)                       # (P, n_t, 8)
     # the accelerometers as the per-point path takes them: second-order differences of the housings' rates
     acc = np.gradient(yd[:, :, :4], times, axis=1, edge_order=2)[:, keep]       # (the rates' constant part drops)
-    motor = _COORDS.index("motor.rx")
+    motor = COORDS.index("motor.rx")
     xs = np.empty((len(ok), keep.sum(), len(SENSORS)))
     xs[:, :, :4] = acc
     for r, j in enumerate(ok):

@@ -30,6 +30,7 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Mapping
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -38,27 +39,90 @@ from numpy.typing import NDArray
 from ddgsa.mbs import nonrotating
 from ddgsa.mbs.elements import power_torque
 from ddgsa.mbs.machines import induction_torque
-from ddgsa.mbs.sweep import Inputs, SweepModel, full_state, integrate, marker_rows, steady_orbit, sweep_model
+from ddgsa.mbs.sweep import (Inputs, SweepModel, full_state, integrate, marker_rows, reduce, steady_orbit,
+                             sweep_model)
 from ddgsa.models.hss_rig.drive import Drive, kloss_torque_at
 from ddgsa.models.hss_rig.faults import anisotropy_constants, anisotropy_matrix, coupling_stretch
-from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, load_constants, load_law
+from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, load_constants, load_law, tangent_columns
 
 Array = NDArray[np.float64]
 SLOPE_STEP = 1e-6
 """Relative speed step of the torque laws' slopes at the coast-down's operating point [-]."""
 
 
-def structure(p: Mapping[str, float], q0: Array, synchronous: float,
-              basis: ShaftBasis = ShaftBasis()) -> tuple[Rig, SweepModel]:
+def synchronous_speed(drive: Drive) -> float:
+    """The supply's synchronous speed [rad/s]: the sweep's reference spin (the fastest a scene reaches)."""
+    return 2 * math.pi * drive.motor.supply_frequency / drive.motor.pole_pairs
+
+
+def bare_rig(p: Mapping[str, float], synchronous: float, basis: ShaftBasis = ShaftBasis()) -> Rig:
+    """The rig without motor, load and eccentric mass, with the coupling's mean stiffness, spinning at
+    ``synchronous`` [rad/s] (:func:`structure`'s)."""
+    return build({**p, "eccentric_mass": 0.0, "load_torque": 0.0, "coupling_asymmetry": 0.0},
+                 lambda marker: ([], []), spin=synchronous, basis=basis)
+
+
+def structure(p: Mapping[str, float], q0: Array, synchronous: float, basis: ShaftBasis = ShaftBasis(),
+              tangents: bool = False, bare: Rig | None = None) -> tuple[Rig, SweepModel]:
     """The rig without motor, load and eccentric mass, with the coupling's mean stiffness
     (``coupling_asymmetry`` 0), and its sweep model about the sag ``q0`` (the positions of
-    :meth:`HssRig.initial_state`) with reference spin ``synchronous`` [rad/s]."""
-    bare = build({**p, "eccentric_mass": 0.0, "load_torque": 0.0, "coupling_asymmetry": 0.0},
-                 lambda marker: ([], []), spin=synchronous, basis=basis)
+    :meth:`HssRig.initial_state`) with reference spin ``synchronous`` [rad/s]. ``tangents``: both
+    linearisations take :func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the kernel's tangents (the
+    block path's, as the steady one's; half the residual calls), the one at rest its whole damping matrix
+    (``damping_tangents``: no velocity-quadratic slope at rest). ``bare``: :func:`bare_rig`, built already."""
+    bare = bare_rig(p, synchronous, basis) if bare is None else bare
     system = bare.system
-    rest = nonrotating.linearise(system, q0, np.zeros(system.n))
-    spinning = nonrotating.linearise(system, q0, system.qd0)
+    columns = tangent_columns(system) if tangents else ()
+    rest = nonrotating.linearise(system, q0, np.zeros(system.n), tangent_columns=columns, damping_tangents=tangents)
+    spinning = nonrotating.linearise(system, q0, system.qd0, tangent_columns=columns)
     return bare, sweep_model(rest, spinning, system.index("hss.rx"), q0 - system.q0)
+
+
+@dataclass
+class Sweep:
+    """One point's sweep, ready to integrate: its model (reduced or not), inputs and start."""
+
+    bare: Rig
+    model: SweepModel
+    inputs: Inputs
+    z0: Array
+    zd0: Array
+
+
+def prepare(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
+            basis: ShaftBasis = ShaftBasis(), band_hz: float | None = None, tangents: bool = False,
+            bare: Rig | None = None) -> Sweep:
+    """The sweep of a start-up (from rest) or coast-down (from ``spin`` [rad/s]) of the rig of parameters ``p``
+    (see :func:`run`); ``band_hz`` [Hz]: on the model reduced to its modes up to that band
+    (:func:`ddgsa.mbs.sweep.reduce`, the inputs' rows mapped onto its basis); ``tangents``, ``bare``: as
+    :func:`structure`."""
+    bare, model = structure(p, q0, synchronous_speed(drive), basis, tangents, bare)
+    lin = model.lin
+    if band_hz is not None:
+        model = reduce(model, band_hz)
+    onto = np.eye(lin.q0.size) if model.basis is None else model.basis
+    motor = marker_rows(bare.system, lin, bare.markers["motor"])[3] @ onto
+    disk_rows = marker_rows(bare.system, lin, bare.markers["disk"]) @ onto
+    disk, lateral = disk_rows[3], disk_rows[1:3]
+    me = p["eccentric_mass"] * p["eccentric_radius"]
+    load = load_law(p)
+    coupling = _CouplingInput(p, bare, model)
+    inputs = Inputs(rig_inputs, (motor, disk, np.ascontiguousarray(lateral), float(me), drive.constants,
+                                 load_constants(p), coupling.data))
+    n = model.m.shape[0]
+    if kind == "startup":
+        z0, zd0 = np.zeros(n), np.zeros(n)
+    else:
+        def slope(law, w: float) -> float:
+            h = SLOPE_STEP * max(1.0, abs(w))
+            return (law(0.0, w + h) - law(0.0, w - h)) / (2 * h)
+
+        motor_law = functools.partial(kloss_torque_at, drive)
+        static = motor * motor_law(0.0, spin) + disk * load(0.0, spin)
+        tangent = -slope(motor_law, spin) * np.outer(motor, motor) - slope(load, spin) * np.outer(disk, disk)
+        once = me * spin * spin * (lateral[0] - 1j * lateral[1])
+        z0, zd0 = steady_orbit(model, spin, static, once, tangent, disk, coupling if coupling.active else None)
+    return Sweep(bare, model, inputs, z0, zd0)
 
 
 def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float, t_end: float, dt: float,
@@ -82,36 +146,13 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     basis : ShaftBasis
         The high-speed shaft's modal basis.
     """
-    synchronous = 2 * math.pi * drive.motor.supply_frequency / drive.motor.pole_pairs
-    bare, model = structure(p, q0, synchronous, basis)
-    lin = model.lin
-    motor = marker_rows(bare.system, lin, bare.markers["motor"])[3]
-    disk_rows = marker_rows(bare.system, lin, bare.markers["disk"])
-    disk, lateral = disk_rows[3], disk_rows[1:3]
-    me = p["eccentric_mass"] * p["eccentric_radius"]
-    load = load_law(p)
-    coupling = _CouplingInput(p, bare, model)
-    inputs = Inputs(rig_inputs, (motor, disk, np.ascontiguousarray(lateral), float(me), drive.constants,
-                                 load_constants(p), coupling.data))
-    n = lin.q0.size
-    if kind == "startup":
-        z0, zd0 = np.zeros(n), np.zeros(n)
-    else:
-        def slope(law, w: float) -> float:
-            h = SLOPE_STEP * max(1.0, abs(w))
-            return (law(0.0, w + h) - law(0.0, w - h)) / (2 * h)
-
-        motor_law = functools.partial(kloss_torque_at, drive)
-        static = motor * motor_law(0.0, spin) + disk * load(0.0, spin)
-        tangent = -slope(motor_law, spin) * np.outer(motor, motor) - slope(load, spin) * np.outer(disk, disk)
-        once = me * spin * spin * (lateral[0] - 1j * lateral[1])
-        z0, zd0 = steady_orbit(model, spin, static, once, tangent, disk, coupling if coupling.active else None)
-    t, z, zd = integrate(model, t_end, dt, z0, zd0, inputs, output_every)
-    q, qd = full_state(model, z, zd)
+    sweep = prepare(drive, p, q0, kind, spin, basis)
+    t, z, zd = integrate(sweep.model, t_end, dt, sweep.z0, sweep.zd0, sweep.inputs, output_every)
+    q, qd = full_state(sweep.model, z, zd)
     return t, q, qd
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rig_inputs(t, z, zd, data, f):  # pragma: no cover (compiled)
     """The sweep's four nonlinear inputs (see the module) added to ``f``: ``data`` is ``(motor row,
     disk row, lateral rows (2, n), m_u e [kg m], Drive.constants, load_constants, coupling data)``."""
@@ -128,7 +169,7 @@ def rig_inputs(t, z, zd, data, f):  # pragma: no cover (compiled)
     coupling_force(z, coupling, f)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def coupling_force(z, coupling, f):  # pragma: no cover (compiled)
     """:class:`_CouplingInput`'s force added to ``f``: ``-rows^T dK(theta) (s_sag + J z)`` with
     ``theta = angle @ z``; ``coupling`` is its :attr:`_CouplingInput.data`."""
@@ -138,7 +179,15 @@ def coupling_force(z, coupling, f):  # pragma: no cover (compiled)
     theta = 0.0
     for i in range(z.size):
         theta += angle[i] * z[i]
-    wrench = anisotropy_matrix(stiffness, theta) @ (sag + jac @ z)
+    stretch = sag.copy()                             # s_sag + J z, in loops (no BLAS call an iteration)
+    for k in range(6):
+        for i in range(z.size):
+            stretch[k] += jac[k, i] * z[i]
+    dk = anisotropy_matrix(stiffness, theta)
+    wrench = np.zeros(6)
+    for k in range(6):
+        for j in range(6):
+            wrench[k] += dk[k, j] * stretch[j]
     for i in range(z.size):
         acc = 0.0
         for k in range(6):
@@ -168,9 +217,13 @@ class _CouplingInput:
 
     def __init__(self, p: Mapping[str, float], bare: Rig, model: SweepModel) -> None:
         self.p, lin = p, model.lin
+        onto = np.eye(lin.q0.size) if model.basis is None else model.basis
         hub = marker_rows(bare.system, lin, bare.markers["hub"])
-        self.rows = marker_rows(bare.system, lin, bare.markers["coupling"]) - hub   # d(stretch rate) / dz'
-        self.jac = np.where(model.rates != 0.0, 0.0, self.rows)                     # d(stretch) / dz
+        rows = marker_rows(bare.system, lin, bare.markers["coupling"]) - hub         # d(stretch rate) / dq'
+        rates = model.rates if model.basis is None else model.basis @ model.rates       # the spin angles
+        self.rows = rows @ onto                                                       # d(stretch rate) / dz'
+        self.jac = np.where(rates != 0.0, 0.0, rows) @ onto                           # d(stretch) / dz
+        hub = hub @ onto
         self.sag = coupling_stretch(bare, lin.q0)
         self.angle = hub[3]                  # the hub's spin angle (0 at the sag, as the rig's hub frame)
         self.active = bool(p["coupling_asymmetry"] > 0.0)
