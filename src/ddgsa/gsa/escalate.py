@@ -42,6 +42,11 @@ points where that surrogate is least certain (:meth:`Escalation._focus_points`).
 processes only (whose leave-one-out errors are taken over the other points): the pooled expansion
 is fitted without them, since its leave-one-out bound estimates the error under the input
 distribution only from points drawn from it.
+
+Where the model declares **control features** (:meth:`ddgsa.models.base.Model.control_features`, e.g. the
+rig's lateral natural frequencies against the 1x order), the escalation is given them with the values
+(``features``, and with every :meth:`Escalation.feed`) and each control may take them as inputs
+(:class:`~ddgsa.gsa.control.FeatureSurrogate`), kept only where its leave-one-out error is the smaller.
 """
 
 from __future__ import annotations
