@@ -1,7 +1,7 @@
 """Benchmark: the rig's control features as inputs of the confirmation's control variates (issue 46 item 8),
 CPU, one process (reported, not asserted).
 
-Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/rig_feature_control.py [out.json]`` (~10 min on a quiet core).
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/rig_feature_control.py [out.json]`` (~5 min on a quiet core).
 On the steady scene of ``studies/paper_a_subsystem.yaml`` (its 8 parameters +-10 %, 1500 rpm, 1.2 s at 2 kHz,
 fidelity ``linear``: the block path), a pilot of 256 and of 512 scrambled Sobol' points and one Saltelli
 design (N = 256, 2 560 runs, seed 1) are run once. Per output and pilot: the relative leave-one-out error of

@@ -336,7 +336,7 @@ def evaluate_batch_in(evaluate: Callable[[pd.DataFrame, Mapping[str, Any]], pd.D
     failures = frame.attrs.get("failures", {})
     signals = frame.attrs.get("signals", {})
     features = frame.attrs.get("features")             # a model's control features: stored beside the outputs
-    extra = None if features is None else [dict(zip(map(str, features), v)) for v in zip(*features.values())]
+    extra = [dict(zip(map(str, features), v)) for v in zip(*features.values())] if features else None
     outcomes = []
     names = [str(c) for c in frame.columns]
     for i, row in enumerate(dict(zip(names, v)) for v in values.tolist()):

@@ -103,6 +103,13 @@ def test_a_model_without_features_returns_none_and_the_runner_stores_its_outputs
     got = evaluate_batch_in(lambda p, s: toy.evaluate(p, s), {}, POINTS.to_dict("records"))
     assert [None if o.outputs is None else set(o.outputs) for o in got] == [{"y", "a_squared"}, None] + [{"y", "a_squared"}] * 2
 
+    def no_features(p: pd.DataFrame, s: Any) -> pd.DataFrame:       # an empty mapping: the same
+        out = toy.evaluate(p, s)
+        out.attrs["features"] = {}
+        return out
+
+    assert [o.outputs for o in evaluate_batch_in(no_features, {}, POINTS.to_dict("records"))] == [o.outputs for o in got]
+
 
 def test_declared_features_come_with_the_runs_and_are_stored_beside_the_outputs() -> None:
     """A model's features are returned in ``attrs["features"]`` (NaN where a point failed; the outputs'

@@ -485,7 +485,10 @@ class HssRig(Model):
     def _lateral_ratios(self, raw: dict[str, float], sc: RigScene) -> np.ndarray:
         """:data:`FEATURES` of one point (resolved ``raw``) in the steady scene ``sc``: the rig without its
         turning loads, linearised about its sag at the steady speed as the block path's
-        (:mod:`~ddgsa.models.hss_rig.steady_block`), with the ``kloss`` motor at every fidelity (as :meth:`modes`)."""
+        (:mod:`~ddgsa.models.hss_rig.steady_block`), with the ``kloss`` motor at every fidelity (as :meth:`modes`).
+        At ``kloss`` and ``dq`` the coupling keeps its two-fold anisotropy, taken at its angle at ``t = 0`` (a
+        snapshot of a periodic system: the two ratios split, 1.273 and 1.243 at the nominal point against
+        the ``linear`` rig's 1.257 and 1.256)."""
         drive = drive_for(raw, sc, POLE_PAIRS)
         spin = steady_speed(drive, raw["load_torque"], raw["load_speed_exponent"], RATED_SPEED)
         plain = {**self.effective(raw), "eccentric_mass": 0.0}
@@ -525,11 +528,12 @@ class HssRig(Model):
                 failures = {int(rows[i]): why for i, why in out.attrs["failures"].items()}
                 failures.update({int(rows[block.sum() + i]): why for i, why in rest.attrs["failures"].items()})
                 features = {f: tuple(np.asarray(v + rest.attrs["features"][f])[order].tolist())
-                            for f, v in out.attrs["features"].items()}
+                            for f, v in out.attrs.get("features", {}).items()}
                 out.attrs, rest.attrs = {}, {}
                 out = pd.concat([out, rest], ignore_index=True).iloc[order].reset_index(drop=True)
                 out.attrs["failures"] = dict(sorted(failures.items()))
-                out.attrs["features"] = features
+                if features:
+                    out.attrs["features"] = features
         out.attrs["block_points"] = int(block.sum())
         return out
 

@@ -181,6 +181,8 @@ def steady_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.D
     out = pd.DataFrame([outputs.get(i, nan) for i in range(len(params))], columns=names)
     out.attrs["failures"] = failures
     features = [str(f) for f in model.control_features(scene)]
+    if not features:
+        return out
     values = np.full((len(params), len(features)), math.nan)
     for i in outputs:                     # the control features of each point's own linearisation
         pt = points[i]
