@@ -335,6 +335,8 @@ def evaluate_batch_in(evaluate: Callable[[pd.DataFrame, Mapping[str, Any]], pd.D
     per_point = (time.perf_counter() - t0) / max(len(points), 1)
     failures = frame.attrs.get("failures", {})
     signals = frame.attrs.get("signals", {})
+    features = frame.attrs.get("features")             # a model's control features: stored beside the outputs
+    extra = [dict(zip(map(str, features), v)) for v in zip(*features.values())] if features else None
     outcomes = []
     names = [str(c) for c in frame.columns]
     for i, row in enumerate(dict(zip(names, v)) for v in values.tolist()):
@@ -345,6 +347,8 @@ def evaluate_batch_in(evaluate: Callable[[pd.DataFrame, Mapping[str, Any]], pd.D
         elif bad:
             outcomes.append(Outcome(None, f"non-finite output(s) {bad}", per_point))
         else:
+            if extra is not None:                       # not checked: a feature a point lacks is NaN, not a failure
+                row.update(extra[i])
             outcomes.append(Outcome(row, None, per_point, {k: v[i] for k, v in signals.items()} or None))
     return outcomes
 
@@ -379,6 +383,12 @@ def _checked_values(frame: Any, n_points: int) -> NDArray[np.float64]:
     signals = frame.attrs.get("signals", {})
     if not isinstance(signals, Mapping) or any(len(v) != n_points for v in signals.values()):
         raise EvaluatorShapeError(f"the evaluator's signals do not hold one vector per point ({n_points} points)")
+    features = frame.attrs.get("features")
+    if features is not None and (not isinstance(features, Mapping) or set(map(str, features)) & set(map(str, frame.columns))
+                                 or any(len(v) != n_points or not all(isinstance(x, (float, int)) for x in v)
+                                        for v in features.values())):
+        raise EvaluatorShapeError(f"the evaluator's features do not hold one number per point ({n_points} points) "
+                                  "under names apart from the outputs'")
     try:
         return frame.to_numpy(dtype=float)
     except (TypeError, ValueError) as exc:

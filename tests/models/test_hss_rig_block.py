@@ -60,6 +60,26 @@ def _compare(model: HssRig, points: pd.DataFrame, scene: dict) -> None:
         worst[col] = (float(excess.max()), float(np.max(np.abs(a - b) / np.maximum(np.abs(a), 1e-300))))
     bad = {c: w for c, w in worst.items() if w[0] > 0.0}
     assert not bad, f"outputs beyond {RTOL:g} and their resolution: {bad}"
+    # the control features (issue 46 item 8) from each path's own linearisation: measured within 1e-9
+    np.testing.assert_allclose(pd.DataFrame(block.attrs["features"]), pd.DataFrame(ref.attrs["features"]), rtol=1e-6)
+
+
+def test_the_features_are_the_1x_order_over_the_lowest_bending_modes() -> None:
+    """At the nominal point of the steady scene the rig's features are the steady speed over its two lowest
+    lateral natural frequencies: within 2 % of :meth:`HssRig.modes`' first bending pair (``hss_bending_z_1``
+    and ``_y_1``, 18.84 and 19.31 Hz at 1 439 rpm; the features read 19.08 and 19.10 Hz, their run's
+    linearisation carrying no spin stiffening) and far from the next mode (the motor's spin, 30 Hz). No
+    feature in a start-up: its record sweeps the speed."""
+    model = HssRig(fidelity="linear")
+    scene = {"kind": "steady", "speed_rpm": 1500, "duration": 1.2, "sample_rate": 2000, "settle": 0.2, "seed": 1}
+    out = model.evaluate(None, scene)
+    speed_hz = out["mean_speed_rpm"].iloc[0] / 60.0
+    hz = speed_hz / np.ravel(list(out.attrs["features"].values()))
+    modes = model.modes(rotor_speed=2 * math.pi * speed_hz)
+    bending = np.sort(modes.loc[modes["label"].str.startswith("hss_bending_") & modes["label"].str.endswith("_1"),
+                                "frequency_hz"].to_numpy())
+    np.testing.assert_allclose(np.sort(hz), bending, rtol=0.02)
+    assert model.control_features({**scene, "kind": "startup"}) == ()
 
 
 def test_tangent_columns_are_the_central_differences() -> None:

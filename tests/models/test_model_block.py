@@ -75,3 +75,54 @@ def test_the_block_is_checked_before_it_is_evaluated() -> None:
     with pytest.raises(ValueError, match="parameter 'b' = 9 leaves its allowed range"):
         model.evaluate(pd.DataFrame({"b": [9.0]}), None)
     assert model.blocks == []
+
+
+class _ToyFeatures(_Toy):
+    """The toy with a control feature, ``a + b``, computed in the same run (issue 46 item 8)."""
+
+    name = "toy_features"
+
+    def control_features(self, scene: Any) -> tuple[Any, ...]:
+        from ddgsa.models.base import ModelOutput
+
+        return (ModelOutput("a_plus_b", "-", "a + b"),)
+
+    def _evaluate_one(self, params: dict[str, float], scene: Any) -> dict[str, float]:
+        return {**super()._evaluate_one(params, scene), "a_plus_b": params["a"] + params["b"]}
+
+
+def test_a_model_without_features_returns_none_and_the_runner_stores_its_outputs_alone() -> None:
+    """The default declares no control feature: ``evaluate`` carries no ``features`` and the stored
+    outcomes hold the outputs only, as before features existed."""
+    from ddgsa.runner import evaluate_batch_in
+
+    toy = _Toy()
+    assert toy.control_features(None) == ()
+    out = toy.evaluate(POINTS, None)
+    assert "features" not in out.attrs
+    got = evaluate_batch_in(lambda p, s: toy.evaluate(p, s), {}, POINTS.to_dict("records"))
+    assert [None if o.outputs is None else set(o.outputs) for o in got] == [{"y", "a_squared"}, None] + [{"y", "a_squared"}] * 2
+
+    def no_features(p: pd.DataFrame, s: Any) -> pd.DataFrame:       # an empty mapping: the same
+        out = toy.evaluate(p, s)
+        out.attrs["features"] = {}
+        return out
+
+    assert [o.outputs for o in evaluate_batch_in(no_features, {}, POINTS.to_dict("records"))] == [o.outputs for o in got]
+
+
+def test_declared_features_come_with_the_runs_and_are_stored_beside_the_outputs() -> None:
+    """A model's features are returned in ``attrs["features"]`` (NaN where a point failed; the outputs'
+    columns unchanged) and the runner stores them with each run's outputs, where the confirmation reads them."""
+    from ddgsa.runner import evaluate_batch_in
+
+    toy = _ToyFeatures()
+    out = toy.evaluate(POINTS, None)
+    assert list(out.columns) == ["y", "a_squared"]
+    np.testing.assert_array_equal(out.attrs["features"]["a_plus_b"], [1.5, np.nan, 5.5, 2.0])
+    both = pd.concat([out, out], ignore_index=True)          # frames with features still concatenate
+    assert len(both) == 8
+    got = evaluate_batch_in(lambda p, s: toy.evaluate(p, s), {}, POINTS.to_dict("records"))
+    assert got[1].outputs is None
+    assert [o.outputs["a_plus_b"] for o in got if o.outputs is not None] == [1.5, 5.5, 2.0]
+    assert got[2].outputs["y"] == 6.0

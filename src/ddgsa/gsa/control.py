@@ -290,17 +290,39 @@ class TransformedSurrogate:
         return var / c2, first / c2, total / c2
 
 
+Control = GaussianSurrogate | TransformedSurrogate
+"""A control variate of the inputs alone: a process of the output or of a power of it."""
+
+
 def fit_control(u: NDArray[np.float64], y: NDArray[np.float64], seed: int = 0,
-                drawn: NDArray[np.bool_] | None = None) -> GaussianSurrogate | TransformedSurrogate | None:
+                drawn: NDArray[np.bool_] | None = None, features: NDArray[np.float64] | None = None
+                ) -> "Control | FeatureSurrogate | None":
     """The control variate of ``y`` (n,) at unit-cube points ``u`` (n, d): the Gaussian process of the
     values (:meth:`GaussianSurrogate.fit`) or, for an output positive everywhere whose own process is
     not within :data:`GOOD_LOO`, of one of its :data:`POWERS` mapped back, whichever has the smallest
     leave-one-out error in the output's units; None when none is within :data:`MAX_LOO`. ``drawn``
     (n,): the points drawn from the input distribution, over which the leave-one-out errors are taken
-    (default all; see :meth:`GaussianSurrogate.fit`)."""
+    (default all; see :meth:`GaussianSurrogate.fit`). ``features`` (n, k): the model's control features
+    at the same points (:meth:`ddgsa.models.base.Model.control_features`, computed in the same runs):
+    the :class:`FeatureSurrogate` on them is fitted too, and whichever of the two has the smaller
+    leave-one-out error is returned -- never a worse control than without features."""
     u = np.asarray(u, dtype=float)
     y = np.asarray(y, dtype=float)
-    best: GaussianSurrogate | TransformedSurrogate | None = GaussianSurrogate.fit(u, y, seed=seed, drawn=drawn)
+    plain = _fit_plain(u, y, seed, drawn)
+    if features is None or np.size(features) == 0:
+        return plain
+    with_features = FeatureSurrogate.fit(u, y, np.asarray(features, dtype=float).reshape(len(y), -1), seed, drawn)
+    if with_features is None or (plain is not None and plain.loo <= with_features.loo):
+        return plain
+    return with_features
+
+
+def _fit_plain(u: NDArray[np.float64], y: NDArray[np.float64], seed: int,
+               drawn: NDArray[np.bool_] | None, max_loo: float = MAX_LOO, exact: bool = True) -> Control | None:
+    """:func:`fit_control` without features; ``exact=False``: a process of the output itself is fitted
+    without its closed-form variances, keeping its regressor (that of a :class:`FeatureSurrogate`,
+    whose variances are sampled)."""
+    best: Control | None = GaussianSurrogate.fit(u, y, seed=seed, drawn=drawn, max_loo=max_loo, exact=exact)
     if not np.all(y > 0) or (best is not None and best.loo <= GOOD_LOO):
         return best
     train = _spread(len(y), MAX_TRAIN)
@@ -324,9 +346,144 @@ def fit_control(u: NDArray[np.float64], y: NDArray[np.float64], seed: int = 0,
     if not candidates:
         return best
     loo, power, process, low, high = min(candidates, key=lambda c: c[0])
-    if loo > MAX_LOO or (best is not None and best.loo <= loo):
+    if loo > max_loo or (best is not None and best.loo <= loo):
         return best
     return TransformedSurrogate(_PowerProcess(process, power, ref, low, high, seed), loo)
+
+
+def _loo_predictions(g: Control) -> NDArray[np.float64]:
+    """Leave-one-out predictions of a control at its training points (those :func:`_spread` kept), in
+    the output's units."""
+    if isinstance(g, GaussianSurrogate):
+        return g.loo_values
+    core = g.core
+    with np.errstate(all="ignore"):
+        back = core.ref * _untransform(np.clip(core.process.loo_values, core.low, core.high), core.power)
+    return (back - g.shift) / g.scale
+
+
+@dataclass(frozen=True)
+class _FeatureProcess:
+    """A control ``c`` over (inputs, features scaled to [0, 1]) composed with the features' processes over
+    the inputs: ``u -> c(u, phi_hat(u))``, with its Sobol variances sampled once, when first asked for."""
+
+    inner: Control
+    features: tuple[GaussianSurrogate, ...]
+    seed: int
+
+    def augmented(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``(u, phi_hat(u))`` (m, d + k) at unit-cube points ``u`` (m, d)."""
+        u = np.atleast_2d(np.asarray(u, dtype=float))
+        return np.column_stack([u] + [p(u) for p in self.features])
+
+    def __call__(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        return self.inner(self.augmented(u))
+
+    @cached_property
+    def moments(self) -> tuple[tuple[float, NDArray[np.float64], NDArray[np.float64]],
+                               tuple[float, NDArray[np.float64], NDArray[np.float64]]]:
+        """Variance, first-order and total variances under uniform inputs, and their standard errors
+        (:func:`_sampled_variances`)."""
+        return _sampled_variances(self, self.features[0].centres.shape[1], self.seed)
+
+
+@dataclass(frozen=True)
+class FeatureSurrogate:
+    """``g(u) = (c(u, phi_hat(u)) - shift) / scale``: a control variate ``c`` (:func:`_fit_plain`: a process
+    of the output or of a power of it) over the inputs *and* the model's control features, with the
+    features replaced by Gaussian processes of them over the inputs (``phi_hat``), so that ``g`` stays a
+    function of the inputs alone, evaluable at every Saltelli row without a model run.
+
+    A model's feature (the rig's lowest lateral natural frequencies against the 1x order) is smooth in
+    the parameters where its output is not: a resonance's peak lies on a curved ridge of the inputs and
+    along one coordinate of the feature, so a process over (inputs, feature) follows what one over the
+    inputs alone misses. Its Sobol variances have no closed form: they are sampled on the surrogate as a
+    :class:`TransformedSurrogate`'s (:func:`_sampled_variances`), and their standard errors join the bound.
+    The estimate stays unbiased: ``g`` is fitted on pilot points only.
+
+    ``loo``: the composite's relative leave-one-out error in the output's units, to first order in the
+    features' errors -- the inner control's own leave-one-out residual at the true features, less its
+    change when the features are their processes' leave-one-out predictions (the error ``phi_hat`` adds).
+    """
+
+    core: _FeatureProcess
+    loo: float
+    shift: float = 0.0
+    scale: float = 1.0
+
+    @classmethod
+    def fit(cls, u: NDArray[np.float64], y: NDArray[np.float64], phi: NDArray[np.float64], seed: int = 0,
+            drawn: NDArray[np.bool_] | None = None) -> "FeatureSurrogate | None":
+        """Fit to ``y`` (n,) at unit-cube points ``u`` (n, d) with features ``phi`` (n, k) (see the class);
+        None where a feature is not finite everywhere or is constant, or where the composite's
+        leave-one-out error exceeds :data:`MAX_LOO`."""
+        if not np.all(np.isfinite(phi)):
+            return None
+        low, high = phi.min(axis=0), phi.max(axis=0)
+        if not np.all(high > low):
+            return None
+        unit = (phi - low) / (high - low)
+        processes = []
+        for j in range(phi.shape[1]):
+            p = GaussianSurrogate.fit(u, unit[:, j], seed=seed, max_loo=np.inf, exact=False)
+            if p is None:
+                return None
+            processes.append(replace(p, regressor=None))
+        inner = _fit_plain(np.column_stack([u, unit]), y, seed, drawn, max_loo=np.inf, exact=False)
+        if inner is None:
+            return None
+        train = _spread(len(y), MAX_TRAIN)
+        mine = _drawn_among(train, drawn)
+        at_true = np.column_stack([u[train], unit[train]])
+        at_loo = np.column_stack([u[train]] + [p.loo_values for p in processes])
+        with np.errstate(all="ignore"):
+            gap = y[train] - _loo_predictions(inner) - (inner(at_loo) - inner(at_true))
+            sd = float(y[train][mine].std())
+            loo = float(np.sqrt(np.mean(gap[mine] ** 2)) / sd) if sd > 0 else np.inf
+        if not loo <= MAX_LOO:
+            return None
+        return cls(_FeatureProcess(inner, tuple(processes), seed), loo)
+
+    @property
+    def fitted_to(self) -> str:
+        """What the process was fitted to: the inner control's values, over the inputs and the features."""
+        return f"{self.core.inner.fitted_to} with features"
+
+    def __call__(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The surrogate at unit-cube points ``u`` (m, d)."""
+        return (self.core(u) - self.shift) / self.scale
+
+    def affine(self, shift: float, scale: float) -> "FeatureSurrogate":
+        """The surrogate of ``(y - shift) / scale``."""
+        return FeatureSurrogate(self.core, self.loo, self.shift + shift * self.scale, self.scale * scale)
+
+    def without_posterior(self) -> "FeatureSurrogate":
+        """The same surrogate without the inner process's regressor (its n x n factor)."""
+        inner = self.core.inner
+        inner = inner.without_posterior() if isinstance(inner, TransformedSurrogate) else replace(inner, regressor=None)
+        return FeatureSurrogate(replace(self.core, inner=inner), self.loo, self.shift, self.scale)
+
+    def error(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Where the surrogate is least certain: the inner process's linearised posterior standard
+        deviation at ``(u, phi_hat(u))`` (m, d), in the units it maps to."""
+        v = self.core.augmented(u)
+        inner = self.core.inner
+        if isinstance(inner, TransformedSurrogate):
+            return inner.error(v) / abs(self.scale)
+        gp, sd = inner.regressor
+        return sd * gp.predict(v, return_std=True)[1] / abs(self.scale)
+
+    def variances(self) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
+        """Variance under uniform inputs, and first-order and total variances per input (estimates)."""
+        var, first, total = self.core.moments[0]
+        c2 = self.scale ** 2
+        return var / c2, first / c2, total / c2
+
+    def variance_errors(self) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
+        """Standard errors of :meth:`variances` (the spread of the scrambles)."""
+        var, first, total = self.core.moments[1]
+        c2 = self.scale ** 2
+        return var / c2, first / c2, total / c2
 
 
 def _transform(y: NDArray[np.float64], power: float) -> NDArray[np.float64]:

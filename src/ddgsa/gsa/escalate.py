@@ -42,6 +42,11 @@ points where that surrogate is least certain (:meth:`Escalation._focus_points`).
 processes only (whose leave-one-out errors are taken over the other points): the pooled expansion
 is fitted without them, since its leave-one-out bound estimates the error under the input
 distribution only from points drawn from it.
+
+Where the model declares **control features** (:meth:`ddgsa.models.base.Model.control_features`, e.g. the
+rig's lateral natural frequencies against the 1x order), the escalation is given them with the values
+(``features``, and with every :meth:`Escalation.feed`) and each control may take them as inputs
+(:class:`~ddgsa.gsa.control.FeatureSurrogate`), kept only where its leave-one-out error is the smaller.
 """
 
 from __future__ import annotations
@@ -137,6 +142,11 @@ class Escalation:
     resolution : dict, optional
         Each output's declared resolution [its unit] (:attr:`ddgsa.models.base.ModelOutput.resolution`):
         an output that spreads no more over the pool has nothing to rank and is not escalated.
+    features : array (n, m), optional
+        The model's control features at the points ``x`` (:meth:`ddgsa.models.base.Model.control_features`,
+        recorded with the runs): the control variates may take them as inputs
+        (:func:`ddgsa.gsa.control.fit_control`), each keeping whichever control has the smaller
+        leave-one-out error. :meth:`feed` then takes them with every stage's values.
     """
 
     space: ParameterSpace
@@ -150,6 +160,7 @@ class Escalation:
     saltelli: tuple[Design, NDArray[np.float64]] | None = None
     resolution: dict[str, float] = field(default_factory=dict)
     ranking: tuple[float | None, float | None] = (None, None)
+    features: NDArray[np.float64] | None = None
     spent: int = 0
     log: list[str] = field(default_factory=list)
     pce: SobolResult | None = None
@@ -160,6 +171,8 @@ class Escalation:
             raise MethodError(f"confirm: 'budget' must be a whole number of runs >= 0, got {self.budget!r}")
         self.x = np.asarray(self.x, dtype=float).reshape(-1, self.space.dim)
         self.y = np.asarray(self.y, dtype=float).reshape(len(self.x), len(self.outputs))
+        if self.features is not None:
+            self.features = np.asarray(self.features, dtype=float).reshape(len(self.x), -1)
         self._n_sobol = 0
         self._pending: tuple[str, NDArray[np.float64], Design | None] | None = None
         self._history: list[tuple[int, float]] = []     # (points, worst bound / needed bound) per fit
@@ -197,12 +210,18 @@ class Escalation:
         """The first points to evaluate (None: nothing to confirm or no budget)."""
         return self._next()
 
-    def feed(self, values: NDArray[np.float64]) -> NDArray[np.float64] | None:
-        """Values (n, k) at the points last returned; the next points, or None when done."""
+    def feed(self, values: NDArray[np.float64],
+             features: NDArray[np.float64] | None = None) -> NDArray[np.float64] | None:
+        """Values (n, k) at the points last returned, and there the control features (n, m) where the
+        escalation has them (without them, the rest is escalated without features); the next points, or
+        None when done."""
         if self._pending is None:
             raise MethodError("confirm: feed() without pending points (call start() first)")
         kind, pts, design = self._pending
         yv, _ = as_value_matrix(values, len(pts), self.outputs)
+        if self.features is not None:
+            self.features = None if features is None else \
+                np.vstack([self.features, np.asarray(features, dtype=float).reshape(len(pts), -1)])
         self._pending = None
         self.spent += len(pts)
         self.x, self.y = np.vstack([self.x, pts]), np.vstack([self.y, yv])
@@ -266,10 +285,11 @@ class Escalation:
         self._fitted_at = n_train
         u = np.column_stack([self.space[p].cdf(self.x[self._not_saltelli, i]) for i, p in enumerate(self.space.names)])
         drawn = self._drawn[self._not_saltelli]
+        phi = None if self.features is None else self.features[self._not_saltelli]
         for o in bad:
             yo = self.y[self._not_saltelli, self.outputs.index(o)]
             ok = np.isfinite(yo)
-            g = fit_control(u[ok], yo[ok], seed=self.seed, drawn=drawn[ok]) \
+            g = fit_control(u[ok], yo[ok], seed=self.seed, drawn=drawn[ok], features=None if phi is None else phi[ok]) \
                 if ok.sum() >= 2 * self.space.dim + 2 else None
             if g is not None:
                 self._surrogates[o] = g

@@ -530,3 +530,30 @@ def whirl_index(system: System, lin: SpinLinearisation, shape: NDArray[np.comple
     """
     energy = np.abs(shape) ** 2 * np.abs(np.diag(lin.m))
     return orbit_average(shape, energy, [(iy, iz) for iy, iz, _ in lin.pairs] + orbit_pairs(system))
+
+
+LATERAL_SHARE = 0.5
+"""Least share of a mode's kinetic energy in the lateral and bending pairs for it to count as lateral
+(:func:`lateral_frequencies`)."""
+
+
+def lateral_frequencies(system: System, lin: SpinLinearisation, count: int) -> Array:
+    """The ``count`` lowest damped natural frequencies [rad/s] of the lateral modes of ``lin``: modes of
+    the first-order system (one per conjugate pair, positive imaginary part) whose kinetic energy lies
+    mostly in the bodies' lateral and bending pairs (:func:`whirl_index`, share above
+    :data:`LATERAL_SHARE`), lowest first; NaN where fewer are found. Seen from the frame at the
+    linearisation's spin (a Campbell diagram's frequencies at that speed)."""
+    n = lin.m.shape[0]
+    a = np.zeros((2 * n, 2 * n))
+    a[:n, n:] = np.eye(n)
+    a[n:, :n], a[n:, n:] = -np.linalg.solve(lin.m, lin.k), -np.linalg.solve(lin.m, lin.c)
+    lam, vec = np.linalg.eig(a)
+    out = np.full(count, np.nan)
+    found = 0
+    for e in np.argsort(np.abs(lam.imag)):
+        if lam[e].imag <= 0.0 or found == count:
+            continue
+        if whirl_index(system, lin, vec[:n, e])[1] > LATERAL_SHARE:
+            out[found] = lam[e].imag
+            found += 1
+    return out

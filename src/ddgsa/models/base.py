@@ -492,6 +492,16 @@ class Model(ABC):
         raise ModelError(f"model {self.name!r}: points are a DataFrame, a mapping of parameter names to numbers "
                          f"or columns, or a 2-D array (n_points, {len(self.parameters)}); got {type(points).__name__}")
 
+    def control_features(self, scene: Any) -> tuple[ModelOutput, ...]:
+        """The model's **control features** in ``scene``: quantities each run yields besides its outputs,
+        smooth in the parameters where the outputs may not be (the rig's lowest lateral natural frequencies
+        against the 1x order, which set its resonant responses), that the confirmation's control variates
+        take as inputs (:class:`ddgsa.gsa.control.FeatureSurrogate`). :meth:`evaluate` returns them in
+        ``attrs["features"]`` ({name: tuple of one float per point}, NaN where a point failed; tuples, not
+        arrays, so that frames concatenate) from the same runs: no extra model run. Default: none
+        (``evaluate`` then carries no ``features``)."""
+        return ()
+
     def signal_output(self, name: str) -> SignalOutput:
         """The declaration of signal output ``name``."""
         for s in self.signal_outputs:
@@ -542,6 +552,8 @@ class Model(ABC):
         gets NaN outputs and its reason in ``result.attrs["failures"]`` ({row: reason}); it is
         never imputed. With ``signals`` (names of :attr:`signal_outputs`), ``result.attrs["signals"]``
         maps each to an array (n_points, n_bins) on :meth:`signal_axis` (NaN rows where a point failed).
+        Where the model declares :meth:`control_features` for ``scene``, ``result.attrs["features"]``
+        holds them ({name: one value per point}).
         The points are resolved (:meth:`resolve`) and handed to :meth:`_evaluate_block` as one block.
         """
         out = self._evaluate_block(self.resolve(points), self.as_scene(scene), tuple(signals))
@@ -554,9 +566,10 @@ class Model(ABC):
         parameter a column, SI) in ``scene``: the block contract of :meth:`evaluate`.
 
         Returns one row per point (in order) and one column per output, ``attrs["failures"]``
-        ({row: reason}, NaN outputs in that row) and, with ``signals``, ``attrs["signals"]`` ({name:
-        (n_points, n_bins)}). The default loops over the points (:meth:`_evaluate_one`,
-        :meth:`_evaluate_signals_one`); a model that computes a block at once overrides it.
+        ({row: reason}, NaN outputs in that row), with ``signals``, ``attrs["signals"]`` ({name:
+        (n_points, n_bins)}) and, with :meth:`control_features`, ``attrs["features"]`` ({name: tuple}). The
+        default loops over the points (:meth:`_evaluate_one`, :meth:`_evaluate_signals_one`, whose
+        dicts carry the features beside the outputs); a model that computes a block at once overrides it.
         """
         rows, failures = [], {}
         vectors: dict[str, list[NDArray[np.float64]]] = {s: [] for s in signals}
@@ -578,6 +591,9 @@ class Model(ABC):
                     vectors[s] = vectors[s][:i] + [np.full(len(axes[s]), np.nan)]
         out = pd.DataFrame(rows, columns=[str(o) for o in self.outputs])
         out.attrs["failures"] = failures
+        features = [str(f) for f in self.control_features(scene)]
+        if features:
+            out.attrs["features"] = {f: tuple(float(r.get(f, math.nan)) for r in rows) for f in features}
         if signals:
             out.attrs["signals"] = {s: np.vstack(v) if v else np.zeros((0, len(axes[s]))) for s, v in vectors.items()}
         return out

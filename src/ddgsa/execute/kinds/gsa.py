@@ -313,6 +313,7 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
     model = study.make_model()
     resolution = {o: study.output_declaration(model, o).resolution for o in outputs}
     escs, pending = [], {}
+    features: list[list[str]] = []                       # per scene, the model's control features there
     for i, ps in enumerate(plan.scenes):
         y = plan.values(runs.store, "gsa", ps, outputs, aggregate)
         have = [r for p_, r in result.results if p_.index == ps.index]
@@ -320,9 +321,11 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
         y_all = np.vstack([y] + [ay for _, ay in plan.auto_points.get(i, [])])
         _, first = np.unique(x_all, axis=0, return_index=True)     # a point twice would flatter the LOO error
         keep = np.sort(first)
+        features.append([str(f) for f in model.control_features(ps.scenes[0])])
         esc = Escalation(study.space, outputs, spec.points, x_all[keep], y_all[keep], have, tol, seed=spec.seed,
                          saltelli=None if salt is None else (salt, y[row_index(pooled, salt.points)]),
-                         resolution=resolution, ranking=study.spec.ranking.pair)
+                         resolution=resolution, ranking=study.spec.ranking.pair,
+                         features=_features_at(plan, runs, x_all[keep], ps, features[i]))
         escs.append(esc)
         x = esc.start()
         if x is not None:
@@ -353,7 +356,8 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
         with clock.timing(len(tasks)):
             runs(tasks)
         pending = {i: nxt for i, x in pending.items() if (nxt := escs[i].feed(
-            plan.values_at(runs.store, x, names, plan.scenes[i], outputs, aggregate))) is not None}
+            plan.values_at(runs.store, x, names, plan.scenes[i], outputs, aggregate),
+            _features_at(plan, runs, x, plan.scenes[i], features[i]))) is not None}
         tell()
     tell()
     rows, diag_rows = [result.indices], [result.diagnostics] if len(result.diagnostics) else []
@@ -368,6 +372,19 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
         result.diagnostics = pd.concat(diag_rows, ignore_index=True)
     return [{"scene": ps.index, "budget": spec.budget, "time_s": spec.time, "spent": esc.spent, "log": esc.log}
             for ps, esc in zip(plan.scenes, escs)]
+
+
+def _features_at(plan: Plan, runs: Runs, x: np.ndarray, ps: PlannedScene, names: list[str]) -> np.ndarray | None:
+    """The control features ``names`` (:meth:`ddgsa.models.base.Model.control_features`) stored with the runs
+    at points ``x`` of scene ``ps``, aggregated over its realisations (their mean); None without features or
+    where a stored run lacks them (a store written before the model declared them)."""
+    if not names:
+        return None
+    try:
+        arr = plan.realisations_at(runs.store, x, plan.study.space.names, ps, names)
+    except KeyError:
+        return None
+    return arr.mean(axis=0)
 
 
 def pooled_crosscheck(study: Study, designs: list[tuple[str, Design]], x: np.ndarray, y: np.ndarray,

@@ -146,6 +146,12 @@ def _resolution(sensor: str, kind: str) -> float:
     return sd * average
 
 
+FEATURES = tuple(ModelOutput(f"lateral_ratio_{j}", "-", f"the 1x order over the rig's {which} lateral natural "
+                             "frequency at the steady speed (its linearisation about the sag, seen from the frame)")
+                 for j, which in ((1, "lowest"), (2, "second")))
+"""The rig's control features in a steady scene (:meth:`HssRig.control_features`): its steady outputs are
+resonant (the shaft's diameter and span move the first lateral critical speed against the 1x order), and
+these ratios are smooth in the parameters where the outputs are peaks."""
 OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {s}", 0.0, _sensor_unit(s)[1],
                             _resolution(s, "peak" if k == "peak" else "average"))
                 for k, what in _KINDS.items() for s in SENSORS) + tuple(
@@ -473,7 +479,31 @@ class HssRig(Model):
     def _evaluate_one(self, params: dict[str, float], scene: Any) -> dict[str, float]:
         sc = self._scene(scene)
         series = self._simulate(sc, params)
-        return objectives(series, sc, drive_for(params, sc, POLE_PAIRS))
+        out = objectives(series, sc, drive_for(params, sc, POLE_PAIRS))
+        if self.control_features(sc):
+            out.update(zip(map(str, FEATURES), self._lateral_ratios(params, sc)))
+        return out
+
+    def control_features(self, scene: Any) -> tuple[ModelOutput, ...]:
+        """:data:`FEATURES` in a steady scene (the 1x order over the lowest lateral natural frequencies at the
+        steady speed, which set the resonant steady responses); none in start-up and coast-down, whose
+        records sweep the speed."""
+        return FEATURES if self._scene(scene).kind == "steady" else ()
+
+    def _lateral_ratios(self, raw: dict[str, float], sc: RigScene) -> np.ndarray:
+        """:data:`FEATURES` of one point (resolved ``raw``) in the steady scene ``sc``: the rig without its
+        turning loads, linearised about its sag at the steady speed as the block path's
+        (:mod:`~ddgsa.models.hss_rig.steady_block`), with the ``kloss`` motor at every fidelity (as :meth:`modes`).
+        At ``kloss`` and ``dq`` the coupling keeps its two-fold anisotropy, taken at its angle at ``t = 0`` (a
+        snapshot of a periodic system: the two ratios split, 1.273 and 1.243 at the nominal point against
+        the ``linear`` rig's 1.257 and 1.256)."""
+        drive = drive_for(raw, sc, POLE_PAIRS)
+        spin = steady_speed(drive, raw["load_torque"], raw["load_speed_exponent"], RATED_SPEED)
+        plain = {**self.effective(raw), "eccentric_mass": 0.0}
+        rig = build(plain, kloss_parts(drive), spin=spin, basis=self.basis)
+        q0, qd0 = self.initial_state(rig, plain, tangents=True)
+        lin = nonrotating.linearise(rig.system, q0, qd0, tangent_columns=tangent_columns(rig.system))
+        return spin / nonrotating.lateral_frequencies(rig.system, lin, len(FEATURES))
 
     def evaluate(self, points: Any, scene: Any, signals: tuple[str, ...] = ()) -> pd.DataFrame:
         """Objective functions (and ``signals``) at each point for a rig scene (see :meth:`Model.evaluate`)."""
@@ -506,11 +536,16 @@ class HssRig(Model):
             if not block.all():
                 rest = super()._evaluate_block(params[~block].reset_index(drop=True), sc, signals)
                 rows = np.concatenate([np.flatnonzero(block), np.flatnonzero(~block)])
+                order = np.argsort(rows, kind="stable")
                 failures = {int(rows[i]): why for i, why in out.attrs["failures"].items()}
                 failures.update({int(rows[block.sum() + i]): why for i, why in rest.attrs["failures"].items()})
-                out = pd.concat([out, rest], ignore_index=True).iloc[np.argsort(rows, kind="stable")]
-                out = out.reset_index(drop=True)
+                features = {f: tuple(np.asarray(v + rest.attrs["features"][f])[order].tolist())
+                            for f, v in out.attrs.get("features", {}).items()}
+                out.attrs, rest.attrs = {}, {}
+                out = pd.concat([out, rest], ignore_index=True).iloc[order].reset_index(drop=True)
                 out.attrs["failures"] = dict(sorted(failures.items()))
+                if features:
+                    out.attrs["features"] = features
         out.attrs["block_points"] = int(block.sum())
         return out
 

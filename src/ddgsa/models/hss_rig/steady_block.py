@@ -18,7 +18,9 @@ linearisation -- and the disk probe mapped linearly onto the coordinates. Then t
 one stability and on-mode check (:func:`ddgsa.mbs.nonrotating.harmonic_validity`), one stacked harmonic
 solve (:func:`ddgsa.mbs.nonrotating.harmonic_response`), the sensors' records synthesised from their
 harmonics (:func:`ddgsa.mbs.nonrotating.synthesis`), and the outputs of all records by one run of each
-signal operation (:func:`~ddgsa.models.hss_rig.model.record_objectives`).
+signal operation (:func:`~ddgsa.models.hss_rig.model.record_objectives`). The rig's control features (the 1x
+order over its lowest lateral natural frequencies, :meth:`HssRig.control_features`) come from each point's
+linearisation (:func:`ddgsa.mbs.nonrotating.lateral_frequencies`).
 
 It holds where :meth:`HssRig._linear_run` solves in the frequency domain: the ``linear`` fidelity, a
 steady scene, no supply unbalance and no defect (every input repeats once per revolution), no
@@ -178,6 +180,14 @@ def steady_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.D
     nan = {o: math.nan for o in names}
     out = pd.DataFrame([outputs.get(i, nan) for i in range(len(params))], columns=names)
     out.attrs["failures"] = failures
+    features = [str(f) for f in model.control_features(scene)]
+    if not features:
+        return out
+    values = np.full((len(params), len(features)), math.nan)
+    for i in outputs:                     # the control features of each point's own linearisation
+        pt = points[i]
+        values[i] = pt.spin / nonrotating.lateral_frequencies(pt.rig.system, pt.lin, len(features))
+    out.attrs["features"] = {f: tuple(values[:, j].tolist()) for j, f in enumerate(features)}
     return out
 
 
