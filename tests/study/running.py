@@ -21,3 +21,20 @@ def pages_committed(store: Path) -> int:
     except FileNotFoundError:
         return 0
     return max(0, (size - WAL_HEADER_BYTES) // WAL_FRAME_BYTES)
+
+
+def schema_pages() -> int:
+    """Pages a new store writes to its log when it is opened (its tables' schema, before any evaluation):
+    a run has stored a batch once :func:`pages_committed` exceeds this (measured, not assumed: it depends
+    on SQLite's version)."""
+    import tempfile
+
+    from ddgsa.runner import EvaluationStore
+
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / "evaluations.sqlite"
+        store = EvaluationStore(path)
+        try:
+            return pages_committed(path)
+        finally:
+            store.close()

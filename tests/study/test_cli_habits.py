@@ -12,7 +12,7 @@ from pathlib import Path
 from ddgsa.cli import EXIT_INTERRUPTED, EXIT_UNTRUSTED, main
 from ddgsa.report.outdir import claim
 from ddgsa.runner import EvaluationStore
-from running import pages_committed
+from running import pages_committed, schema_pages
 from studytext import ishigami_study
 
 SRC = str(Path(__file__).parents[2] / "src")
@@ -112,7 +112,8 @@ def test_a_second_live_run_is_refused_and_ctrl_c_exits_130(write_study, tmp_path
         err = capsys.readouterr().err
         assert f"another ddgsa run (pid {proc.pid}) is writing to this folder" in err
         deadline = time.time() + 60
-        while pages_committed(out / "evaluations.sqlite") == 0 and time.time() < deadline:
+        schema = schema_pages()                 # the store's tables are in the log before any batch
+        while pages_committed(out / "evaluations.sqlite") <= schema and time.time() < deadline:
             time.sleep(0.1)
         proc.send_signal(signal.SIGINT)
         assert proc.wait(timeout=60) == EXIT_INTERRUPTED == 130
