@@ -91,7 +91,7 @@ from scipy.interpolate import BarycentricInterpolator
 from scipy.stats import chi2
 
 from ddgsa.errors import MethodError
-from ddgsa.gsa.base import Design, GsaMethod, PartialIndices, check_fraction, check_int, register
+from ddgsa.gsa.base import Design, GsaMethod, PartialIndices, as_value_matrix, check_fraction, check_int, register
 from ddgsa.gsa.groups import GroupIndices, product_form
 from ddgsa.gsa.inert import group_test, partners
 from ddgsa.gsa.pooled import pooled_pce
@@ -189,6 +189,11 @@ class MDRM(GsaMethod):
         opts = design.options
         if not opts.get("inert_check") or opts["check"] < _MIN_CHECK or "inert" in design.meta:
             return None
+        y, _ = as_value_matrix(values, design.n_points, outputs)
+        n_nodes = opts["points"]
+        lines = y[1:1 + space.dim * n_nodes].reshape(space.dim, n_nodes, -1)
+        if not (np.ptp(lines, axis=1) == 0).all(axis=1).any():
+            return None              # no cut function flat on its nodes (the only zeros): spare the analysis below
         t = self.analyze(space, design, values, outputs).indices
         st = t["ST"].to_numpy(float).reshape(-1, space.dim)
         trusted = t["trusted"].to_numpy(bool).reshape(-1, space.dim)
