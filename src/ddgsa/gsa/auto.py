@@ -13,7 +13,8 @@ model evaluations and reusing every evaluation already made:
 2. **PCE** by least-squares regression of total degree 3, 5, 7, ... on *all* points so far
    (the cut lines and the check sample included) plus more points of the same Sobol'
    sequence, so each fit has at least twice as many space-filling points as basis terms
-   (rounded up to a power of two, the sequence's balance). An
+   (rounded up to a power of two, the sequence's balance, where the budget pays for it; else
+   exactly twice, a prefix of the same sequence). An
    order is accepted when its leave-one-out error and top-order energy pass (``pce_loo_error``,
    ``pce_unresolved``; the leave-one-out mean square is taken over the points drawn from the
    input distribution, not the cut lines); the next order is tried while the budget lasts.
@@ -211,8 +212,12 @@ class AutoSobol:
             while self._orders:
                 q = self._orders.pop(0)
                 self._next_order = q
-                # space-filling points for order q: the power of two >= twice the basis size
-                need = 1 << int(np.ceil(np.log2(2 * n_terms(len(self._live), q))))
+                # space-filling points for order q: the power of two >= twice the basis size (the
+                # sequence's balance) or, where that does not fit the budget, twice the basis size
+                twice = 2 * n_terms(len(self._live), q)
+                need = 1 << int(np.ceil(np.log2(twice)))
+                if need - self._n_sobol > left:
+                    need = twice
                 add = max(0, need - self._n_sobol)
                 if need * n_terms(len(self._live), q) > _MAX_MATRIX_ENTRIES:
                     self.log.append(f"pce order {q} on {need} runs exceeds the regression size guard")
@@ -222,7 +227,7 @@ class AutoSobol:
                     self.log.append(f"pce order {q} needs {add} more runs; {left} left in the budget")
                     self._orders = []
                     break
-                sobol = self.space.sample(self._n_sobol + add, seed=self.options["seed"], rule="sobol")
+                sobol = self._sobol(self._n_sobol + add)
                 self._pending = _Pending("pce", sobol[self._n_sobol:], order=q)
                 self._n_sobol += add
                 if add == 0:                                     # nothing to run: fit at once
@@ -258,11 +263,16 @@ class AutoSobol:
             order -= 1
         self.log.append(f"sparse pce order {order} on all {n_total} runs ({left} more, the rest of the budget): "
                         "no full stage fits what is left")
-        total = self._n_sobol + left                # a prefix of the power-of-two sample: same sequence
-        sobol = self.space.sample(1 << int(np.ceil(np.log2(total))), seed=self.options["seed"], rule="sobol")
+        total = self._n_sobol + left
+        sobol = self._sobol(total)
         self._pending = _Pending("pce", sobol[self._n_sobol:total], order=order, fit="sparse")
         self._n_sobol += left
         return self._pending.points
+
+    def _sobol(self, n: int) -> NDArray[np.float64]:
+        """The first ``n`` points of the seed's scrambled Sobol' sequence (a prefix of the power-of-two
+        sample at or above ``n``: every stage draws from the same sequence)."""
+        return self.space.sample(1 << int(np.ceil(np.log2(n))), seed=self.options["seed"], rule="sobol")[:n]
 
     def _finish(self) -> None:
         """Per row, the stage that trusted it with the smallest error estimate; a row no stage
