@@ -92,10 +92,10 @@ def _parser() -> argparse.ArgumentParser:
                           "method on 15 reference functions x 20 seeds; scaling: wall time against runs, "
                           "parameters and workers (all but speed and indirect written to --out); indirect: the indirect "
                           "drive's fidelities against their references; rig: the test rig's linear paths against the "
-                          "nonlinear rig")
+                          "nonlinear rig, and its speed against its accuracy (block, per-point linear, kloss; chart)")
     ben.add_argument("--out", type=Path, default=None,
-                     help="folder for the CSVs and charts (default results/accuracy_cost, results/trust_calibration "
-                          "or results/scaling)")
+                     help="folder for the CSVs and charts (default results/accuracy_cost, results/trust_calibration, "
+                          "results/scaling or results/rig_speed)")
     ben.add_argument("--held-out", action="store_true",
                      help="trust: only the held-out suite of twelve drawn block-sum functions (issue 51's targets: "
                           "false trust of trusted rows, auto at 1 000 runs, M-DRM's share; ddgsa.bench.heldout)")
@@ -551,9 +551,16 @@ def _bench(args: argparse.Namespace) -> int:
         return EXIT_OK
     if args.what == "rig":
         from ddgsa.bench.rig import format_rig_speed, rig_speed
+        from ddgsa.bench.rig_chart import format_speed_accuracy, speed_accuracy
+        from ddgsa.bench.rig_chart import write as write_rig_chart
 
         res = rig_speed(quick=args.quick)
         print(format_rig_speed(res))
+        chart = speed_accuracy(quick=args.quick)
+        print(format_speed_accuracy(chart))
+        for path in write_rig_chart(chart, args.out or Path("results") / "rig_speed"):
+            print(f"wrote {path}")
+        res = {**res, "speed_accuracy": chart}
     elif args.what == "scaling":
         from ddgsa.bench.scaling import format_scaling, scaling
 
