@@ -48,7 +48,7 @@ from numba import njit
 from numpy.typing import NDArray
 
 from ddgsa.loads.hubloads import N_AZIMUTH, controller_step, record_and_step, torque_law
-from ddgsa.loads.rotor import Turbine
+from ddgsa.loads.rotor import IEA15MW, Turbine
 
 #: Pitt-Peters skewed-wake redistribution constant (AeroDyn's default SkewRedistrFactor)
 SKEW_FACTOR = 15.0 * np.pi / 32.0
@@ -149,8 +149,8 @@ class Blade:
 
 
 NREL5MW_BLADE = Blade()
-IEA15MW_BLADE = Blade(blade_file="IEA15MW_blade.txt", polar_file="IEA15MW_polars.txt", tip_radius=120.97,
-                      hub_radius=3.97, overhang=12.0976, tower_base_diameter=10.0, tower_top_diameter=6.5,
+IEA15MW_BLADE = Blade(blade_file="IEA15MW_blade.txt", polar_file="IEA15MW_polars.txt",
+                      tip_radius=IEA15MW.rotor_radius, hub_radius=IEA15MW.hub_radius, overhang=12.0976, tower_base_diameter=10.0, tower_top_diameter=6.5,
                       tower_height=144.386, drag_in_induction=True)
 """The IEA 15 MW blade (16 elements of the AeroDyn deck, ``ddgsa/data/IEA15MW_blade.txt``) and its
 tower: ElastoDyn's overhang 12.0976 m and tower top 144.386 m, the monopile tower's 10 m base and
