@@ -172,10 +172,12 @@ def steady_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.D
     by_spin: dict[float, list[int]] = {}
     for i, pt in points.items():
         by_spin.setdefault(pt.spin, []).append(i)
+    eigenvalues: dict[int, NDArray[np.complex128]] = {}
     for spin, idx in by_spin.items():
-        done, bad = _solve_group(model, [points[i] for i in idx], scene, spin)
+        done, bad, lam = _solve_group(model, [points[i] for i in idx], scene, spin)
         outputs.update({idx[j]: out for j, out in done.items()})
         failures.update({idx[j]: why for j, why in bad.items()})
+        eigenvalues.update(zip(idx, lam))
     names = [str(o) for o in model.outputs]
     nan = {o: math.nan for o in names}
     out = pd.DataFrame([outputs.get(i, nan) for i in range(len(params))], columns=names)
@@ -186,19 +188,21 @@ def steady_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.D
     values = np.full((len(params), len(features)), math.nan)
     for i in outputs:                     # the control features of each point's own linearisation
         pt = points[i]
-        values[i] = pt.spin / nonrotating.lateral_frequencies(pt.rig.system, pt.lin, len(features))
+        values[i] = pt.spin / nonrotating.lateral_frequencies(pt.rig.system, pt.lin, len(features), eigenvalues[i])
     out.attrs["features"] = {f: tuple(values[:, j].tolist()) for j, f in enumerate(features)}
     return out
 
 
 def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
-                 spin: float) -> tuple[dict[int, dict[str, float]], dict[int, str]]:
-    """Outputs (by position in ``pts``) and failures of points sharing their ``spin`` [rad/s]."""
+                 spin: float) -> tuple[dict[int, dict[str, float]], dict[int, str], NDArray[np.complex128]]:
+    """Outputs (by position in ``pts``) and failures of points sharing their ``spin`` [rad/s], and the
+    eigenvalues (P, 2n) of their first-order systems (the validity's, reused by the control features)."""
     SENSORS, record_objectives = (model.block_parts[k] for k in ("sensors", "record_objectives"))
 
     m, c, k = (np.stack([getattr(pt.lin, a) for pt in pts]) for a in ("m", "c", "k"))
     f_hat = np.stack([pt.f_hat for pt in pts])
-    why = nonrotating.harmonic_validity(m, c, k, spin, f_hat.shape[1] - 1, scene.duration)
+    lam = nonrotating.first_order_eigenvalues(m, c, k)
+    why = nonrotating.harmonic_validity(m, c, k, spin, f_hat.shape[1] - 1, scene.duration, lam)
     z0, z_hat = nonrotating.harmonic_response(m, c, k, f_hat, spin)
     bad: dict[int, str] = {}
     period = 2 * math.pi / spin
@@ -215,7 +219,7 @@ def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
             bad[j] = why[j]
     ok = [j for j in range(len(pts)) if j not in bad]
     if not ok:
-        return {}, bad
+        return {}, bad, lam
     t0 = pts[0].lin.t0
     dt = 1.0 / scene.sample_rate
     times = t0 + dt * np.arange(int(round(scene.duration / dt)) + 1)
@@ -237,4 +241,4 @@ def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
         xs[r, :, 6], xs[r, :, 7] = torque[keep], current[keep]
     angle = pts[0].lin.q0[pts[0].rig.system.index("hss.rx")] + spin * (times[keep] - t0)
     outs = record_objectives(times[keep], xs.transpose(1, 0, 2), angle, spin / (2 * math.pi), scene, pts[ok[0]].drive)
-    return dict(zip(ok, outs)), bad
+    return dict(zip(ok, outs)), bad, lam
