@@ -52,6 +52,7 @@ from ddgsa.models.hss_rig.drive import Drive, drive_for, kloss_along, kloss_part
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, operating_stretch
 from ddgsa.models.hss_rig.parameters import RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, build, tangent_columns
+from ddgsa.models import signals
 from ddgsa.models.hss_rig.scenes import RigScene
 
 if TYPE_CHECKING:
@@ -197,8 +198,7 @@ def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
                  spin: float) -> tuple[dict[int, dict[str, float]], dict[int, str], NDArray[np.complex128]]:
     """Outputs (by position in ``pts``) and failures of points sharing their ``spin`` [rad/s], and the
     eigenvalues (P, 2n) of their first-order systems (the validity's, reused by the control features)."""
-    SENSORS, record_objectives = (model.block_parts[k] for k in ("sensors", "record_objectives"))
-
+    record_objectives = model.block_parts["record_objectives"]
     m, c, k = (np.stack([getattr(pt.lin, a) for pt in pts]) for a in ("m", "c", "k"))
     f_hat = np.stack([pt.f_hat for pt in pts])
     lam = nonrotating.first_order_eigenvalues(m, c, k)
@@ -229,16 +229,32 @@ def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
     y, yd = nonrotating.synthesis(times - t0, spin, y_hat)                       # (P, n_t, 8)
     # the accelerometers as the per-point path takes them: second-order differences of the housings' rates
     acc = np.gradient(yd[:, :, :4], times, axis=1, edge_order=2)[:, keep]       # (the rates' constant part drops)
+    xs = _sensor_records([pts[j] for j in ok], z0[ok], times[keep], y[:, keep], yd[:, keep], acc)
+    angle = pts[0].lin.q0[pts[0].rig.system.index("hss.rx")] + spin * (times[keep] - t0)
+    # the order domain: the records at uniform shaft angles are their harmonics there (the angle is the
+    # rigid spin), the accelerometers' central differences of the rates, exact on a harmonic, as the factor
+    # i sin(j W dt) / dt on its rate's harmonic (the time records' interior samples to round-off)
+    t_phi = times[keep][0] + signals.angle_samples(angle, model.block_parts["samples_per_rev"]) / spin
+    y_a, yd_a = nonrotating.synthesis(t_phi - t0, spin, y_hat)
+    jw = spin * np.arange(1, y_hat.shape[1] + 1)[:, None]
+    acc_a = nonrotating.synthesis(t_phi - t0, spin, -jw * np.sin(jw * dt) / dt * y_hat[:, :, :4])[0]
+    xa = _sensor_records([pts[j] for j in ok], z0[ok], t_phi, y_a, yd_a, acc_a)
+    outs = record_objectives(times[keep], xs.transpose(1, 0, 2), angle, spin / (2 * math.pi), scene, pts[ok[0]].drive,
+                             xa.transpose(1, 0, 2))
+    return dict(zip(ok, outs)), bad, lam
+
+
+def _sensor_records(pts: list[_Point], z0: Array, times: Array, y: Array, yd: Array, acc: Array) -> Array:
+    """The sensors' records (P, n_t, 8) in :data:`~ddgsa.models.hss_rig.model.SENSORS` order at ``times`` [s]
+    of points ``pts`` from their static parts ``z0`` (P, n), the periodic parts of the sensed coordinates and
+    the disk's position ``y`` and their rates ``yd`` (P, n_t, 8) (:data:`COORDS`, then the disk's y and z), and
+    the accelerometers ``acc`` (P, n_t, 4)."""
     motor = COORDS.index("motor.rx")
-    xs = np.empty((len(ok), keep.sum(), len(SENSORS)))
+    xs = np.empty(y.shape)
     xs[:, :, :4] = acc
-    for r, j in enumerate(ok):
-        pt = pts[j]
-        disk = pt.disk0 + pt.sensors[6:] @ z0[j] + y[r, keep, 6:]
+    for r, pt in enumerate(pts):
+        disk = pt.disk0 + pt.sensors[6:] @ z0[r] + y[r, :, 6:]
         xs[r, :, 4], xs[r, :, 5] = disk[:, 0], disk[:, 1]
         speed = pt.lin.qd0[pt.rig.system.index("motor.rx")] + yd[r, :, motor]
-        torque, current = kloss_along(pt.drive, times, speed)
-        xs[r, :, 6], xs[r, :, 7] = torque[keep], current[keep]
-    angle = pts[0].lin.q0[pts[0].rig.system.index("hss.rx")] + spin * (times[keep] - t0)
-    outs = record_objectives(times[keep], xs.transpose(1, 0, 2), angle, spin / (2 * math.pi), scene, pts[ok[0]].drive)
-    return dict(zip(ok, outs)), bad, lam
+        xs[r, :, 6], xs[r, :, 7] = kloss_along(pt.drive, times, speed)
+    return xs
