@@ -134,9 +134,9 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
     sag, k_rest = _at_rest(model, rig, plain)
     q0, qd0 = system.q0.copy(), system.qd0.copy()
     q0 += sag
-    if raw["coupling_asymmetry"] > 0.0:
-        stretch = operating_stretch(rig, q0, qd0, tangent=k_rest)
     lin = nonrotating.linearise(system, q0, qd0, tangent_columns=tangent_columns(system))
+    if raw["coupling_asymmetry"] > 0.0:            # its first chord step from this linearisation's residual
+        stretch = operating_stretch(rig, q0, qd0, tangent=k_rest, start=lin)
     period = 2 * math.pi / spin
     loads: list[Element] = [EccentricMass(rig.markers["disk"], raw["eccentric_mass"], raw["eccentric_radius"])]
     if raw["coupling_asymmetry"] > 0.0:       # tabulated at the input angles themselves: read at its nodes
