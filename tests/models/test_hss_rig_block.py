@@ -130,6 +130,24 @@ def test_marker_states_along_a_record_are_the_full_tables_rows() -> None:
                 assert np.array_equal(x, y)
 
 
+def test_the_coupling_stretches_along_a_record_are_the_per_state_ones() -> None:
+    """The coupling's 2x check reads the coupling's stretch along a revolution from the kernel's tables of its
+    markers alone (``faults.coupling_stretches``): bit for bit the per-state ``coupling_stretch`` (its markers
+    from the full tables, ``System.states_of``) at sagged, turning, perturbed states of a misaligned rig."""
+    from ddgsa.models.hss_rig import steady_block
+    from ddgsa.models.hss_rig.faults import coupling_of, coupling_stretch, coupling_stretches
+
+    model, points, scene = _study_points("paper_a_structural", 1, seed=5)
+    points = points.assign(misalignment_parallel=2e-4, misalignment_angular=0.005)
+    pt = steady_block._linearised(model, model.resolve(points).to_dict("records")[0], model._scene(scene))
+    times = np.linspace(0.0, 0.04, 16)
+    z = np.random.default_rng(1).normal(scale=1e-5, size=(times.size, pt.rig.system.n))
+    q = nonrotating.full_states(pt.lin, times, z, np.zeros_like(z))[0]
+    along = coupling_stretches(pt.rig, q, coupling_of(pt.rig))
+    assert np.array_equal(along, np.array([coupling_stretch(pt.rig, qi) for qi in q]))
+    assert np.ptp(along[:, 1]) > 0.0
+
+
 def test_the_still_rigs_tangent_columns_are_its_central_differences() -> None:
     """The block path's sag is solved on the still rig's stiffness with the same 21 columns from the kernel's
     tangents (``still_rig(..., tangents=True)``): with a misaligned coupling (0.4 mm parallel, 0.01 rad

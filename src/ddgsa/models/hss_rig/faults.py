@@ -37,6 +37,7 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs import AppliedLoad, Marker, nonrotating
+from ddgsa.mbs.compiled import HybridTerms
 from ddgsa.mbs.elements import Element
 from ddgsa.models.hss_rig.elements import MisalignedCoupling
 from ddgsa.models.hss_rig.rig import Rig
@@ -67,6 +68,19 @@ def coupling_stretch(rig: Rig, q: Array, coupling: MisalignedCoupling | None = N
     coupling = coupling_of(rig) if coupling is None else coupling
     states = system.states_of(coupling.markers, q, np.zeros_like(q), 0.0)
     return coupling._deflection(states)[0]
+
+
+def coupling_stretches(rig: Rig, q: Array, coupling: MisalignedCoupling) -> Array:
+    """:func:`coupling_stretch` (n_t, 6) at each row of ``q`` (n_t, n): the coupling's markers from the kernel's
+    tables of those markers alone (``HybridTerms.states_along``: the same states, bit for bit) where the rig's
+    terms are compiled."""
+    system = rig.system
+    zero = np.zeros_like(q)
+    if isinstance(system.fast_terms, HybridTerms) and all(system.fast_terms.has(m) for m in coupling.markers):
+        states = system.fast_terms.states_along(coupling.markers, q, zero, np.zeros(len(q)))
+    else:
+        states = [system.states_of(coupling.markers, qi, zi, 0.0) for qi, zi in zip(q, zero)]
+    return np.array([coupling._deflection(st)[0] for st in states])
 
 
 def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol: float = 1e-4,
@@ -186,7 +200,7 @@ def check_small(rig: Rig, q: Array, t: Array, spin: float) -> None:
     """
     every = max(1, q.shape[0] // CHECK_SAMPLES)
     coupling = coupling_of(rig)
-    d = np.array([coupling_stretch(rig, qi, coupling) for qi in q[::every]])
+    d = coupling_stretches(rig, q[::every], coupling)
     mean, twice = mean_and_2x(d, spin * t[::every])
     for idx, what in (((1, 2), "lateral [m]"), ((4, 5), "angular [rad]")):
         cols = list(idx)

@@ -229,7 +229,6 @@ def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
     y, yd = nonrotating.synthesis(times - t0, spin, y_hat)                       # (P, n_t, 8)
     # the accelerometers as the per-point path takes them: second-order differences of the housings' rates
     acc = np.gradient(yd[:, :, :4], times, axis=1, edge_order=2)[:, keep]       # (the rates' constant part drops)
-    xs = _sensor_records([pts[j] for j in ok], z0[ok], times[keep], y[:, keep], yd[:, keep], acc)
     angle = pts[0].lin.q0[pts[0].rig.system.index("hss.rx")] + spin * (times[keep] - t0)
     # the order domain: the records at uniform shaft angles are their harmonics there (the angle is the
     # rigid spin), the accelerometers' central differences of the rates, exact on a harmonic, as the factor
@@ -238,23 +237,30 @@ def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
     y_a, yd_a = nonrotating.synthesis(t_phi - t0, spin, y_hat)
     jw = spin * np.arange(1, y_hat.shape[1] + 1)[:, None]
     acc_a = nonrotating.synthesis(t_phi - t0, spin, -jw * np.sin(jw * dt) / dt * y_hat[:, :, :4])[0]
-    xa = _sensor_records([pts[j] for j in ok], z0[ok], t_phi, y_a, yd_a, acc_a)
+    xs, xa = _sensor_records([pts[j] for j in ok], z0[ok], [(times[keep], y[:, keep], yd[:, keep], acc),
+                                                           (t_phi, y_a, yd_a, acc_a)])
     outs = record_objectives(times[keep], xs.transpose(1, 0, 2), angle, spin / (2 * math.pi), scene, pts[ok[0]].drive,
                              xa.transpose(1, 0, 2))
     return dict(zip(ok, outs)), bad, lam
 
 
-def _sensor_records(pts: list[_Point], z0: Array, times: Array, y: Array, yd: Array, acc: Array) -> Array:
-    """The sensors' records (P, n_t, 8) in :data:`~ddgsa.models.hss_rig.model.SENSORS` order at ``times`` [s]
-    of points ``pts`` from their static parts ``z0`` (P, n), the periodic parts of the sensed coordinates and
-    the disk's position ``y`` and their rates ``yd`` (P, n_t, 8) (:data:`COORDS`, then the disk's y and z), and
-    the accelerometers ``acc`` (P, n_t, 4)."""
+def _sensor_records(pts: list[_Point], z0: Array,
+                    grids: list[tuple[Array, Array, Array, Array]]) -> list[Array]:
+    """The sensors' records (P, n_t, 8) in :data:`~ddgsa.models.hss_rig.model.SENSORS` order of points ``pts``
+    from their static parts ``z0`` (P, n), one for each of ``grids``: times [s] (n_t,), the periodic parts of
+    the sensed coordinates and the disk's position ``y`` and their rates ``yd`` (P, n_t, 8) (:data:`COORDS`,
+    then the disk's y and z) and the accelerometers (P, n_t, 4). The motor's torque and current at all the
+    grids' times in one call a point."""
     motor = COORDS.index("motor.rx")
-    xs = np.empty(y.shape)
-    xs[:, :, :4] = acc
+    out = [np.empty(y.shape) for _, y, _, _ in grids]
+    cuts = np.cumsum([len(t) for t, *_ in grids])[:-1]
+    times = np.concatenate([t for t, *_ in grids])
+    for xs, (_, y, _, acc) in zip(out, grids):
+        xs[:, :, :4] = acc
+        for r, pt in enumerate(pts):
+            xs[r, :, 4:6] = pt.disk0 + pt.sensors[6:] @ z0[r] + y[r, :, 6:]
     for r, pt in enumerate(pts):
-        disk = pt.disk0 + pt.sensors[6:] @ z0[r] + y[r, :, 6:]
-        xs[r, :, 4], xs[r, :, 5] = disk[:, 0], disk[:, 1]
-        speed = pt.lin.qd0[pt.rig.system.index("motor.rx")] + yd[r, :, motor]
-        xs[r, :, 6], xs[r, :, 7] = kloss_along(pt.drive, times, speed)
-    return xs
+        speed = pt.lin.qd0[pt.rig.system.index("motor.rx")] + np.concatenate([yd[r, :, motor] for _, _, yd, _ in grids])
+        for xs, torque, current in zip(out, *(np.split(v, cuts) for v in kloss_along(pt.drive, times, speed))):
+            xs[r, :, 6], xs[r, :, 7] = torque, current
+    return out
