@@ -6,7 +6,8 @@ coupling's stretch), its gravity sag standing still with its motor off (:func:`_
 path's :func:`~ddgsa.models.hss_rig.model.still_rig` on the same System, from the kernel's tangents alone
 where no element is loaded at rest), the coupling's static stretch on it by a chord iteration whose tangent
 is the stiffness the gravity sag was solved with (:func:`~ddgsa.models.hss_rig.faults.operating_stretch`: one
-residual a step instead of a linearisation a step), that rig linearised once in non-rotating coordinates
+residual a step instead of a linearisation a step, the first step's taken from the linearisation below, at the
+same state), that rig linearised once in non-rotating coordinates
 about its sag (:func:`ddgsa.mbs.nonrotating.linearise`; about the undeformed rig the unbalance would put
 no 1x torque on the shaft, whose sagged disk it turns about; it takes the columns of
 :func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the kernel's tangents and differences the other
@@ -15,17 +16,24 @@ loads (the unbalance, the coupling's 2x load tabulated at those angles), which a
 markers but not among its parts (:func:`ddgsa.mbs.nonrotating.projected_inputs` with ``relative=False``): one rig built a point,
 not two, and their tangents (``m e w^2``, 1e-6 of the bearings' stiffness) left out of the
 linearisation -- and the disk probe mapped linearly onto the coordinates. Then the block goes together:
-one stability and on-mode check (:func:`ddgsa.mbs.nonrotating.harmonic_validity`), one stacked harmonic
-solve (:func:`ddgsa.mbs.nonrotating.harmonic_response`), the sensors' records synthesised from their
-harmonics (:func:`ddgsa.mbs.nonrotating.synthesis`), and the outputs of all records by one run of each
-signal operation (:func:`~ddgsa.models.hss_rig.model.record_objectives`). The rig's control features (the 1x
-order over its lowest lateral natural frequencies, :meth:`HssRig.control_features`) come from each point's
-linearisation (:func:`ddgsa.mbs.nonrotating.lateral_frequencies`).
+one stacked eigenvalue call (:func:`ddgsa.mbs.nonrotating.first_order_eigenvalues`) for the stability and
+on-mode check (:func:`ddgsa.mbs.nonrotating.harmonic_validity`), one stacked harmonic solve
+(:func:`ddgsa.mbs.nonrotating.harmonic_response`), the sensors' records synthesised from their harmonics
+(:func:`ddgsa.mbs.nonrotating.synthesis`) at the record's times and, for the order domain, at the uniform shaft
+angles the per-point path resamples to (:func:`ddgsa.models.signals.angle_samples`: exact where it interpolates
+a cubic spline, the angle being the rigid spin), and the outputs of all records by one run of each signal
+operation (:func:`~ddgsa.models.hss_rig.model.record_objectives`). The rig's control features (the 1x order
+over its lowest lateral natural frequencies, :meth:`HssRig.control_features`) come from each point's
+linearisation (:func:`ddgsa.mbs.nonrotating.lateral_frequencies`, on the check's eigenvalues: the shapes of
+the few lowest by inverse iteration).
 
 It holds where :meth:`HssRig._linear_run` solves in the frequency domain: the ``linear`` fidelity, a
 steady scene, no supply unbalance and no defect (every input repeats once per revolution), no
 measurement noise. The records of a block share their shaft angle: the rigid spin ``spin t`` (the
-torsional vibration's angle modulation, below 1e-5 rad, is left out of the angle resampling). A point
+torsional vibration's angle modulation, below 1e-5 rad, is left out of the order domain). The anti-alias
+low-pass the per-point path applies before resampling (at 51 orders, above the record's Nyquist frequency at
+2 kHz) passes the block's 7 harmonics unchanged, so the order domain's records are the synthesis at any rate
+(within 3e-6 of the per-point path at 5 kHz, where that filter acts). A point
 whose linearisation is unstable, whose orders lie on an undamped mode, or whose coupling vibrates at 2x
 beyond :data:`~ddgsa.models.hss_rig.faults.MAX_VIBRATION_RATIO` of its stretch is a failure with that
 reason; the per-point path (:meth:`HssRig._evaluate_one`) is the check of the rest
