@@ -130,6 +130,29 @@ def test_marker_states_along_a_record_are_the_full_tables_rows() -> None:
                 assert np.array_equal(x, y)
 
 
+def test_the_disk_probes_map_is_the_central_differences_of_its_positions() -> None:
+    """The block maps the disk probe onto the coordinates by its marker's position Jacobian through the
+    non-rotating map's ``T`` at the operating point (``steady_block._linearised``): at three random points of
+    ``paper_a_structural`` within 1e-8 of the largest entry of the central differences of the marker's
+    position along the map (measured 1.3e-10: the differences' round-off), and its operating position the
+    marker's at the map's origin, bit for bit."""
+    from ddgsa.mbs.derivatives import central_difference
+    from ddgsa.models.hss_rig import steady_block
+
+    model, points, scene = _study_points("paper_a_structural", 3, seed=9)
+    for raw in model.resolve(points).to_dict("records"):
+        pt = steady_block._linearised(model, raw, model._scene(scene))
+        system, lin, disk = pt.rig.system, pt.lin, pt.rig.markers["disk"]
+
+        def positions(z: np.ndarray) -> np.ndarray:
+            q = nonrotating.spin_map(lin, z, np.zeros_like(z))[0]
+            return system.positions(disk, q, np.zeros_like(q), np.full(len(q), lin.t0))[:, 1:]
+
+        ref = central_difference(positions, np.zeros(system.n), nonrotating.POSITION_SCALE)
+        np.testing.assert_allclose(pt.sensors[6:], ref, rtol=0.0, atol=1e-8 * np.abs(ref).max())
+        assert np.array_equal(pt.disk0, positions(np.zeros((1, system.n)))[0])
+
+
 def test_the_coupling_stretches_along_a_record_are_the_per_state_ones() -> None:
     """The coupling's 2x check reads the coupling's stretch along a revolution from the kernel's tables of its
     markers alone (``faults.coupling_stretches``): bit for bit the per-state ``coupling_stretch`` (its markers

@@ -54,7 +54,6 @@ from numpy.typing import NDArray
 
 from ddgsa.mbs import nonrotating
 from ddgsa.mbs.compiled import evaluate, pack
-from ddgsa.mbs.derivatives import central_difference
 from ddgsa.mbs.elements import EccentricMass, Element
 from ddgsa.mbs.modal import linearise_system
 from ddgsa.models.hss_rig.drive import Drive, drive_for, kloss_along, kloss_parts, steady_speed
@@ -155,17 +154,14 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
     forces = (nonrotating.projected_inputs(system, lin, tp, motor)
               + nonrotating.projected_inputs(system, lin, tp, loads, relative=False) + lin.r0)
     f_hat = nonrotating.input_harmonics(forces)
-    disk = rig.markers["disk"]
-
-    def positions(z: Array) -> Array:
-        q = nonrotating.spin_map(lin, z, np.zeros_like(z))[0]
-        return system.positions(disk, q, np.zeros_like(q), np.full(len(q), lin.t0))[:, 1:]
-
+    # the disk probe: its marker's position Jacobian (the first rows of its velocity Jacobian: the kernel's
+    # coordinates are positions, their rates the velocities) through the map's T = dq/dz at the operating point
+    disk = system.states_of([rig.markers["disk"]], lin.q0, lin.qd0, lin.t0)[0]
     n = system.n
     rows = np.zeros((len(COORDS), n))
     rows[np.arange(len(COORDS)), [system.index(c) for c in COORDS]] = 1.0
-    slope = central_difference(positions, np.zeros(n), nonrotating.POSITION_SCALE)
-    return _Point(raw, rig, drive, spin, lin, f_hat, np.vstack([rows, slope]), positions(np.zeros((1, n)))[0])
+    slope = disk.jac[1:3] @ lin.projection(lin.t0)
+    return _Point(raw, rig, drive, spin, lin, f_hat, np.vstack([rows, slope]), disk.r[1:].copy())
 
 
 def steady_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.DataFrame:
