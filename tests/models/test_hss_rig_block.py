@@ -153,6 +153,28 @@ def test_the_disk_probes_map_is_the_central_differences_of_its_positions() -> No
         assert np.array_equal(pt.disk0, positions(np.zeros((1, system.n)))[0])
 
 
+def test_mixed_inputs_are_the_sum_of_the_relative_and_the_absolute_ones() -> None:
+    """``nonrotating.projected_inputs`` with a flag per element (the block's motor relative to ``t0``, its turning
+    loads absolute, in one evaluation of their markers) is the sum of the two kinds taken apart, within 1e-12 of
+    the largest entry; the motor's relative input alone is zero at ``t0``."""
+    from ddgsa.mbs.elements import EccentricMass
+    from ddgsa.models.hss_rig import steady_block
+
+    model, points, scene = _study_points("paper_a_subsystem", 1, seed=4)
+    raw = model.resolve(points).to_dict("records")[0]
+    pt = steady_block._linearised(model, raw, model._scene(scene))
+    system, lin = pt.rig.system, pt.lin
+    motor = [e for e in system.elements if e.name == "motor"]
+    loads = [EccentricMass(pt.rig.markers["disk"], raw["eccentric_mass"], raw["eccentric_radius"])]
+    tp = lin.t0 + np.linspace(0.0, 0.04, 9)
+    both = nonrotating.projected_inputs(system, lin, tp, motor + loads, [True, False])
+    apart = (nonrotating.projected_inputs(system, lin, tp, motor)
+             + nonrotating.projected_inputs(system, lin, tp, loads, relative=False))
+    np.testing.assert_allclose(both, apart, rtol=0.0, atol=1e-12 * np.abs(apart).max())
+    assert np.abs(apart).max() > 0.0
+    assert not np.any(nonrotating.projected_inputs(system, lin, tp, motor)[0])
+
+
 def test_the_coupling_stretches_along_a_record_are_the_per_state_ones() -> None:
     """The coupling's 2x check reads the coupling's stretch along a revolution from the kernel's tables of its
     markers alone (``faults.coupling_stretches``): bit for bit the per-state ``coupling_stretch`` (its markers

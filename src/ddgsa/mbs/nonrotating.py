@@ -326,11 +326,13 @@ def _element_force(el: Element, t: float, states: list[MarkerState]) -> Array:
 
 
 def projected_inputs(system: System, lin: SpinLinearisation, times: Array, elements: Sequence[Element],
-                     relative: bool = True) -> Array:
+                     relative: bool | Sequence[bool] = True) -> Array:
     """``T(t)^T (Q_sel(t) - Q_sel(t0))`` of the listed elements along the operating trajectory (n_t, n): the
     inputs of the linearisation (its ``r0`` holds them at ``t0``). ``relative=False``: ``T(t)^T Q_sel(t)``,
     for elements on the system's markers that are not among its parts (loads the linearisation left out, so
-    its ``r0`` holds none of them)."""
+    its ``r0`` holds none of them); one flag per element: the sum of both kinds, one evaluation of the
+    markers for all."""
+    flags = np.broadcast_to(np.asarray(relative, dtype=bool), (len(elements),))
     times = np.concatenate([[lin.t0], np.asarray(times, dtype=float)])
     zero = np.zeros((times.size, lin.q0.size))
     q, qd = full_states(lin, times, zero, zero)
@@ -340,6 +342,10 @@ def projected_inputs(system: System, lin: SpinLinearisation, times: Array, eleme
     else:
         states = [system.states_of(markers, q[i], qd[i], t) for i, t in enumerate(times)]
     f = np.array([generalised_force(system.n, t, elements, st) for t, st in zip(times, states)])
+    if not flags.all():       # the first row (t0) subtracted below: the relative elements' force alone
+        ends = np.cumsum([len(el.markers) for el in elements])
+        own = [st for e, flag in enumerate(flags) if flag for st in states[0][ends[e] - len(elements[e].markers):ends[e]]]
+        f[0] = generalised_force(system.n, times[0], [el for el, flag in zip(elements, flags) if flag], own)
     out = f.copy()
     for k, (iy, iz, isp) in enumerate(lin.pairs):
         phi = q[:, isp]
@@ -349,7 +355,7 @@ def projected_inputs(system: System, lin: SpinLinearisation, times: Array, eleme
         # T^T: the pair's rows turned back by R(-phi)^T, the spin row gains (-J R(-phi) xi) . f_pair
         out[:, iy], out[:, iz] = c * f[:, iy] - s * f[:, iz], s * f[:, iy] + c * f[:, iz]
         out[:, isp] += rz * f[:, iy] - ry * f[:, iz]
-    return out[1:] - out[0] if relative else out[1:]
+    return out[1:] - out[0]
 
 
 def simulate(system: System, lin: SpinLinearisation, t_end: float, dt: float, elements: Sequence[Element],

@@ -13,7 +13,8 @@ no 1x torque on the shaft, whose sagged disk it turns about; it takes the column
 :func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the kernel's tangents and differences the other
 half), the inputs of one revolution taken at :data:`FORCE_SAMPLES` angles -- the motor's and the turning
 loads (the unbalance, the coupling's 2x load tabulated at those angles), which are elements on the rig's
-markers but not among its parts (:func:`ddgsa.mbs.nonrotating.projected_inputs` with ``relative=False``): one rig built a point,
+markers but not among its parts (:func:`ddgsa.mbs.nonrotating.projected_inputs`, the motor's relative to its
+value in the linearisation's ``r0``, the loads absolute, in one evaluation of their markers): one rig built a point,
 not two, and their tangents (``m e w^2``, 1e-6 of the bearings' stiffness) left out of the
 linearisation -- and the disk probe mapped linearly onto the coordinates. Then the block goes together:
 one stacked eigenvalue call (:func:`ddgsa.mbs.nonrotating.first_order_eigenvalues`) for the stability and
@@ -151,8 +152,7 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
         loads += anisotropy_loads(raw, stretch, spin, period, period / FORCE_SAMPLES)(rig.markers)
     tp = lin.t0 + period * np.arange(FORCE_SAMPLES) / FORCE_SAMPLES
     motor = [e for e in system.elements if e.name == "motor"]
-    forces = (nonrotating.projected_inputs(system, lin, tp, motor)
-              + nonrotating.projected_inputs(system, lin, tp, loads, relative=False) + lin.r0)
+    forces = nonrotating.projected_inputs(system, lin, tp, motor + loads, [True] * len(motor) + [False] * len(loads)) + lin.r0
     f_hat = nonrotating.input_harmonics(forces)
     # the disk probe: its marker's position Jacobian (the first rows of its velocity Jacobian: the kernel's
     # coordinates are positions, their rates the velocities) through the map's T = dq/dz at the operating point
