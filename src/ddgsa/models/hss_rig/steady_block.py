@@ -22,7 +22,8 @@ on-mode check (:func:`ddgsa.mbs.nonrotating.harmonic_validity`), one stacked har
 (:func:`ddgsa.mbs.nonrotating.harmonic_response`), the sensors' records synthesised from their harmonics
 (:func:`ddgsa.mbs.nonrotating.synthesis`) at the record's times and, for the order domain, at the uniform shaft
 angles the per-point path resamples to (:func:`ddgsa.models.signals.angle_samples`: exact where it interpolates
-a cubic spline, the angle being the rigid spin), and the outputs of all records by one run of each signal
+a cubic spline, the angle being the rigid spin; the vibration sensors, while the motor's torque and current
+are resampled from their records as there), and the outputs of all records by one run of each signal
 operation (:func:`~ddgsa.models.hss_rig.model.record_objectives`). The rig's control features (the 1x order
 over its lowest lateral natural frequencies, :meth:`HssRig.control_features`) come from each point's
 linearisation (:func:`ddgsa.mbs.nonrotating.lateral_frequencies`, on the check's eigenvalues: the shapes of
@@ -234,38 +235,45 @@ def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
     y, yd = nonrotating.synthesis(times - t0, spin, y_hat)                       # (P, n_t, 8)
     # the accelerometers as the per-point path takes them: second-order differences of the housings' rates
     acc = np.gradient(yd[:, :, :4], times, axis=1, edge_order=2)[:, keep]       # (the rates' constant part drops)
+    kept = [pts[j] for j in ok]
+    xs = _sensor_records(kept, z0[ok], times[keep], y[:, keep], yd[:, keep], acc)           # (P, n_t, 8)
     angle = pts[0].lin.q0[pts[0].rig.system.index("hss.rx")] + spin * (times[keep] - t0)
-    # the order domain: the records at uniform shaft angles are their harmonics there (the angle is the
-    # rigid spin), the accelerometers' central differences of the rates, exact on a harmonic, as the factor
-    # i sin(j W dt) / dt on its rate's harmonic (the time records' interior samples to round-off)
-    t_phi = times[keep][0] + signals.angle_samples(angle, model.block_parts["samples_per_rev"]) / spin
-    y_a, yd_a = nonrotating.synthesis(t_phi - t0, spin, y_hat)
+    # the order domain: the vibration sensors at uniform shaft angles are their harmonics there (the angle is
+    # the rigid spin), the accelerometers' central differences of the rates, exact on a harmonic, as the factor
+    # i sin(j W dt) / dt on its rate's harmonic (the time records' interior samples to round-off); the motor's
+    # torque and current (nonlinear in the speed, the current at the supply's frequency) resampled from their
+    # records as the per-point path does: a third of the cost of the motor's law at the angles
+    per_rev = model.block_parts["samples_per_rev"]
+    phi = signals.angle_samples(angle, per_rev)
+    t_phi = times[keep][0] + phi / spin - t0
     jw = spin * np.arange(1, y_hat.shape[1] + 1)[:, None]
-    acc_a = nonrotating.synthesis(t_phi - t0, spin, -jw * np.sin(jw * dt) / dt * y_hat[:, :, :4])[0]
-    xs, xa = _sensor_records([pts[j] for j in ok], z0[ok], [(times[keep], y[:, keep], yd[:, keep], acc),
-                                                           (t_phi, y_a, yd_a, acc_a)])
+    xa = np.empty((len(ok), phi.size, xs.shape[2]))
+    xa[:, :, :4] = nonrotating.synthesis(t_phi, spin, -jw * np.sin(jw * dt) / dt * y_hat[:, :, :4])[0]
+    xa[:, :, 4:6] = _disk(kept, z0[ok], nonrotating.synthesis(t_phi, spin, y_hat[:, :, 6:])[0])
+    motor = xs[:, :, 6:].transpose(1, 0, 2).reshape(len(angle), -1)
+    xa[:, :, 6:] = signals.resample_to_angle(times[keep], motor, angle, per_rev)[1].reshape(
+        phi.size, len(ok), 2).transpose(1, 0, 2)
     outs = record_objectives(times[keep], xs.transpose(1, 0, 2), angle, spin / (2 * math.pi), scene, pts[ok[0]].drive,
                              xa.transpose(1, 0, 2))
     return dict(zip(ok, outs)), bad, lam
 
 
-def _sensor_records(pts: list[_Point], z0: Array,
-                    grids: list[tuple[Array, Array, Array, Array]]) -> list[Array]:
-    """The sensors' records (P, n_t, 8) in :data:`~ddgsa.models.hss_rig.model.SENSORS` order of points ``pts``
-    from their static parts ``z0`` (P, n), one for each of ``grids``: times [s] (n_t,), the periodic parts of
-    the sensed coordinates and the disk's position ``y`` and their rates ``yd`` (P, n_t, 8) (:data:`COORDS`,
-    then the disk's y and z) and the accelerometers (P, n_t, 4). The motor's torque and current at all the
-    grids' times in one call a point."""
+def _sensor_records(pts: list[_Point], z0: Array, times: Array, y: Array, yd: Array, acc: Array) -> Array:
+    """The sensors' records (P, n_t, 8) in :data:`~ddgsa.models.hss_rig.model.SENSORS` order at ``times`` [s]
+    of points ``pts`` from their static parts ``z0`` (P, n), the periodic parts of the sensed coordinates and
+    the disk's position ``y`` and their rates ``yd`` (P, n_t, 8) (:data:`COORDS`, then the disk's y and z), and
+    the accelerometers ``acc`` (P, n_t, 4)."""
     motor = COORDS.index("motor.rx")
-    out = [np.empty(y.shape) for _, y, _, _ in grids]
-    cuts = np.cumsum([len(t) for t, *_ in grids])[:-1]
-    times = np.concatenate([t for t, *_ in grids])
-    for xs, (_, y, _, acc) in zip(out, grids):
-        xs[:, :, :4] = acc
-        for r, pt in enumerate(pts):
-            xs[r, :, 4:6] = pt.disk0 + pt.sensors[6:] @ z0[r] + y[r, :, 6:]
+    xs = np.empty(y.shape)
+    xs[:, :, :4] = acc
+    xs[:, :, 4:6] = _disk(pts, z0, y[:, :, 6:])
     for r, pt in enumerate(pts):
-        speed = pt.lin.qd0[pt.rig.system.index("motor.rx")] + np.concatenate([yd[r, :, motor] for _, _, yd, _ in grids])
-        for xs, torque, current in zip(out, *(np.split(v, cuts) for v in kloss_along(pt.drive, times, speed))):
-            xs[r, :, 6], xs[r, :, 7] = torque, current
-    return out
+        speed = pt.lin.qd0[pt.rig.system.index("motor.rx")] + yd[r, :, motor]
+        xs[r, :, 6], xs[r, :, 7] = kloss_along(pt.drive, times, speed)
+    return xs
+
+
+def _disk(pts: list[_Point], z0: Array, y: Array) -> Array:
+    """The disk probe's y and z (P, n_t, 2) [m] of points ``pts`` from their static parts ``z0`` (P, n) and
+    the periodic parts ``y`` (P, n_t, 2) of its position."""
+    return np.stack([pt.disk0 + pt.sensors[6:] @ z for pt, z in zip(pts, z0)])[:, None, :] + y
