@@ -144,7 +144,7 @@ def test_the_disk_probes_map_is_the_central_differences_of_its_positions() -> No
         pt = steady_block._linearised(model, raw, model._scene(scene))
         system, lin, disk = pt.rig.system, pt.lin, pt.rig.markers["disk"]
 
-        def positions(z: np.ndarray) -> np.ndarray:
+        def positions(z: np.ndarray, system=system, lin=lin, disk=disk) -> np.ndarray:
             q = nonrotating.spin_map(lin, z, np.zeros_like(z))[0]
             return system.positions(disk, q, np.zeros_like(q), np.full(len(q), lin.t0))[:, 1:]
 

@@ -344,7 +344,8 @@ def projected_inputs(system: System, lin: SpinLinearisation, times: Array, eleme
     f = np.array([generalised_force(system.n, t, elements, st) for t, st in zip(times, states)])
     if not flags.all():       # the first row (t0) subtracted below: the relative elements' force alone
         ends = np.cumsum([len(el.markers) for el in elements])
-        own = [st for e, flag in enumerate(flags) if flag for st in states[0][ends[e] - len(elements[e].markers):ends[e]]]
+        own = [st for e, flag in enumerate(flags) if flag
+               for st in states[0][ends[e] - len(elements[e].markers):ends[e]]]
         f[0] = generalised_force(system.n, times[0], [el for el, flag in zip(elements, flags) if flag], own)
     out = f.copy()
     for k, (iy, iz, isp) in enumerate(lin.pairs):
@@ -568,7 +569,8 @@ def lateral_frequencies(system: System, lin: SpinLinearisation, count: int,
     (:func:`first_order_eigenvalues`); the shapes of the candidates, lowest first, then come from
     :func:`_inverse_iteration` (one complex factorisation each, two solves) instead of a full eigen
     decomposition with its vectors, which costs 1.7x the eigenvalues alone on the test rig's 84 states
-    (``tests/models/test_hss_rig_block.py`` checks both against the per-point path's)."""
+    (``tests/models/test_hss_rig_block.py`` checks the block path's features, found this way, against the
+    per-point path's, found by the full decomposition)."""
     n = lin.m.shape[0]
     a = _state_matrices(lin.m, lin.c, lin.k)
     if eigenvalues is None:

@@ -58,11 +58,11 @@ from ddgsa.mbs import nonrotating
 from ddgsa.mbs.compiled import evaluate, pack
 from ddgsa.mbs.elements import EccentricMass, Element
 from ddgsa.mbs.modal import linearise_system
+from ddgsa.models import signals
 from ddgsa.models.hss_rig.drive import Drive, drive_for, kloss_along, kloss_parts, steady_speed
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, operating_stretch
 from ddgsa.models.hss_rig.parameters import RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, build, tangent_columns
-from ddgsa.models import signals
 from ddgsa.models.hss_rig.scenes import RigScene
 
 if TYPE_CHECKING:
@@ -153,7 +153,8 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
         loads += anisotropy_loads(raw, stretch, spin, period, period / FORCE_SAMPLES)(rig.markers)
     tp = lin.t0 + period * np.arange(FORCE_SAMPLES) / FORCE_SAMPLES
     motor = [e for e in system.elements if e.name == "motor"]
-    forces = nonrotating.projected_inputs(system, lin, tp, motor + loads, [True] * len(motor) + [False] * len(loads)) + lin.r0
+    relative = [True] * len(motor) + [False] * len(loads)
+    forces = nonrotating.projected_inputs(system, lin, tp, motor + loads, relative) + lin.r0
     f_hat = nonrotating.input_harmonics(forces)
     # the disk probe: its marker's position Jacobian (the first rows of its velocity Jacobian: the kernel's
     # coordinates are positions, their rates the velocities) through the map's T = dq/dz at the operating point
