@@ -23,12 +23,13 @@ residual torque). Systems with constraints are refused.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.linalg import expm, null_space
+from scipy.linalg import LinAlgWarning, expm, lu_factor, lu_solve, null_space
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
@@ -325,11 +326,13 @@ def _element_force(el: Element, t: float, states: list[MarkerState]) -> Array:
 
 
 def projected_inputs(system: System, lin: SpinLinearisation, times: Array, elements: Sequence[Element],
-                     relative: bool = True) -> Array:
+                     relative: bool | Sequence[bool] = True) -> Array:
     """``T(t)^T (Q_sel(t) - Q_sel(t0))`` of the listed elements along the operating trajectory (n_t, n): the
     inputs of the linearisation (its ``r0`` holds them at ``t0``). ``relative=False``: ``T(t)^T Q_sel(t)``,
     for elements on the system's markers that are not among its parts (loads the linearisation left out, so
-    its ``r0`` holds none of them)."""
+    its ``r0`` holds none of them); one flag per element: the sum of both kinds, one evaluation of the
+    markers for all."""
+    flags = np.broadcast_to(np.asarray(relative, dtype=bool), (len(elements),))
     times = np.concatenate([[lin.t0], np.asarray(times, dtype=float)])
     zero = np.zeros((times.size, lin.q0.size))
     q, qd = full_states(lin, times, zero, zero)
@@ -339,6 +342,11 @@ def projected_inputs(system: System, lin: SpinLinearisation, times: Array, eleme
     else:
         states = [system.states_of(markers, q[i], qd[i], t) for i, t in enumerate(times)]
     f = np.array([generalised_force(system.n, t, elements, st) for t, st in zip(times, states)])
+    if not flags.all():       # the first row (t0) subtracted below: the relative elements' force alone
+        ends = np.cumsum([len(el.markers) for el in elements])
+        own = [st for e, flag in enumerate(flags) if flag
+               for st in states[0][ends[e] - len(elements[e].markers):ends[e]]]
+        f[0] = generalised_force(system.n, times[0], [el for el, flag in zip(elements, flags) if flag], own)
     out = f.copy()
     for k, (iy, iz, isp) in enumerate(lin.pairs):
         phi = q[:, isp]
@@ -348,7 +356,7 @@ def projected_inputs(system: System, lin: SpinLinearisation, times: Array, eleme
         # T^T: the pair's rows turned back by R(-phi)^T, the spin row gains (-J R(-phi) xi) . f_pair
         out[:, iy], out[:, iz] = c * f[:, iy] - s * f[:, iz], s * f[:, iy] + c * f[:, iz]
         out[:, isp] += rz * f[:, iy] - ry * f[:, iz]
-    return out[1:] - out[0] if relative else out[1:]
+    return out[1:] - out[0]
 
 
 def simulate(system: System, lin: SpinLinearisation, t_end: float, dt: float, elements: Sequence[Element],
@@ -472,18 +480,30 @@ ON_MODE = 1e-6
 accepts: closer, the order lies on an undamped mode and its response is not finite."""
 
 
-def harmonic_validity(m: Array, c: Array, k: Array, w: float, harmonics: int, horizon: float) -> list[str | None]:
+def first_order_eigenvalues(m: Array, c: Array, k: Array) -> NDArray[np.complex128]:
+    """Eigenvalues [1/s] (P, 2n) of the first-order systems ``x' = A x`` of a block of ``P`` linearisations
+    ``m, c, k`` (P, n, n), ``A = [[0, I], [-M^-1 K, -M^-1 C]]``: one stacked eigenvalue call."""
+    return np.linalg.eigvals(_state_matrices(m, c, k))
+
+
+def _state_matrices(m: Array, c: Array, k: Array) -> Array:
+    """The first-order systems' matrices ``A`` (..., 2n, 2n) of ``m, c, k`` (..., n, n)."""
+    n = m.shape[-1]
+    a = np.zeros(m.shape[:-2] + (2 * n, 2 * n))
+    a[..., :n, n:] = np.eye(n)
+    a[..., n:, :n], a[..., n:, n:] = -np.linalg.solve(m, k), -np.linalg.solve(m, c)
+    return a
+
+
+def harmonic_validity(m: Array, c: Array, k: Array, w: float, harmonics: int, horizon: float,
+                      eigenvalues: NDArray[np.complex128] | None = None) -> list[str | None]:
     """Why the periodic response of each of a block of ``P`` linearisations (``m, c, k`` (P, n, n)) does not
     hold, or None where it does: an unstable linearisation (a mode of the first-order system that grows by
     more than :data:`GROWTH` over ``horizon`` [s], the record), or a harmonic ``j W`` (``j = 1..harmonics``,
-    ``w`` [rad/s]) on an undamped mode (:data:`ON_MODE`). One stacked eigenvalue call for the block."""
-    p, n = m.shape[0], m.shape[1]
-    minv_k = np.linalg.solve(m, k)
-    minv_c = np.linalg.solve(m, c)
-    a = np.zeros((p, 2 * n, 2 * n))
-    a[:, :n, n:] = np.eye(n)
-    a[:, n:, :n], a[:, n:, n:] = -minv_k, -minv_c
-    lam = np.linalg.eigvals(a)                                                        # (P, 2n)
+    ``w`` [rad/s]) on an undamped mode (:data:`ON_MODE`). ``eigenvalues`` (P, 2n): those of the block's
+    first-order systems where the caller has them (:func:`first_order_eigenvalues`), else one stacked
+    eigenvalue call here."""
+    lam = first_order_eigenvalues(m, c, k) if eigenvalues is None else eigenvalues            # (P, 2n)
     out: list[str | None] = []
     for row in lam:
         worst = row[np.argmax(row.real)]
@@ -537,23 +557,51 @@ LATERAL_SHARE = 0.5
 (:func:`lateral_frequencies`)."""
 
 
-def lateral_frequencies(system: System, lin: SpinLinearisation, count: int) -> Array:
+def lateral_frequencies(system: System, lin: SpinLinearisation, count: int,
+                        eigenvalues: NDArray[np.complex128] | None = None) -> Array:
     """The ``count`` lowest damped natural frequencies [rad/s] of the lateral modes of ``lin``: modes of
     the first-order system (one per conjugate pair, positive imaginary part) whose kinetic energy lies
     mostly in the bodies' lateral and bending pairs (:func:`whirl_index`, share above
     :data:`LATERAL_SHARE`), lowest first; NaN where fewer are found. Seen from the frame at the
-    linearisation's spin (a Campbell diagram's frequencies at that speed)."""
+    linearisation's spin (a Campbell diagram's frequencies at that speed).
+
+    ``eigenvalues`` (2n,): the first-order system's, where the caller has them
+    (:func:`first_order_eigenvalues`); the shapes of the candidates, lowest first, then come from
+    :func:`_inverse_iteration` (one complex factorisation each, two solves) instead of a full eigen
+    decomposition with its vectors, which costs 1.7x the eigenvalues alone on the test rig's 84 states
+    (``tests/models/test_hss_rig_block.py`` checks the block path's features, found this way, against the
+    per-point path's, found by the full decomposition)."""
     n = lin.m.shape[0]
-    a = np.zeros((2 * n, 2 * n))
-    a[:n, n:] = np.eye(n)
-    a[n:, :n], a[n:, n:] = -np.linalg.solve(lin.m, lin.k), -np.linalg.solve(lin.m, lin.c)
-    lam, vec = np.linalg.eig(a)
+    a = _state_matrices(lin.m, lin.c, lin.k)
+    if eigenvalues is None:
+        lam, vec = np.linalg.eig(a)
+    else:
+        lam, vec = np.asarray(eigenvalues), None
     out = np.full(count, np.nan)
     found = 0
     for e in np.argsort(np.abs(lam.imag)):
         if lam[e].imag <= 0.0 or found == count:
             continue
-        if whirl_index(system, lin, vec[:n, e])[1] > LATERAL_SHARE:
+        shape = vec[:n, e] if vec is not None else _inverse_iteration(a, lam[e])[:n]
+        if whirl_index(system, lin, shape)[1] > LATERAL_SHARE:
             out[found] = lam[e].imag
             found += 1
     return out
+
+
+def _inverse_iteration(a: Array, lam: complex) -> NDArray[np.complex128]:
+    """The eigenvector (2n,) of ``a`` (2n, 2n) at its computed eigenvalue ``lam``: two steps of inverse
+    iteration shifted to ``lam`` (the shift's round-off, ``eps |A|``, leaves a neighbour ``d`` apart at
+    ``eps |A| / d`` of the shape per step) from a fixed generic start; a shift with an exactly zero pivot
+    is moved by ``1e-12 |A|``."""
+    n2 = a.shape[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", LinAlgWarning)          # a zero pivot: shifted again below
+        lu = lu_factor(a - lam * np.eye(n2), check_finite=False)
+    if not np.all(np.diagonal(lu[0])):
+        lu = lu_factor(a - (lam + 1e-12 * np.abs(a).max()) * np.eye(n2), check_finite=False)
+    v = np.random.default_rng(0).standard_normal(n2).astype(complex)
+    for _ in range(2):
+        v = lu_solve(lu, v, check_finite=False)
+        v /= np.abs(v).max()
+    return v

@@ -32,7 +32,7 @@ from scipy.signal import butter, hilbert, periodogram, sosfiltfilt
 
 from ddgsa.errors import DdgsaError
 
-__all__ = ["SignalError", "angle_amplitudes", "band_energy", "band_rms_spectrum", "envelope", "harmonic_amplitudes", "order_amplitudes",
+__all__ = ["SignalError", "angle_amplitudes", "angle_samples", "band_energy", "band_rms_spectrum", "envelope", "harmonic_amplitudes", "order_amplitudes",
            "order_map", "order_spectrum", "plot_order_map", "plot_spectrum", "resample_to_angle",
            "shaft_angle", "slip_sidebands"]
 
@@ -74,7 +74,8 @@ def resample_to_angle(t: ArrayLike, x: ArrayLike, angle: ArrayLike,
     Returns
     -------
     phi : ndarray
-        Angles [rad] from ``angle[0]``, ``samples_per_rev`` per revolution, whole revolutions only.
+        Angles [rad] from ``angle[0]``, ``samples_per_rev`` per revolution, whole revolutions only
+        (:func:`angle_samples`).
     y : ndarray
         Signal at ``phi`` (cubic-spline interpolation of ``x`` against ``angle``).
     """
@@ -82,11 +83,20 @@ def resample_to_angle(t: ArrayLike, x: ArrayLike, angle: ArrayLike,
     a = np.asarray(angle, float)
     if a.shape != t.shape or np.any(np.diff(a) <= 0):
         raise SignalError("the shaft angle must match the time vector and increase strictly")
+    phi = angle_samples(a, samples_per_rev)
+    return phi, CubicSpline(a, x, axis=0)(a[0] + phi)
+
+
+def angle_samples(angle: ArrayLike, samples_per_rev: int = 64) -> NDArray[np.float64]:
+    """The angles [rad] from ``angle[0]`` at which :func:`resample_to_angle` reads a record whose shaft
+    ``angle`` [rad] (increasing) it is: ``samples_per_rev`` a revolution over its whole revolutions. A
+    caller that has a record as a function of the angle (a periodic steady state's harmonics) evaluates it
+    there instead of interpolating its samples."""
+    a = np.asarray(angle, float)
     revs = math.floor((a[-1] - a[0]) / (2 * math.pi) + 1e-9)
     if revs < 1:
         raise SignalError(f"the record holds {(a[-1] - a[0]) / (2 * math.pi):.3g} revolutions; need at least 1")
-    phi = a[0] + np.arange(revs * samples_per_rev) * (2 * math.pi / samples_per_rev)
-    return phi - a[0], CubicSpline(a, x, axis=0)(phi)
+    return np.arange(revs * samples_per_rev) * (2 * math.pi / samples_per_rev)
 
 
 def order_amplitudes(t: ArrayLike, x: ArrayLike, angle: ArrayLike, orders: Sequence[float],

@@ -37,6 +37,7 @@ from numpy.typing import NDArray
 
 from ddgsa.errors import ModelError
 from ddgsa.mbs import AppliedLoad, Marker, nonrotating
+from ddgsa.mbs.compiled import HybridTerms
 from ddgsa.mbs.elements import Element
 from ddgsa.models.hss_rig.elements import MisalignedCoupling
 from ddgsa.models.hss_rig.rig import Rig
@@ -69,8 +70,21 @@ def coupling_stretch(rig: Rig, q: Array, coupling: MisalignedCoupling | None = N
     return coupling._deflection(states)[0]
 
 
+def coupling_stretches(rig: Rig, q: Array, coupling: MisalignedCoupling) -> Array:
+    """:func:`coupling_stretch` (n_t, 6) at each row of ``q`` (n_t, n): the coupling's markers from the kernel's
+    tables of those markers alone (``HybridTerms.states_along``: the same states, bit for bit) where the rig's
+    terms are compiled."""
+    system = rig.system
+    zero = np.zeros_like(q)
+    if isinstance(system.fast_terms, HybridTerms) and all(system.fast_terms.has(m) for m in coupling.markers):
+        states = system.fast_terms.states_along(coupling.markers, q, zero, np.zeros(len(q)))
+    else:
+        states = [system.states_of(coupling.markers, qi, zi, 0.0) for qi, zi in zip(q, zero)]
+    return np.array([coupling._deflection(st)[0] for st in states])
+
+
 def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol: float = 1e-4,
-                      tangent: Array | None = None) -> Array:
+                      tangent: Array | None = None, start: nonrotating.SpinLinearisation | None = None) -> Array:
     """The coupling's static stretch ``s_0`` (6,) at the spinning rig's operating point.
 
     Newton's method on the steady spinning rig from ``(q0, qd0)`` (the rig at rest's sag): each
@@ -85,11 +99,17 @@ def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol
     With ``tangent`` (n, n) given (a stiffness of the same rig the caller has, e.g. of its full
     linearisation) the steps keep it (a chord method): one evaluation of the residual a step
     instead of a linearisation, more steps (``iterations`` is then at least 30) to the same point.
+    ``start``: the rig linearised at ``(q0, qd0)`` (:func:`ddgsa.mbs.nonrotating.linearise`, ``t0 = 0``) where the
+    caller has it, with ``tangent``: the first step takes its residual and map instead of evaluating them again.
     """
+    if start is not None and (tangent is None or start.t0 != 0.0 or not np.array_equal(start.q0, q0)
+                              or not np.array_equal(start.qd0, qd0)):
+        raise ValueError("operating_stretch: start must be the rig linearised at (q0, qd0), t0 = 0, with a tangent given")
     q, last = q0, None
     steps = iterations if tangent is None else max(iterations, 30)
-    for _ in range(steps):
-        lin = nonrotating.linearise(rig.system, q, qd0, static=True, residual_only=tangent is not None)
+    for step in range(steps):
+        lin = start if step == 0 and start is not None else nonrotating.linearise(
+            rig.system, q, qd0, static=True, residual_only=tangent is not None)
         z0 = np.linalg.lstsq(lin.k if tangent is None else tangent, lin.r0, rcond=nonrotating.RIGID_RCOND)[0]
         zero = np.zeros_like(z0)
         q = lin.state(z0, zero, zero, lin.t0)[0]
@@ -180,7 +200,7 @@ def check_small(rig: Rig, q: Array, t: Array, spin: float) -> None:
     """
     every = max(1, q.shape[0] // CHECK_SAMPLES)
     coupling = coupling_of(rig)
-    d = np.array([coupling_stretch(rig, qi, coupling) for qi in q[::every]])
+    d = coupling_stretches(rig, q[::every], coupling)
     mean, twice = mean_and_2x(d, spin * t[::every])
     for idx, what in (((1, 2), "lateral [m]"), ((4, 5), "angular [rad]")):
         cols = list(idx)

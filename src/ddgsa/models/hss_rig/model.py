@@ -88,7 +88,7 @@ from ddgsa.models.hss_rig.drive import (FLUX_STATES, Drive, drive_for, dq_parts,
 from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_SPEED
 from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, tangent_columns
 from ddgsa.models.hss_rig.scenes import RigScene
-from ddgsa.models.signals import (angle_amplitudes, band_energies, envelope, harmonic_amplitudes, order_map, plot_order_map,
+from ddgsa.models.signals import (angle_amplitudes, angle_samples, band_energies, envelope, harmonic_amplitudes, order_map, plot_order_map,
                            plot_spectrum, resample_to_angle)
 
 ACCELEROMETERS = ("housing_1_y", "housing_1_z", "housing_2_y", "housing_2_z")
@@ -518,7 +518,7 @@ class HssRig(Model):
         pairs, the rig at rest (``still_key``, ``still_rig``), the sensors and their objectives -- handed
         over, so that module needs no import of this one (which imports it)."""
         return {"pole_pairs": POLE_PAIRS, "still_key": still_key, "still_rig": still_rig, "sensors": SENSORS,
-                "record_objectives": record_objectives, "objectives": objectives}
+                "record_objectives": record_objectives, "objectives": objectives, "samples_per_rev": SAMPLES_PER_REV}
 
     def _evaluate_block(self, params: pd.DataFrame, scene: Any, signals: tuple[str, ...] = ()) -> pd.DataFrame:
         """The block's outputs: the ``linear`` fidelity's steady points whose inputs repeat once per
@@ -797,14 +797,22 @@ def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str,
 
 
 def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: float | np.ndarray, scene: RigScene,
-                      drive: Drive) -> list[dict[str, float]]:
+                      drive: Drive, in_angle: np.ndarray | None = None) -> list[dict[str, float]]:
     """The outputs of ``P`` analysed records that share their times ``t`` [s] (n_t,) and motor: ``xs``
     (n_t, P, len(SENSORS)) the sensors in :data:`SENSORS` order, the shaft ``angle`` [rad] (n_t,) and speed
     ``f_r`` [Hz] shared (a steady block), or one per record, (n_t, P) and (P,) (start-ups and coast-downs).
     Every signal operation runs once on all the records' columns, but for the order domain's resampling of
     records that do not share their angle (one record: :func:`objectives`; a block of points:
-    :mod:`ddgsa.models.hss_rig.steady_block`, :mod:`ddgsa.models.hss_rig.sweep_block`)."""
+    :mod:`ddgsa.models.hss_rig.steady_block`, :mod:`ddgsa.models.hss_rig.sweep_block`).
+
+    ``in_angle`` (n_phi, P, len(SENSORS)): the records in the order domain where the caller has them as
+    functions of a shared ``angle`` (a steady block's harmonics), at
+    :func:`~ddgsa.models.signals.angle_samples` of it with :data:`SAMPLES_PER_REV`: taken for their order
+    amplitudes and ball-pass bands instead of the anti-aliased, resampled ``xs`` (the envelopes are still
+    resampled: they are made from the time records)."""
     n_t, n_rec, n_s = xs.shape
+    if in_angle is not None and np.ndim(angle) != 1:
+        raise ValueError("record_objectives: records in the order domain need one shared shaft angle")
     flat = xs.reshape(n_t, n_rec * n_s)
     smooth = _anti_alias(t, float(np.mean(f_r))) if scene.kind == "steady" else (lambda x: x)
     bpfo, bpfi = float(BEARING_GEOMETRY.bpfo()), float(BEARING_GEOMETRY.bpfi())
@@ -816,7 +824,10 @@ def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: flo
     env = np.empty((n_rec, len(ACCELEROMETERS)))
     for a, recs in groups:                        # the order domain: once for records that share their angle
         cols = (recs[:, None] * n_s + np.arange(n_s)).ravel()
-        phi, ys = resample_to_angle(t, smooth(flat[:, cols]), a, SAMPLES_PER_REV)     # once: orders and bands
+        if in_angle is None:                                                       # once: orders and bands
+            phi, ys = resample_to_angle(t, smooth(flat[:, cols]), a, SAMPLES_PER_REV)
+        else:
+            phi, ys = angle_samples(a, SAMPLES_PER_REV), in_angle.reshape(len(in_angle), -1)[:, cols]
         amps[:, recs] = angle_amplitudes(phi, ys, [1.0, 2.0]).reshape(2, recs.size, n_s)
         on = (np.arange(recs.size)[:, None] * n_s + np.arange(len(ACCELEROMETERS))).ravel()
         bands[:, recs] = band_energies(phi / (2 * math.pi), ys[:, on], [bpfo, bpfi], 0.25,

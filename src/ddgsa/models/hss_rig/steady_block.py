@@ -5,27 +5,41 @@ Per point the kernel does what only it can, on one rig a point: the rig without 
 coupling's stretch), its gravity sag standing still with its motor off (:func:`_at_rest`: the per-point
 path's :func:`~ddgsa.models.hss_rig.model.still_rig` on the same System, from the kernel's tangents alone
 where no element is loaded at rest), the coupling's static stretch on it by a chord iteration whose tangent
-is the stiffness the gravity sag was solved with (:func:`~ddgsa.models.hss_rig.faults.operating_stretch`: one
-residual a step instead of a linearisation a step), that rig linearised once in non-rotating coordinates
+is the stiffness of the linearisation below, at the sag and speed (:func:`~ddgsa.models.hss_rig.faults.operating_stretch`:
+one residual a step instead of a linearisation a step, the first step's residual the linearisation's own; the
+stiffness at rest the sag was solved with is no tangent for it: with a 0.5 mm parallel misalignment its chord
+settled on a stretch whose tilt about y was 0.5 % of the Newton iteration's, the housings' 2x orders 10 % low,
+``test_misaligned_points_agree_with_the_per_point_path``), that rig
+linearised once in non-rotating coordinates
 about its sag (:func:`ddgsa.mbs.nonrotating.linearise`; about the undeformed rig the unbalance would put
 no 1x torque on the shaft, whose sagged disk it turns about; it takes the columns of
 :func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the kernel's tangents and differences the other
 half), the inputs of one revolution taken at :data:`FORCE_SAMPLES` angles -- the motor's and the turning
 loads (the unbalance, the coupling's 2x load tabulated at those angles), which are elements on the rig's
-markers but not among its parts (:func:`ddgsa.mbs.nonrotating.projected_inputs` with ``relative=False``): one rig built a point,
+markers but not among its parts (:func:`ddgsa.mbs.nonrotating.projected_inputs`, the motor's relative to its
+value in the linearisation's ``r0``, the loads absolute, in one evaluation of their markers): one rig built a point,
 not two, and their tangents (``m e w^2``, 1e-6 of the bearings' stiffness) left out of the
 linearisation -- and the disk probe mapped linearly onto the coordinates. Then the block goes together:
-one stability and on-mode check (:func:`ddgsa.mbs.nonrotating.harmonic_validity`), one stacked harmonic
-solve (:func:`ddgsa.mbs.nonrotating.harmonic_response`), the sensors' records synthesised from their
-harmonics (:func:`ddgsa.mbs.nonrotating.synthesis`), and the outputs of all records by one run of each
-signal operation (:func:`~ddgsa.models.hss_rig.model.record_objectives`). The rig's control features (the 1x
-order over its lowest lateral natural frequencies, :meth:`HssRig.control_features`) come from each point's
-linearisation (:func:`ddgsa.mbs.nonrotating.lateral_frequencies`).
+one stacked eigenvalue call (:func:`ddgsa.mbs.nonrotating.first_order_eigenvalues`) for the stability and
+on-mode check (:func:`ddgsa.mbs.nonrotating.harmonic_validity`), one stacked harmonic solve
+(:func:`ddgsa.mbs.nonrotating.harmonic_response`), the sensors' records synthesised from their harmonics
+(:func:`ddgsa.mbs.nonrotating.synthesis`) at the record's times and, for the order domain, at the uniform shaft
+angles the per-point path resamples to (:func:`ddgsa.models.signals.angle_samples`: exact where it interpolates
+a cubic spline, the angle being the rigid spin; the vibration sensors, while the motor's torque and current
+are resampled from their records as there), and the outputs of all records by one run of each signal
+operation (:func:`~ddgsa.models.hss_rig.model.record_objectives`). The rig's control features (the 1x order
+over its lowest lateral natural frequencies, :meth:`HssRig.control_features`) come from each point's
+linearisation (:func:`ddgsa.mbs.nonrotating.lateral_frequencies`, on the check's eigenvalues: the shapes of
+the few lowest by inverse iteration).
 
 It holds where :meth:`HssRig._linear_run` solves in the frequency domain: the ``linear`` fidelity, a
 steady scene, no supply unbalance and no defect (every input repeats once per revolution), no
 measurement noise. The records of a block share their shaft angle: the rigid spin ``spin t`` (the
-torsional vibration's angle modulation, below 1e-5 rad, is left out of the angle resampling). A point
+torsional vibration's angle modulation, below 1e-5 rad, is left out of the order domain). The anti-alias
+low-pass the per-point path applies before resampling (at 51 orders, above the record's Nyquist frequency at
+2 kHz) passes the block's 7 harmonics unchanged, so the order domain's records are the synthesis at any rate
+(at 5 kHz, where that filter acts, every output of 4 points of each paper A study agreed with the per-point
+path within 1e-3 or its resolution, as at 2 kHz). A point
 whose linearisation is unstable, whose orders lie on an undamped mode, or whose coupling vibrates at 2x
 beyond :data:`~ddgsa.models.hss_rig.faults.MAX_VIBRATION_RATIO` of its stretch is a failure with that
 reason; the per-point path (:meth:`HssRig._evaluate_one`) is the check of the rest
@@ -45,9 +59,9 @@ from numpy.typing import NDArray
 
 from ddgsa.mbs import nonrotating
 from ddgsa.mbs.compiled import evaluate, pack
-from ddgsa.mbs.derivatives import central_difference
 from ddgsa.mbs.elements import EccentricMass, Element
 from ddgsa.mbs.modal import linearise_system
+from ddgsa.models import signals
 from ddgsa.models.hss_rig.drive import Drive, drive_for, kloss_along, kloss_parts, steady_speed
 from ddgsa.models.hss_rig.faults import anisotropy_loads, check_small, operating_stretch
 from ddgsa.models.hss_rig.parameters import RATED_SPEED
@@ -130,32 +144,29 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
     plain = {**model.effective(raw), "eccentric_mass": 0.0}
     rig = build(plain, kloss_parts(drive), spin=spin, basis=model.basis)
     system = rig.system
-    sag, k_rest = _at_rest(model, rig, plain)
+    sag = _at_rest(model, rig, plain)[0]
     q0, qd0 = system.q0.copy(), system.qd0.copy()
     q0 += sag
-    if raw["coupling_asymmetry"] > 0.0:
-        stretch = operating_stretch(rig, q0, qd0, tangent=k_rest)
     lin = nonrotating.linearise(system, q0, qd0, tangent_columns=tangent_columns(system))
+    if raw["coupling_asymmetry"] > 0.0:       # a chord on this linearisation's stiffness, from its residual
+        stretch = operating_stretch(rig, q0, qd0, tangent=lin.k, start=lin)
     period = 2 * math.pi / spin
     loads: list[Element] = [EccentricMass(rig.markers["disk"], raw["eccentric_mass"], raw["eccentric_radius"])]
     if raw["coupling_asymmetry"] > 0.0:       # tabulated at the input angles themselves: read at its nodes
         loads += anisotropy_loads(raw, stretch, spin, period, period / FORCE_SAMPLES)(rig.markers)
     tp = lin.t0 + period * np.arange(FORCE_SAMPLES) / FORCE_SAMPLES
     motor = [e for e in system.elements if e.name == "motor"]
-    forces = (nonrotating.projected_inputs(system, lin, tp, motor)
-              + nonrotating.projected_inputs(system, lin, tp, loads, relative=False) + lin.r0)
+    relative = [True] * len(motor) + [False] * len(loads)
+    forces = nonrotating.projected_inputs(system, lin, tp, motor + loads, relative) + lin.r0
     f_hat = nonrotating.input_harmonics(forces)
-    disk = rig.markers["disk"]
-
-    def positions(z: Array) -> Array:
-        q = nonrotating.spin_map(lin, z, np.zeros_like(z))[0]
-        return system.positions(disk, q, np.zeros_like(q), np.full(len(q), lin.t0))[:, 1:]
-
+    # the disk probe: its marker's position Jacobian (the first rows of its velocity Jacobian: the kernel's
+    # coordinates are positions, their rates the velocities) through the map's T = dq/dz at the operating point
+    disk = system.states_of([rig.markers["disk"]], lin.q0, lin.qd0, lin.t0)[0]
     n = system.n
     rows = np.zeros((len(COORDS), n))
     rows[np.arange(len(COORDS)), [system.index(c) for c in COORDS]] = 1.0
-    slope = central_difference(positions, np.zeros(n), nonrotating.POSITION_SCALE)
-    return _Point(raw, rig, drive, spin, lin, f_hat, np.vstack([rows, slope]), positions(np.zeros((1, n)))[0])
+    slope = disk.jac[1:3] @ lin.projection(lin.t0)
+    return _Point(raw, rig, drive, spin, lin, f_hat, np.vstack([rows, slope]), disk.r[1:].copy())
 
 
 def steady_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.DataFrame:
@@ -172,10 +183,12 @@ def steady_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.D
     by_spin: dict[float, list[int]] = {}
     for i, pt in points.items():
         by_spin.setdefault(pt.spin, []).append(i)
+    eigenvalues: dict[int, NDArray[np.complex128]] = {}
     for spin, idx in by_spin.items():
-        done, bad = _solve_group(model, [points[i] for i in idx], scene, spin)
+        done, bad, lam = _solve_group(model, [points[i] for i in idx], scene, spin)
         outputs.update({idx[j]: out for j, out in done.items()})
         failures.update({idx[j]: why for j, why in bad.items()})
+        eigenvalues.update(zip(idx, lam))
     names = [str(o) for o in model.outputs]
     nan = {o: math.nan for o in names}
     out = pd.DataFrame([outputs.get(i, nan) for i in range(len(params))], columns=names)
@@ -186,19 +199,20 @@ def steady_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.D
     values = np.full((len(params), len(features)), math.nan)
     for i in outputs:                     # the control features of each point's own linearisation
         pt = points[i]
-        values[i] = pt.spin / nonrotating.lateral_frequencies(pt.rig.system, pt.lin, len(features))
+        values[i] = pt.spin / nonrotating.lateral_frequencies(pt.rig.system, pt.lin, len(features), eigenvalues[i])
     out.attrs["features"] = {f: tuple(values[:, j].tolist()) for j, f in enumerate(features)}
     return out
 
 
 def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
-                 spin: float) -> tuple[dict[int, dict[str, float]], dict[int, str]]:
-    """Outputs (by position in ``pts``) and failures of points sharing their ``spin`` [rad/s]."""
-    SENSORS, record_objectives = (model.block_parts[k] for k in ("sensors", "record_objectives"))
-
+                 spin: float) -> tuple[dict[int, dict[str, float]], dict[int, str], NDArray[np.complex128]]:
+    """Outputs (by position in ``pts``) and failures of points sharing their ``spin`` [rad/s], and the
+    eigenvalues (P, 2n) of their first-order systems (the validity's, reused by the control features)."""
+    record_objectives = model.block_parts["record_objectives"]
     m, c, k = (np.stack([getattr(pt.lin, a) for pt in pts]) for a in ("m", "c", "k"))
     f_hat = np.stack([pt.f_hat for pt in pts])
-    why = nonrotating.harmonic_validity(m, c, k, spin, f_hat.shape[1] - 1, scene.duration)
+    lam = nonrotating.first_order_eigenvalues(m, c, k)
+    why = nonrotating.harmonic_validity(m, c, k, spin, f_hat.shape[1] - 1, scene.duration, lam)
     z0, z_hat = nonrotating.harmonic_response(m, c, k, f_hat, spin)
     bad: dict[int, str] = {}
     period = 2 * math.pi / spin
@@ -215,7 +229,7 @@ def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
             bad[j] = why[j]
     ok = [j for j in range(len(pts)) if j not in bad]
     if not ok:
-        return {}, bad
+        return {}, bad, lam
     t0 = pts[0].lin.t0
     dt = 1.0 / scene.sample_rate
     times = t0 + dt * np.arange(int(round(scene.duration / dt)) + 1)
@@ -225,16 +239,45 @@ def _solve_group(model: "HssRig", pts: list[_Point], scene: RigScene,
     y, yd = nonrotating.synthesis(times - t0, spin, y_hat)                       # (P, n_t, 8)
     # the accelerometers as the per-point path takes them: second-order differences of the housings' rates
     acc = np.gradient(yd[:, :, :4], times, axis=1, edge_order=2)[:, keep]       # (the rates' constant part drops)
-    motor = COORDS.index("motor.rx")
-    xs = np.empty((len(ok), keep.sum(), len(SENSORS)))
-    xs[:, :, :4] = acc
-    for r, j in enumerate(ok):
-        pt = pts[j]
-        disk = pt.disk0 + pt.sensors[6:] @ z0[j] + y[r, keep, 6:]
-        xs[r, :, 4], xs[r, :, 5] = disk[:, 0], disk[:, 1]
-        speed = pt.lin.qd0[pt.rig.system.index("motor.rx")] + yd[r, :, motor]
-        torque, current = kloss_along(pt.drive, times, speed)
-        xs[r, :, 6], xs[r, :, 7] = torque[keep], current[keep]
+    kept = [pts[j] for j in ok]
+    xs = _sensor_records(kept, z0[ok], times[keep], y[:, keep], yd[:, keep], acc)           # (P, n_t, 8)
     angle = pts[0].lin.q0[pts[0].rig.system.index("hss.rx")] + spin * (times[keep] - t0)
-    outs = record_objectives(times[keep], xs.transpose(1, 0, 2), angle, spin / (2 * math.pi), scene, pts[ok[0]].drive)
-    return dict(zip(ok, outs)), bad
+    # the order domain: the vibration sensors at uniform shaft angles are their harmonics there (the angle is
+    # the rigid spin), the accelerometers' central differences of the rates, exact on a harmonic, as the factor
+    # i sin(j W dt) / dt on its rate's harmonic (the time records' interior samples to round-off); the motor's
+    # torque and current (nonlinear in the speed, the current at the supply's frequency) resampled from their
+    # records as the per-point path does: a third of the cost of the motor's law at the angles
+    per_rev = model.block_parts["samples_per_rev"]
+    phi = signals.angle_samples(angle, per_rev)
+    t_phi = times[keep][0] + phi / spin - t0
+    jw = spin * np.arange(1, y_hat.shape[1] + 1)[:, None]
+    xa = np.empty((len(ok), phi.size, xs.shape[2]))
+    xa[:, :, :4] = nonrotating.synthesis(t_phi, spin, -jw * np.sin(jw * dt) / dt * y_hat[:, :, :4])[0]
+    xa[:, :, 4:6] = _disk(kept, z0[ok], nonrotating.synthesis(t_phi, spin, y_hat[:, :, 6:])[0])
+    motor = xs[:, :, 6:].transpose(1, 0, 2).reshape(len(angle), -1)
+    xa[:, :, 6:] = signals.resample_to_angle(times[keep], motor, angle, per_rev)[1].reshape(
+        phi.size, len(ok), 2).transpose(1, 0, 2)
+    outs = record_objectives(times[keep], xs.transpose(1, 0, 2), angle, spin / (2 * math.pi), scene, pts[ok[0]].drive,
+                             xa.transpose(1, 0, 2))
+    return dict(zip(ok, outs)), bad, lam
+
+
+def _sensor_records(pts: list[_Point], z0: Array, times: Array, y: Array, yd: Array, acc: Array) -> Array:
+    """The sensors' records (P, n_t, 8) in :data:`~ddgsa.models.hss_rig.model.SENSORS` order at ``times`` [s]
+    of points ``pts`` from their static parts ``z0`` (P, n), the periodic parts of the sensed coordinates and
+    the disk's position ``y`` and their rates ``yd`` (P, n_t, 8) (:data:`COORDS`, then the disk's y and z), and
+    the accelerometers ``acc`` (P, n_t, 4)."""
+    motor = COORDS.index("motor.rx")
+    xs = np.empty(y.shape)
+    xs[:, :, :4] = acc
+    xs[:, :, 4:6] = _disk(pts, z0, y[:, :, 6:])
+    for r, pt in enumerate(pts):
+        speed = pt.lin.qd0[pt.rig.system.index("motor.rx")] + yd[r, :, motor]
+        xs[r, :, 6], xs[r, :, 7] = kloss_along(pt.drive, times, speed)
+    return xs
+
+
+def _disk(pts: list[_Point], z0: Array, y: Array) -> Array:
+    """The disk probe's y and z (P, n_t, 2) [m] of points ``pts`` from their static parts ``z0`` (P, n) and
+    the periodic parts ``y`` (P, n_t, 2) of its position."""
+    return np.stack([pt.disk0 + pt.sensors[6:] @ z for pt, z in zip(pts, z0)])[:, None, :] + y
