@@ -50,7 +50,7 @@ from scipy.optimize import NoConvergence, newton_krylov
 from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import Marker
-from ddgsa.mbs.alpha import bind, coefficients, specialise, stamp, steps
+from ddgsa.mbs.alpha import _advance, _predict, bind, coefficients, lu_factor, lu_solve, specialise, stamp, steps
 from ddgsa.mbs.nonrotating import RIGID_RCOND, SpinLinearisation, full_states
 
 Array = NDArray[np.float64]
@@ -211,7 +211,8 @@ def marker_rows(system: System, lin: SpinLinearisation, marker: Marker) -> Array
 
 def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array, inputs: Inputs,
               output_every: int = 1, rho_inf: float = 0.8, tol: float = 1e-10,
-              max_iter: int = 20, reuse: int = 0, extrapolate: bool = False) -> tuple[Array, Array, Array]:
+              max_iter: int = 20, reuse: int = 0, extrapolate: bool = False,
+              incremental: bool = False) -> tuple[Array, Array, Array]:
     """Generalised-alpha run of the sweep model from ``(z0, zd0)`` at ``t = 0`` to ``t_end`` [s].
 
     The kernel's loop (:mod:`ddgsa.mbs.alpha`) compiled for this sweep and its ``inputs``: the
@@ -235,6 +236,11 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
         Predict each step's acceleration by linear extrapolation from the last two (:mod:`ddgsa.mbs.alpha`'s
         predictor option) instead of the last one: the same states to ``tol``, about a fifth fewer iterations
         on the test rig's sweeps.
+    incremental : bool
+        Run :func:`_incremental_loop` instead of the kernel's loop: the same generalised-alpha iterates, the
+        residual's linear part carried along the Newton corrections (three products a correction with matrices
+        fixed for the step size, instead of the six of a fresh evaluation) and the iteration matrix formed from
+        those matrices; the states agree with the kernel's loop to ``tol``.
 
     Returns
     -------
@@ -248,8 +254,14 @@ def integrate(model: SweepModel, t_end: float, dt: float, z0: Array, zd0: Array,
     m, f, kt, ct = np.zeros((n, n)), np.zeros(n), np.zeros((n, n)), np.zeros((n, n))
     kind(z, zd, 0.0, 0, ctx, m, f, kt, ct, np.zeros(0), np.zeros(0), np.zeros((0, n)), np.zeros(0))
     acc = np.linalg.solve(m, f)
-    z_out, zd_out, _, _, _, status, _ = loop(ctx, z, zd, acc, np.zeros(0), 0.0, float(dt), n_steps, output_every,
-                                             *coefficients(rho_inf), tol, max_iter, 0, 0, extrapolate, False, True, reuse)
+    if incremental:
+        z_out, zd_out, status, _ = _compiled_incremental(inputs.add)(
+            model.arrays, inputs.data, z, zd, acc, float(dt), n_steps, output_every, *coefficients(rho_inf), tol,
+            max_iter, reuse, extrapolate)
+    else:
+        z_out, zd_out, _, _, _, status, _ = loop(ctx, z, zd, acc, np.zeros(0), 0.0, float(dt), n_steps, output_every,
+                                                 *coefficients(rho_inf), tol, max_iter, 0, 0, extrapolate, False, True,
+                                                 reuse)
     if status < 0:
         raise ModelError(f"sweep: the iteration did not converge in {max_iter} iterations at t = {-status * dt:.6g} s "
                          f"(step {dt} s), or the state is not finite; reduce the step")
@@ -319,6 +331,105 @@ def _compiled(add: Callable) -> tuple[Callable, Callable]:
     tag = f"sweep_{getattr(add, '__name__', 'inputs')}_{stamp(add, folders=folders)}"
     kind = njit(cache=True, inline="always")(bind(add, tag, _kind, name="_inputs"))
     return kind, specialise(kind, tag)
+
+
+def _incremental_loop(arrays, data, z0, zd0, acc0, h, n_steps, output_every, am, af, gamma, beta, tol, max_iter,
+                      reuse, extrapolate):  # pragma: no cover (compiled per inputs)
+    """The kernel's generalised-alpha loop (:func:`ddgsa.mbs.alpha._loop` with modified Newton, its ``reuse`` of
+    the factors and its predictor) for the sweep model alone, its residual's linear part carried along the step.
+
+    At a step's predictor ``p = M a + C_0 z' + K_0 z``, ``v = C_1 z' + K_1 z`` and ``u = K_2 z`` are formed once
+    (six products); the residual is ``p + W v + W^2 u - r(W) - f(t, z, z')`` with ``W = spin @ z'``, and a
+    correction ``d`` of the acceleration (``z += beta' h^2 d``, ``z' += gamma' h d``) moves them by ``S_0 d``,
+    ``S_1 d`` and ``S_2 d`` with ``S_0 = M + gamma' h C_0 + beta' h^2 K_0``, ``S_1 = gamma' h C_1 + beta' h^2 K_1``,
+    ``S_2 = beta' h^2 K_2`` (fixed for the step size: three products a correction instead of six), and the
+    iteration matrix ``M + gamma' h C(W) + beta' h^2 K(W)`` is ``S_0 + W S_1 + W^2 S_2``. The iterates are the
+    kernel loop's up to round-off. ``arrays`` is :attr:`SweepModel.arrays`, ``data`` the inputs'; ``_inputs``
+    is bound by :func:`_compiled_incremental`. Returns ``(z, z', status, total)`` at the kept steps as the
+    kernel's loop (``status`` the worst Newton count, or ``-step`` at the step that failed)."""
+    m, c0, c1, k0, k1, k2 = arrays[0], arrays[1], arrays[2], arrays[3], arrays[4], arrays[5]
+    r0, r1, r2, spin = arrays[6], arrays[7], arrays[8], arrays[9]
+    c0t, c1t, k0t, k1t, k2t = arrays[10]
+    n = z0.size
+    bp = beta * (1.0 - af) / (1.0 - am)
+    gp = gamma * (1.0 - af) / (1.0 - am)
+    bh2, gh = bp * h * h, gp * h
+    s0 = m + gh * c0 + bh2 * k0
+    s1 = gh * c1 + bh2 * k1
+    s2 = bh2 * k2
+    mt, s0t, s1t, s2t = np.ascontiguousarray(m.T), np.ascontiguousarray(s0.T), np.ascontiguousarray(s1.T), \
+        np.ascontiguousarray(s2.T)                                               # row j: column j
+    z, zd, acc = z0.copy(), zd0.copy(), acc0.copy()
+    aux, acc_prev, acc_new = acc.copy(), acc.copy(), acc.copy()
+    p, v, u, g, rhs = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
+    big, lu, piv = np.zeros((n, n)), np.zeros((n, n)), np.zeros(n, dtype=np.int64)
+    n_out = n_steps // output_every + 1
+    z_out, zd_out = np.zeros((n_out, n)), np.zeros((n_out, n))
+    z_out[0], zd_out[0] = z, zd
+    slot, worst, total = 1, 0, 0
+    stale = True
+    for step in range(1, n_steps + 1):
+        t = step * h
+        _predict(z, zd, acc, aux, acc_prev, acc_new, h, am, af, gamma, beta, extrapolate)
+        p[:] = 0.0
+        v[:] = 0.0
+        u[:] = 0.0
+        for j in range(n):                         # column by column: independent updates (vectorised)
+            a, b, c = acc_new[j], zd[j], z[j]
+            for i in range(n):
+                p[i] += mt[j, i] * a + c0t[j, i] * b + k0t[j, i] * c
+                v[i] += c1t[j, i] * b + k1t[j, i] * c
+                u[i] += k2t[j, i] * c
+        converged = False
+        it = 0
+        for it in range(max_iter):
+            w = 0.0
+            for i in range(n):
+                w += spin[i] * zd[i]
+            w2 = w * w
+            g[:] = 0.0
+            _inputs(t, z, zd, data, g)
+            for i in range(n):
+                rhs[i] = r0[i] + w * r1[i] + w2 * r2[i] + g[i] - p[i] - w * v[i] - w2 * u[i]
+            if (it == 0 and stale) or (reuse > 0 and it == 2 * reuse):
+                for i in range(n):
+                    for j in range(n):
+                        big[i, j] = s0[i, j] + w * s1[i, j] + w2 * s2[i, j]
+                lu_factor(big, lu, piv)
+            delta = lu_solve(lu, piv, rhs)
+            largest = 0.0
+            for i in range(n):
+                acc_new[i] += delta[i]
+                z[i] += bh2 * delta[i]
+                zd[i] += gh * delta[i]
+                largest = max(largest, abs(bh2 * delta[i]))
+            if largest < tol:
+                converged = True
+                break
+            for j in range(n):
+                d = delta[j]
+                for i in range(n):
+                    p[i] += s0t[j, i] * d
+                    v[i] += s1t[j, i] * d
+                    u[i] += s2t[j, i] * d
+        if not converged or not np.all(np.isfinite(z)):
+            return z_out[:slot], zd_out[:slot], -step, total
+        total += it + 1
+        worst = max(worst, it + 1)
+        stale = reuse == 0 or it + 1 > reuse
+        _advance(acc, aux, acc_prev, acc_new, am, af)
+        if step % output_every == 0:
+            z_out[slot], zd_out[slot] = z, zd
+            slot += 1
+    return z_out, zd_out, worst, total
+
+
+@lru_cache(maxsize=None)
+def _compiled_incremental(add: Callable) -> Callable:
+    """:func:`_incremental_loop` compiled (and cached) for the inputs function ``add``."""
+    folders = (os.path.dirname(__file__), os.path.dirname(add.py_func.__code__.co_filename))
+    tag = f"{getattr(add, '__name__', 'inputs')}_{stamp(_incremental_loop, add, folders=folders)}"
+    return njit(cache=True)(bind(add, tag, _incremental_loop, name="_inputs"))
 
 
 def full_state(model: SweepModel, z: Array, zd: Array) -> tuple[Array, Array]:
