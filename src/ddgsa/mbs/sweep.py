@@ -44,7 +44,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
-from scipy.linalg import eigh, null_space
+from scipy.linalg import eigh
 from scipy.optimize import NoConvergence, newton_krylov
 
 from ddgsa.errors import ModelError
@@ -466,17 +466,24 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
     gauge : (n,)
         Row fixing the free common angle: ``gauge @ z_s = 0`` (e.g. the angle the unbalance turns with).
     turning : callable, optional
-        ``turning(z) -> f`` (n,): an input that repeats with the revolution on the orbit (a turning
-        anisotropy acting on the state), evaluated on the orbit including its spin angle.
+        ``turning(z) -> f`` (m, n): an input that repeats with the revolution on the orbit (a turning
+        anisotropy acting on the state), evaluated at the orbit's ``m`` samples ``z`` (m, n) at once, their spin
+        angle included.
     """
     k, c, r = model.at_spin(w)
-    rigid = null_space(k, rcond=RIGID_RCOND)
+    # one SVD for the rigid directions and the least-squares flexibility (scipy's null_space and numpy's pinv
+    # cut at the same relative singular value)
+    u, sv, vh = np.linalg.svd(k)
+    kept = int(np.sum(sv > RIGID_RCOND * sv.max(initial=0.0)))
+    rigid = vh[kept:].T
+    flexibility = vh[:kept].T @ (u[:, :kept].T / sv[:kept, None])
     n_h = samples // 2
     damping = c + tangent
     ops = np.array([k - (j * w) ** 2 * model.m + 1j * j * w * damping for j in range(1, n_h)])
     inverses = np.linalg.inv(ops)                  # once: the fixed point below responds to many inputs
-    flexibility = np.linalg.pinv(k, rcond=RIGID_RCOND)
     g = gauge @ rigid
+    # the gauge's minimum-norm correction along the rigid directions (the least-squares solution of one row)
+    along = rigid @ g / (g @ g) if rigid.size and g @ g > 0.0 else np.zeros((k.shape[0]))
     tau = 2 * np.pi / w * np.arange(samples) / samples
     phase = np.exp(1j * w * np.outer(tau, np.arange(1, n_h)))               # (samples, n_h - 1)
     shape = (n_h, k.shape[0])
@@ -484,8 +491,7 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
     def respond(f_hat: NDArray[np.complex128]) -> tuple[Array, NDArray[np.complex128]]:
         """The static part and harmonic amplitudes ``(z_s, Z_j)`` for turning-input harmonics ``f_hat``."""
         zs = flexibility @ (r + static + f_hat[0].real)            # the least-squares static part
-        if rigid.size:
-            zs = zs - rigid @ (np.linalg.lstsq(g[None, :], np.atleast_1d(gauge @ zs), rcond=None)[0])
+        zs = zs - along * (gauge @ zs)
         rhs = f_hat[1:].astype(complex)
         rhs[0] += once
         return zs, np.einsum("jab,jb->ja", inverses, rhs)                  # (n_h - 1, n)
@@ -494,7 +500,7 @@ def steady_orbit(model: SweepModel, w: float, static: Array, once: NDArray[np.co
         """The turning input's harmonics over the orbit ``(z_s, Z_j)``."""
         assert turning is not None
         orbit = zs + (phase @ amps).real + np.outer(w * tau, model.rates)
-        f_hat = np.fft.fft(np.array([turning(z) for z in orbit]), axis=0)[:n_h] / samples
+        f_hat = np.fft.fft(turning(orbit), axis=0)[:n_h] / samples
         f_hat[1:] *= 2.0                                                       # Re(F_j exp(i j w t)) form
         return f_hat
 
