@@ -161,3 +161,29 @@ def test_records_too_short_fail_as_on_the_per_point_path() -> None:
     assert block.attrs["failures"] == ref.attrs["failures"]
     assert "narrower than the Hann main lobe" in block.attrs["failures"][0]
     assert block.isna().all().all()
+
+
+def test_the_sag_on_the_bare_rig_is_the_still_rigs() -> None:
+    """The block's sag on the sweep's bare rig (``sweep_block._sagged``: the bare rig's tangents plus the
+    coupling's anisotropy at hub angle 0, no still rig built) against the per-point path's (``initial_state``: the
+    still rig built, its stiffness differenced) on 3 ``paper_a_structural`` points with their anisotropic coupling:
+    within 1e-9 of the sag's largest entry (the differences' noise; measured 8e-13 to 6e-11), and within 1e-11 of the
+    still rig's from the tangents (measured 2e-14 to 1.5e-13); without the anisotropy's term it would be 3e-2 off.
+    A misaligned coupling, loaded at rest, takes the still rig itself."""
+    model, points, scene = _study_points("paper_a_structural", 3, seed=13)
+    sc = model._scene({**scene, "kind": "startup"})
+    for raw in model.resolve(points).to_dict("records"):
+        assert raw["coupling_asymmetry"] > 0.0
+        for misaligned in (False, True):
+            raw = {**raw, "misalignment_parallel": 1e-4 if misaligned else 0.0, "misalignment_angular": 0.0}
+            drive, _ = model.drive(raw, sc)
+            rig = transient.bare_rig(raw, transient.synchronous_speed(drive), model.basis)
+            fast = sweep_block._sagged(model, rig, raw) - rig.system.q0
+            tangents = model.initial_state(rig, raw, tangents=True)[0] - rig.system.q0
+            if misaligned:
+                assert np.array_equal(fast, tangents)
+                continue
+            differenced = model.initial_state(rig, raw)[0] - rig.system.q0
+            scale = np.abs(differenced).max()
+            assert np.abs(fast - differenced).max() <= 1e-9 * scale
+            assert np.abs(fast - tangents).max() <= 1e-11 * scale
