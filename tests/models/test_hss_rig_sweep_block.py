@@ -161,3 +161,51 @@ def test_records_too_short_fail_as_on_the_per_point_path() -> None:
     assert block.attrs["failures"] == ref.attrs["failures"]
     assert "narrower than the Hann main lobe" in block.attrs["failures"][0]
     assert block.isna().all().all()
+
+
+def test_the_sag_on_the_bare_rig_is_the_still_rigs() -> None:
+    """The block's sag on the sweep's bare rig (``sweep_block._sagged``: the bare rig's tangents plus the
+    coupling's anisotropy at hub angle 0, no still rig built) against the per-point path's (``initial_state``: the
+    still rig built, its stiffness differenced) on 3 ``paper_a_structural`` points with their anisotropic coupling:
+    within 1e-9 of the sag's largest entry (the differences' noise; measured 8e-13 to 6e-11), and within 1e-11 of the
+    still rig's from the tangents (measured 2e-14 to 1.5e-13); without the anisotropy's term it would be 3e-2 off.
+    A misaligned coupling, loaded at rest, takes the still rig itself."""
+    model, points, scene = _study_points("paper_a_structural", 3, seed=13)
+    sc = model._scene({**scene, "kind": "startup"})
+    for raw in model.resolve(points).to_dict("records"):
+        assert raw["coupling_asymmetry"] > 0.0
+        for misaligned in (False, True):
+            raw = {**raw, "misalignment_parallel": 1e-4 if misaligned else 0.0, "misalignment_angular": 0.0}
+            drive, _ = model.drive(raw, sc)
+            rig = transient.bare_rig(raw, transient.synchronous_speed(drive), model.basis)
+            fast = sweep_block._sagged(model, rig, raw) - rig.system.q0
+            tangents = model.initial_state(rig, raw, tangents=True)[0] - rig.system.q0
+            if misaligned:
+                assert np.array_equal(fast, tangents)
+                continue
+            differenced = model.initial_state(rig, raw)[0] - rig.system.q0
+            scale = np.abs(differenced).max()
+            assert np.abs(fast - differenced).max() <= 1e-9 * scale
+            assert np.abs(fast - tangents).max() <= 1e-11 * scale
+
+
+@pytest.mark.parametrize("kind", ["startup", "coastdown"])
+def test_the_incremental_loop_is_the_kernels(kind: str) -> None:
+    """The block's integration (``integrate(..., incremental=True)``: the residual carried along the corrections,
+    reordered dot products) against the kernel's loop (:mod:`ddgsa.mbs.alpha`) on the same reduced sweep, the
+    rig's nominal point over 0.3 s: every coordinate and rate within 1e-9 of its largest excursion or 1e-12 (the
+    iterations' tolerance is 1e-10 m or rad; measured 4e-13 to 2e-11, while the incremental loop run to a 1e-7
+    tolerance is 2e-4 to 1e-2 off)."""
+    model = HssRig("linear", time_step=5e-4)
+    raw = model.resolve(None).iloc[0].to_dict()
+    sc = model._scene({"kind": kind, "speed_rpm": 1500.0, "duration": 0.3, "sample_rate": 2000.0})
+    drive, spin = model.drive(raw, sc)
+    rig = transient.bare_rig(raw, transient.synchronous_speed(drive), model.basis)
+    q0 = sweep_block._sagged(model, rig, raw)
+    sweep = transient.prepare(drive, raw, q0, kind, spin, model.basis, band_hz=sweep_block.band_hz(sc), tangents=True,
+                              bare=rig)
+    args = (sweep.model, 0.3, 5e-4, sweep.z0, sweep.zd0, sweep.inputs)
+    _, z, zd = integrate(*args, reuse=sweep_block.REUSE, extrapolate=True)
+    _, e, ed = integrate(*args, reuse=sweep_block.REUSE, extrapolate=True, incremental=True)
+    for a, b in ((z, e), (zd, ed)):
+        assert np.all(np.abs(a - b).max(axis=0) <= np.maximum(1e-9 * np.abs(a).max(axis=0), 1e-12))

@@ -195,6 +195,13 @@ def coupling_force(z, coupling, f):  # pragma: no cover (compiled)
         f[i] -= acc
 
 
+@njit(cache=True)
+def coupling_forces(zs, coupling, out):  # pragma: no cover (compiled)
+    """:func:`coupling_force` at each row of ``zs`` (m, n), added to the rows of ``out`` (m, n)."""
+    for k in range(zs.shape[0]):
+        coupling_force(zs[k], coupling, out[k])
+
+
 class _CouplingInput:
     """The coupling's turning anisotropy as a nonlinear input of the sweep: ``f(z)`` (n,).
 
@@ -236,9 +243,10 @@ class _CouplingInput:
                 np.ascontiguousarray(self.jac), np.asarray(self.sag, dtype=float), np.asarray(self.angle, dtype=float))
 
     def __call__(self, z: Array) -> Array | float:
-        """The force ``f(z)`` (n,) [N, N m] (0.0 when the coupling is axisymmetric)."""
+        """The forces ``f(z)`` (m, n) [N, N m] at the states ``z`` (m, n) (0.0 when the coupling is axisymmetric)."""
         if not self.active:
             return 0.0
-        f = np.zeros(z.size)
-        coupling_force(np.asarray(z, dtype=float), self.data, f)
+        z = np.ascontiguousarray(z, dtype=float)
+        f = np.zeros_like(z)
+        coupling_forces(z, self.data, f)
         return f
