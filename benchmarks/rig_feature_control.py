@@ -1,9 +1,10 @@
 """Benchmark: the rig's control features as inputs of the confirmation's control variates (issue 46 item 8),
 CPU, one process (reported, not asserted).
 
-Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/rig_feature_control.py [out.json]`` (~5 min on a quiet core).
-On the steady scene of ``studies/paper_a_subsystem.yaml`` (its 8 parameters +-10 %, 1500 rpm, 1.2 s at 2 kHz,
-fidelity ``linear``: the block path), a pilot of 256 and of 512 scrambled Sobol' points and one Saltelli
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/rig_feature_control.py [out.json] [KIND]`` (~5 min on a quiet
+core). On the ``KIND`` scene (``steady``, the default, ``startup`` or ``coastdown``: the features
+``lateral_ratio_1/2`` or ``critical_ratio_1`` and ``end_ratio_1``) of ``studies/paper_a_subsystem.yaml`` (its 8
+parameters +-10 %, 1500 rpm, 1.2 s at 2 kHz, fidelity ``linear``: the block path), a pilot of 256 and of 512 scrambled Sobol' points and one Saltelli
 design (N = 256, 2 560 runs, seed 1) are run once. Per output and pilot: the relative leave-one-out error of
 the plain control (:func:`ddgsa.gsa.control.fit_control` without features) and of the control with the rig's
 features (:class:`ddgsa.gsa.control.FeatureSurrogate`), the Saltelli base the cost rule asks of each
@@ -47,8 +48,10 @@ def run(model: Any, x: np.ndarray, names: list[str]) -> tuple[np.ndarray, np.nda
     return np.vstack(ys), np.vstack(fs)
 
 
-def main(path: str | None = None) -> dict[str, Any]:
+def main(path: str | None = None, kind: str = "steady") -> dict[str, Any]:
     import warnings
+
+    SCENE["kind"] = kind
 
     warnings.simplefilter("ignore")
     space = ddgsa.ParameterSpace.from_dict({p: {"nominal": v, "spread": 0.1} for p, v in PARAMETERS.items()})
@@ -107,4 +110,4 @@ def main(path: str | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else None)
+    main(sys.argv[1] if len(sys.argv) > 1 else None, sys.argv[2] if len(sys.argv) > 2 else "steady")

@@ -68,8 +68,10 @@ def test_the_features_are_the_1x_order_over_the_lowest_bending_modes() -> None:
     """At the nominal point of the steady scene the rig's features are the steady speed over its two lowest
     lateral natural frequencies: within 2 % of :meth:`HssRig.modes`' first bending pair (``hss_bending_z_1``
     and ``_y_1``, 18.84 and 19.31 Hz at 1 439 rpm; the features read 19.08 and 19.10 Hz, their run's
-    linearisation carrying no spin stiffening) and far from the next mode (the motor's spin, 30 Hz). No
-    feature in a start-up: its record sweeps the speed."""
+    linearisation carrying no spin stiffening) and far from the next mode (the motor's spin, 30 Hz). In a
+    start-up the ``linear`` rig's sweep features divide speeds by the lowest lateral frequency at the synchronous
+    speed: within 3 % of :meth:`HssRig.modes`' lowest bending mode there (the sweep's rig has no motor); the
+    ``kloss`` rig's sweeps have no features."""
     model = HssRig(fidelity="linear")
     scene = {"kind": "steady", "speed_rpm": 1500, "duration": 1.2, "sample_rate": 2000, "settle": 0.2, "seed": 1}
     out = model.evaluate(None, scene)
@@ -79,7 +81,14 @@ def test_the_features_are_the_1x_order_over_the_lowest_bending_modes() -> None:
     bending = np.sort(modes.loc[modes["label"].str.startswith("hss_bending_") & modes["label"].str.endswith("_1"),
                                 "frequency_hz"].to_numpy())
     np.testing.assert_allclose(np.sort(hz), bending, rtol=0.02)
-    assert model.control_features({**scene, "kind": "startup"}) == ()
+    startup = {**scene, "kind": "startup"}
+    assert [str(f) for f in model.control_features(startup)] == ["critical_ratio_1", "end_ratio_1"]
+    sync_hz = 1500.0 / 60.0
+    lowest = sync_hz / model.evaluate(None, startup).attrs["features"]["critical_ratio_1"][0]
+    at_sync = model.modes(rotor_speed=2 * math.pi * sync_hz)
+    first = at_sync.loc[at_sync["label"].str.startswith("hss_bending_"), "frequency_hz"].min()
+    assert lowest == pytest.approx(first, rel=0.03)
+    assert HssRig(fidelity="kloss").control_features(startup) == ()
 
 
 def test_tangent_columns_are_the_central_differences() -> None:

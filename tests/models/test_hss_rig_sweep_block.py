@@ -60,6 +60,26 @@ def test_block_sweeps_match_the_per_point_path(kind: str) -> None:
     assert not beyond, f"outputs beyond {RTOL:g} and their resolution: {beyond}"
 
 
+@pytest.mark.parametrize("kind", ["startup", "coastdown"])
+def test_block_sweeps_carry_the_per_point_paths_control_features(kind: str) -> None:
+    """The sweep features (``critical_ratio_1``, ``end_ratio_1``) of three seeded points of ``paper_a_subsystem``: the
+    block path's within 1e-6 of the per-point path's (both from the unreduced sweep's linearisation; the end speed
+    from the reduced and the full record); the end ratio is the record's last shaft speed over the same frequency
+    (their quotient is the end speed over the synchronous speed, read from the per-point records)."""
+    model, points, scene = _study_points("paper_a_subsystem", 3, seed=11)
+    params, sc = model.resolve(points), model._scene({**scene, "kind": kind})
+    block = model._evaluate_block(params, sc).attrs["features"]
+    ref = Model._evaluate_block(model, params, sc).attrs["features"]
+    assert set(block) == set(ref) == {"critical_ratio_1", "end_ratio_1"}
+    for f in ref:
+        np.testing.assert_allclose(block[f], ref[f], rtol=1e-6)
+    for i, raw in enumerate(params.to_dict("records")):
+        drive, _ = model.drive(raw, sc)
+        end = model._simulate(sc, raw)["speed"].iloc[-1]
+        assert ref["end_ratio_1"][i] / ref["critical_ratio_1"][i] == pytest.approx(
+            end / transient.synchronous_speed(drive), rel=1e-12)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("study", ["paper_a_subsystem", "paper_a_structural"])
 @pytest.mark.parametrize("kind", ["startup", "coastdown"])
@@ -69,6 +89,26 @@ def test_block_sweeps_match_the_per_point_path_on_16_points(study: str, kind: st
     beyond, _, above = _differences(model, points, {**scene, "kind": kind})
     assert len(above) >= 20, above
     assert not beyond, f"outputs beyond {RTOL:g} and their resolution: {beyond}"
+
+
+@pytest.mark.parametrize("kind", ["startup", "coastdown"])
+def test_block_sweeps_carry_the_per_point_paths_control_features(kind: str) -> None:
+    """The sweep features (``critical_ratio_1``, ``end_ratio_1``) of three seeded points of ``paper_a_subsystem``: the
+    block path's within 1e-6 of the per-point path's (both from the unreduced sweep's linearisation; the end speed
+    from the reduced and the full record); the end ratio is the record's last shaft speed over the same frequency
+    (their quotient is the end speed over the synchronous speed, read from the per-point records)."""
+    model, points, scene = _study_points("paper_a_subsystem", 3, seed=11)
+    params, sc = model.resolve(points), model._scene({**scene, "kind": kind})
+    block = model._evaluate_block(params, sc).attrs["features"]
+    ref = Model._evaluate_block(model, params, sc).attrs["features"]
+    assert set(block) == set(ref) == {"critical_ratio_1", "end_ratio_1"}
+    for f in ref:
+        np.testing.assert_allclose(block[f], ref[f], rtol=1e-6)
+    for i, raw in enumerate(params.to_dict("records")):
+        drive, _ = model.drive(raw, sc)
+        end = model._simulate(sc, raw)["speed"].iloc[-1]
+        assert ref["end_ratio_1"][i] / ref["critical_ratio_1"][i] == pytest.approx(
+            end / transient.synchronous_speed(drive), rel=1e-12)
 
 
 def test_a_basis_below_the_housings_resonances_is_caught(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -209,3 +249,31 @@ def test_the_incremental_loop_is_the_kernels(kind: str) -> None:
     _, e, ed = integrate(*args, reuse=sweep_block.REUSE, extrapolate=True, incremental=True)
     for a, b in ((z, e), (zd, ed)):
         assert np.all(np.abs(a - b).max(axis=0) <= np.maximum(1e-9 * np.abs(a).max(axis=0), 1e-12))
+
+
+def test_sweep_lateral_frequencies_are_those_of_its_two_linearisations() -> None:
+    """:func:`ddgsa.mbs.sweep.lateral_frequencies` of the rig's sweep model at rest and at its reference spin equal
+    :func:`ddgsa.mbs.nonrotating.lateral_frequencies` of the two linearisations the model interpolates (the
+    sweep's matrices are exact at both spins); between them they move monotonically."""
+    from ddgsa.mbs import nonrotating
+    from ddgsa.mbs.sweep import lateral_frequencies, sweep_model
+
+    model = HssRig(fidelity="linear", time_step=5e-4)
+    raw = model.resolve(pd.DataFrame({"hss_diameter": [0.026]})).to_dict("records")[0]
+    sc = model._scene({"kind": "startup", "speed_rpm": 1500.0, "duration": 1.2, "sample_rate": 2000.0})
+    drive, _ = model.drive(raw, sc)
+    sync = transient.synchronous_speed(drive)
+    rig = transient.bare_rig(raw, sync, model.basis)
+    system = rig.system
+    q0 = model.initial_state(rig, raw)[0]
+    rest = nonrotating.linearise(system, q0, np.zeros(system.n))
+    spinning = nonrotating.linearise(system, q0, system.qd0)
+    sweep = sweep_model(rest, spinning, system.index("hss.rx"), q0 - system.q0)
+    np.testing.assert_allclose(lateral_frequencies(system, sweep, 0.0, 2), nonrotating.lateral_frequencies(system, rest, 2),
+                               rtol=1e-9)
+    np.testing.assert_allclose(lateral_frequencies(system, sweep, sync, 2),
+                               nonrotating.lateral_frequencies(system, spinning, 2), rtol=1e-9)
+    lowest = [lateral_frequencies(system, sweep, w, 1)[0] for w in np.linspace(0.0, sync, 5)]
+    assert np.all(np.diff(lowest) > 0) or np.all(np.diff(lowest) < 0)
+    with pytest.raises(ValueError, match="unreduced"):
+        lateral_frequencies(system, reduce(sweep, 500.0), sync, 1)

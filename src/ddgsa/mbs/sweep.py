@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property, lru_cache
 
 import numpy as np
@@ -52,6 +52,7 @@ from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import Marker
 from ddgsa.mbs.alpha import _advance, _predict, bind, coefficients, specialise, stamp, steps
 from ddgsa.mbs.nonrotating import RIGID_RCOND, SpinLinearisation, full_states
+from ddgsa.mbs.nonrotating import lateral_frequencies as _lateral_at
 
 Array = NDArray[np.float64]
 
@@ -200,6 +201,17 @@ def reduce(model: SweepModel, band_hz: float) -> SweepModel:
     rates[0] = np.sqrt(model.rates @ m @ model.rates)             # the spin's rates are the first column times this
     return SweepModel(mat(m), mat(model.c0), mat(model.c1), mat(model.k0), mat(model.k1), mat(model.k2),
                       bt @ model.r0, bt @ model.r1, bt @ model.r2, model.spin @ basis, rates, model.lin, basis)
+
+
+def lateral_frequencies(system: System, model: SweepModel, spin: float, count: int) -> Array:
+    """The ``count`` lowest lateral natural frequencies [rad/s] of the unreduced sweep ``model`` of ``system`` at the
+    spin ``spin`` [rad/s]: :func:`ddgsa.mbs.nonrotating.lateral_frequencies` of its matrices there (``M``,
+    ``C_0 + W C_1``, ``K_0 + W K_1 + W^2 K_2``), seen from the frame; at the reference spin they are the spinning
+    linearisation's own (``tests/mbs/test_sweep.py``)."""
+    if model.basis is not None:
+        raise ValueError("sweep.lateral_frequencies takes the unreduced model (its coordinates are the system's)")
+    at = replace(model.lin, m=model.m, c=model.c0 + spin * model.c1, k=model.k0 + spin * model.k1 + spin ** 2 * model.k2)
+    return _lateral_at(system, at, count)
 
 
 def marker_rows(system: System, lin: SpinLinearisation, marker: Marker) -> Array:

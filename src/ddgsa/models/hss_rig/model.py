@@ -152,6 +152,15 @@ FEATURES = tuple(ModelOutput(f"lateral_ratio_{j}", "-", f"the 1x order over the 
 """The rig's control features in a steady scene (:meth:`HssRig.control_features`): its steady outputs are
 resonant (the shaft's diameter and span move the first lateral critical speed against the 1x order), and
 these ratios are smooth in the parameters where the outputs are peaks."""
+SWEEP_FEATURES = (
+    ModelOutput("critical_ratio_1", "-", "the supply's synchronous speed over the rig's lowest lateral natural frequency "
+                "at that speed (the sweep's linearisation about the sag, seen from the frame)"),
+    ModelOutput("end_ratio_1", "-", "the shaft's speed at the record's end over the rig's lowest lateral natural "
+                "frequency at the synchronous speed"),
+)
+"""The ``linear`` rig's control features in a start-up or coast-down (:meth:`HssRig.control_features`): a sweep's
+vibration peaks where its speed passes the first lateral critical, and whether a coast-down's record reaches it
+(``end_ratio_1`` near 1) is a threshold in the parameters that these smooth ratios place."""
 OUTPUTS = tuple(ModelOutput(f"{k}_{s}", _sensor_unit(s)[0], f"{what} of sensor {s}", 0.0, _sensor_unit(s)[1],
                             _resolution(s, "peak" if k == "peak" else "average"))
                 for k, what in _KINDS.items() for s in SENSORS) + tuple(
@@ -367,8 +376,11 @@ class HssRig(Model):
                 # the sweep carries the coupling's anisotropy and misalignment itself, from the sag of
                 # the anisotropic rig standing at hub angle 0 (as the nonlinear rig starts)
                 q0, _ = self.initial_state(rig, raw)
-                t, q, qd = transient.run(drive, raw, q0, sc.kind, spin, sc.duration, step, every,
-                                            self.basis)
+                t, q, qd, lateral = transient.run(drive, raw, q0, sc.kind, spin, sc.duration, step, every,
+                                                     self.basis)
+                series = self._sensors(rig, drive, sc, t, q, qd)
+                series.attrs["features"] = sweep_features(drive, lateral, float(series["speed"].iloc[-1]))
+                return series
             else:
                 q0, qd0 = self.initial_state(rig, p)
                 if sc.kind != "startup" and self.fidelity == "kloss":
@@ -480,15 +492,20 @@ class HssRig(Model):
         sc = self._scene(scene)
         series = self._simulate(sc, params)
         out = objectives(series, sc, drive_for(params, sc, POLE_PAIRS))
-        if self.control_features(sc):
+        if "features" in series.attrs:
+            out.update(series.attrs["features"])
+        elif self.control_features(sc):
             out.update(zip(map(str, FEATURES), self._lateral_ratios(params, sc)))
         return out
 
     def control_features(self, scene: Any) -> tuple[ModelOutput, ...]:
         """:data:`FEATURES` in a steady scene (the 1x order over the lowest lateral natural frequencies at the
-        steady speed, which set the resonant steady responses); none in start-up and coast-down, whose
-        records sweep the speed."""
-        return FEATURES if self._scene(scene).kind == "steady" else ()
+        steady speed, which set the resonant steady responses); :data:`SWEEP_FEATURES` in the ``linear``
+        fidelity's start-up and coast-down (the synchronous and the record's last speed over the lowest lateral
+        natural frequency, from the sweep's own linearisation); none in the other fidelities' sweeps."""
+        if self._scene(scene).kind == "steady":
+            return FEATURES
+        return SWEEP_FEATURES if self.fidelity == "linear" else ()
 
     def _lateral_ratios(self, raw: dict[str, float], sc: RigScene) -> np.ndarray:
         """:data:`FEATURES` of one point (resolved ``raw``) in the steady scene ``sc``: the rig without its
@@ -515,10 +532,12 @@ class HssRig(Model):
     def block_parts(self) -> dict[str, Any]:
         """What the block paths (:mod:`~ddgsa.models.hss_rig.steady_block`, :mod:`~ddgsa.models.hss_rig.sweep_block`)
         take from this module: the pole
-        pairs, the rig at rest (``still_key``, ``still_rig``), the sensors and their objectives -- handed
+        pairs, the rig at rest (``still_key``, ``still_rig``), the sensors, their objectives and the sweeps' control
+        features -- handed
         over, so that module needs no import of this one (which imports it)."""
         return {"pole_pairs": POLE_PAIRS, "still_key": still_key, "still_rig": still_rig, "sensors": SENSORS,
-                "record_objectives": record_objectives, "objectives": objectives, "samples_per_rev": SAMPLES_PER_REV}
+                "record_objectives": record_objectives, "objectives": objectives, "samples_per_rev": SAMPLES_PER_REV,
+                "sweep_features": sweep_features}
 
     def _evaluate_block(self, params: pd.DataFrame, scene: Any, signals: tuple[str, ...] = ()) -> pd.DataFrame:
         """The block's outputs: the ``linear`` fidelity's steady points whose inputs repeat once per
@@ -784,6 +803,14 @@ def _order_bpfo(t: np.ndarray, env: np.ndarray, angle: np.ndarray) -> float | np
     """The BPFO band energy of envelopes ``env`` at ``t`` [s] in the order domain of the shaft ``angle`` [rad]."""
     phi, y = resample_to_angle(t, env, angle, SAMPLES_PER_REV)
     return band_energies(phi / (2 * math.pi), y, [float(BEARING_GEOMETRY.bpfo())], 0.25, harmonics=3)[0]
+
+
+def sweep_features(drive: Drive, lateral: float, end_speed: float) -> dict[str, float]:
+    """:data:`SWEEP_FEATURES` of one sweep: the supply's synchronous speed and the shaft's speed at the record's end
+    ``end_speed`` [rad/s] over the rig's lowest lateral natural frequency ``lateral`` [rad/s]
+    (:attr:`~ddgsa.models.hss_rig.transient.Sweep.lateral`)."""
+    ratios = (transient.synchronous_speed(drive) / lateral, end_speed / lateral)
+    return {str(f): float(r) for f, r in zip(SWEEP_FEATURES, ratios)}
 
 
 def objectives(series: pd.DataFrame, scene: RigScene, drive: Drive) -> dict[str, float]:

@@ -87,6 +87,7 @@ def sweep_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.Da
     band = band_hz(scene)
     step, every = model.step_for(1.0 / scene.sample_rate)
     records: dict[int, tuple[Array, Array, float]] = {}
+    features: dict[int, dict[str, float]] = {}
     failures: dict[int, str] = {}
     drive = None
     t = np.zeros(0)
@@ -102,6 +103,7 @@ def sweep_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.Da
             t, z, zd = integrate(sweep.model, scene.duration, step, sweep.z0, sweep.zd0, sweep.inputs, every,
                                  reuse=REUSE, extrapolate=True, incremental=True)
             records[i] = _sensors(model, rig, drive, sweep.model, t, z, zd)
+            features[i] = model.block_parts["sweep_features"](drive, sweep.lateral, _end_speed(rig, sweep.model, zd))
         except _ERRORS as exc:
             failures[i] = f"{type(exc).__name__}: {exc}"
     outputs: dict[int, dict[str, float]] = {}
@@ -127,7 +129,18 @@ def sweep_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.Da
     nan = {o: math.nan for o in names}
     out = pd.DataFrame([outputs.get(i, nan) for i in range(len(params))], columns=names)
     out.attrs["failures"] = dict(sorted(failures.items()))
+    names_f = [str(f) for f in model.control_features(scene)]
+    if names_f:                     # the per-point path's features, NaN where a point failed
+        out.attrs["features"] = {f: tuple(features[i][f] if i in outputs else math.nan for i in range(len(params)))
+                                 for f in names_f}
     return out
+
+
+def _end_speed(rig: Rig, sweep: SweepModel, zd: Array) -> float:
+    """The shaft's speed [rad/s] at the record's last sample (the per-point path's ``speed`` there)."""
+    system, lin = rig.system, sweep.lin
+    hss = system.index("hss.rx")
+    return float(lin.qd0[hss] + zd[-1] @ sweep.basis[hss])
 
 
 def _sagged(model: "HssRig", rig: Rig, raw: dict[str, float]) -> Array:

@@ -39,8 +39,8 @@ from numpy.typing import NDArray
 from ddgsa.mbs import nonrotating
 from ddgsa.mbs.elements import power_torque
 from ddgsa.mbs.machines import induction_torque
-from ddgsa.mbs.sweep import (Inputs, SweepModel, full_state, integrate, marker_rows, reduce, steady_orbit,
-                             sweep_model)
+from ddgsa.mbs.sweep import (Inputs, SweepModel, full_state, integrate, lateral_frequencies, marker_rows, reduce,
+                             steady_orbit, sweep_model)
 from ddgsa.models.hss_rig.drive import Drive, kloss_torque_at
 from ddgsa.models.hss_rig.faults import anisotropy_constants, anisotropy_matrix, coupling_stretch
 from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, load_constants, load_law, tangent_columns
@@ -87,6 +87,10 @@ class Sweep:
     inputs: Inputs
     z0: Array
     zd0: Array
+    lateral: float
+    """The rig's lowest lateral natural frequency [rad/s] at the sweep's reference spin (the supply's synchronous
+    speed), from the unreduced sweep model (:func:`ddgsa.mbs.sweep.lateral_frequencies`): its first lateral
+    critical speed's neighbour, which the rig's sweep features compare speeds with."""
 
 
 def prepare(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
@@ -97,6 +101,7 @@ def prepare(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: fl
     (:func:`ddgsa.mbs.sweep.reduce`, the inputs' rows mapped onto its basis); ``tangents``, ``bare``: as
     :func:`structure`."""
     bare, model = structure(p, q0, synchronous_speed(drive), basis, tangents, bare)
+    critical = float(lateral_frequencies(bare.system, model, synchronous_speed(drive), 1)[0])
     lin = model.lin
     if band_hz is not None:
         model = reduce(model, band_hz)
@@ -122,13 +127,14 @@ def prepare(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: fl
         tangent = -slope(motor_law, spin) * np.outer(motor, motor) - slope(load, spin) * np.outer(disk, disk)
         once = me * spin * spin * (lateral[0] - 1j * lateral[1])
         z0, zd0 = steady_orbit(model, spin, static, once, tangent, disk, coupling if coupling.active else None)
-    return Sweep(bare, model, inputs, z0, zd0)
+    return Sweep(bare, model, inputs, z0, zd0, critical)
 
 
 def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float, t_end: float, dt: float,
-        output_every: int, basis: ShaftBasis = ShaftBasis()) -> tuple[Array, Array, Array]:
+        output_every: int, basis: ShaftBasis = ShaftBasis()) -> tuple[Array, Array, Array, float]:
     """Record ``(t, q, qd)`` of a start-up (from rest) or coast-down (from ``spin`` [rad/s]) of the
-    rig of parameters ``p`` (in the coordinates of :func:`~ddgsa.models.hss_rig.rig.build`).
+    rig of parameters ``p`` (in the coordinates of :func:`~ddgsa.models.hss_rig.rig.build`), and
+    :attr:`Sweep.lateral` [rad/s].
 
     Parameters
     ----------
@@ -149,7 +155,7 @@ def run(drive: Drive, p: Mapping[str, float], q0: Array, kind: str, spin: float,
     sweep = prepare(drive, p, q0, kind, spin, basis)
     t, z, zd = integrate(sweep.model, t_end, dt, sweep.z0, sweep.zd0, sweep.inputs, output_every)
     q, qd = full_state(sweep.model, z, zd)
-    return t, q, qd
+    return t, q, qd, sweep.lateral
 
 
 @njit(cache=True, inline="always")
