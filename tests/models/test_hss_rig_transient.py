@@ -89,7 +89,7 @@ def test_coastdown_matches_the_nonlinear_kloss_rig_from_one_state():
         fast = fast_model.evaluate(None, scene).iloc[0].to_dict()
     linear_rig, drive, spin = fast_model.build(raw, scene)
     q0, _ = fast_model.initial_state(linear_rig, raw)
-    _, q, qd = transient.run(drive, raw, q0, "coastdown", spin, 5e-4, 5e-4, 1)
+    _, q, qd, _ = transient.run(drive, raw, q0, "coastdown", spin, 5e-4, 5e-4, 1)
     rig, drive, _ = ref_model.build(raw, scene)
     run = genalpha.simulate(rig.system, scene.duration, 5e-4, q0=q[0], qd0=qd[0], output_every=1)
     ref = objectives(ref_model._sensors(rig, drive, scene, run.t, run.q, run.qd), scene,
@@ -127,7 +127,7 @@ def test_coastdown_starts_in_its_periodic_orbit(point):
     rig, drive, spin = model.build(raw, scene)
     q0, _ = model.initial_state(rig, raw)
     period = 2 * math.pi / spin
-    t, q, qd = transient.run(drive, raw, q0, "coastdown", spin, 3 * period, period / 400, 1)
+    t, q, qd, _ = transient.run(drive, raw, q0, "coastdown", spin, 3 * period, period / 400, 1)
     system = rig.system
     disk = np.array([system.marker_state(rig.markers["disk"], qi, qdi, ti).r[1:] for ti, qi, qdi in zip(t, q, qd)])
     housing = qd[:, [system.index(f"housing_{i}.{a}") for i in (1, 2) for a in "yz"]]
