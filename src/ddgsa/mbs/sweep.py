@@ -210,8 +210,8 @@ def lateral_frequencies(system: System, model: SweepModel, spin: float, count: i
     linearisation's own (``tests/mbs/test_sweep.py``)."""
     if model.basis is not None:
         raise ValueError("sweep.lateral_frequencies takes the unreduced model (its coordinates are the system's)")
-    at = replace(model.lin, m=model.m, c=model.c0 + spin * model.c1, k=model.k0 + spin * model.k1 + spin ** 2 * model.k2)
-    return _lateral_at(system, at, count)
+    k, c, _ = model.at_spin(spin)
+    return _lateral_at(system, replace(model.lin, m=model.m, c=c, k=k), count)
 
 
 def marker_rows(system: System, lin: SpinLinearisation, marker: Marker) -> Array:

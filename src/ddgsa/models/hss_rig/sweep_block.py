@@ -102,8 +102,9 @@ def sweep_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.Da
                                       bare=rig)
             t, z, zd = integrate(sweep.model, scene.duration, step, sweep.z0, sweep.zd0, sweep.inputs, every,
                                  reuse=REUSE, extrapolate=True, incremental=True)
-            records[i] = _sensors(model, rig, drive, sweep.model, t, z, zd)
-            features[i] = model.block_parts["sweep_features"](drive, sweep.lateral, _end_speed(rig, sweep.model, zd))
+            xs, angle, f_r, end_speed = _sensors(model, rig, drive, sweep.model, t, z, zd)
+            records[i] = (xs, angle, f_r)
+            features[i] = model.block_parts["sweep_features"](drive, sweep.lateral, end_speed)
         except _ERRORS as exc:
             failures[i] = f"{type(exc).__name__}: {exc}"
     outputs: dict[int, dict[str, float]] = {}
@@ -134,13 +135,6 @@ def sweep_block(model: "HssRig", params: pd.DataFrame, scene: RigScene) -> pd.Da
         out.attrs["features"] = {f: tuple(features[i][f] if i in outputs else math.nan for i in range(len(params)))
                                  for f in names_f}
     return out
-
-
-def _end_speed(rig: Rig, sweep: SweepModel, zd: Array) -> float:
-    """The shaft's speed [rad/s] at the record's last sample (the per-point path's ``speed`` there)."""
-    system, lin = rig.system, sweep.lin
-    hss = system.index("hss.rx")
-    return float(lin.qd0[hss] + zd[-1] @ sweep.basis[hss])
 
 
 def _sagged(model: "HssRig", rig: Rig, raw: dict[str, float]) -> Array:
@@ -176,8 +170,9 @@ def _objectives(record_objectives, records: dict[int, tuple[Array, Array, float]
 
 
 def _sensors(model: "HssRig", rig: Rig, drive: Drive, sweep: SweepModel, t: Array, z: Array,
-             zd: Array) -> tuple[Array, Array, float]:
-    """The sensors (n_t, len(SENSORS)), shaft angle [rad] (n_t,) and mean shaft speed [Hz] of one point's record
+             zd: Array) -> tuple[Array, Array, float, float]:
+    """The sensors (n_t, len(SENSORS)), shaft angle [rad] (n_t,), mean shaft speed [Hz] and last shaft speed
+    [rad/s] (the per-point path's ``speed`` at the record's end: the sweep features') of one point's record
     ``z``, ``zd`` (n_t, n_reduced) at ``t`` [s]: the per-point path's sensors (:meth:`HssRig._sensors`) read from
     the coordinates they need, the disk probe through its linear map onto the non-rotating coordinates at the
     sag (:func:`ddgsa.mbs.sweep.marker_rows`)."""
@@ -197,4 +192,4 @@ def _sensors(model: "HssRig", rig: Rig, drive: Drive, sweep: SweepModel, t: Arra
     motor = lin.qd0[system.index("motor.rx")] + yd[:, COORDS.index("motor.rx")]
     xs[:, 6], xs[:, 7] = kloss_along(drive, t, motor)
     angle = lin.q0[system.index("hss.rx")] + y[:, COORDS.index("hss.rx")]
-    return xs, angle, float(np.mean(speed)) / (2 * math.pi)
+    return xs, angle, float(np.mean(speed)) / (2 * math.pi), float(speed[-1])
