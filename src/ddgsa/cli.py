@@ -554,11 +554,13 @@ def _bench(args: argparse.Namespace) -> int:
         from ddgsa.bench.rig_chart import format_speed_accuracy, speed_accuracy
         from ddgsa.bench.rig_chart import write as write_rig_chart
 
+        out = args.out or Path("results") / "rig_speed"
+        out.mkdir(parents=True, exist_ok=True)          # an unusable --out fails before minutes of runs, not after
         res = rig_speed(quick=args.quick)
         print(format_rig_speed(res))
         chart = speed_accuracy(quick=args.quick)
         print(format_speed_accuracy(chart))
-        for path in write_rig_chart(chart, args.out or Path("results") / "rig_speed"):
+        for path in write_rig_chart(chart, out):
             print(f"wrote {path}")
         res = {**res, "speed_accuracy": chart}
     elif args.what == "scaling":
