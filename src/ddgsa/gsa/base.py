@@ -152,6 +152,7 @@ class GsaMethod(ABC):
         S1, ST = np.full((n_out, d), np.nan), np.full((n_out, d), np.nan)
         S1c, STc = np.full((n_out, d), np.nan), np.full((n_out, d), np.nan)
         st_err = np.full((n_out, d), np.nan)
+        pair_err = np.full((n_out, d, d), np.nan)
         diags: list[Diagnostic] = []
         extras: dict[str, Any] = {}
         variance = np.where(constant, 0.0, np.nan)
@@ -177,10 +178,13 @@ class GsaMethod(ABC):
             S1[cols], ST[cols] = part.S1, part.ST
             S1c[cols], STc[cols] = part.S1_conf, part.ST_conf
             st_err[cols] = part.extras.get("ST_error", part.ST_conf)
+            if "ST_diff_error" in part.extras:
+                pair_err[cols] = part.extras["ST_diff_error"]
             diags += part.diagnostics
             if "variance" in part.extras:
                 variance[cols] = part.extras["variance"] * scale ** 2
-            extras = self.unscale_extras({k: v for k, v in part.extras.items() if k != "variance"}, shift, scale)
+            extras = self.unscale_extras({k: v for k, v in part.extras.items() if k not in ("variance", "ST_diff_error")},
+                                         shift, scale)
             if part.groups is not None:
                 for name in ("S_closed", "ST", "S_closed_conf", "ST_conf"):
                     getattr(groups, name)[cols] = getattr(part.groups, name)
@@ -191,12 +195,14 @@ class GsaMethod(ABC):
         res = SobolResult.from_arrays(outputs=names, parameters=space.names, S1=S1, ST=ST,
                                       S1_conf=S1c, ST_conf=STc, n_evals=design.n_points,
                                       method=self.name, options=design.options,
-                                      diagnostics=diags, extras=extras, ST_error=st_err)
+                                      diagnostics=diags, extras=extras, ST_error=st_err,
+                                      ST_diff_error=pair_err if np.isfinite(pair_err).any() else None)
         for name, values in columns.items():
             res.indices[name] = values.ravel()
         if self.rank_by != "ST":
             bound = next(c for c in (f"{self.rank_by}_error", f"{self.rank_by}_conf") if c in res.indices)
             res.extras.update(rank_by=self.rank_by, rank_error=res.indices[bound].to_numpy(float))
+            res.extras.pop("rank_diff_error", None)          # it bounds differences of ST, not of this column
             res = res.rerank()
         res.groups = group_frame(names, space.groups, groups if self.gives_groups else None, diags,
                                  res.options.get("tolerance", DEFAULT_TOLERANCE))

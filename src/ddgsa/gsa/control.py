@@ -597,6 +597,8 @@ class Controlled:
     S1_error: NDArray[np.float64]     # the bootstrap half-width or twice the half-sample difference
     ST_error: NDArray[np.float64]
     variance: float
+    ST_diff_error: NDArray[np.float64]
+    """(d, d): the same rule's error estimate of each difference ``ST_i - ST_j`` (0 on the diagonal)."""
 
 
 def _saltelli_variances(blocks: NDArray[np.float64]) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
@@ -656,14 +658,21 @@ def controlled_saltelli(f: NDArray[np.float64], g: NDArray[np.float64],
     c1 = z * np.std([b[0] for b in boot], axis=0, ddof=1)
     ct = z * np.std([b[1] for b in boot], axis=0, ddof=1)
     e1, et = c1.copy(), ct.copy()
+    # the differences ST_i - ST_j by the same rule: their bootstrap replicates, and the half sample's difference
+    boot_t = np.array([b[1] for b in boot])
+    ed = z * np.std(boot_t[:, :, None] - boot_t[:, None, :], axis=0, ddof=1)
     if n >= 4:
         h1, ht, _ = _estimates(f, g, exact, every[:n // 2])
         e1 = np.fmax(e1, convergence_factor * np.abs(s1 - h1))
         et = np.fmax(et, convergence_factor * np.abs(st - ht))
+        dev = st - ht
+        ed = np.fmax(ed, convergence_factor * np.abs(dev[:, None] - dev[None, :]))
     if exact_error is not None:
         var_se, first_se, total_se = exact_error
         q = t.ppf(0.5 + conf_level / 2.0, REPLICATES - 1)
         m1 = q * np.hypot(first_se, s1 * var_se) / var
         mt = q * np.hypot(total_se, st * var_se) / var
-        c1, ct, e1, et = np.hypot(c1, m1), np.hypot(ct, mt), np.hypot(e1, m1), np.hypot(et, mt)
-    return Controlled(s1, st, c1, ct, e1, et, float(var))
+        # the process's total variances may err together or apart: their errors add; the variance's is shared
+        md = q * np.hypot(total_se[:, None] + total_se[None, :], (st[:, None] - st[None, :]) * var_se) / var
+        c1, ct, e1, et, ed = np.hypot(c1, m1), np.hypot(ct, mt), np.hypot(e1, m1), np.hypot(et, mt), np.hypot(ed, md)
+    return Controlled(s1, st, c1, ct, e1, et, float(var), ed)

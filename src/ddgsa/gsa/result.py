@@ -107,9 +107,12 @@ class SobolResult:
                     n_evals: int, method: str, options: dict[str, Any] | None = None,
                     diagnostics: list[Diagnostic] | None = None,
                     extras: dict[str, Any] | None = None,
-                    ST_error: NDArray[np.float64] | None = None) -> "SobolResult":
+                    ST_error: NDArray[np.float64] | None = None,
+                    ST_diff_error: NDArray[np.float64] | None = None) -> "SobolResult":
         """Build the tidy table from ``(n_outputs, n_params)`` arrays and mark distrust and rank
-        confirmation (``ST_error``: the method's estimate of each ST's error, default ``ST_conf``)."""
+        confirmation (``ST_error``: the method's estimate of each ST's error, default ``ST_conf``;
+        ``ST_diff_error`` (n_outputs, n_params, n_params), where the method gives it: its estimate of the
+        error of each difference ``ST_i - ST_j``, :func:`rank_structure`'s ``diff_error``)."""
         shape = (len(outputs), len(parameters))
         nan = np.full(shape, np.nan)
 
@@ -125,11 +128,14 @@ class SobolResult:
         diags = list(diagnostics or [])
         table["trusted"] = trusted_mask(table, diags)
         err = arr(ST_conf if ST_error is None else ST_error).ravel()
-        claims, ranks = rank_structure(table, err, diags, (options or {}).get("tolerance", 0.02))
+        pairs = None if ST_diff_error is None else \
+            np.asarray(ST_diff_error, dtype=float).reshape(shape[0] * shape[1], shape[1])
+        claims, ranks = rank_structure(table, err, diags, (options or {}).get("tolerance", 0.02), diff_error=pairs)
         table["rank_confirmed"] = claims > 0
         table["rank"] = ranks
+        more = {} if pairs is None else {"rank_diff_error": pairs}
         return cls(indices=table, n_evals=int(n_evals), method=method, options=dict(options or {}),
-                   diagnostics=diags, extras={**(extras or {}), "rank_claims": claims, "rank_error": err})
+                   diagnostics=diags, extras={**(extras or {}), "rank_claims": claims, "rank_error": err, **more})
 
     def rerank(self, margin: float | None = None, floor: float | None = None) -> "SobolResult":
         """This result with its rank claims made again with a tie ``margin`` and a negligible ``floor``
@@ -140,7 +146,8 @@ class SobolResult:
         table = self.indices.copy()
         claims, ranks = rank_structure(table, np.asarray(err, dtype=float), self.diagnostics,
                                        self.options.get("tolerance", 0.02), margin, floor,
-                                       quantity=self.extras.get("rank_by", "ST"))
+                                       quantity=self.extras.get("rank_by", "ST"),
+                                       diff_error=self.extras.get("rank_diff_error"))
         table["rank_confirmed"] = claims > 0
         table["rank"] = ranks
         return replace(self, indices=table, extras={**self.extras, "rank_claims": claims})
@@ -263,7 +270,8 @@ NEGLIGIBLE, SEPARATED, TIED = 1, 2, 3
 
 def rank_structure(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics: list[Diagnostic],
                    tolerance: float, margin: float | None = None, floor: float | None = None,
-                   quantity: str = "ST") -> tuple[NDArray[np.int8], NDArray[np.object_]]:
+                   quantity: str = "ST", diff_error: NDArray[np.float64] | None = None
+                   ) -> tuple[NDArray[np.int8], NDArray[np.object_]]:
     """Rows whose place in their output's ranking by ``ST`` (or ``quantity``) the error bounds
     guarantee, how, and the ranking as tied groups.
 
@@ -279,6 +287,10 @@ def rank_structure(table: pd.DataFrame, st_error: NDArray[np.float64], diagnosti
       intervals are disjoint (the order is certain) or the interval of the difference,
       ``|ST_i - ST_j| + e_i + e_j``, lies within ``margin``: a **confirmed tie** (an equivalence
       test, two one-sided bounds). A row with no tie has code :data:`SEPARATED`, else :data:`TIED`.
+      Where the method bounds the difference itself (``diff_error``: a sampling estimator's two
+      estimates share their design, so their errors move together and the difference's bound ``D_ij``
+      is often well below ``e_i + e_j``), the pair is also apart when ``|ST_i - ST_j| > D_ij`` and
+      tied when ``|ST_i - ST_j| + D_ij <= margin``.
       Ties must form cliques: rows joined by ties into one group are all pairwise tied, or none of
       that group is confirmed (a chain a ~ b ~ c with a, c apart has no well-defined place); and a row
       tied (with overlapping intervals) to a row whose place is not confirmed has no place either (the
@@ -300,6 +312,10 @@ def rank_structure(table: pd.DataFrame, st_error: NDArray[np.float64], diagnosti
         ST below which a parameter is negligible [-] (default ``tolerance``).
     quantity : str
         The column ranked (default ``ST``; Shapley effects rank by ``Sh``), ``st_error`` its error bound.
+    diff_error : array (n_rows, m), optional
+        Bounds on the differences [-]: ``diff_error[r, c]`` bounds the error of ``ST_r - ST_s``, ``s``
+        the ``c``-th row of ``r``'s output in the table's order (``m`` rows an output; NaN: no bound,
+        the sum of the two rows' bounds then serves alone).
 
     Returns
     -------
@@ -333,10 +349,16 @@ def rank_structure(table: pd.DataFrame, st_error: NDArray[np.float64], diagnosti
         neg = usable[idx] & (hi[idx] <= floor)
         codes[idx[neg]] = NEGLIGIBLE
         ranks[idx[neg]] = "negligible"
+        both = usable[idx][:, None] & usable[idx][None, :]
+        gap = np.abs(st[idx][:, None] - st[idx][None, :])
+        bound = err[idx][:, None] + err[idx][None, :]
         apart = (lo[idx][:, None] > hi[idx][None, :]) | (hi[idx][:, None] < lo[idx][None, :])
+        if diff_error is not None:                 # the difference's own bound, where the method gives one
+            own = np.asarray(diff_error, dtype=float)[idx][:, :len(idx)]
+            apart |= both & np.isfinite(own) & (gap > np.where(np.isfinite(own), own, np.inf))
+            bound = np.where(np.isfinite(own), np.fmin(bound, own), bound)
         with np.errstate(invalid="ignore"):
-            tied = usable[idx][:, None] & usable[idx][None, :] & ~neg[:, None] & ~neg[None, :] \
-                & (np.abs(st[idx][:, None] - st[idx][None, :]) + err[idx][:, None] + err[idx][None, :] <= margin)
+            tied = both & ~neg[:, None] & ~neg[None, :] & (gap + bound <= margin)
         np.fill_diagonal(tied, False)
         ok = usable[idx] & ~neg & (lo[idx] > 0.0)
         ok &= np.all(apart | tied | np.eye(len(idx), dtype=bool), axis=1)
@@ -378,9 +400,9 @@ def _tie_groups(tied: NDArray[np.bool_], members: NDArray[np.bool_]) -> list[NDA
 
 def rank_claims(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics: list[Diagnostic],
                 tolerance: float, margin: float | None = None, floor: float | None = None,
-                quantity: str = "ST") -> NDArray[np.int8]:
+                quantity: str = "ST", diff_error: NDArray[np.float64] | None = None) -> NDArray[np.int8]:
     """The codes of :func:`rank_structure` alone (0: no claim)."""
-    return rank_structure(table, st_error, diagnostics, tolerance, margin, floor, quantity)[0]
+    return rank_structure(table, st_error, diagnostics, tolerance, margin, floor, quantity, diff_error)[0]
 
 
 def need_per_row(st: NDArray[np.float64], tolerance: float) -> NDArray[np.float64]:
