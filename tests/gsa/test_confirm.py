@@ -183,6 +183,12 @@ def test_saltelli_size_to_confirm_by_hand() -> None:
     assert saltelli_n_to_confirm(np.array([0.6, 0.3, 0.0]), 0.02) == 512
     assert saltelli_n_to_confirm(np.array([0.6, np.nan]), 0.02) == 32768     # unknown: ST 1 within 0.02, 27 225
     assert saltelli_n_to_confirm(np.array([0.9, 0.89]), 0.05) == 4096        # 0.05 at 0.9: 3 920
+    # 0.6 and 0.57: 0.02 (trusted) at 0.6: 16 335 -> 16 384; where a stage measured the pair's own bound at
+    # half its rows' sum, the pair is apart once each row's bound is below 0.03 / (2 x 0.5): 7 260 -> 8 192
+    assert saltelli_n_to_confirm(np.array([0.6, 0.57]), 0.02) == 16384
+    half = np.full((2, 2), 0.5)
+    assert saltelli_n_to_confirm(np.array([0.6, 0.57]), 0.02, pair_ratio=half) == 8192
+    assert saltelli_n_to_confirm(np.array([0.6, 0.57]), 0.02, pair_ratio=np.ones((2, 2))) == 16384
 
 
 def test_pooled_pce_on_mdrm_points_matches_the_closed_form() -> None:

@@ -61,7 +61,7 @@ from numpy.typing import NDArray
 from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, as_value_matrix, evaluate, get_method
 from ddgsa.gsa.pooled import pooled_pce
-from ddgsa.gsa.result import SobolResult, need_per_row, nothing_to_rank
+from ddgsa.gsa.result import SobolResult, difference_ratio, need_per_row, nothing_to_rank
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.gsa.space import ParameterSpace
 
@@ -355,7 +355,8 @@ class Escalation:
         out = {}
         for o in bad:
             n = saltelli_n_to_confirm(self._best_st(o), self.tolerance,
-                                      self._surrogates[o].loo if o in self._surrogates else None)
+                                      self._surrogates[o].loo if o in self._surrogates else None,
+                                      None if self.salt is None else difference_ratio(self.salt, o))
             if self._salt_n > 0:                         # a Saltelli design that ran did not confirm: double it
                 n = max(n, 2 * self._salt_n)
             out[o] = int(min(MAX_N, max(n, self._salt_n)))

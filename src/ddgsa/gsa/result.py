@@ -405,16 +405,41 @@ def rank_claims(table: pd.DataFrame, st_error: NDArray[np.float64], diagnostics:
     return rank_structure(table, st_error, diagnostics, tolerance, margin, floor, quantity, diff_error)[0]
 
 
-def need_per_row(st: NDArray[np.float64], tolerance: float) -> NDArray[np.float64]:
+def need_per_row(st: NDArray[np.float64], tolerance: float,
+                 pair_ratio: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
     """Bound on each ST that would confirm its row (:func:`rank_claims`, or trusted): the tolerance, or half the row's distance to
-    zero and to every other row, whichever is larger (NaN rows: the tolerance)."""
+    zero and to every other row, whichever is larger (NaN rows: the tolerance).
+
+    ``pair_ratio`` (d, d), where the estimator bounds differences (:func:`difference_ratio`): each pair's
+    bound on ``ST_i - ST_j`` over the sum of the two rows' bounds. The pair is then apart once ``ratio (e_i +
+    e_j)`` is below its distance ``g`` and tied once it is below ``margin - g`` (the margin is the
+    tolerance): each row needs ``max(g, tolerance - g) / (2 ratio)`` against each other row, and half its
+    distance to zero. With a ratio of 1 this is the rule above."""
     st = np.asarray(st, dtype=float)
     need = np.full(len(st), tolerance)
     for i in range(len(st)):
         if np.isfinite(st[i]):
-            gap = min(st[i], np.nanmin(np.abs(st[i] - np.delete(st, i)), initial=np.inf))
+            gaps = np.abs(st[i] - np.delete(st, i))
+            if pair_ratio is not None:
+                ratio = np.clip(np.nan_to_num(np.delete(np.asarray(pair_ratio, dtype=float)[i], i), nan=1.0), 1e-3, 1.0)
+                gaps = np.fmax(gaps, np.where(gaps < tolerance, tolerance - gaps, 0.0)) / ratio
+            gap = min(st[i], np.nanmin(gaps, initial=np.inf))
             need[i] = max(tolerance, gap / 2.0)
     return need
+
+
+def difference_ratio(result: SobolResult, output: str) -> NDArray[np.float64] | None:
+    """Per pair of ``output``'s rows (d, d), the bound ``result`` gives their ST difference over the sum of
+    their own bounds (at most 1; NaN where it gives none), or None where it bounds no difference: what
+    :func:`need_per_row` scales a pair's need by."""
+    pairs = result.extras.get("rank_diff_error")
+    if pairs is None:
+        return None
+    rows = np.flatnonzero(result.indices["output"].to_numpy() == output)
+    err = np.asarray(result.extras["rank_error"], dtype=float)[rows]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.asarray(pairs, dtype=float)[rows][:, :len(rows)] / (err[:, None] + err[None, :])
+    return np.fmin(ratio, 1.0)
 
 
 CONSTANT_CV = 1e-9

@@ -487,16 +487,19 @@ overstates their bound tenfold)."""
 MIN_N, MAX_N = 64, 1 << 20
 
 
-def saltelli_n_to_confirm(st: np.ndarray, tolerance: float, control_loo: float | None = None) -> int:
+def saltelli_n_to_confirm(st: np.ndarray, tolerance: float, control_loo: float | None = None,
+                          pair_ratio: NDArray[np.float64] | None = None) -> int:
     """Smallest power-of-two Saltelli base sample whose typical error bound ``SALTELLI_K sqrt(ST / N)``
     confirms every row of an output with total indices ``st``: below ``tolerance`` (trusted) or
     below half the row's distance to zero and to every other row (rank-confirmed), whichever is
     larger. A NaN row is taken as ST = 1 needing the tolerance. ``control_loo``: the estimate with a
     Gaussian-process control variate of that relative leave-one-out error, whose bound goes as
-    ``sqrt(min(ST, 2 loo^2) / N)`` (:func:`ddgsa.gsa.control.controlled_level`)."""
+    ``sqrt(min(ST, 2 loo^2) / N)`` (:func:`ddgsa.gsa.control.controlled_level`). ``pair_ratio``: a Saltelli
+    stage's measured bounds of the differences over the sums of their rows' (:func:`ddgsa.gsa.result.difference_ratio`),
+    which :func:`~ddgsa.gsa.result.need_per_row` weighs each pair's need by."""
     st = np.asarray(st, dtype=float)
     known = np.where(np.isfinite(st), np.clip(st, 0.0, 1.0), np.nan)
-    need = need_per_row(known, tolerance)
+    need = need_per_row(known, tolerance, pair_ratio)
     level = np.where(np.isfinite(known), np.maximum(known, 1e-3), 1.0)
     if control_loo is not None and np.isfinite(control_loo):
         from ddgsa.gsa.control import controlled_level
