@@ -353,11 +353,11 @@ def rank_structure(table: pd.DataFrame, st_error: NDArray[np.float64], diagnosti
         gap = np.abs(st[idx][:, None] - st[idx][None, :])
         bound = err[idx][:, None] + err[idx][None, :]
         apart = (lo[idx][:, None] > hi[idx][None, :]) | (hi[idx][:, None] < lo[idx][None, :])
-        if diff_error is not None:                 # the difference's own bound, where the method gives one
-            own = np.asarray(diff_error, dtype=float)[idx][:, :len(idx)]
-            apart |= both & np.isfinite(own) & (gap > np.where(np.isfinite(own), own, np.inf))
-            bound = np.where(np.isfinite(own), np.fmin(bound, own), bound)
         with np.errstate(invalid="ignore"):
+            if diff_error is not None:             # the difference's own bound, where the method gives one (NaN: none)
+                own = np.asarray(diff_error, dtype=float)[idx][:, :len(idx)]
+                apart |= both & (gap > own)
+                bound = np.fmin(bound, own)
             tied = both & ~neg[:, None] & ~neg[None, :] & (gap + bound <= margin)
         np.fill_diagonal(tied, False)
         ok = usable[idx] & ~neg & (lo[idx] > 0.0)
