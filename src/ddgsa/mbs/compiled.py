@@ -36,7 +36,7 @@ from ddgsa.mbs.constraints import PrescribedSpeed, constraint_rows
 from ddgsa.mbs.derivatives import central_difference
 from ddgsa.mbs.elements import TorqueLaw, element_wrench
 from ddgsa.mbs.first_order import FirstOrderStates
-from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rodrigues, rotation
+from ddgsa.mbs.ffr import body_terms_into, body_terms_inv, g_bar, mm, mv, rodrigues, rotation
 from ddgsa.mbs.ffr import cross as _cross
 from ddgsa.mbs.scatter import add_element, add_rows, add_wrench
 from ddgsa.mbs.series import Series, interpolate
@@ -448,6 +448,52 @@ def _residuals(qs, qds, qdds, lam0, t, P, over_q):  # pragma: no cover (compiled
             out = np.empty((k, r.size))
         out[j] = r
     return out
+
+
+@njit(cache=True)
+def _body_rate_slopes(q, qd, P):  # pragma: no cover (compiled)
+    """:func:`body_rate_slopes` on the packed arrays ``P``."""
+    (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
+     mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt, nel, kind, marker, ser, offsets, par,
+     cs_row, cs_neq, nh, gravity) = P
+    n = q.size
+    out = np.zeros((n, n))
+    for b in range(b_off.size):
+        lo, nf = b_off[b], b_nf[b]
+        if nf < 0:                               # first-order states: no force of their own
+            continue
+        nb = 6 + nf
+        a1, a2 = o1[b], o2[b]
+        qb = q[lo:lo + nb].copy()
+        m_b = np.empty((nb, nb))
+        f_plus, f_minus = np.empty(nb), np.empty(nb)
+        for c in range(nb):
+            h = max(1.0, abs(qd[lo + c]))
+            for sign in range(2):
+                qdb = qd[lo:lo + nb].copy()
+                qdb[c] += h if sign == 0 else -h
+                body_terms_into(qb, qdb, b_mass[b], b_first0[b], ssum[3 * a1:3 * (a1 + nf)].reshape(3, nf), b_k0[b],
+                                k1[9 * a1:9 * (a1 + nf)].reshape(3, 3, nf), e[9 * a1:9 * (a1 + nf)].reshape(3, 3, nf),
+                                f4[9 * a2:9 * (a2 + nf * nf)].reshape(3, 3, nf, nf),
+                                h0[3 * a1:3 * (a1 + nf)].reshape(3, nf), h1[3 * a2:3 * (a2 + nf * nf)].reshape(nf, 3, nf),
+                                gravity, m_b, f_plus if sign == 0 else f_minus)
+            for r in range(nb):
+                out[lo + r, lo + c] = (f_plus[r] - f_minus[r]) / (2.0 * h)
+    return out
+
+
+def body_rate_slopes(packed: Packed, q: Array, qd: Array) -> Array:
+    """``dQ_b/dq_dot`` (n, n) [N s/m, N m s/rad, ...]: the slope over the rates of the packed bodies' own
+    generalised forces (gravity and the velocity-quadratic inertia terms of :func:`ddgsa.mbs.ffr.body_terms_inv`:
+    centrifugal, Coriolis, gyroscopic) at ``(q, qd)``, block-diagonal by body; without the structural damping,
+    which is among the tangents (``C_t``).
+
+    Exact: each body's forces are gravity plus a quadratic form of its rates, whose central difference has no
+    truncation error at any step, so each column is the difference of two evaluations of that body alone at a
+    step of ``max(1, |qd_c|)`` (rate units: no cancellation to speak of). Two body evaluations a coordinate, not
+    two evaluations of the whole system (``tests/mbs/test_nonrotating.py`` checks it against the differences of
+    the residual)."""
+    return _body_rate_slopes(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), packed.arrays)
 
 
 def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Array, t: float, scale: float,

@@ -147,7 +147,7 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
     sag = _at_rest(model, rig, plain)[0]
     q0, qd0 = system.q0.copy(), system.qd0.copy()
     q0 += sag
-    lin = nonrotating.linearise(system, q0, qd0, tangent_columns=tangent_columns(system))
+    lin = nonrotating.linearise(system, q0, qd0, tangent_columns=tangent_columns(system), damping_tangents=True)
     if raw["coupling_asymmetry"] > 0.0:       # a chord on this linearisation's stiffness, from its residual
         stretch = operating_stretch(rig, q0, qd0, tangent=lin.k, start=lin)
     period = 2 * math.pi / spin

@@ -74,7 +74,7 @@ def structure(p: Mapping[str, float], q0: Array, synchronous: float, basis: Shaf
     system = bare.system
     columns = tangent_columns(system) if tangents else ()
     rest = nonrotating.linearise(system, q0, np.zeros(system.n), tangent_columns=columns, damping_tangents=tangents)
-    spinning = nonrotating.linearise(system, q0, system.qd0, tangent_columns=columns)
+    spinning = nonrotating.linearise(system, q0, system.qd0, tangent_columns=columns, damping_tangents=tangents)
     return bare, sweep_model(rest, spinning, system.index("hss.rx"), q0 - system.q0)
 
 
