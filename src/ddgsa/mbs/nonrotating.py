@@ -35,7 +35,7 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody, MarkerState, mode_number
 from ddgsa.mbs.campbell import orbit_average, orbit_pairs
-from ddgsa.mbs.compiled import HybridTerms, _markers, _residuals, body_rate_slopes
+from ddgsa.mbs.compiled import HybridTerms, _markers, _residuals, body_rate_slopes, stepped_residuals
 from ddgsa.mbs.elements import Element
 from ddgsa.mbs.ffr import g_bar
 from ddgsa.mbs.linear import lti_response
@@ -300,8 +300,11 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
                      rel_step: float, columns: NDArray[np.int64]) -> Array:
     """Central differences (:func:`~ddgsa.mbs.derivatives.central_difference`, step ``rel_step * scale``) of
     the projected residual over the entries ``columns`` of ``z`` (``which`` 0) or ``z'`` (1) at zero, as of
-    :func:`_residual` (the other columns zero): the steps' states at once (:func:`spin_map`), the packed part
-    by the compiled kernel in one call (:func:`~ddgsa.mbs.compiled._residuals`), each Python element
+    :func:`_residual` (the other columns zero): the steps' states at once (:func:`spin_map`; a step moves the
+    coordinates of one body, the stepped one's and, for a spin, its bending pairs'), the packed part by the
+    compiled kernel in one call, each step's residual the operating point's plus the change of the stepped
+    body's own terms and of the elements on its markers
+    (:func:`~ddgsa.mbs.compiled.stepped_residuals`: the same differences to round-off), each Python element
     (:attr:`HybridTerms.python`) once at the operating state and again for the steps of its markers' bodies'
     coordinates only (a step of another body's coordinate, turned within that body, leaves its markers and
     so its force as they were)."""
@@ -310,7 +313,9 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
     arrays = terms.packed.arrays
     t0 = float(lin.t0)
     zero = np.zeros((1, n))
-    q, qd = (x[0] for x in spin_map(lin, zero, zero)[:2])
+    at0 = spin_map(lin, zero, zero)[:3]
+    q, qd = at0[0][0], at0[1][0]
+    r0 = _residuals(*at0, np.zeros(0), t0, arrays, False, np.full(1, -1))[0]      # the packed part at the operating point
     *base, lohi = _markers(q, qd, t0, arrays)
     span = {r: range(lohi[r, 0], lohi[r, 1]) for r in rows}         # the coordinates that move marker r
 
@@ -319,7 +324,8 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
         nil = np.zeros_like(steps)
         q, qd, qdd, cos, sin, spin_col = spin_map(lin, *((steps, nil) if which == 0 else (nil, steps)))
         stepped_coord = np.tile(columns, 2)
-        res = _residuals(q, qd, qdd, np.zeros(0), t0, arrays, False)        # the packed part, one compiled call
+        res = stepped_residuals(terms.packed, *(np.vstack([x, x0]) for x, x0 in zip((q, qd, qdd), at0)), t0, r0,
+                                stepped_coord)                          # the packed part, one compiled call
         moved = {j: _markers(q[j], qd[j], t0, arrays)[:5] for j, col in enumerate(stepped_coord)
                  if any(col in span[r] for r in rows)}
         for (_, el), el_rows in zip(terms.python, terms.marker_rows):
