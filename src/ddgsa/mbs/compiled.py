@@ -295,7 +295,7 @@ def _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t):  # pragma: no cover (com
 @njit(cache=True)
 def _terms(q, qd, t, P, tangents, constraints, only):  # pragma: no cover (compiled)
     """``M, Q, K_t, C_t, element outputs (n_el, 6), C_h, jac (n_c, n), V`` at ``(q, qd, t)``; without
-    ``tangents`` ``K_t`` and ``C_t`` stay zero (their scatter skipped), without ``constraints``
+    ``tangents`` ``K_t`` and ``C_t`` are (0, 0) (their scatter skipped), without ``constraints``
     ``C_h``, ``jac`` and ``V`` are empty. ``only`` (an integer): -1 for the whole system; a body's index for
     the part of the terms that moves with that body's coordinates alone -- its own block and forces and the
     elements with a marker on it (the other elements' outputs zero; no constraints), from the markers of those
@@ -311,7 +311,8 @@ def _terms(q, qd, t, P, tangents, constraints, only):  # pragma: no cover (compi
      cs_row, cs_neq, nh, gravity) = P
     n = q.size
     m_mat, f = np.zeros((n, n)), np.zeros(n)
-    kt, ct = np.zeros((n, n)), np.zeros((n, n))
+    nt = n if tangents else 0                    # no tangents: (0, 0), nothing to clear
+    kt, ct = np.zeros((nt, nt)), np.zeros((nt, nt))
     for b in range(b_off.size):
         if only >= 0 and b != only:
             continue
@@ -355,7 +356,7 @@ def _terms(q, qd, t, P, tangents, constraints, only):  # pragma: no cover (compi
             continue
         i, j = marker[el, 0], marker[el, 1]
         wr, kr, cr = element_wrench(kind[el], mr, ma, mvel, mw, i, j, par[offsets[el]:offsets[el + 1]],
-                                    _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, ser[el], t), t)
+                                    _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, ser[el], t), t, tangents)
         add_element(f, kt, ct, mj, lohi, i, j, wr, kr, cr, tangents)
         out[el] = wr[0]
     if not constraints or only >= 0:
