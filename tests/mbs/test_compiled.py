@@ -142,9 +142,9 @@ def test_residual_rows_are_the_assemblys_mass_and_force() -> None:
     q = system.q0 + 1e-3 * np.sin(np.arange(system.n) + rows)
     qd = 0.1 * np.cos(np.arange(system.n) + rows)
     qdd = np.cos(2.0 * np.arange(system.n) + rows)
-    res = _residuals(q, qd, qdd, np.zeros(0), 0.3, packed.arrays, False)
+    res = _residuals(q, qd, qdd, np.zeros(0), 0.3, packed.arrays, False, np.full(3, -1))
     for j in range(3):
-        m, f = _terms(q[j], qd[j], 0.3, packed.arrays, True, True)[:2]
+        m, f = _terms(q[j], qd[j], 0.3, packed.arrays, True, True, -1)[:2]
         ref = m @ qdd[j] - f
         np.testing.assert_allclose(res[j], ref, rtol=0, atol=1e-13 * max(np.abs(m @ qdd[j]).max(), np.abs(f).max()))
 
@@ -177,3 +177,34 @@ def test_the_assembly_is_compiled_once_whatever_its_callers_pass() -> None:
     loose = [i for i, a in enumerate(arrays) if isinstance(a, np.ndarray)
              and not (a.flags.writeable and a.flags.c_contiguous)]
     assert not loose, f"single-body arrays {loose} are read-only or not C-contiguous"
+
+
+def test_stepped_residuals_are_the_full_residuals() -> None:
+    """:func:`ddgsa.mbs.compiled.stepped_residuals` (a step's residual as the operating point's plus the change of
+    the stepped body's terms and of the elements on its markers) against the full residual of every row
+    (:func:`_residuals`: every body and element evaluated), on four bodies, a prescribed base and one of every
+    packable element, each row moving every coordinate, rate and acceleration of one body at a moving state:
+    within 1e-12 of the largest term. A row whose step leaves its named body is wrong by the other body's change
+    (the contract the caller keeps: checked to fail)."""
+    from ddgsa.mbs.compiled import _residuals, stepped_residuals
+
+    system = every_part()
+    packed = pack(system)
+    n, t = system.n, 0.3
+    rng = np.random.default_rng(5)
+    q0 = system.q0 + 1e-3 * rng.normal(size=n)
+    qd0, qdd0 = system.qd0 + 0.1 * rng.normal(size=n), rng.normal(size=n)
+    base = _residuals(q0[None], qd0[None], qdd0[None], np.zeros(0), t, packed.arrays, False, np.full(1, -1))[0]
+    coords = np.arange(n)
+    qs, qds, qdds = (np.tile(x, (n + 1, 1)) for x in (q0, qd0, qdd0))
+    for c in coords:
+        body = next(sl for sl in system.slices.values() if sl.start <= c < sl.stop)
+        span = np.arange(body.start, body.stop)
+        qs[c, span] += 1e-3 * rng.normal(size=span.size)
+        qds[c, span] += 0.1 * rng.normal(size=span.size)
+        qdds[c, span] += rng.normal(size=span.size)
+    got = stepped_residuals(packed, qs, qds, qdds, t, base, coords)
+    want = _residuals(qs[:n], qds[:n], qdds[:n], np.zeros(0), t, packed.arrays, False, np.full(n, -1))
+    assert np.abs(got - want).max() <= 1e-12 * np.abs(want).max()
+    wrong = stepped_residuals(packed, qs, qds, qdds, t, base, np.roll(coords, 9))
+    assert np.abs(wrong - want).max() > 1e-6 * np.abs(want).max()

@@ -97,7 +97,8 @@ def test_tangent_columns_are_the_central_differences() -> None:
     ``paper_a_structural`` each column agrees with the per-point path's central differences within 1e-6 of
     the column's largest entry (the differences' own noise, measured 8e-8 on ``housing_2.x``; most of the
     other 21 columns differ from the tangents by 1e-3 to 100 % in ``K`` or ``C``: the gyroscopic, centrifugal
-    and geometric terms). The test can fail: the turning motor's tilt ``motor.ry`` taken from the tangents
+    and geometric terms); its ``C`` is the kernel's exact form (``damping_tangents``, no column differenced:
+    measured 1.5e-7, the differences' round-off). The test can fail: the turning motor's tilt ``motor.ry`` taken from the tangents
     loses its gyroscopic column of ``C`` entirely."""
     from ddgsa.models.hss_rig import steady_block
     from ddgsa.models.hss_rig.rig import tangent_columns

@@ -137,11 +137,13 @@ def test_a_point_that_fails_is_a_failure_with_its_reason(monkeypatch: pytest.Mon
     assert out.iloc[1].isna().all() and out.iloc[0].notna().all()
 
 
-def test_the_damping_at_rest_is_the_kernels_tangents() -> None:
-    """The block's sweep linearises the rig at rest with every column of ``C`` from the kernel's tangents
-    (``linearise(..., damping_tangents=True)``): at a random ``paper_a_structural`` point, about its sag, each
-    column within 1e-6 of its largest central difference (measured: equal but for 1e-52 in a zero column), and ``K`` the same
-    linearisation's. The option refuses a spinning state, where the gyroscopic columns are not tangents."""
+def test_the_damping_is_the_kernels_exact_form() -> None:
+    """The block's sweep linearises the rig with every column of ``C`` formed without differences
+    (``linearise(..., damping_tangents=True)``): at rest the kernel's tangents, at the synchronous speed the
+    tangents, the bodies' exact rate slopes and the map's rate terms. At a random ``paper_a_structural`` point,
+    about its sag, each column within 1e-6 of its largest central difference (measured: at rest equal but for
+    1e-52 in a zero column; at speed 1.5e-7 on the shaft's spin column, the differences' round-off at their 1e-6
+    step, 1.5e-10 against differences at a 1e-3 step), and ``K`` the same linearisation's."""
     from ddgsa.mbs import nonrotating
     from ddgsa.models.hss_rig.rig import tangent_columns
 
@@ -153,14 +155,13 @@ def test_the_damping_at_rest_is_the_kernels_tangents() -> None:
     bare, _ = transient.structure(raw, q0, 2 * math.pi * 25.0, model.basis)
     system = bare.system
     cols = tangent_columns(system)
-    ref = nonrotating.linearise(system, q0, np.zeros(system.n), tangent_columns=cols)
-    fast = nonrotating.linearise(system, q0, np.zeros(system.n), tangent_columns=cols, damping_tangents=True)
-    scale = np.abs(ref.c).max(axis=0)
-    floor = 1e-12 * scale.max()                      # a zero column: 1e-52 of differencing noise
-    assert np.all(np.abs(fast.c - ref.c).max(axis=0) <= np.maximum(1e-6 * scale, floor))
-    assert np.array_equal(fast.k, ref.k)
-    with pytest.raises(ValueError, match="at rest only"):
-        nonrotating.linearise(system, q0, system.qd0, damping_tangents=True)
+    for qd in (np.zeros(system.n), system.qd0):
+        ref = nonrotating.linearise(system, q0, qd, tangent_columns=cols)
+        fast = nonrotating.linearise(system, q0, qd, tangent_columns=cols, damping_tangents=True)
+        scale = np.abs(ref.c).max(axis=0)
+        floor = 1e-12 * scale.max()                      # a zero column: 1e-52 of differencing noise
+        assert np.all(np.abs(fast.c - ref.c).max(axis=0) <= np.maximum(1e-6 * scale, floor))
+        assert np.array_equal(fast.k, ref.k)
 
 
 def test_records_too_short_fail_as_on_the_per_point_path() -> None:

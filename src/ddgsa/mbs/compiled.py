@@ -36,7 +36,7 @@ from ddgsa.mbs.constraints import PrescribedSpeed, constraint_rows
 from ddgsa.mbs.derivatives import central_difference
 from ddgsa.mbs.elements import TorqueLaw, element_wrench
 from ddgsa.mbs.first_order import FirstOrderStates
-from ddgsa.mbs.ffr import body_terms_inv, g_bar, mm, mv, rodrigues, rotation
+from ddgsa.mbs.ffr import body_terms_into, body_terms_inv, g_bar, mm, mv, rodrigues, rotation
 from ddgsa.mbs.ffr import cross as _cross
 from ddgsa.mbs.scatter import add_element, add_rows, add_wrench
 from ddgsa.mbs.series import Series, interpolate
@@ -195,6 +195,12 @@ def _series(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t, deriv):  # pragma: no cov
 @njit(cache=True)
 def _markers(q, qd, t, P):  # pragma: no cover (compiled)
     """Position, orientation, velocity, angular velocity, Jacobian and column range of every marker."""
+    return _marker_table(q, qd, t, P, np.ones(P[15].size, np.bool_))
+
+
+@njit(cache=True)
+def _marker_table(q, qd, t, P, keep):  # pragma: no cover (compiled)
+    """:func:`_markers` of the markers where ``keep`` (n_markers,) is set; the other rows are left zero."""
     (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
      mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt) = P[:29]
     n = q.size
@@ -204,6 +210,8 @@ def _markers(q, qd, t, P):  # pragma: no cover (compiled)
     mj = np.zeros((nm, 6, n))
     lohi = np.zeros((nm, 2), np.int64)
     for m in range(nm):
+        if not keep[m]:
+            continue
         b = mk_body[m]
         u0 = mk_u0[m]
         if b < 0:
@@ -285,10 +293,13 @@ def _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, idx, t):  # pragma: no cover (com
 
 
 @njit(cache=True)
-def _terms(q, qd, t, P, tangents, constraints):  # pragma: no cover (compiled)
+def _terms(q, qd, t, P, tangents, constraints, only):  # pragma: no cover (compiled)
     """``M, Q, K_t, C_t, element outputs (n_el, 6), C_h, jac (n_c, n), V`` at ``(q, qd, t)``; without
-    ``tangents`` ``K_t`` and ``C_t`` stay zero (their scatter skipped), without ``constraints``
-    ``C_h``, ``jac`` and ``V`` are empty.
+    ``tangents`` ``K_t`` and ``C_t`` are (0, 0) (their scatter skipped), without ``constraints``
+    ``C_h``, ``jac`` and ``V`` are empty. ``only`` (an integer): -1 for the whole system; a body's index for
+    the part of the terms that moves with that body's coordinates alone -- its own block and forces and the
+    elements with a marker on it (the other elements' outputs zero; no constraints), from the markers of those
+    elements alone (:func:`stepped_residuals`).
 
     This function, with every element law under it, is most of the kernel's first-run compilation,
     and numba links a full copy of it into every compiled function that calls it. So it is called
@@ -300,8 +311,11 @@ def _terms(q, qd, t, P, tangents, constraints):  # pragma: no cover (compiled)
      cs_row, cs_neq, nh, gravity) = P
     n = q.size
     m_mat, f = np.zeros((n, n)), np.zeros(n)
-    kt, ct = np.zeros((n, n)), np.zeros((n, n))
+    nt = n if tangents else 0                    # no tangents: (0, 0), nothing to clear
+    kt, ct = np.zeros((nt, nt)), np.zeros((nt, nt))
     for b in range(b_off.size):
+        if only >= 0 and b != only:
+            continue
         lo, nf = b_off[b], b_nf[b]
         if nf < 0:                               # first-order states: unit mass, no force of their own
             for k in range(-nf):
@@ -324,15 +338,28 @@ def _terms(q, qd, t, P, tangents, constraints):  # pragma: no cover (compiled)
             if tangents:
                 kt[lo + 6:hi, lo + 6:hi] += kb
                 ct[lo + 6:hi, lo + 6:hi] += cb
-    mr, ma, mvel, mw, mj, lohi = _markers(q, qd, t, P)
+    on = np.ones(nel, np.bool_)                  # the elements evaluated, and their markers
+    keep = np.ones(mk_body.size, np.bool_)
+    if only >= 0:
+        keep[:] = False
+        for el in range(nel):
+            i, j = marker[el, 0], marker[el, 1]
+            on[el] = (i >= 0 and mk_body[i] == only) or (j >= 0 and mk_body[j] == only)
+            if on[el]:
+                keep[i] = True
+                if j >= 0:
+                    keep[j] = True
+    mr, ma, mvel, mw, mj, lohi = _marker_table(q, qd, t, P, keep)
     out = np.zeros((nel, 6))
     for el in range(nel):
+        if not on[el]:
+            continue
         i, j = marker[el, 0], marker[el, 1]
         wr, kr, cr = element_wrench(kind[el], mr, ma, mvel, mw, i, j, par[offsets[el]:offsets[el + 1]],
-                                    _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, ser[el], t), t)
+                                    _inputs(coef, s_off, s_n, s_k, s_t0, s_dt, ser[el], t), t, tangents)
         add_element(f, kt, ct, mj, lohi, i, j, wr, kr, cr, tangents)
         out[el] = wr[0]
-    if not constraints:
+    if not constraints or only >= 0:
         return m_mat, f, kt, ct, out, np.zeros(0), np.zeros((0, n)), np.zeros(0)
     ch, jac, vel = _constraint_terms(n, t, P, mr, ma, mvel, mw, mj, lohi)
     return m_mat, f, kt, ct, out, ch, jac, vel
@@ -375,7 +402,7 @@ def _constraints(q, qd, t, P):  # pragma: no cover (compiled)
 @njit(cache=True)
 def _evaluate(q, qd, t, step, P, m, f, kt, ct, y, ch, jac, vel):  # pragma: no cover (compiled)
     """The packed System as a kind of :mod:`ddgsa.mbs.alpha`'s loop: :func:`_terms` written into its arrays."""
-    m_mat, fv, ktv, ctv, out, chv, jacv, velv = _terms(q, qd, t, P, np.bool_(True), np.bool_(True))
+    m_mat, fv, ktv, ctv, out, chv, jacv, velv = _terms(q, qd, t, P, np.bool_(True), np.bool_(True), np.int64(-1))
     m[:] = m_mat
     f[:] = fv
     kt[:] = ktv
@@ -391,7 +418,7 @@ _loop = specialise(_evaluate, "packed")
 
 def evaluate(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, ...]:
     """``(M, Q, K_t, C_t, outputs, C_h, C_q, V)`` of the packed system at one state."""
-    return _terms(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays, True, True)
+    return _terms(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t), packed.arrays, True, True, -1)
 
 
 def constraint_values(packed: Packed, q: Array, qd: Array, t: float) -> tuple[Array, Array, Array, Array]:
@@ -413,13 +440,13 @@ def accelerations(packed: Packed, q: Array, qd: Array, t: float, fd_step: float 
     compiled copy would be one more entry point that links and optimises the whole element tree on a
     first run (~14 s of CPU on 2 loaded cores, issue 48)."""
     q, qd, t = np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t)
-    m_mat, f, _, _, _, _, jac, vel = _terms(q, qd, t, packed.arrays, True, True)
+    m_mat, f, _, _, _, _, jac, vel = _terms(q, qd, t, packed.arrays, True, True, -1)
     n, nc = q.size, vel.size
     if nc == 0:
         return np.linalg.solve(m_mat, f), np.zeros(0)
     h = float(fd_step)
-    vp = _terms(q + h * qd, qd, t + h, packed.arrays, True, True)[7]
-    vm = _terms(q - h * qd, qd, t - h, packed.arrays, True, True)[7]
+    vp = _terms(q + h * qd, qd, t + h, packed.arrays, True, True, -1)[7]
+    vm = _terms(q - h * qd, qd, t - h, packed.arrays, True, True, -1)[7]
     big = np.zeros((n + nc, n + nc))
     big[:n, :n] = m_mat
     big[:n, n:] = jac.T
@@ -430,15 +457,16 @@ def accelerations(packed: Packed, q: Array, qd: Array, t: float, fd_step: float 
 
 
 @njit(cache=True)
-def _residuals(qs, qds, qdds, lam0, t, P, over_q):  # pragma: no cover (compiled)
+def _residuals(qs, qds, qdds, lam0, t, P, over_q, only):  # pragma: no cover (compiled)
     """``M(q) qdd - Q(q, qd, t) + C_q(q)^T lam0`` at each row of ``qs``, ``qds``, ``qdds`` (k, n), followed, where
     ``over_q``, by the velocity-level constraint values (k, n + n_v); for steps of the velocities
     (``over_q`` False) the constraints are not assembled: ``C_q`` depends on ``q`` alone, so its term
-    drops out of their difference. The tangents are not assembled."""
+    drops out of their difference. The tangents are not assembled. ``only`` (k,) int: -1, or the body whose part
+    of the residual row ``j`` is (:func:`_terms`' ``only``; without ``over_q``)."""
     k, n = qs.shape
     out = np.empty((k, 0))
     for j in range(k):
-        m_mat, f, kt, ct, y, ch, jac, vel = _terms(qs[j], qds[j], t, P, np.bool_(False), over_q)
+        m_mat, f, kt, ct, y, ch, jac, vel = _terms(qs[j], qds[j], t, P, np.bool_(False), over_q, only[j])
         r = np.dot(m_mat, qdds[j]) - f
         if over_q:
             if lam0.size:
@@ -448,6 +476,81 @@ def _residuals(qs, qds, qdds, lam0, t, P, over_q):  # pragma: no cover (compiled
             out = np.empty((k, r.size))
         out[j] = r
     return out
+
+
+@njit(cache=True)
+def _body_rate_slopes(q, qd, P):  # pragma: no cover (compiled)
+    """:func:`body_rate_slopes` on the packed arrays ``P``."""
+    (b_off, b_nf, b_mass, b_first0, b_k0, o1, o2, ssum, k1, e, f4, h0, h1, kff, cff, mk_body, mk_u0, mk_so,
+     mk_s, mk_sr, pb_r0, pb_a0, pb_ser, coef, s_off, s_n, s_k, s_t0, s_dt, nel, kind, marker, ser, offsets, par,
+     cs_row, cs_neq, nh, gravity) = P
+    n = q.size
+    out = np.zeros((n, n))
+    for b in range(b_off.size):
+        lo, nf = b_off[b], b_nf[b]
+        if nf < 0:                               # first-order states: no force of their own
+            continue
+        nb = 6 + nf
+        a1, a2 = o1[b], o2[b]
+        qb = q[lo:lo + nb].copy()
+        m_b = np.empty((nb, nb))
+        f_plus, f_minus = np.empty(nb), np.empty(nb)
+        for c in range(nb):
+            h = max(1.0, abs(qd[lo + c]))
+            for sign in range(2):
+                qdb = qd[lo:lo + nb].copy()
+                qdb[c] += h if sign == 0 else -h
+                body_terms_into(qb, qdb, b_mass[b], b_first0[b], ssum[3 * a1:3 * (a1 + nf)].reshape(3, nf), b_k0[b],
+                                k1[9 * a1:9 * (a1 + nf)].reshape(3, 3, nf), e[9 * a1:9 * (a1 + nf)].reshape(3, 3, nf),
+                                f4[9 * a2:9 * (a2 + nf * nf)].reshape(3, 3, nf, nf),
+                                h0[3 * a1:3 * (a1 + nf)].reshape(3, nf), h1[3 * a2:3 * (a2 + nf * nf)].reshape(nf, 3, nf),
+                                gravity, m_b, f_plus if sign == 0 else f_minus)
+            for r in range(nb):
+                out[lo + r, lo + c] = (f_plus[r] - f_minus[r]) / (2.0 * h)
+    return out
+
+
+def body_rate_slopes(packed: Packed, q: Array, qd: Array) -> Array:
+    """``dQ_b/dq_dot`` (n, n) [N s/m, N m s/rad, ...]: the slope over the rates of the packed bodies' own
+    generalised forces (gravity and the velocity-quadratic inertia terms of :func:`ddgsa.mbs.ffr.body_terms_inv`:
+    centrifugal, Coriolis, gyroscopic) at ``(q, qd)``, block-diagonal by body; without the structural damping,
+    which is among the tangents (``C_t``).
+
+    Exact: each body's forces are gravity plus a quadratic form of its rates, whose central difference has no
+    truncation error at any step, so each column is the difference of two evaluations of that body alone at a
+    step of ``max(1, |qd_c|)`` (rate units: no cancellation to speak of). Two body evaluations a coordinate, not
+    two evaluations of the whole system (``tests/mbs/test_nonrotating.py`` checks it against the differences of
+    the residual)."""
+    return _body_rate_slopes(np.asarray(q, dtype=float), np.asarray(qd, dtype=float), packed.arrays)
+
+
+def stepped_residuals(packed: Packed, qs: Array, qds: Array, qdds: Array, t: float, base: Array,
+                      coords: NDArray[np.int64]) -> Array:
+    """The residual ``M(q) qdd - Q(q, qd, t)`` (k, n) of a packed system without constraints at states ``qs``,
+    ``qds``, ``qdds`` (k + 1, n), each of the first ``k`` stepped from the last (the state of the residual ``base``
+    (n,)) within the coordinates of the body that owns its coordinate ``coords[j]`` (a step of the central
+    differences of :func:`ddgsa.mbs.nonrotating.linearise`: a coordinate of a body and whatever that turns within
+    the body).
+
+    The residual's other parts do not move with those coordinates, so each row is ``base`` plus the change of the
+    stepped body's own terms and of the elements with a marker on it, evaluated from those elements' markers
+    alone (:func:`_residuals` with ``only``, at the row and once a body at the base state): the same residuals as
+    :func:`_residuals` of the whole system but for round-off, at a fraction of a full evaluation where a system
+    has several bodies (the test rig: a step of the motor's or the hub's coordinates evaluates one rigid body and
+    three of eleven elements, one of the shaft's the shaft and six)."""
+    b_off, b_nf = packed.arrays[0], packed.arrays[1]
+    owner = np.empty(packed.n, np.int64)
+    for b, (lo, nf) in enumerate(zip(b_off, b_nf)):
+        owner[lo:lo + (6 + nf if nf >= 0 else -nf)] = b
+    qs, qds, qdds = (np.ascontiguousarray(x, dtype=float) for x in (qs, qds, qdds))
+    k = qs.shape[0] - 1
+    body = owner[np.asarray(coords, dtype=np.int64)]
+    bodies, which = np.unique(body, return_inverse=True)
+    t, none = float(t), np.zeros(0)
+    part = _residuals(qs[:k], qds[:k], qdds[:k], none, t, packed.arrays, False, body)
+    at_base = _residuals(*(np.repeat(x[k:], bodies.size, axis=0) for x in (qs, qds, qdds)), none, t, packed.arrays,
+                         False, bodies)
+    return np.asarray(base, dtype=float) + (part - at_base[which])
 
 
 def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Array, t: float, scale: float,
@@ -465,12 +568,15 @@ def residual_jacobians(packed: Packed, q: Array, qd: Array, qdd: Array, lam: Arr
     def tiled(x: Array, v: Array) -> Array:
         return np.tile(v, (len(x), 1))
 
-    over_q = central_difference(lambda x: _residuals(x, tiled(x, qd), tiled(x, qdd), *args, True), q, scale, rel_step,
+    def whole(x: Array) -> NDArray[np.int64]:
+        return np.full(len(x), -1, np.int64)
+
+    over_q = central_difference(lambda x: _residuals(x, tiled(x, qd), tiled(x, qdd), *args, True, whole(x)), q, scale, rel_step,
                                 columns)
     n = q.size
     if static:
         return over_q[:n], np.zeros((n, n)), over_q[n:]
-    over_qd = central_difference(lambda x: _residuals(tiled(x, q), x, tiled(x, qdd), *args, False), qd, scale,
+    over_qd = central_difference(lambda x: _residuals(tiled(x, q), x, tiled(x, qdd), *args, False, whole(x)), qd, scale,
                                  rel_step, columns)
     return over_q[:n], over_qd, over_q[n:]
 
@@ -498,7 +604,7 @@ def _along(q, qd, times, P, nh):  # pragma: no cover (compiled)
     outs = np.zeros((n_t, 0, 6))
     pdrift, vdrift = np.zeros(n_t), np.zeros(n_t)
     for i in range(n_t):
-        m_mat, f, kt, ct, out, ch, jac, vel = _terms(q[i], qd[i], times[i], P, full, full)
+        m_mat, f, kt, ct, out, ch, jac, vel = _terms(q[i], qd[i], times[i], P, full, full, np.int64(-1))
         if i == 0:                                       # the first row sizes the outputs' table
             outs = np.zeros((n_t, out.shape[0], 6))
         forces[i] = f
@@ -594,7 +700,7 @@ class HybridTerms:
         """:class:`~ddgsa.mbs.assembly.Terms` at ``(q, qd, t)``."""
         system = self.system
         q, qd, t = np.asarray(q, dtype=float), np.asarray(qd, dtype=float), float(t)
-        m, f, kt, ct, out = _terms(q, qd, t, self.packed.arrays, True, True)[:5]
+        m, f, kt, ct, out = _terms(q, qd, t, self.packed.arrays, True, True, -1)[:5]
         outputs: list = [None] * len(system.elements)
         for row, i in enumerate(self.compiled_rows):
             outputs[i] = out[row]

@@ -127,7 +127,7 @@ class _Connector(Element):
         d, dd, rest = self._deflection(states)
         r = np.array([states[0].r, states[1].r], dtype=float)
         ai = np.ascontiguousarray(states[0].a, dtype=float)
-        return connector_force(r, ai, self.frame == "i", rest, d, dd, self.k6, self.c6)[:3]
+        return connector_force(r, ai, self.frame == "i", rest, d, dd, self.k6, self.c6, True)[:3]
 
     def compiled(self) -> CompiledForm | None:
         """``[frame_i, free_spin, rest_r (3), rest_a (9), offset (6), k6 (36), c6 (36)]`` for
@@ -196,12 +196,13 @@ def connector_matrices(ai, k6, c6, frame_i):  # pragma: no cover (compiled)
 
 
 @njit(cache=True)
-def connector_force(r, ai, frame_i, rest, d, dd, k6, c6):  # pragma: no cover (compiled)
+def connector_force(r, ai, frame_i, rest, d, dd, k6, c6, tangents):  # pragma: no cover (compiled)
     """``(W (2, 6), K (12, 12), C (12, 12), F (6,))`` of a connector ``F = K d + C d_dot`` between
     the points ``r[0]`` (marker i, orientation ``ai``) and ``r[1]`` (marker j) with the deflection
     ``d``, its rate ``dd`` and the points' rest offset ``rest`` (:func:`connector_deflection`):
     ``+F`` on marker i, ``-F`` and the couple ``(r_j - r_i) x F`` on marker j, and the tangents
-    (:func:`connector_tangent`).
+    (:func:`connector_tangent`; (0, 0) without ``tangents``: they are 70 % of a connector's evaluation, which
+    a residual alone, e.g. a step of a central difference, does not need).
 
     Compiled, and the one implementation: the element (:class:`_Connector`) calls it from Python
     and the packed system (:mod:`ddgsa.mbs.compiled`, through :func:`connector_wrench`) from its
@@ -217,20 +218,23 @@ def connector_force(r, ai, frame_i, rest, d, dd, k6, c6):  # pragma: no cover (c
         wr[0, 3 + k] = fv[3 + k]
         wr[1, k] = -fv[k]
         wr[1, 3 + k] = -fv[3 + k] + mom[k]
+    if not tangents:
+        return wr, np.zeros((0, 0)), np.zeros((0, 0)), fv
     turning = rest if frame_i else np.zeros(3)    # a global-frame rest offset does not turn with marker i
     return wr, connector_tangent(kg, turning, arm, fv[:3].copy()), connector_tangent(cg, turning, arm,
                                                                                      np.zeros(3)), fv
 
 
 @njit(cache=True)
-def connector_wrench(r, a, v, w, i, j, frame_i, free_spin, rest_r, rest_a, offset, k6, c6):  # pragma: no cover
+def connector_wrench(r, a, v, w, i, j, frame_i, free_spin, rest_r, rest_a, offset, k6, c6,
+                     tangents):  # pragma: no cover (compiled)
     """:func:`connector_force` of :func:`connector_deflection` for markers ``i`` and ``j`` of the arrays
     ``r, a, v, w`` (the packed system's connector)."""
     d, dd, rest = connector_deflection(r, a, v, w, i, j, frame_i, free_spin, rest_r, rest_a, offset)
     pts = np.empty((2, 3))
     pts[0] = r[i]
     pts[1] = r[j]
-    return connector_force(pts, a[i].copy(), frame_i, rest, d, dd, k6, c6)
+    return connector_force(pts, a[i].copy(), frame_i, rest, d, dd, k6, c6, tangents)
 
 
 @njit(cache=True)
@@ -573,19 +577,20 @@ class EccentricMass(Element):
 
 
 @njit(cache=True)
-def element_wrench(kind, r, a, v, w, i, j, par, inputs, t):  # pragma: no cover (compiled)
+def element_wrench(kind, r, a, v, w, i, j, par, inputs, t, tangents):  # pragma: no cover (compiled)
     """``(W (n_m, 6), K, C)`` of a compiled element between markers ``i`` and ``j`` (``j < 0``: one
     marker) of the arrays ``r, a, v, w``, from its :class:`CompiledForm`: ``kind``, ``par`` (its
     parameters), ``inputs`` (its series' value at ``t``, empty without one) and the time ``t`` [s] (a
     machine's supply). ``K`` or ``C``
-    are (0, 0) where the element has none. The packed system's one dispatch on the element kinds:
+    are (0, 0) where the element has none; without ``tangents`` they may be (0, 0) (the connectors skip
+    theirs). The packed system's one dispatch on the element kinds:
     a new compiled element adds its kind and a branch here, and :meth:`Element.compiled`.
     """
     none = np.zeros((0, 0))
     if kind == CONNECTOR:
         wr, kr, cr, _ = connector_wrench(r, a, v, w, i, j, par[0] == 1.0, par[1] == 1.0, par[2:5].copy(),
                                          par[5:14].copy().reshape(3, 3), par[14:20].copy(),
-                                         par[20:56].copy().reshape(6, 6), par[56:92].copy().reshape(6, 6))
+                                         par[20:56].copy().reshape(6, 6), par[56:92].copy().reshape(6, 6), tangents)
         return wr, kr, cr
     if kind == TORQUE:
         ws = inputs[0] if inputs.size else par[2]

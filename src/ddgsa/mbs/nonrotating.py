@@ -35,7 +35,7 @@ from ddgsa.errors import ModelError
 from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody, MarkerState, mode_number
 from ddgsa.mbs.campbell import orbit_average, orbit_pairs
-from ddgsa.mbs.compiled import HybridTerms, _markers, _residuals
+from ddgsa.mbs.compiled import HybridTerms, _markers, _residuals, body_rate_slopes, stepped_residuals
 from ddgsa.mbs.elements import Element
 from ddgsa.mbs.ffr import g_bar
 from ddgsa.mbs.linear import lti_response
@@ -191,13 +191,21 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     Jacobians depend (a body's translations: the caller's claim, to be checked against the central
     differences, as ``tests/models/test_hss_rig_block.py`` does for the test rig, whose steady block path
     takes 21 of its 42 columns this way: :func:`ddgsa.models.hss_rig.rig.tangent_columns`).
-    ``damping_tangents`` takes every column of ``C`` from the tangents (``T^T C_t T``): exact at rest (``qd0``
-    zero), where the bodies' velocity-quadratic terms have no slope, for a system whose elements give their
-    velocity slopes as tangents (the test rig's speed sweep takes it for its linearisation at rest, checked
-    in ``tests/models/test_hss_rig_sweep_block.py``).
+    ``damping_tangents`` forms the whole of ``C`` without a residual call, exactly, for a system whose elements
+    give their velocity slopes as tangents (linear dampers, torque laws): the residual's rates enter through the
+    elements (``C_t``), the bodies' own forces, gravity plus a quadratic form of the rates
+    (:func:`~ddgsa.mbs.compiled.body_rate_slopes`: ``G``, each body differenced alone, exact at any step), and
+    the map, whose rates and accelerations are linear and quadratic in ``z'`` (``dq'/dz' = T``; ``dq''/dz'`` the
+    Coriolis and spin terms of :func:`spin_map`, differenced exactly the same way):
+    ``C = T^T (M dq''/dz' + (C_t - G) T)``. At rest ``G`` and the map's rate terms vanish (``T^T C_t T``).
+    It needs the compiled terms (:class:`~ddgsa.mbs.compiled.HybridTerms`) for a spinning state; checked
+    against the central differences in ``tests/mbs/test_nonrotating.py`` and on the test rig (whose speed sweep
+    and steady block take it at rest and at speed) in ``tests/models/test_hss_rig_sweep_block.py``.
     """
-    if damping_tangents and np.any(qd0):
-        raise ModelError("linearise: damping_tangents holds at rest only (qd0 zero)")
+    spinning = bool(np.any(qd0))
+    if damping_tangents and spinning and not isinstance(system.fast_terms, HybridTerms):
+        raise ModelError("linearise: damping_tangents at speed takes the compiled terms (HybridTerms); this system "
+                         "has none")
     if system.n_constraints:
         raise ModelError("the non-rotating linearisation takes unconstrained systems only "
                          f"({system.n_constraints} constraint equations given)")
@@ -239,6 +247,14 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
             c[:, tc] = (proj.T @ tm.c @ proj)[:, tc]
     if damping_tangents and not static and not residual_only:
         c = proj.T @ tm.c @ proj
+        if spinning:
+            def rates(x: Array) -> Array:
+                """``q''`` of the map (2p, n) at the stepped rates ``x`` (no position or acceleration step)."""
+                return spin_map(base, np.zeros_like(x), x)[2]
+
+            qdd_slope = central_difference(rates, zero, 1.0, 1.0)        # quadratic in z': exact at a unit step
+            g = body_rate_slopes(system.fast_terms.packed, q, qd)
+            c += proj.T @ (tm.m @ qdd_slope - g @ proj)
     if spin_stiffening:
         k = k + spin_stiffness(system, base.q0, base.qd0)
     return SpinLinearisation(m, c, k, proj.T @ (tm.q - tm.m @ qdd), base.q0, base.qd0, t0, pairs, xi0)
@@ -284,8 +300,11 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
                      rel_step: float, columns: NDArray[np.int64]) -> Array:
     """Central differences (:func:`~ddgsa.mbs.derivatives.central_difference`, step ``rel_step * scale``) of
     the projected residual over the entries ``columns`` of ``z`` (``which`` 0) or ``z'`` (1) at zero, as of
-    :func:`_residual` (the other columns zero): the steps' states at once (:func:`spin_map`), the packed part
-    by the compiled kernel in one call (:func:`~ddgsa.mbs.compiled._residuals`), each Python element
+    :func:`_residual` (the other columns zero): the steps' states at once (:func:`spin_map`; a step moves the
+    coordinates of one body, the stepped one's and, for a spin, its bending pairs'), the packed part by the
+    compiled kernel in one call, each step's residual the operating point's plus the change of the stepped
+    body's own terms and of the elements on its markers
+    (:func:`~ddgsa.mbs.compiled.stepped_residuals`: the same differences to round-off), each Python element
     (:attr:`HybridTerms.python`) once at the operating state and again for the steps of its markers' bodies'
     coordinates only (a step of another body's coordinate, turned within that body, leaves its markers and
     so its force as they were)."""
@@ -294,7 +313,9 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
     arrays = terms.packed.arrays
     t0 = float(lin.t0)
     zero = np.zeros((1, n))
-    q, qd = (x[0] for x in spin_map(lin, zero, zero)[:2])
+    at0 = spin_map(lin, zero, zero)[:3]
+    q, qd = at0[0][0], at0[1][0]
+    r0 = _residuals(*at0, np.zeros(0), t0, arrays, False, np.full(1, -1))[0]      # the packed part at the operating point
     *base, lohi = _markers(q, qd, t0, arrays)
     span = {r: range(lohi[r, 0], lohi[r, 1]) for r in rows}         # the coordinates that move marker r
 
@@ -303,7 +324,8 @@ def _hybrid_jacobian(terms: HybridTerms, lin: SpinLinearisation, which: int, sca
         nil = np.zeros_like(steps)
         q, qd, qdd, cos, sin, spin_col = spin_map(lin, *((steps, nil) if which == 0 else (nil, steps)))
         stepped_coord = np.tile(columns, 2)
-        res = _residuals(q, qd, qdd, np.zeros(0), t0, arrays, False)        # the packed part, one compiled call
+        res = stepped_residuals(terms.packed, *(np.vstack([x, x0]) for x, x0 in zip((q, qd, qdd), at0)), t0, r0,
+                                stepped_coord)                          # the packed part, one compiled call
         moved = {j: _markers(q[j], qd[j], t0, arrays)[:5] for j, col in enumerate(stepped_coord)
                  if any(col in span[r] for r in rows)}
         for (_, el), el_rows in zip(terms.python, terms.marker_rows):

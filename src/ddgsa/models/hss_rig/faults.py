@@ -107,10 +107,12 @@ def operating_stretch(rig: Rig, q0: Array, qd0: Array, iterations: int = 8, rtol
         raise ValueError("operating_stretch: start must be the rig linearised at (q0, qd0), t0 = 0, with a tangent given")
     q, last = q0, None
     steps = iterations if tangent is None else max(iterations, 30)
+    # the chord's least squares on its one tangent, factored once (the same minimum-norm solution and cut-off)
+    chord = None if tangent is None else np.linalg.pinv(tangent, rcond=nonrotating.RIGID_RCOND)
     for step in range(steps):
         lin = start if step == 0 and start is not None else nonrotating.linearise(
             rig.system, q, qd0, static=True, residual_only=tangent is not None)
-        z0 = np.linalg.lstsq(lin.k if tangent is None else tangent, lin.r0, rcond=nonrotating.RIGID_RCOND)[0]
+        z0 = np.linalg.lstsq(lin.k, lin.r0, rcond=nonrotating.RIGID_RCOND)[0] if chord is None else chord @ lin.r0
         zero = np.zeros_like(z0)
         q = lin.state(z0, zero, zero, lin.t0)[0]
         stretch = coupling_stretch(rig, q)

@@ -14,7 +14,8 @@ linearised once in non-rotating coordinates
 about its sag (:func:`ddgsa.mbs.nonrotating.linearise`; about the undeformed rig the unbalance would put
 no 1x torque on the shaft, whose sagged disk it turns about; it takes the columns of
 :func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the kernel's tangents and differences the other
-half), the inputs of one revolution taken at :data:`FORCE_SAMPLES` angles -- the motor's and the turning
+half of ``K``; ``C`` whole from the kernel's exact form, ``damping_tangents``: tangents, the bodies' rate slopes and
+the map's rate terms, no residual call), the inputs of one revolution taken at :data:`FORCE_SAMPLES` angles -- the motor's and the turning
 loads (the unbalance, the coupling's 2x load tabulated at those angles), which are elements on the rig's
 markers but not among its parts (:func:`ddgsa.mbs.nonrotating.projected_inputs`, the motor's relative to its
 value in the linearisation's ``r0``, the loads absolute, in one evaluation of their markers): one rig built a point,
@@ -147,7 +148,7 @@ def _linearised(model: "HssRig", raw: dict[str, float], scene: RigScene) -> _Poi
     sag = _at_rest(model, rig, plain)[0]
     q0, qd0 = system.q0.copy(), system.qd0.copy()
     q0 += sag
-    lin = nonrotating.linearise(system, q0, qd0, tangent_columns=tangent_columns(system))
+    lin = nonrotating.linearise(system, q0, qd0, tangent_columns=tangent_columns(system), damping_tangents=True)
     if raw["coupling_asymmetry"] > 0.0:       # a chord on this linearisation's stiffness, from its residual
         stretch = operating_stretch(rig, q0, qd0, tangent=lin.k, start=lin)
     period = 2 * math.pi / spin

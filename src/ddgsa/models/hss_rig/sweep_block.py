@@ -6,7 +6,8 @@ it, with the steady block path's savings (:mod:`~ddgsa.models.hss_rig.steady_blo
 rig's stiffness from the kernel's tangents (``initial_state(..., tangents=True)``: every column where nothing
 is loaded at rest; formed on the bare rig with the coupling's anisotropy added, :func:`_sagged`: no second
 build), the sweep's two linearisations with :func:`~ddgsa.models.hss_rig.rig.tangent_columns`
-from the tangents and, at rest, the whole damping matrix (``damping_tangents``). The sweep model is reduced
+from the tangents and the whole damping matrix without differences (``damping_tangents``: exact at rest and at
+speed). The sweep model is reduced
 to the scene's band (:func:`ddgsa.mbs.sweep.reduce`: the rigid spin and the undamped modes at rest up to
 :func:`band_hz`, the inputs' rows mapped onto that basis) and integrated by the kernel's generalised-alpha
 with its factors kept across steps and an extrapolating predictor (:func:`ddgsa.mbs.sweep.integrate`'s

@@ -68,13 +68,14 @@ def structure(p: Mapping[str, float], q0: Array, synchronous: float, basis: Shaf
     (``coupling_asymmetry`` 0), and its sweep model about the sag ``q0`` (the positions of
     :meth:`HssRig.initial_state`) with reference spin ``synchronous`` [rad/s]. ``tangents``: both
     linearisations take :func:`~ddgsa.models.hss_rig.rig.tangent_columns` from the kernel's tangents (the
-    block path's, as the steady one's; half the residual calls), the one at rest its whole damping matrix
-    (``damping_tangents``: no velocity-quadratic slope at rest). ``bare``: :func:`bare_rig`, built already."""
+    block path's, as the steady one's; half the residual calls), and both their whole damping matrix without
+    differences (``damping_tangents``: the tangents, the bodies' exact rate slopes and the map's rate terms).
+    ``bare``: :func:`bare_rig`, built already."""
     bare = bare_rig(p, synchronous, basis) if bare is None else bare
     system = bare.system
     columns = tangent_columns(system) if tangents else ()
     rest = nonrotating.linearise(system, q0, np.zeros(system.n), tangent_columns=columns, damping_tangents=tangents)
-    spinning = nonrotating.linearise(system, q0, system.qd0, tangent_columns=columns)
+    spinning = nonrotating.linearise(system, q0, system.qd0, tangent_columns=columns, damping_tangents=tangents)
     return bare, sweep_model(rest, spinning, system.index("hss.rx"), q0 - system.q0)
 
 
