@@ -96,20 +96,50 @@ class _Sampling:
 def second_order_error(index: NDArray[np.float64], sd: NDArray[np.float64],
                        rel_err2: NDArray[np.float64] | float) -> NDArray[np.float64]:
     """Error bound of a least-squares expansion's index: ``_SAMPLING_Z`` standard errors plus
-    ``eps^2 / (1 + eps^2)`` [-].
+    ``max(S, 1 - S) eps^2 / (1 + eps^2)`` [-].
 
     The true output is ``f = g + r``, ``g`` the fit. Split ``r`` into the part outside the fitted
     terms (L2-orthogonal to them) and the coefficients' own error ``e`` inside. An index's part of
     ``g`` is a sum of fitted terms, so the cross term of the part's variance with the outside part
     is zero and with ``e`` it is linear in ``e``: the first-order change of the index, whose
-    standard error :meth:`_Sampling.index_sd` gives. What is left is second order: the part's and
-    the whole variance each gain at most ``||r||^2 = eps^2 Var g``, which moves the index by at most
-    ``eps^2 / (1 + eps^2)``. Far tighter than :func:`~ddgsa.gsa.trust.surrogate_index_error`'s
-    worst case (first order in ``eps``) when the fit is good; each row keeps the smaller.
+    standard error :meth:`_Sampling.index_sd` gives. What is left is second order: with ``b`` the
+    outside part's energy (at most ``||r||^2 = eps^2 Var g``) and ``a`` in ``[0, b]`` its share in
+    the index's terms, the index ``S = N / V`` becomes ``(N + a) / (V + b)``, a change of
+    ``(a - S b) / (V + b)``: between ``-S`` and ``1 - S`` times ``eps^2 / (1 + eps^2)`` (both ends
+    attained: the outside energy all in the index's terms, or none of it). ``S`` there is the index
+    after the first-order change, so ``max(S, 1 - S)`` is widened by the standard errors' term
+    (at most 1). Far tighter than :func:`~ddgsa.gsa.trust.surrogate_index_error`'s worst case
+    (first order in ``eps``) when the fit is good; each row keeps the smaller.
+
+    Parameters
+    ----------
+    index : array
+        The expansion's index ``S`` [-].
+    sd : array
+        Standard error of its first-order (sampling) part, :meth:`_Sampling.index_sd` [-].
+    rel_err2 : array or float
+        ``eps^2``: the squared L2 distance between output and expansion over ``Var g`` [-].
+
+    Returns
+    -------
+    array
+        The bound on ``|S_true - S|`` [-]; NaN where ``index`` is not finite.
+
+    Examples
+    --------
+    An index of 0.25 and ``eps^2 = 0.2``, no sampling error: the outside energy all in the
+    index's terms moves it to ``(0.25 + 0.2) / 1.2 = 0.375``, exactly the bound (``eps^2 / (1 +
+    eps^2)`` alone would say 0.167):
+
+    >>> round(float(second_order_error(np.array([0.25]), np.array([0.0]), 0.2)[0]), 6)
+    0.125
     """
     e2 = np.asarray(rel_err2, dtype=float)
     idx = np.asarray(index, dtype=float)
-    err = _SAMPLING_Z * sd + e2 / (1.0 + e2) + np.abs(idx - np.clip(idx, 0.0, 1.0))
+    first = _SAMPLING_Z * sd
+    s = np.clip(idx, 0.0, 1.0)
+    side = np.minimum(np.maximum(s, 1.0 - s) + first, 1.0)
+    err = first + side * e2 / (1.0 + e2) + np.abs(idx - s)
     return np.where(np.isfinite(idx), err, np.nan)
 
 
