@@ -17,7 +17,10 @@ the cheapest Saltelli design that would confirm it
 (:func:`ddgsa.gsa.salib.saltelli_n_to_confirm`): Saltelli's error bound (bootstrap and half-sample)
 scales as ``SALTELLI_K sqrt(ST / N)``, and every row needs an error below the tolerance (trusted)
 or below half its distance to zero and to every other row's ST (rank-confirmed), whichever is larger. The distances come from the study's best estimates of
-the pair, so the figure is an estimate ("~"), not a promise.
+the pair, so the figure is an estimate ("~"), not a promise. Where the study's ``confirm:`` escalation ended with the pair
+unconfirmed, its cost rule's last ask -- the controlled Saltelli base its Gaussian-process control variate and
+the measured bounds on the ST differences make cheaper (:func:`budget_cost`) -- is the other step: the
+budget that pays for it. The advice leads with the cheaper of the two, and ``next_runs`` is its cost.
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ import numpy as np
 import pandas as pd
 
 from ddgsa.gsa.base import sobol_rows
+from ddgsa.gsa.escalate import MAX_BUDGET
 from ddgsa.gsa.result import CONFIRMED, CONSTANT_CV, VERDICTS, below_resolution
 from ddgsa.gsa.salib import saltelli_n_to_confirm
 
@@ -137,6 +141,9 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
             row["verdict"] = "confirmed tie" if r.tie else "rank-confirmed"
         else:
             _, runs, sec = study_cost(result, out, [scene], tol)
+            grow = budget_cost(result, out, [scene])
+            if grow is not None and grow.runs < runs:         # the advice leads with the cheaper step
+                runs, sec = grow.runs, grow.seconds
             row.update(verdict="unconfirmed", next_step=next_step(result, out, [scene], tol),
                        next_runs=runs, next_seconds=sec)
         rows.append(row)
@@ -204,6 +211,33 @@ def cost_to_confirm(result: "StudyResult", scene: int, output: str, tolerance: f
     return Cost(n, runs, runs * sec)
 
 
+@dataclass(frozen=True)
+class BudgetCost:
+    """What growing a study's ``confirm:`` budget would take to confirm one output (:func:`budget_cost`)."""
+
+    budget: int             # the budget (points per scene) that pays for the design in every scene named
+    n: int                  # the controlled Saltelli base the escalation's cost rule asks for
+    runs: int               # new model runs (all realisations)
+    seconds: float          # their model time at the measured cost per run [s]; NaN when none was measured
+
+
+def budget_cost(result: "StudyResult", output: str, scenes: list[int]) -> BudgetCost | None:
+    """The ``confirm:`` budget that would pay for the design the study's escalation asked for at its end to
+    confirm ``output`` in ``scenes`` (:meth:`ddgsa.gsa.escalate.Escalation.asks`, in ``provenance.json``: its
+    controlled Saltelli base, weighed by its control variate and the latest stage's bounds on the ST
+    differences), with the new runs and their model time; None where the escalation asked nothing for it (no
+    ``confirm:``, a provenance written before it recorded its asks, or the output confirmed there)."""
+    entries = [c for c in (getattr(result, "provenance", None) or {}).get("confirm", []) or []
+               if c.get("scene") in scenes and output in (c.get("asks") or {})]
+    if not entries:
+        return None
+    points = [int(c["asks"][output]["points"]) for c in entries]
+    runs = sum(points) * max(1, int(result.study.spec.scenes.realisations))
+    return BudgetCost(budget=max(int(c["spent"]) + p for c, p in zip(entries, points)),
+                      n=max(int(c["asks"][output]["n"]) for c in entries), runs=runs,
+                      seconds=runs * per_run_seconds(result))
+
+
 def per_run_seconds(result: "StudyResult") -> float:
     """Median model time of one stored evaluation [s] (NaN when none recorded one): the median, so
     the first evaluations of a fresh install, which compile the model's kernels (minutes), do not
@@ -239,7 +273,9 @@ def advice(result: "StudyResult", output: str, scenes: list[int], tolerance: flo
     """How to confirm ``output`` in ``scenes``: the largest Saltelli ``n`` any of them needs, with the
     runs and model time of adding that method to the study, which runs it in every scene (one worker;
     divide by the workers), or the study's ``confirm`` budget (points per scene) that would pay for the
-    design where it is needed (:mod:`ddgsa.gsa.escalate`)."""
+    design where it is needed (:mod:`ddgsa.gsa.escalate`): where the escalation ended with ``output``
+    unconfirmed, the budget for the design its cost rule asked for then (:func:`budget_cost`), the cheaper of
+    the two first."""
     costs = [cost_to_confirm(result, s, output, tolerance) for s in scenes]
     n, runs, sec = study_cost(result, output, scenes, tolerance)
     per = per_run_seconds(result)
@@ -248,6 +284,17 @@ def advice(result: "StudyResult", output: str, scenes: list[int], tolerance: flo
     salt = f"to confirm it add `saltelli` with n: {n} ({_num(runs)} runs, {duration(sec)} of model time{at})"
     if output in {t.name for t in getattr(result.study, "targets", [])}:
         return salt + " (a target output: `confirm:` escalates the model's own outputs only)"
+    grow = budget_cost(result, output, scenes)
+    if grow is not None:
+        where = "scene " + ", ".join(map(str, scenes)) if len(scenes) == 1 else "scenes " + ", ".join(map(str, scenes))
+        larger = (f"raise the study's `confirm: {{budget: {grow.budget}}}` (points per scene): where its escalation "
+                  f"ended in {where}, its cost rule asks for a controlled Saltelli base N = {grow.n} "
+                  f"({_num(grow.runs)} new runs, {duration(grow.seconds)} of model time{at}; the Gaussian-process "
+                  "control variates and the measured bounds on the ST differences make it cheaper than a plain "
+                  "design; every run is reused)")
+        if grow.budget > MAX_BUDGET:
+            larger += f", past the largest budget a study may set ({_num(MAX_BUDGET)})"
+        return (larger + "; or " + salt) if grow.runs < runs else (salt + "; or " + larger)
     stopped = [c["scene"] for c in (getattr(result, "provenance", None) or {}).get("confirm", []) or []
                if c["scene"] in scenes and any(line.startswith("stopped with") for line in c["log"])]
     if stopped:

@@ -87,6 +87,8 @@ MAX_ORDER = 10
 TIME_ONLY = 1_000_000
 """The point budget of an escalation given only a wall-clock time (``confirm: {time}``): a cap, not a
 budget the user set, so the log counts the runs spent without it."""
+MAX_BUDGET = 1_000_000
+"""Largest ``confirm: budget`` a study may set (points per scene; :class:`ddgsa.study.spec.ConfirmSpec`)."""
 MAX_ENTRIES = 1_000_000
 """Largest regression matrix (points x terms) of a refit: its least-angle path costs seconds."""
 
@@ -362,6 +364,19 @@ class Escalation:
             out[o] = int(min(MAX_N, max(n, self._salt_n)))
         return out
 
+    def asks(self) -> dict[str, dict[str, int]]:
+        """Per output left unconfirmed, what the cost rule asks for at the end: ``n``, the controlled Saltelli
+        base it estimates would confirm it (:meth:`_saltelli_ns`: with its control variate's leave-one-out error
+        and the latest stage's bounds on the ST differences, at least twice a base that ran and did not confirm),
+        and ``points``, the new points of that design beyond the base that ran (each one run per realisation):
+        what the ``confirm:`` budget would need to grow by in this scene (``confirmation.csv``'s next step,
+        :func:`ddgsa.execute.confirm.advice`)."""
+        bad = self.unconfirmed()
+        if not bad:
+            return {}
+        d = self.space.dim
+        return {o: {"n": n, "points": (n - self._salt_n) * (d + 2)} for o, n in self._saltelli_ns(bad).items()}
+
     def _saltelli_n(self, bad: list[str]) -> int:
         """The Saltelli base that would confirm every output of ``bad`` (:meth:`_saltelli_ns`)."""
         return max(self._saltelli_ns(bad).values())
@@ -487,6 +502,8 @@ class Confirmed:
     confirmed: dict[str, bool]
     n_evals: int
     log: list[str]
+    asks: dict[str, dict[str, int]] = field(default_factory=dict)
+    """What the escalation's cost rule asked for at its end, per output left unconfirmed (:meth:`Escalation.asks`)."""
 
 
 def confirm(f: Callable[[NDArray[np.float64]], Any], space: ParameterSpace, method: str = "mdrm", *,
@@ -516,4 +533,4 @@ def confirm(f: Callable[[NDArray[np.float64]], Any], space: ParameterSpace, meth
     while x is not None:
         x = esc.feed(as_value_matrix(f(x), len(x), names)[0])
     every = results + esc.stages
-    return Confirmed(every, confirmed_outputs(every, names), design.n_points + esc.spent, esc.log)
+    return Confirmed(every, confirmed_outputs(every, names), design.n_points + esc.spent, esc.log, esc.asks())

@@ -49,7 +49,7 @@ from pydantic_core import InitErrorDetails, PydanticCustomError
 from ddgsa.errors import DdgsaError, StudyError, clip, unknown_name_message, with_hint
 from ddgsa.gsa.auto import resolve_auto_options
 from ddgsa.gsa.base import METHODS, get_method
-from ddgsa.gsa.escalate import TIME_ONLY
+from ddgsa.gsa.escalate import MAX_BUDGET, TIME_ONLY
 from ddgsa.gsa.target import Target
 from ddgsa.loads.scene import Scene
 from ddgsa.models import MODELS
@@ -243,7 +243,7 @@ class ConfirmSpec(BaseModel):
     (:mod:`ddgsa.gsa.escalate`)."""
 
     model_config = _STRICT
-    budget: int | None = Field(None, ge=0, le=1_000_000,
+    budget: int | None = Field(None, ge=0, le=MAX_BUDGET,
                                description="most new points per scene (each run in every realisation)")
     time: float | None = Field(None, gt=0.0, le=30 * 86400.0,
                                description="most wall time the escalation may spend, e.g. '10 min' [s]: it runs the "

@@ -370,8 +370,8 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
     result.indices = pd.concat(rows, ignore_index=True)
     if diag_rows:
         result.diagnostics = pd.concat(diag_rows, ignore_index=True)
-    return [{"scene": ps.index, "budget": spec.budget, "time_s": spec.time, "spent": esc.spent, "log": esc.log}
-            for ps, esc in zip(plan.scenes, escs)]
+    return [{"scene": ps.index, "budget": spec.budget, "time_s": spec.time, "spent": esc.spent, "log": esc.log,
+             "asks": esc.asks()} for ps, esc in zip(plan.scenes, escs)]
 
 
 def _features_at(plan: Plan, runs: Runs, x: np.ndarray, ps: PlannedScene, names: list[str]) -> np.ndarray | None:
