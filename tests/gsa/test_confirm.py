@@ -372,3 +372,28 @@ def test_the_budget_the_advice_names_runs_the_design_the_escalation_asked_for() 
     again = confirm(g4.f, g4.space, "mdrm", budget=spent + first.asks["y"]["points"], points=5)
     assert any(line.startswith("next: saltelli N=512 (3072 new runs") for line in again.log)
     assert again.n_evals == first.n_evals + 2304 and again.asks["y"]["n"] == 1024
+
+
+def test_the_plain_designs_cost_weighs_each_pair_by_the_bound_a_saltelli_stage_measured_on_it() -> None:
+    """Ishigami's x1 and x2 (exact ST 0.558 and 0.442) from a Saltelli run at N = 512 in scene 0: the cost of
+    confirming them weighs the pair by the ratio the run measured, its difference's bound over the sum of the
+    rows' (below 1: their estimates share runs; test_saltelli_size_to_confirm_by_hand has the rule's numbers), so
+    it asks no more than without the run; scene 1 has no Saltelli run and keeps the rows' rule."""
+    from types import SimpleNamespace
+
+    from ddgsa.execute.confirm import cost_to_confirm
+    from ddgsa.gsa.result import difference_ratio
+    from ddgsa.gsa.salib import saltelli_n_to_confirm
+    from ddgsa.gsa.testfunctions import ishigami
+
+    tf = ishigami()
+    res = ddgsa.sobol(tf.f, tf.space, method="saltelli", n=512, seed=3)
+    rows = pd.DataFrame({"scene": [0] * 3 + [1] * 3, "output": "y", "parameter": ["x1", "x2", "x3"] * 2,
+                         "ST": list(tf.ST) * 2})
+    study = SimpleNamespace(spec=SimpleNamespace(scenes=SimpleNamespace(realisations=1)), targets=[])
+    ran = SimpleNamespace(indices=rows, study=study, evaluations=pd.DataFrame({"seconds": [1.0]}), provenance={},
+                          results=[(SimpleNamespace(index=0), res)])
+    ratio = difference_ratio(res, "y")
+    assert 0.0 < ratio[0, 1] < 1.0
+    assert cost_to_confirm(ran, 0, "y").n == saltelli_n_to_confirm(tf.ST, 0.02, pair_ratio=ratio)
+    assert cost_to_confirm(ran, 0, "y").n <= cost_to_confirm(ran, 1, "y").n == saltelli_n_to_confirm(tf.ST, 0.02)

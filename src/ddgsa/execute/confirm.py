@@ -16,7 +16,9 @@ For a pair that is not confirmed, :func:`cost_to_confirm` estimates
 the cheapest Saltelli design that would confirm it
 (:func:`ddgsa.gsa.salib.saltelli_n_to_confirm`): Saltelli's error bound (bootstrap and half-sample)
 scales as ``SALTELLI_K sqrt(ST / N)``, and every row needs an error below the tolerance (trusted)
-or below half its distance to zero and to every other row's ST (rank-confirmed), whichever is larger. The distances come from the study's best estimates of
+or below half its distance to zero and to every other row's ST (rank-confirmed), whichever is larger, each
+pair's need weighed by the bound on its difference the scene's Saltelli stage measured where one ran
+(:func:`ddgsa.gsa.result.difference_ratio`). The distances come from the study's best estimates of
 the pair, so the figure is an estimate ("~"), not a promise. Where the study's ``confirm:`` escalation ended with the pair
 unconfirmed, its cost rule's last ask -- the controlled Saltelli base its Gaussian-process control variate and
 the measured bounds on the ST differences make cheaper (:func:`budget_cost`) -- is the other step: the
@@ -30,10 +32,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
+from numpy.typing import NDArray
 
 from ddgsa.gsa.base import sobol_rows
 from ddgsa.gsa.escalate import MAX_BUDGET
-from ddgsa.gsa.result import CONFIRMED, CONSTANT_CV, VERDICTS, below_resolution
+from ddgsa.gsa.result import CONFIRMED, CONSTANT_CV, VERDICTS, below_resolution, difference_ratio
 from ddgsa.gsa.salib import saltelli_n_to_confirm
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -204,11 +207,23 @@ def cost_to_confirm(result: "StudyResult", scene: int, output: str, tolerance: f
     g = t[(t["scene"] == scene) & (t["output"] == output)]
     st = (g.groupby("parameter", sort=False)["ST"]
           .agg(lambda s: s.dropna().median() if s.notna().any() else np.nan).to_numpy(float))
-    n = saltelli_n_to_confirm(st, tolerance) if n is None else n
+    n = saltelli_n_to_confirm(st, tolerance, pair_ratio=_pair_ratio(result, scene, output, len(st))) if n is None else n
     study = result.study
     runs = n * (len(st) + 2) * study.spec.scenes.realisations
     sec = per_run_seconds(result)
     return Cost(n, runs, runs * sec)
+
+
+def _pair_ratio(result: "StudyResult", scene: int, output: str, d: int) -> NDArray[np.float64] | None:
+    """The bounds on ``output``'s ST differences over the sums of its rows' bounds (d, d) that the scene's
+    largest Saltelli result measured (:func:`ddgsa.gsa.result.difference_ratio`, plain or controlled: both bound
+    their differences by the same rule), or None (no such result, or a result loaded without its extras)."""
+    salt = [res for ps, res in getattr(result, "results", None) or []
+            if getattr(ps, "index", None) == scene and "rank_diff_error" in res.extras
+            and (res.indices["output"] == output).sum() == d]
+    if not salt:
+        return None
+    return difference_ratio(max(salt, key=lambda r: r.n_evals), output)
 
 
 @dataclass(frozen=True)
