@@ -347,13 +347,15 @@ class Escalation:
         with np.errstate(over="ignore"):
             return float(current.n_evals * max(ratio, 1.0) ** (1.0 / rate))
 
-    def _saltelli_ns(self, bad: list[str]) -> dict[str, int]:
+    def _saltelli_ns(self, bad: list[str], fit: bool = True) -> dict[str, int]:
         """Per unconfirmed output, the Saltelli base the cost rule estimates would confirm it (with its
         control variate's leave-one-out error where a process is fitted), at least twice a base that
-        ran and did not confirm."""
+        ran and did not confirm. ``fit``: first fit the processes where the pool has grown enough
+        (:meth:`_fit_surrogates`); False takes those fitted so far."""
         from ddgsa.gsa.salib import MAX_N, saltelli_n_to_confirm
 
-        self._fit_surrogates(bad)
+        if fit:
+            self._fit_surrogates(bad)
         out = {}
         for o in bad:
             n = saltelli_n_to_confirm(self._best_st(o), self.tolerance,
@@ -367,15 +369,17 @@ class Escalation:
     def asks(self) -> dict[str, dict[str, int]]:
         """Per output left unconfirmed, what the cost rule asks for at the end: ``n``, the controlled Saltelli
         base it estimates would confirm it (:meth:`_saltelli_ns`: with its control variate's leave-one-out error
-        and the latest stage's bounds on the ST differences, at least twice a base that ran and did not confirm),
+        and the latest stage's bounds on the ST differences, at least twice a base that ran and did not confirm;
+        the control variates as last fitted, none where the escalation fitted none, e.g. a zero budget),
         and ``points``, the new points of that design beyond the base that ran (each one run per realisation):
         what the ``confirm:`` budget would need to grow by in this scene (``confirmation.csv``'s next step,
         :func:`ddgsa.execute.confirm.advice`)."""
         bad = self.unconfirmed()
         if not bad:
             return {}
-        d = self.space.dim
-        return {o: {"n": n, "points": (n - self._salt_n) * (d + 2)} for o, n in self._saltelli_ns(bad).items()}
+        d = self.space.dim            # the processes as the escalation last fitted them (none fitted now: seconds)
+        return {o: {"n": n, "points": (n - self._salt_n) * (d + 2)}
+                for o, n in self._saltelli_ns(bad, fit=False).items()}
 
     def _saltelli_n(self, bad: list[str]) -> int:
         """The Saltelli base that would confirm every output of ``bad`` (:meth:`_saltelli_ns`)."""
