@@ -378,7 +378,8 @@ def test_the_plain_designs_cost_weighs_each_pair_by_the_bound_a_saltelli_stage_m
     """Ishigami's x1 and x2 (exact ST 0.558 and 0.442) from a Saltelli run at N = 512 in scene 0: the cost of
     confirming them weighs the pair by the ratio the run measured, its difference's bound over the sum of the
     rows' (below 1: their estimates share runs; test_saltelli_size_to_confirm_by_hand has the rule's numbers), so
-    it asks no more than without the run; scene 1 has no Saltelli run and keeps the rows' rule."""
+    it asks no more than without the run; scene 1 has no Saltelli run and keeps the rows' rule -- until a
+    Saltelli base ran there without confirming the pair: then at least twice that base."""
     from types import SimpleNamespace
 
     from ddgsa.execute.confirm import cost_to_confirm
@@ -397,3 +398,7 @@ def test_the_plain_designs_cost_weighs_each_pair_by_the_bound_a_saltelli_stage_m
     assert 0.0 < ratio[0, 1] < 1.0
     assert cost_to_confirm(ran, 0, "y").n == saltelli_n_to_confirm(tf.ST, 0.02, pair_ratio=ratio)
     assert cost_to_confirm(ran, 0, "y").n <= cost_to_confirm(ran, 1, "y").n == saltelli_n_to_confirm(tf.ST, 0.02)
+    # the escalation's controlled base N = 4 096 ran in scene 1 and left the pair unconfirmed: twice it
+    stage = SimpleNamespace(method="confirm_saltelli", options={"n": 4096}, extras={}, indices=res.indices)
+    failed = SimpleNamespace(**{**vars(ran), "results": [(SimpleNamespace(index=1), stage)]})
+    assert saltelli_n_to_confirm(tf.ST, 0.02) < 8192 == cost_to_confirm(failed, 1, "y").n

@@ -18,7 +18,8 @@ the cheapest Saltelli design that would confirm it
 scales as ``SALTELLI_K sqrt(ST / N)``, and every row needs an error below the tolerance (trusted)
 or below half its distance to zero and to every other row's ST (rank-confirmed), whichever is larger, each
 pair's need weighed by the bound on its difference the scene's Saltelli stage measured where one ran
-(:func:`ddgsa.gsa.result.difference_ratio`). The distances come from the study's best estimates of
+(:func:`ddgsa.gsa.result.difference_ratio`), and at least twice a Saltelli base that ran in the scene (plain or
+the escalation's controlled one) and left the pair unconfirmed. The distances come from the study's best estimates of
 the pair, so the figure is an estimate ("~"), not a promise. Where the study's ``confirm:`` escalation ended with the pair
 unconfirmed, its cost rule's last ask -- the controlled Saltelli base its Gaussian-process control variate and
 the measured bounds on the ST differences make cheaper (:func:`budget_cost`) -- is the other step: the
@@ -35,9 +36,9 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from ddgsa.gsa.base import sobol_rows
-from ddgsa.gsa.escalate import MAX_BUDGET
+from ddgsa.gsa.escalate import MAX_BUDGET, SALTELLI_NAME
 from ddgsa.gsa.result import CONFIRMED, CONSTANT_CV, VERDICTS, below_resolution, difference_ratio
-from ddgsa.gsa.salib import saltelli_n_to_confirm
+from ddgsa.gsa.salib import MAX_N, saltelli_n_to_confirm
 
 if TYPE_CHECKING:  # pragma: no cover
     from ddgsa.execute.kinds.common import StudyResult
@@ -207,7 +208,13 @@ def cost_to_confirm(result: "StudyResult", scene: int, output: str, tolerance: f
     g = t[(t["scene"] == scene) & (t["output"] == output)]
     st = (g.groupby("parameter", sort=False)["ST"]
           .agg(lambda s: s.dropna().median() if s.notna().any() else np.nan).to_numpy(float))
-    n = saltelli_n_to_confirm(st, tolerance, pair_ratio=_pair_ratio(result, scene, output, len(st))) if n is None else n
+    if n is None:
+        n = saltelli_n_to_confirm(st, tolerance, pair_ratio=_pair_ratio(result, scene, output, len(st)))
+        ran = [int(res.options["n"]) for ps, res in getattr(result, "results", None) or []
+               if getattr(ps, "index", None) == scene and res.method in ("saltelli", SALTELLI_NAME)
+               and "n" in res.options]
+        if ran:                  # a Saltelli base that ran there and left the pair unconfirmed: at least twice it
+            n = min(MAX_N, max(n, 2 * max(ran)))
     study = result.study
     runs = n * (len(st) + 2) * study.spec.scenes.realisations
     sec = per_run_seconds(result)
