@@ -5,6 +5,7 @@ the runs."""
 
 from __future__ import annotations
 
+import html
 import re
 from pathlib import Path
 
@@ -94,6 +95,12 @@ def test_a_ranking_block_changes_the_claims_and_keeps_the_runs(tmp_path: Path) -
     ranks = idx[(idx["scene"] == 0) & (idx["output"] == "y_positive")
                 & (idx["method"] == "saltelli")].set_index("parameter")["rank"]
     assert ranks["x1"] == ranks["x2"] == "1="
+    # the summary and the report say what a tie means here
+    words = "Tie margin 0.5, negligible floor 0.01 (the study's `ranking:`)."
+    assert words in (tmp_path / "out" / "summary.md").read_text()
+    page = (tmp_path / "out" / "report.html").read_text()
+    verdicts = html.unescape(re.sub("<[^>]+>", "", page[page.index('id="confirmation"'):]))
+    assert words.replace("`", "") in verdicts
     bad = tmp_path / "c.yaml"
     bad.write_text(STUDY.format(n=128, extra="ranking: {tie_margin: 2}\n"))
     assert main(["validate", str(bad)]) == 2

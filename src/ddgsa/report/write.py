@@ -41,7 +41,7 @@ from ddgsa.models.base import ModelOutput, declared  # noqa: E402
 from ddgsa.report.outdir import COMPLETE_NAME, mark_complete, previous_files, remove_stale, unmark_complete  # noqa: E402
 from ddgsa.report.sections import SECTIONS  # noqa: E402
 from ddgsa.report.sections.base import SVG_ID_SLOT, Folder, svg_of  # noqa: E402
-from ddgsa.report.sections.confirmation import escalation_lines  # noqa: E402
+from ddgsa.report.sections.confirmation import escalation_lines, ranking_terms  # noqa: E402
 from ddgsa.report.sections.provenance import model_words  # noqa: E402
 from ddgsa.report.sections.signals import summary_lines as signal_summary_lines  # noqa: E402
 from ddgsa.report.sections.sweep import sweep_keys, sweep_summary  # noqa: E402
@@ -450,7 +450,8 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                   "by the method's own error estimate (docs/methods.md: \"When M-DRM is not to be trusted\"); "
                   "a method is `yes` when all its rows are. rank confirmed = every row trusted or placed by its "
                   "error bounds (negligible, or apart from zero and, against every other row, apart or a confirmed "
-                  "tie: their ST difference within the tie margin). In the ranking `*` marks "
+                  f"tie: their ST difference within the tie margin). {ranking_terms(result.study.spec.ranking.pair)} "
+                  "In the ranking `*` marks "
                   "an untrusted value whose place is confirmed, `?` one that is neither. A method's runs (indices.csv "
                   "`n_evals`) count its whole design, any check sample of its own included; the evaluation count "
                   "above counts each distinct point once, as methods share equal points.", ""]

@@ -3,6 +3,7 @@ the summary and the NetCDF export read too (:func:`ddgsa.execute.confirm.confirm
 
 from __future__ import annotations
 
+import re
 from html import escape
 from typing import TYPE_CHECKING, Any
 
@@ -34,6 +35,23 @@ def escalation_lines(confirm: list[dict[str, Any]], realisations: int = 1) -> li
     return lines
 
 
+def ranking_terms(pair: tuple[float | None, float | None]) -> str:
+    """The tie margin and negligible floor a study's rankings are confirmed with (``pair``, the study's
+    ``ranking:``, :class:`~ddgsa.study.spec.RankingSpec`; None: each method's trust tolerance), in words."""
+    margin, floor = pair
+    if margin is None and floor is None:
+        return "Tie margin and negligible floor: each method's trust tolerance (the study sets no `ranking:`)."
+    own = "each method's trust tolerance"
+    return (f"Tie margin {own if margin is None else f'{margin:g}'}, negligible floor "
+            f"{own if floor is None else f'{floor:g}'} (the study's `ranking:`).")
+
+
+def _ranking_pair(ranking: Any) -> tuple[float | None, float | None]:
+    """(tie margin, negligible floor) of a study file's ``ranking:`` mapping (None where not set)."""
+    ranking = ranking if isinstance(ranking, dict) else {}
+    return ranking.get("tie_margin"), ranking.get("negligible")
+
+
 def html(folder: Folder) -> str:
     df = folder.csv("confirmation.csv")
     if df is None or not len(df):
@@ -46,7 +64,9 @@ def html(folder: Folder) -> str:
     return (f"<p>One verdict per (scene, output): {escape(words)}. <em>trusted</em>: every index within the "
             "tolerance; <em>rank-confirmed</em> / <em>confirmed tie</em>: the order by ST certain, ties within the "
             "tie margin; <em>nothing to rank</em>: the output spreads by no more than its resolution; "
-            "<em>unconfirmed</em> rows are shaded, with the cheapest next step and its cost.</p>"
+            "<em>unconfirmed</em> rows are shaded, with the cheapest next step and its cost. "
+            + re.sub(r"`([^`]*)`", r"<code>\1</code>", escape(ranking_terms(_ranking_pair(folder.study.get("ranking")))))
+            + "</p>"
             + (md_html("\n".join(spent)) if spent else "") + table(shown, "confirmation", "confirmation.csv"))
 
 
