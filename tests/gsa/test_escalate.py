@@ -89,6 +89,54 @@ def test_saltelli_designs_of_one_seed_nest_so_a_larger_base_reuses_the_smaller()
     assert esc._saltelli_n(["y"]) >= 128
 
 
+def test_what_a_zero_budget_escalation_asks_for_is_the_new_points_of_twice_the_base_that_ran() -> None:
+    """A study's own Saltelli base N = 64 left the g-function unconfirmed and the budget is 0: the escalation
+    runs nothing and asks for at least N = 128 (a base that ran and did not confirm is doubled), whose new points
+    are the rows past the first 64 (d + 2) -- the designs of one seed nest -- with no control variate fitted."""
+    from ddgsa.gsa.base import get_method
+
+    d = G4.space.dim
+    small = get_method("saltelli").design(G4.space, n=64, seed=3)
+    y = G4.f(small.points)[:, None]
+    esc = Escalation(G4.space, ["y"], 0, small.points, y, saltelli=(small, y))
+    assert esc.start() is None and esc.unconfirmed() == ["y"]
+    ask = esc.asks()["y"]
+    assert ask["n"] >= 128 and ask["points"] == (ask["n"] - 64) * (d + 2) and ask["control"] is False
+    big = get_method("saltelli").design(G4.space, n=ask["n"], seed=3)
+    assert len(big.points) - len(small.points) == ask["points"]
+
+
+def test_a_grouped_saltelli_stage_keeps_its_rows_in_the_designs_layout() -> None:
+    """With a named group the Saltelli design appends the group's AB_u rows (N of them) after Saltelli's rows,
+    so a larger base's design does not start with the smaller one's group rows: a stage of base 256 after
+    64 runs the new Saltelli rows and all 256 group rows (what ``asks`` counts), and the values the estimator
+    reads are the function's own at the larger design's points, in its order (before, the smaller stage's
+    group rows sat among the new Saltelli rows); its group indices equal a direct Saltelli analysis there."""
+    from ddgsa.gsa.base import get_method
+    from ddgsa.gsa.space import ParameterSpace
+
+    space = ParameterSpace.from_dict(G4.space.to_dict(), groups={"ab": ["x1", "x2"]})
+    d = space.dim
+    method = get_method("saltelli")
+    small, big = method.design(space, n=64, seed=3), method.design(space, n=256, seed=3)
+    y = G4.f(small.points)[:, None]
+    esc = Escalation(space, ["y"], 0, small.points, y, saltelli=(small, y))
+    assert esc._stage_points(256) == len(big.points) - 64 * (d + 2) == (256 - 64) * (d + 2) + 256
+    esc.budget = 10 ** 6
+    esc._pending = ("saltelli", big.points[64 * (d + 2):], big)          # the stage the escalation runs
+    esc.feed(G4.f(big.points[64 * (d + 2):])[:, None])
+    np.testing.assert_array_equal(esc._salt_y, G4.f(big.points)[:, None])
+    # the group's closed and total indices of the product function: 0.955 and 0.969 (the misplaced rows read
+    # S_closed -0.06 +- 0.16); the stage's estimates cover them within their intervals, as a direct analysis
+    v = 1.0 / (3.0 * (1.0 + np.array([0.0, 1.0, 4.5, 9.0])) ** 2)
+    total = np.prod(1 + v) - 1
+    exact = {"S_closed": (np.prod(1 + v[:2]) - 1) / total, "ST": 1 - (np.prod(1 + v[2:]) - 1) / total}
+    direct = method.analyze(space, big, G4.f(big.points)[:, None], outputs=["y"]).groups.iloc[0]
+    got = esc.salt.groups.iloc[0]
+    for q, value in exact.items():
+        assert abs(got[q] - value) <= got[f"{q}_conf"] and got[q] == pytest.approx(direct[q])
+
+
 def test_an_escalation_that_cannot_confirm_says_why_and_claims_nothing_false() -> None:
     """A lightly damped resonance inside the parameter ranges (a rig running near its critical speed),
     less a constant so that it crosses zero and no power transform of it is tried: the pooled

@@ -62,6 +62,7 @@ from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, as_value_matrix, evaluate, get_method
 from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.result import SobolResult, difference_ratio, need_per_row, nothing_to_rank
+from ddgsa.gsa.salib import multi_groups
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.gsa.space import ParameterSpace
 
@@ -84,11 +85,11 @@ expansion looks no cheaper), that base runs rather than the escalation stopping:
 typical bound, some outputs may be confirmed by it, and the budget is the user's to spend."""
 MAX_ORDER = 10
 """Highest degree of the escalation's pooled expansion (``auto`` fits up to 9 by regression)."""
-TIME_ONLY = 1_000_000
-"""The point budget of an escalation given only a wall-clock time (``confirm: {time}``): a cap, not a
-budget the user set, so the log counts the runs spent without it."""
 MAX_BUDGET = 1_000_000
 """Largest ``confirm: budget`` a study may set (points per scene; :class:`ddgsa.study.spec.ConfirmSpec`)."""
+TIME_ONLY = MAX_BUDGET + 1
+"""The point budget of an escalation given only a wall-clock time (``confirm: {time}``): a cap, not a
+budget the user set (one above any a study may set), so the log counts the runs spent without it."""
 MAX_ENTRIES = 1_000_000
 """Largest regression matrix (points x terms) of a refit: its least-angle path costs seconds."""
 
@@ -231,7 +232,10 @@ class Escalation:
         self._drawn = np.concatenate([self._drawn, np.full(len(pts), kind != "focus")])
         if kind == "saltelli":
             assert design is not None
-            self._salt_y = yv if self._salt_n == 0 else np.vstack([self._salt_y, yv])
+            # Saltelli's rows of the bases that ran, then this stage's: new Saltelli rows and every group row
+            # (the design's layout; the smaller base's group rows are run again, not kept)
+            keep = self._salt_n * (self.space.dim + 2)
+            self._salt_y = yv if self._salt_n == 0 else np.vstack([self._salt_y[:keep], yv])
             self._salt_n = int(design.options["n"])
             self.salt = self._saltelli_result(design)
         if kind != "focus":                              # the drawn points, and so the expansion, are as they were
@@ -371,15 +375,23 @@ class Escalation:
         base it estimates would confirm it (:meth:`_saltelli_ns`: with its control variate's leave-one-out error
         and the latest stage's bounds on the ST differences, at least twice a base that ran and did not confirm;
         the control variates as last fitted, none where the escalation fitted none, e.g. a zero budget),
-        and ``points``, the new points of that design beyond the base that ran (each one run per realisation):
+        ``points``, the new points of that design beyond the base that ran (each one run per realisation;
+        :meth:`_stage_points`), and ``control``, whether a Gaussian-process control variate of the output was
+        fitted (the estimate counts on it):
         what the ``confirm:`` budget would need to grow by in this scene (``confirmation.csv``'s next step,
         :func:`ddgsa.execute.confirm.advice`)."""
         bad = self.unconfirmed()
         if not bad:
             return {}
-        d = self.space.dim            # the processes as the escalation last fitted them (none fitted now: seconds)
-        return {o: {"n": n, "points": (n - self._salt_n) * (d + 2)}
+        # the processes as the escalation last fitted them (none fitted now: seconds)
+        return {o: {"n": n, "points": self._stage_points(n), "control": o in self._surrogates}
                 for o, n in self._saltelli_ns(bad, fit=False).items()}
+
+    def _stage_points(self, n: int) -> int:
+        """New points of a Saltelli stage of base ``n`` beyond the base that ran: Saltelli's rows past the
+        first ``self._salt_n`` (d + 2) (the designs of one seed nest) and each multi-member group's ``AB_u``
+        rows, n each (all of them: they follow Saltelli's rows, so none of a smaller base's is a prefix)."""
+        return (n - self._salt_n) * (self.space.dim + 2) + n * len(multi_groups(self.space))
 
     def _saltelli_n(self, bad: list[str]) -> int:
         """The Saltelli base that would confirm every output of ``bad`` (:meth:`_saltelli_ns`)."""
@@ -395,7 +407,7 @@ class Escalation:
         d = self.space.dim
         per_output = self._saltelli_ns(bad)
         n_salt = max(per_output.values())
-        add_salt = (n_salt - self._salt_n) * (d + 2)
+        add_salt = self._stage_points(n_salt)
         n_pool = int(self._drawn.sum())                  # the points the pooled expansion is fitted on
         add_pce = max(0.0, self._pce_need(bad) - n_pool)
         pilot = self._pilot_step(add_salt, add_pce, left)
@@ -411,7 +423,7 @@ class Escalation:
             self.log.append(f"next: pce points +{pilot} (pilot for the control variates: {why})")
             return self._sobol_points(pilot)
         n_fit = self._salt_n
-        while (2 * max(n_fit, 1) - self._salt_n) * (d + 2) <= left and 2 * max(n_fit, 1) <= n_salt:
+        while self._stage_points(2 * max(n_fit, 1)) <= left and 2 * max(n_fit, 1) <= n_salt:
             n_fit = 2 * max(n_fit, 1)
         short = add_salt > left and len(self._history) >= 2 and n_fit > self._salt_n \
             and n_fit * SHORT_BASE >= min(per_output.values()) and add_salt <= add_pce

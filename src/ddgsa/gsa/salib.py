@@ -160,7 +160,7 @@ class Saltelli(_SalibMethod):
         return int(opts["pilot"]) if opts["pilot"] is not None else default_pilot(space.dim)
 
     def _n_points(self, space: ParameterSpace, opts: dict[str, Any]) -> int:
-        groups = 0 if opts["control"] == "gp" else len(_multi_groups(space))
+        groups = 0 if opts["control"] == "gp" else len(multi_groups(space))
         return opts["n"] * (space.dim + 2 + groups) + self._pilot(space, opts)
 
     def _design(self, space: ParameterSpace, opts: dict[str, Any]) -> Design:
@@ -175,7 +175,7 @@ class Saltelli(_SalibMethod):
             return Design(self.name, space.ppf(both), opts, {"unit": both, "pilot": len(pilot)})
         a, b = u[0::d + 2], u[d + 1::d + 2]
         blocks = [u]
-        for cols in _multi_groups(space).values():      # AB_u: the group's columns from B, n runs each
+        for cols in multi_groups(space).values():      # AB_u: the group's columns from B, n runs each
             ab = a.copy()
             ab[:, cols] = b[:, cols]
             blocks.append(ab)
@@ -201,7 +201,7 @@ class Saltelli(_SalibMethod):
         """Closed (SALib's grouped S1) and total indices of the named groups, by SALib's ``groups`` option
         on the rows ``A, AB_u..., B`` (a one-member group's AB_u is the parameter's own AB_i)."""
         o, n, d = design.options, design.options["n"], space.dim
-        multi = _multi_groups(space)
+        multi = multi_groups(space)
         label = {i: g for g, cols in space.group_members() for i in cols}
         names = list(dict.fromkeys(label.get(i, f"_{i}") for i in range(d)))   # SALib's group order
         problem = {**unit_problem(d), "groups": [label.get(i, f"_{i}") for i in range(d)]}
@@ -458,7 +458,7 @@ def tail_diagnostics(space: ParameterSpace, y: NDArray[np.float64], n: int, outp
     return shape, diags
 
 
-def _multi_groups(space: ParameterSpace) -> dict[str, list[int]]:
+def multi_groups(space: ParameterSpace) -> dict[str, list[int]]:
     """The groups of two or more parameters (the ones Saltelli needs an extra matrix for), with their columns."""
     return {g: cols for g, cols in space.group_members() if len(cols) > 1}
 
