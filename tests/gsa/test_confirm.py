@@ -350,9 +350,53 @@ def test_advice_leads_with_the_budget_the_escalation_asked_for_where_it_is_cheap
     assert budget_cost(result([0.7, 0.3]), "y", [1]) is None          # the escalation asked nothing there
     plain = advice(result([0.7, 0.3]), "y", [0])
     assert plain.startswith("to confirm it add `saltelli` with n: 256 (4 096 runs")
-    assert "; or raise the study's `confirm: {budget: 41919}`" in plain and "N = 4096 (40 960 new runs" in plain
+    assert "; or raise the study's `confirm: {budget: 41919}`" in plain and "N = 4096 (up to 40 960 new runs" in plain
     near = advice(result([0.51, 0.49]), "y", [0])                    # a near tie: the plain design is dear
     assert near.startswith("raise the study's `confirm: {budget: 41919}`") and "; or to confirm it add `saltelli`" in near
+
+
+def test_the_budget_step_counts_every_scene_it_lets_escalate_and_never_misleads() -> None:
+    """The ``confirm:`` budget is one for every scene: raised to pay for scene 0's largest ask (its escalation
+    plans one design for all its unconfirmed outputs: 5 000 new points for z, so y's budget is 1 000 + 5 000),
+    scene 1, also left unconfirmed, may spend up to it too (6 000 - 3 000 more): 8 000 points, x 2
+    realisations. A time-stopped escalation is told to take more time, never a budget below the one it had; a
+    budget no study may set never leads; scenes the escalation asked nothing for are named as such."""
+    from types import SimpleNamespace
+
+    from ddgsa.execute.confirm import advice, budget_cost, leading_cost
+    from ddgsa.gsa.escalate import MAX_BUDGET
+
+    study = SimpleNamespace(spec=SimpleNamespace(scenes=SimpleNamespace(realisations=2)), targets=[])
+    asks0 = {"y": {"n": 512, "points": 1000, "control": True}, "z": {"n": 2048, "points": 5000, "control": True}}
+    asks1 = {"z": {"n": 1024, "points": 2000, "control": False}}
+
+    def result(entries: list[dict], st: list[float] = [0.7, 0.3]) -> SimpleNamespace:
+        rows = pd.DataFrame({"scene": [0, 0, 1, 1, 2, 2], "output": "y", "parameter": ["a", "b"] * 3, "ST": st * 3})
+        return SimpleNamespace(indices=rows, study=study, evaluations=pd.DataFrame({"seconds": [0.5]}),
+                               provenance={"confirm": entries})
+
+    budget = [{"scene": 0, "budget": 2000, "spent": 1000, "log": ["budget of 2000 runs spent; unconfirmed: y, z"],
+               "asks": asks0},
+              {"scene": 1, "budget": 2000, "spent": 3000, "log": ["..."], "asks": asks1},
+              {"scene": 2, "budget": 2000, "spent": 400, "log": ["every output confirmed"], "asks": {}}]
+    grow = budget_cost(result(budget), "y", [0])
+    assert (grow.budget, grow.n, grow.runs, grow.scenes, grow.timed) == (6000, 2048, (5000 + 3000) * 2, (0,), False)
+    text = advice(result(budget), "y", [0, 2])
+    assert "`confirm: {budget: 6000}`" in text and "ended in scene 0," in text
+    assert "in scene 2 the escalation asked nothing for it" in text
+    # stopped by its time limit: more time, not a budget (6 000 would be below no budget at all here)
+    timed = [{**budget[0], "budget": None, "time_s": 60.0,
+              "log": ["stopped by the time budget (60 s): the next stage's 5000 runs would take ~2 min"]}]
+    grow = budget_cost(result(timed), "y", [0])
+    assert grow.timed and grow.runs == 5000 * 2
+    text = advice(result(timed), "y", [0])
+    assert "give the study's `confirm:` more time" in text and "budget:" not in text.split("; or ")[0]
+    # a budget past what a study may set is named but never leads, however cheap it looks
+    huge = [{**budget[0], "spent": MAX_BUDGET}]
+    _, runs, _, grow, leads = leading_cost(result(huge, [0.51, 0.49]), "y", [0])
+    assert grow.budget > MAX_BUDGET and grow.runs < runs and not leads
+    text = advice(result(huge, [0.51, 0.49]), "y", [0])
+    assert text.startswith("to confirm it add `saltelli`") and "past the largest budget a study may set" in text
 
 
 @pytest.mark.slow

@@ -29,7 +29,7 @@ budget that pays for it. The advice leads with the cheaper of the two, and ``nex
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -114,8 +114,9 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
     output's standard deviation over the scene's design [output unit] against its ``resolution``;
     ``ranking`` the confirmed order by ST (:func:`ranking_text`); for an unconfirmed pair
     ``next_step`` says the cheapest way to confirm it, ``next_runs`` and ``next_seconds`` the cost of
-    the Saltelli design it names, added to the study (every scene; model runs, model time on one
-    worker [s], NaN when no run time was measured)."""
+    the step it leads with (:func:`leading_cost`: a plain Saltelli design added to the study, in every scene,
+    or the ``confirm:`` budget or time that pays for the design the escalation asked for; model runs, model
+    time on one worker [s], NaN when no run time was measured)."""
 
     sobol = sobol_rows(result.indices)
     if not len(sobol):
@@ -144,9 +145,9 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
         elif r.confirmed:
             row["verdict"] = "confirmed tie" if r.tie else "rank-confirmed"
         else:
-            _, runs, sec = study_cost(result, out, [scene], tol)
-            grow = budget_cost(result, out, [scene])
-            if grow is not None and grow.runs < runs:         # the advice leads with the cheaper step
+            _, runs, sec, grow, leads = leading_cost(result, out, [scene], tol)
+            if leads:                                     # the advice leads with the cheaper step
+                assert grow is not None
                 runs, sec = grow.runs, grow.seconds
             row.update(verdict="unconfirmed", next_step=next_step(result, out, [scene], tol),
                        next_runs=runs, next_seconds=sec)
@@ -235,12 +236,22 @@ def _pair_ratio(result: "StudyResult", scene: int, output: str, d: int) -> NDArr
 
 @dataclass(frozen=True)
 class BudgetCost:
-    """What growing a study's ``confirm:`` budget would take to confirm one output (:func:`budget_cost`)."""
+    """What growing a study's ``confirm:`` budget (or its time) would take to confirm one output
+    (:func:`budget_cost`)."""
 
     budget: int             # the budget (points per scene) that pays for the design in every scene named
-    n: int                  # the controlled Saltelli base the escalation's cost rule asks for
-    runs: int               # new model runs (all realisations)
+    n: int                  # the controlled Saltelli base the escalation's cost rule asks for there
+    runs: int               # new model runs at most (all realisations, every scene the budget lets escalate)
     seconds: float          # their model time at the measured cost per run [s]; NaN when none was measured
+    scenes: tuple[int, ...]  # the scenes whose escalation asked for the design
+    timed: bool             # the escalation stopped at its time limit there: more time, not a budget, runs it
+    control: bool           # the cost rule counted on Gaussian-process control variates fitted there
+
+    @property
+    def possible(self) -> bool:
+        """Whether a study may set the step: the budget within :data:`~ddgsa.gsa.escalate.MAX_BUDGET` and the
+        base below the cost rule's cap :data:`~ddgsa.gsa.salib.MAX_N` (at the cap it estimates nothing)."""
+        return self.budget <= MAX_BUDGET and self.n < MAX_N
 
 
 def budget_cost(result: "StudyResult", output: str, scenes: list[int]) -> BudgetCost | None:
@@ -248,16 +259,43 @@ def budget_cost(result: "StudyResult", output: str, scenes: list[int]) -> Budget
     confirm ``output`` in ``scenes`` (:meth:`ddgsa.gsa.escalate.Escalation.asks`, in ``provenance.json``: its
     controlled Saltelli base, weighed by its control variate and the latest stage's bounds on the ST
     differences), with the new runs and their model time; None where the escalation asked nothing for it (no
-    ``confirm:``, a provenance written before it recorded its asks, or the output confirmed there)."""
-    entries = [c for c in (getattr(result, "provenance", None) or {}).get("confirm", []) or []
-               if c.get("scene") in scenes and output in (c.get("asks") or {})]
+    ``confirm:``, a provenance written before it recorded its asks, or the output confirmed there).
+
+    A scene's escalation plans one design for every output it left unconfirmed: the budget pays for the
+    scene's largest ask. The budget is the study's, one for every scene: raised, each scene whose escalation
+    ended with an output unconfirmed may spend up to it, and the runs count all of those (an upper bound: a
+    scene stops once confirmed). Where the escalation stopped at its time limit (``confirm: {time}``) the runs
+    are those of the asked design in ``scenes``: more time, not points, runs it."""
+    every = [c for c in (getattr(result, "provenance", None) or {}).get("confirm", []) or []]
+    entries = [c for c in every if c.get("scene") in scenes and output in (c.get("asks") or {})]
     if not entries:
         return None
-    points = [int(c["asks"][output]["points"]) for c in entries]
-    runs = sum(points) * max(1, int(result.study.spec.scenes.realisations))
-    return BudgetCost(budget=max(int(c["spent"]) + p for c, p in zip(entries, points)),
-                      n=max(int(c["asks"][output]["n"]) for c in entries), runs=runs,
-                      seconds=runs * per_run_seconds(result))
+    need = {int(c["scene"]): max(int(a["points"]) for a in c["asks"].values()) for c in entries}
+    n = max(int(a["n"]) for c in entries for a in c["asks"].values())
+    budget = max(int(c["spent"]) + need[int(c["scene"])] for c in entries)
+    timed = any(_stopped_by_time(c) for c in entries)
+    real = max(1, int(result.study.spec.scenes.realisations))
+    points = sum(need.values()) if timed else sum(max(0, budget - int(c["spent"])) for c in every if c.get("asks"))
+    runs = points * real
+    control = any(bool(a.get("control", True)) for c in entries for a in c["asks"].values())
+    return BudgetCost(budget=budget, n=n, runs=runs, seconds=runs * per_run_seconds(result),
+                      scenes=tuple(sorted(need)), timed=timed, control=control)
+
+
+def _stopped_by_time(entry: dict[str, Any]) -> bool:
+    """Whether a scene's escalation (provenance ``confirm`` entry) stopped at its time limit."""
+    return any(str(line).startswith("stopped by the time budget") for line in entry.get("log") or [])
+
+
+def leading_cost(result: "StudyResult", output: str, scenes: list[int], tolerance: float = 0.02
+                 ) -> tuple[int, int, float, BudgetCost | None, bool]:
+    """The two ways to confirm ``output`` in ``scenes`` and which leads: ``(n, runs, seconds, grow,
+    grow_leads)``, the plain Saltelli base with the runs and model time of adding it to the study
+    (:func:`study_cost`), the ``confirm:`` step (:func:`budget_cost`, or None) and whether it leads: possible
+    and fewer runs. ``confirmation.csv``'s ``next_runs`` and the advice's order both read it."""
+    n, runs, sec = study_cost(result, output, scenes, tolerance)
+    grow = budget_cost(result, output, scenes)
+    return n, runs, sec, grow, grow is not None and grow.possible and grow.runs < runs
 
 
 def per_run_seconds(result: "StudyResult") -> float:
@@ -296,27 +334,41 @@ def advice(result: "StudyResult", output: str, scenes: list[int], tolerance: flo
     runs and model time of adding that method to the study, which runs it in every scene (one worker;
     divide by the workers), or the study's ``confirm`` budget (points per scene) that would pay for the
     design where it is needed (:mod:`ddgsa.gsa.escalate`): where the escalation ended with ``output``
-    unconfirmed, the budget for the design its cost rule asked for then (:func:`budget_cost`), the cheaper of
-    the two first."""
+    unconfirmed, the budget for the design its cost rule asked for then (:func:`budget_cost`; more time where
+    its time limit stopped it), the cheaper of the two first (:func:`leading_cost`)."""
     costs = [cost_to_confirm(result, s, output, tolerance) for s in scenes]
-    n, runs, sec = study_cost(result, output, scenes, tolerance)
+    n, runs, sec, grow, grow_leads = leading_cost(result, output, scenes, tolerance)
     per = per_run_seconds(result)
     at = f" at {per:.3g} s per run measured here" if np.isfinite(per) else ""
     points = max(c.runs // max(1, result.study.spec.scenes.realisations) for c in costs)
     salt = f"to confirm it add `saltelli` with n: {n} ({_num(runs)} runs, {duration(sec)} of model time{at})"
     if output in {t.name for t in getattr(result.study, "targets", [])}:
         return salt + " (a target output: `confirm:` escalates the model's own outputs only)"
-    grow = budget_cost(result, output, scenes)
     if grow is not None:
-        where = "scene " + ", ".join(map(str, scenes)) if len(scenes) == 1 else "scenes " + ", ".join(map(str, scenes))
-        larger = (f"raise the study's `confirm: {{budget: {grow.budget}}}` (points per scene): where its escalation "
-                  f"ended in {where}, its cost rule asks for a controlled Saltelli base N = {grow.n} "
-                  f"({_num(grow.runs)} new runs, {duration(grow.seconds)} of model time{at}; the Gaussian-process "
-                  "control variates and the measured bounds on the ST differences make it cheaper than a plain "
-                  "design; every run is reused)")
+        where = ("scene " if len(grow.scenes) == 1 else "scenes ") + ", ".join(map(str, grow.scenes))
+        design = f"a controlled Saltelli base N = {grow.n}"
+        cheaper = ("; the Gaussian-process control variates and the measured bounds on the ST differences make it "
+                   "cheaper than a plain design" if grow.control else
+                   "; the measured bounds on the ST differences make it cheaper than a plain design")
+        if grow.timed:
+            larger = (f"give the study's `confirm:` more time (`time:`, or `ddgsa run --confirm-time`): its escalation "
+                      f"stopped at its time limit in {where}, where its cost rule asks for {design} "
+                      f"({_num(grow.runs)} new runs, {duration(grow.seconds)} of model time{at}{cheaper}; "
+                      "every run is reused)")
+        else:
+            larger = (f"raise the study's `confirm: {{budget: {grow.budget}}}` (points per scene): where its "
+                      f"escalation ended in {where}, its cost rule asks for {design} (up to {_num(grow.runs)} new "
+                      f"runs over the scenes left unconfirmed, {duration(grow.seconds)} of model time{at}{cheaper}; "
+                      "every run is reused)")
         if grow.budget > MAX_BUDGET:
             larger += f", past the largest budget a study may set ({_num(MAX_BUDGET)})"
-        return (larger + "; or " + salt) if grow.runs < runs else (salt + "; or " + larger)
+        elif grow.n >= MAX_N:
+            larger += f", the cost rule's largest base (N = {MAX_N}): it estimates no base that confirms it"
+        rest = sorted(set(scenes) - set(grow.scenes))
+        if rest:
+            larger += (f"; in scene{'s' if len(rest) > 1 else ''} {', '.join(map(str, rest))} the escalation asked "
+                       "nothing for it")
+        return (larger + "; or " + salt) if grow_leads else (salt + "; or " + larger)
     stopped = [c["scene"] for c in (getattr(result, "provenance", None) or {}).get("confirm", []) or []
                if c["scene"] in scenes and any(line.startswith("stopped with") for line in c["log"])]
     if stopped:
