@@ -172,6 +172,30 @@ def test_exact_damping_at_speed_gives_the_closed_form_whirl(spin: float) -> None
     np.testing.assert_allclose(np.abs(lam[2:4]) / (2 * np.pi), whirl, rtol=1e-5)
 
 
+def test_exact_damping_at_speed_refuses_a_turning_eccentric_mass() -> None:
+    """An eccentric mass's force ``m e W^2`` changes with the spin rate but gives no damping tangent, so the
+    tangents' ``C`` would miss its column: ``damping_tangents`` at speed refuses it (where the differences show
+    that column nonzero), and takes it at rest, where the slope is zero, or with the mass at zero."""
+    from ddgsa.errors import ModelError
+    from ddgsa.mbs.compiled import compile_terms
+    from ddgsa.mbs.elements import EccentricMass
+
+    plain = _disk_on_light_shaft(300.0)
+    shaft = plain.bodies[0]
+    system = System(plain.bodies, [*plain.elements, EccentricMass(shaft.marker((0.5, 0.0, 0.0)), 0.01, 0.1)])
+    assert compile_terms(system)
+    spin = system.index("shaft.rx")
+    light = System(plain.bodies, [*plain.elements, EccentricMass(shaft.marker((0.5, 0.0, 0.0)), 0.0, 0.1)])
+    assert compile_terms(light)
+    full, none = (linearise(s, s.q0, s.qd0, rel_step=1e-3) for s in (system, light))
+    slope = np.abs(full.c[:, spin] - none.c[:, spin]).max()         # the slope the tangents would leave out:
+    assert slope > 0.5 * 2 * 0.01 * 0.1 * 300.0                     # 2 m e W on the disk's lateral rows
+    with pytest.raises(ModelError, match="rate slope of unbalance"):
+        linearise(system, system.q0, system.qd0, damping_tangents=True)
+    linearise(system, system.q0, np.zeros(system.n), damping_tangents=True)     # at rest: no slope
+    linearise(light, light.q0, light.qd0, damping_tangents=True)
+
+
 def test_exact_damping_at_speed_is_the_residuals_differences(monkeypatch: pytest.MonkeyPatch) -> None:
     """On the spinning shaft with damped bearings, a disk and a side load (off equilibrium), tilted and bent: every
     column of ``damping_tangents``' ``C`` agrees with central differences of the residual over the rates within

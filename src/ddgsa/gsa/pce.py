@@ -128,8 +128,8 @@ def second_order_error(index: NDArray[np.float64], sd: NDArray[np.float64],
     Examples
     --------
     An index of 0.25 and ``eps^2 = 0.2``, no sampling error: the outside energy all in the
-    index's terms moves it to ``(0.25 + 0.2) / 1.2 = 0.375``, exactly the bound (``eps^2 / (1 +
-    eps^2)`` alone would say 0.167):
+    index's terms moves it to ``(0.25 + 0.2) / 1.2 = 0.375``, a shift of 0.125: exactly the bound
+    ``max(S, 1 - S) eps^2 / (1 + eps^2)`` (``eps^2 / (1 + eps^2)`` alone would say 0.167):
 
     >>> round(float(second_order_error(np.array([0.25]), np.array([0.0]), 0.2)[0]), 6)
     0.125

@@ -36,7 +36,7 @@ from ddgsa.mbs.assembly import System
 from ddgsa.mbs.bodies import FlexibleBody, MarkerState, mode_number
 from ddgsa.mbs.campbell import orbit_average, orbit_pairs
 from ddgsa.mbs.compiled import HybridTerms, _markers, _residuals, body_rate_slopes, stepped_residuals
-from ddgsa.mbs.elements import Element
+from ddgsa.mbs.elements import EccentricMass, Element
 from ddgsa.mbs.ffr import g_bar
 from ddgsa.mbs.linear import lti_response
 from ddgsa.mbs.derivatives import central_difference, central_jacobian
@@ -192,7 +192,8 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     differences, as ``tests/models/test_hss_rig_block.py`` does for the test rig, whose steady block path
     takes 21 of its 42 columns this way: :func:`ddgsa.models.hss_rig.rig.tangent_columns`).
     ``damping_tangents`` forms the whole of ``C`` without a residual call, exactly, for a system whose elements
-    give their velocity slopes as tangents (linear dampers, torque laws): the residual's rates enter through the
+    give their velocity slopes as tangents (linear dampers, torque laws; a turning eccentric mass does not and is
+    refused): the residual's rates enter through the
     elements (``C_t``), the bodies' own forces, gravity plus a quadratic form of the rates
     (:func:`~ddgsa.mbs.compiled.body_rate_slopes`: ``G``, each body differenced alone, exact at any step), and
     the map, whose rates and accelerations are linear and quadratic in ``z'`` (``dq'/dz' = T``; ``dq''/dz'`` the
@@ -206,6 +207,11 @@ def linearise(system: System, q0: Array, qd0: Array, t0: float = 0.0, rel_step: 
     if damping_tangents and spinning and not isinstance(system.fast_terms, HybridTerms):
         raise ModelError("linearise: damping_tangents at speed takes the compiled terms (HybridTerms); this system "
                          "has none")
+    slopeless = [e.name for e in system.elements if isinstance(e, EccentricMass) and e.mass * e.radius != 0.0]
+    if damping_tangents and spinning and slopeless:     # its force, m e w^2, has a rate slope it gives no tangent of
+        raise ModelError(f"linearise: damping_tangents at speed leaves out the rate slope of {', '.join(slopeless)} "
+                         "(an eccentric mass's force goes with the spin squared and has no damping tangent): "
+                         "take its C from differences, or the mass as an input")
     if system.n_constraints:
         raise ModelError("the non-rotating linearisation takes unconstrained systems only "
                          f"({system.n_constraints} constraint equations given)")
