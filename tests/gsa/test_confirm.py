@@ -174,7 +174,7 @@ def test_false_rank_claims_against_the_truth() -> None:
 def test_saltelli_size_to_confirm_by_hand() -> None:
     """Error bound 3.3 sqrt(ST / N) (``SALTELLI_K``); each row needs max(tolerance, half its distance
     to zero and to the nearest other row)."""
-    from ddgsa.gsa.salib import SALTELLI_K, saltelli_n_to_confirm
+    from ddgsa.gsa.salib import MAX_N, SALTELLI_K, saltelli_n_to_confirm
 
     assert SALTELLI_K == 3.3
     # 0.6 needs 0.15: 3.3^2 0.6 / 0.15^2 = 290 -> 512 (0.3: 145)
@@ -189,6 +189,10 @@ def test_saltelli_size_to_confirm_by_hand() -> None:
     half = np.full((2, 2), 0.5)
     assert saltelli_n_to_confirm(np.array([0.6, 0.57]), 0.02, pair_ratio=half) == 8192
     assert saltelli_n_to_confirm(np.array([0.6, 0.57]), 0.02, pair_ratio=np.ones((2, 2))) == 16384
+    # a base that ran and did not confirm is doubled (the escalation's rule and the next step's), within the cap
+    assert saltelli_n_to_confirm(np.array([0.6, 0.3]), 0.02, ran=1024) == 2048
+    assert saltelli_n_to_confirm(np.array([0.6, 0.3]), 0.02, ran=256) == 512
+    assert saltelli_n_to_confirm(np.array([0.6, 0.57]), 0.02, ran=MAX_N) == MAX_N
 
 
 def test_pooled_pce_on_mdrm_points_matches_the_closed_form() -> None:

@@ -209,13 +209,12 @@ def cost_to_confirm(result: "StudyResult", scene: int, output: str, tolerance: f
     g = t[(t["scene"] == scene) & (t["output"] == output)]
     st = (g.groupby("parameter", sort=False)["ST"]
           .agg(lambda s: s.dropna().median() if s.notna().any() else np.nan).to_numpy(float))
-    if n is None:
-        n = saltelli_n_to_confirm(st, tolerance, pair_ratio=_pair_ratio(result, scene, output, len(st)))
+    if n is None:            # a Saltelli base that ran there and left the pair unconfirmed: at least twice it
         ran = [int(res.options["n"]) for ps, res in getattr(result, "results", None) or []
                if getattr(ps, "index", None) == scene and res.method in ("saltelli", SALTELLI_NAME)
                and "n" in res.options]
-        if ran:                  # a Saltelli base that ran there and left the pair unconfirmed: at least twice it
-            n = min(MAX_N, max(n, 2 * max(ran)))
+        n = saltelli_n_to_confirm(st, tolerance, pair_ratio=_pair_ratio(result, scene, output, len(st)),
+                                  ran=max(ran, default=0))
     study = result.study
     runs = n * (len(st) + 2) * study.spec.scenes.realisations
     sec = per_run_seconds(result)

@@ -356,18 +356,15 @@ class Escalation:
         control variate's leave-one-out error where a process is fitted), at least twice a base that
         ran and did not confirm. ``fit``: first fit the processes where the pool has grown enough
         (:meth:`_fit_surrogates`); False takes those fitted so far."""
-        from ddgsa.gsa.salib import MAX_N, saltelli_n_to_confirm
+        from ddgsa.gsa.salib import saltelli_n_to_confirm
 
         if fit:
             self._fit_surrogates(bad)
         out = {}
-        for o in bad:
-            n = saltelli_n_to_confirm(self._best_st(o), self.tolerance,
-                                      self._surrogates[o].loo if o in self._surrogates else None,
-                                      None if self.salt is None else difference_ratio(self.salt, o))
-            if self._salt_n > 0:                         # a Saltelli design that ran did not confirm: double it
-                n = max(n, 2 * self._salt_n)
-            out[o] = int(min(MAX_N, max(n, self._salt_n)))
+        for o in bad:                                    # a Saltelli design that ran did not confirm: twice it
+            out[o] = saltelli_n_to_confirm(self._best_st(o), self.tolerance,
+                                           self._surrogates[o].loo if o in self._surrogates else None,
+                                           None if self.salt is None else difference_ratio(self.salt, o), self._salt_n)
         return out
 
     def asks(self) -> dict[str, dict[str, int]]:

@@ -488,7 +488,7 @@ MIN_N, MAX_N = 64, 1 << 20
 
 
 def saltelli_n_to_confirm(st: np.ndarray, tolerance: float, control_loo: float | None = None,
-                          pair_ratio: NDArray[np.float64] | None = None) -> int:
+                          pair_ratio: NDArray[np.float64] | None = None, ran: int = 0) -> int:
     """Smallest power-of-two Saltelli base sample whose typical error bound ``SALTELLI_K sqrt(ST / N)``
     confirms every row of an output with total indices ``st``: below ``tolerance`` (trusted) or
     below half the row's distance to zero and to every other row (rank-confirmed), whichever is
@@ -496,7 +496,9 @@ def saltelli_n_to_confirm(st: np.ndarray, tolerance: float, control_loo: float |
     Gaussian-process control variate of that relative leave-one-out error, whose bound goes as
     ``sqrt(min(ST, 2 loo^2) / N)`` (:func:`ddgsa.gsa.control.controlled_level`). ``pair_ratio``: a Saltelli
     stage's measured bounds of the differences over the sums of their rows' (:func:`ddgsa.gsa.result.difference_ratio`),
-    which :func:`~ddgsa.gsa.result.need_per_row` weighs each pair's need by."""
+    which :func:`~ddgsa.gsa.result.need_per_row` weighs each pair's need by. ``ran``: the largest base that
+    ran and left the output unconfirmed; the answer is at least twice it (the estimate was too hopeful there),
+    within :data:`MAX_N`."""
     st = np.asarray(st, dtype=float)
     known = np.where(np.isfinite(st), np.clip(st, 0.0, 1.0), np.nan)
     need = need_per_row(known, tolerance, pair_ratio)
@@ -506,4 +508,4 @@ def saltelli_n_to_confirm(st: np.ndarray, tolerance: float, control_loo: float |
 
         level = np.maximum(controlled_level(level, control_loo), 1e-3)
     n = float(np.max(SALTELLI_K ** 2 * level / need ** 2))
-    return int(min(MAX_N, max(MIN_N, 1 << int(np.ceil(np.log2(n))))))
+    return int(min(MAX_N, max(MIN_N, 1 << int(np.ceil(np.log2(n))), 2 * ran)))
