@@ -408,7 +408,7 @@ def test_the_budget_the_advice_names_runs_the_design_the_escalation_asked_for() 
     """The g-function's kink with a 3 000-run budget: the escalation runs Saltelli N = 128 (what the budget
     allows) and stops asking N = 512, 2 304 new points; rerun with the budget it names (2 411 spent + 2 304),
     it runs exactly that design, N = 512 (3 072 points, the first 768 the same), and spends nothing more (about
-    7 s). Whether N = 512 confirms is the cost rule's estimate: here it does not (N = 2 048 does, in
+    7 s). Whether N = 512 confirms is the cost rule's estimate: here it does not (nor does N = 2 048, in
     tests/gsa/test_escalate.py), and the rerun asks twice it."""
     from ddgsa.gsa.escalate import confirm
     from ddgsa.gsa.testfunctions import sobol_g
@@ -416,7 +416,7 @@ def test_the_budget_the_advice_names_runs_the_design_the_escalation_asked_for() 
     g4 = sobol_g([0.0, 1.0, 4.5, 9.0])
     first = confirm(g4.f, g4.space, "mdrm", budget=3000, points=5)
     spent = first.n_evals - (4 * 5 + 1 + 32)
-    assert not first.confirmed["y"] and first.asks == {"y": {"n": 512, "points": 2304}} and spent == 2411
+    assert not first.confirmed["y"] and first.asks == {"y": {"n": 512, "points": 2304, "control": True}} and spent == 2411
     again = confirm(g4.f, g4.space, "mdrm", budget=spent + first.asks["y"]["points"], points=5)
     assert any(line.startswith("next: saltelli N=512 (3072 new runs") for line in again.log)
     assert again.n_evals == first.n_evals + 2304 and again.asks["y"]["n"] == 1024

@@ -63,14 +63,21 @@ def test_nothing_to_confirm_and_a_zero_budget_run_nothing() -> None:
 
 @pytest.mark.slow
 def test_a_slowly_converging_expansion_hands_over_to_saltelli() -> None:
-    """On the g-function the pooled expansion's bound shrinks ~n^-0.2 (measured between fits): after
-    a few PCE steps the escalation estimates Saltelli N = 2048 (12 288 runs) as cheaper, runs it
-    and confirms every row (about 50 s on 2 loaded cores)."""
+    """On the g-function the pooled expansion's bound shrinks ~n^-0.2 (measured between fits): after a few PCE
+    steps the escalation estimates controlled Saltelli stages as cheaper and runs N = 512, 1 024 and 2 048
+    (12 288 runs) -- every row it trusts within 0.02 of the exact indices, no false rank claim -- and stops
+    when N = 4 096 no longer fits, saying so. It does not confirm the output: the rows of x3 and x4 (ST 0.034
+    and 0.010) are flagged ``heavy_tail``, their controlled residual's Jansen terms at a Pareto shape of
+    0.70-0.71 against the limit 0.70 (the kink |4 x1 - 2| the process does not follow), which voids their
+    place in the ranking (this test asked for a confirmation at N = 2 048 until it was seen failing, since at
+    least 0.7.x; the rule is the calibrated one, docs/confirm.md). About 10 s."""
     c = confirm(G4.f, G4.space, "mdrm", budget=20_000, points=5)
-    assert c.confirmed == {"y": True}
-    salt = next(r for r in c.results if r.method == SALTELLI_NAME)
-    assert salt.n_evals == 2048 * (4 + 2) and salt.confirmed
-    assert c.n_evals < 53 + 20_000
+    salt = [r for r in c.results if r.method == SALTELLI_NAME]
+    assert [r.n_evals for r in salt] == [2048 * (4 + 2)]               # the last stage's result is kept
+    assert any(line.startswith("next: saltelli N=512") for line in c.log)
+    assert c.log[-1].startswith("stopped with 6069 of 20000 runs left") and c.confirmed == {"y": False}
+    flagged = {d.parameter for d in salt[0].diagnostics if d.name == "heavy_tail"}
+    assert flagged <= {"x3", "x4"} and salt[0].indices.set_index("parameter").loc[["x1", "x2"], "trusted"].all()
     _no_false_claim(c.results, G4)
 
 
