@@ -265,7 +265,7 @@ def budget_cost(result: "StudyResult", output: str, scenes: list[int]) -> Budget
     ended with an output unconfirmed may spend up to it, and the runs count all of those (an upper bound: a
     scene stops once confirmed). Where the escalation stopped at its time limit (``confirm: {time}``) the runs
     are those of the asked design in ``scenes``: more time, not points, runs it."""
-    every = [c for c in (getattr(result, "provenance", None) or {}).get("confirm", []) or []]
+    every = list((getattr(result, "provenance", None) or {}).get("confirm", []) or [])
     entries = [c for c in every if c.get("scene") in scenes and output in (c.get("asks") or {})]
     if not entries:
         return None

@@ -62,7 +62,7 @@ from ddgsa.errors import MethodError
 from ddgsa.gsa.base import Design, as_value_matrix, evaluate, get_method
 from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.result import SobolResult, difference_ratio, need_per_row, nothing_to_rank
-from ddgsa.gsa.salib import multi_groups
+from ddgsa.gsa.salib import multi_groups, saltelli_n_to_confirm
 from ddgsa.gsa.trust import DEFAULT_TOLERANCE
 from ddgsa.gsa.space import ParameterSpace
 
@@ -356,8 +356,6 @@ class Escalation:
         control variate's leave-one-out error where a process is fitted), at least twice a base that
         ran and did not confirm. ``fit``: first fit the processes where the pool has grown enough
         (:meth:`_fit_surrogates`); False takes those fitted so far."""
-        from ddgsa.gsa.salib import saltelli_n_to_confirm
-
         if fit:
             self._fit_surrogates(bad)
         out = {}
