@@ -313,3 +313,36 @@ def test_a_constant_output_is_not_escalated() -> None:
     assert nothing_to_rank(flat) and not nothing_to_rank(6.9 * (1 + 1e-6 * x[:, 0]))
     esc = Escalation(space, ["flat"], 1000, x, flat[:, None])
     assert esc.unconfirmed() == [] and esc.start() is None
+
+
+@pytest.mark.parametrize("d, noise", [(27, 0.0), (8, 1e-2)])
+def test_the_likelihood_and_its_gradient_are_scikit_learns(d: int, noise: float) -> None:
+    """Oracle: scikit-learn's own log marginal likelihood and gradient (its (n, n, d) kernel gradient) at the
+    start of the fit and at random log-hyperparameters; and the optimiser's end point, rounded as
+    :meth:`GaussianSurrogate.fit` rounds it, is scikit-learn's fit."""
+    import warnings
+
+    from sklearn.gaussian_process import GaussianProcessRegressor
+    from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
+
+    from ddgsa.gsa.control import _max_likelihood, _neg_log_likelihood
+
+    rng = np.random.default_rng(d)
+    u = rng.random((200, d))
+    y = 1.0 / (0.05 + (u[:, 0] - 0.5) ** 2 + (u[:, 1] - 0.4) ** 2) + 0.1 * u[:, 2:].sum(axis=1) \
+        + noise * rng.normal(size=len(u))
+    z = (y - y.mean()) / y.std()
+    kernel = (ConstantKernel(1.0, (1e-3, 1e3)) * RBF(np.full(d, 0.3), (0.01, 1e2))
+              + WhiteKernel(1e-3, (1e-6, 1.0)))
+    reference = GaussianProcessRegressor(kernel)
+    reference.X_train_, reference.y_train_, reference.kernel_ = u, z, kernel.clone_with_theta(kernel.theta)
+    for theta in (kernel.theta, kernel.theta + 0.5 * rng.normal(size=d + 2)):
+        lml, grad = reference.log_marginal_likelihood(theta, eval_gradient=True)
+        mine, my_grad = _neg_log_likelihood(theta, u, z)
+        assert -mine == pytest.approx(lml, rel=1e-10)
+        np.testing.assert_allclose(-my_grad, grad, rtol=0, atol=1e-9 * np.abs(grad).max())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fitted = GaussianProcessRegressor(kernel).fit(u, z).kernel_.theta
+    np.testing.assert_array_equal(np.round(_max_likelihood(kernel.theta, kernel.bounds, u, z), 2),
+                                  np.round(fitted, 2))

@@ -160,3 +160,34 @@ def test_the_estimate_stays_unbiased_under_a_poor_feature_control() -> None:
                                 resamples=20, exact_error=exact_error)
         sts.append(c.ST)
     np.testing.assert_allclose(np.mean(sts, axis=0), ishigami().ST, atol=0.015)
+
+
+def test_outputs_of_one_pool_share_their_features_processes() -> None:
+    """With a cache (as an escalation passes one across its outputs), the features' processes are fitted once
+    for the pool, and each output's control is the one fitted without the cache (its leave-one-out error, its
+    values at new points): the cache changes what is computed, never the answer."""
+    from scipy.stats import qmc
+
+    import ddgsa.gsa.control as control
+
+    u = qmc.Sobol(4, seed=11).random(128)
+    phi = _ratio(u)[:, None]
+    new = qmc.Sobol(4, seed=12).random(64)
+    cache: dict = {}
+    calls = []
+    fit = control.GaussianSurrogate.fit.__func__
+
+    def counted(cls, *args, **kwargs):
+        calls.append(np.shape(args[0])[1])          # 4 inputs: a feature's process; 5: the inner control
+        return fit(cls, *args, **kwargs)
+
+    for y in (_output(u), 2.0 * _peak(u) - u[:, 3]):
+        alone = FeatureSurrogate.fit(u, y, phi, seed=3)
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(control.GaussianSurrogate, "fit", classmethod(counted))
+            shared = FeatureSurrogate.fit(u, y, phi, seed=3, cache=cache)
+        assert alone is not None and shared is not None
+        assert shared.loo == alone.loo
+        np.testing.assert_array_equal(shared(new), alone(new))
+    assert len(cache) == 1
+    assert calls.count(4) == 1 and calls.count(5) >= 2      # the feature's process once, each inner control

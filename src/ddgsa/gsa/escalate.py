@@ -292,11 +292,12 @@ class Escalation:
         u = np.column_stack([self.space[p].cdf(self.x[self._not_saltelli, i]) for i, p in enumerate(self.space.names)])
         drawn = self._drawn[self._not_saltelli]
         phi = None if self.features is None else self.features[self._not_saltelli]
+        cache: dict[Any, Any] = {}                       # the features' processes, shared by the outputs
         for o in bad:
             yo = self.y[self._not_saltelli, self.outputs.index(o)]
             ok = np.isfinite(yo)
-            g = fit_control(u[ok], yo[ok], seed=self.seed, drawn=drawn[ok], features=None if phi is None else phi[ok]) \
-                if ok.sum() >= 2 * self.space.dim + 2 else None
+            g = fit_control(u[ok], yo[ok], seed=self.seed, drawn=drawn[ok], features=None if phi is None else phi[ok],
+                            cache=cache) if ok.sum() >= 2 * self.space.dim + 2 else None
             if g is not None:
                 self._surrogates[o] = g
             else:
