@@ -191,3 +191,25 @@ def test_outputs_of_one_pool_share_their_features_processes() -> None:
         np.testing.assert_array_equal(shared(new), alone(new))
     assert len(cache) == 1
     assert calls.count(4) == 1 and calls.count(5) >= 2      # the feature's process once, each inner control
+
+
+def test_moments_sampled_together_are_each_surrogates_own() -> None:
+    """Two outputs' feature controls sharing their features' processes: :func:`prime_moments` samples their
+    variances in one pass, and each equals what it samples alone (same points, seed and arithmetic; to
+    round-off, which the matrix products' blocking may differ by)."""
+    from scipy.stats import qmc
+
+    import ddgsa.gsa.control as control
+
+    u = qmc.Sobol(4, seed=11).random(128)
+    phi = _ratio(u)[:, None]
+    cache: dict = {}
+    together = [FeatureSurrogate.fit(u, y, phi, seed=3, cache=cache) for y in (_output(u), 2.0 * _peak(u) - u[:, 3])]
+    alone = [FeatureSurrogate.fit(u, y, phi, seed=3) for y in (_output(u), 2.0 * _peak(u) - u[:, 3])]
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(control, "SURROGATE_RUNS", 1 << 15)
+        control.prime_moments([g.affine(0.5, 2.0) for g in together])
+        assert all("moments" in g.core.__dict__ for g in together)
+        for t, a in zip(together, alone):
+            for x, y in zip(t.variances() + t.variance_errors(), a.variances() + a.variance_errors()):
+                np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-14)

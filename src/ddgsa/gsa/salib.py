@@ -364,8 +364,10 @@ def controlled_indices(space: ParameterSpace, unit: NDArray[np.float64], y: NDAr
     pilot). Same trust rule and diagnostics as the plain estimator; ``extras["control_loo"]`` (k,) is
     each process's relative leave-one-out error (NaN: none).
     """
-    from ddgsa.gsa.control import controlled_saltelli, fit_control
+    from ddgsa.gsa.control import controlled_saltelli, fit_control, prime_moments
 
+    if surrogates is not None:
+        prime_moments(surrogates.values())              # the outputs' shared feature processes, once
     d, k = space.dim, y.shape[1]
     rows = n * (d + 2)
     out = [np.full((k, d), np.nan) for _ in range(6)]
