@@ -344,5 +344,6 @@ def test_the_likelihood_and_its_gradient_are_scikit_learns(d: int, noise: float)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fitted = GaussianProcessRegressor(kernel).fit(u, z).kernel_.theta
-    np.testing.assert_array_equal(np.round(_max_likelihood(kernel.theta, kernel.bounds, u, z), 2),
-                                  np.round(fitted, 2))
+    # the optimum, not the optimiser's path: on a flat likelihood round-off moves where L-BFGS-B stops
+    mine_at = _neg_log_likelihood(_max_likelihood(kernel.theta, kernel.bounds, u, z), u, z)[0]
+    assert mine_at <= -reference.log_marginal_likelihood(fitted) + 1e-3

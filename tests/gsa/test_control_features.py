@@ -191,6 +191,10 @@ def test_outputs_of_one_pool_share_their_features_processes() -> None:
         np.testing.assert_array_equal(shared(new), alone(new))
     assert len(cache) == 1
     assert calls.count(4) == 1 and calls.count(5) >= 2      # the feature's process once, each inner control
+    other = FeatureSurrogate.fit(u[:96], _output(u[:96]), phi[:96], seed=3, cache=cache)   # other points: a miss
+    alone = FeatureSurrogate.fit(u[:96], _output(u[:96]), phi[:96], seed=3)
+    assert len(cache) == 2 and other is not None and alone is not None
+    np.testing.assert_array_equal(other(new), alone(new))
 
 
 def test_moments_sampled_together_are_each_surrogates_own() -> None:
