@@ -56,7 +56,29 @@ def test_a_list_of_kinds_labels_every_scene(tmp_path: Path) -> None:
                                                          for k in ("startup", "steady", "coastdown")]
 
 
+def test_a_mapping_gives_each_kind_its_own_record_length(tmp_path: Path) -> None:
+    """``duration: {startup: ..., steady: ..., coastdown: ...}`` beside ``kind: [...]``: each scene takes its
+    kind's value (units converted per value), no new axis, and the store keys differ by it (the scene's
+    ``to_dict`` carries the duration)."""
+    study = load_study(_write(tmp_path, "kind: [startup, steady, coastdown], speed_rpm: 1500, "
+                                        "duration: {startup: 1.2 s, steady: 600 ms, coastdown: 3}, "
+                                        "sample_rate: 2000, settle: 0.1"))
+    planned = plan_scenes(study)
+    assert [ps.fields for ps in planned] == [{"kind": k, "speed_rpm": 1500} for k in ("startup", "steady", "coastdown")]
+    assert [ps.scenes[0].duration for ps in planned] == [1.2, 0.6, 3.0]
+    assert study.scene_fields == ["kind", "speed_rpm"]
+
+
 @pytest.mark.parametrize("scenes, message", [
+    ("kind: [startup, coastdown], speed_rpm: 1500, duration: {startup: 1.2}",
+     r"field 'scenes\.duration': a mapping gives one value per value of a list-valued scene field, keyed by all of "
+     r"its values \(the lists here: kind: startup, coastdown\); got keys startup"),
+    ("kind: steady, speed_rpm: 1500, duration: {steady: 1.2}",
+     r"field 'scenes\.duration': .*\(the lists here: none\)"),
+    ("kind: [startup, coastdown], duration: {startup: 1.2, coastdown: [3, 4]}",
+     r"field 'scenes\.duration': a mapping gives one value per kind: \[3, 4\] is not one value"),
+    ("kind: [startup, coastdown], duration: {startup: 1.2, coastdown: 3 kg}",
+     r"field 'scenes\.duration': unit 'kg' is a mass"),
     ("kind: steady, speed: 1500, duration: 0.45",
      r"rig\.yaml: field 'scenes\.speed': unknown hss_rig scene field 'speed'; known: aggregate, duration, kind, "
      r"ramp_time, realisations, sample_rate, seed, settle, speed_rpm; did you mean .*'speed_rpm'.*\(given: 1500\)"),

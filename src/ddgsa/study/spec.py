@@ -167,9 +167,12 @@ class ModelScenesSpec(BaseModel):
     """``scenes:`` of a model with its own scene type (e.g. the test rig's ``RigScene``).
 
     In the file the scene type's fields stand beside ``realisations``, ``seed`` and ``aggregate``;
-    a list-valued field is a grid axis. Every grid point has ``realisations`` scenes with seeds
-    ``seed + r``. The scene type (a dataclass whose ``__post_init__`` validates it) names the
-    fields that label its scenes in ``label_fields``; list-valued fields label them too.
+    a list-valued field is a grid axis. A mapping-valued field gives one value per value of one axis
+    (``duration: {startup: 1.2, steady: 1.2, coastdown: 3.0}`` beside ``kind: [startup, steady,
+    coastdown]``: each scene takes its kind's record length); it adds no axis. Every grid point has
+    ``realisations`` scenes with seeds ``seed + r``. The scene type (a dataclass whose ``__post_init__``
+    validates it) names the fields that label its scenes in ``label_fields``; list-valued fields label
+    them too.
     """
 
     model_config = _STRICT
@@ -200,6 +203,9 @@ class ModelScenesSpec(BaseModel):
                                                          [*allowed, *_GRID_KEYS]))
             if isinstance(value, list) and not value:
                 _refuse(key, value, "an empty list gives an empty scene grid; give at least one value")
+        for key, value in data.items():
+            if isinstance(value, dict) and key not in _GRID_KEYS:
+                _keyed_axis(key, value, data)
         grid = {k: v for k, v in data.items() if k in _GRID_KEYS}
         spec = cls(scene_type=f"{scene_type.__module__}.{scene_type.__qualname__}",
                    fields={k: v for k, v in data.items() if k not in _GRID_KEYS}, **grid)
@@ -221,9 +227,33 @@ class ModelScenesSpec(BaseModel):
         return [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
 
     def scene(self, fields: dict[str, Any], realisation: int) -> Any:
-        """The scene of one grid point and realisation (seed ``seed + realisation``)."""
-        scalars = {k: v for k, v in self.fields.items() if not isinstance(v, list)}
-        return self._type(**{**scalars, **fields}, seed=self.seed + realisation)
+        """The scene of one grid point and realisation (seed ``seed + realisation``); a mapping-valued
+        field takes the value of the grid point's value on its axis."""
+        scalars = {k: v for k, v in self.fields.items() if not isinstance(v, (list, dict))}
+        keyed = {k: v[fields[_keyed_axis(k, v, self.fields)]] for k, v in self.fields.items() if isinstance(v, dict)}
+        return self._type(**{**scalars, **keyed, **fields}, seed=self.seed + realisation)
+
+
+def _keyed_axis(key: str, value: dict[Any, Any], fields: dict[str, Any]) -> str:
+    """The grid axis (a list-valued field of ``fields``) whose values are exactly the keys of the
+    mapping-valued scene field ``key``.
+
+    Raises
+    ------
+    pydantic.ValidationError
+        At ``scenes.<key>`` where no axis has those values, or a value is itself a list or mapping.
+    """
+    axes = {k: v for k, v in fields.items() if isinstance(v, list) and k not in _GRID_KEYS}
+    for axis, values in axes.items():
+        if set(value) == set(values) and len(values) == len(set(values)):
+            bad = [v for v in value.values() if isinstance(v, (list, dict))]
+            if bad:
+                _refuse(key, value, f"a mapping gives one value per {axis}: {bad[0]!r} is not one value")
+            return axis
+    listed = "; ".join(f"{k}: {', '.join(map(str, v))}" for k, v in axes.items()) or "none"
+    _refuse(key, value, f"a mapping gives one value per value of a list-valued scene field, keyed by all of "
+                        f"its values (the lists here: {listed}); got keys {', '.join(map(str, value))}")
+    raise AssertionError  # unreachable: _refuse raises
 
 
 class MethodSpec(BaseModel):
@@ -521,7 +551,9 @@ def scene_units(scene_type: type, data: Any) -> Any:
     units = getattr(scene_type, "units", {})
     out = dict(data)
     for key, value in data.items():
-        if units.get(key) and has_unit(value):
+        if units.get(key) and isinstance(value, dict):           # one value per value of a grid axis
+            out[key] = {k: scene_units(scene_type, {key: v})[key] for k, v in value.items()}
+        elif units.get(key) and has_unit(value):
             try:
                 out[key] = convert(value, units[key])
             except UnitError as exc:
