@@ -450,3 +450,32 @@ def test_the_plain_designs_cost_weighs_each_pair_by_the_bound_a_saltelli_stage_m
     stage = SimpleNamespace(method="confirm_saltelli", options={"n": 4096}, extras={}, indices=res.indices)
     failed = SimpleNamespace(**{**vars(ran), "results": [(SimpleNamespace(index=1), stage)]})
     assert saltelli_n_to_confirm(tf.ST, 0.02) < 8192 == cost_to_confirm(failed, 1, "y").n
+
+
+def test_the_advice_cautions_where_a_saltelli_stage_found_a_tail_with_no_finite_mean() -> None:
+    """A ``heavy_tail`` diagnostic of a Saltelli result with a shape at or above 1 (the fitted Pareto tail has no
+    finite mean: on the rig's coast-down 1.1-3.5 from N = 2 048 to 8 192 while nothing confirmed) adds a caution to
+    the pair's next step naming the parameter, the shape and the base; a shape below 1, another output or another
+    scene's result adds none."""
+    from types import SimpleNamespace
+
+    from ddgsa.execute.confirm import advice
+    from ddgsa.gsa.testfunctions import ishigami
+
+    tf = ishigami()
+    res = ddgsa.sobol(tf.f, tf.space, method="saltelli", n=512, seed=3)
+    rows = pd.DataFrame({"scene": [0] * 3 + [1] * 3, "output": "y", "parameter": ["x1", "x2", "x3"] * 2,
+                         "ST": list(tf.ST) * 2})
+    study = SimpleNamespace(spec=SimpleNamespace(scenes=SimpleNamespace(realisations=1)), targets=[])
+
+    def told(shape: float, output: str = "y", scene: int = 0) -> str:
+        tail = Diagnostic("heavy_tail", "...", "untrusted", output=output, parameter="x2", value=shape)
+        flagged = SimpleNamespace(method=res.method, options=res.options, indices=res.indices, extras=res.extras,
+                                  n_evals=res.n_evals, diagnostics=[*res.diagnostics, tail])
+        ran = SimpleNamespace(indices=rows, study=study, evaluations=pd.DataFrame({"seconds": [1.0]}), provenance={},
+                              results=[(SimpleNamespace(index=scene), flagged)])
+        return advice(ran, "y", [0])
+
+    assert "; caution: in scene 0 the total index's terms of x2 have a heavy tail (Pareto shape 1.3 >= 1 at N = 512" \
+        in told(1.3)
+    assert "caution" not in told(0.8) and "caution" not in told(1.3, output="z") and "caution" not in told(1.3, scene=1)

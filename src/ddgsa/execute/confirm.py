@@ -334,7 +334,41 @@ def advice(result: "StudyResult", output: str, scenes: list[int], tolerance: flo
     divide by the workers), or the study's ``confirm`` budget (points per scene) that would pay for the
     design where it is needed (:mod:`ddgsa.gsa.escalate`): where the escalation ended with ``output``
     unconfirmed, the budget for the design its cost rule asked for then (:func:`budget_cost`; more time where
-    its time limit stopped it), the cheaper of the two first (:func:`leading_cost`)."""
+    its time limit stopped it), the cheaper of the two first (:func:`leading_cost`); with a caution where a
+    Saltelli stage found the total index's terms too heavy-tailed for any size (:func:`tail_caution`)."""
+    return _advice(result, output, scenes, tolerance) + tail_caution(result, output, scenes)
+
+
+INFINITE_MEAN_SHAPE = 1.0
+"""A tail shape (:func:`ddgsa.gsa.trust.pareto_shape`) at or above which the fitted Pareto tail has no finite
+mean: a Saltelli estimate of a total index whose terms have it does not settle as the base grows."""
+
+
+def tail_caution(result: "StudyResult", output: str, scenes: list[int]) -> str:
+    """``"; caution: ..."`` where a Saltelli result (plain or the escalation's) in ``scenes`` flagged
+    ``output``'s total-index terms ``heavy_tail`` with a shape at or above :data:`INFINITE_MEAN_SHAPE`
+    (the largest, its parameter and the base it was measured at), else ``""``: the cost rule's sizes
+    assume a mean that settles (on ``paper_a_subsystem``'s coast-down the shapes stayed at 1.1-3.5 from
+    N = 2 048 to 8 192 while nothing confirmed)."""
+    worst: tuple[float, str, int, int] | None = None
+    for ps, res in getattr(result, "results", None) or []:
+        if getattr(ps, "index", None) not in scenes or res.method not in ("saltelli", SALTELLI_NAME):
+            continue
+        for d in res.diagnostics:
+            if d.name == "heavy_tail" and d.output == output and d.value is not None \
+                    and d.value >= INFINITE_MEAN_SHAPE and (worst is None or d.value > worst[0]):
+                worst = (float(d.value), str(d.parameter), int(res.options.get("n", 0)), int(ps.index))
+    if worst is None:
+        return ""
+    shape, parameter, n, scene = worst
+    return (f"; caution: in scene {scene} the total index's terms of {parameter} have a heavy tail (Pareto shape "
+            f"{shape:.2g} >= {INFINITE_MEAN_SHAPE:g} at N = {n}: a few rare runs carry it, and such a mean need not "
+            "settle), so larger designs may not confirm it; a transform of the output (e.g. in dB) or narrower "
+            "ranges that keep the rare points out are the other levers")
+
+
+def _advice(result: "StudyResult", output: str, scenes: list[int], tolerance: float) -> str:
+    """:func:`advice` without its caution."""
     costs = [cost_to_confirm(result, s, output, tolerance) for s in scenes]
     n, runs, sec, grow, grow_leads = leading_cost(result, output, scenes, tolerance)
     per = per_run_seconds(result)
