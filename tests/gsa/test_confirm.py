@@ -468,14 +468,20 @@ def test_the_advice_cautions_where_a_saltelli_stage_found_a_tail_with_no_finite_
                          "ST": list(tf.ST) * 2})
     study = SimpleNamespace(spec=SimpleNamespace(scenes=SimpleNamespace(realisations=1)), targets=[])
 
-    def told(shape: float, output: str = "y", scene: int = 0) -> str:
+    def stage(shape: float, output: str = "y", n: int = 512, method: str = res.method) -> SimpleNamespace:
         tail = Diagnostic("heavy_tail", "...", "untrusted", output=output, parameter="x2", value=shape)
-        flagged = SimpleNamespace(method=res.method, options=res.options, indices=res.indices, extras=res.extras,
-                                  n_evals=res.n_evals, diagnostics=[*res.diagnostics, tail])
+        return SimpleNamespace(method=method, options={**res.options, "n": n}, indices=res.indices, extras=res.extras,
+                               n_evals=n * 5, diagnostics=[*res.diagnostics, tail])
+
+    def told(*stages: SimpleNamespace, scene: int = 0) -> str:
         ran = SimpleNamespace(indices=rows, study=study, evaluations=pd.DataFrame({"seconds": [1.0]}), provenance={},
-                              results=[(SimpleNamespace(index=scene), flagged)])
+                              results=[(SimpleNamespace(index=scene), s) for s in stages])
         return advice(ran, "y", [0])
 
     assert "; caution: in scene 0 the total index's terms of x2 have a heavy tail (Pareto shape 1.3 >= 1 at N = 512" \
-        in told(1.3)
-    assert "caution" not in told(0.8) and "caution" not in told(1.3, output="z") and "caution" not in told(1.3, scene=1)
+        in told(stage(1.3))
+    assert "caution" not in told(stage(0.8)) and "caution" not in told(stage(1.3, output="z")) \
+        and "caution" not in told(stage(1.3), scene=1)
+    # the escalation's larger stage measured the tail again: its reading, not the plain design's, decides
+    assert "caution" not in told(stage(1.3), stage(0.7, n=8192, method="confirm_saltelli"))
+    assert "shape 1.2 >= 1 at N = 8192" in told(stage(0.9), stage(1.2, n=8192, method="confirm_saltelli"))

@@ -14,6 +14,7 @@ from ddgsa.cli import main
 from ddgsa.errors import StudyError
 from ddgsa.loads.scene import Scene
 from ddgsa.models.hss_rig.scenes import RigScene
+from ddgsa.runner import ModelId, task_key
 from ddgsa.study.spec import ModelScenesSpec, ScenesSpec, load_study, load_yaml, plan_scenes, validate_study
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -67,12 +68,37 @@ def test_a_mapping_gives_each_kind_its_own_record_length(tmp_path: Path) -> None
     assert [ps.fields for ps in planned] == [{"kind": k, "speed_rpm": 1500} for k in ("startup", "steady", "coastdown")]
     assert [ps.scenes[0].duration for ps in planned] == [1.2, 0.6, 3.0]
     assert study.scene_fields == ["kind", "speed_rpm"]
+    keys = {task_key(ModelId("hss_rig", "linear", (), ()), ps.scenes[0].to_dict(), {"disk_mass": 15.0}, "v")
+            for ps in planned}
+    assert len(keys) == 3
+    # a quantity ({value, unit}) stays one value, on numeric axes too: speeds per value of the speed axis
+    quantity = load_study(_write(tmp_path, "kind: steady, speed_rpm: {value: [20, 25], unit: Hz}, "
+                                           "duration: {1200: 0.7, 1500: 0.6}, sample_rate: 2000, settle: 0.1"))
+    assert [(ps.fields["speed_rpm"], ps.scenes[0].duration) for ps in plan_scenes(quantity)] == [(1200, 0.7),
+                                                                                               (1500, 0.6)]
+
+
+def test_a_wind_scene_refuses_one_value_per_axis_value(tmp_path: Path) -> None:
+    path = tmp_path / "wind.yaml"
+    path.write_text("name: w\nparameters:\n  hub_mass: {nominal: 1.0e5, spread: 0.1}\n"
+                    "scenes: {wind_speed: [11, 14], duration: {11: 60, 14: 30}}\noutputs: [damage_front]\n"
+                    "methods:\n  - {method: mdrm, points: 3}\n")
+    with pytest.raises(StudyError, match=r"field 'scenes\.duration': one value per value of a grid axis is for a "
+                                         r"model's own scene type"):
+        load_study(path)
 
 
 @pytest.mark.parametrize("scenes, message", [
     ("kind: [startup, coastdown], speed_rpm: 1500, duration: {startup: 1.2}",
      r"field 'scenes\.duration': a mapping gives one value per value of a list-valued scene field, keyed by all of "
-     r"its values \(the lists here: kind: startup, coastdown\); got keys startup"),
+     r"its values, each once \(the lists here: kind: startup, coastdown\); got keys startup"),
+    ("kind: [startup, coastdown], speed_rpm: {startup: 1200, coastdown: 1500}",
+     r"field 'scenes\.speed_rpm': 'speed_rpm' labels the scenes and cannot take one value per value of another field"),
+    ("kind: steady, settle: [0.1, 0.2], ramp_time: [0.1, 0.2], duration: {0.1: 2, 0.2: 3}",
+     r"field 'scenes\.duration': its keys are the values of settle and of ramp_time"),
+    ("kind: steady, speed_rpm: [1, 0], duration: {true: 2, false: 3}", r"field 'scenes\.duration': .*not true or false"),
+    ("kind: [startup, coastdown], duration: {}", r"field 'scenes\.duration': an empty mapping gives no value"),
+    ("kind: steady, speed_rpm: [[1200], 1500], duration: {1200: 2, 1500: 3}", r"field 'scenes\.duration': a mapping"),
     ("kind: steady, speed_rpm: 1500, duration: {steady: 1.2}",
      r"field 'scenes\.duration': .*\(the lists here: none\)"),
     ("kind: [startup, coastdown], duration: {startup: 1.2, coastdown: [3, 4]}",

@@ -205,6 +205,9 @@ class ModelScenesSpec(BaseModel):
                 _refuse(key, value, "an empty list gives an empty scene grid; give at least one value")
         for key, value in data.items():
             if isinstance(value, dict) and key not in _GRID_KEYS:
+                if key in getattr(scene_type, "label_fields", ()):
+                    _refuse(key, value, f"{key!r} labels the scenes and cannot take one value per value of "
+                                        "another field; give it as a list (one scene per value)")
                 _keyed_axis(key, value, data)
         grid = {k: v for k, v in data.items() if k in _GRID_KEYS}
         spec = cls(scene_type=f"{scene_type.__module__}.{scene_type.__qualname__}",
@@ -241,18 +244,34 @@ def _keyed_axis(key: str, value: dict[Any, Any], fields: dict[str, Any]) -> str:
     Raises
     ------
     pydantic.ValidationError
-        At ``scenes.<key>`` where no axis has those values, or a value is itself a list or mapping.
+        At ``scenes.<key>`` where no axis or more than one has those values, a key is true or false, or a
+        value is itself a list or mapping.
     """
+    if not value:
+        _refuse(key, value, "an empty mapping gives no value; give one value per value of a list-valued field")
+    if any(isinstance(k, bool) for k in value):
+        _refuse(key, value, "a mapping's keys are values of a list-valued scene field, not true or false")
+    matches = []
+    for axis, values in fields.items():
+        if not isinstance(values, list) or axis in _GRID_KEYS:
+            continue
+        try:
+            if set(value) == set(values) and len(values) == len(set(values)):
+                matches.append(axis)
+        except TypeError:                                  # a value that is not one value: refused elsewhere
+            continue
+    if len(matches) > 1:
+        _refuse(key, value, f"its keys are the values of {' and of '.join(matches)}: say which by giving the "
+                            "fields different values")
+    if matches:
+        bad = [v for v in value.values() if isinstance(v, (list, dict))]
+        if bad:
+            _refuse(key, value, f"a mapping gives one value per {matches[0]}: {bad[0]!r} is not one value")
+        return matches[0]
     axes = {k: v for k, v in fields.items() if isinstance(v, list) and k not in _GRID_KEYS}
-    for axis, values in axes.items():
-        if set(value) == set(values) and len(values) == len(set(values)):
-            bad = [v for v in value.values() if isinstance(v, (list, dict))]
-            if bad:
-                _refuse(key, value, f"a mapping gives one value per {axis}: {bad[0]!r} is not one value")
-            return axis
     listed = "; ".join(f"{k}: {', '.join(map(str, v))}" for k, v in axes.items()) or "none"
     _refuse(key, value, f"a mapping gives one value per value of a list-valued scene field, keyed by all of "
-                        f"its values (the lists here: {listed}); got keys {', '.join(map(str, value))}")
+                        f"its values, each once (the lists here: {listed}); got keys {', '.join(map(str, value))}")
     raise AssertionError  # unreachable: _refuse raises
 
 
@@ -551,8 +570,12 @@ def scene_units(scene_type: type, data: Any) -> Any:
     units = getattr(scene_type, "units", {})
     out = dict(data)
     for key, value in data.items():
-        if units.get(key) and isinstance(value, dict):           # one value per value of a grid axis
-            out[key] = {k: scene_units(scene_type, {key: v})[key] for k, v in value.items()}
+        if isinstance(value, dict) and not has_unit(value):      # one value per value of a grid axis
+            if scene_type is Scene:
+                _refuse(key, value, "one value per value of a grid axis is for a model's own scene type (the "
+                                    "rig's); a wind scene field takes a number, a quantity or a list")
+            if units.get(key):
+                out[key] = {k: scene_units(scene_type, {key: v})[key] for k, v in value.items()}
         elif units.get(key) and has_unit(value):
             try:
                 out[key] = convert(value, units[key])
