@@ -368,8 +368,8 @@ def tail_caution(result: "StudyResult", output: str, scenes: list[int]) -> str:
     at = f" at N = {n}" if n else ""
     return (f"; caution: in scene {scene} the total index's terms of {parameter} have a heavy tail (Pareto shape "
             f"{shape:.2g} >= {INFINITE_MEAN_SHAPE:g}{at}: a few rare runs carry it, and such a mean need not "
-            "settle), so larger designs may not confirm it; a transform of the output (e.g. in dB) or narrower "
-            "ranges that keep the rare points out are the other levers")
+            "settle), so larger designs may not confirm it; narrower ranges that keep the rare points out (on the "
+            "rig, the critical speed away from the operating speed) are the other lever")
 
 
 def _advice(result: "StudyResult", output: str, scenes: list[int], tolerance: float) -> str:

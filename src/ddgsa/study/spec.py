@@ -570,12 +570,11 @@ def scene_units(scene_type: type, data: Any) -> Any:
     units = getattr(scene_type, "units", {})
     out = dict(data)
     for key, value in data.items():
-        if isinstance(value, dict) and not has_unit(value):      # one value per value of a grid axis
+        if isinstance(value, dict) and not has_unit(value) and units.get(key):   # one value per axis value
             if scene_type is Scene:
                 _refuse(key, value, "one value per value of a grid axis is for a model's own scene type (the "
                                     "rig's); a wind scene field takes a number, a quantity or a list")
-            if units.get(key):
-                out[key] = {k: scene_units(scene_type, {key: v})[key] for k, v in value.items()}
+            out[key] = {k: scene_units(scene_type, {key: v})[key] for k, v in value.items()}
         elif units.get(key) and has_unit(value):
             try:
                 out[key] = convert(value, units[key])
