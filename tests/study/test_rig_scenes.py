@@ -59,7 +59,7 @@ def test_a_list_of_kinds_labels_every_scene(tmp_path: Path) -> None:
 
 def test_a_mapping_gives_each_kind_its_own_record_length(tmp_path: Path) -> None:
     """``duration: {startup: ..., steady: ..., coastdown: ...}`` beside ``kind: [...]``: each scene takes its
-    kind's value (units converted per value), no new axis, and the store keys differ by it (the scene's
+    kind's value (units converted per value), no new axis, and the store keys a run by it (the scene's
     ``to_dict`` carries the duration)."""
     study = load_study(_write(tmp_path, "kind: [startup, steady, coastdown], speed_rpm: 1500, "
                                         "duration: {startup: 1.2 s, steady: 600 ms, coastdown: 3}, "
@@ -68,9 +68,13 @@ def test_a_mapping_gives_each_kind_its_own_record_length(tmp_path: Path) -> None
     assert [ps.fields for ps in planned] == [{"kind": k, "speed_rpm": 1500} for k in ("startup", "steady", "coastdown")]
     assert [ps.scenes[0].duration for ps in planned] == [1.2, 0.6, 3.0]
     assert study.scene_fields == ["kind", "speed_rpm"]
-    keys = {task_key(ModelId("hss_rig", "linear", (), ()), ps.scenes[0].to_dict(), {"disk_mass": 15.0}, "v")
-            for ps in planned}
-    assert len(keys) == 3
+    # the store keys a run by its whole scene: the coast-down at 3 s is not the one at 2 s
+    shorter = plan_scenes(load_study(_write(tmp_path, "kind: [startup, steady, coastdown], speed_rpm: 1500, "
+                                                      "duration: {startup: 1.2 s, steady: 600 ms, coastdown: 2}, "
+                                                      "sample_rate: 2000, settle: 0.1")))
+    key = [[task_key(ModelId("hss_rig", "linear"), ps.scenes[0].to_dict(), {"disk_mass": 15.0}, "v") for ps in p]
+           for p in (planned, shorter)]
+    assert key[0][:2] == key[1][:2] and key[0][2] != key[1][2]
     # a quantity ({value, unit}) stays one value, on numeric axes too: speeds per value of the speed axis
     quantity = load_study(_write(tmp_path, "kind: steady, speed_rpm: {value: [20, 25], unit: Hz}, "
                                            "duration: {1200: 0.7, 1500: 0.6}, sample_rate: 2000, settle: 0.1"))

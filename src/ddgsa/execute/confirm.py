@@ -210,9 +210,7 @@ def cost_to_confirm(result: "StudyResult", scene: int, output: str, tolerance: f
     st = (g.groupby("parameter", sort=False)["ST"]
           .agg(lambda s: s.dropna().median() if s.notna().any() else np.nan).to_numpy(float))
     if n is None:            # a Saltelli base that ran there and left the pair unconfirmed: at least twice it
-        ran = [int(res.options["n"]) for ps, res in getattr(result, "results", None) or []
-               if getattr(ps, "index", None) == scene and res.method in ("saltelli", SALTELLI_NAME)
-               and "n" in res.options]
+        ran = [int(res.options["n"]) for res in _saltelli_results(result, scene) if "n" in res.options]
         n = saltelli_n_to_confirm(st, tolerance, pair_ratio=_pair_ratio(result, scene, output, len(st)),
                                   ran=max(ran, default=0))
     study = result.study
@@ -225,12 +223,22 @@ def _pair_ratio(result: "StudyResult", scene: int, output: str, d: int) -> NDArr
     """The bounds on ``output``'s ST differences over the sums of its rows' bounds (d, d) that the scene's
     largest Saltelli result measured (:func:`ddgsa.gsa.result.difference_ratio`, plain or controlled: both bound
     their differences by the same rule), or None (no such result, or a result loaded without its extras)."""
-    salt = [res for ps, res in getattr(result, "results", None) or []
-            if getattr(ps, "index", None) == scene and "rank_diff_error" in res.extras
-            and (res.indices["output"] == output).sum() == d]
+    salt = [res for res in _scene_results(result, scene)
+            if "rank_diff_error" in res.extras and (res.indices["output"] == output).sum() == d]
     if not salt:
         return None
     return difference_ratio(max(salt, key=lambda r: r.n_evals), output)
+
+
+def _scene_results(result: "StudyResult", scene: int) -> list[Any]:
+    """The method results (:class:`~ddgsa.gsa.result.SobolResult`) the study made in ``scene`` (none for a
+    result without them, e.g. one loaded from its folder)."""
+    return [res for ps, res in getattr(result, "results", None) or [] if getattr(ps, "index", None) == scene]
+
+
+def _saltelli_results(result: "StudyResult", scene: int) -> list[Any]:
+    """``scene``'s Saltelli results: a plain ``saltelli`` method's and the ``confirm:`` escalation's."""
+    return [res for res in _scene_results(result, scene) if res.method in ("saltelli", SALTELLI_NAME)]
 
 
 @dataclass(frozen=True)
@@ -353,8 +361,7 @@ def tail_caution(result: "StudyResult", output: str, scenes: list[int]) -> str:
     tail again (the steady housing's 1.54 at N = 2 048 was 0.70 at 8 192)."""
     worst: tuple[float, str, int, int] | None = None
     for scene in scenes:
-        salt = [res for ps, res in getattr(result, "results", None) or []
-                if getattr(ps, "index", None) == scene and res.method in ("saltelli", SALTELLI_NAME)]
+        salt = _saltelli_results(result, scene)
         if not salt:
             continue
         res = max(salt, key=lambda r: r.n_evals)

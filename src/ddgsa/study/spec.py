@@ -38,7 +38,7 @@ import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, NoReturn
 
 import numpy as np
 
@@ -157,7 +157,7 @@ _GRID_KEYS = ("realisations", "seed", "aggregate")
 """Keys of ``scenes:`` that are not fields of the model's scene type."""
 
 
-def _refuse(key: str, value: Any, message: str) -> None:
+def _refuse(key: str, value: Any, message: str) -> NoReturn:
     """Raise a validation error at field ``key`` (its path then reads ``scenes.<key>``)."""
     raise ValidationError.from_exception_data("scenes", [InitErrorDetails(
         type=PydanticCustomError("scene_field", message), loc=(key,), input=value)])
@@ -272,7 +272,6 @@ def _keyed_axis(key: str, value: dict[Any, Any], fields: dict[str, Any]) -> str:
     listed = "; ".join(f"{k}: {', '.join(map(str, v))}" for k, v in axes.items()) or "none"
     _refuse(key, value, f"a mapping gives one value per value of a list-valued scene field, keyed by all of "
                         f"its values, each once (the lists here: {listed}); got keys {', '.join(map(str, value))}")
-    raise AssertionError  # unreachable: _refuse raises
 
 
 class MethodSpec(BaseModel):
