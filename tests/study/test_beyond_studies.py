@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import pytest
 
 import ddgsa
 from ddgsa.cli import main
@@ -84,3 +85,32 @@ def test_hsic_study_reports_screening_without_a_problem(tmp_path: Path) -> None:
     assert t.loc["x1", "p_value"] < 0.05 and t["S1"].isna().all()
     summary = (out / "summary.md").read_text()
     assert "## HSIC screening" in summary and "## Problems" not in summary
+
+
+def test_hsic_study_writes_its_verdicts_and_its_next_step_ranks_them(tmp_path: Path) -> None:
+    """An HSIC-only study (issue 46: every study folder gets a ``confirmation.csv``): one ``screened`` row per
+    (scene, output), exit 0 without ``--allow-untrusted``, the parameters screened in as its ranking, the
+    output's spread from the Latin hypercube's own runs; the next step it names (``--confirm-time``) then ranks
+    them: Ishigami's closed-form indices (S1 0.314, 0.442, 0; ST 0.558, 0.442, 0.244) within the tolerance."""
+    path = tmp_path / "hs.yaml"
+    path.write_text(beyond_study(name="hs", extra="methods: [{method: hsic, n: 100, permutations: 200}]", output="y"))
+    out = tmp_path / "hs"
+    assert main(["run", str(path), "--out", str(out), "-q"]) == 0
+    conf = pd.read_csv(out / "confirmation.csv")
+    assert conf[["verdict", "method", "runs"]].values.tolist() == [["screened", "hsic", 100]]
+    t = pd.read_csv(out / "indices.csv")
+    inside = t[t["p_value"] < 0.05]["parameter"].tolist()
+    assert "x1" in inside
+    assert conf["ranking"][0] == "screened in: " + ", ".join(t.sort_values("p_value", kind="stable")
+                                                             .query("p_value < 0.05")["parameter"])
+    y = pd.read_csv(out / "evaluations.csv")["y"].to_numpy(float)
+    assert conf["std"][0] == pytest.approx(y.std(ddof=1), rel=1e-5)
+    assert "--confirm-time '5 min'" in conf["next_step"][0]
+    summary = (out / "summary.md").read_text()
+    assert "## Verdicts" in summary and "`y` in scene 0: screened in: " in summary
+    assert main(["run", str(path), "--out", str(out), "-q", "--confirm-time", "2 min"]) == 0
+    conf = pd.read_csv(out / "confirmation.csv")
+    assert conf["verdict"][0] in ("trusted", "rank-confirmed")
+    t = pd.read_csv(out / "indices.csv")
+    rows = t[t["method"] == conf["method"][0]].set_index("parameter")
+    np.testing.assert_allclose(rows.loc[["x1", "x2", "x3"], "ST"], [0.5576, 0.4424, 0.2437], atol=0.05)

@@ -10,6 +10,9 @@ all read it):
 * ``trusted`` -- some method's rows of it are all within the tolerance;
 * ``rank-confirmed`` / ``confirmed tie`` -- some method's rows are all trusted or have a certain place in
   the order by ST (:func:`ddgsa.gsa.result.rank_structure`), with at least one confirmed tie for the latter;
+* ``screened`` -- only a screening method (HSIC) ran for the pair: its dependence tests say which parameters
+  are screened in at the study's level (``ranking``), a test's answer, not a confirmed ranking; the next step
+  says how to rank them (no exit 3: the study asked a screening);
 * ``unconfirmed`` -- none of these, with the cheapest next step and its cost.
 
 For a pair that is not confirmed, :func:`cost_to_confirm` estimates
@@ -119,15 +122,15 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
     time on one worker [s], NaN when no run time was measured)."""
 
     sobol = sobol_rows(result.indices)
-    if not len(sobol):
-        return pd.DataFrame(columns=CONFIRMATION_COLUMNS)
     info = result.study.output_declarations() if hasattr(result.study, "output_declarations") else {}
     mom = result.moments
     moments = {} if mom is None or not len(mom) else \
         {(int(r.scene), str(r.output)): (float(r.std), float(r.mean)) for r in mom.itertuples()}
     real = max(1, int(result.study.spec.scenes.realisations))
+    rows = _screened(result, sobol, info, moments, real)
+    if not len(sobol):
+        return pd.DataFrame(rows, columns=CONFIRMATION_COLUMNS)
     tol = study_tolerance(result)
-    rows = []
     for r in pair_status(sobol).itertuples():
         scene, out = int(r.scene), str(r.output)
         res = info[out].resolution if out in info else 0.0
@@ -153,6 +156,47 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
                        next_runs=runs, next_seconds=sec)
         rows.append(row)
     return pd.DataFrame(rows, columns=CONFIRMATION_COLUMNS)
+
+
+def _screened(result: "StudyResult", sobol: pd.DataFrame, info: dict[str, Any],
+              moments: dict[tuple[int, str], tuple[float, float]], real: int) -> list[dict[str, Any]]:
+    """The rows of the (scene, output) pairs only a screening method (no Sobol indices: HSIC) estimated:
+    ``screened``, the parameters it screens in (``p_value`` under the method's level) as the ``ranking``, or
+    ``nothing to rank`` where the output spreads within its resolution."""
+    ind = result.indices
+    if not len(ind) or "p_value" not in ind:
+        return []
+    known = set(zip(sobol["scene"].astype(int), sobol["output"].astype(str))) if len(sobol) else set()
+    screen = ind[~ind.index.isin(sobol.index) & ind["p_value"].notna()] if len(sobol) else ind[ind["p_value"].notna()]
+    sec = per_run_seconds(result)
+    per_run = f"{sec:.3g} s a run measured here" if np.isfinite(sec) else "no run time measured here"
+    rows = []
+    for (scene, out), g in screen.groupby(["scene", "output"], sort=False):
+        if (int(scene), str(out)) in known:
+            continue
+        method = str(g["method"].iloc[0])
+        g = g[g["method"] == method].sort_values("p_value", kind="stable")
+        res = info[out].resolution if out in info else 0.0
+        std, mean = moments.get((int(scene), str(out)), (np.nan, np.nan))
+        row = {"scene": int(scene), "output": str(out), "method": method, "std": std, "resolution": res,
+               "runs": int(g["n_evals"].max()) * real if "n_evals" in g else 0, "next_runs": 0, "next_seconds": 0.0}
+        if below_resolution(std, mean, res):
+            row.update(verdict="nothing to rank", ranking="",
+                       next_step=(f"none: the output spreads by {std:.3g} over the design, within its resolution "
+                                  f"{max(res, CONSTANT_CV * abs(mean)):.3g}"))
+        else:
+            inside = g[g["screened_in"].astype(float) > 0]["parameter"].astype(str).tolist() \
+                if "screened_in" in g else []
+            row.update(verdict="screened",
+                       ranking=("screened in: " + ", ".join(inside)) if inside else "none screened in",
+                       next_step=(f"to rank the parameters by their share of the variance (Sobol indices, with "
+                                  f"their own verdicts), add `confirm: {{time: 5 min}}` to the study or run it "
+                                  f"with `--confirm-time '5 min'`: the escalation starts from M-DRM and spends "
+                                  f"runs only where its rows are not yet trusted ({per_run}); {method}'s "
+                                  f"p-values test dependence, and a parameter not screened in is absence of "
+                                  f"evidence, not a confirmed independence"))
+        rows.append(row)
+    return rows
 
 
 def verdict_counts(table: pd.DataFrame, verdicts: tuple[str, ...] = VERDICTS) -> tuple[list[str], int]:

@@ -19,7 +19,7 @@ GROUP_COLUMNS = ["output", "group", "members", "S_closed", "S_closed_conf", "ST"
 """Columns of ``SobolResult.groups`` (:mod:`ddgsa.gsa.groups`): the group indices with the same trust and
 rank claims as the parameters' rows."""
 Severity = Literal["info", "warning", "untrusted"]
-VERDICTS = ("trusted", "rank-confirmed", "confirmed tie", "nothing to rank", "unconfirmed")
+VERDICTS = ("trusted", "rank-confirmed", "confirmed tie", "nothing to rank", "screened", "unconfirmed")
 """The verdicts of a (scene, output) pair, best first (:func:`ddgsa.execute.confirm.confirmation_table`)."""
 CONFIRMED = VERDICTS[:4]
 """The verdicts that need no more runs (exit 0)."""

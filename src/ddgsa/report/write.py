@@ -236,8 +236,14 @@ def _confirmed_section(result: StudyResult) -> list[str]:
     parts, done = verdict_counts(table, VERDICTS[:4])
     flat = table[table["verdict"] == "nothing to rank"]
     lines = [f"Confirmed: {done} of {len(table)} (scene, output) pairs" + (f" ({', '.join(parts)})" if parts else "")
-             + f" at a cost of {n_runs} model runs" + (" (unconfirmed ones: see Problems)." if done < len(table) else "."),
-             ""]
+             + f" at a cost of {n_runs} model runs"
+             + (" (unconfirmed ones: see Problems)." if (table["verdict"] == "unconfirmed").any() else "."), ""]
+    screened = table[table["verdict"] == "screened"]
+    if len(screened):
+        lines += ["Screened (only a screening method ran: its tests say which parameters the output depends on, "
+                  "a test's answer, not a ranking by share of the variance; `--confirm-time '5 min'` ranks them): "
+                  + "; ".join(f"`{r.output}` in scene {r.scene}: {r.ranking}" for r in screened.itertuples()) + ".",
+                  ""]
     spent = escalation_lines(result.provenance.get("confirm") or [], max(1, int(result.study.spec.scenes.realisations)))
     lines += spent + ([""] if spent else [])
     if len(flat):
@@ -455,7 +461,9 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                   "an untrusted value whose place is confirmed, `?` one that is neither. A method's runs (indices.csv "
                   "`n_evals`) count its whole design, any check sample of its own included; the evaluation count "
                   "above counts each distinct point once, as methods share equal points.", ""]
-        lines += _confirmed_section(result) if ranked else []
+        screened_only = not ranked and bool(len(verdicts(result)))
+        lines += _confirmed_section(result) if ranked else (["## Verdicts", ""] + _confirmed_section(result)
+                                                            if screened_only else [])
         by_pair = {(int(r.scene), r.output): r for r in verdicts(result).itertuples()} if ranked else {}
         for (scene, out), g in sobol_rows(result.indices).groupby(["scene", "output"]):
             fields = scene_text({f: g[f].iloc[0] for f in result.study.scene_fields})

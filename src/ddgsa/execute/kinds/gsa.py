@@ -46,7 +46,7 @@ class GsaResult(StudyResult):
     """Per scene, method, output and parameter: indices against runs on nested sub-samples."""
 
 
-SAMPLE_DESIGNS = ("saltelli", "fast", "rbd_fast", "pce")
+SAMPLE_DESIGNS = ("saltelli", "fast", "rbd_fast", "pce", "hsic")
 """Methods whose every design point is a draw from the input distribution (pce unless fitted by quadrature)."""
 
 

@@ -64,6 +64,8 @@ def html(folder: Folder) -> str:
     return (f"<p>One verdict per (scene, output): {escape(words)}. <em>trusted</em>: every index within the "
             "tolerance; <em>rank-confirmed</em> / <em>confirmed tie</em>: the order by ST certain, ties within the "
             "tie margin; <em>nothing to rank</em>: the output spreads by no more than its resolution; "
+            "<em>screened</em>: only a screening method ran, its tests name the parameters the output depends on "
+            "(a test's answer, not a ranking); "
             "<em>unconfirmed</em> rows are shaded, with the cheapest next step and its cost. "
             + re.sub(r"`([^`]*)`", r"<code>\1</code>", escape(ranking_terms(_ranking_pair(folder.study.get("ranking")))))
             + "</p>"
