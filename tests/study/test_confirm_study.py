@@ -128,3 +128,28 @@ def test_the_escalation_pools_the_points_auto_ran(write_study, tmp_path: Path) -
     esc = t[t["method"] == PCE_NAME]
     assert (esc["n_evals"] == ran).all() and spent < ran        # every distinct point, auto's included
     assert not t[t["method"] == "auto"]["trusted"].all() and esc["trusted"].all()
+
+
+def test_a_budget_per_scene_value_escalates_each_scene_to_its_own(write_study, tmp_path: Path, capsys) -> None:
+    """``confirm: {budget: {8.0: 0, 11.0: 300}}`` keyed by the wind speed: the scene at 8 m/s spends nothing and
+    stays unconfirmed, the one at 11 m/s spends 45 points and is confirmed (as with ``budget: 300`` alone, above);
+    the unconfirmed pair's next step raises only its own key. Bad mappings are refused naming ``confirm.budget``."""
+    from ddgsa.execute.confirm import verdicts
+
+    text = write_study().read_text().replace("  - {method: saltelli, n: 64, seed: 0}\n", "")
+    text = text.replace("realisations: 2", "realisations: 1").replace("outputs: [y, y_positive]", "outputs: [y]")
+    path = tmp_path / "c.yaml"
+    path.write_text(text + "confirm: {budget: {8.0: 0, 11.0: 300}}\n")
+    res = execute(load_study(path), EvaluationStore(tmp_path / "evaluations.sqlite"), quiet=True)
+    conf = res.provenance["confirm"]
+    assert [(c["scene"], c["budget"], c["spent"]) for c in conf] == [(0, 0, 0), (1, 300, 45)]
+    v = verdicts(res).set_index("scene")
+    assert v.loc[1, "verdict"] in ("trusted", "rank-confirmed") and v.loc[0, "verdict"] == "unconfirmed"
+    assert "`confirm: {budget: {8.0: " in v.loc[0, "next_step"] and ", 11.0: 300}}`" in v.loc[0, "next_step"]
+    for bad, words in (("{8.0: 10}", "keyed by all of its values"), ("{8.0: true, 11.0: 5}", "whole number"),
+                       ("{8.0: 1.5, 11.0: 5}", "whole number"), ("-1", "whole number"),
+                       ("{low: 1, high: 2}", "keyed by all of its values")):
+        path.write_text(text + f"confirm: {{budget: {bad}}}\n")
+        assert main(["validate", str(path)]) == 2
+        err = capsys.readouterr().err
+        assert "confirm.budget" in err and words in err, (bad, err)

@@ -297,6 +297,7 @@ class BudgetCost:
     scenes: tuple[int, ...]  # the scenes whose escalation asked for the design
     timed: bool             # the escalation stopped at its time limit there: more time, not a budget, runs it
     control: bool           # the cost rule counted on Gaussian-process control variates fitted there
+    keyed: tuple[tuple[Any, int], ...] | None = None   # a per-value budget: every key with its (raised) budget
 
     @property
     def possible(self) -> bool:
@@ -313,24 +314,41 @@ def budget_cost(result: "StudyResult", output: str, scenes: list[int]) -> Budget
     ``confirm:``, a provenance written before it recorded its asks, or the output confirmed there).
 
     A scene's escalation plans one design for every output it left unconfirmed: the budget pays for the
-    scene's largest ask. The budget is the study's, one for every scene: raised, each scene whose escalation
+    scene's largest ask. A budget that is one number is every scene's: raised, each scene whose escalation
     ended with an output unconfirmed may spend up to it, and the runs count all of those (an upper bound: a
-    scene stops once confirmed). Where the escalation stopped at its time limit (``confirm: {time}``) the runs
-    are those of the asked design in ``scenes``: more time, not points, runs it."""
+    scene stops once confirmed). A per-value budget (``budget: {startup: 16384, steady: 62000}``) is raised
+    only at the keys of ``scenes`` (``keyed``), and the runs count the scenes under those keys. Where the
+    escalation stopped at its time limit (``confirm: {time}``) the runs are those of the asked design in
+    ``scenes``: more time, not points, runs it."""
     every = list((getattr(result, "provenance", None) or {}).get("confirm", []) or [])
     entries = [c for c in every if c.get("scene") in scenes and output in (c.get("asks") or {})]
     if not entries:
         return None
     need = {int(c["scene"]): max(int(a["points"]) for a in c["asks"].values()) for c in entries}
     n = max(int(a["n"]) for c in entries for a in c["asks"].values())
-    budget = max(int(c["spent"]) + need[int(c["scene"])] for c in entries)
     timed = any(_stopped_by_time(c) for c in entries)
     real = max(1, int(result.study.spec.scenes.realisations))
-    points = sum(need.values()) if timed else sum(max(0, budget - int(c["spent"])) for c in every if c.get("asks"))
+    spec = result.study.spec
+    given = spec.confirm.budget if spec.confirm is not None else None
+    keyed = None
+    if isinstance(given, dict):
+        grid = spec.scenes.grid()
+        key = {int(c["scene"]): spec.budget_key(grid[int(c["scene"])]) for c in every}
+        raised = {k: int(v) for k, v in given.items()}
+        for c in entries:
+            s = int(c["scene"])
+            raised[key[s]] = max(raised[key[s]], int(c["spent"]) + need[s])
+        budget = max(raised[key[s]] for s in need)
+        points = sum(need.values()) if timed else sum(max(0, raised[key[int(c["scene"])]] - int(c["spent"]))
+                                                      for c in every if c.get("asks"))
+        keyed = tuple(raised.items())
+    else:
+        budget = max(int(c["spent"]) + need[int(c["scene"])] for c in entries)
+        points = sum(need.values()) if timed else sum(max(0, budget - int(c["spent"])) for c in every if c.get("asks"))
     runs = points * real
     control = any(bool(a.get("control", True)) for c in entries for a in c["asks"].values())
     return BudgetCost(budget=budget, n=n, runs=runs, seconds=runs * per_run_seconds(result),
-                      scenes=tuple(sorted(need)), timed=timed, control=control)
+                      scenes=tuple(sorted(need)), timed=timed, control=control, keyed=keyed)
 
 
 def _stopped_by_time(entry: dict[str, Any]) -> bool:
@@ -445,7 +463,8 @@ def _advice(result: "StudyResult", output: str, scenes: list[int], tolerance: fl
                       f"({_num(grow.runs)} new runs, {duration(grow.seconds)} of model time{at}{cheaper}; "
                       "every run is reused)")
         else:
-            larger = (f"raise the study's `confirm: {{budget: {grow.budget}}}` (points per scene): where its "
+            raised = grow.budget if grow.keyed is None else "{" + ", ".join(f"{k}: {v}" for k, v in grow.keyed) + "}"
+            larger = (f"raise the study's `confirm: {{budget: {raised}}}` (points per scene): where its "
                       f"escalation ended in {where}, its cost rule asks for {design} (up to {_num(grow.runs)} new "
                       f"runs over the scenes left unconfirmed, {duration(grow.seconds)} of model time{at}{cheaper}; "
                       "every run is reused)")

@@ -49,7 +49,7 @@ from pydantic_core import InitErrorDetails, PydanticCustomError
 from ddgsa.errors import DdgsaError, StudyError, clip, unknown_name_message, with_hint
 from ddgsa.gsa.auto import resolve_auto_options
 from ddgsa.gsa.base import METHODS, get_method
-from ddgsa.gsa.escalate import MAX_BUDGET, TIME_ONLY
+from ddgsa.gsa.escalate import MAX_BUDGET
 from ddgsa.gsa.target import Target
 from ddgsa.loads.scene import Scene
 from ddgsa.models import MODELS
@@ -157,10 +157,11 @@ _GRID_KEYS = ("realisations", "seed", "aggregate")
 """Keys of ``scenes:`` that are not fields of the model's scene type."""
 
 
-def _refuse(key: str, value: Any, message: str) -> NoReturn:
-    """Raise a validation error at field ``key`` (its path then reads ``scenes.<key>``)."""
+def _refuse(key: str, value: Any, message: str, where: tuple[str, ...] = ()) -> NoReturn:
+    """Raise a validation error at field ``key`` under ``where`` (raised within ``scenes:``, its path then reads
+    ``scenes.<key>``; from the study, ``where=("confirm",)``: ``confirm.<key>``)."""
     raise ValidationError.from_exception_data("scenes", [InitErrorDetails(
-        type=PydanticCustomError("scene_field", message), loc=(key,), input=value)])
+        type=PydanticCustomError("scene_field", message), loc=(*where, key), input=value)])
 
 
 class ModelScenesSpec(BaseModel):
@@ -237,20 +238,20 @@ class ModelScenesSpec(BaseModel):
         return self._type(**{**scalars, **keyed, **fields}, seed=self.seed + realisation)
 
 
-def _keyed_axis(key: str, value: dict[Any, Any], fields: dict[str, Any]) -> str:
+def _keyed_axis(key: str, value: dict[Any, Any], fields: dict[str, Any], where: tuple[str, ...] = ()) -> str:
     """The grid axis (a list-valued field of ``fields``) whose values are exactly the keys of the
     mapping-valued scene field ``key``.
 
     Raises
     ------
     pydantic.ValidationError
-        At ``scenes.<key>`` where no axis or more than one has those values, a key is true or false, or a
+        At ``scenes.<key>`` (``confirm.budget``: ``where=("confirm",)``) where no axis or more than one has those values, a key is true or false, or a
         value is itself a list or mapping.
     """
     if not value:
-        _refuse(key, value, "an empty mapping gives no value; give one value per value of a list-valued field")
+        _refuse(key, value, where=where, message="an empty mapping gives no value; give one value per value of a list-valued field")
     if any(isinstance(k, bool) for k in value):
-        _refuse(key, value, "a mapping's keys are values of a list-valued scene field, not true or false")
+        _refuse(key, value, where=where, message="a mapping's keys are values of a list-valued scene field, not true or false")
     matches = []
     for axis, values in fields.items():
         if not isinstance(values, list) or axis in _GRID_KEYS:
@@ -261,16 +262,16 @@ def _keyed_axis(key: str, value: dict[Any, Any], fields: dict[str, Any]) -> str:
         except TypeError:                                  # a value that is not one value: refused elsewhere
             continue
     if len(matches) > 1:
-        _refuse(key, value, f"its keys are the values of {' and of '.join(matches)}: say which by giving the "
+        _refuse(key, value, where=where, message=f"its keys are the values of {' and of '.join(matches)}: say which by giving the "
                             "fields different values")
     if matches:
         bad = [v for v in value.values() if isinstance(v, (list, dict))]
         if bad:
-            _refuse(key, value, f"a mapping gives one value per {matches[0]}: {bad[0]!r} is not one value")
+            _refuse(key, value, where=where, message=f"a mapping gives one value per {matches[0]}: {bad[0]!r} is not one value")
         return matches[0]
     axes = {k: v for k, v in fields.items() if isinstance(v, list) and k not in _GRID_KEYS}
     listed = "; ".join(f"{k}: {', '.join(map(str, v))}" for k, v in axes.items()) or "none"
-    _refuse(key, value, f"a mapping gives one value per value of a list-valued scene field, keyed by all of "
+    _refuse(key, value, where=where, message=f"a mapping gives one value per value of a list-valued scene field, keyed by all of "
                         f"its values, each once (the lists here: {listed}); got keys {', '.join(map(str, value))}")
 
 
@@ -291,13 +292,27 @@ class ConfirmSpec(BaseModel):
     (:mod:`ddgsa.gsa.escalate`)."""
 
     model_config = _STRICT
-    budget: int | None = Field(None, ge=0, le=MAX_BUDGET,
-                               description="most new points per scene (each run in every realisation)")
+    budget: int | dict[Any, int] | None = Field(
+        None, description="most new points per scene (each run in every realisation), or a mapping with one such "
+                          "budget per value of a list-valued scene field, e.g. {startup: 16384, steady: 62000}")
     time: float | None = Field(None, gt=0.0, le=30 * 86400.0,
                                description="most wall time the escalation may spend, e.g. '10 min' [s]: it runs the "
                                            "stages that fit, cheapest first, then stops and says what the rest "
                                            "would cost")
     seed: int = Field(0, ge=0, description="seed of the added points")
+
+    @field_validator("budget", mode="before")
+    @classmethod
+    def _budget(cls, value: Any) -> Any:
+        """Every budget a whole number of points in [0, MAX_BUDGET] (not true or false)."""
+        values = list(value.values()) if isinstance(value, dict) else [value]
+        for v in values:
+            if v is None and not isinstance(value, dict):
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or v != int(v) or not 0 <= v <= MAX_BUDGET:
+                raise ValueError(f"a budget is a whole number of points from 0 to {MAX_BUDGET}, got {v!r}"
+                                 + (" in the mapping" if isinstance(value, dict) else ""))
+        return value
 
     @field_validator("time", mode="before")
     @classmethod
@@ -317,10 +332,6 @@ class ConfirmSpec(BaseModel):
                              "e.g. '10 min') or both")
         return self
 
-    @property
-    def points(self) -> int:
-        """The point budget per scene (the cap :data:`~ddgsa.gsa.escalate.TIME_ONLY` when only a time is given)."""
-        return TIME_ONLY if self.budget is None else self.budget
 
 
 class RankingSpec(BaseModel):
@@ -542,6 +553,8 @@ class StudySpec(BaseModel):
             raise ValueError("kind 'fault' needs a 'fault' block (parameter, healthy, faulty)")
         if self.confirm is not None and self.kind != "gsa":
             raise ValueError("a 'confirm' block needs kind: gsa")
+        if self.confirm is not None and isinstance(self.confirm.budget, dict):
+            _keyed_axis("budget", self.confirm.budget, self.scene_axes(), ("confirm",))
         if self.kind != "fault" and self.fault is not None:
             raise ValueError("a 'fault' block needs kind: fault")
         if self.kind != "sweep" and (self.grid or self.model.variants):
@@ -553,6 +566,31 @@ class StudySpec(BaseModel):
         if self.signals and self.kind != "gsa":
             raise ValueError("'signals' need kind: gsa")
         return self
+
+    def scene_axes(self) -> dict[str, Any]:
+        """The fields of ``scenes:`` by name (a list-valued one is a grid axis)."""
+        return _scene_axes(self.scenes)
+
+    def confirm_budget(self, fields: dict[str, Any]) -> int | None:
+        """The ``confirm:`` budget [points] of the grid point whose label fields are ``fields`` (one value of a
+        per-value mapping, ``budget: {startup: 16384, steady: 62000}``), None without a budget."""
+        budget = None if self.confirm is None else self.confirm.budget
+        return int(budget[self.budget_key(fields)]) if isinstance(budget, dict) else budget
+
+    def budget_key(self, fields: dict[str, Any]) -> Any:
+        """The key of a per-value ``confirm:`` budget that applies at the grid point with label ``fields`` (None
+        where the budget is one number or absent)."""
+        budget = None if self.confirm is None else self.confirm.budget
+        if not isinstance(budget, dict):
+            return None
+        return fields[_keyed_axis("budget", budget, self.scene_axes(), ("confirm",))]
+
+
+def _scene_axes(scenes: "ScenesSpec | ModelScenesSpec") -> dict[str, Any]:
+    """The fields of ``scenes:`` by name (a list-valued one is a grid axis)."""
+    if isinstance(scenes, ModelScenesSpec):
+        return dict(scenes.fields)
+    return {k: getattr(scenes, k) for k in WIND_LABEL_FIELDS}
 
 
 def scene_units(scene_type: type, data: Any) -> Any:

@@ -17,7 +17,7 @@ import pandas as pd
 
 from ddgsa.gsa.auto import AutoSobol
 from ddgsa.gsa.base import Design, get_method
-from ddgsa.gsa.escalate import Escalation
+from ddgsa.gsa.escalate import TIME_ONLY, Escalation
 from ddgsa.gsa.givendata import MIN_POINTS as GIVEN_MIN_POINTS, drawn_rows, given_data_s1
 from ddgsa.gsa.pooled import pooled_pce
 from ddgsa.gsa.result import SobolResult
@@ -322,7 +322,9 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
         _, first = np.unique(x_all, axis=0, return_index=True)     # a point twice would flatter the LOO error
         keep = np.sort(first)
         features.append([str(f) for f in model.control_features(ps.scenes[0])])
-        esc = Escalation(study.space, outputs, spec.points, x_all[keep], y_all[keep], have, tol, seed=spec.seed,
+        budget = study.spec.confirm_budget(ps.fields)
+        esc = Escalation(study.space, outputs, TIME_ONLY if budget is None else budget, x_all[keep], y_all[keep],
+                         have, tol, seed=spec.seed,
                          saltelli=None if salt is None else (salt, y[row_index(pooled, salt.points)]),
                          resolution=resolution, ranking=study.spec.ranking.pair,
                          features=_features_at(plan, runs, x_all[keep], ps, features[i]))
@@ -370,7 +372,7 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
     result.indices = pd.concat(rows, ignore_index=True)
     if diag_rows:
         result.diagnostics = pd.concat(diag_rows, ignore_index=True)
-    return [{"scene": ps.index, "budget": spec.budget, "time_s": spec.time, "spent": esc.spent, "log": esc.log,
+    return [{"scene": ps.index, "budget": study.spec.confirm_budget(ps.fields), "time_s": spec.time, "spent": esc.spent, "log": esc.log,
              "asks": esc.asks()} for ps, esc in zip(plan.scenes, escs)]
 
 
