@@ -364,10 +364,14 @@ def controlled_indices(space: ParameterSpace, unit: NDArray[np.float64], y: NDAr
     pilot). Same trust rule and diagnostics as the plain estimator; ``extras["control_loo"]`` (k,) is
     each process's relative leave-one-out error (NaN: none).
     """
-    from ddgsa.gsa.control import controlled_saltelli, fit_control, prime_moments
+    from ddgsa.gsa.control import controlled_saltelli, fit_control, prime_moments, refine_moments
 
+    # the surrogates' sampled variances known to a sixth of the tolerance where that is within reach: their Monte
+    # Carlo error joins every bound and no model run shrinks it (refine_moments)
+    target = options["tolerance"] / (4.0 * _CONTROL_FACTOR)
     if surrogates is not None:
         prime_moments(surrogates.values())              # the outputs' shared feature processes, once
+        refine_moments(surrogates.values(), target, options["conf_level"])
     d, k = space.dim, y.shape[1]
     rows = n * (d + 2)
     out = [np.full((k, d), np.nan) for _ in range(6)]
@@ -377,6 +381,8 @@ def controlled_indices(space: ParameterSpace, unit: NDArray[np.float64], y: NDAr
     for j in range(k):
         g = fit_control(unit[rows:], y[rows:, j], seed=options["seed"]) if surrogates is None \
             else surrogates.get(outputs[j])
+        if surrogates is None and g is not None:
+            refine_moments([g], target, options["conf_level"])
         exact = g.variances() if g is not None else (0.0, np.zeros(d), np.zeros(d))
         gv = g(unit[:rows]) if g is not None else np.zeros(rows)
         residual[:, j] -= gv
