@@ -153,3 +153,31 @@ def test_a_budget_per_scene_value_escalates_each_scene_to_its_own(write_study, t
         assert main(["validate", str(path)]) == 2
         err = capsys.readouterr().err
         assert "confirm.budget" in err and words in err, (bad, err)
+
+
+def test_a_per_value_budget_step_raises_and_counts_only_its_own_keys(write_study, tmp_path: Path) -> None:
+    """The next step of a per-value budget (three wind speeds, ``{8.0: 2000, 11.0: 2000, 14.0: 5000}``): scene 0's
+    largest ask (5 000 new points on top of its 1 000 spent) raises the key 8.0 to 6 000 and counts only its 5 000
+    points, x 2 realisations; scene 1 (asked something, key 11.0) and scene 2 (left 4 600 of its 5 000 when it
+    stopped) keep their budgets and add no runs (a single budget would have let them spend up to it too)."""
+    from types import SimpleNamespace
+
+    from ddgsa.execute.confirm import advice, budget_cost
+
+    text = write_study().read_text().replace("wind_speed: [8.0, 11.0]", "wind_speed: [8.0, 11.0, 14.0]")
+    path = tmp_path / "k.yaml"
+    path.write_text(text + "confirm: {budget: {8.0: 2000, 11.0: 2000, 14.0: 5000}}\n")
+    study = load_study(path)
+    assert study.spec.scenes.realisations == 2
+    asks0 = {"y": {"n": 512, "points": 1000, "control": True}, "z": {"n": 2048, "points": 5000, "control": True}}
+    entries = [{"scene": 0, "budget": 2000, "spent": 1000, "log": ["budget of 2000 runs spent; unconfirmed: y, z"],
+                "asks": asks0},
+               {"scene": 1, "budget": 2000, "spent": 1500, "log": ["..."], "asks": {"z": {"n": 1024, "points": 900}}},
+               {"scene": 2, "budget": 5000, "spent": 400, "log": ["stopped with 4600 of 5000 runs left: ..."],
+                "asks": {"z": {"n": 4096, "points": 20000}}}]
+    rows = pd.DataFrame({"scene": [0, 0, 1, 1, 2, 2], "output": "y", "parameter": ["a", "b"] * 3, "ST": [0.7, 0.3] * 3})
+    result = SimpleNamespace(indices=rows, study=study, evaluations=pd.DataFrame({"seconds": [0.5]}),
+                             provenance={"confirm": entries})
+    grow = budget_cost(result, "y", [0])
+    assert (grow.budget, grow.runs, grow.keyed) == (6000, 5000 * 2, ((8.0, 6000), (11.0, 2000), (14.0, 5000)))
+    assert "`confirm: {budget: {8.0: 6000, 11.0: 2000, 14.0: 5000}}`" in advice(result, "y", [0])

@@ -329,7 +329,7 @@ def budget_cost(result: "StudyResult", output: str, scenes: list[int]) -> Budget
     timed = any(_stopped_by_time(c) for c in entries)
     real = max(1, int(result.study.spec.scenes.realisations))
     spec = result.study.spec
-    given = spec.confirm.budget if spec.confirm is not None else None
+    given = getattr(getattr(spec, "confirm", None), "budget", None)
     keyed = None
     if isinstance(given, dict):
         grid = spec.scenes.grid()
@@ -339,8 +339,9 @@ def budget_cost(result: "StudyResult", output: str, scenes: list[int]) -> Budget
             s = int(c["scene"])
             raised[key[s]] = max(raised[key[s]], int(c["spent"]) + need[s])
         budget = max(raised[key[s]] for s in need)
+        grown = {key[s] for s in need}                  # the keys raised: the other scenes keep their budgets
         points = sum(need.values()) if timed else sum(max(0, raised[key[int(c["scene"])]] - int(c["spent"]))
-                                                      for c in every if c.get("asks"))
+                                                      for c in every if c.get("asks") and key[int(c["scene"])] in grown)
         keyed = tuple(raised.items())
     else:
         budget = max(int(c["spent"]) + need[int(c["scene"])] for c in entries)

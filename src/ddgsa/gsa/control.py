@@ -203,10 +203,11 @@ spread gives its standard error)."""
 SURROGATE_RUNS = 1 << 21
 """About how many surrogate evaluations estimate a transformed surrogate's variances."""
 MAX_SURROGATE_RUNS = 1 << 23
-"""The most :func:`refine_moments` spends on one surrogate's variances: 4 times :data:`SURROGATE_RUNS`, its
-sampled error half or less (scrambled Sobol' points beat Monte Carlo's rate on a smooth surrogate). A
-surrogate of ~1 000 centres takes about 8 s of CPU per 2^21 evaluations: a rig output's control with two
-features, 27 inputs, about 40 s more a stage at the cap."""
+"""The most :func:`refine_moments` spends on one surrogate's variances: 4 times :data:`SURROGATE_RUNS` (at Monte
+Carlo's rate its sampled error halves; measured: 3-17 times smaller at 16 times the runs on an analytic
+resonance, 1.2-2.1 times at 4 times on the rig's steady scene). A process of ~1 000 centres takes about 8 s of CPU
+per 2^21 evaluations: the rig's seven steady outputs' controls with two shared features, 27 inputs, cost about
+5 min more, once per escalation (its controls are frozen at its first Saltelli stage and keep their moments)."""
 CHUNK_VALUES = 1 << 21
 """Coordinates of surrogate points made at once (16 MiB) when its variances are sampled."""
 
@@ -587,7 +588,7 @@ def _sampled_variances(gs: Sequence[Callable[[NDArray[np.float64]], NDArray[np.f
     2010's first-order, Jansen's total estimator) of about ``runs`` surrogate evaluations in all, on values
     less a constant. ``lift``: a map of the sampled points (m, d) that every ``g`` takes instead of the points
     (the features' processes of :class:`FeatureSurrogate` s sharing them: evaluated once a sample for all of
-    ``gs``; ``runs`` default :data:`SURROGATE_RUNS`). A larger ``runs`` extends each replicate's Sobol' sequence (its first points are the smaller
+    ``gs``). ``runs``: default :data:`SURROGATE_RUNS`; a larger one extends each replicate's Sobol' sequence (its first points are the smaller
     design's); the points are evaluated in chunks of :data:`CHUNK_VALUES` coordinates."""
     from scipy.stats import qmc
 
@@ -640,8 +641,10 @@ def prime_moments(controls: Iterable[Any]) -> None:
 
 
 def refine_moments(controls: Iterable[Any], target: float, conf_level: float = 0.95) -> None:
-    """Sample the variances of the controls whose total indices' sampled error is above ``target`` again,
-    on 4 times the surrogate evaluations each round, up to :data:`MAX_SURROGATE_RUNS`.
+    """Sample the variances of the controls whose sampled error adds more than ``target`` to an index's bound
+    (a first-order or total index, or a difference of two totals) again, on 4 times the surrogate evaluations
+    each round, up to :data:`MAX_SURROGATE_RUNS` (where the target is out of reach, the cap ends it). The
+    stopping rule reads the same 8-replicate standard errors the bound then uses.
 
     A controlled estimate's bound adds, in quadrature, the model rows' error and the Monte Carlo error of
     the surrogate's own variances (:func:`controlled_saltelli`'s ``exact_error``). Where the control follows
@@ -658,24 +661,31 @@ def refine_moments(controls: Iterable[Any], target: float, conf_level: float = 0
                   if isinstance(c := getattr(g, "core", None), (_PowerProcess, _FeatureProcess))}.values())
 
     def margin(core: Any) -> float:
-        (var, _, total), (var_se, _, total_se) = core.moments
+        """The largest margin the sampled moments add to a first-order or total index or to a difference of
+        two total indices (:func:`controlled_saltelli`'s ``m1``, ``mt`` and, its two largest errors added, ``md``)."""
+        (var, first, total), (var_se, first_se, total_se) = core.moments
         if not var > 0:
             return 0.0
-        return float(np.max(q * np.hypot(total_se, total / var * var_se) / var))
+        m1 = q * np.hypot(first_se, first / var * var_se) / var
+        mt = q * np.hypot(total_se, total / var * var_se) / var
+        md = q * np.sort(total_se)[-2:].sum() / var
+        return float(max(m1.max(), mt.max(), md))
+
+    def runs_of(core: Any) -> int:
+        return int(core.__dict__.get("moment_runs", SURROGATE_RUNS))
 
     while True:
-        loose = [c for c in cores if margin(c) > target and c.__dict__.get("moment_runs", SURROGATE_RUNS)
-                 < MAX_SURROGATE_RUNS]
+        loose = [c for c in cores if margin(c) > target and runs_of(c) < MAX_SURROGATE_RUNS]
         if not loose:
             return
-        runs = 4 * min(c.__dict__.get("moment_runs", SURROGATE_RUNS) for c in loose)
-        feature: dict[tuple[int, int], list[_FeatureProcess]] = {}
+        feature: dict[tuple[int, int, int], list[_FeatureProcess]] = {}
         for c in loose:
+            runs = min(MAX_SURROGATE_RUNS, 4 * runs_of(c))
             if isinstance(c, _FeatureProcess):
-                feature.setdefault((id(c.features), c.seed), []).append(c)
+                feature.setdefault((id(c.features), c.seed, runs), []).append(c)
             else:
                 _resample([c], runs)
-        for group in feature.values():
+        for (_, _, runs), group in feature.items():
             _resample(group, runs)
 
 

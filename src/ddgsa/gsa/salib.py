@@ -366,8 +366,8 @@ def controlled_indices(space: ParameterSpace, unit: NDArray[np.float64], y: NDAr
     """
     from ddgsa.gsa.control import controlled_saltelli, fit_control, prime_moments, refine_moments
 
-    # the surrogates' sampled variances known to a sixth of the tolerance where that is within reach: their Monte
-    # Carlo error joins every bound and no model run shrinks it (refine_moments)
+    # the surrogates' sampled variances refined towards a sixth of the tolerance, up to refine_moments' cap: their
+    # Monte Carlo error joins every bound and no model run shrinks it
     target = options["tolerance"] / (4.0 * _CONTROL_FACTOR)
     if surrogates is not None:
         prime_moments(surrogates.values())              # the outputs' shared feature processes, once
