@@ -52,6 +52,10 @@ but an unconfirmed pair is shown with a requested method's estimate."""
 CONFIRMATION_COLUMNS = ["scene", "output", "verdict", "method", "runs", "std", "resolution", "ranking",
                         "next_step", "next_runs", "next_seconds"]
 
+SCREEN_RANK_TIME = "5 min"
+"""The ``confirm:`` time a ``screened`` pair's next step names: the escalation from M-DRM ranks a seed study's
+screened outputs in seconds (the direct drive's three at 256 runs, 11 s)."""
+
 SHAPLEY_ADVICE = ("the inputs are correlated, so only method shapley applies: raise its n_o (outer draws per "
                   "subset; the bootstrap half-width falls as 1/sqrt(n_o)) and n_v")
 """What a correlated study's unconfirmed output needs (the independent-input methods would be refused)."""
@@ -140,9 +144,7 @@ def confirmation_table(result: "StudyResult") -> pd.DataFrame:
                "runs": int(g["n_evals"].max()) * real if "n_evals" in g and len(g) else 0,
                "ranking": ranking_text(g), "next_step": "", "next_runs": 0, "next_seconds": 0.0}
         if below_resolution(std, mean, res):
-            row["verdict"], row["ranking"] = "nothing to rank", ""
-            row["next_step"] = (f"none: the output spreads by {std:.3g} over the design, within its resolution "
-                                f"{max(res, CONSTANT_CV * abs(mean)):.3g}")
+            row.update(verdict="nothing to rank", ranking="", next_step=_nothing_to_rank(std, mean, res))
         elif r.trusted:
             row["verdict"] = "trusted"
         elif r.confirmed:
@@ -166,8 +168,9 @@ def _screened(result: "StudyResult", sobol: pd.DataFrame, info: dict[str, Any],
     ind = result.indices
     if not len(ind) or "p_value" not in ind:
         return []
-    known = set(zip(sobol["scene"].astype(int), sobol["output"].astype(str))) if len(sobol) else set()
-    screen = ind[~ind.index.isin(sobol.index) & ind["p_value"].notna()] if len(sobol) else ind[ind["p_value"].notna()]
+    known = set(zip(sobol["scene"].astype(int), sobol["output"].astype(str)))
+    screen = ind.drop(index=sobol.index)
+    screen = screen[screen["p_value"].notna()]
     sec = per_run_seconds(result)
     per_run = f"{sec:.3g} s a run measured here" if np.isfinite(sec) else "no run time measured here"
     rows = []
@@ -181,22 +184,27 @@ def _screened(result: "StudyResult", sobol: pd.DataFrame, info: dict[str, Any],
         row = {"scene": int(scene), "output": str(out), "method": method, "std": std, "resolution": res,
                "runs": int(g["n_evals"].max()) * real if "n_evals" in g else 0, "next_runs": 0, "next_seconds": 0.0}
         if below_resolution(std, mean, res):
-            row.update(verdict="nothing to rank", ranking="",
-                       next_step=(f"none: the output spreads by {std:.3g} over the design, within its resolution "
-                                  f"{max(res, CONSTANT_CV * abs(mean)):.3g}"))
+            row.update(verdict="nothing to rank", ranking="", next_step=_nothing_to_rank(std, mean, res))
         else:
             inside = g[g["screened_in"].astype(float) > 0]["parameter"].astype(str).tolist() \
                 if "screened_in" in g else []
             row.update(verdict="screened",
                        ranking=("screened in: " + ", ".join(inside)) if inside else "none screened in",
                        next_step=(f"to rank the parameters by their share of the variance (Sobol indices, with "
-                                  f"their own verdicts), add `confirm: {{time: 5 min}}` to the study or run it "
-                                  f"with `--confirm-time '5 min'`: the escalation starts from M-DRM and spends "
+                                  f"their own verdicts), add `confirm: {{time: {SCREEN_RANK_TIME}}}` to the study "
+                                  f"or run it with `--confirm-time '{SCREEN_RANK_TIME}'`: the escalation starts "
+                                  f"from M-DRM and spends "
                                   f"runs only where its rows are not yet trusted ({per_run}); {method}'s "
                                   f"p-values test dependence, and a parameter not screened in is absence of "
                                   f"evidence, not a confirmed independence"))
         rows.append(row)
     return rows
+
+
+def _nothing_to_rank(std: float, mean: float, resolution: float) -> str:
+    """The next step of a pair with nothing to rank: none, with the spread against the resolution it is within."""
+    return (f"none: the output spreads by {std:.3g} over the design, within its resolution "
+            f"{max(resolution, CONSTANT_CV * abs(mean)):.3g}")
 
 
 def verdict_counts(table: pd.DataFrame, verdicts: tuple[str, ...] = VERDICTS) -> tuple[list[str], int]:
@@ -330,22 +338,18 @@ def budget_cost(result: "StudyResult", output: str, scenes: list[int]) -> Budget
     real = max(1, int(result.study.spec.scenes.realisations))
     spec = result.study.spec
     given = getattr(getattr(spec, "confirm", None), "budget", None)
-    keyed = None
-    if isinstance(given, dict):
-        grid = spec.scenes.grid()
-        key = {int(c["scene"]): spec.budget_key(grid[int(c["scene"])]) for c in every}
-        raised = {k: int(v) for k, v in given.items()}
-        for c in entries:
-            s = int(c["scene"])
-            raised[key[s]] = max(raised[key[s]], int(c["spent"]) + need[s])
-        budget = max(raised[key[s]] for s in need)
-        grown = {key[s] for s in need}                  # the keys raised: the other scenes keep their budgets
-        points = sum(need.values()) if timed else sum(max(0, raised[key[int(c["scene"])]] - int(c["spent"]))
-                                                      for c in every if c.get("asks") and key[int(c["scene"])] in grown)
-        keyed = tuple(raised.items())
-    else:
-        budget = max(int(c["spent"]) + need[int(c["scene"])] for c in entries)
-        points = sum(need.values()) if timed else sum(max(0, budget - int(c["spent"])) for c in every if c.get("asks"))
+    # a budget that is one number is one key (None) that every scene shares
+    grid = spec.scenes.grid() if isinstance(given, dict) else []
+    key = {int(c["scene"]): spec.budget_key(grid[int(c["scene"])]) if grid else None for c in every}
+    raised = {k: int(v) for k, v in given.items()} if isinstance(given, dict) else {None: 0}
+    for c in entries:
+        s = int(c["scene"])
+        raised[key[s]] = max(raised[key[s]], int(c["spent"]) + need[s])
+    budget = max(raised[key[s]] for s in need)
+    grown = {key[s] for s in need}                      # the keys raised: the other scenes keep their budgets
+    points = sum(need.values()) if timed else sum(max(0, raised[key[int(c["scene"])]] - int(c["spent"]))
+                                                  for c in every if c.get("asks") and key[int(c["scene"])] in grown)
+    keyed = tuple(raised.items()) if isinstance(given, dict) else None
     runs = points * real
     control = any(bool(a.get("control", True)) for c in entries for a in c["asks"].values())
     return BudgetCost(budget=budget, n=n, runs=runs, seconds=runs * per_run_seconds(result),

@@ -588,8 +588,9 @@ def _sampled_variances(gs: Sequence[Callable[[NDArray[np.float64]], NDArray[np.f
     2010's first-order, Jansen's total estimator) of about ``runs`` surrogate evaluations in all, on values
     less a constant. ``lift``: a map of the sampled points (m, d) that every ``g`` takes instead of the points
     (the features' processes of :class:`FeatureSurrogate` s sharing them: evaluated once a sample for all of
-    ``gs``). ``runs``: default :data:`SURROGATE_RUNS`; a larger one extends each replicate's Sobol' sequence (its first points are the smaller
-    design's); the points are evaluated in chunks of :data:`CHUNK_VALUES` coordinates."""
+    ``gs``). ``runs``: default :data:`SURROGATE_RUNS`; a larger one extends each replicate's Sobol' sequence
+    (its first points are the smaller design's); the points are evaluated in chunks of :data:`CHUNK_VALUES`
+    coordinates."""
     from scipy.stats import qmc
 
     lift = lift if lift is not None else (lambda u: u)

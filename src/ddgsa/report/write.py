@@ -31,7 +31,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from ddgsa.report.beyond import beyond_markdown
-from ddgsa.execute.confirm import (CROSSCHECKS, VERDICTS, next_step, study_tolerance, verdict_counts,  # noqa: E402
+from ddgsa.execute.confirm import (CROSSCHECKS, SCREEN_RANK_TIME, VERDICTS, next_step, study_tolerance, verdict_counts,  # noqa: E402
                                    verdicts)
 from ddgsa.gsa.base import sobol_rows  # noqa: E402
 from ddgsa.gsa.result import CONSTANT_CV  # noqa: E402
@@ -241,7 +241,7 @@ def _confirmed_section(result: StudyResult) -> list[str]:
     screened = table[table["verdict"] == "screened"]
     if len(screened):
         lines += ["Screened (only a screening method ran: its tests say which parameters the output depends on, "
-                  "a test's answer, not a ranking by share of the variance; `--confirm-time '5 min'` ranks them): "
+                  f"a test's answer, not a ranking by share of the variance; `--confirm-time '{SCREEN_RANK_TIME}'` ranks them): "
                   + "; ".join(f"`{r.output}` in scene {r.scene}: {r.ranking}" for r in screened.itertuples()) + ".",
                   ""]
     spent = escalation_lines(result.provenance.get("confirm") or [], max(1, int(result.study.spec.scenes.realisations)))
@@ -461,9 +461,10 @@ def summary_markdown(result: StudyResult, info: dict[str, ModelOutput] | None = 
                   "an untrusted value whose place is confirmed, `?` one that is neither. A method's runs (indices.csv "
                   "`n_evals`) count its whole design, any check sample of its own included; the evaluation count "
                   "above counts each distinct point once, as methods share equal points.", ""]
-        screened_only = not ranked and bool(len(verdicts(result)))
-        lines += _confirmed_section(result) if ranked else (["## Verdicts", ""] + _confirmed_section(result)
-                                                            if screened_only else [])
+        if ranked:
+            lines += _confirmed_section(result)
+        elif len(verdicts(result)):                          # screened pairs only (HSIC)
+            lines += ["## Verdicts", ""] + _confirmed_section(result)
         by_pair = {(int(r.scene), r.output): r for r in verdicts(result).itertuples()} if ranked else {}
         for (scene, out), g in sobol_rows(result.indices).groupby(["scene", "output"]):
             fields = scene_text({f: g[f].iloc[0] for f in result.study.scene_fields})

@@ -245,13 +245,16 @@ def _keyed_axis(key: str, value: dict[Any, Any], fields: dict[str, Any], where: 
     Raises
     ------
     pydantic.ValidationError
-        At ``scenes.<key>`` (``confirm.budget``: ``where=("confirm",)``) where no axis or more than one has those values, a key is true or false, or a
-        value is itself a list or mapping.
+        At ``scenes.<key>`` (``confirm.budget``: ``where=("confirm",)``) where no axis or more than one has
+        those values, a key is true or false, or a value is itself a list or mapping.
     """
+    def refuse(message: str) -> NoReturn:
+        _refuse(key, value, message, where)
+
     if not value:
-        _refuse(key, value, where=where, message="an empty mapping gives no value; give one value per value of a list-valued field")
+        refuse("an empty mapping gives no value; give one value per value of a list-valued field")
     if any(isinstance(k, bool) for k in value):
-        _refuse(key, value, where=where, message="a mapping's keys are values of a list-valued scene field, not true or false")
+        refuse("a mapping's keys are values of a list-valued scene field, not true or false")
     matches = []
     for axis, values in fields.items():
         if not isinstance(values, list) or axis in _GRID_KEYS:
@@ -262,17 +265,17 @@ def _keyed_axis(key: str, value: dict[Any, Any], fields: dict[str, Any], where: 
         except TypeError:                                  # a value that is not one value: refused elsewhere
             continue
     if len(matches) > 1:
-        _refuse(key, value, where=where, message=f"its keys are the values of {' and of '.join(matches)}: say which by giving the "
-                            "fields different values")
+        refuse(f"its keys are the values of {' and of '.join(matches)}: say which by giving the fields different "
+               "values")
     if matches:
         bad = [v for v in value.values() if isinstance(v, (list, dict))]
         if bad:
-            _refuse(key, value, where=where, message=f"a mapping gives one value per {matches[0]}: {bad[0]!r} is not one value")
+            refuse(f"a mapping gives one value per {matches[0]}: {bad[0]!r} is not one value")
         return matches[0]
     axes = {k: v for k, v in fields.items() if isinstance(v, list) and k not in _GRID_KEYS}
     listed = "; ".join(f"{k}: {', '.join(map(str, v))}" for k, v in axes.items()) or "none"
-    _refuse(key, value, where=where, message=f"a mapping gives one value per value of a list-valued scene field, keyed by all of "
-                        f"its values, each once (the lists here: {listed}); got keys {', '.join(map(str, value))}")
+    refuse(f"a mapping gives one value per value of a list-valued scene field, keyed by all of its values, each once "
+           f"(the lists here: {listed}); got keys {', '.join(map(str, value))}")
 
 
 class MethodSpec(BaseModel):
@@ -305,10 +308,9 @@ class ConfirmSpec(BaseModel):
     @classmethod
     def _budget(cls, value: Any) -> Any:
         """Every budget a whole number of points in [0, MAX_BUDGET] (not true or false)."""
-        values = list(value.values()) if isinstance(value, dict) else [value]
-        for v in values:
-            if v is None and not isinstance(value, dict):
-                continue
+        if value is None:
+            return value
+        for v in (value.values() if isinstance(value, dict) else [value]):
             if isinstance(v, bool) or not isinstance(v, (int, float)) or v != int(v) or not 0 <= v <= MAX_BUDGET:
                 raise ValueError(f"a budget is a whole number of points from 0 to {MAX_BUDGET}, got {v!r}"
                                  + (" in the mapping" if isinstance(value, dict) else ""))
@@ -331,7 +333,6 @@ class ConfirmSpec(BaseModel):
             raise ValueError("a 'confirm' block needs 'budget' (most new points per scene), 'time' (most wall time, "
                              "e.g. '10 min') or both")
         return self
-
 
 
 class RankingSpec(BaseModel):
@@ -569,7 +570,9 @@ class StudySpec(BaseModel):
 
     def scene_axes(self) -> dict[str, Any]:
         """The fields of ``scenes:`` by name (a list-valued one is a grid axis)."""
-        return _scene_axes(self.scenes)
+        if isinstance(self.scenes, ModelScenesSpec):
+            return dict(self.scenes.fields)
+        return {k: getattr(self.scenes, k) for k in WIND_LABEL_FIELDS}
 
     def confirm_budget(self, fields: dict[str, Any]) -> int | None:
         """The ``confirm:`` budget [points] of the grid point whose label fields are ``fields`` (one value of a
@@ -584,13 +587,6 @@ class StudySpec(BaseModel):
         if not isinstance(budget, dict):
             return None
         return fields[_keyed_axis("budget", budget, self.scene_axes(), ("confirm",))]
-
-
-def _scene_axes(scenes: "ScenesSpec | ModelScenesSpec") -> dict[str, Any]:
-    """The fields of ``scenes:`` by name (a list-valued one is a grid axis)."""
-    if isinstance(scenes, ModelScenesSpec):
-        return dict(scenes.fields)
-    return {k: getattr(scenes, k) for k in WIND_LABEL_FIELDS}
 
 
 def scene_units(scene_type: type, data: Any) -> Any:

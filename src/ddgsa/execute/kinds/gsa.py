@@ -313,6 +313,7 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
     model = study.make_model()
     resolution = {o: study.output_declaration(model, o).resolution for o in outputs}
     escs, pending = [], {}
+    budgets = [study.spec.confirm_budget(ps.fields) for ps in plan.scenes]    # per scene (None: time only)
     features: list[list[str]] = []                       # per scene, the model's control features there
     for i, ps in enumerate(plan.scenes):
         y = plan.values(runs.store, "gsa", ps, outputs, aggregate)
@@ -322,9 +323,8 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
         _, first = np.unique(x_all, axis=0, return_index=True)     # a point twice would flatter the LOO error
         keep = np.sort(first)
         features.append([str(f) for f in model.control_features(ps.scenes[0])])
-        budget = study.spec.confirm_budget(ps.fields)
-        esc = Escalation(study.space, outputs, TIME_ONLY if budget is None else budget, x_all[keep], y_all[keep],
-                         have, tol, seed=spec.seed,
+        esc = Escalation(study.space, outputs, TIME_ONLY if budgets[i] is None else budgets[i], x_all[keep],
+                         y_all[keep], have, tol, seed=spec.seed,
                          saltelli=None if salt is None else (salt, y[row_index(pooled, salt.points)]),
                          resolution=resolution, ranking=study.spec.ranking.pair,
                          features=_features_at(plan, runs, x_all[keep], ps, features[i]))
@@ -372,8 +372,8 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
     result.indices = pd.concat(rows, ignore_index=True)
     if diag_rows:
         result.diagnostics = pd.concat(diag_rows, ignore_index=True)
-    return [{"scene": ps.index, "budget": study.spec.confirm_budget(ps.fields), "time_s": spec.time, "spent": esc.spent, "log": esc.log,
-             "asks": esc.asks()} for ps, esc in zip(plan.scenes, escs)]
+    return [{"scene": ps.index, "budget": budget, "time_s": spec.time, "spent": esc.spent, "log": esc.log,
+             "asks": esc.asks()} for ps, esc, budget in zip(plan.scenes, escs, budgets)]
 
 
 def _features_at(plan: Plan, runs: Runs, x: np.ndarray, ps: PlannedScene, names: list[str]) -> np.ndarray | None:
