@@ -393,6 +393,9 @@ def test_the_budget_step_counts_every_scene_it_lets_escalate_and_never_misleads(
               "log": ["stopped by the time budget (60 s): the next stage's 5000 runs would take ~2 min"]}]
     grow = budget_cost(result(timed), "y", [0])
     assert grow.timed and grow.runs == 5000 * 2
+    # the flag a run writes decides, not the log's wording (provenance before the flag: the log line)
+    assert budget_cost(result([{**timed[0], "log": ["reworded"], "stopped_by_time": True}]), "y", [0]).timed
+    assert not budget_cost(result([{**timed[0], "stopped_by_time": False}]), "y", [0]).timed
     text = advice(result(timed), "y", [0])
     assert "give the study's `confirm:` more time" in text and "budget:" not in text.split("; or ")[0]
     # a budget past what a study may set is named but never leads, however cheap it looks

@@ -135,7 +135,8 @@ def test_a_time_budget_stops_cleanly_and_says_what_the_rest_would_cost(tmp_path:
     table = pd.read_csv(tmp_path / "out" / "confirmation.csv", keep_default_na=False)
     assert code == (3 if (table["verdict"] == "unconfirmed").any() else 0)
     assert (table[table["verdict"] == "unconfirmed"]["next_runs"] > 0).all()
-    assert any("stopped by the time budget (1 s)" in line for c in prov["confirm"] for line in c["log"])
+    stopped = [c for c in prov["confirm"] if any("stopped by the time budget (1 s)" in line for line in c["log"])]
+    assert stopped and all(c["stopped_by_time"] == (c in stopped) for c in prov["confirm"])
     # the folder's study.yaml says the budget (newcomer trial: `ddgsa report` dropped the runs it spent)
     assert "time: 1 s" in (tmp_path / "out" / "study.yaml").read_text()
     before = (tmp_path / "out" / "confirmation.csv").read_text()

@@ -357,7 +357,10 @@ def budget_cost(result: "StudyResult", output: str, scenes: list[int]) -> Budget
 
 
 def _stopped_by_time(entry: dict[str, Any]) -> bool:
-    """Whether a scene's escalation (provenance ``confirm`` entry) stopped at its time limit."""
+    """Whether a scene's escalation (provenance ``confirm`` entry) stopped at its time limit: its
+    ``stopped_by_time`` flag (provenance written before the flag has none; its log line says it)."""
+    if "stopped_by_time" in entry:
+        return bool(entry["stopped_by_time"])
     return any(str(line).startswith("stopped by the time budget") for line in entry.get("log") or [])
 
 

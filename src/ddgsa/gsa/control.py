@@ -96,7 +96,7 @@ class GaussianSurrogate:
     regressor: Any = field(default=None, compare=False, repr=False)   # (sklearn regressor, values' sd): the posterior
 
     @classmethod
-    def fit(cls, u: NDArray[np.float64], y: NDArray[np.float64], seed: int = 0,
+    def fit(cls, u: NDArray[np.float64], y: NDArray[np.float64],
             max_loo: float = MAX_LOO, exact: bool = True,
             drawn: NDArray[np.bool_] | None = None) -> "GaussianSurrogate | None":
         """Fit to finite values ``y`` (n,) at unit-cube points ``u`` (n, d): hyperparameters by maximum
@@ -337,7 +337,7 @@ def _fit_plain(u: NDArray[np.float64], y: NDArray[np.float64], seed: int,
     """:func:`fit_control` without features; ``exact=False``: a process of the output itself is fitted
     without its closed-form variances, keeping its regressor (that of a :class:`FeatureSurrogate`,
     whose variances are sampled)."""
-    best: Control | None = GaussianSurrogate.fit(u, y, seed=seed, drawn=drawn, max_loo=max_loo, exact=exact)
+    best: Control | None = GaussianSurrogate.fit(u, y, drawn=drawn, max_loo=max_loo, exact=exact)
     if not np.all(y > 0) or (best is not None and best.loo <= GOOD_LOO):
         return best
     train = _spread(len(y), MAX_TRAIN)
@@ -348,7 +348,7 @@ def _fit_plain(u: NDArray[np.float64], y: NDArray[np.float64], seed: int,
     candidates = []
     for power in POWERS:
         z_all = _transform(y / ref, power)
-        process = GaussianSurrogate.fit(u, z_all, seed=seed, max_loo=np.inf, exact=False)
+        process = GaussianSurrogate.fit(u, z_all, max_loo=np.inf, exact=False)
         if process is None:
             continue
         z = z_all[train]
@@ -440,9 +440,9 @@ class FeatureSurrogate:
         if not np.all(high > low):
             return None
         unit = (phi - low) / (high - low)
-        key = (u.tobytes(), unit.tobytes(), u.shape, seed)
+        key = (u.tobytes(), unit.tobytes(), u.shape)
         if cache is None or key not in cache:
-            fitted = [GaussianSurrogate.fit(u, unit[:, j], seed=seed, max_loo=np.inf, exact=False)
+            fitted = [GaussianSurrogate.fit(u, unit[:, j], max_loo=np.inf, exact=False)
                       for j in range(phi.shape[1])]
             found = None if any(p is None for p in fitted) else tuple(replace(p, regressor=None) for p in fitted)
             if cache is not None:

@@ -344,12 +344,14 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
 
     tell()
     clock = WallBudget(spec.time, _seconds_per_task(runs, plan.tasks, runs.run_opts.get("jobs")))
+    timed_out: set[int] = set()                         # the escalations the time limit stopped
     while pending:
         stage = {i: [plan.task(plan.scenes[i], scene, p) for scene in plan.scenes[i].scenes
                      for p in plan_points(study, x, names)] for i, x in pending.items()}
         fits = clock.fitting({i: len(t) for i, t in stage.items()})
         for i in set(pending) - set(fits):
             escs[i].log.append(clock.stopped(len(stage[i])))
+            timed_out.add(i)
         pending = {i: pending[i] for i in fits}
         tasks = [t for i in fits for t in stage[i]]
         if not tasks:
@@ -373,7 +375,8 @@ def _confirm(plan: Plan, runs: Runs, designs: list[tuple[str, Design]], outputs:
     if diag_rows:
         result.diagnostics = pd.concat(diag_rows, ignore_index=True)
     return [{"scene": ps.index, "budget": budget, "time_s": spec.time, "spent": esc.spent, "log": esc.log,
-             "asks": esc.asks()} for ps, esc, budget in zip(plan.scenes, escs, budgets)]
+             "asks": esc.asks(), "stopped_by_time": i in timed_out}
+            for i, (ps, esc, budget) in enumerate(zip(plan.scenes, escs, budgets))]
 
 
 def _features_at(plan: Plan, runs: Runs, x: np.ndarray, ps: PlannedScene, names: list[str]) -> np.ndarray | None:
