@@ -48,7 +48,6 @@ import math
 import os
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from contextlib import nullcontext
 from dataclasses import dataclass, field, replace
 from functools import cached_property, lru_cache
 from typing import Any
@@ -237,8 +236,7 @@ def _chunked(work: Callable[[int], None], starts: range) -> None:
         for k in starts:
             work(k)
         return
-    with _blas().limit(limits=1, user_api="blas") if _blas().info() else nullcontext(), \
-            ThreadPoolExecutor(THREADS) as pool:
+    with _blas().limit(limits=1, user_api="blas"), ThreadPoolExecutor(THREADS) as pool:   # (no BLAS: no limit)
         for _ in pool.map(work, starts):            # results in place; re-raises a chunk's error
             pass
 
