@@ -8,8 +8,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from ddgsa.models.signals import (SignalError, band_energy, envelope, harmonic_amplitudes, order_amplitudes, order_map,
-                           order_spectrum, plot_order_map, plot_spectrum, shaft_angle, slip_sidebands)
+from ddgsa.models.signals import (SignalError, band_energy, band_energies, band_rms_spectrum, envelope, harmonic_amplitudes,
+                                  order_amplitudes, order_map, order_spectrum, plot_order_map, plot_spectrum,
+                                  resample_records, resample_to_angle, shaft_angle, slip_sidebands)
 
 FS = 5000.0
 
@@ -109,3 +110,47 @@ def test_bad_signals_are_refused():
         harmonic_amplitudes(t**2, t, [1.0])
     with pytest.raises(SignalError, match="Nyquist"):
         harmonic_amplitudes(t, t, [600.0])
+
+
+def test_records_resampled_together_are_scipys_spline_of_each():
+    """The compiled spline of records with their own angles (a block's start-ups) against scipy's ``CubicSpline``
+    (not-a-knot) of each record on its own: within 1e-12 of the record's range, NaN beyond its whole revolutions;
+    one shared angle (``resample_to_angle``) likewise."""
+    from scipy.interpolate import CubicSpline
+
+    rng = np.random.default_rng(3)
+    t = np.arange(1201) * 1e-3
+    angles = np.cumsum(rng.uniform(0.02, 0.3, (t.size, 5)), axis=0) * [0.5, 0.8, 1.0, 1.3, 1.7]   # 15-45 revolutions
+    x = rng.standard_normal((t.size, 5, 3))
+    phi, y, counts = resample_records(t, x, angles, 64)
+    assert len(set(counts.tolist())) > 1 and phi.size == counts.max()
+    for r in range(5):
+        ref = CubicSpline(angles[:, r], x[:, r], axis=0)(angles[0, r] + phi[:counts[r]])
+        assert np.allclose(y[:counts[r], r], ref, rtol=0.0, atol=1e-12 * np.ptp(x[:, r]))
+        assert counts[r] == 64 * math.floor((angles[-1, r] - angles[0, r]) / (2 * math.pi) + 1e-9)
+        assert np.isnan(y[counts[r]:, r]).all()
+    shared = angles[:, 0]
+    phi1, y1 = resample_to_angle(t, x[:, 0], shared, 32)
+    assert np.allclose(y1, CubicSpline(shared, x[:, 0], axis=0)(shared[0] + phi1), rtol=0.0, atol=1e-12 * np.ptp(x))
+    with pytest.raises(SignalError, match="increase strictly"):
+        resample_records(t, x, angles[::-1], 64)
+    with pytest.raises(SignalError, match="need records"):
+        resample_records(t, x[:, :, 0], angles, 64)
+
+
+@pytest.mark.parametrize("n", [1000, 1001])
+def test_band_energies_take_scipys_periodogram(n):
+    """Band energies and band RMS from the one-FFT periodogram against scipy's ``periodogram`` (Hann, mean removed,
+    density) summed over the same lines, even and odd record lengths (the one-sided doubling differs)."""
+    from scipy.signal import periodogram
+
+    rng = np.random.default_rng(n)
+    t = np.arange(n) * 1e-3
+    x = rng.standard_normal((n, 3)) + 2.0
+    f, p = periodogram(x, fs=1e3, window="hann", scaling="density", detrend="constant", axis=0)
+    ref = np.array([p[np.abs(f - h * 37.0) <= 5.0].sum(axis=0) for h in (1, 2)]).sum(axis=0) * (f[1] - f[0])
+    assert np.allclose(band_energies(t, x, [37.0], 5.0, harmonics=2)[0], ref, rtol=1e-12, atol=0.0)
+    edges = np.array([0.0, 100.0, 250.0, 500.0])
+    k = np.searchsorted(edges, f, side="right") - 1
+    ref_rms = np.sqrt([p[k == b].sum(axis=0) * (f[1] - f[0]) for b in range(3)])
+    assert np.allclose(band_rms_spectrum(x, 1e-3, edges), ref_rms, rtol=1e-12, atol=0.0)

@@ -25,15 +25,15 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from numba import njit
 from scipy.integrate import cumulative_trapezoid
-from scipy.interpolate import CubicSpline
 from scipy.linalg import solve_triangular
-from scipy.signal import butter, hilbert, periodogram, sosfiltfilt
+from scipy.signal import butter, hilbert, sosfiltfilt
 
 from ddgsa.errors import DdgsaError
 
 __all__ = ["SignalError", "angle_amplitudes", "angle_samples", "band_energy", "band_rms_spectrum", "envelope", "harmonic_amplitudes", "order_amplitudes",
-           "order_map", "order_spectrum", "plot_order_map", "plot_spectrum", "resample_to_angle",
+           "order_map", "order_spectrum", "plot_order_map", "plot_spectrum", "resample_records", "resample_to_angle",
            "shaft_angle", "slip_sidebands"]
 
 
@@ -65,7 +65,7 @@ def resample_to_angle(t: ArrayLike, x: ArrayLike, angle: ArrayLike,
     Parameters
     ----------
     t, x : array_like
-        Times [s] and signal samples.
+        Times [s] and signal samples, ``x`` (n,) or (n, m) (m signals sharing the angle).
     angle : array_like
         Shaft angle [rad] at ``t``, strictly increasing.
     samples_per_rev : int
@@ -77,14 +77,108 @@ def resample_to_angle(t: ArrayLike, x: ArrayLike, angle: ArrayLike,
         Angles [rad] from ``angle[0]``, ``samples_per_rev`` per revolution, whole revolutions only
         (:func:`angle_samples`).
     y : ndarray
-        Signal at ``phi`` (cubic-spline interpolation of ``x`` against ``angle``).
+        Signal at ``phi``: the not-a-knot cubic spline of ``x`` against ``angle``
+        (``scipy.interpolate.CubicSpline``'s default; :func:`resample_records`).
     """
     t, x, _ = _uniform(t, x)
-    a = np.asarray(angle, float)
-    if a.shape != t.shape or np.any(np.diff(a) <= 0):
+    phi, y, _ = resample_records(t, x.reshape(t.size, 1, -1), np.asarray(angle, float)[:, None], samples_per_rev)
+    return phi, y[:, 0].reshape((phi.size,) + x.shape[1:])
+
+
+def resample_records(t: ArrayLike, x: ArrayLike, angles: ArrayLike, samples_per_rev: int = 64
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]:
+    """:func:`resample_to_angle` of ``R`` records that share their times but not their shaft angles (the
+    start-ups of a block of parameter points), in one compiled pass.
+
+    Parameters
+    ----------
+    t : array_like (n,)
+        Times [s], uniform.
+    x : array_like (n, R, m)
+        ``m`` signals of each record.
+    angles : array_like (n, R)
+        Each record's shaft angle [rad], strictly increasing.
+    samples_per_rev : int
+        Angle samples per revolution.
+
+    Returns
+    -------
+    phi : ndarray (n_phi,)
+        Angles [rad] from each record's first angle, ``samples_per_rev`` a revolution, over the most whole
+        revolutions any record holds.
+    y : ndarray (n_phi, R, m)
+        The signals at ``phi`` (a not-a-knot cubic spline against the record's angle, as
+        ``scipy.interpolate.CubicSpline``), NaN beyond a record's own whole revolutions.
+    counts : ndarray (R,)
+        Each record's angle samples (``samples_per_rev`` times its whole revolutions).
+    """
+    t, _, _ = _uniform(t, np.asarray(t, float))
+    a = np.asarray(angles, float)
+    v = np.asarray(x, float)
+    if a.ndim != 2 or a.shape[0] != t.size or v.shape[:2] != a.shape or v.ndim != 3:
+        raise SignalError(f"need records (n, R, m) and angles (n, R) on {t.size} times; got shapes {v.shape}, {a.shape}")
+    if np.any(np.diff(a, axis=0) <= 0):
         raise SignalError("the shaft angle must match the time vector and increase strictly")
-    phi = angle_samples(a, samples_per_rev)
-    return phi, CubicSpline(a, x, axis=0)(a[0] + phi)
+    revs = np.floor((a[-1] - a[0]) / (2 * math.pi) + 1e-9).astype(np.intp)
+    if revs.min() < 1:
+        raise SignalError(f"a record holds {(a[-1] - a[0]).min() / (2 * math.pi):.3g} revolutions; need at least 1")
+    counts = revs * samples_per_rev
+    phi = np.arange(counts.max()) * (2 * math.pi / samples_per_rev)
+    return phi, _spline_records(a, np.ascontiguousarray(v), phi, counts), counts
+
+
+@njit(cache=True)
+def _spline_records(knots: NDArray[np.float64], values: NDArray[np.float64], phi: NDArray[np.float64],
+                    counts: NDArray[np.intp]) -> NDArray[np.float64]:  # pragma: no cover (compiled)
+    """Each record ``r``'s not-a-knot cubic spline through ``(knots[:, r], values[:, r, :])`` at
+    ``knots[0, r] + phi[:counts[r]]`` (NaN beyond): scipy's ``CubicSpline`` (the slopes at the knots from its
+    tridiagonal system with the not-a-knot end rows, here by elimination without pivoting, then the cubic of
+    each interval; ``tests/test_signals.py`` holds it to scipy's within 1e-12)."""
+    n, n_rec = knots.shape
+    m = values.shape[2]
+    out = np.full((phi.size, n_rec, m), np.nan)
+    h = np.empty(n - 1)
+    lower, diag, upper = np.empty(n), np.empty(n), np.empty(n)
+    rhs, slope = np.empty((n, m)), np.empty((n - 1, m))
+    for r in range(n_rec):
+        x = knots[:, r]
+        y = values[:, r, :]
+        for i in range(n - 1):
+            h[i] = x[i + 1] - x[i]
+            for j in range(m):
+                slope[i, j] = (y[i + 1, j] - y[i, j]) / h[i]
+        d0, d1 = x[2] - x[0], x[n - 1] - x[n - 3]
+        diag[0], upper[0] = h[1], d0
+        for j in range(m):
+            rhs[0, j] = ((h[0] + 2 * d0) * h[1] * slope[0, j] + h[0] * h[0] * slope[1, j]) / d0
+        for i in range(1, n - 1):
+            lower[i], diag[i], upper[i] = h[i], 2 * (h[i - 1] + h[i]), h[i - 1]
+            for j in range(m):
+                rhs[i, j] = 3 * (h[i] * slope[i - 1, j] + h[i - 1] * slope[i, j])
+        lower[n - 1], diag[n - 1] = d1, h[n - 3]
+        for j in range(m):
+            rhs[n - 1, j] = (h[n - 2] * h[n - 2] * slope[n - 3, j] + (2 * d1 + h[n - 2]) * h[n - 3] * slope[n - 2, j]) / d1
+        for i in range(1, n):                                       # elimination
+            w = lower[i] / diag[i - 1]
+            diag[i] -= w * upper[i - 1]
+            for j in range(m):
+                rhs[i, j] -= w * rhs[i - 1, j]
+        for j in range(m):                                          # the slopes at the knots
+            rhs[n - 1, j] /= diag[n - 1]
+        for i in range(n - 2, -1, -1):
+            for j in range(m):
+                rhs[i, j] = (rhs[i, j] - upper[i] * rhs[i + 1, j]) / diag[i]
+        k = 0
+        for q in range(counts[r]):
+            v = x[0] + phi[q]
+            while k < n - 2 and x[k + 1] <= v:
+                k += 1
+            dx = v - x[k]
+            for j in range(m):
+                c3 = (rhs[k, j] + rhs[k + 1, j] - 2 * slope[k, j]) / h[k]
+                c2 = (slope[k, j] - rhs[k, j]) / h[k] - c3
+                out[q, r, j] = ((c3 / h[k] * dx + c2) * dx + rhs[k, j]) * dx + y[k, j]
+    return out
 
 
 def angle_samples(angle: ArrayLike, samples_per_rev: int = 64) -> NDArray[np.float64]:
@@ -242,7 +336,7 @@ def band_energies(t: ArrayLike, x: ArrayLike, centers: Sequence[float], half_wid
     if half_width < 2.0 / duration:
         raise SignalError(f"half_width {half_width:g} Hz is narrower than the Hann main lobe of this record "
                           f"(2 / duration = {2 / duration:.3g} Hz)")
-    f, p = periodogram(x, fs=1 / dt, window="hann", scaling="density", detrend="constant", axis=0)
+    f, p = _periodogram(x, dt)
     df = f[1] - f[0]
     out = np.zeros((len(centers),) + x.shape[1:])
     for c, center in enumerate(centers):
@@ -250,6 +344,19 @@ def band_energies(t: ArrayLike, x: ArrayLike, centers: Sequence[float], half_wid
             sel = np.abs(f - h * center) <= half_width
             out[c] += p[sel].sum(axis=0) * df
     return out
+
+
+def _periodogram(x: NDArray[np.float64], dt: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Frequencies [Hz] and the one-sided power spectral density [unit^2/Hz] of the columns of ``x`` (n, ...)
+    sampled every ``dt`` [s]: mean removed, periodic Hann window, one FFT (``scipy.signal.periodogram(x, 1 / dt,
+    "hann", detrend="constant", scaling="density", axis=0)``, whose one-segment Welch path costs three times
+    as much; ``tests/test_signals.py`` holds the two together)."""
+    n = x.shape[0]
+    w = 0.5 - 0.5 * np.cos(2 * math.pi * np.arange(n) / n)
+    spec = np.fft.rfft((x - x.mean(axis=0)) * w.reshape((n,) + (1,) * (x.ndim - 1)), axis=0)
+    p = (spec.real ** 2 + spec.imag ** 2) * (dt / (w @ w))
+    p[1:(n + 1) // 2] *= 2.0                                   # one-sided: all but DC (and an even record's Nyquist)
+    return np.fft.rfftfreq(n, dt), p
 
 
 def band_rms_spectrum(x: ArrayLike, dt: float, edges: ArrayLike) -> NDArray[np.float64]:
@@ -285,7 +392,7 @@ def band_rms_spectrum(x: ArrayLike, dt: float, edges: ArrayLike) -> NDArray[np.f
     if np.diff(e).min() < 2.0 / (x.shape[0] * dt):
         raise SignalError(f"a band of {np.diff(e).min():g} Hz is narrower than the Hann main lobe of this "
                           f"{x.shape[0] * dt:g} s record (2 / duration = {2.0 / (x.shape[0] * dt):.3g} Hz)")
-    f, p = periodogram(x, fs=1.0 / dt, window="hann", scaling="density", detrend="constant", axis=0)
+    f, p = _periodogram(x, dt)
     df = f[1] - f[0]
     k = np.searchsorted(e, f, side="right") - 1                  # band of each frequency line
     inside = (k >= 0) & (k < len(e) - 1)

@@ -89,7 +89,7 @@ from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_
 from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, tangent_columns
 from ddgsa.models.hss_rig.scenes import RigScene
 from ddgsa.models.signals import (angle_amplitudes, angle_samples, band_energies, envelope, harmonic_amplitudes, order_map, plot_order_map,
-                           plot_spectrum, resample_to_angle)
+                           plot_spectrum, resample_records, resample_to_angle)
 
 ACCELEROMETERS = ("housing_1_y", "housing_1_z", "housing_2_y", "housing_2_z")
 PROBES = ("disk_y", "disk_z")
@@ -828,9 +828,10 @@ def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: flo
     """The outputs of ``P`` analysed records that share their times ``t`` [s] (n_t,) and motor: ``xs``
     (n_t, P, len(SENSORS)) the sensors in :data:`SENSORS` order, the shaft ``angle`` [rad] (n_t,) and speed
     ``f_r`` [Hz] shared (a steady block), or one per record, (n_t, P) and (P,) (start-ups and coast-downs).
-    Every signal operation runs once on all the records' columns, but for the order domain's resampling of
-    records that do not share their angle (one record: :func:`objectives`; a block of points:
-    :mod:`ddgsa.models.hss_rig.steady_block`, :mod:`ddgsa.models.hss_rig.sweep_block`).
+    Every signal operation runs once on all the records' columns (one record: :func:`objectives`; a block of
+    points: :mod:`ddgsa.models.hss_rig.steady_block`, :mod:`ddgsa.models.hss_rig.sweep_block`): records with their
+    own angles are resampled together (:func:`~ddgsa.models.signals.resample_records`), and their order amplitudes
+    and bands taken once for each count of whole revolutions among them.
 
     ``in_angle`` (n_phi, P, len(SENSORS)): the records in the order domain where the caller has them as
     functions of a shared ``angle`` (a steady block's harmonics), at
@@ -846,21 +847,30 @@ def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: flo
     acc = (np.arange(n_rec)[:, None] * n_s + np.arange(len(ACCELEROMETERS))).ravel()   # the accelerometers lead SENSORS
     angles = np.asarray(angle, dtype=float)
     env_t = _band_envelope(t, flat[:, acc])                                   # every record's at once
-    groups = [(angles, np.arange(n_rec))] if angles.ndim == 1 else [(angles[:, r], np.array([r])) for r in range(n_rec)]
-    amps, bands = np.empty((2, n_rec, n_s)), np.empty((2, n_rec, len(ACCELEROMETERS)))
-    env = np.empty((n_rec, len(ACCELEROMETERS)))
-    for a, recs in groups:                        # the order domain: once for records that share their angle
-        cols = (recs[:, None] * n_s + np.arange(n_s)).ravel()
-        if in_angle is None:                                                       # once: orders and bands
-            phi, ys = resample_to_angle(t, smooth(flat[:, cols]), a, SAMPLES_PER_REV)
-        else:
-            phi, ys = angle_samples(a, SAMPLES_PER_REV), in_angle.reshape(len(in_angle), -1)[:, cols]
-        amps[:, recs] = angle_amplitudes(phi, ys, [1.0, 2.0]).reshape(2, recs.size, n_s)
-        on = (np.arange(recs.size)[:, None] * n_s + np.arange(len(ACCELEROMETERS))).ravel()
-        bands[:, recs] = band_energies(phi / (2 * math.pi), ys[:, on], [bpfo, bpfi], 0.25,
-                                       harmonics=3).reshape(2, recs.size, len(ACCELEROMETERS))
-        env_cols = (recs[:, None] * len(ACCELEROMETERS) + np.arange(len(ACCELEROMETERS))).ravel()
-        env[recs] = _order_bpfo(t, env_t[:, env_cols], a).reshape(recs.size, len(ACCELEROMETERS))
+    n_a = len(ACCELEROMETERS)
+    amps, bands = np.empty((2, n_rec, n_s)), np.empty((2, n_rec, n_a))
+    env = np.empty((n_rec, n_a))
+    # the order domain: the records (and their envelopes) at uniform shaft angles in one pass, then each set of
+    # records with as many whole revolutions at once
+    env_t = env_t.reshape(n_t, n_rec, n_a)
+    if angles.ndim == 1:
+        phi = angle_samples(angles, SAMPLES_PER_REV)
+        counts = np.full(n_rec, phi.size)
+        ys = (in_angle if in_angle is not None
+              else resample_to_angle(t, smooth(flat), angles, SAMPLES_PER_REV)[1].reshape(phi.size, n_rec, n_s))
+        env_a = resample_to_angle(t, env_t.reshape(n_t, -1), angles, SAMPLES_PER_REV)[1].reshape(phi.size, n_rec, n_a)
+    else:
+        phi, ys, counts = resample_records(t, smooth(xs), angles, SAMPLES_PER_REV)
+        env_a = resample_records(t, env_t, angles, SAMPLES_PER_REV)[1]
+    cycles = phi / (2 * math.pi)
+    for n_phi in np.unique(counts):
+        recs = np.flatnonzero(counts == n_phi)
+        on = ys[:n_phi, recs]
+        amps[:, recs] = angle_amplitudes(phi[:n_phi], on.reshape(n_phi, -1), [1.0, 2.0]).reshape(2, recs.size, n_s)
+        bands[:, recs] = band_energies(cycles[:n_phi], on[:, :, :n_a].reshape(n_phi, -1), [bpfo, bpfi], 0.25,
+                                       harmonics=3).reshape(2, recs.size, n_a)
+        env[recs] = band_energies(cycles[:n_phi], env_a[:n_phi, recs].reshape(n_phi, -1), [bpfo], 0.25,
+                                  harmonics=3)[0].reshape(recs.size, n_a)
     dev = xs - xs.mean(axis=0)
     rms, peak = np.sqrt(np.mean(dev**2, axis=0)), np.max(np.abs(dev), axis=0)
     f = drive.motor.supply_frequency
