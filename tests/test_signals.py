@@ -10,7 +10,7 @@ import pytest
 
 from ddgsa.models.signals import (SignalError, band_energy, band_energies, band_rms_spectrum, envelope, harmonic_amplitudes,
                                   order_amplitudes, order_map, order_spectrum, plot_order_map, plot_spectrum,
-                                  resample_records, resample_to_angle, shaft_angle, slip_sidebands)
+                                  record_harmonics, resample_records, resample_to_angle, shaft_angle, slip_sidebands)
 
 FS = 5000.0
 
@@ -154,3 +154,19 @@ def test_band_energies_take_scipys_periodogram(n):
     k = np.searchsorted(edges, f, side="right") - 1
     ref_rms = np.sqrt([p[k == b].sum(axis=0) * (f[1] - f[0]) for b in range(3)])
     assert np.allclose(band_rms_spectrum(x, 1e-3, edges), ref_rms, rtol=1e-12, atol=0.0)
+
+
+def test_records_at_their_own_frequencies_recover_their_sinusoids():
+    """Each record's line and sidebands at its own speed (a block of start-ups): the amplitudes written into it
+    (exact for stationary sinusoids), and the same as :func:`harmonic_amplitudes` of that record alone."""
+    t = np.arange(0.0, 1.0, 5e-4)
+    speeds = np.array([11.0, 17.5, 23.0])
+    freqs = np.column_stack([np.full(3, 50.0), 50.0 - speeds, 50.0 + speeds])
+    amps = np.array([[5.0, 4.0, 3.0], [1e-2, 2e-2, 0.0], [3e-3, 0.0, 1e-3]])
+    x = 0.7 + sum(amps[j] * np.cos(2 * math.pi * freqs[:, j] * t[:, None] + j) for j in range(3))
+    got = record_harmonics(t, x, freqs)
+    assert np.allclose(got, amps, rtol=0.0, atol=1e-12)
+    for r in range(3):
+        assert np.allclose(got[:, r], harmonic_amplitudes(t, x[:, r], freqs[r]), rtol=0.0, atol=1e-13)
+    with pytest.raises(SignalError, match="Nyquist"):
+        record_harmonics(t, x, freqs * 30)

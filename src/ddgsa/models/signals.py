@@ -27,13 +27,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from numba import njit
 from scipy.integrate import cumulative_trapezoid
-from scipy.linalg import solve_triangular
 from scipy.signal import butter, hilbert, sosfiltfilt
 
 from ddgsa.errors import DdgsaError
 
 __all__ = ["SignalError", "angle_amplitudes", "angle_samples", "band_energy", "band_rms_spectrum", "envelope", "harmonic_amplitudes", "order_amplitudes",
-           "order_map", "order_spectrum", "plot_order_map", "plot_spectrum", "resample_records", "resample_to_angle",
+           "order_map", "order_spectrum", "plot_order_map", "plot_spectrum", "record_harmonics", "resample_records",
+           "resample_to_angle",
            "shaft_angle", "slip_sidebands"]
 
 
@@ -225,21 +225,29 @@ def angle_amplitudes(phi: ArrayLike, y: ArrayLike, orders: Sequence[float]) -> N
 
 
 def _lsq_amplitudes(phase: NDArray[np.float64], y: NDArray[np.float64], k: NDArray[np.float64]) -> NDArray[np.float64]:
-    if np.any(k * (phase[1] - phase[0]) >= math.pi):
-        raise SignalError(f"an order/frequency in {k.tolist()} is at or above the Nyquist limit of the sampling")
-    cols = [np.ones_like(phase)]
-    for kk in k:
-        cols += [np.cos(kk * phase), np.sin(kk * phase)]
-    design = np.column_stack(cols)
-    # least squares by a thin QR (a tenth of the SVD's cost on these tall, well-conditioned designs);
-    # the SVD's minimum-norm answer where the columns are (nearly) dependent
+    """Peak amplitudes of the sinusoids ``cos(k phase), sin(k phase)`` fitted jointly with a mean, by least squares:
+    ``k`` (n_k,) one design for every column of ``y`` (n, ...), amplitudes (n_k, ...); ``k`` (R, n_k) one design
+    for each column of ``y`` (n, R), amplitudes (n_k, R)."""
+    own = k.ndim == 2
+    k2 = np.atleast_2d(k)
+    if np.any(k2 * (phase[1] - phase[0]) >= math.pi):
+        raise SignalError(f"an order/frequency in {np.unique(k2).tolist()} is at or above the Nyquist limit of the sampling")
+    arg = phase[None, :, None] * k2[:, None, :]                                    # (R, n, n_k)
+    design = np.concatenate([np.ones(arg.shape[:2] + (1,)), np.cos(arg), np.sin(arg)], axis=2)
+    rhs = y.T[:, :, None] if own else y.reshape(1, y.shape[0], -1)                # (R, n, m)
+    # least squares by a thin QR of each design (a tenth of the SVD's cost on these tall, well-conditioned
+    # designs); the SVD's minimum-norm answer where its columns are (nearly) dependent
     qm, r = np.linalg.qr(design)
-    diag = np.abs(np.diag(r))
-    if diag.min() > 1e-10 * diag.max():
-        coef = solve_triangular(r, qm.T @ y)
-    else:
-        coef = np.linalg.lstsq(design, y, rcond=None)[0]
-    return np.hypot(coef[1::2], coef[2::2])
+    diag = np.abs(np.diagonal(r, axis1=1, axis2=2))
+    coef = np.empty((design.shape[0], design.shape[2], rhs.shape[2]))
+    good = diag.min(axis=1) > 1e-10 * diag.max(axis=1)
+    if good.any():
+        coef[good] = np.linalg.solve(r[good], np.swapaxes(qm[good], 1, 2) @ rhs[good])
+    for b in np.flatnonzero(~good):
+        coef[b] = np.linalg.lstsq(design[b], rhs[b], rcond=None)[0]
+    n_k = k2.shape[1]
+    amps = np.hypot(coef[:, 1:1 + n_k], coef[:, 1 + n_k:])                       # (R, n_k, m)
+    return amps[:, :, 0].T if own else amps[0].reshape((n_k,) + y.shape[1:])
 
 
 def order_spectrum(t: ArrayLike, x: ArrayLike, angle: ArrayLike,
@@ -296,6 +304,16 @@ def harmonic_amplitudes(t: ArrayLike, x: ArrayLike, frequencies: Sequence[float]
     """
     t, x, _ = _uniform(t, x)
     return _lsq_amplitudes(2 * math.pi * (t - t[0]), x, np.asarray(frequencies, float))
+
+
+def record_harmonics(t: ArrayLike, x: ArrayLike, frequencies: ArrayLike) -> NDArray[np.float64]:
+    """:func:`harmonic_amplitudes` of each record ``x[:, r]`` (n, R) at its own ``frequencies[r]`` (R, n_f) [Hz]
+    (the current lines of start-ups at different speeds), all at once: (n_f, R)."""
+    t, x, _ = _uniform(t, x)
+    f = np.asarray(frequencies, float)
+    if x.ndim != 2 or f.ndim != 2 or f.shape[0] != x.shape[1]:
+        raise SignalError(f"need records (n, R) and frequencies (R, n_f); got shapes {x.shape}, {f.shape}")
+    return _lsq_amplitudes(2 * math.pi * (t - t[0]), x, f)
 
 
 def slip_sidebands(line_hz: float, slip: float) -> tuple[float, float]:

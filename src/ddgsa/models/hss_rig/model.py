@@ -89,7 +89,7 @@ from ddgsa.models.hss_rig.parameters import BEARING_GEOMETRY, PARAMETERS, RATED_
 from ddgsa.models.hss_rig.rig import Rig, ShaftBasis, build, tangent_columns
 from ddgsa.models.hss_rig.scenes import RigScene
 from ddgsa.models.signals import (angle_amplitudes, angle_samples, band_energies, envelope, harmonic_amplitudes, order_map, plot_order_map,
-                           plot_spectrum, resample_records, resample_to_angle)
+                           plot_spectrum, record_harmonics, resample_records, resample_to_angle)
 
 ACCELEROMETERS = ("housing_1_y", "housing_1_z", "housing_2_y", "housing_2_z")
 PROBES = ("disk_y", "disk_z")
@@ -877,12 +877,9 @@ def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: flo
     speeds = np.broadcast_to(np.asarray(f_r, dtype=float), (n_rec,))
     torque, cur = xs[:, :, SENSORS.index("motor_torque")], xs[:, :, SENSORS.index("motor_current")]
     torque_2f = harmonic_amplitudes(t, torque, [2 * f])[0]
-    lines, slips = np.empty((3, n_rec)), np.empty((2, n_rec))
-    for fr in np.unique(speeds):                   # the current's lines and sidebands at each record's speed
-        on = speeds == fr
-        slip = 1.0 - fr * drive.motor.pole_pairs / f
-        lines[:, on] = harmonic_amplitudes(t, cur[:, on], [f, f - fr, f + fr]).reshape(3, -1)
-        slips[:, on] = harmonic_amplitudes(t, cur[:, on], [f, f * (1 - 2 * slip), f * (1 + 2 * slip)])[1:].reshape(2, -1)
+    slip = 1.0 - speeds * drive.motor.pole_pairs / f                  # the current's lines and sidebands, each
+    lines = record_harmonics(t, cur, np.column_stack([np.full(n_rec, f), f - speeds, f + speeds]))  # record's speed
+    slips = record_harmonics(t, cur, np.column_stack([np.full(n_rec, f), f * (1 - 2 * slip), f * (1 + 2 * slip)]))[1:]
     outs = []
     for r in range(n_rec):
         out: dict[str, float] = {}
