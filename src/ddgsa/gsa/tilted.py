@@ -1,0 +1,208 @@
+"""Sobol' indices of a resonant output by a Saltelli design tilted towards its resonance (issue 46, item 6).
+
+Where an output has a lightly damped resonance inside the parameter ranges (the rig's coast-down started
+near its first critical speed), the total index's pick-freeze terms ``(f(A) - f(AB_i))^2`` are carried by the
+few runs that land on the peak: their Pareto tail shape stays above one at every sample size
+(docs/confirm.md), so a plain sample's mean does not settle and its bootstrap interval is too narrow. A
+model *feature* says where the peak lies before anything runs: the ratio ``s`` of the running speed to the
+lowest lateral natural frequency, predicted smoothly from a pilot (a Gaussian process of the rig's control
+feature). This module samples the runs on purpose where the single-mode amplification of that ratio is large
+and weighs them back (importance sampling; Owen, *Monte Carlo theory, methods and examples*, 2013, ch. 9):
+
+* **The proposal** ``q(u) = p(u) h(u)``, ``h = (1 - mix) + mix g(u) / Z``: the input law ``p`` (uniform on
+  the unit cube, mapped by the space's inverse CDFs) tilted by ``g >= 0`` (:class:`Tilt`), ``Z = E_p[g]``
+  (quasi-Monte Carlo on :data:`MEAN_POINTS` points). The *defensive* share ``1 - mix`` of the input law keeps
+  every weight below ``1 / (1 - mix)`` (Hesterberg, *Technometrics* 37, 1995). Draws of ``p g / Z`` are exact
+  rejection sampling against ``g``'s stated bound.
+* **The design** is Saltelli's without its second-order part: a base ``A`` (n, d) drawn from ``q``, a second
+  matrix ``B`` from ``p``, and for every input ``i`` the mixed rows ``AB_i`` (``A`` with column ``i`` from
+  ``B``) and ``BA_i`` (``B`` with column ``i`` from ``A``): ``n (2 d + 1)`` runs.
+* **The estimates** (Jansen's, with the pairs' weights). A pair ``(a, o)`` whose tilted end ``a`` came from
+  ``q`` and whose other end ``o`` from redrawing some columns from ``p`` is weighed by
+  ``w = 2 / (h(a) + h(o))``: the pair's law under ``p`` is symmetric in its two ends, so
+  ``E[w t(a, o)] = E_p[t]`` for any symmetric ``t`` (the balance heuristic of multiple importance sampling,
+  Veach & Guibas 1995, with the proposal's two ends as its two strategies). Then, self-normalised
+  (each weighted mean divided by its weights' mean, whose expectation is one):
+
+  ``V = E_q[(f(A) - m)^2 / h(A)]``, ``V_Ti = E[w_i (f(A) - f(AB_i))^2] / 2`` with ``w_i = 2 / (h(A) + h(AB_i))``,
+  ``V - V_i = E[v_i (f(A) - f(BA_i))^2] / 2`` with ``v_i = 2 / (h(A) + h(BA_i))``; ``ST_i = V_Ti / V``,
+  ``S1_i = 1 - (V - V_i) / V``.
+
+  With ``g`` the squared amplification ``1 / |1 - s^2 + 2 i zeta s|^2`` of a resonant output, a weighted term
+  is the squared output over its own amplification: bounded where the unweighted one is not.
+* **Intervals** by the bootstrap over the base rows (every estimate of a resample from the same rows, so the
+  variance and the pairs stay correlated as in the sample), and the weighted terms' Pareto tail shapes
+  (:func:`~ddgsa.gsa.trust.pareto_shape`) beside them: an interval is a fair one only where the shape is below
+  :func:`~ddgsa.gsa.trust.pareto_limit`.
+
+Unbiased for any ``g`` (a poor tilt costs variance, never correctness), and with ``mix = 0`` it is the plain
+design: the tests compare both against indices by quadrature of a resonant function
+(``tests/gsa/test_tilted.py``); ``benchmarks/tilted_coastdown.py`` measures it on the rig's coast-down.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+from scipy.stats import qmc
+
+from ddgsa.errors import MethodError
+from ddgsa.gsa.space import ParameterSpace
+from ddgsa.gsa.trust import pareto_shape
+
+Array = NDArray[np.float64]
+MEAN_POINTS = 2**16
+"""Scrambled Sobol' points of the tilt's mean ``Z`` (relative error about 1e-4 on a resonance of 2 % damping)."""
+CANDIDATES = 4096
+"""Candidates drawn at a time by the rejection sampler."""
+
+
+@dataclass(frozen=True)
+class Tilt:
+    """The tilt ``g(u) >= 0`` of unit-cube points (n, d) -> (n,), its bound ``sup g`` and the share ``mix`` of
+    the proposal drawn along it (see the module); ``mean`` is ``E_p[g]`` (:func:`make_tilt` computes it)."""
+
+    g: Callable[[Array], Array]
+    bound: float
+    mean: float
+    mix: float = 0.5
+
+    def h(self, u: Array) -> Array:
+        """The proposal's density over the input law's, ``(1 - mix) + mix g(u) / mean`` (n,) [-]."""
+        return (1.0 - self.mix) + self.mix * self.g(u) / self.mean
+
+
+def make_tilt(g: Callable[[Array], Array], bound: float, dim: int, mix: float = 0.5, seed: int = 0) -> Tilt:
+    """A :class:`Tilt` of ``g`` on the ``dim``-dimensional unit cube, its mean by quasi-Monte Carlo.
+
+    Raises :class:`~ddgsa.errors.MethodError` for a ``mix`` outside [0, 1), a bound that is not positive and
+    finite, or a ``g`` that is negative, not finite, or above its bound at the mean's points."""
+    if not 0.0 <= mix < 1.0:
+        raise MethodError(f"tilted design: mix must lie in [0, 1) (the input law's share keeps the weights "
+                          f"bounded), got {mix!r}")
+    if not (np.isfinite(bound) and bound > 0.0):
+        raise MethodError(f"tilted design: the tilt's bound must be positive and finite, got {bound!r}")
+    u = qmc.Sobol(dim, scramble=True, rng=np.random.default_rng(seed)).random(MEAN_POINTS)
+    values = np.asarray(g(u), dtype=float)
+    if values.shape != (MEAN_POINTS,) or not np.all(np.isfinite(values)) or values.min() < 0.0:
+        raise MethodError("tilted design: the tilt must give one finite, non-negative value per point")
+    if values.max() > bound * (1.0 + 1e-12):
+        raise MethodError(f"tilted design: the tilt reaches {values.max():.6g}, above its stated bound {bound:.6g}")
+    if values.mean() <= 0.0:
+        raise MethodError("tilted design: the tilt is zero over the whole space")
+    return Tilt(g, float(bound), float(values.mean()), float(mix))
+
+
+def resonance_tilt(ratio: Callable[[Array], Array], damping: float, dim: int, mix: float = 0.5,
+                   seed: int = 0) -> Tilt:
+    """The tilt of a resonance: the squared single-mode amplification ``1 / ((1 - s^2)^2 + (2 zeta s)^2)`` of a
+    predicted frequency ratio ``s = ratio(u)`` [-] with damping ratio ``damping`` (``zeta``, 0 < zeta < 0.7)
+    [-]. Its bound ``1 / (4 zeta^2 (1 - zeta^2))`` is the amplification's peak. A damping above the mode's
+    own widens the tilt (a predicted ratio's error, a resonance's spread across outputs)."""
+    if not 0.0 < damping < 0.7:
+        raise MethodError(f"resonance tilt: the damping ratio must lie in (0, 0.7), got {damping!r}")
+
+    def g(u: Array) -> Array:
+        s = np.asarray(ratio(u), dtype=float)
+        return 1.0 / ((1.0 - s * s) ** 2 + (2.0 * damping * s) ** 2)
+
+    return make_tilt(g, 1.0 / (4.0 * damping**2 * (1.0 - damping**2)), dim, mix, seed)
+
+
+@dataclass(frozen=True)
+class TiltedDesign:
+    """Unit-cube points of a tilted Saltelli design and the proposal's density ratio at each.
+
+    ``u`` (n (2 d + 1), d): the base ``A`` (n rows), then ``AB_i`` for each input ``i`` (n rows each), then
+    ``BA_i``; ``h`` (same rows,) :meth:`Tilt.h` there."""
+
+    u: Array
+    h: Array
+    n: int
+    dim: int
+
+    def points(self, space: ParameterSpace) -> Array:
+        """The design's parameter values (rows, d) in ``space``'s units."""
+        return space.ppf(self.u)
+
+
+def _from_tilt(tilt: Tilt, n: int, dim: int, rng: np.random.Generator) -> Array:
+    """``n`` exact draws (n, dim) of ``p g / mean`` by rejection against ``tilt.bound``."""
+    out: list[Array] = [np.empty((0, dim))]
+    have = 0
+    while have < n:
+        u = rng.random((CANDIDATES, dim))
+        keep = u[rng.random(CANDIDATES) * tilt.bound < tilt.g(u)]
+        out.append(keep)
+        have += len(keep)
+    return np.vstack(out)[:n]
+
+
+def tilted_design(tilt: Tilt, n: int, dim: int, seed: int = 0) -> TiltedDesign:
+    """A tilted Saltelli design of base size ``n`` in ``dim`` inputs (see the module): ``n (2 d + 1)`` rows.
+
+    The base's rows are drawn from the proposal as a deterministic mixture: ``round((1 - mix) n)`` from the
+    input law, the rest along the tilt, in a random order; ``B`` from the input law. Seeded."""
+    if not isinstance(n, (int, np.integer)) or n < 2:
+        raise MethodError(f"tilted design: the base size n must be an integer >= 2, got {n!r}")
+    rng = np.random.default_rng(seed)
+    along = int(round(tilt.mix * n))
+    a = np.vstack([rng.random((n - along, dim)), _from_tilt(tilt, along, dim, rng)])[rng.permutation(n)]
+    b = rng.random((n, dim))
+    ab = np.repeat(a[None], dim, axis=0)
+    ba = np.repeat(b[None], dim, axis=0)
+    for i in range(dim):
+        ab[i, :, i], ba[i, :, i] = b[:, i], a[:, i]
+    u = np.vstack([a, ab.reshape(-1, dim), ba.reshape(-1, dim)])
+    return TiltedDesign(u, tilt.h(u), int(n), int(dim))
+
+
+def tilted_indices(design: TiltedDesign, y: Array, names: list[str] | tuple[str, ...] | None = None,
+                   n_boot: int = 1000, conf_level: float = 0.95, seed: int = 0) -> pd.DataFrame:
+    """First-order and total indices of the output ``y`` (rows of ``design``,) from a tilted design.
+
+    Returns a frame indexed by input name with ``S1``, ``S1_conf``, ``ST``, ``ST_conf`` (half-widths of the
+    bootstrap's central ``conf_level`` intervals), ``ST_tail`` and ``S1_tail`` (the Pareto shapes of the
+    weighted pick-freeze terms) and ``variance``. A row whose ``y`` is not finite is refused (a failed
+    evaluation is never imputed: rerun or drop its whole base row)."""
+    n, d = design.n, design.dim
+    y = np.asarray(y, dtype=float)
+    if y.shape != (n * (2 * d + 1),):
+        raise MethodError(f"tilted design: expected {n * (2 * d + 1)} outputs, got shape {y.shape}")
+    if not np.all(np.isfinite(y)):
+        raise MethodError(f"tilted design: {int(np.sum(~np.isfinite(y)))} outputs are not finite")
+    fa, fab, fba = y[:n], y[n:n + n * d].reshape(d, n), y[n + n * d:].reshape(d, n)
+    ha, hab, hba = design.h[:n], design.h[n:n + n * d].reshape(d, n), design.h[n + n * d:].reshape(d, n)
+    w0 = 1.0 / ha
+    wt, w1 = 2.0 / (ha + hab), 2.0 / (ha + hba)
+    tt, t1 = 0.5 * (fa - fab) ** 2, 0.5 * (fa - fba) ** 2
+
+    fc = fa - (w0 * fa).sum() / w0.sum()                 # centred (a shift leaves every variance as it is)
+
+    def estimate(c: Array) -> tuple[Array, Array, Array]:
+        """Variance (b,), V_Ti and V - V_i (b, d) of the rows counted ``c`` (b, n) times."""
+        sw = c @ w0
+        var = c @ (w0 * fc * fc) / sw - (c @ (w0 * fc) / sw) ** 2
+        return var, (c @ (wt * tt).T) / (c @ wt.T), (c @ (w1 * t1).T) / (c @ w1.T)
+
+    (var,), (vt,), (v1,) = estimate(np.ones((1, n)))
+    counts = np.random.default_rng(seed).multinomial(n, np.full(n, 1.0 / n), size=n_boot).astype(float)
+    bvar, bvt, bv1 = estimate(counts)                                  # the bootstrap's resamples of the rows
+    alpha = 0.5 * (1.0 - conf_level)
+
+    def half_width(samples: Array) -> Array:
+        lo, hi = np.quantile(samples, [alpha, 1.0 - alpha], axis=0)
+        return 0.5 * (hi - lo)
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        st, s1 = vt / var, 1.0 - v1 / var
+        st_conf, s1_conf = half_width(bvt / bvar[:, None]), half_width(1.0 - bv1 / bvar[:, None])
+    return pd.DataFrame({"S1": s1, "S1_conf": s1_conf, "ST": st, "ST_conf": st_conf,
+                         "ST_tail": [pareto_shape(wt[i] * tt[i]) for i in range(d)],
+                         "S1_tail": [pareto_shape(w1[i] * t1[i]) for i in range(d)], "variance": var},
+                        index=pd.Index(list(names) if names is not None else [f"x{i + 1}" for i in range(d)],
+                                       name="parameter"))
