@@ -35,6 +35,8 @@ SCENE = {"kind": "coastdown", "speed_rpm": 1500, "duration": 1.2, "sample_rate":
 OUTPUTS = ["peak_disk_y", "order1x_disk_y", "peak_housing_1_y", "rms_housing_1_y", "order1x_housing_1_y",
            "rms_housing_2_z"]
 PILOT, BASE, DAMPING, CHUNK = 256, 512, 0.03, 128
+PAIRS = (("hss_span", "hss_diameter"), ("hss_diameter", "disk_mass"), ("disk_position", "disk_damping"))
+"""The pairs of neighbours in the coast-down's ranking whose difference intervals are reported."""
 
 
 def _chunk(x: np.ndarray, names: list[str]) -> tuple[np.ndarray, np.ndarray]:
@@ -88,6 +90,11 @@ def main(path: str | None = None, base: int = BASE, jobs: int = 2) -> dict[str, 
             ok = np.isfinite(y[:, j]).all()
             frame = tilted_indices(design, y[:, j], names, seed=3) if ok else None
             rows[out] = frame.round(5).to_dict(orient="index") if frame is not None else "failed runs"
+            if frame is not None:
+                diff = frame.attrs["ST_difference_conf"]
+                rows[out]["differences"] = {f"{a} - {b}": [round(float(frame.ST[a] - frame.ST[b]), 5),
+                                                          round(float(diff.loc[a, b]), 5)] for a, b in PAIRS}
+        np.savez_compressed(os.path.splitext(path)[0] + f"_{label}.npz", u=design.u, h=design.h, y=y) if path else None
         near = float(np.mean(np.abs(gp(design.u[:base]) / at - 1.0) < 0.05))
         result["designs"][label] = {"seconds": seconds, "base_within_5pct_of_resonance": near, "indices": rows}
     result["committed_confirm_saltelli"] = {
@@ -116,6 +123,11 @@ def summary(res: dict[str, Any]) -> str:
             c = com.get(p, {})
             lines.append(f"  {p:18s} " + " | ".join(cells) + f" | committed {c.get('ST', float('nan')):.3f}+-"
                          f"{c.get('ST_conf', float('nan')):.3f}")
+        for label in ("tilted", "plain"):
+            r = res["designs"][label]["indices"][out]
+            if not isinstance(r, str):
+                lines.append(f"  {label} differences: " + "; ".join(f"{k} {v[0]:+.3f}+-{v[1]:.3f}"
+                                                                 for k, v in r["differences"].items()))
     return "\n".join(lines)
 
 

@@ -167,7 +167,9 @@ def tilted_indices(design: TiltedDesign, y: Array, names: list[str] | tuple[str,
 
     Returns a frame indexed by input name with ``S1``, ``S1_conf``, ``ST``, ``ST_conf`` (half-widths of the
     bootstrap's central ``conf_level`` intervals), ``ST_tail`` and ``S1_tail`` (the Pareto shapes of the
-    weighted pick-freeze terms) and ``variance``. A row whose ``y`` is not finite is refused (a failed
+    weighted pick-freeze terms) and ``variance``; ``attrs["ST_difference_conf"]`` (d x d): the bootstrap's
+    half-widths of each difference ``ST_i - ST_j`` (narrower than the rows' own where their errors move
+    together, as on a near tie). A row whose ``y`` is not finite is refused (a failed
     evaluation is never imputed: rerun or drop its whole base row)."""
     n, d = design.n, design.dim
     y = np.asarray(y, dtype=float)
@@ -200,9 +202,13 @@ def tilted_indices(design: TiltedDesign, y: Array, names: list[str] | tuple[str,
 
     with np.errstate(divide="ignore", invalid="ignore"):
         st, s1 = vt / var, 1.0 - v1 / var
-        st_conf, s1_conf = half_width(bvt / bvar[:, None]), half_width(1.0 - bv1 / bvar[:, None])
-    return pd.DataFrame({"S1": s1, "S1_conf": s1_conf, "ST": st, "ST_conf": st_conf,
-                         "ST_tail": [pareto_shape(wt[i] * tt[i]) for i in range(d)],
-                         "S1_tail": [pareto_shape(w1[i] * t1[i]) for i in range(d)], "variance": var},
-                        index=pd.Index(list(names) if names is not None else [f"x{i + 1}" for i in range(d)],
-                                       name="parameter"))
+        bst = bvt / bvar[:, None]
+        st_conf, s1_conf = half_width(bst), half_width(1.0 - bv1 / bvar[:, None])
+        pairs = half_width(bst[:, :, None] - bst[:, None, :])
+    labels = list(names) if names is not None else [f"x{i + 1}" for i in range(d)]
+    out = pd.DataFrame({"S1": s1, "S1_conf": s1_conf, "ST": st, "ST_conf": st_conf,
+                        "ST_tail": [pareto_shape(wt[i] * tt[i]) for i in range(d)],
+                        "S1_tail": [pareto_shape(w1[i] * t1[i]) for i in range(d)], "variance": var},
+                       index=pd.Index(labels, name="parameter"))
+    out.attrs["ST_difference_conf"] = pd.DataFrame(pairs, index=labels, columns=labels)
+    return out
