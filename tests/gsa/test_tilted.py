@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from ddgsa.errors import MethodError
-from ddgsa.gsa.tilted import make_tilt, resonance_tilt, tilted_design, tilted_indices
+from ddgsa.gsa.tilted import control_moments, make_tilt, resonance_tilt, tilted_design, tilted_indices
 
 ZETA = 0.02
 
@@ -94,3 +94,25 @@ def test_bad_tilts_and_outputs_are_refused():
         tilted_indices(design, y)
     with pytest.raises(MethodError, match="expected 72"):
         tilted_indices(design, y[:-1])
+
+
+def test_a_control_narrows_the_tilted_estimate_and_keeps_it_unbiased(truth):
+    """The control ``g``: the same resonance at 2.5 % damping and a peak ratio 0.5 % off (a surrogate's error),
+    its moments from a tilted design of base 16 384 on ``g``. On 12 seeds at base 512 the controlled total
+    indices' RMS error against the quadrature falls to under half the uncontrolled one (measured 3.6-4.1x), their
+    mean error below 0.01."""
+    def g(u):
+        s = _ratio(u) / 1.005
+        return (0.5 + u[:, 2]) / np.sqrt((1 - s * s) ** 2 + (2 * 0.025 * s) ** 2)
+
+    tilt = resonance_tilt(_ratio, ZETA, 4, mix=0.5)
+    moments = control_moments(g, tilt, 4, n=16384, seed=100)
+    plain, controlled = [], []
+    for seed in range(12):
+        design = tilted_design(tilt, 512, 4, seed=seed)
+        plain.append(tilted_indices(design, _f(design.u), seed=seed).ST.to_numpy())
+        controlled.append(tilted_indices(design, _f(design.u), seed=seed, control=(g(design.u), moments)).ST.to_numpy())
+    err_p, err_c = np.array(plain) - truth[1], np.array(controlled) - truth[1]
+    rms_p, rms_c = np.sqrt((err_p**2).mean(axis=0))[:3], np.sqrt((err_c**2).mean(axis=0))[:3]
+    assert np.all(rms_c < 0.5 * rms_p), (rms_c, rms_p)
+    assert np.abs(err_c.mean(axis=0)).max() < 0.01

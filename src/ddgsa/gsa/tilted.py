@@ -30,6 +30,10 @@ and weighs them back (importance sampling; Owen, *Monte Carlo theory, methods an
 
   With ``g`` the squared amplification ``1 / |1 - s^2 + 2 i zeta s|^2`` of a resonant output, a weighted term
   is the squared output over its own amplification: bounded where the unweighted one is not.
+* **A control variate** ``g`` (a cheap surrogate of the output: :func:`control_moments` takes its moments from
+  a large tilted design on ``g`` itself) makes each moment ``g``'s plus the design's estimate of ``f``'s minus
+  ``g``'s on the same rows, pairs and weights: only what ``g`` misses is sampled (as
+  :func:`ddgsa.gsa.control.controlled_saltelli` does for the untilted design).
 * **Intervals** by the bootstrap over the base rows (every estimate of a resample from the same rows, so the
   variance and the pairs stay correlated as in the sample), and the weighted terms' Pareto tail shapes
   (:func:`~ddgsa.gsa.trust.pareto_shape`) beside them: an interval is a fair one only where the shape is below
@@ -161,8 +165,58 @@ def tilted_design(tilt: Tilt, n: int, dim: int, seed: int = 0) -> TiltedDesign:
     return TiltedDesign(u, tilt.h(u), int(n), int(dim))
 
 
+def _moments(design: TiltedDesign, y: Array) -> Callable[[Array], tuple[Array, Array, Array]]:
+    """The estimator of the variance, ``V_Ti`` and ``V - V_i`` of ``y`` (rows of ``design``,) from base rows
+    counted ``c`` (b, n) times: (b,), (b, d), (b, d) (``c`` all ones: the design's own estimate)."""
+    n, d = design.n, design.dim
+    fa, fab, fba = y[:n], y[n:n + n * d].reshape(d, n), y[n + n * d:].reshape(d, n)
+    ha, hab, hba = design.h[:n], design.h[n:n + n * d].reshape(d, n), design.h[n + n * d:].reshape(d, n)
+    w0 = 1.0 / ha
+    wt, w1 = 2.0 / (ha + hab), 2.0 / (ha + hba)
+    tt, t1 = 0.5 * (fa - fab) ** 2, 0.5 * (fa - fba) ** 2
+    fc = fa - (w0 * fa).sum() / w0.sum()                 # centred (a shift leaves every variance as it is)
+
+    def estimate(c: Array) -> tuple[Array, Array, Array]:
+        sw = c @ w0
+        var = c @ (w0 * fc * fc) / sw - (c @ (w0 * fc) / sw) ** 2
+        return var, (c @ (wt * tt).T) / (c @ wt.T), (c @ (w1 * t1).T) / (c @ w1.T)
+
+    return estimate
+
+
+def _checked(design: TiltedDesign, y: Array, what: str) -> Array:
+    n, d = design.n, design.dim
+    y = np.asarray(y, dtype=float)
+    if y.shape != (n * (2 * d + 1),):
+        raise MethodError(f"tilted design: expected {n * (2 * d + 1)} {what}, got shape {y.shape}")
+    if not np.all(np.isfinite(y)):
+        raise MethodError(f"tilted design: {int(np.sum(~np.isfinite(y)))} {what} are not finite")
+    return y
+
+
+@dataclass(frozen=True)
+class ControlMoments:
+    """A control variate's variance ``var``, ``V - V_i`` (``closed``, (d,)) and total variances ``total`` (d,)
+    under the input law [its unit^2] (:func:`control_moments`)."""
+
+    var: float
+    closed: Array
+    total: Array
+
+
+def control_moments(g: Callable[[Array], Array], tilt: Tilt, dim: int, n: int = 8192, seed: int = 0) -> ControlMoments:
+    """The moments a control ``g`` (unit-cube points (m, dim) -> (m,)), cheap to evaluate, gives
+    :func:`tilted_indices`: from a tilted design of base ``n`` on ``g`` itself (its Monte Carlo error, about
+    ``sqrt(n_design / n)`` of the controlled estimate's own, is not in the bootstrap's interval; pick ``n`` a
+    few times the design's base)."""
+    design = tilted_design(tilt, n, dim, seed)
+    (var,), (vt,), (v1,) = _moments(design, _checked(design, g(design.u), "control values"))(np.ones((1, n)))
+    return ControlMoments(float(var), v1, vt)
+
+
 def tilted_indices(design: TiltedDesign, y: Array, names: list[str] | tuple[str, ...] | None = None,
-                   n_boot: int = 1000, conf_level: float = 0.95, seed: int = 0) -> pd.DataFrame:
+                   n_boot: int = 1000, conf_level: float = 0.95, seed: int = 0,
+                   control: tuple[Array, ControlMoments] | None = None) -> pd.DataFrame:
     """First-order and total indices of the output ``y`` (rows of ``design``,) from a tilted design.
 
     Returns a frame indexed by input name with ``S1``, ``S1_conf``, ``ST``, ``ST_conf`` (half-widths of the
@@ -170,26 +224,23 @@ def tilted_indices(design: TiltedDesign, y: Array, names: list[str] | tuple[str,
     weighted pick-freeze terms) and ``variance``; ``attrs["ST_difference_conf"]`` (d x d): the bootstrap's
     half-widths of each difference ``ST_i - ST_j`` (narrower than the rows' own where their errors move
     together, as on a near tie). A row whose ``y`` is not finite is refused (a failed
-    evaluation is never imputed: rerun or drop its whole base row)."""
+    evaluation is never imputed: rerun or drop its whole base row).
+
+    ``control``: a control variate's values at the design's rows and its moments (:func:`control_moments`):
+    each of the three moments is then the control's plus the design's estimate of the difference of ``y``'s
+    and the control's (the same rows, pairs and weights), so only the part of ``y`` the control misses is
+    sampled; unbiased whatever the control (its moments' own error apart). The tail shapes stay ``y``'s."""
     n, d = design.n, design.dim
-    y = np.asarray(y, dtype=float)
-    if y.shape != (n * (2 * d + 1),):
-        raise MethodError(f"tilted design: expected {n * (2 * d + 1)} outputs, got shape {y.shape}")
-    if not np.all(np.isfinite(y)):
-        raise MethodError(f"tilted design: {int(np.sum(~np.isfinite(y)))} outputs are not finite")
-    fa, fab, fba = y[:n], y[n:n + n * d].reshape(d, n), y[n + n * d:].reshape(d, n)
-    ha, hab, hba = design.h[:n], design.h[n:n + n * d].reshape(d, n), design.h[n + n * d:].reshape(d, n)
-    w0 = 1.0 / ha
-    wt, w1 = 2.0 / (ha + hab), 2.0 / (ha + hba)
-    tt, t1 = 0.5 * (fa - fab) ** 2, 0.5 * (fa - fba) ** 2
+    y = _checked(design, y, "outputs")
+    estimate = _moments(design, y)
+    if control is not None:
+        of_f, of_g, mom = estimate, _moments(design, _checked(design, control[0], "control values")), control[1]
 
-    fc = fa - (w0 * fa).sum() / w0.sum()                 # centred (a shift leaves every variance as it is)
+        def controlled(c: Array) -> tuple[Array, Array, Array]:
+            (vf, tf, cf), (vg, tg, cg) = of_f(c), of_g(c)
+            return mom.var + vf - vg, mom.total + tf - tg, mom.closed + cf - cg
 
-    def estimate(c: Array) -> tuple[Array, Array, Array]:
-        """Variance (b,), V_Ti and V - V_i (b, d) of the rows counted ``c`` (b, n) times."""
-        sw = c @ w0
-        var = c @ (w0 * fc * fc) / sw - (c @ (w0 * fc) / sw) ** 2
-        return var, (c @ (wt * tt).T) / (c @ wt.T), (c @ (w1 * t1).T) / (c @ w1.T)
+        estimate = controlled
 
     (var,), (vt,), (v1,) = estimate(np.ones((1, n)))
     counts = np.random.default_rng(seed).multinomial(n, np.full(n, 1.0 / n), size=n_boot).astype(float)
@@ -207,8 +258,16 @@ def tilted_indices(design: TiltedDesign, y: Array, names: list[str] | tuple[str,
         pairs = half_width(bst[:, :, None] - bst[:, None, :])
     labels = list(names) if names is not None else [f"x{i + 1}" for i in range(d)]
     out = pd.DataFrame({"S1": s1, "S1_conf": s1_conf, "ST": st, "ST_conf": st_conf,
-                        "ST_tail": [pareto_shape(wt[i] * tt[i]) for i in range(d)],
-                        "S1_tail": [pareto_shape(w1[i] * t1[i]) for i in range(d)], "variance": var},
+                        "ST_tail": _tails(design, y, n), "S1_tail": _tails(design, y, n + n * d), "variance": var},
                        index=pd.Index(labels, name="parameter"))
     out.attrs["ST_difference_conf"] = pd.DataFrame(pairs, index=labels, columns=labels)
     return out
+
+
+def _tails(design: TiltedDesign, y: Array, start: int) -> list[float]:
+    """Pareto shapes of the weighted pick-freeze terms of the pairs of the base with the rows from ``start``
+    (``AB_i``: the total indices'; ``BA_i``: the first-order ones')."""
+    n, d = design.n, design.dim
+    other, h_other = y[start:start + n * d].reshape(d, n), design.h[start:start + n * d].reshape(d, n)
+    w = 2.0 / (design.h[:n] + h_other)
+    return [pareto_shape(w[i] * 0.5 * (y[:n] - other[i]) ** 2) for i in range(d)]
