@@ -1,7 +1,7 @@
 """Benchmark: the rig's coast-down indices by a Saltelli design tilted towards its resonance (issue 46 item 6;
 :mod:`ddgsa.gsa.tilted`), against the same design untilted at the same runs (reported, not asserted).
 
-Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/tilted_coastdown.py [out.json] [BASE]`` (~10 min on 2 cores at
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/tilted_coastdown.py [out.json] [BASE]`` (~6 min on 2 cores at
 the default base 512). On the coast-down of ``studies/paper_a_subsystem.yaml`` (8 parameters +-10 %, from 1500
 rpm synchronous, 1.2 s at 2 kHz, fidelity ``linear``: the block path):
 
@@ -11,10 +11,13 @@ rpm synchronous, 1.2 s at 2 kHz, fidelity ``linear``: the block path):
 2. the ratio the resonance sits at is read from the pilot (the feature's median over the 8 runs with the
    largest first-housing RMS): the tilt is the squared amplification of ``feature / that`` with a damping of
    :data:`DAMPING` (wider than the mode's 0.015-0.031: the prediction's error and the outputs' own spread);
-3. a tilted design (mix 1/2) and an untilted one (mix 0) of base ``BASE`` (``BASE (2 d + 1)`` runs each) are
+3. a control per output: a Gaussian process of ``log y`` over the inputs and the predicted ratio's log
+   amplification, fitted on :data:`CONTROL_PILOT` runs drawn as the tilted base is (half along the tilt: where
+   the spike is), its moments from a tilted design of base :data:`CONTROL_MOMENTS` on the process;
+4. a tilted design (mix 1/2) and an untilted one (mix 0) of base ``BASE`` (``BASE (2 d + 1)`` runs each) are
    run, and each output's first and total indices with their bootstrap half-widths and the weighted terms'
-   Pareto tail shapes compared; the committed ``results/paper_a_subsystem`` confirm_saltelli rows of the
-   coast-down (20 480 runs, controlled) beside them.
+   Pareto tail shapes compared: tilted, tilted with the control, untilted; the committed
+   ``results/paper_a_subsystem`` confirm_saltelli rows of the coast-down (20 480 runs, controlled) beside them.
 """
 
 from __future__ import annotations
@@ -35,6 +38,8 @@ SCENE = {"kind": "coastdown", "speed_rpm": 1500, "duration": 1.2, "sample_rate":
 OUTPUTS = ["peak_disk_y", "order1x_disk_y", "peak_housing_1_y", "rms_housing_1_y", "order1x_housing_1_y",
            "rms_housing_2_z"]
 PILOT, BASE, DAMPING, CHUNK = 256, 512, 0.03, 128
+CONTROL_PILOT, CONTROL_MOMENTS = 1024, 8192
+"""Runs of the controls' pilot; base of the tilted design on each control for its moments."""
 PAIRS = (("hss_span", "hss_diameter"), ("hss_diameter", "disk_mass"), ("disk_position", "disk_damping"))
 """The pairs of neighbours in the coast-down's ranking whose difference intervals are reported."""
 
@@ -59,7 +64,7 @@ def run(x: np.ndarray, names: list[str], jobs: int) -> tuple[np.ndarray, np.ndar
 def main(path: str | None = None, base: int = BASE, jobs: int = 2) -> dict[str, Any]:
     import ddgsa
     from ddgsa.gsa.control import GaussianSurrogate
-    from ddgsa.gsa.tilted import resonance_tilt, tilted_design, tilted_indices
+    from ddgsa.gsa.tilted import control_moments, proposal_sample, resonance_tilt, tilted_design, tilted_indices
 
     space = ddgsa.ParameterSpace.from_dict({p: {"nominal": v, "spread": 0.1} for p, v in PARAMETERS.items()})
     names, d = list(space.names), space.dim
@@ -80,23 +85,45 @@ def main(path: str | None = None, base: int = BASE, jobs: int = 2) -> dict[str, 
     committed = pd.read_csv(os.path.join(os.path.dirname(__file__), "..", "results", "paper_a_subsystem",
                                          "indices.csv"))
     committed = committed[(committed.scene == 2) & (committed.method == "confirm_saltelli")]
+    # the controls: a process of log y over the inputs and the predicted ratio's log amplification, fitted on
+    # a pilot drawn like the tilted base (half from the input law, half along the tilt: where the spike is)
+    u_ctl = proposal_sample(tilt, CONTROL_PILOT, d, seed=5)
+    y_ctl, _ = run(space.ppf(u_ctl), names, jobs)
+
+    def augmented(u: np.ndarray) -> np.ndarray:
+        s = gp(u) / at
+        return np.column_stack([u, -0.5 * np.log((1 - s * s) ** 2 + (2 * DAMPING * s) ** 2)])
+
+    controls, control_loo = {}, {}
+    for j, out in enumerate(OUTPUTS):
+        proc = GaussianSurrogate.fit(augmented(u_ctl), np.log(y_ctl[:, j]), max_loo=np.inf, exact=False)
+        controls[out] = (lambda p: lambda u: np.exp(p(augmented(u))))(proc)
+        control_loo[out] = float(proc.loo)
+    result["control"] = {"pilot": CONTROL_PILOT, "loo_of_log_y": control_loo}
     for label, t in (("tilted", tilt), ("plain", plain)):
         design = tilted_design(t, base, d, seed=11)
         start = time.perf_counter()
         y, _ = run(space.ppf(design.u), names, jobs)
         seconds = time.perf_counter() - start
-        rows = {}
-        for j, out in enumerate(OUTPUTS):
-            ok = np.isfinite(y[:, j]).all()
-            frame = tilted_indices(design, y[:, j], names, seed=3) if ok else None
-            rows[out] = frame.round(5).to_dict(orient="index") if frame is not None else "failed runs"
-            if frame is not None:
+        tables: dict[str, Any] = {}
+        for variant in ((label, label + "_controlled") if label == "tilted" else (label,)):
+            rows = tables[variant] = {}
+            for j, out in enumerate(OUTPUTS):
+                if not np.isfinite(y[:, j]).all():
+                    rows[out] = "failed runs"
+                    continue
+                control = None
+                if variant.endswith("controlled"):
+                    g = controls[out]
+                    control = (g(design.u), control_moments(g, t, d, n=CONTROL_MOMENTS, seed=12))
+                frame = tilted_indices(design, y[:, j], names, seed=3, control=control)
+                rows[out] = frame.round(5).to_dict(orient="index")
                 diff = frame.attrs["ST_difference_conf"]
                 rows[out]["differences"] = {f"{a} - {b}": [round(float(frame.ST[a] - frame.ST[b]), 5),
                                                           round(float(diff.loc[a, b]), 5)] for a, b in PAIRS}
-        np.savez_compressed(os.path.splitext(path)[0] + f"_{label}.npz", u=design.u, h=design.h, y=y) if path else None
         near = float(np.mean(np.abs(gp(design.u[:base]) / at - 1.0) < 0.05))
-        result["designs"][label] = {"seconds": seconds, "base_within_5pct_of_resonance": near, "indices": rows}
+        for variant, rows in tables.items():
+            result["designs"][variant] = {"seconds": seconds, "base_within_5pct_of_resonance": near, "indices": rows}
     result["committed_confirm_saltelli"] = {
         out: committed[committed.output == out].set_index("parameter")[["S1", "S1_conf", "ST", "ST_conf"]]
         .round(5).to_dict(orient="index") for out in OUTPUTS}
@@ -116,14 +143,14 @@ def summary(res: dict[str, Any]) -> str:
         com = res["committed_confirm_saltelli"][out]
         for p in PARAMETERS:
             cells = []
-            for label in ("tilted", "plain"):
+            for label in ("tilted", "tilted_controlled", "plain"):
                 r = res["designs"][label]["indices"][out]
                 cells.append("failed" if isinstance(r, str) else
                              f"{label} ST {r[p]['ST']:.3f}+-{r[p]['ST_conf']:.3f} k {r[p]['ST_tail']:.2f}")
             c = com.get(p, {})
             lines.append(f"  {p:18s} " + " | ".join(cells) + f" | committed {c.get('ST', float('nan')):.3f}+-"
                          f"{c.get('ST_conf', float('nan')):.3f}")
-        for label in ("tilted", "plain"):
+        for label in ("tilted", "tilted_controlled", "plain"):
             r = res["designs"][label]["indices"][out]
             if not isinstance(r, str):
                 lines.append(f"  {label} differences: " + "; ".join(f"{k} {v[0]:+.3f}+-{v[1]:.3f}"

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from ddgsa.errors import MethodError
-from ddgsa.gsa.tilted import control_moments, make_tilt, resonance_tilt, tilted_design, tilted_indices
+from ddgsa.gsa.tilted import (control_moments, make_tilt, proposal_sample, resonance_tilt, tilted_design,
+                              tilted_indices)
 
 ZETA = 0.02
 
@@ -77,6 +78,7 @@ def test_the_weights_are_bounded_and_the_draws_follow_the_tilt():
     near = np.abs(_ratio(base) - 1.0) < 0.05                                  # 8 % of the input law
     assert 0.3 < near.mean() < 0.7
     assert np.array_equal(design.u[512:1024, 1:], base[:, 1:])               # AB_1 keeps A's other columns
+    assert np.array_equal(proposal_sample(tilt, 512, 4, seed=1), base)        # a pilot drawn as the base is
 
 
 def test_bad_tilts_and_outputs_are_refused():

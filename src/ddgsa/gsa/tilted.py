@@ -146,6 +146,19 @@ def _from_tilt(tilt: Tilt, n: int, dim: int, rng: np.random.Generator) -> Array:
     return np.vstack(out)[:n]
 
 
+def _proposal(tilt: Tilt, n: int, dim: int, rng: np.random.Generator) -> Array:
+    """``n`` draws (n, dim) of the proposal as a deterministic mixture in a random order: ``round((1 - mix) n)``
+    from the input law, the rest along the tilt."""
+    along = int(round(tilt.mix * n))
+    return np.vstack([rng.random((n - along, dim)), _from_tilt(tilt, along, dim, rng)])[rng.permutation(n)]
+
+
+def proposal_sample(tilt: Tilt, n: int, dim: int, seed: int = 0) -> Array:
+    """``n`` unit-cube points (n, dim) drawn as a tilted design's base is: a pilot for controls that must learn
+    the resonance the tilt samples (seeded)."""
+    return _proposal(tilt, n, dim, np.random.default_rng(seed))
+
+
 def tilted_design(tilt: Tilt, n: int, dim: int, seed: int = 0) -> TiltedDesign:
     """A tilted Saltelli design of base size ``n`` in ``dim`` inputs (see the module): ``n (2 d + 1)`` rows.
 
@@ -154,8 +167,7 @@ def tilted_design(tilt: Tilt, n: int, dim: int, seed: int = 0) -> TiltedDesign:
     if not isinstance(n, (int, np.integer)) or n < 2:
         raise MethodError(f"tilted design: the base size n must be an integer >= 2, got {n!r}")
     rng = np.random.default_rng(seed)
-    along = int(round(tilt.mix * n))
-    a = np.vstack([rng.random((n - along, dim)), _from_tilt(tilt, along, dim, rng)])[rng.permutation(n)]
+    a = _proposal(tilt, n, dim, rng)
     b = rng.random((n, dim))
     ab = np.repeat(a[None], dim, axis=0)
     ba = np.repeat(b[None], dim, axis=0)
