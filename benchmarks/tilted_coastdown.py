@@ -38,7 +38,7 @@ SCENE = {"kind": "coastdown", "speed_rpm": 1500, "duration": 1.2, "sample_rate":
 OUTPUTS = ["peak_disk_y", "order1x_disk_y", "peak_housing_1_y", "rms_housing_1_y", "order1x_housing_1_y",
            "rms_housing_2_z"]
 PILOT, BASE, DAMPING, CHUNK = 256, 512, 0.03, 128
-CONTROL_PILOT, CONTROL_MOMENTS = 1024, 8192
+CONTROL_PILOT, CONTROL_MOMENTS = 1024, 32768
 """Runs of the controls' pilot; base of the tilted design on each control for its moments."""
 PAIRS = (("hss_span", "hss_diameter"), ("hss_diameter", "disk_mass"), ("disk_position", "disk_damping"))
 """The pairs of neighbours in the coast-down's ranking whose difference intervals are reported."""

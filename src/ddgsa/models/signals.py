@@ -117,8 +117,8 @@ def resample_records(t: ArrayLike, x: ArrayLike, angles: ArrayLike, samples_per_
     v = np.asarray(x, float)
     if a.ndim != 2 or a.shape[0] != t.size or v.shape[:2] != a.shape or v.ndim != 3:
         raise SignalError(f"need records (n, R, m) and angles (n, R) on {t.size} times; got shapes {v.shape}, {a.shape}")
-    if np.any(np.diff(a, axis=0) <= 0):
-        raise SignalError("the shaft angle must match the time vector and increase strictly")
+    if not np.all(np.isfinite(a)) or np.any(np.diff(a, axis=0) <= 0):
+        raise SignalError("the shaft angle must match the time vector, be finite and increase strictly")
     revs = np.floor((a[-1] - a[0]) / (2 * math.pi) + 1e-9).astype(np.intp)
     if revs.min() < 1:
         raise SignalError(f"a record holds {(a[-1] - a[0]).min() / (2 * math.pi):.3g} revolutions; need at least 1")
@@ -133,7 +133,8 @@ def _spline_records(knots: NDArray[np.float64], values: NDArray[np.float64], phi
     """Each record ``r``'s not-a-knot cubic spline through ``(knots[:, r], values[:, r, :])`` at
     ``knots[0, r] + phi[:counts[r]]`` (NaN beyond): scipy's ``CubicSpline`` (the slopes at the knots from its
     tridiagonal system with the not-a-knot end rows, here by elimination without pivoting, then the cubic of
-    each interval; ``tests/test_signals.py`` holds it to scipy's within 1e-12)."""
+    each interval; ``tests/test_signals.py`` holds it to scipy's within 1e-12). Needs ``n >= 4`` knots (its callers
+    go through :func:`_uniform`'s 8)."""
     n, n_rec = knots.shape
     m = values.shape[2]
     out = np.full((phi.size, n_rec, m), np.nan)

@@ -802,7 +802,13 @@ def _band_envelope(t: np.ndarray, x: np.ndarray) -> np.ndarray:
 def _order_bpfo(t: np.ndarray, env: np.ndarray, angle: np.ndarray) -> float | np.ndarray:
     """The BPFO band energy of envelopes ``env`` at ``t`` [s] in the order domain of the shaft ``angle`` [rad]."""
     phi, y = resample_to_angle(t, env, angle, SAMPLES_PER_REV)
-    return band_energies(phi / (2 * math.pi), y, [float(BEARING_GEOMETRY.bpfo())], 0.25, harmonics=3)[0]
+    return _bpfo_band(phi / (2 * math.pi), y)
+
+
+def _bpfo_band(cycles: np.ndarray, env: np.ndarray) -> float | np.ndarray:
+    """The BPFO band energy (3 harmonics, +-0.25 orders) of envelopes ``env`` (n,) or (n, m) at shaft ``cycles``
+    [revolutions]: the envelope outputs' (:func:`record_objectives`) and :func:`_order_bpfo`'s."""
+    return band_energies(cycles, env, [float(BEARING_GEOMETRY.bpfo())], 0.25, harmonics=3)[0]
 
 
 def sweep_features(drive: Drive, lateral: float, end_speed: float) -> dict[str, float]:
@@ -869,8 +875,7 @@ def record_objectives(t: np.ndarray, xs: np.ndarray, angle: np.ndarray, f_r: flo
         amps[:, recs] = angle_amplitudes(phi[:n_phi], on.reshape(n_phi, -1), [1.0, 2.0]).reshape(2, recs.size, n_s)
         bands[:, recs] = band_energies(cycles[:n_phi], on[:, :, :n_a].reshape(n_phi, -1), [bpfo, bpfi], 0.25,
                                        harmonics=3).reshape(2, recs.size, n_a)
-        env[recs] = band_energies(cycles[:n_phi], env_a[:n_phi, recs].reshape(n_phi, -1), [bpfo], 0.25,
-                                  harmonics=3)[0].reshape(recs.size, n_a)
+        env[recs] = _bpfo_band(cycles[:n_phi], env_a[:n_phi, recs].reshape(n_phi, -1)).reshape(recs.size, n_a)
     dev = xs - xs.mean(axis=0)
     rms, peak = np.sqrt(np.mean(dev**2, axis=0)), np.max(np.abs(dev), axis=0)
     f = drive.motor.supply_frequency
