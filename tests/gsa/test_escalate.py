@@ -23,7 +23,9 @@ def _no_false_claim(results: list, tf: TestFunction) -> None:
         ok = t["trusted"].to_numpy(bool)
         assert np.all(np.abs(t["S1"].to_numpy(float) - tf.S1)[ok] <= 0.02), res.method
         assert np.all(np.abs(t["ST"].to_numpy(float) - tf.ST)[ok] <= 0.02), res.method
-        bad = false_rank_claims(t["ST"].to_numpy(float)[None], tf.ST[None], res.extras["rank_claims"][None], 0.02)
+        ranks = t["rank"].to_numpy(object)[None] if "rank" in t else None          # ties are claims too
+        bad = false_rank_claims(t["ST"].to_numpy(float)[None], tf.ST[None], res.extras["rank_claims"][None], 0.02,
+                                ranks)
         assert not bad.any(), res.method
 
 
