@@ -199,8 +199,9 @@ def test_exact_damping_at_speed_refuses_a_turning_eccentric_mass() -> None:
 def test_exact_damping_at_speed_is_the_residuals_differences(monkeypatch: pytest.MonkeyPatch) -> None:
     """On the spinning shaft with damped bearings, a disk and a side load (off equilibrium), tilted and bent: every
     column of ``damping_tangents``' ``C`` agrees with central differences of the residual over the rates within
-    1e-8 of its largest entry (the residual is quadratic in the rates, so the differences at a 1e-3 step are
-    exact but for round-off: measured 1.7e-9 on the spin column, 2e-12 on the largest), with no residual call taken for it; the tangents alone (``T^T C_t T``) miss the
+    1e-7 of its largest entry (the residual is quadratic in the rates, so the differences at a 1e-3 step are
+    exact but for round-off: measured 1.7e-9 on the spin column on one CPU, 1.75e-8 on another -- the round-off
+    of residuals of order 1e3 over a column of 0.09 -- and 2e-12 on the largest), with no residual call taken for it; the tangents alone (``T^T C_t T``) miss the
     gyroscopic and Coriolis columns by more than half. A spinning system without compiled terms is refused."""
     from ddgsa.errors import ModelError
     from ddgsa.mbs import nonrotating
@@ -224,7 +225,7 @@ def test_exact_damping_at_speed_is_the_residuals_differences(monkeypatch: pytest
     fast = linearise(system, q0, qd0, rel_step=1e-3, damping_tangents=True)
     assert calls == [0]                                       # K differenced, C not
     scale = np.abs(full.c).max(axis=0)
-    assert np.all(np.abs(fast.c - full.c).max(axis=0) <= 1e-8 * scale), np.abs(fast.c - full.c).max(axis=0) / scale
+    assert np.all(np.abs(fast.c - full.c).max(axis=0) <= 1e-7 * scale), np.abs(fast.c - full.c).max(axis=0) / scale
     assert np.array_equal(fast.k, full.k)
     bend = system.index("shaft.bending_y_1")
     tangents = linearise(system, q0, qd0, tangent_columns=range(system.n))
